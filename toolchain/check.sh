@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The project's test command (README, .ci/run): sets up, builds and passes every check.
+#   1. install the Debian packages (toolchain/setup.sh)
+#   2. debug build + the whole GoogleTest suite through CTest
+#   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
+#   4. ThreadSanitizer build + the tests labelled 'concurrency'
+#   5. clang build with libFuzzer targets + a short bounded run of each fuzzer
+#   6. aarch64 cross compile of the firmware libraries
+# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [tsan] [fuzz] [cross]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+stages=("$@")
+[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis tsan fuzz cross)
+jobs=$(nproc)
+fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
+
+want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
+banner() { printf '\n==== %s ====\n' "$*"; }
+start=$(date +%s)
+
+if want setup; then banner "setup"; bash toolchain/setup.sh; fi
+
+if want test; then
+  banner "debug build + tests"
+  cmake --preset debug >/dev/null
+  cmake --build --preset debug -j "$jobs"
+  ctest --preset debug -j "$jobs"
+fi
+
+if want analysis; then
+  banner "static analysis"
+  [ -f build/debug/compile_commands.json ] || cmake --preset debug >/dev/null
+  bash toolchain/static-analysis.sh . build/debug
+fi
+
+if want tsan; then
+  banner "ThreadSanitizer: concurrency tests"
+  cmake --preset tsan >/dev/null
+
+
+  cmake --build --preset tsan -j "$jobs"
+  ctest --preset tsan -j "$jobs"
+fi
+
+if want fuzz; then
+  banner "libFuzzer: ${fuzz_seconds}s per target"
+  cmake --preset clang >/dev/null
+  cmake --build build/clang -j "$jobs" --target fuzzers
+  for f in build/clang/fuzz/fuzz_*; do
+    [ -x "$f" ] || continue
+    corpus="build/clang/fuzz/corpus-$(basename "$f")"
+    mkdir -p "$corpus"
+    seeds="$(dirname "$f")/seeds-$(basename "$f")"
+    echo "fuzz: $f"
+    "$f" -max_total_time="$fuzz_seconds" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) 2>&1 | tail -n 12
+  done
+fi
+
+if want cross; then
+  banner "aarch64 cross compile (firmware libraries)"
+  cmake --preset aarch64 >/dev/null
+  cmake --build --preset aarch64 -j "$jobs"
+fi
+
+banner "all checks passed in $(( $(date +%s) - start )) s"

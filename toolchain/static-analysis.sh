@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Runs clang-tidy (config: .clang-tidy) and cppcheck over every firmware translation unit.
+# Usage: toolchain/static-analysis.sh SOURCE_DIR BUILD_DIR   (BUILD_DIR holds compile_commands.json)
+# Exit status: 0 when both tools report nothing, 1 otherwise.
+set -euo pipefail
+src=$(realpath "$1"); build=$(realpath "$2")
+db="$build/compile_commands.json"
+[ -f "$db" ] || { echo "static-analysis: $db missing (configure first)"; exit 1; }
+tidy=$(command -v clang-tidy-14 || command -v clang-tidy || true)
+[ -n "$tidy" ] || { echo "static-analysis: clang-tidy not installed (run toolchain/setup.sh)"; exit 1; }
+command -v cppcheck >/dev/null || { echo "static-analysis: cppcheck not installed (run toolchain/setup.sh)"; exit 1; }
+
+# Firmware translation units only: tests, benchmarks and fuzzers are not firmware.
+mapfile -t units < <(cd "$src" && git ls-files 'core/*.cpp' 'hal/*.cpp' 'ecat/*.cpp' 'fsm/*.cpp' 'drivers/*.cpp' 2>/dev/null ||
+                     find core hal ecat fsm drivers -name '*.cpp')
+[ "${#units[@]}" -gt 0 ] || { echo "static-analysis: no firmware sources"; exit 1; }
+
+status=0
+echo "clang-tidy: ${#units[@]} units"
+jobs=$(nproc)
+if ! printf '%s\n' "${units[@]}" | (cd "$src" && xargs -P "$jobs" -n 4 "$tidy" -p "$build" --quiet --warnings-as-errors='*' 2>/dev/null) > "$build/clang-tidy.log"; then
+  status=1
+fi
+grep -E 'warning:|error:' "$build/clang-tidy.log" && status=1 || true
+echo "clang-tidy: $(grep -cE 'warning:|error:' "$build/clang-tidy.log" || true) findings"
+
+echo "cppcheck: ${#units[@]} units"
+# The compile database gives cppcheck the include paths and defines of each unit.
+if ! cppcheck --project="$db" --enable=warning,style,performance,portability --std=c++17 \
+      --inline-suppr --error-exitcode=1 --quiet -j "$jobs" \
+      --suppressions-list="$src/.cppcheck-suppressions" \
+      --file-filter="$src/core/*" --file-filter="$src/hal/*" --file-filter="$src/ecat/*" \
+      --file-filter="$src/fsm/*" --file-filter="$src/drivers/*" \
+      -i"$src/tests" 2> "$build/cppcheck.log"; then
+  status=1
+fi
+cat "$build/cppcheck.log"
+echo "cppcheck: $(grep -c ': ' "$build/cppcheck.log" || true) findings"
+exit $status
