@@ -1,5 +1,6 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
 #include "core/app/commands.hpp"
+#include "core/app/nic_option.hpp"
 
 namespace rescue::app {
 namespace {
@@ -8,7 +9,11 @@ const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
 };
 
-int bench_main(const ParsedArgs& /*args*/) { return fail("bench", "not implemented yet"); }
+int bench_main(const ParsedArgs& args) {
+  const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
+  if (!nic.ok()) return fail("bench", nic.error().what);
+  return fail("bench", "not implemented yet");
+}
 
 }  // namespace
 
