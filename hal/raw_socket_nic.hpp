@@ -54,6 +54,11 @@ class RawSocketNic final : public Nic {
  public:
   RawSocketNic() = default;
   ~RawSocketNic() override;
+  // Owns a file descriptor: neither copied nor moved.
+  RawSocketNic(const RawSocketNic&) = delete;
+  RawSocketNic& operator=(const RawSocketNic&) = delete;
+  RawSocketNic(RawSocketNic&&) = delete;
+  RawSocketNic& operator=(RawSocketNic&&) = delete;
 
   // Opens the socket on `interface_name`. Errors (detail0 = errno where the OS refused):
   //   invalid_argument  empty name or longer than 15 characters; already open
