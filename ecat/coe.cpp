@@ -61,67 +61,62 @@ void put_header(std::uint8_t* p, std::uint8_t command, std::uint16_t index, std:
 
 }  // namespace
 
-Result<Sdo> decode_sdo(ConstByteSpan b, Service service) noexcept {
-  if (b.size() < kSdoHeaderSize) return make_error(Errc::truncated, "sdo header", 0, u32(b.size()));
-  const std::uint8_t command = b[0];
-  const std::uint8_t cs = static_cast<std::uint8_t>(command >> 5U);
-  Sdo sdo;
-  sdo.index = load_le16(b.data() + 1);
-  sdo.subindex = b[3];
-  if (cs == kCsAbort) {
-    sdo.kind = SdoKind::abort;
-    sdo.abort_code = load_le32(b.data() + 4);
-    return sdo;
-  }
+namespace {
+
+// The kind a command specifier names in a request (client) or response (server) SDO.
+Result<SdoKind> kind_of(std::uint8_t cs, Service service) noexcept {
+  if (cs == kCsAbort) return SdoKind::abort;
   if (service == Service::sdo_request) {
     switch (cs) {
-      case kCcsDownloadInitiate:
-        sdo.kind = SdoKind::download_initiate_request;
-        sdo.complete_access = (command & kBitCompleteAccess) != 0;
-        decode_initiate_data(b, command, sdo);
-        return sdo;
-      case kCcsUploadInitiate:
-        sdo.kind = SdoKind::upload_initiate_request;
-        sdo.complete_access = (command & kBitCompleteAccess) != 0;
-        return sdo;
-      case kCcsDownloadSegment:
-        sdo.kind = SdoKind::download_segment_request;
-        sdo.index = 0;
-        sdo.subindex = 0;
-        decode_segment_data(b, command, sdo);
-        return sdo;
-      case kCcsUploadSegment:
-        sdo.kind = SdoKind::upload_segment_request;
-        sdo.index = 0;
-        sdo.subindex = 0;
-        sdo.toggle = (command & kBitToggle) != 0;
-        return sdo;
-      default: return make_error(Errc::unsupported, "sdo command", cs, command);  // block transfers
+      case kCcsDownloadInitiate: return SdoKind::download_initiate_request;
+      case kCcsUploadInitiate: return SdoKind::upload_initiate_request;
+      case kCcsDownloadSegment: return SdoKind::download_segment_request;
+      case kCcsUploadSegment: return SdoKind::upload_segment_request;
+      default: return make_error(Errc::unsupported, "sdo command", cs);  // block transfers
     }
   }
   if (service == Service::sdo_response) {
     switch (cs) {
-      case kScsUploadInitiate:
-        sdo.kind = SdoKind::upload_initiate_response;
-        decode_initiate_data(b, command, sdo);
-        return sdo;
-      case kScsDownloadInitiate: sdo.kind = SdoKind::download_initiate_response; return sdo;
-      case kScsUploadSegment:
-        sdo.kind = SdoKind::upload_segment_response;
-        sdo.index = 0;
-        sdo.subindex = 0;
-        decode_segment_data(b, command, sdo);
-        return sdo;
-      case kScsDownloadSegment:
-        sdo.kind = SdoKind::download_segment_response;
-        sdo.index = 0;
-        sdo.subindex = 0;
-        sdo.toggle = (command & kBitToggle) != 0;
-        return sdo;
-      default: return make_error(Errc::unsupported, "sdo command", cs, command);
+      case kScsUploadInitiate: return SdoKind::upload_initiate_response;
+      case kScsDownloadInitiate: return SdoKind::download_initiate_response;
+      case kScsUploadSegment: return SdoKind::upload_segment_response;
+      case kScsDownloadSegment: return SdoKind::download_segment_response;
+      default: return make_error(Errc::unsupported, "sdo command", cs);
     }
   }
   return make_error(Errc::invalid_argument, "not an sdo service", static_cast<std::uint32_t>(service));
+}
+
+}  // namespace
+
+Result<Sdo> decode_sdo(ConstByteSpan sdo_bytes, Service service) noexcept {
+  const ConstByteSpan b = sdo_bytes;
+  if (b.size() < kSdoHeaderSize) return make_error(Errc::truncated, "sdo header", 0, u32(b.size()));
+  const std::uint8_t command = b[0];
+  auto kind = kind_of(static_cast<std::uint8_t>(command >> 5U), service);
+  if (!kind.ok()) return kind.error();
+  Sdo sdo;
+  sdo.kind = kind.value();
+  switch (sdo.kind) {
+    case SdoKind::download_segment_request:
+    case SdoKind::upload_segment_response: decode_segment_data(b, command, sdo); return sdo;
+    case SdoKind::upload_segment_request:
+    case SdoKind::download_segment_response: sdo.toggle = (command & kBitToggle) != 0; return sdo;
+    default: break;  // the rest address an object
+  }
+  sdo.index = load_le16(b.data() + 1);
+  sdo.subindex = b[3];
+  switch (sdo.kind) {
+    case SdoKind::abort: sdo.abort_code = load_le32(b.data() + 4); break;
+    case SdoKind::download_initiate_request:
+      sdo.complete_access = (command & kBitCompleteAccess) != 0;
+      decode_initiate_data(b, command, sdo);
+      break;
+    case SdoKind::upload_initiate_request: sdo.complete_access = (command & kBitCompleteAccess) != 0; break;
+    case SdoKind::upload_initiate_response: decode_initiate_data(b, command, sdo); break;
+    default: break;  // download initiate response: index and subindex only
+  }
+  return sdo;
 }
 
 Result<Message> decode(ConstByteSpan mailbox) noexcept {
@@ -188,7 +183,7 @@ Result<std::size_t> encode(ByteSpan out, const mbx::Header& mailbox, const Sdo& 
     case SdoKind::download_initiate_request:
     case SdoKind::upload_initiate_response: {
       const std::uint8_t cs = sdo.kind == SdoKind::download_initiate_request ? kCcsDownloadInitiate : kScsUploadInitiate;
-      std::uint8_t command = static_cast<std::uint8_t>(cs << 5U);
+      auto command = static_cast<std::uint8_t>(cs << 5U);
       if (sdo.complete_access && sdo.kind == SdoKind::download_initiate_request) command |= kBitCompleteAccess;
       if (sdo.expedited) {
         command = static_cast<std::uint8_t>(command | ((kMaxExpeditedSize - sdo.data.size()) << 2U) | kBitExpedited | kBitSizeIndicated);
@@ -211,10 +206,11 @@ Result<std::size_t> encode(ByteSpan out, const mbx::Header& mailbox, const Sdo& 
       break;
     case SdoKind::download_segment_request:
     case SdoKind::upload_segment_response: {
-      const std::uint8_t cs = sdo.kind == SdoKind::download_segment_request ? kCcsDownloadSegment : kScsUploadSegment;
-      const std::size_t unused = sdo.data.size() < kMinSegmentData ? kMinSegmentData - sdo.data.size() : 0;
+      // Both directions' data segments have specifier 0 (kCcsDownloadSegment, kScsUploadSegment),
+      // so the command byte is only toggle, unused-byte count and last-segment flag.
+      const std::size_t unused = sdo.data.size() < kMinSegmentData ? kMinSegmentData - sdo.data.size() : std::size_t{0};
       const unsigned last = sdo.last_segment ? kBitLastSegment : 0U;
-      p[0] = static_cast<std::uint8_t>((static_cast<unsigned>(cs) << 5U) | toggle | (static_cast<unsigned>(unused) << 1U) | last);
+      p[0] = static_cast<std::uint8_t>(toggle | (static_cast<unsigned>(unused) << 1U) | last);
       if (!sdo.data.empty()) std::memcpy(p + 1, sdo.data.data(), sdo.data.size());
       break;
     }

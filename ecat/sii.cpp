@@ -1,5 +1,7 @@
 #include "ecat/sii.hpp"
 
+#include <numeric>
+
 #include "core/endian.hpp"
 
 namespace rescue::ecat::sii {
@@ -31,8 +33,8 @@ struct SiiParser {
 Status SiiParser::header(ConstByteSpan image, ChecksumPolicy policy, Sii& sii) noexcept {
   if (image.size() < kHeaderBytes) return make_error(Errc::truncated, "sii header", kConfigArea, u32(image.size()));
   const std::uint8_t* p = image.data();
-  auto word = [p](std::uint16_t w) { return load_le16(p + 2U * w); };
-  auto dword = [p](std::uint16_t w) { return load_le32(p + 2U * w); };
+  auto word = [p](std::uint16_t w) { return load_le16(p + std::size_t{2} * w); };
+  auto dword = [p](std::uint16_t w) { return load_le32(p + std::size_t{2} * w); };
 
   ConfigArea& c = sii.config;
   c.pdi_control = word(kWordPdiControl);
@@ -40,7 +42,7 @@ Status SiiParser::header(ConstByteSpan image, ChecksumPolicy policy, Sii& sii) n
   c.sync_impulse_length = word(kWordSyncImpulseLength);
   c.pdi_config2 = word(kWordPdiConfig2);
   c.station_alias = word(kWordStationAlias);
-  c.checksum = p[2U * kWordChecksum];
+  c.checksum = p[std::size_t{2} * kWordChecksum];
   c.computed_checksum = config_area_crc(p);
   if (policy == ChecksumPolicy::require && !c.checksum_ok()) {
     return make_error(Errc::checksum, "sii config area crc", c.checksum, c.computed_checksum);
@@ -133,23 +135,23 @@ Status SiiParser::pdo(const Category& c, FixedVector<Pdo, kMaxPdos>& pdos, Fixed
   while (at < end) {
     if (end - at < kPdoHeaderSize) return make_error(Errc::truncated, "sii pdo header", c.type, u32(at));
     const std::uint8_t* p = image + at;
-    Pdo pdo{};
-    pdo.index = load_le16(p);
-    pdo.entry_count = p[2];
-    pdo.sync_manager = p[3];
-    pdo.dc_sync = p[4];
-    pdo.name_index = p[5];
-    pdo.flags = load_le16(p + 6);
-    pdo.first_entry = static_cast<std::uint16_t>(entries.size());
+    Pdo record{};
+    record.index = load_le16(p);
+    record.entry_count = p[2];
+    record.sync_manager = p[3];
+    record.dc_sync = p[4];
+    record.name_index = p[5];
+    record.flags = load_le16(p + 6);
+    record.first_entry = static_cast<std::uint16_t>(entries.size());
     at += kPdoHeaderSize;
-    if ((end - at) / kPdoEntrySize < pdo.entry_count) return make_error(Errc::truncated, "sii pdo entries", c.type, u32(at));
-    for (std::size_t e = 0; e < pdo.entry_count; ++e, at += kPdoEntrySize) {
+    if ((end - at) / kPdoEntrySize < record.entry_count) return make_error(Errc::truncated, "sii pdo entries", c.type, u32(at));
+    for (std::size_t e = 0; e < record.entry_count; ++e, at += kPdoEntrySize) {
       const std::uint8_t* q = image + at;
       const PdoEntry entry{load_le16(q), q[2], q[3], q[4], q[5], load_le16(q + 6)};
-      pdo.bit_length += entry.bit_length;
+      record.bit_length += entry.bit_length;
       if (!entries.push_back(entry)) return make_error(Errc::capacity_exceeded, "sii pdo entries", c.type, u32(at));
     }
-    if (!pdos.push_back(pdo)) return make_error(Errc::capacity_exceeded, "sii pdos", c.type, u32(at));
+    if (!pdos.push_back(record)) return make_error(Errc::capacity_exceeded, "sii pdos", c.type, u32(at));
   }
   return Status::success();
 }
@@ -183,7 +185,7 @@ Result<Sii> Sii::parse(ConstByteSpan image, ChecksumPolicy policy) noexcept {
       break;
     }
     if (size - at < 4) return make_error(Errc::truncated, "sii category header", type, u32(at));
-    const std::size_t bytes = 2U * load_le16(image.data() + at + 2);
+    const std::size_t bytes = std::size_t{2} * load_le16(image.data() + at + 2);
     if (size - at - 4 < bytes) return make_error(Errc::truncated, "sii category size", type, u32(at + 2));
     const Category c{type, at + 4, bytes};
     ++sii.category_count;
@@ -212,26 +214,20 @@ Result<Sii> Sii::parse(ConstByteSpan image, ChecksumPolicy policy) noexcept {
 std::string_view Sii::string(std::uint8_t index) const noexcept {
   if (index == 0 || index > strings_.size()) return {};
   const StringRef& s = strings_[index - 1U];
-  return std::string_view(reinterpret_cast<const char*>(image_.data() + s.offset), s.length);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
+  return {reinterpret_cast<const char*>(image_.data() + s.offset), s.length};  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
 }
 
 Span<const PdoEntry> Sii::tx_entries_of(const Pdo& pdo) const noexcept {
-  return Span<const PdoEntry>(tx_entries.data() + pdo.first_entry, pdo.entry_count);
+  return {tx_entries.data() + pdo.first_entry, pdo.entry_count};
 }
 
 Span<const PdoEntry> Sii::rx_entries_of(const Pdo& pdo) const noexcept {
-  return Span<const PdoEntry>(rx_entries.data() + pdo.first_entry, pdo.entry_count);
+  return {rx_entries.data() + pdo.first_entry, pdo.entry_count};
 }
 
 std::uint32_t Sii::default_bits_of_sync_manager(std::uint8_t sm) const noexcept {
-  std::uint32_t bits = 0;
-  for (const Pdo& p : tx_pdos) {
-    if (p.sync_manager == sm) bits += p.bit_length;
-  }
-  for (const Pdo& p : rx_pdos) {
-    if (p.sync_manager == sm) bits += p.bit_length;
-  }
-  return bits;
+  auto add = [sm](std::uint32_t bits, const Pdo& p) { return p.sync_manager == sm ? bits + p.bit_length : bits; };
+  return std::accumulate(rx_pdos.begin(), rx_pdos.end(), std::accumulate(tx_pdos.begin(), tx_pdos.end(), 0U, add), add);
 }
 
 const char* to_string(SyncManagerType type) noexcept {

@@ -48,7 +48,7 @@ constexpr std::uint16_t kWordVersion = 0x3F;
 constexpr std::uint16_t kWordFirstCategory = 0x40;
 
 constexpr std::size_t kConfigAreaCrcBytes = 14;  // words 0..6
-constexpr std::size_t kHeaderBytes = 2U * kWordFirstCategory;  // 128
+constexpr std::size_t kHeaderBytes = std::size_t{2} * kWordFirstCategory;  // 128
 
 // Mailbox protocols (word 0x1C).
 constexpr std::uint16_t kMailboxProtocolAoE = 0x0001;
@@ -113,7 +113,7 @@ constexpr std::uint32_t kConfigArea = 0xFFFFFFFFU;  // detail0 of errors in the 
 constexpr std::uint8_t config_area_crc(const std::uint8_t* bytes, std::size_t count = kConfigAreaCrcBytes) noexcept {
   std::uint8_t crc = 0xFF;
   for (std::size_t i = 0; i < count; ++i) {
-    unsigned value = static_cast<unsigned>(crc ^ bytes[i]);
+    auto value = static_cast<unsigned>(crc ^ bytes[i]);
     for (int bit = 0; bit < 8; ++bit) value = (value & 0x80U) != 0 ? (value << 1U) ^ 0x07U : value << 1U;
     crc = static_cast<std::uint8_t>(value);
   }
