@@ -6,20 +6,17 @@
 #include <array>
 #include <cstdint>
 
+#include "drivers/device_identity.hpp"
 #include "drivers/minimal_sii.hpp"
 #include "drivers/slave_device.hpp"
 
 namespace rescue::drivers {
 
-// Identity of the robot's junction slaves (SII words 8..15).
-constexpr std::uint32_t kJunctionVendorId = 0x00000E5C;
-constexpr std::uint32_t kJunctionProductCode = 0x00010001;
-constexpr std::uint32_t kJunctionRevision = 0x00010000;
-
 class JunctionDevice final : public SlaveDevice {
  public:
-  // `name` (at most kMaxNameLength characters) goes into the SII strings; `serial` tells the two apart.
-  JunctionDevice(const char* name, std::uint32_t serial) noexcept;
+  // The junction built into slot `position` of kSlaves: identity kJunctionIdentity, its own serial
+  // number and commissioned station alias (drivers/device_identity.hpp).
+  explicit JunctionDevice(std::size_t position) noexcept;
 
   ConstByteSpan sii_image() const noexcept override { return {sii_.data(), sii_length_}; }
   ProcessDataLayout process_data_layout() const noexcept override { return {2, 0, 3, 0}; }
@@ -29,10 +26,8 @@ class JunctionDevice final : public SlaveDevice {
   void step(hal::Nanoseconds, EscPdi&) noexcept override {}
   void inject_fault(std::uint16_t) noexcept override {}
 
-  static constexpr std::size_t kMaxNameLength = 32;
-
  private:
-  std::array<std::uint8_t, minimal_sii_size(kMaxNameLength)> sii_{};
+  std::array<std::uint8_t, minimal_sii_size(constexpr_length(kJunctionIdentity.name))> sii_{};
   std::size_t sii_length_{0};
 };
 

@@ -25,6 +25,12 @@ struct SiiIdentity {
 // as ESCs check it at power-up (stored in the low byte of word 7).
 std::uint8_t sii_config_crc(ConstByteSpan first_14_bytes) noexcept;
 
+constexpr std::size_t constexpr_length(const char* text) noexcept {
+  std::size_t n = 0;
+  while (text[n] != '\0') ++n;
+  return n;
+}
+
 // Bytes a minimal image with a name of `name_length` characters needs.
 constexpr std::size_t minimal_sii_size(std::size_t name_length) noexcept {
   // header 128 + strings (4 + 1 + 1 + name, padded to a word) + general (4 + 32) + end (2)

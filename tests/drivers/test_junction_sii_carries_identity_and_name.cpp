@@ -13,14 +13,15 @@ namespace rescue::drivers {
 namespace {
 
 TEST(JunctionSii, HeaderCarriesIdentityAndValidChecksum) {
-  const JunctionDevice junction("junction_b", 2);
+  const JunctionDevice junction(1);
   const ConstByteSpan sii = junction.sii_image();
   ASSERT_GE(sii.size(), 128u);
   const std::uint8_t* p = sii.data();
   EXPECT_EQ(load_le16(p + 2 * ecat::sii::kConfigChecksum) & 0xFF, sii_config_crc(ConstByteSpan(p, 14)));
-  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kVendorId), kJunctionVendorId);
-  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kProductCode), kJunctionProductCode);
-  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kSerial), 2u);
+  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kVendorId), kJunctionIdentity.vendor_id);
+  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kProductCode), kJunctionIdentity.product_code);
+  EXPECT_EQ(load_le32(p + 2 * ecat::sii::kSerial), serial_number_of(1));
+  EXPECT_EQ(load_le16(p + 2 * ecat::sii::kStationAlias), 0x1001);
   EXPECT_EQ(load_le16(p + 2 * ecat::sii::kStdRxMailboxSize), 0u);  // no mailbox
 }
 
@@ -38,7 +39,7 @@ TEST(JunctionSii, ChecksumAlgorithmMatchesRealEeproms) {
 }
 
 TEST(JunctionSii, CategoriesNameTheDevice) {
-  const JunctionDevice junction("junction_a", 1);
+  const JunctionDevice junction(0);
   const ConstByteSpan sii = junction.sii_image();
   std::size_t at = 2 * ecat::sii::kFirstCategory;
   bool found_name = false;
@@ -56,7 +57,7 @@ TEST(JunctionSii, CategoriesNameTheDevice) {
     if (type == ecat::sii::kCategoryStrings) {
       ASSERT_EQ(sii[at + 4], 1);
       const std::size_t n = sii[at + 5];
-      found_name = n == 10 && std::memcmp(sii.data() + at + 6, "junction_a", 10) == 0;
+      found_name = n == 7 && std::memcmp(sii.data() + at + 6, "RM-JCT4", 7) == 0;
     }
     if (type == ecat::sii::kCategoryGeneral) found_general = sii[at + 4 + 3] == 1;
     at += 4 + bytes;
