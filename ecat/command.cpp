@@ -1,12 +1,12 @@
 #include "ecat/command.hpp"
 
-#include <array>
 #include <cstring>
 
 namespace rescue::ecat {
 namespace {
 
-constexpr std::array<const char*, kCommandCount> kMnemonics{
+// A plain array: cppcheck cannot see std::array's element type without the system headers.
+constexpr const char* kMnemonics[kCommandCount] = {
     "NOP", "APRD", "APWR", "APRW", "FPRD", "FPWR", "FPRW", "BRD",
     "BWR", "BRW",  "LRD",  "LWR",  "LRW",  "ARMW", "FRMW",
 };
@@ -15,7 +15,8 @@ constexpr std::array<const char*, kCommandCount> kMnemonics{
 
 const char* mnemonic(Command c) noexcept {
   const auto raw = static_cast<std::uint8_t>(c);
-  return raw < kCommandCount ? kMnemonics[raw] : "?";
+  if (raw >= kCommandCount) return "?";
+  return kMnemonics[raw];
 }
 
 bool command_from_mnemonic(const char* text, Command& out) noexcept {

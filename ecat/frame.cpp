@@ -20,7 +20,7 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
   const std::size_t size = frame.size();
   const std::uint8_t* p = frame.data();
 
-  if (size < kEthernetHeaderSize) return make_error(Errc::truncated, "ethernet header", kFrameLevel, u32(size));
+  if (size < kEthernetHeaderSize) return make_error(Errc::truncated, "ethernet header", kFrameLevel, 0);
   // A capture may keep the 4-byte FCS after the payload; more than that is not Ethernet.
   if (size > kMaxFrameSize + kVlanTagSize + 4) return make_error(Errc::malformed, "frame too long", kFrameLevel, u32(size));
   std::memcpy(h.destination.data(), p, 6);
@@ -44,25 +44,26 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
   h.ecat_type = static_cast<std::uint8_t>(ecat_word >> 12);
   if (h.ecat_type != kEcatTypeDatagrams) return make_error(Errc::unsupported, "ecat type", kFrameLevel, u32(offset));
   offset += kEcatHeaderSize;
-  if (h.ecat_length > size - offset) return make_error(Errc::truncated, "ecat length", kFrameLevel, u32(offset));
-  const std::size_t end = offset + h.ecat_length;
+  if (h.ecat_length > size - offset) return make_error(Errc::truncated, "ecat length", kFrameLevel, u32(h.ecat_offset));
+  // Bytes after the EtherCAT payload (Ethernet padding, a captured FCS) are not ours to check.
+  const std::size_t payload_end = offset + h.ecat_length;
 
   std::uint32_t index = 0;
   bool more = true;
   while (more) {
     if (index >= kMaxDatagramsPerFrame) return make_error(Errc::malformed, "datagram count", index, u32(offset));
-    if (end - offset < kDatagramHeaderSize) return make_error(Errc::truncated, "datagram header", index, u32(offset));
+    if (payload_end - offset < kDatagramHeaderSize) return make_error(Errc::truncated, "datagram header", index, u32(offset));
     if (!is_valid_command(p[offset])) return make_error(Errc::malformed, "datagram command", index, u32(offset));
     const std::uint16_t len_word = load_le16(p + offset + 6);
     const std::size_t data_length = len_word & kEcatLengthMask;
-    if (end - offset - kDatagramHeaderSize < data_length + kWkcSize) {
+    if (payload_end - offset - kDatagramHeaderSize < data_length + kWkcSize) {
       return make_error(Errc::truncated, "datagram length", index, u32(offset + 6));
     }
     more = (len_word & kMoreFollows) != 0;
     offset += kDatagramOverhead + data_length;
     ++index;
   }
-  if (offset != end) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
+  if (offset != payload_end) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
   h.datagram_count = index;
   return view;
 }
@@ -131,7 +132,7 @@ ConstByteSpan FrameBuilder::finish() noexcept {
     std::memset(buffer_.data() + total, 0, kMinFrameSize - total);
     total = kMinFrameSize;
   }
-  return ConstByteSpan(buffer_.data(), total);
+  return {buffer_.data(), total};
 }
 
 }  // namespace rescue::ecat

@@ -104,11 +104,31 @@ struct FrameHeader {
   std::uint8_t ecat_type{0};
   std::size_t ecat_offset{0};    // offset of the EtherCAT header in the frame
   std::size_t datagram_count{0};
+
+  // One past the last datagram byte; what follows (padding, a captured FCS) is not EtherCAT.
+  std::size_t ecat_end() const noexcept { return ecat_offset + kEcatHeaderSize + ecat_length; }
 };
 
 // Error values of parse(): Error::what names the field, detail0 the datagram index (0-based, or
-// 0xFFFFFFFF for frame-level fields), detail1 the byte offset in the frame where the check failed.
-// Errc::unsupported with what "not EtherCAT" marks frames of other EtherTypes (callers skip them).
+// kFrameLevel for frame-level fields), detail1 the byte offset in the frame of the field that failed.
+//
+//   code         what                         detail0          detail1
+//   truncated    "ethernet header"            kFrameLevel      0 (frame shorter than 14 bytes)
+//   malformed    "frame too long"             kFrameLevel      frame size (> 1522: 1514 + VLAN + FCS)
+//   truncated    "vlan tag"                   kFrameLevel      12 (offset of the 0x8100 tag)
+//   unsupported  "not EtherCAT"               kFrameLevel      offset of the EtherType (12 or 16)
+//   truncated    "ecat header"                kFrameLevel      offset of the EtherCAT header
+//   unsupported  "ecat type"                  kFrameLevel      offset of the EtherCAT header
+//   truncated    "ecat length"                kFrameLevel      offset of the EtherCAT header
+//   malformed    "datagram count"             124              offset where datagram 125 would start
+//   truncated    "datagram header"            datagram index   offset of that datagram's header
+//   malformed    "datagram command"           datagram index   offset of that datagram's header
+//   truncated    "datagram length"            datagram index   offset of its length field (header + 6)
+//   malformed    "bytes after last datagram"  datagrams parsed offset of the first unused byte
+//
+// "truncated" means the frame (or the EtherCAT length) ends before a field it announces. Frames of
+// other EtherTypes give unsupported "not EtherCAT": callers skip them. Bytes after ecat_end()
+// (Ethernet padding, an FCS a capture kept) are ignored.
 constexpr std::uint32_t kFrameLevel = 0xFFFFFFFFU;
 
 template <typename B>
@@ -178,7 +198,7 @@ class FrameBuilder {
   std::size_t datagram_count() const noexcept { return count_; }
 
   // Mutable access to a datagram's data after add(), before or after finish().
-  ByteSpan data(const DatagramSlot& slot) noexcept { return ByteSpan(buffer_.data() + slot.data_offset, slot.length); }
+  ByteSpan data(const DatagramSlot& slot) noexcept { return {buffer_.data() + slot.data_offset, slot.length}; }
 
   // Completes the frame: EtherCAT length, more-follows bits, padding to 60 bytes. The returned
   // view stays valid until the next reset()/add().

@@ -186,18 +186,26 @@ constexpr std::uint16_t kProcessRamStart = 0x1000;
 namespace rescue::ecat::sii {
 // SII (EEPROM) word addresses (ETG.1000.6 table 16 / ETG.2010).
 constexpr std::uint16_t kPdiControl = 0x0000;
+constexpr std::uint16_t kPdiConfig = 0x0001;
+constexpr std::uint16_t kSyncImpulseLength = 0x0002;
+constexpr std::uint16_t kPdiConfig2 = 0x0003;
 constexpr std::uint16_t kStationAlias = 0x0004;
 constexpr std::uint16_t kConfigChecksum = 0x0007;  // CRC-8 over words 0..6 (poly 0x07, init 0xFF)
 constexpr std::uint16_t kVendorId = 0x0008;        // u32
 constexpr std::uint16_t kProductCode = 0x000A;     // u32
 constexpr std::uint16_t kRevision = 0x000C;        // u32
 constexpr std::uint16_t kSerial = 0x000E;          // u32
-constexpr std::uint16_t kBootRxMailboxOffset = 0x0010;
-constexpr std::uint16_t kStdRxMailboxOffset = 0x0014;
-constexpr std::uint16_t kStdRxMailboxSize = 0x0015;
-constexpr std::uint16_t kStdTxMailboxOffset = 0x0016;
-constexpr std::uint16_t kStdTxMailboxSize = 0x0017;
-constexpr std::uint16_t kMailboxProtocols = 0x0018;
+// Words 0x0010..0x0013 are reserved (delays); the mailboxes follow. Checked against real images
+// (tests/ecat/test_sii_word_map_matches_real_images.cpp).
+constexpr std::uint16_t kBootRxMailboxOffset = 0x0014;
+constexpr std::uint16_t kBootRxMailboxSize = 0x0015;
+constexpr std::uint16_t kBootTxMailboxOffset = 0x0016;
+constexpr std::uint16_t kBootTxMailboxSize = 0x0017;
+constexpr std::uint16_t kStdRxMailboxOffset = 0x0018;
+constexpr std::uint16_t kStdRxMailboxSize = 0x0019;
+constexpr std::uint16_t kStdTxMailboxOffset = 0x001A;
+constexpr std::uint16_t kStdTxMailboxSize = 0x001B;
+constexpr std::uint16_t kMailboxProtocols = 0x001C;
 constexpr std::uint16_t kEepromSize = 0x003E;  // (size in kbit) - 1
 constexpr std::uint16_t kVersion = 0x003F;
 constexpr std::uint16_t kFirstCategory = 0x0040;

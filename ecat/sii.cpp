@@ -37,28 +37,28 @@ Status SiiParser::header(ConstByteSpan image, ChecksumPolicy policy, Sii& sii) n
   auto dword = [p](std::uint16_t w) { return load_le32(p + std::size_t{2} * w); };
 
   ConfigArea& c = sii.config;
-  c.pdi_control = word(kWordPdiControl);
-  c.pdi_config = word(kWordPdiConfig);
-  c.sync_impulse_length = word(kWordSyncImpulseLength);
-  c.pdi_config2 = word(kWordPdiConfig2);
-  c.station_alias = word(kWordStationAlias);
-  c.checksum = p[std::size_t{2} * kWordChecksum];
+  c.pdi_control = word(kPdiControl);
+  c.pdi_config = word(kPdiConfig);
+  c.sync_impulse_length = word(kSyncImpulseLength);
+  c.pdi_config2 = word(kPdiConfig2);
+  c.station_alias = word(kStationAlias);
+  c.checksum = p[std::size_t{2} * kConfigChecksum];
   c.computed_checksum = config_area_crc(p);
   if (policy == ChecksumPolicy::require && !c.checksum_ok()) {
     return make_error(Errc::checksum, "sii config area crc", c.checksum, c.computed_checksum);
   }
 
-  sii.identity = Identity{dword(kWordVendorId), dword(kWordProductCode), dword(kWordRevision),
-                          dword(kWordSerialNumber)};
+  sii.identity = Identity{dword(kVendorId), dword(kProductCode), dword(kRevision),
+                          dword(kSerial)};
   auto mailbox = [&word](std::uint16_t w) {
     return MailboxArea{word(w), word(static_cast<std::uint16_t>(w + 1)), word(static_cast<std::uint16_t>(w + 2)),
                        word(static_cast<std::uint16_t>(w + 3))};
   };
-  sii.bootstrap_mailbox = mailbox(kWordBootstrapMailbox);
-  sii.standard_mailbox = mailbox(kWordStandardMailbox);
-  sii.mailbox_protocols = word(kWordMailboxProtocol);
-  sii.eeprom_size_bytes = (static_cast<std::uint32_t>(word(kWordEepromSize)) + 1U) * 128U;
-  sii.version = word(kWordVersion);
+  sii.bootstrap_mailbox = mailbox(kBootRxMailboxOffset);
+  sii.standard_mailbox = mailbox(kStdRxMailboxOffset);
+  sii.mailbox_protocols = word(kMailboxProtocols);
+  sii.eeprom_size_bytes = (static_cast<std::uint32_t>(word(kEepromSize)) + 1U) * 128U;
+  sii.version = word(kVersion);
   return Status::success();
 }
 
@@ -180,7 +180,7 @@ Result<Sii> Sii::parse(ConstByteSpan image, ChecksumPolicy policy) noexcept {
   // marker when the categories fill the EEPROM exactly.
   while (size - at >= 2) {
     const std::uint16_t type = load_le16(image.data() + at);
-    if (type == category::kEnd) {
+    if (type == kCategoryEnd) {
       at += 2;
       break;
     }
@@ -190,19 +190,19 @@ Result<Sii> Sii::parse(ConstByteSpan image, ChecksumPolicy policy) noexcept {
     const Category c{type, at + 4, bytes};
     ++sii.category_count;
     switch (type) {
-      case category::kStrings:
+      case kCategoryStrings:
         if (!seen_strings) RESCUE_TRY(SiiParser::strings(c, sii));
         seen_strings = true;
         break;
-      case category::kGeneral:
+      case kCategoryGeneral:
         if (!seen_general) RESCUE_TRY(SiiParser::general(c, sii));
         seen_general = true;
         break;
-      case category::kFmmu: RESCUE_TRY(SiiParser::fmmu(c, sii)); break;
-      case category::kSyncManager: RESCUE_TRY(SiiParser::sync_manager(c, sii)); break;
-      case category::kTxPdo: RESCUE_TRY(SiiParser::pdo(c, sii.tx_pdos, sii.tx_entries, sii)); break;
-      case category::kRxPdo: RESCUE_TRY(SiiParser::pdo(c, sii.rx_pdos, sii.rx_entries, sii)); break;
-      case category::kDistributedClock: RESCUE_TRY(SiiParser::dc(c, sii)); break;
+      case kCategoryFmmu: RESCUE_TRY(SiiParser::fmmu(c, sii)); break;
+      case kCategorySyncManager: RESCUE_TRY(SiiParser::sync_manager(c, sii)); break;
+      case kCategoryTxPdo: RESCUE_TRY(SiiParser::pdo(c, sii.tx_pdos, sii.tx_entries, sii)); break;
+      case kCategoryRxPdo: RESCUE_TRY(SiiParser::pdo(c, sii.rx_pdos, sii.rx_entries, sii)); break;
+      case kCategoryDc: RESCUE_TRY(SiiParser::dc(c, sii)); break;
       default: break;  // vendor specific, data types, sync units, ...: not needed, skipped
     }
     at = c.offset + c.size;

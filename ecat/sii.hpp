@@ -9,7 +9,7 @@
 //   word 0x08..0x0F  identity: vendor id, product code, revision, serial number (u32 each)
 //   word 0x14..0x17  bootstrap mailbox: receive offset/size, send offset/size
 //   word 0x18..0x1B  standard mailbox: receive offset/size (master -> slave, SM0), send (SM1)
-//   word 0x1C        supported mailbox protocols (bit mask, kMailboxProtocol*)
+//   word 0x1C        supported mailbox protocols (bit mask, kMailbox*)
 //   word 0x3E        EEPROM size: (value + 1) KiBit;  word 0x3F: SII version
 //   word 0x40..      categories: u16 type, u16 size in words, data; type 0xFFFF ends the list
 //
@@ -26,53 +26,14 @@
 #include "core/fixed_vector.hpp"
 #include "core/result.hpp"
 #include "core/span.hpp"
+#include "ecat/registers.hpp"
 
 namespace rescue::ecat::sii {
 
-// --- Word addresses of the fixed header -----------------------------------------------------
-constexpr std::uint16_t kWordPdiControl = 0x00;
-constexpr std::uint16_t kWordPdiConfig = 0x01;
-constexpr std::uint16_t kWordSyncImpulseLength = 0x02;
-constexpr std::uint16_t kWordPdiConfig2 = 0x03;
-constexpr std::uint16_t kWordStationAlias = 0x04;
-constexpr std::uint16_t kWordChecksum = 0x07;
-constexpr std::uint16_t kWordVendorId = 0x08;
-constexpr std::uint16_t kWordProductCode = 0x0A;
-constexpr std::uint16_t kWordRevision = 0x0C;
-constexpr std::uint16_t kWordSerialNumber = 0x0E;
-constexpr std::uint16_t kWordBootstrapMailbox = 0x14;  // rx offset, rx size, tx offset, tx size
-constexpr std::uint16_t kWordStandardMailbox = 0x18;   // rx offset, rx size, tx offset, tx size
-constexpr std::uint16_t kWordMailboxProtocol = 0x1C;
-constexpr std::uint16_t kWordEepromSize = 0x3E;
-constexpr std::uint16_t kWordVersion = 0x3F;
-constexpr std::uint16_t kWordFirstCategory = 0x40;
-
+// Word addresses of the fixed header, mailbox protocol bits and category types are in
+// ecat/registers.hpp (kVendorId, kStdRxMailboxOffset, kMailboxCoE, kCategoryGeneral, ...).
 constexpr std::size_t kConfigAreaCrcBytes = 14;  // words 0..6
-constexpr std::size_t kHeaderBytes = std::size_t{2} * kWordFirstCategory;  // 128
-
-// Mailbox protocols (word 0x1C).
-constexpr std::uint16_t kMailboxProtocolAoE = 0x0001;
-constexpr std::uint16_t kMailboxProtocolEoE = 0x0002;
-constexpr std::uint16_t kMailboxProtocolCoE = 0x0004;
-constexpr std::uint16_t kMailboxProtocolFoE = 0x0008;
-constexpr std::uint16_t kMailboxProtocolSoE = 0x0010;
-constexpr std::uint16_t kMailboxProtocolVoE = 0x0020;
-
-// Category types (ETG.2010 table 6); 0x0800..0x0FFF vendor specific, 0x1000.. application.
-namespace category {
-constexpr std::uint16_t kNop = 0x0000;
-constexpr std::uint16_t kStrings = 10;
-constexpr std::uint16_t kDataTypes = 20;
-constexpr std::uint16_t kGeneral = 30;
-constexpr std::uint16_t kFmmu = 40;
-constexpr std::uint16_t kSyncManager = 41;
-constexpr std::uint16_t kFmmuExtended = 42;
-constexpr std::uint16_t kSyncUnit = 43;
-constexpr std::uint16_t kTxPdo = 50;  // inputs (slave -> master)
-constexpr std::uint16_t kRxPdo = 51;  // outputs (master -> slave)
-constexpr std::uint16_t kDistributedClock = 60;
-constexpr std::uint16_t kEnd = 0xFFFF;
-}  // namespace category
+constexpr std::size_t kHeaderBytes = std::size_t{2} * kFirstCategory;  // 128
 
 // Sizes of the fixed-size records inside categories (bytes).
 constexpr std::size_t kGeneralSize = 32;

@@ -70,10 +70,10 @@ TEST(SiiRealImages, AkdServoDriveHasKollmorgenIdentityMailboxAndPdos) {
   EXPECT_EQ(s.standard_mailbox.send_offset, 0x1c00);
   EXPECT_EQ(s.standard_mailbox.send_size, 0x0400);
   EXPECT_EQ(s.bootstrap_mailbox.receive_offset, 0x1800);
-  EXPECT_TRUE(s.supports(kMailboxProtocolCoE));
-  EXPECT_TRUE(s.supports(kMailboxProtocolEoE));
-  EXPECT_TRUE(s.supports(kMailboxProtocolFoE));
-  EXPECT_FALSE(s.supports(kMailboxProtocolSoE));
+  EXPECT_TRUE(s.supports(kMailboxCoE));
+  EXPECT_TRUE(s.supports(kMailboxEoE));
+  EXPECT_TRUE(s.supports(kMailboxFoE));
+  EXPECT_FALSE(s.supports(kMailboxSoE));
   EXPECT_EQ(s.name(), "AKD EtherCAT Drive (CoE)");
   EXPECT_EQ(s.order(), "AKD");
   EXPECT_EQ(s.group(), "Drive");

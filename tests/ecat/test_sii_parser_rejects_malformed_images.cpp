@@ -14,12 +14,12 @@ namespace {
 struct ImageUnderTest {
   std::vector<std::uint8_t> bytes = std::vector<std::uint8_t>(kHeaderBytes, 0);
   ImageUnderTest() {
-    store_le32(&bytes[2 * kWordVendorId], 0x1234);
-    store_le16(&bytes[2 * kWordEepromSize], 0x000F);
-    store_le16(&bytes[2 * kWordVersion], 1);
+    store_le32(&bytes[2 * kVendorId], 0x1234);
+    store_le16(&bytes[2 * kEepromSize], 0x000F);
+    store_le16(&bytes[2 * kVersion], 1);
     seal();
   }
-  void seal() { bytes[2 * kWordChecksum] = config_area_crc(bytes.data()); }
+  void seal() { bytes[2 * kConfigChecksum] = config_area_crc(bytes.data()); }
   void category(std::uint16_t type, std::vector<std::uint8_t> data, int declared_words = -1) {
     const std::size_t at = bytes.size();
     bytes.resize(at + 4);
@@ -50,7 +50,7 @@ TEST(SiiParserRejects, ImageShorterThanTheHeader) {
 
 TEST(SiiParserRejects, WrongConfigAreaChecksumUnlessIgnored) {
   ImageUnderTest img;
-  img.bytes[2 * kWordChecksum] ^= 0x01;
+  img.bytes[2 * kConfigChecksum] ^= 0x01;
   expect_error(img.parse(), Errc::checksum, "sii config area crc");
   auto lenient = img.parse(ChecksumPolicy::ignore);
   ASSERT_TRUE(lenient.ok());
@@ -69,7 +69,7 @@ TEST(SiiParserAccepts, HeaderOnlyAndImageEndingWithoutEndMarker) {
 
 TEST(SiiParserRejects, CategoryLongerThanTheImage) {
   ImageUnderTest img;
-  img.category(category::kStrings, {1, 2, 'a', 'b'}, 40);
+  img.category(kCategoryStrings, {1, 2, 'a', 'b'}, 40);
   expect_error(img.parse(), Errc::truncated, "sii category size");
 }
 
@@ -78,34 +78,34 @@ TEST(SiiParserRejects, CategoryHeaderCutInHalf) {
   img.bytes.insert(img.bytes.end(), {0x0A, 0x00});
   auto r = img.parse();
   expect_error(r, Errc::truncated, "sii category header");
-  EXPECT_EQ(r.error().detail0, category::kStrings);
+  EXPECT_EQ(r.error().detail0, kCategoryStrings);
   EXPECT_EQ(r.error().detail1, kHeaderBytes);
 }
 
 TEST(SiiParserRejects, StringRunningPastItsCategory) {
   ImageUnderTest img;
-  img.category(category::kStrings, {2, 1, 'a', 9, 'b', 'c'});
+  img.category(kCategoryStrings, {2, 1, 'a', 9, 'b', 'c'});
   img.end();
   expect_error(img.parse(), Errc::truncated, "sii string text");
 }
 
 TEST(SiiParserRejects, StringCountLargerThanTheStrings) {
   ImageUnderTest img;
-  img.category(category::kStrings, {4, 1, 'a', 1, 'b'});  // the pad byte reads as a 3rd, empty string
+  img.category(kCategoryStrings, {4, 1, 'a', 1, 'b'});  // the pad byte reads as a 3rd, empty string
   img.end();
   expect_error(img.parse(), Errc::truncated, "sii string length");
 }
 
 TEST(SiiParserRejects, GeneralCategoryShorterThan32Bytes) {
   ImageUnderTest img;
-  img.category(category::kGeneral, std::vector<std::uint8_t>(20, 0));
+  img.category(kCategoryGeneral, std::vector<std::uint8_t>(20, 0));
   img.end();
   expect_error(img.parse(), Errc::truncated, "sii general category");
 }
 
 TEST(SiiParserRejects, SyncManagerCategoryNotWholeRecords) {
   ImageUnderTest img;
-  img.category(category::kSyncManager, std::vector<std::uint8_t>(10, 0));
+  img.category(kCategorySyncManager, std::vector<std::uint8_t>(10, 0));
   img.end();
   expect_error(img.parse(), Errc::malformed, "sii sync manager category size");
 }
@@ -113,28 +113,28 @@ TEST(SiiParserRejects, SyncManagerCategoryNotWholeRecords) {
 TEST(SiiParserRejects, PdoAnnouncingMoreEntriesThanItHolds) {
   ImageUnderTest img;
   // index 0x1A00, 3 entries, SM 3, but only one 8-byte entry follows.
-  img.category(category::kTxPdo, {0x00, 0x1A, 3, 3, 0, 0, 0, 0, 0x41, 0x60, 0, 0, 6, 16, 0, 0});
+  img.category(kCategoryTxPdo, {0x00, 0x1A, 3, 3, 0, 0, 0, 0, 0x41, 0x60, 0, 0, 6, 16, 0, 0});
   img.end();
   expect_error(img.parse(), Errc::truncated, "sii pdo entries");
 }
 
 TEST(SiiParserRejects, PdoHeaderCutShort) {
   ImageUnderTest img;
-  img.category(category::kRxPdo, {0x00, 0x16, 0, 2});
+  img.category(kCategoryRxPdo, {0x00, 0x16, 0, 2});
   img.end();
   expect_error(img.parse(), Errc::truncated, "sii pdo header");
 }
 
 TEST(SiiParserRejects, DcCategoryNotWholeRecords) {
   ImageUnderTest img;
-  img.category(category::kDistributedClock, std::vector<std::uint8_t>(30, 0));
+  img.category(kCategoryDc, std::vector<std::uint8_t>(30, 0));
   img.end();
   expect_error(img.parse(), Errc::malformed, "sii dc category size");
 }
 
 TEST(SiiParserRejects, MoreSyncManagersThanAnEscHas) {
   ImageUnderTest img;
-  img.category(category::kSyncManager, std::vector<std::uint8_t>(8 * (kMaxSyncManagers + 1), 0));
+  img.category(kCategorySyncManager, std::vector<std::uint8_t>(8 * (kMaxSyncManagers + 1), 0));
   img.end();
   expect_error(img.parse(), Errc::capacity_exceeded, "sii sync managers");
 }
@@ -142,11 +142,11 @@ TEST(SiiParserRejects, MoreSyncManagersThanAnEscHas) {
 TEST(SiiParserIgnores, UnknownCategoriesAndStringIndicesPastTheTable) {
   ImageUnderTest img;
   img.category(0x0800, {1, 2, 3, 4});
-  img.category(category::kStrings, {1, 2, 'h', 'i'});
+  img.category(kCategoryStrings, {1, 2, 'h', 'i'});
   std::vector<std::uint8_t> general(32, 0);
   general[3] = 1;  // name
   general[2] = 7;  // order: no such string
-  img.category(category::kGeneral, general);
+  img.category(kCategoryGeneral, general);
   img.end();
   img.bytes.insert(img.bytes.end(), {0x0A, 0x00, 0x55, 0x55});  // after the end marker: not read
   auto r = img.parse();
