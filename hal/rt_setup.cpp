@@ -6,6 +6,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdint>
@@ -15,7 +16,7 @@
 namespace rescue::hal {
 namespace {
 
-constexpr std::size_t kStackSafetyMargin = 64 * 1024;  // left untouched below the prefault: guard, callees
+constexpr std::size_t kStackSafetyMargin = std::size_t{64} * 1024;  // left untouched below the prefault: guard, callees
 
 std::uint32_t errno_detail(int error) noexcept { return static_cast<std::uint32_t>(error); }
 
@@ -162,9 +163,8 @@ RtReport apply_rt_config(const RtConfig& config) noexcept {
 bool RtReport::fully_applied() const noexcept { return refused_count() == 0; }
 
 std::size_t RtReport::refused_count() const noexcept {
-  std::size_t refused = 0;
-  for (const RtItemReport& item : items) refused += item.outcome == RtOutcome::refused ? 1 : 0;
-  return refused;
+  return static_cast<std::size_t>(
+      std::count_if(items.begin(), items.end(), [](const RtItemReport& item) { return item.outcome == RtOutcome::refused; }));
 }
 
 std::size_t RtReport::format_item(const RtItemReport& item, char* buffer, std::size_t size) noexcept {

@@ -37,7 +37,7 @@ Status pin_to_cpu(int cpu) noexcept;
 
 struct RtConfig {
   bool lock_memory{true};
-  std::size_t prefault_stack_bytes{512 * 1024};  // 0: skip
+  std::size_t prefault_stack_bytes{std::size_t{512} * 1024};  // 0: skip
   int fifo_priority{0};                           // 0: keep the default scheduler; 1..99: SCHED_FIFO
   int cpu{-1};                                    // -1: no pinning
 };

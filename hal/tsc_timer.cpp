@@ -50,7 +50,7 @@ const char* to_string(TimerSource source) noexcept {
 }
 
 TscTimer TscTimer::monotonic_fallback(const char* reason) noexcept {
-  return TscTimer(TimerSource::clock_gettime, reason, 1.0, false);
+  return {TimerSource::clock_gettime, reason, 1.0, false};
 }
 
 TscTimer TscTimer::calibrate(Nanoseconds calibration) noexcept {
@@ -67,19 +67,19 @@ TscTimer TscTimer::calibrate(Nanoseconds calibration) noexcept {
   const bool rdtscp = __get_cpuid(0x80000001U, &eax, &ebx, &ecx, &edx) != 0 && rdtscp_bit(edx);
   const double ratio = calibrate_against_monotonic(calibration, [] { return tsc_start(); });
   if (!(ratio > 0.0)) return monotonic_fallback("TSC calibration failed (counter did not advance)");
-  return TscTimer(TimerSource::tsc, rdtscp ? "invariant TSC, RDTSCP" : "invariant TSC, no RDTSCP (LFENCE;RDTSC at stop)",
-                  ratio, rdtscp);
+  return {TimerSource::tsc, rdtscp ? "invariant TSC, RDTSCP" : "invariant TSC, no RDTSCP (LFENCE;RDTSC at stop)", ratio,
+          rdtscp};
 #elif defined(__aarch64__)
   std::uint64_t frequency = 0;
   asm volatile("mrs %0, cntfrq_el0" : "=r"(frequency));
   if (frequency == 0) {
     const double ratio = calibrate_against_monotonic(calibration, [] { return arm_counter_read(); });
     if (!(ratio > 0.0)) return monotonic_fallback("CNTFRQ_EL0 is 0 and CNTVCT_EL0 did not advance");
-    return TscTimer(TimerSource::arm_counter, "CNTVCT_EL0, calibrated (CNTFRQ_EL0 is 0)", ratio, false);
+    return {TimerSource::arm_counter, "CNTVCT_EL0, calibrated (CNTFRQ_EL0 is 0)", ratio, false};
   }
   (void)calibration;  // the architecture states the rate
-  return TscTimer(TimerSource::arm_counter, "CNTVCT_EL0 at CNTFRQ_EL0",
-                  static_cast<double>(frequency) / static_cast<double>(kNsPerSec), false);
+  return {TimerSource::arm_counter, "CNTVCT_EL0 at CNTFRQ_EL0",
+          static_cast<double>(frequency) / static_cast<double>(kNsPerSec), false};
 #else
   (void)calibration;
   return monotonic_fallback("no cycle counter on this architecture");

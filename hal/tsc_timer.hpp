@@ -18,6 +18,7 @@
 //                  CLOCK_MONOTONIC in ns, one tick = 1 ns.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <ctime>
 
@@ -78,7 +79,7 @@ class TscTimer {
     return monotonic_ns();
   }
   Nanoseconds to_ns(std::uint64_t ticks) const noexcept {
-    return static_cast<Nanoseconds>(static_cast<double>(ticks) * ns_per_tick_ + 0.5);
+    return static_cast<Nanoseconds>(std::llround(static_cast<double>(ticks) * ns_per_tick_));
   }
 
   // The raw instruction sequences (x86 only; 0 elsewhere).
