@@ -1,0 +1,52 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/robot.hpp"
+
+namespace rescue {
+namespace {
+
+TEST(Robot, HasTwentyOneJointsOnFourBranches) {
+  EXPECT_EQ(kJoints.size(), 21u);
+  EXPECT_EQ(__builtin_popcount(joints_of_branch(Branch::torso)), 3);
+  EXPECT_EQ(__builtin_popcount(joints_of_branch(Branch::left_arm)), 7);
+  EXPECT_EQ(__builtin_popcount(joints_of_branch(Branch::right_arm)), 7);
+  EXPECT_EQ(__builtin_popcount(joints_of_branch(Branch::lower_body)), 4);
+}
+
+TEST(Robot, FrameOrderFollowsPorts0312) {
+  // junction_a, then junction_b (port 3), right arm, lower body, then torso, left arm.
+  EXPECT_STREQ(kSlaves[0].name, "junction_a");
+  EXPECT_STREQ(kSlaves[1].name, "junction_b");
+  EXPECT_STREQ(kSlaves[2].name, "r_shoulder_pitch");
+  EXPECT_STREQ(kSlaves[9].name, "l_leg");
+  EXPECT_STREQ(kSlaves[13].name, "waist_yaw");
+  EXPECT_STREQ(kSlaves[16].name, "l_shoulder_pitch");
+  EXPECT_STREQ(kSlaves[22].name, "l_hand");
+}
+
+TEST(Robot, LinkFailureLosesJointAndEverythingBehindIt) {
+  const std::size_t elbow = joint_index_by_name("l_elbow");
+  ASSERT_LT(elbow, kJointCount);
+  const JointMask lost = joints_lost_by_link_failure_at(elbow);
+  for (const char* name : {"l_elbow", "l_wrist_yaw", "l_wrist_pitch", "l_hand"}) {
+    EXPECT_TRUE(lost & joint_bit(joint_index_by_name(name))) << name;
+  }
+  for (const char* name : {"l_shoulder_pitch", "l_shoulder_roll", "l_shoulder_yaw", "r_hand", "waist_yaw"}) {
+    EXPECT_FALSE(lost & joint_bit(joint_index_by_name(name))) << name;
+  }
+  EXPECT_EQ(joints_lost_by_link_failure_at(joint_index_by_name("waist_yaw")), joints_of_branch(Branch::torso));
+}
+
+TEST(Robot, UnknownJointNameIsReported) { EXPECT_EQ(joint_index_by_name("tail"), kJointCount); }
+
+TEST(Robot, CountsRoundTripAndSaturate) {
+  EXPECT_NEAR(counts_to_rad(rad_to_counts(1.25)), 1.25, 1e-5);
+  EXPECT_EQ(rad_to_counts(1e9), 2147483647);
+  EXPECT_EQ(rad_to_counts(-1e9), -2147483647 - 1);
+  EXPECT_EQ(rad_to_counts(std::nan("")), -2147483647 - 1);
+}
+
+}  // namespace
+}  // namespace rescue
