@@ -7,13 +7,11 @@
 
 #include "core/robot.hpp"
 #include "drivers/device_identity.hpp"
+#include "drivers/joint_drive_pdo.hpp"
 #include "ecat/network_plan.hpp"
 
 namespace rescue::drivers {
 
-// TODO(master): take these from simdev's drivers/joint_drive_pdo.hpp once it is on main.
-constexpr std::size_t kJointOutputBytes = 13;  // controlword, mode, target pos/vel/torque
-constexpr std::size_t kJointInputBytes = 15;   // statusword, mode display, pos, vel, torque, error code
 
 constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
   ecat::NetworkPlan plan{};
