@@ -38,6 +38,9 @@
 
 namespace rescue::ecat {
 
+// Room the cyclic frame keeps beyond the process image: probes, AL datagrams, a mailbox step.
+constexpr std::size_t kCycleFrameReserve = 400;
+
 struct MasterOptions {
   hal::Nanoseconds cycle_time{hal::kNsPerMs};
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
@@ -49,6 +52,10 @@ struct MasterOptions {
   hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
   hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};  // SAFE-OP -> OP while cycling
   JointMask known_lost{0};                    // joints the error file lists as lost: expected absent
+  // SDO downloads done in PRE-OP, before SAFE-OP (IgH's slave-config SDOs): e.g. joint limits.
+  // Requests to slaves that are not operated are skipped. Any refusal fails the bring-up.
+  Span<const SdoRequest> startup_sdos{};
+  hal::Nanoseconds startup_sdo_timeout{5 * hal::kNsPerSec};
 };
 
 enum class MasterState : std::uint8_t { idle, failed, safe_op, going_op, op };
@@ -75,6 +82,8 @@ struct BringUpReport {
   NetworkMatch match{};
   AlFailure al_failure{};
   SiiReadStats sii{};
+  SdoCompletion failed_sdo{};            // when the failed step is "PRE-OP SDO"
+  std::uint32_t startup_sdos_done{0};
   DcDelays delays{};
   std::uint32_t dc_max_difference_ns{0};  // max |0x092C| after static drift compensation
   std::uint64_t sync0_start{0};           // system time of the first SYNC0
@@ -103,7 +112,6 @@ struct CycleResult {
 // Per-slave DC diagnostics (acyclic; for benchmarks and tests, between cycles).
 struct DcSnapshot {
   std::array<std::uint32_t, kMaxSlaves> difference_ns{};  // |0x092C|
-  std::array<std::uint64_t, kMaxSlaves> system_time{};    // 0x0910 as read (same frame)
   SlaveMask answered{0};
   std::uint32_t max_difference_ns{0};
 };
@@ -157,6 +165,7 @@ class Master {
   Status assign_addresses() noexcept;
   Status configure_mailboxes() noexcept;
   Status configure_process_data() noexcept;
+  Status run_startup_sdos() noexcept;
   Status fail(const char* step, const Error& error) noexcept;
   // Distributed clocks (master_dc.cpp).
   Status configure_dc() noexcept;
@@ -196,10 +205,19 @@ class Master {
   std::array<ProbeRequest, kMaxSlaves> probes_{};
   std::array<ProbeResult, kMaxSlaves> probe_results_{};
   std::size_t probe_count_{0};
-  SlaveMask op_pending_{0};        // going_op: slaves not yet confirmed in OP
-  bool op_requested_{false};
+  // SAFE-OP -> OP while cycling, per slave: write OP, watch AL status, acknowledge a refusal
+  // (in a frame of its own: the slave reads AL control asynchronously) and write OP again.
+  enum class OpStep : std::uint8_t { request, wait, acknowledge };
+  SlaveMask op_pending_{0};        // slaves not yet confirmed in OP
+  std::array<OpStep, kMaxSlaves> op_step_{};
   std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
   hal::Nanoseconds op_deadline_{0};
+  std::uint64_t overruns_{0};
+  // Last reference time read (bring-up), to place the first wake-up.
+  std::uint64_t last_reference_time_{0};
+  hal::Nanoseconds last_reference_read_at_{0};
+  std::uint16_t reference_station_{0};
+  SlaveMask dc_slaves_{0};
 };
 
 }  // namespace rescue::ecat

@@ -1,5 +1,6 @@
 #include "ecat/network_match.hpp"
 
+#include <algorithm>
 #include <cinttypes>
 
 namespace rescue::ecat {
@@ -65,9 +66,8 @@ const char* to_string(DifferenceKind kind) noexcept {
 }
 
 std::size_t NetworkMatch::count(DifferenceKind kind) const noexcept {
-  std::size_t n = 0;
-  for (const NetworkDifference& d : differences) n += d.kind == kind ? 1 : 0;
-  return n;
+  return static_cast<std::size_t>(
+      std::count_if(differences.begin(), differences.end(), [kind](const NetworkDifference& d) { return d.kind == kind; }));
 }
 
 NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found, JointMask known_lost_joints) noexcept {
@@ -161,45 +161,46 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
 std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<const FoundSlave> found, char* out,
                      std::size_t size) noexcept {
   if (size == 0) return 0;
-  const SlavePlan* s = d.planned < kMaxSlaves ? &plan[d.planned] : nullptr;
-  const FoundSlave* f = d.found < found.size() ? &found[d.found] : nullptr;
+  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, kNoJoint, 0, 0, false, false};
+  static const FoundSlave kNoDevice{};
+  const SlavePlan& s = d.planned < kMaxSlaves ? plan[d.planned] : kNoSlave;
+  const FoundSlave& f = d.found < found.size() ? found[d.found] : kNoDevice;
   int n = 0;
   switch (d.kind) {
     case DifferenceKind::missing:
       n = std::snprintf(out, size, "missing: %s (position %u, %s %#010" PRIx32 ":%#010" PRIx32 ") does not answer",
-                        s->name, d.planned, s->device_name, s->vendor_id, s->product_code);
+                        s.name, d.planned, s.device_name, s.vendor_id, s.product_code);
       break;
     case DifferenceKind::extra:
       n = std::snprintf(out, size, "extra: device at position %u (%s %#010" PRIx32 ":%#010" PRIx32 " alias %#06x) is not planned",
-                        d.found, f != nullptr ? f->name.data() : "?", f != nullptr ? f->vendor_id : 0U,
-                        f != nullptr ? f->product_code : 0U, f != nullptr ? f->station_alias : 0U);
+                        d.found, f.name.data(), f.vendor_id, f.product_code, f.station_alias);
       break;
     case DifferenceKind::wrong_device:
       n = std::snprintf(out, size, "wrong device: position %u holds %s %#010" PRIx32 ":%#010" PRIx32
                         " where %s expects %s %#010" PRIx32 ":%#010" PRIx32,
-                        d.found, f->name.data(), f->vendor_id, f->product_code, s->name, s->device_name, s->vendor_id,
-                        s->product_code);
+                        d.found, f.name.data(), f.vendor_id, f.product_code, s.name, s.device_name, s.vendor_id,
+                        s.product_code);
       break;
     case DifferenceKind::wrong_position:
-      n = std::snprintf(out, size, "wrong position: %s (alias %#06x) found at position %u, planned at %u", s->name,
-                        f->station_alias, d.found, d.planned);
+      n = std::snprintf(out, size, "wrong position: %s (alias %#06x) found at position %u, planned at %u", s.name,
+                        f.station_alias, d.found, d.planned);
       break;
     case DifferenceKind::duplicate_alias:
       n = std::snprintf(out, size, "duplicate alias: device at position %u also claims %s (alias %#06x)", d.found,
-                        s->name, s->station_alias);
+                        s.name, s.station_alias);
       break;
     case DifferenceKind::process_data_size:
       n = std::snprintf(out, size, "process data size: %s maps %" PRIu32 " output / %" PRIu32
-                        " input bits, planned %u / %u", s->name, f->output_bits, f->input_bits,
-                        8U * s->output_bytes, 8U * s->input_bytes);
+                        " input bits, planned %u / %u", s.name, f.output_bits, f.input_bits,
+                        8U * s.output_bytes, 8U * s.input_bytes);
       break;
     case DifferenceKind::revision:
-      n = std::snprintf(out, size, "revision (warning): %s has revision %#010" PRIx32 ", planned %#010" PRIx32, s->name,
-                        f->revision, s->revision);
+      n = std::snprintf(out, size, "revision (warning): %s has revision %#010" PRIx32 ", planned %#010" PRIx32, s.name,
+                        f.revision, s.revision);
       break;
     case DifferenceKind::known_lost_present:
       n = std::snprintf(out, size, "known lost, present (warning): %s answers at position %u; kept out of operation "
-                        "until re-integrated", s->name, d.found);
+                        "until re-integrated", s.name, d.found);
       break;
   }
   if (n < 0) {

@@ -25,7 +25,7 @@ void walk_categories(SiiImage& image, SlaveRead& state) noexcept {
   while (!image.complete && image.size >= state.next_category + 4) {
     const std::uint8_t* h = image.bytes.data() + state.next_category;
     const std::uint16_t type = load_le16(h);
-    const std::size_t next = state.next_category + 4 + 2U * load_le16(h + 2);
+    const std::size_t next = state.next_category + 4 + std::size_t{2} * load_le16(h + 2);
     if (type == kCategoryEnd) {
       image.size = static_cast<std::uint16_t>(state.next_category + 2);
       image.complete = true;

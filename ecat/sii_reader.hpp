@@ -31,7 +31,7 @@ struct SiiImage {
   bool complete{false};        // the end marker was read (or put in, when truncated)
   bool truncated{false};
   Error error{};               // why the read failed (code ok when it did not)
-  ConstByteSpan view() const noexcept { return ConstByteSpan(bytes.data(), size); }
+  ConstByteSpan view() const noexcept { return {bytes.data(), size}; }
 };
 
 struct SiiReadOptions {
