@@ -25,6 +25,8 @@ class Nic {
   Nic() = default;
   Nic(const Nic&) = delete;
   Nic& operator=(const Nic&) = delete;
+  Nic(Nic&&) = delete;
+  Nic& operator=(Nic&&) = delete;
   virtual ~Nic() = default;
 
   // Sends one complete Ethernet frame (destination MAC onwards, no FCS), at most 1514 bytes.
