@@ -106,7 +106,7 @@ class MailboxClient {
 
   void start_next(hal::Nanoseconds now) noexcept;
   void complete(SdoOutcome outcome) noexcept;
-  void take_reply(ConstByteSpan mailbox) noexcept;
+  void take_reply(ConstByteSpan bytes) noexcept;
 
   const NetworkPlan& plan_;
   std::array<Box, kMaxSlaves> boxes_{};

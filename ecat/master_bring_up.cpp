@@ -1,6 +1,7 @@
 // Master bring-up: count, reset, identify, compare, address, mailboxes, process data, states.
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "ecat/master.hpp"
 #include "ecat/registers.hpp"
@@ -79,8 +80,10 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));
   }
   std::memset(image_.data(), 0, image_.size());
-  std::size_t cyclic_bytes = 2 * kDatagramOverhead + 8;  // the reference time, one LRW's overhead
-  for (const BranchLayout& branch : layout_.branches) cyclic_bytes += kDatagramOverhead + branch.length;
+  // The reference time's datagram, then one LRW per branch.
+  const std::size_t cyclic_bytes = std::accumulate(
+      layout_.branches.begin(), layout_.branches.end(), kDatagramOverhead + 8,
+      [](std::size_t sum, const BranchLayout& branch) { return sum + kDatagramOverhead + branch.length; });
   if (cyclic_bytes + kCycleFrameReserve > kMaxEcatPayload) {
     return fail("plan", make_error(Errc::capacity_exceeded, "process image does not fit one frame", u32(cyclic_bytes)));
   }
@@ -130,7 +133,7 @@ Status Master::count_and_reset() noexcept {
   if (counted.value() == 0) return fail("count", make_error(Errc::not_found, "no slave answers"));
 
   FrameBuilder& frame = link_.begin();
-  std::array<std::uint8_t, 4 * reg::kFmmuSize> bytes{};
+  std::array<std::uint8_t, std::size_t{4} * reg::kFmmuSize> bytes{};
   for (const ResetWrite& w : kResetWrites) {
     bytes.fill(0);
     store_le16(bytes.data(), w.value);
@@ -158,36 +161,36 @@ Status Master::identify() noexcept {
       e.detail0 = u32(a);  // which slave; the parser's `what` names the field
       return fail("identify", e);
     }
-    const sii::Sii& image = parsed.value();
+    const sii::Sii& info = parsed.value();
     FoundSlave f;
-    f.vendor_id = image.identity.vendor_id;
-    f.product_code = image.identity.product_code;
-    f.revision = image.identity.revision;
-    f.serial_number = image.identity.serial_number;
-    f.station_alias = image.config.station_alias;
-    f.output_bits = image.default_bits_of_sync_manager(2);
-    f.input_bits = image.default_bits_of_sync_manager(3);
-    f.pdo_sizes_known = !image.rx_pdos.empty() || !image.tx_pdos.empty();
-    const std::string_view name = image.name();
+    f.vendor_id = info.identity.vendor_id;
+    f.product_code = info.identity.product_code;
+    f.revision = info.identity.revision;
+    f.serial_number = info.identity.serial_number;
+    f.station_alias = info.config.station_alias;
+    f.output_bits = info.default_bits_of_sync_manager(2);
+    f.input_bits = info.default_bits_of_sync_manager(3);
+    f.pdo_sizes_known = !info.rx_pdos.empty() || !info.tx_pdos.empty();
+    const std::string_view name = info.name();
     std::memcpy(f.name.data(), name.data(), std::min(name.size(), f.name.size() - 1));
     (void)report_.found.push_back(f);  // capacity kMaxFoundSlaves >= n
 
-    SlaveSetup& setup = found_setup[a];
-    for (std::size_t s = 0; s < setup.sm.size(); ++s) setup.sm[s] = sm_from_sii(image, s);
-    setup.mailbox = image.standard_mailbox.present() && image.supports(sii::kMailboxCoE);
-    if (setup.mailbox) {
+    SlaveSetup& found = found_setup[a];
+    for (std::size_t s = 0; s < found.sm.size(); ++s) found.sm[s] = sm_from_sii(info, s);
+    found.mailbox = info.standard_mailbox.present() && info.supports(sii::kMailboxCoE);
+    if (found.mailbox) {
       // The standard mailbox words are authoritative for SM0/SM1 (the SM category may be absent).
-      setup.sm[0] = SyncManagerSetup{image.standard_mailbox.receive_offset, image.standard_mailbox.receive_size,
-                                     setup.sm[0].present ? setup.sm[0].control : kSmControlMailboxOut, true};
-      setup.sm[1] = SyncManagerSetup{image.standard_mailbox.send_offset, image.standard_mailbox.send_size,
-                                     setup.sm[1].present ? setup.sm[1].control : kSmControlMailboxIn, true};
+      found.sm[0] = SyncManagerSetup{info.standard_mailbox.receive_offset, info.standard_mailbox.receive_size,
+                                     found.sm[0].present ? found.sm[0].control : kSmControlMailboxOut, true};
+      found.sm[1] = SyncManagerSetup{info.standard_mailbox.send_offset, info.standard_mailbox.send_size,
+                                     found.sm[1].present ? found.sm[1].control : kSmControlMailboxIn, true};
     }
   }
   report_.match = match_network(plan_, report_.found.span(), options_.known_lost);
   if (report_.match.fatal) {
-    std::uint32_t fatal = 0;
-    for (const NetworkDifference& d : report_.match.differences) fatal += is_fatal(d.kind) ? 1U : 0U;
-    return fail("compare", make_error(Errc::mismatch, "network differs from the plan", fatal, u32(n)));
+    const auto fatal = std::count_if(report_.match.differences.begin(), report_.match.differences.end(),
+                                     [](const NetworkDifference& d) { return is_fatal(d.kind); });
+    return fail("compare", make_error(Errc::mismatch, "network differs from the plan", u32(static_cast<std::size_t>(fatal)), u32(n)));
   }
   for (std::size_t a = 0; a < n; ++a) {
     const std::uint8_t slot = report_.match.slot_of_found[a];
@@ -211,6 +214,7 @@ Status Master::assign_addresses() noexcept {
   const Result<FrameView> back = link_.exchange(link_.clock().now() + options_.frame_timeout);
   if (!back.ok()) return fail("address", back.error());
   for (const DatagramView d : back.value()) {
+    // cppcheck-suppress useStlAlgorithm ; frame views have no standard iterators
     if (d.wkc() != 1) return fail("address", make_error(Errc::io_error, "station address not taken", d.index_in_frame()));
   }
   // Read the addresses back through them: each must answer exactly once.

@@ -33,15 +33,15 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
   const std::uint8_t index = link_.index();
   // Capacity was checked at start-up (the frame with every branch always fits), so the adds of
   // the fixed part cannot fail; the optional parts are added only while they fit.
-  const auto plan = [&](Role role, std::size_t param, bool added) {
+  const auto note = [&](Role role, std::size_t param, bool added) {
     if (added) planned_[planned_count_++] = Planned{role, static_cast<std::uint8_t>(param)};
   };
-  plan(Role::reference_time, 0,
+  note(Role::reference_time, 0,
        frame.add(Command::FRMW, index, make_address(reference_station_, reg::kDcSystemTime), 8).ok());
   for (std::size_t b = 0; b < kMaxBranches; ++b) {
     const BranchLayout& branch = layout_.branches[b];
     if (branch.length == 0) continue;
-    plan(Role::branch, b,
+    note(Role::branch, b,
          frame.add(Command::LRW, index, branch.logical_start, branch.length,
                    ConstByteSpan(image_.data() + branch.logical_start, branch.length)).ok());
   }
@@ -54,9 +54,9 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
       const ProbeRequest& probe = probes_[i];
       const std::uint16_t station = plan_[probe.position].station_address;
       probe_results_[i] = ProbeResult{probe.position, probe.clear_fmmus, 0, 0, 0, 0};
-      plan(Role::probe_status, i, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
+      note(Role::probe_status, i, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
       if (probe.clear_fmmus) {
-        plan(Role::probe_clear, i,
+        note(Role::probe_clear, i,
              frame.add(Command::FPWR, index, make_address(station, kFmmuActivationOffAddress), kFmmuActivationOffLength,
                        ConstByteSpan(kZeros)).ok());
       }
@@ -68,18 +68,18 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
       if ((op_pending_ & slave_bit(p)) == 0 || !fits(kOpStatusBytes)) continue;
       const std::uint16_t station = plan_[p].station_address;
       if (op_step_[p] == OpStep::wait) {
-        plan(Role::al_status, p, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
+        note(Role::al_status, p, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
         continue;
       }
       const auto control = op_step_[p] == OpStep::acknowledge
                                ? static_cast<std::uint16_t>(static_cast<std::uint16_t>(reg::AlState::safe_op) | reg::kAlErrorBit)
                                : static_cast<std::uint16_t>(reg::AlState::op);
       store_le16(value.data(), control);
-      plan(Role::al_control, p, frame.add(Command::FPWR, index, make_address(station, reg::kAlControl), 2, ConstByteSpan(value)).ok());
+      note(Role::al_control, p, frame.add(Command::FPWR, index, make_address(station, reg::kAlControl), 2, ConstByteSpan(value)).ok());
     }
   }
   const std::size_t mailbox_datagrams = mailbox_.add_datagrams(frame, index, link_.clock().now());
-  for (std::size_t k = 0; k < mailbox_datagrams; ++k) plan(Role::mailbox, k, true);
+  for (std::size_t k = 0; k < mailbox_datagrams; ++k) note(Role::mailbox, k, true);
 }
 
 void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) noexcept {

@@ -123,9 +123,9 @@ Status Master::start_sync0() noexcept {
   if (!read.ok()) return fail("SYNC0", read.error());
   last_reference_time_ = load_le64(time.data());
   last_reference_read_at_ = before;
-  const auto cycle = static_cast<std::uint64_t>(options_.cycle_time);
+  const auto period = static_cast<std::uint64_t>(options_.cycle_time);
   const std::uint64_t earliest = last_reference_time_ + static_cast<std::uint64_t>(options_.sync0_start_margin);
-  const std::uint64_t start = (earliest / cycle + 1) * cycle;
+  const std::uint64_t start = (earliest / period + 1) * period;
   report_.sync0_start = start;
   dc_sync_ = DcCycleSync(options_.cycle_time, start, options_.sync0_target_phase);
 
@@ -142,7 +142,7 @@ Status Master::start_sync0() noexcept {
   const std::array<std::uint8_t, 1> unit{kSyncUnitToEcat};
   const std::array<std::uint8_t, 1> on{static_cast<std::uint8_t>(reg::kDcActivateCyclic | reg::kDcActivateSync0)};
   std::array<std::uint8_t, 4> cycle_bytes{};
-  store_le32(cycle_bytes.data(), static_cast<std::uint32_t>(cycle));
+  store_le32(cycle_bytes.data(), static_cast<std::uint32_t>(period));
   std::array<std::uint8_t, 8> start_bytes{};
   store_le64(start_bytes.data(), start);
   Status st = write_each_slave(link_, plan_, sync_slaves, reg::kDcActivation, ConstByteSpan(off), check, options_.frame_timeout);
