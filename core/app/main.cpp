@@ -10,7 +10,7 @@ using rescue::app::CommandSpec;
 
 const CommandSpec* const kCommands[] = {
     &rescue::app::kRunCommand,    &rescue::app::kSimCommand,   &rescue::app::kCtlCommand,
-    &rescue::app::kDecodeCommand, &rescue::app::kBenchCommand,
+    &rescue::app::kDecodeCommand, &rescue::app::kBenchCommand, &rescue::app::kDocsCommand,
 };
 
 void print_usage(std::FILE* out) {
