@@ -16,7 +16,9 @@ namespace rescue {
 
 // One joint's values in one cycle, in SI units (the handler converts the process data: counts with
 // counts_to_rad, per-mille torque with the joint's rated torque). Written by the EtherCAT handler into
-// shared memory; read by the joint manager.
+// shared memory; read by the joint manager. When a joint becomes unreachable the handler clears
+// `reachable` and leaves the last values it received in place: they are the joint's last known state
+// (reconfiguration step 2 reads them).
 struct JointSample {
   bool reachable{false};             // this cycle's working counter included the joint
   std::int32_t position_counts{0};   // actual position as the drive reported it (held position record)
