@@ -112,7 +112,7 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
   Status file = file_dirty_ ? Status(make_error(Errc::io_error, "error-joints file not yet written")) : Status::success();
   if (fresh != 0) {
     ErrorJointsContents next = recorded_;
-    const std::int64_t wall = ports_.wall_clock->now();
+    const std::int64_t wall = ports_.wall_clock->unix_time_ns();
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if ((fresh & joint_bit(j)) == 0) continue;
       LostJointRecord r;

@@ -32,6 +32,7 @@
 #include "core/message_port.hpp"
 #include "fsm/joint_status_dfa.hpp"
 #include "hal/clock.hpp"
+#include "hal/wall_clock.hpp"
 
 namespace rescue::app {
 
@@ -52,7 +53,7 @@ struct JointManagerPorts {
   MessageSource<JointCommand>* commands;       // the joint handle queue, from the message parser
   JointSampleSource* samples;                  // the handler's published joint values (step 2, monitoring)
   ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
-  hal::Clock* wall_clock;                      // Unix time for the file's records (CLOCK_REALTIME)
+  hal::WallClock* wall_clock;                  // Unix time for the file's records
   JointEventSink* events;                      // what happened, for the log
 };
 

@@ -133,7 +133,7 @@ struct Rig {
   FakeQueue<JointCommand> commands{64};
   FakeSamples samples;
   ErrorJointsStorage& storage;
-  hal::VirtualClock wall{1'700'000'000'000'000'000LL};
+  hal::ManualWallClock wall{1'700'000'000'000'000'000LL};
   EventLog log;
 };
 
