@@ -1,5 +1,6 @@
 // rescue-motion run: the firmware. Filled in by the master and joint-manager work.
 #include "core/app/commands.hpp"
+#include "core/app/nic_option.hpp"
 
 namespace rescue::app {
 namespace {
@@ -12,7 +13,11 @@ const OptionSpec kOptions[] = {
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
 };
 
-int run_main(const ParsedArgs& /*args*/) { return fail("run", "not implemented yet"); }
+int run_main(const ParsedArgs& args) {
+  const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
+  if (!nic.ok()) return fail("run", nic.error().what);
+  return fail("run", "not implemented yet");
+}
 
 }  // namespace
 

@@ -8,7 +8,8 @@ namespace {
 
 using rescue::app::CommandSpec;
 
-const CommandSpec* const kCommands[] = {
+// constexpr: only the addresses are used, fixed at link time, so no initialisation order issue.
+constexpr const CommandSpec* kCommands[] = {
     &rescue::app::kRunCommand,    &rescue::app::kSimCommand,   &rescue::app::kCtlCommand,
     &rescue::app::kDecodeCommand, &rescue::app::kBenchCommand, &rescue::app::kDocsCommand,
 };

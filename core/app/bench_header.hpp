@@ -1,0 +1,12 @@
+// The header every `rescue-motion bench NAME` prints before its figures: what was measured and on
+// what (CPU, kernel, privileges), so a figure is never read without its conditions.
+#pragma once
+
+#include <cstdio>
+
+namespace rescue::app {
+
+// Prints "bench: NAME", "cpu: ...", "kernel: ...", "privileges: ..." lines to `out`.
+void print_bench_header(std::FILE* out, const char* name) noexcept;
+
+}  // namespace rescue::app

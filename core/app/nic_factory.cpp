@@ -1,0 +1,31 @@
+#include "core/app/nic_factory.hpp"
+
+#include <cstdio>
+#include <cstring>
+
+namespace rescue::app {
+
+Status SelectedNic::open(const NicChoice& choice) noexcept {
+  active_ = nullptr;
+  if (choice.kind == NicKind::raw) {
+    RESCUE_TRY(raw_.open(choice.interface_name.data()));
+    active_ = &raw_;
+    return Status::success();
+  }
+  return make_error(Errc::unsupported, "the in-process simulated segment is not in this build yet (use --nic raw:IFACE)");
+}
+
+int fail_nic(const char* command, const char* nic_text, const Error& error) noexcept {
+  if (error.code == Errc::io_error && error.detail0 != 0) {
+    // Start-up only, one thread: strerror's static buffer is not shared with anyone.
+    const char* os_reason = std::strerror(static_cast<int>(error.detail0));  // NOLINT(concurrency-mt-unsafe)
+    (void)std::fprintf(stderr, "rescue-motion %s: cannot open %s: %s (%s: %s)\n", command, nic_text, error.what,
+                       to_string(error.code), os_reason);
+  } else {
+    (void)std::fprintf(stderr, "rescue-motion %s: cannot open %s: %s (%s)\n", command, nic_text, error.what,
+                       to_string(error.code));
+  }
+  return 1;
+}
+
+}  // namespace rescue::app
