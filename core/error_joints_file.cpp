@@ -1,6 +1,8 @@
 #include "core/error_joints_file.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "core/crc32.hpp"
 #include "core/endian.hpp"
@@ -61,8 +63,9 @@ void encode_record(const LostJointRecord& r, std::uint8_t* out) noexcept {
   store_le32(out + kOffPosition, static_cast<std::uint32_t>(r.last_position_counts));
   store_le64(out + kOffTime, static_cast<std::uint64_t>(r.time_unix_ns));
   store_le64(out + kOffCycle, r.cycle);
+  // The name without its NUL: the field's padding (zeroed above) terminates it.
   const char* name = kJoints[r.joint].name;
-  std::memcpy(out + kOffName, name, std::strlen(name));
+  for (std::size_t i = 0; name[i] != '\0'; ++i) out[kOffName + i] = static_cast<std::uint8_t>(name[i]);
   store_le32(out + kOffRecordCrc, crc_of(out, kOffRecordCrc));
 }
 
@@ -106,18 +109,15 @@ void note(ErrorJointsDecoded& d, const Error& e) noexcept {
 }  // namespace
 
 JointMask ErrorJointsContents::joints() const noexcept {
-  JointMask mask = 0;
-  for (const LostJointRecord& r : records) {
-    if (r.joint < kJointCount) mask |= joint_bit(r.joint);
-  }
-  return mask;
+  return std::accumulate(records.begin(), records.end(), JointMask{0}, [](JointMask mask, const LostJointRecord& r) {
+    return r.joint < kJointCount ? mask | joint_bit(r.joint) : mask;
+  });
 }
 
 const LostJointRecord* ErrorJointsContents::find(std::size_t joint) const noexcept {
-  for (const LostJointRecord& r : records) {
-    if (r.joint == joint) return &r;
-  }
-  return nullptr;
+  const LostJointRecord* it =
+      std::find_if(records.begin(), records.end(), [joint](const LostJointRecord& r) { return r.joint == joint; });
+  return it != records.end() ? it : nullptr;
 }
 
 std::uint32_t robot_fingerprint() noexcept { return kFingerprint; }

@@ -12,6 +12,8 @@ class MessageSink {
   MessageSink() = default;
   MessageSink(const MessageSink&) = delete;
   MessageSink& operator=(const MessageSink&) = delete;
+  MessageSink(MessageSink&&) = delete;
+  MessageSink& operator=(MessageSink&&) = delete;
   virtual ~MessageSink() = default;
   // Queues a copy of `message`; false when the queue is full (the caller keeps it and retries).
   virtual bool try_send(const T& message) noexcept = 0;
@@ -23,6 +25,8 @@ class MessageSource {
   MessageSource() = default;
   MessageSource(const MessageSource&) = delete;
   MessageSource& operator=(const MessageSource&) = delete;
+  MessageSource(MessageSource&&) = delete;
+  MessageSource& operator=(MessageSource&&) = delete;
   virtual ~MessageSource() = default;
   // Takes the oldest message into `out`; false when there is none.
   virtual bool try_receive(T& out) noexcept = 0;

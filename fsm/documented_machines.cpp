@@ -14,7 +14,7 @@ constexpr std::array<MachineView, 1> kMachines{{
 
 }  // namespace
 
-Span<const MachineView> documented_machines() noexcept { return Span<const MachineView>(kMachines); }
+Span<const MachineView> documented_machines() noexcept { return {kMachines}; }
 
 const MachineView* find_documented_machine(const char* name) noexcept {
   if (name == nullptr) return nullptr;

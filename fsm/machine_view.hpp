@@ -40,38 +40,46 @@ struct MachineView {
   Span<const RowView> rows;
 };
 
+namespace view_detail {
+
+template <typename Def>
+constexpr std::array<StateView, state_count<Def>()> make_states() noexcept {
+  std::array<StateView, state_count<Def>()> out{};
+  for (std::size_t s = 0; s < out.size(); ++s) {
+    const auto& spec = Def::kStates[s];
+    out[s] = StateView{spec.name, spec.meaning, spec.on_entry.fn != nullptr ? spec.on_entry.text : "",
+                       spec.on_exit.fn != nullptr ? spec.on_exit.text : ""};
+  }
+  return out;
+}
+
+template <typename Def>
+constexpr std::array<InputView, input_count<Def>()> make_inputs() noexcept {
+  std::array<InputView, input_count<Def>()> out{};
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = InputView{Def::kInputs[i].name, Def::kInputs[i].meaning};
+  return out;
+}
+
+template <typename Def>
+constexpr std::array<RowView, Def::kRows.size()> make_rows() noexcept {
+  std::array<RowView, Def::kRows.size()> out{};
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    const auto& row = Def::kRows[r];
+    out[r] = RowView{static_cast<std::uint16_t>(index_of(row.from)), static_cast<std::uint16_t>(index_of(row.input)),
+                     static_cast<std::uint16_t>(index_of(row.to)), row.guard.fn != nullptr ? row.guard.text : "",
+                     row.action.fn != nullptr ? row.action.text : ""};
+  }
+  return out;
+}
+
+}  // namespace view_detail
+
+// ViewOf<Def>::view(): the view of a definition, its arrays in static storage.
 template <typename Def>
 struct ViewOf {
- private:
-  static constexpr std::array<StateView, state_count<Def>()> make_states() noexcept {
-    std::array<StateView, state_count<Def>()> out{};
-    for (std::size_t s = 0; s < out.size(); ++s) {
-      const auto& spec = Def::kStates[s];
-      out[s] = StateView{spec.name, spec.meaning, spec.on_entry.fn != nullptr ? spec.on_entry.text : "",
-                         spec.on_exit.fn != nullptr ? spec.on_exit.text : ""};
-    }
-    return out;
-  }
-  static constexpr std::array<InputView, input_count<Def>()> make_inputs() noexcept {
-    std::array<InputView, input_count<Def>()> out{};
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = InputView{Def::kInputs[i].name, Def::kInputs[i].meaning};
-    return out;
-  }
-  static constexpr std::array<RowView, Def::kRows.size()> make_rows() noexcept {
-    std::array<RowView, Def::kRows.size()> out{};
-    for (std::size_t r = 0; r < out.size(); ++r) {
-      const auto& row = Def::kRows[r];
-      out[r] = RowView{static_cast<std::uint16_t>(index_of(row.from)), static_cast<std::uint16_t>(index_of(row.input)),
-                       static_cast<std::uint16_t>(index_of(row.to)), row.guard.fn != nullptr ? row.guard.text : "",
-                       row.action.fn != nullptr ? row.action.text : ""};
-    }
-    return out;
-  }
-
- public:
-  static constexpr std::array<StateView, state_count<Def>()> kStates = make_states();
-  static constexpr std::array<InputView, input_count<Def>()> kInputs = make_inputs();
-  static constexpr std::array<RowView, Def::kRows.size()> kRows = make_rows();
+  static constexpr std::array<StateView, state_count<Def>()> kStates = view_detail::make_states<Def>();
+  static constexpr std::array<InputView, input_count<Def>()> kInputs = view_detail::make_inputs<Def>();
+  static constexpr std::array<RowView, Def::kRows.size()> kRows = view_detail::make_rows<Def>();
   static constexpr MachineView view() noexcept {
     return MachineView{Def::kName, index_of(Def::kInitial), Span<const StateView>(kStates),
                        Span<const InputView>(kInputs), Span<const RowView>(kRows)};

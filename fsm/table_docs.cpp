@@ -1,14 +1,15 @@
 #include "fsm/table_docs.hpp"
 
+#include <algorithm>
+
 namespace rescue::fsm {
 namespace {
 
 // The row for (state, input), or nullptr.
 const RowView* row_for(const MachineView& m, std::size_t state, std::size_t input) noexcept {
-  for (const RowView& row : m.rows) {
-    if (row.from == state && row.input == input) return &row;
-  }
-  return nullptr;
+  const RowView* it = std::find_if(m.rows.begin(), m.rows.end(),
+                                   [&](const RowView& row) { return row.from == state && row.input == input; });
+  return it != m.rows.end() ? it : nullptr;
 }
 
 const char* or_dash(const char* text) noexcept { return text[0] != '\0' ? text : "-"; }

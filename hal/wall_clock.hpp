@@ -12,6 +12,8 @@ class WallClock {
   WallClock() = default;
   WallClock(const WallClock&) = delete;
   WallClock& operator=(const WallClock&) = delete;
+  WallClock(WallClock&&) = delete;
+  WallClock& operator=(WallClock&&) = delete;
   virtual ~WallClock() = default;
   // Nanoseconds since 1970-01-01T00:00:00Z.
   virtual std::int64_t unix_time_ns() noexcept = 0;

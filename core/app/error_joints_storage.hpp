@@ -18,6 +18,8 @@ class ErrorJointsStorage {
   ErrorJointsStorage() = default;
   ErrorJointsStorage(const ErrorJointsStorage&) = delete;
   ErrorJointsStorage& operator=(const ErrorJointsStorage&) = delete;
+  ErrorJointsStorage(ErrorJointsStorage&&) = delete;
+  ErrorJointsStorage& operator=(ErrorJointsStorage&&) = delete;
   virtual ~ErrorJointsStorage() = default;
 
   virtual ErrorJointsLoad load() noexcept = 0;

@@ -17,7 +17,7 @@ void mask_names(JointMask mask, char* out, std::size_t capacity) noexcept {
     if (n < 0) return;
     used += static_cast<std::size_t>(n);
   }
-  if (used == 0) std::snprintf(out, capacity, "none");
+  if (used == 0) (void)std::snprintf(out, capacity, "none");
 }
 
 const char* kStepWhat[] = {

@@ -52,6 +52,8 @@ class JointEventSink {
   JointEventSink() = default;
   JointEventSink(const JointEventSink&) = delete;
   JointEventSink& operator=(const JointEventSink&) = delete;
+  JointEventSink(JointEventSink&&) = delete;
+  JointEventSink& operator=(JointEventSink&&) = delete;
   virtual ~JointEventSink() = default;
   virtual void on_event(const JointEvent& event) noexcept = 0;
 };

@@ -299,7 +299,7 @@ void JointManager::flush_notices() noexcept {
   while (!deferred_notices_.empty() && ports_.notices->try_send(deferred_notices_[0])) deferred_notices_.erase_at(0);
 }
 
-void JointManager::emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) noexcept {
+void JointManager::emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept {
   JointEvent e = event(JointEventKind::reconfiguration_step, now);
   e.step = step;
   e.joints = joints;

@@ -43,6 +43,8 @@ class JointSampleSource {
   JointSampleSource() = default;
   JointSampleSource(const JointSampleSource&) = delete;
   JointSampleSource& operator=(const JointSampleSource&) = delete;
+  JointSampleSource(JointSampleSource&&) = delete;
+  JointSampleSource& operator=(JointSampleSource&&) = delete;
   virtual ~JointSampleSource() = default;
   virtual bool read(RobotSample& out) noexcept = 0;
 };
@@ -130,8 +132,8 @@ class JointManager {
   // Dispatches `input` to joint j with its guard facts refreshed; logs the transition or the refusal.
   Status dispatch(std::size_t j, fsm::JointInput input, hal::Nanoseconds now) noexcept;
   void latch_loss(std::size_t j, FaultReason reason, std::int32_t position, hal::Nanoseconds now) noexcept;
-  void emit(const JointEvent& event) noexcept { ports_.events->on_event(event); }
-  void emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) noexcept;
+  void emit(const JointEvent& event) const noexcept { ports_.events->on_event(event); }
+  void emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept;
 
   JointManagerPorts ports_;
   std::array<Joint, kJointCount> joints_{};
