@@ -52,6 +52,7 @@ void Esc::power_up(const EscConfig& config, SlaveDevice& device, hal::Nanosecond
   memory_.set_u8(reg::kPortDescriptor, ports);
   memory_.set_u16(reg::kEscFeatures, config_.features);
   memory_.set_u32(reg::kDlControl, kDlControlReset);
+  dl_control_ = kDlControlReset;
   memory_.set_u16(reg::kWatchdogDivider, kWatchdogDividerReset);
   memory_.set_u16(reg::kWatchdogTimePdi, kWatchdogTimeReset);
   memory_.set_u16(reg::kWatchdogTimeProcessData, kWatchdogTimeReset);
@@ -150,7 +151,7 @@ void Esc::frame_left() noexcept {
 
 bool Esc::loop_closed(unsigned port) const noexcept {
   if (port >= config_.port_count) return true;
-  const unsigned setting = (memory_.u32(reg::kDlControl) >> reg::dl_control_loop_shift(port)) & 0x03U;
+  const unsigned setting = (dl_control_ >> reg::dl_control_loop_shift(port)) & 0x03U;
   switch (setting) {
     case 0: return !link_[port];                                // auto
     case 1: return !link_[port] || auto_close_latched_[port];   // auto close
@@ -174,8 +175,9 @@ void Esc::set_link(unsigned port, bool up) noexcept {
 
 void Esc::apply_dl_control() noexcept {
   // Writing "auto close" again re-opens a port that closed on a link loss (ET1100 behaviour).
+  dl_control_ = memory_.u32(reg::kDlControl);
   for (unsigned port = 0; port < config_.port_count; ++port) {
-    const unsigned setting = (memory_.u32(reg::kDlControl) >> reg::dl_control_loop_shift(port)) & 0x03U;
+    const unsigned setting = (dl_control_ >> reg::dl_control_loop_shift(port)) & 0x03U;
     if (setting != 1 || link_[port]) auto_close_latched_[port] = false;
   }
   refresh_dl_status();
@@ -229,7 +231,7 @@ void Esc::process(const ecat::MutableDatagramView& d) noexcept {
     d.set_adp(static_cast<std::uint16_t>(adp + 1U));
   } else {
     addressed = adp == memory_.u16(reg::kStationAddress) ||
-                ((memory_.u32(reg::kDlControl) & kDlControlAliasEnable) != 0 && adp == memory_.u16(reg::kStationAlias));
+                ((dl_control_ & kDlControlAliasEnable) != 0 && adp == memory_.u16(reg::kStationAlias));
   }
 
   const ByteSpan data = d.data();

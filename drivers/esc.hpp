@@ -183,6 +183,8 @@ class Esc final : public EscPdi {
   std::array<bool, kMaxEscPorts> arrived_{};
   bool latch_requested_{false};
   bool dl_control_pending_{false};
+  // DL control as it acts on forwarding and addressing: a write takes effect after its frame.
+  std::uint32_t dl_control_{0};
 
   // Application layer.
   AlState state_{AlState::init};
