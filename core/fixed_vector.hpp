@@ -31,6 +31,18 @@ class FixedVector {
     }
     return *this;
   }
+  // Moves element by element (the storage is in place, nothing to steal); `other` keeps its
+  // moved-from elements.
+  FixedVector(FixedVector&& other) noexcept {
+    for (T& v : other) (void)emplace_back(std::move(v));
+  }
+  FixedVector& operator=(FixedVector&& other) noexcept {
+    if (this != &other) {
+      clear();
+      for (T& v : other) (void)emplace_back(std::move(v));
+    }
+    return *this;
+  }
   ~FixedVector() { clear(); }
 
   static constexpr std::size_t capacity() noexcept { return N; }

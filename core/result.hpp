@@ -56,12 +56,24 @@ class [[nodiscard]] Result {
   Result(const Result& other) : has_value_(other.has_value_), error_(other.error_) {
     if (has_value_) new (&storage_) T(*other.ptr());
   }
+  Result(Result&& other) noexcept : has_value_(other.has_value_), error_(other.error_) {
+    if (has_value_) new (&storage_) T(std::move(*other.ptr()));
+  }
   Result& operator=(const Result& other) {
     if (this != &other) {
       destroy();
       has_value_ = other.has_value_;
       error_ = other.error_;
       if (has_value_) new (&storage_) T(*other.ptr());
+    }
+    return *this;
+  }
+  Result& operator=(Result&& other) noexcept {
+    if (this != &other) {
+      destroy();
+      has_value_ = other.has_value_;
+      error_ = other.error_;
+      if (has_value_) new (&storage_) T(std::move(*other.ptr()));
     }
     return *this;
   }
@@ -93,6 +105,7 @@ class [[nodiscard]] Result {
 
   bool has_value_;
   Error error_{};
+  // NOLINTNEXTLINE(bugprone-sizeof-expression): T may itself be a pointer (Result<Queue*>)
   std::aligned_storage_t<sizeof(T), alignof(T)> storage_;
 };
 

@@ -4,19 +4,12 @@
 
 #include "core/endian.hpp"
 #include "ecat/registers.hpp"
+#include "ecat/sii.hpp"
 
 namespace rescue::drivers {
 
 std::uint8_t sii_config_crc(ConstByteSpan first_14_bytes) noexcept {
-  std::uint8_t crc = 0xFF;
-  for (const std::uint8_t byte : first_14_bytes) {
-    crc = static_cast<std::uint8_t>(crc ^ byte);
-    for (int bit = 0; bit < 8; ++bit) {
-      const unsigned shifted = static_cast<unsigned>(crc) << 1U;
-      crc = static_cast<std::uint8_t>((crc & 0x80U) != 0 ? (shifted ^ 0x07U) : shifted);
-    }
-  }
-  return crc;
+  return ecat::sii::config_area_crc(first_14_bytes.data(), first_14_bytes.size());
 }
 
 Result<std::size_t> build_minimal_sii(ByteSpan out, const SiiIdentity& identity, const char* name) noexcept {

@@ -186,6 +186,9 @@ constexpr std::uint16_t kProcessRamStart = 0x1000;
 namespace rescue::ecat::sii {
 // SII (EEPROM) word addresses (ETG.1000.6 table 16 / ETG.2010).
 constexpr std::uint16_t kPdiControl = 0x0000;
+constexpr std::uint16_t kPdiConfig = 0x0001;
+constexpr std::uint16_t kSyncImpulseLength = 0x0002;
+constexpr std::uint16_t kPdiConfig2 = 0x0003;
 constexpr std::uint16_t kStationAlias = 0x0004;
 constexpr std::uint16_t kConfigChecksum = 0x0007;  // CRC-8 over words 0..6 (poly 0x07, init 0xFF)
 constexpr std::uint16_t kVendorId = 0x0008;        // u32

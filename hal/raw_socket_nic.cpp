@@ -1,6 +1,7 @@
 #include "hal/raw_socket_nic.hpp"
 
 #include <arpa/inet.h>
+#include <linux/filter.h>
 #include <linux/if_ether.h>
 #include <linux/if_packet.h>
 #include <net/if.h>
@@ -9,6 +10,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -46,6 +48,47 @@ Error os_error(const char* what) noexcept {
 
 Status set_int_option(int fd, int level, int option, int value, const char* what) noexcept {
   if (::setsockopt(fd, level, option, &value, sizeof value) != 0) return os_error(what);
+  return Status::success();
+}
+
+// The kernel moves a received frame's 802.1Q tag into metadata (PACKET_AUXDATA); this puts it back
+// between the source address and the EtherType so the frame reads as it was on the wire. False when
+// the tagged frame would not fit the buffer.
+bool restore_vlan_tag(msghdr& message, ByteSpan buffer, std::size_t& length) noexcept {
+  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+    if (c->cmsg_level != SOL_PACKET || c->cmsg_type != PACKET_AUXDATA) continue;
+    if (c->cmsg_len < CMSG_LEN(sizeof(tpacket_auxdata))) continue;
+    tpacket_auxdata aux{};
+    std::memcpy(&aux, CMSG_DATA(c), sizeof aux);
+    if ((aux.tp_status & TP_STATUS_VLAN_VALID) == 0) return true;
+    if (length < 12 || length + 4 > buffer.size()) return false;
+    const auto tpid = static_cast<std::uint16_t>((aux.tp_status & TP_STATUS_VLAN_TPID_VALID) != 0 ? aux.tp_vlan_tpid
+                                                                                                : kEtherTypeVlan);
+    std::memmove(buffer.data() + 16, buffer.data() + 12, length - 12);
+    store_be16(buffer.data() + 12, tpid);
+    store_be16(buffer.data() + 14, aux.tp_vlan_tci);
+    length += 4;
+    return true;
+  }
+  return true;
+}
+
+// Classic BPF run by the kernel on every frame of the interface: keep those whose protocol is
+// EtherCAT. SKF_AD_PROTOCOL is the protocol after the kernel took a VLAN tag out, so tagged
+// EtherCAT frames pass too; our own outgoing frames carry the bound ETH_P_ALL and never do.
+Status attach_ethercat_filter(int fd) noexcept {
+  sock_filter program[] = {
+      BPF_STMT(BPF_LD | BPF_H | BPF_ABS, static_cast<std::uint32_t>(SKF_AD_OFF + SKF_AD_PROTOCOL)),
+      BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, kEtherTypeEtherCAT, 0, 1),
+      BPF_STMT(BPF_RET | BPF_K, 0xFFFFU),  // accept: the whole frame
+      BPF_STMT(BPF_RET | BPF_K, 0),        // drop
+  };
+  sock_fprog filter{};
+  filter.len = static_cast<unsigned short>(sizeof program / sizeof program[0]);
+  filter.filter = program;
+  if (::setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &filter, sizeof filter) != 0) {
+    return os_error("setsockopt(SO_ATTACH_FILTER) for EtherType 0x88A4 failed");
+  }
   return Status::success();
 }
 
@@ -122,6 +165,7 @@ Status RawSocketNic::configure(const char* interface_name, const RawSocketSettin
   // Optional: without it, receive() drops PACKET_OUTGOING frames itself (only ETH_P_ALL sockets
   // see outgoing frames at all).
   features_.ignore_outgoing = set_int_option(fd_, SOL_PACKET, PACKET_IGNORE_OUTGOING, 1, "").ok();
+  RESCUE_TRY(set_int_option(fd_, SOL_PACKET, PACKET_AUXDATA, 1, "setsockopt(PACKET_AUXDATA) failed"));
   if (settings.qdisc_bypass) {
     RESCUE_TRY(set_int_option(fd_, SOL_PACKET, PACKET_QDISC_BYPASS, 1, "setsockopt(PACKET_QDISC_BYPASS) failed"));
     features_.qdisc_bypass = true;
@@ -135,10 +179,15 @@ Status RawSocketNic::configure(const char* interface_name, const RawSocketSettin
   socklen_t granted_size = sizeof granted;
   if (::getsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &granted, &granted_size) == 0) features_.receive_buffer_bytes = granted;
 
-  const int protocol = settings.capture == RawSocketSettings::Capture::all_ethertypes ? ETH_P_ALL : kEtherTypeEtherCAT;
+  // Every EtherType is bound (ETH_P_ALL) because only such taps get a received frame's VLAN tag:
+  // the kernel clears it before protocol-specific sockets see the frame. EtherCAT-only is then the
+  // kernel filter below, attached before bind() so no other frame is ever queued.
+  if (settings.capture == RawSocketSettings::Capture::ethercat_only) {
+    RESCUE_TRY(attach_ethercat_filter(fd_));
+  }
   sockaddr_ll address{};
   address.sll_family = AF_PACKET;
-  address.sll_protocol = htons(static_cast<std::uint16_t>(protocol));
+  address.sll_protocol = htons(static_cast<std::uint16_t>(ETH_P_ALL));
   address.sll_ifindex = static_cast<int>(index);
   // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes sockaddr*
   if (::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
@@ -181,21 +230,32 @@ Status RawSocketNic::send(ConstByteSpan frame) noexcept {
 
 Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
   sockaddr_ll from{};
-  socklen_t from_size = sizeof from;
+  iovec data{buffer.data(), buffer.size()};
+  // Room for the one control message asked for: PACKET_AUXDATA (the VLAN tag the kernel took out).
+  alignas(cmsghdr) std::array<std::uint8_t, CMSG_SPACE(sizeof(tpacket_auxdata))> control{};
+  msghdr message{};
+  message.msg_name = &from;
+  message.msg_namelen = sizeof from;
+  message.msg_iov = &data;
+  message.msg_iovlen = 1;
+  message.msg_control = control.data();
+  message.msg_controllen = control.size();
   // MSG_TRUNC: the return value is the frame's real length even when it did not fit.
-  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes sockaddr*
-  const ssize_t got = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_TRUNC, reinterpret_cast<sockaddr*>(&from),
-                                 &from_size);
+  const ssize_t got = ::recvmsg(fd_, &message, MSG_TRUNC);
   if (got < 0) {
     if (errno == EAGAIN || errno == EINTR) return make_error(Errc::busy, "nothing queued");
-    return os_error("recvfrom() on the raw socket failed");
+    return os_error("recvmsg() on the raw socket failed");
   }
-  const auto length = static_cast<std::size_t>(got);
+  auto length = static_cast<std::size_t>(got);
   if (from.sll_pkttype == PACKET_OUTGOING) {
     ++outgoing_ignored_;
     return std::size_t{0};
   }
-  if (length > buffer.size() || !is_ethercat_frame(ConstByteSpan(buffer.data(), length))) {
+  if (length > buffer.size() || !restore_vlan_tag(message, buffer, length)) {
+    ++stats_.frames_dropped;
+    return std::size_t{0};
+  }
+  if (!is_ethercat_frame(ConstByteSpan(buffer.data(), length))) {
     ++stats_.frames_dropped;
     return std::size_t{0};
   }

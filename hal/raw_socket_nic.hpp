@@ -1,6 +1,7 @@
 // hal::Nic on a real network interface: a Linux AF_PACKET raw socket bound to one named interface,
 // set up the way an EtherCAT master needs it (docs/hal.md explains each setting):
-//   - bound to EtherType 0x88A4 on that interface only (the kernel filters out other traffic);
+//   - bound to that interface only, with a kernel (BPF) filter keeping EtherType 0x88A4, also
+//     behind an 802.1Q tag, which PACKET_AUXDATA lets us put back where it was on the wire;
 //   - promiscuous (PACKET_MR_PROMISC): returning frames carry whatever destination the master used;
 //   - PACKET_QDISC_BYPASS: frames go straight to the driver, no queueing discipline in the way;
 //   - non-blocking, with receive waiting in ppoll() at most until the caller's deadline;
@@ -28,9 +29,10 @@ using HardwareAddress = std::array<std::uint8_t, 6>;
 constexpr std::size_t kMaxInterfaceNameLength = 15;
 
 struct RawSocketSettings {
-  // Which frames the kernel hands to the socket. EtherCAT only is what a master uses; every
-  // EtherType (ETH_P_ALL) also brings our own outgoing frames and all other traffic to user space,
-  // where they are dropped: useful to diagnose a wire, and what the tests use to prove the filters.
+  // Which frames the kernel hands to the socket. EtherCAT only (the BPF filter) is what a master
+  // uses; every EtherType also brings all other traffic, and our own outgoing frames where the
+  // kernel lacks PACKET_IGNORE_OUTGOING, to user space, where they are dropped: useful to diagnose
+  // a wire, and what the tests use to prove the user-space filters.
   enum class Capture : std::uint8_t { ethercat_only, all_ethertypes };
   Capture capture{Capture::ethercat_only};
   bool promiscuous{true};

@@ -1,5 +1,6 @@
 #include "core/app/cli.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -25,10 +26,7 @@ const char* ParsedArgs::value(const char* name) const noexcept {
 }
 
 bool ParsedArgs::has(const char* name) const noexcept {
-  for (const Entry& e : options_) {
-    if (std::strcmp(e.name, name) == 0) return true;
-  }
-  return false;
+  return std::any_of(options_.begin(), options_.end(), [name](const Entry& e) { return std::strcmp(e.name, name) == 0; });
 }
 
 Result<std::int64_t> ParsedArgs::integer(const char* name, std::int64_t fallback, std::int64_t min,
@@ -112,9 +110,9 @@ void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept {
   for (const OptionSpec& opt : spec.options) {
     char left[64];
     if (opt.value_name != nullptr) {
-      std::snprintf(left, sizeof left, "--%s %s", opt.name, opt.value_name);
+      (void)std::snprintf(left, sizeof left, "--%s %s", opt.name, opt.value_name);  // truncation only narrows the column
     } else {
-      std::snprintf(left, sizeof left, "--%s", opt.name);
+      (void)std::snprintf(left, sizeof left, "--%s", opt.name);
     }
     std::fprintf(out, "  %-28s %s\n", left, opt.help);
   }

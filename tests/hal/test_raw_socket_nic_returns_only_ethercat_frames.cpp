@@ -61,6 +61,7 @@ TEST_F(RawSocketNicFilters, KernelFilterKeepsOtherEtherTypesAway) {
   ASSERT_FALSE(nothing.ok());
   EXPECT_EQ(nothing.error().code, Errc::timeout);
   EXPECT_EQ(master_.stats().frames_received, 1U);
+  EXPECT_EQ(master_.stats().frames_dropped, 0U) << "the kernel filter, not user space, kept the IPv4 frame away";
 }
 
 TEST_F(RawSocketNicFilters, OtherEtherTypesReachingUserSpaceAreDroppedAndCounted) {
@@ -73,6 +74,21 @@ TEST_F(RawSocketNicFilters, OtherEtherTypesReachingUserSpaceAreDroppedAndCounted
   // At least the IPv4-typed frame; the kernel may add its own traffic (e.g. IPv6 neighbour discovery).
   EXPECT_GE(master_.stats().frames_dropped, 1U);
   EXPECT_EQ(master_.stats().frames_received, 1U);
+}
+
+// The kernel moves an 802.1Q tag out of the frame into metadata; the NIC puts it back, so the
+// frame comes out as it was on the wire (real ESCs process tagged frames and keep the tag).
+TEST_F(RawSocketNicFilters, VlanTaggedFrameComesOutWithItsTag) {
+  open_both(RawSocketSettings::Capture::ethercat_only);
+  std::vector<std::uint8_t> tagged = rescue::testing::make_brd_frame(peer_mac_, 11);
+  const std::uint8_t tag[4] = {0x81, 0x00, 0x20, 0x07};  // priority 1, VLAN 7
+  tagged.insert(tagged.begin() + 12, tag, tag + 4);
+  peer_sends(tagged);
+  auto got = master_receives(kGenerous);
+  ASSERT_TRUE(got.ok()) << got.error().what;
+  ASSERT_EQ(got.value(), tagged.size());
+  EXPECT_EQ(std::vector<std::uint8_t>(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(got.value())),
+            tagged);
 }
 
 TEST_F(RawSocketNicFilters, FrameLongerThanTheBufferIsDroppedNotTruncated) {
