@@ -113,7 +113,7 @@ struct Transition {
 };
 
 // clang-format off
-constexpr std::array<Transition, 29> kTransitions{{
+inline constexpr std::array<Transition, 29> kTransitions{{
   {State::not_ready_to_switch_on, Command::self_test_done,   State::switch_on_disabled,    1},
   {State::switch_on_disabled,     Command::shutdown,         State::ready_to_switch_on,    2},
   {State::switch_on_disabled,     Command::disable_voltage,  State::switch_on_disabled,    0},

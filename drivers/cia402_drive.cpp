@@ -50,7 +50,10 @@ void Cia402Drive::apply_outputs(const JointOutputs& outputs, bool valid, const D
   // The target relative to where the joint is, so a wrapping counter (tracks) works too.
   double target = motor_.position_rad() + rad(counts_delta(outputs.target_position, motor_.position_counts()));
   const MotorLimits& limits = motor_.limits();
+  const double unclamped = target;
   if (!limits.continuous) target = std::max(rad(settings.position_min_counts), std::min(rad(settings.position_max_counts), target));
+  // CSP targets outside the software position limits (0x607D) are clamped: internal limit active.
+  target_clamped_ = mode_ == ControlMode::cyclic_position && target != unclamped;
   feed_forward_rad_s_ = 0.0;
   if (last_outputs_at_ >= 0 && now > last_outputs_at_ && before == State::operation_enabled) {
     // CSP interpolation: the master's targets move at this speed between cycles.
@@ -128,7 +131,7 @@ JointInputs Cia402Drive::inputs() const noexcept {
   std::uint16_t status = cia402::statusword_bits(s);
   if (s == State::operation_enabled && mode_ != ControlMode::none) status |= sw::kFollowsCommand;
   if (following_error_) status |= sw::kFollowingError;
-  if (motor_.limited()) status |= sw::kInternalLimitActive;
+  if (motor_.limited() || target_clamped_) status |= sw::kInternalLimitActive;
   bool reached = false;
   if (s == State::operation_enabled) {
     switch (mode_) {

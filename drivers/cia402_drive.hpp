@@ -84,6 +84,7 @@ class Cia402Drive {
   hal::Nanoseconds following_error_for_{0};
   std::uint16_t error_code_{drive_error::kNone};
   bool following_error_{false};
+  bool target_clamped_{false};
   bool fault_cause_persists_{false};
 };
 

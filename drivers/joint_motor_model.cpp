@@ -23,6 +23,7 @@ bool JointMotorModel::standstill() const noexcept { return std::fabs(velocity_) 
 
 void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noexcept {
   limited_ = false;
+  if (command.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
   while (dt > 0) {
     const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
     substep(command, static_cast<double>(h) * 1e-9);
