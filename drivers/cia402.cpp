@@ -1,5 +1,7 @@
 #include "drivers/cia402.hpp"
 
+#include <algorithm>
+
 namespace rescue::drivers::cia402 {
 namespace {
 
@@ -20,6 +22,7 @@ constexpr bool rows_are_unique() noexcept {
       if (kTransitions[i].from == kTransitions[k].from && kTransitions[i].command == kTransitions[k].command) return false;
     }
     for (const Transition& f : kFaultRows) {
+      // cppcheck-suppress useStlAlgorithm ; std::any_of is not constexpr in C++17
       if (kTransitions[i].from == f.from && kTransitions[i].command == f.command) return false;
     }
   }
@@ -77,13 +80,11 @@ State state_from_statusword(std::uint16_t s) noexcept {
 }
 
 const Transition* find_transition(State from, Command command) noexcept {
-  for (const Transition& t : kTransitions) {
-    if (t.from == from && t.command == command) return &t;
-  }
-  for (const Transition& t : kFaultRows) {
-    if (t.from == from && t.command == command) return &t;
-  }
-  return nullptr;
+  auto matches = [&](const Transition& t) { return t.from == from && t.command == command; };
+  const auto* row = std::find_if(kTransitions.begin(), kTransitions.end(), matches);
+  if (row != kTransitions.end()) return row;
+  const auto* fault = std::find_if(kFaultRows.begin(), kFaultRows.end(), matches);
+  return fault != kFaultRows.end() ? fault : nullptr;
 }
 
 bool StateMachine::apply_controlword(std::uint16_t controlword) noexcept {

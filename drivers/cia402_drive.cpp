@@ -112,7 +112,7 @@ void Cia402Drive::advance(hal::Nanoseconds dt, const DriveSettings& settings) no
   }
   following_error_ = false;
   if (s == State::operation_enabled && mode_ == ControlMode::cyclic_position) {
-    const std::uint32_t error = static_cast<std::uint32_t>(std::abs(following_error_counts()));
+    const auto error = static_cast<std::uint32_t>(std::abs(following_error_counts()));
     if (error > settings.following_error_window_counts) {
       following_error_ = true;
       following_error_for_ += dt;

@@ -30,7 +30,7 @@ class JointDriveDevice final : public SlaveDevice {
   // The drive built into slot `position` of kSlaves (a joint drive slot).
   explicit JointDriveDevice(std::size_t position) noexcept;
 
-  ConstByteSpan sii_image() const noexcept override { return ConstByteSpan(sii_); }
+  ConstByteSpan sii_image() const noexcept override { return {sii_.data(), sii_.size()}; }
   ProcessDataLayout process_data_layout() const noexcept override;
   std::uint16_t on_state_change(AlState from, AlState to, EscPdi& esc) noexcept override;
   void on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept override;

@@ -78,6 +78,7 @@ constexpr std::array<ObjectEntry, kJointDriveObjectCount> kTable = [] {
 
 constexpr std::size_t storage_bytes() noexcept {
   std::size_t n = 0;
+  // cppcheck-suppress useStlAlgorithm ; std::accumulate is not constexpr in C++17
   for (const ObjectEntry& e : kTable) n += e.size;
   return n;
 }

@@ -1,5 +1,6 @@
 #include "drivers/object_dictionary.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstring>
 
@@ -17,17 +18,13 @@ ObjectDictionary::ObjectDictionary(Span<const ObjectEntry> entries, ByteSpan sto
 }
 
 const ObjectEntry* ObjectDictionary::find(std::uint16_t index, std::uint8_t subindex) const noexcept {
-  for (const ObjectEntry& e : entries_) {
-    if (e.index == index && e.subindex == subindex) return &e;
-  }
-  return nullptr;
+  const auto* it = std::find_if(entries_.begin(), entries_.end(),
+                                [&](const ObjectEntry& e) { return e.index == index && e.subindex == subindex; });
+  return it == entries_.end() ? nullptr : it;
 }
 
 bool ObjectDictionary::has_index(std::uint16_t index) const noexcept {
-  for (const ObjectEntry& e : entries_) {
-    if (e.index == index) return true;
-  }
-  return false;
+  return std::any_of(entries_.begin(), entries_.end(), [&](const ObjectEntry& e) { return e.index == index; });
 }
 
 const ObjectEntry& ObjectDictionary::entry(std::uint16_t index, std::uint8_t subindex) const noexcept {

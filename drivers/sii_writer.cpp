@@ -8,7 +8,7 @@
 namespace rescue::drivers {
 namespace {
 
-std::uint8_t* word_at(ByteSpan image, std::uint16_t word) noexcept { return image.data() + std::size_t{2} * word; }
+std::uint8_t* word_at(ByteSpan image, std::uint16_t word) noexcept { return &image[std::size_t{2} * word]; }
 
 }  // namespace
 
