@@ -1,6 +1,7 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
 #include <cstring>
 
+#include "core/app/bench_core.hpp"
 #include "core/app/bench_nic.hpp"
 #include "core/app/commands.hpp"
 #include "core/app/nic_option.hpp"
@@ -20,6 +21,7 @@ struct Bench {
 
 const Bench kBenches[] = {
     {"nic", bench_nic},
+    {"core", bench_core},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -36,7 +38,8 @@ int bench_main(const ParsedArgs& args) {
 const CommandSpec kBenchCommand{
     "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
-    "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)",
+    "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
+    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app

@@ -11,5 +11,6 @@ extern const CommandSpec kSimCommand;     // serve the simulated segment on an i
 extern const CommandSpec kCtlCommand;     // operator client
 extern const CommandSpec kDecodeCommand;  // list the datagrams of a capture
 extern const CommandSpec kBenchCommand;   // measuring commands
+extern const CommandSpec kDocsCommand;    // documentation printed from the firmware's tables
 
 }  // namespace rescue::app

@@ -11,7 +11,7 @@ using rescue::app::CommandSpec;
 // constexpr: only the addresses are used, fixed at link time, so no initialisation order issue.
 constexpr const CommandSpec* kCommands[] = {
     &rescue::app::kRunCommand,    &rescue::app::kSimCommand,   &rescue::app::kCtlCommand,
-    &rescue::app::kDecodeCommand, &rescue::app::kBenchCommand,
+    &rescue::app::kDecodeCommand, &rescue::app::kBenchCommand, &rescue::app::kDocsCommand,
 };
 
 void print_usage(std::FILE* out) {

@@ -4,3 +4,4 @@ rescue_add_fuzzer(fuzz_nic_input SOURCES fuzz_nic_input.cpp DEPS rescue_app)
 # ASan checks their accesses (the libraries themselves are built without instrumentation).
 rescue_add_fuzzer(fuzz_sii_parser SOURCES fuzz_sii_parser.cpp ${PROJECT_SOURCE_DIR}/ecat/sii.cpp DEPS rescue_core)
 rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp ${PROJECT_SOURCE_DIR}/ecat/mailbox.cpp ${PROJECT_SOURCE_DIR}/ecat/coe.cpp DEPS rescue_core)
+rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp ${PROJECT_SOURCE_DIR}/core/error_joints_file.cpp DEPS rescue_core)
