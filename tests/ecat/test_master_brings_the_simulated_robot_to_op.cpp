@@ -15,24 +15,7 @@ namespace {
 
 using testing::SimulatedRobotRig;
 
-std::string describe_failure(const Master& m) {
-  char line[256];
-  std::string s = m.report().failed_step != nullptr ? m.report().failed_step : "-";
-  s += ": ";
-  s += m.report().error.what;
-  s += " (" + std::to_string(m.report().error.detail0) + ", " + std::to_string(m.report().error.detail1) + ")";
-  if (m.report().al_failure.position != 0xFF) {
-    describe(m.report().al_failure, m.plan(), line, sizeof line);
-    s += "; ";
-    s += line;
-  }
-  for (const NetworkDifference& d : m.report().match.differences) {
-    describe(d, m.plan(), m.report().found.span(), line, sizeof line);
-    s += "\n  ";
-    s += line;
-  }
-  return s;
-}
+std::string describe_failure(const Master& m) { return testing::describe_master_failure(m); }
 
 TEST(MasterOnSimulatedRobot, BringsEverySlaveToOp) {
   auto rig = std::make_unique<SimulatedRobotRig>();
