@@ -20,12 +20,18 @@ Result<std::size_t> build_minimal_sii(ByteSpan out, const SiiIdentity& identity,
   std::memset(out.data(), 0, size);
   std::uint8_t* p = out.data();
   namespace sii = ecat::sii;
+  store_le16(p + std::size_t{2} * sii::kPdiControl, identity.pdi_control);
   store_le16(p + std::size_t{2} * sii::kStationAlias, identity.station_alias);
   store_le16(p + std::size_t{2} * sii::kConfigChecksum, sii_config_crc(ConstByteSpan(p, 14)));
   store_le32(p + std::size_t{2} * sii::kVendorId, identity.vendor_id);
   store_le32(p + std::size_t{2} * sii::kProductCode, identity.product_code);
   store_le32(p + std::size_t{2} * sii::kRevision, identity.revision);
   store_le32(p + std::size_t{2} * sii::kSerial, identity.serial);
+  store_le16(p + std::size_t{2} * sii::kStdRxMailboxOffset, identity.mailbox_out_offset);
+  store_le16(p + std::size_t{2} * sii::kStdRxMailboxSize, identity.mailbox_out_size);
+  store_le16(p + std::size_t{2} * sii::kStdTxMailboxOffset, identity.mailbox_in_offset);
+  store_le16(p + std::size_t{2} * sii::kStdTxMailboxSize, identity.mailbox_in_size);
+  store_le16(p + std::size_t{2} * sii::kMailboxProtocols, identity.mailbox_protocols);
   store_le16(p + std::size_t{2} * sii::kEepromSize, 1);  // 2 kbit - 1: the smallest EEPROM
   store_le16(p + std::size_t{2} * sii::kVersion, 1);
 

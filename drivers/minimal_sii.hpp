@@ -19,6 +19,13 @@ struct SiiIdentity {
   std::uint32_t revision{0};
   std::uint32_t serial{0};
   std::uint16_t station_alias{0};  // word 4: loaded into 0x0012 at power-up
+  std::uint16_t pdi_control{0};    // word 0: 0x0140 PDI control, 0x0141 ESC configuration
+  // Standard mailbox (words 0x18..0x1C); sizes 0: no mailbox.
+  std::uint16_t mailbox_out_offset{0};  // master -> slave (SM0)
+  std::uint16_t mailbox_out_size{0};
+  std::uint16_t mailbox_in_offset{0};   // slave -> master (SM1)
+  std::uint16_t mailbox_in_size{0};
+  std::uint16_t mailbox_protocols{0};
 };
 
 // CRC-8 of the ESC configuration area (words 0..6), polynomial x^8+x^2+x+1, initial value 0xFF,
