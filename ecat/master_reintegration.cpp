@@ -41,7 +41,7 @@ void Master::add_reintegration_datagrams(FrameBuilder& frame) noexcept {
     if ((reintegrating_ & slave_bit(p)) == 0) continue;
     const std::uint16_t station = plan_[p].station_address;
     Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
-    std::array<std::uint8_t, 2 * reg::kFmmuSize> bytes{};
+    std::array<std::uint8_t, std::size_t{2} * reg::kFmmuSize> bytes{};
     switch (re_step_[p]) {
       case ReStep::fmmus: {
         const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes, setup_[p].sm[2].start,
@@ -78,13 +78,13 @@ void Master::on_reintegration_datagram(std::size_t p, const DatagramView& d) noe
       break;
     case ReStep::status: {
       const std::uint16_t status = load_le16(d.data().data());
-      const std::uint16_t state = status & reg::kAlStateMask;
-      if ((status & reg::kAlErrorBit) == 0 && state == kOp) {
+      const std::uint16_t al_state = status & reg::kAlStateMask;
+      if ((status & reg::kAlErrorBit) == 0 && al_state == kOp) {
         reintegrating_ &= ~slave_bit(p);
         monitor_.reintegrated(slave_bit(p), cycle_, now);
       } else if ((status & reg::kAlErrorBit) != 0) {
         re_step_[p] = ReStep::acknowledge;
-      } else if (state == kSafeOp) {
+      } else if (al_state == kSafeOp) {
         re_step_[p] = ReStep::request_op;
       } else {
         reintegrating_ &= ~slave_bit(p);
