@@ -118,6 +118,7 @@ class Rig {
       } else {
         rig->devices.push_back(std::make_unique<TestDevice>(kSlaves[p].station_address));
         devices[p] = rig->devices.back().get();
+        rig->by_position[p] = rig->devices.back().get();
       }
     }
     std::array<SegmentSlave, kSlaveCount> slaves{};
@@ -141,6 +142,8 @@ class Rig {
   }
 
   TestDevice& device(std::size_t i = 0) { return *devices[i]; }
+  // The test device at a position of the robot (joints only).
+  TestDevice& device_at(std::size_t position) { return *by_position[position]; }
 
   // Sends one frame with one datagram and returns it as it came back; time then moves on by `gap`.
   DatagramResult exchange(Command command, std::uint32_t address, std::vector<std::uint8_t> data,
@@ -205,6 +208,7 @@ class Rig {
   FrameOutcome last_outcome{};
   std::vector<std::unique_ptr<TestDevice>> devices;
   std::vector<std::unique_ptr<JunctionDevice>> junctions;
+  std::array<TestDevice*, kMaxSegmentSlaves> by_position{};
 
  private:
   std::uint8_t index_{0};

@@ -95,7 +95,7 @@ TEST_F(Sync0, AllJointsLatchOutputsAtTheSameInstant) {
     earliest = std::min(earliest, latch.segment_time);
     latest = std::max(latest, latch.segment_time);
     // The device ran its cycle at SYNC0, not on the frame's arrival.
-    EXPECT_EQ(rig->device(static_cast<std::size_t>(kSlaves[p].joint)).cycles.back().trigger, CycleTrigger::sync0);
+    EXPECT_EQ(rig->device_at(p).cycles.back().trigger, CycleTrigger::sync0);
   }
   std::printf("sync0: 21 joints latched pulse %llu within %lld ns of each other\n", static_cast<unsigned long long>(pulse),
               static_cast<long long>(latest - earliest));
