@@ -5,3 +5,10 @@ rescue_add_fuzzer(fuzz_nic_input SOURCES fuzz_nic_input.cpp DEPS rescue_app)
 rescue_add_fuzzer(fuzz_sii_parser SOURCES fuzz_sii_parser.cpp ${PROJECT_SOURCE_DIR}/ecat/sii.cpp DEPS rescue_core)
 rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp ${PROJECT_SOURCE_DIR}/ecat/mailbox.cpp ${PROJECT_SOURCE_DIR}/ecat/coe.cpp DEPS rescue_core)
 rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp ${PROJECT_SOURCE_DIR}/core/error_joints_file.cpp DEPS rescue_core)
+rescue_add_fuzzer(fuzz_simulated_segment SOURCES fuzz_simulated_segment.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/esc.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_al.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_pdi.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/esc_logical.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_memory.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_clock.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/esc_dc.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_sync_manager.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_sii.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/esc_fmmu.cpp ${PROJECT_SOURCE_DIR}/drivers/simulated_segment.cpp ${PROJECT_SOURCE_DIR}/drivers/fault_command.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/minimal_sii.cpp ${PROJECT_SOURCE_DIR}/drivers/junction_device.cpp ${PROJECT_SOURCE_DIR}/drivers/robot_segment.cpp
+  DEPS rescue_ecat rescue_hal rescue_core)
