@@ -62,14 +62,14 @@ struct PdoMappingEntry {
 };
 
 // clang-format off
-constexpr std::array<PdoMappingEntry, 5> kJointRxMapping{{
+inline constexpr std::array<PdoMappingEntry, 5> kJointRxMapping{{
   {0x6040, 0, 16, data_type::kUnsigned16, 0,  "Controlword"},
   {0x6060, 0,  8, data_type::kInteger8,   2,  "Modes of operation"},
   {0x607A, 0, 32, data_type::kInteger32,  3,  "Target position"},
   {0x60FF, 0, 32, data_type::kInteger32,  7,  "Target velocity"},
   {0x6071, 0, 16, data_type::kInteger16,  11, "Target torque"},
 }};
-constexpr std::array<PdoMappingEntry, 6> kJointTxMapping{{
+inline constexpr std::array<PdoMappingEntry, 6> kJointTxMapping{{
   {0x6041, 0, 16, data_type::kUnsigned16, 0,  "Statusword"},
   {0x6061, 0,  8, data_type::kInteger8,   2,  "Modes of operation display"},
   {0x6064, 0, 32, data_type::kInteger32,  3,  "Position actual value"},

@@ -61,6 +61,12 @@ RtItemReport skipped_item(const char* item) noexcept {
   return report;
 }
 
+PageFaults page_faults_of(int who) noexcept {
+  rusage usage{};
+  if (getrusage(who, &usage) != 0) return PageFaults{};
+  return PageFaults{static_cast<std::uint64_t>(usage.ru_minflt), static_cast<std::uint64_t>(usage.ru_majflt)};
+}
+
 }  // namespace
 
 Status lock_memory() noexcept {
@@ -70,19 +76,18 @@ Status lock_memory() noexcept {
   if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) return Status::success();
   const int error = errno;
   switch (error) {
-    case EPERM: return make_error(Errc::permission_denied, "needs CAP_IPC_LOCK or a non-zero RLIMIT_MEMLOCK", errno_detail(error));
+    case EPERM: return make_error(Errc::permission_denied, "needs CAP_IPC_LOCK or a non-zero RLIMIT_MEMLOCK");
     case ENOMEM:
-      return make_error(Errc::capacity_exceeded, "process larger than RLIMIT_MEMLOCK (ulimit -l) without CAP_IPC_LOCK",
-                        errno_detail(error));
-    case EAGAIN: return make_error(Errc::busy, "some memory could not be locked", errno_detail(error));
-    default: return make_error(Errc::io_error, "mlockall failed (errno in detail)", errno_detail(error));
+      return make_error(Errc::capacity_exceeded, "process larger than RLIMIT_MEMLOCK (ulimit -l) without CAP_IPC_LOCK");
+    case EAGAIN: return make_error(Errc::busy, "some memory could not be locked");
+    default: return make_error(Errc::io_error, "mlockall failed (errno)", errno_detail(error));
   }
 }
 
 Status prefault_stack(std::size_t bytes) noexcept {
   if (bytes == 0) return Status::success();
   const long page_size = sysconf(_SC_PAGESIZE);
-  if (page_size <= 0) return make_error(Errc::io_error, "page size unknown", errno_detail(errno));
+  if (page_size <= 0) return make_error(Errc::io_error, "page size unknown (errno)", errno_detail(errno));
   const std::size_t left = stack_left();
   if (left == 0) return make_error(Errc::unsupported, "thread stack bounds unknown");
   if (bytes > left || left - bytes < kStackSafetyMargin) {
@@ -105,10 +110,8 @@ Status set_fifo_priority(int priority) noexcept {
   const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);  // returns the errno
   switch (error) {
     case 0: return Status::success();
-    case EPERM:
-      return make_error(Errc::permission_denied, "needs CAP_SYS_NICE or RLIMIT_RTPRIO (ulimit -r) >= the priority",
-                        errno_detail(error));
-    default: return make_error(Errc::io_error, "pthread_setschedparam failed (errno in detail)", errno_detail(error));
+    case EPERM: return make_error(Errc::permission_denied, "needs CAP_SYS_NICE or RLIMIT_RTPRIO (ulimit -r) >= the priority");
+    default: return make_error(Errc::io_error, "pthread_setschedparam failed (errno)", errno_detail(error));
   }
 }
 
@@ -125,10 +128,10 @@ Status pin_to_cpu(int cpu) noexcept {
   switch (error) {
     case 0: return Status::success();
     case EINVAL:
-      return make_error(Errc::refused, "CPU not in this process's allowed set (cpuset, taskset)",
+      return make_error(Errc::refused, "CPU not in this process's allowed set, cpuset or taskset (CPU)",
                         static_cast<std::uint32_t>(cpu));
-    case EPERM: return make_error(Errc::permission_denied, "affinity change not permitted", errno_detail(error));
-    default: return make_error(Errc::io_error, "pthread_setaffinity_np failed (errno in detail)", errno_detail(error));
+    case EPERM: return make_error(Errc::permission_denied, "affinity change not permitted");
+    default: return make_error(Errc::io_error, "pthread_setaffinity_np failed (errno)", errno_detail(error));
   }
 }
 
@@ -170,10 +173,17 @@ std::size_t RtReport::refused_count() const noexcept {
 std::size_t RtReport::format_item(const RtItemReport& item, char* buffer, std::size_t size) noexcept {
   char parameter[32] = "";
   if (item.parameter >= 0) (void)std::snprintf(parameter, sizeof parameter, " %" PRId64 "%s", item.parameter, item.unit);
+  // The numbers the reason names in parentheses, e.g. "CPU not present (CPU, CPUs present) = 7, 4".
+  char details[48] = "";
+  if (item.error.detail1 != 0) {
+    (void)std::snprintf(details, sizeof details, " = %u, %u", item.error.detail0, item.error.detail1);
+  } else if (item.error.detail0 != 0) {
+    (void)std::snprintf(details, sizeof details, " = %u", item.error.detail0);
+  }
   int length = 0;
   if (item.outcome == RtOutcome::refused) {
-    length = std::snprintf(buffer, size, "rt: %s%s: refused (%s: %s)", item.item, parameter, to_string(item.error.code),
-                           item.error.what);
+    length = std::snprintf(buffer, size, "rt: %s%s: refused (%s: %s%s)", item.item, parameter, to_string(item.error.code),
+                           item.error.what, details);
   } else if (item.outcome == RtOutcome::skipped) {
     length = std::snprintf(buffer, size, "rt: %s%s: skipped (not requested)", item.item, parameter);
   } else {
@@ -195,16 +205,7 @@ void RtReport::print(std::FILE* out) const noexcept {
   }
 }
 
-PageFaults page_faults_of_process() noexcept {
-  rusage usage{};
-  if (getrusage(RUSAGE_SELF, &usage) != 0) return PageFaults{};
-  return PageFaults{static_cast<std::uint64_t>(usage.ru_minflt), static_cast<std::uint64_t>(usage.ru_majflt)};
-}
-
-PageFaults page_faults_of_thread() noexcept {
-  rusage usage{};
-  if (getrusage(RUSAGE_THREAD, &usage) != 0) return PageFaults{};
-  return PageFaults{static_cast<std::uint64_t>(usage.ru_minflt), static_cast<std::uint64_t>(usage.ru_majflt)};
-}
+PageFaults page_faults_of_process() noexcept { return page_faults_of(RUSAGE_SELF); }
+PageFaults page_faults_of_thread() noexcept { return page_faults_of(RUSAGE_THREAD); }
 
 }  // namespace rescue::hal

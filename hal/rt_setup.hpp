@@ -5,7 +5,7 @@
 // run for a real-time one.
 //
 //   rt: memory lock (mlockall current+future): applied
-//   rt: CPU affinity 3: refused (out of range: CPU not present (CPU, CPUs present))
+//   rt: CPU affinity 3: refused (out of range: CPU not present (CPU, CPUs present) = 3, 2)
 //   rt: SCHED_FIFO priority 80: refused (permission denied: needs CAP_SYS_NICE or RLIMIT_RTPRIO ...)
 //   rt: stack prefault 512 KiB: applied
 //   rt: DEGRADED: 2 of 4 real-time settings refused; timing figures are not real-time

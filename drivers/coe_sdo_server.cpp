@@ -1,0 +1,86 @@
+#include "drivers/coe_sdo_server.hpp"
+
+#include "core/endian.hpp"
+#include "ecat/coe.hpp"
+#include "ecat/mailbox.hpp"
+
+namespace rescue::drivers {
+namespace {
+
+namespace coe = ecat::coe;
+namespace mbx = ecat::mbx;
+
+std::size_t error_reply(ByteSpan response, std::uint16_t detail) noexcept {
+  return mbx::encode_error_reply(response, 0, detail).value_or(0);
+}
+
+std::size_t send(ByteSpan response, std::uint8_t counter, const coe::Sdo& sdo) noexcept {
+  mbx::Header h;
+  h.counter = counter;
+  auto n = coe::encode(response, h, sdo);
+  // A response that does not fit SM1 becomes an abort, which always fits (16 bytes).
+  if (!n.ok()) return coe::encode(response, h, coe::abort(sdo.index, sdo.subindex, coe::abort_code::kOutOfMemory)).value_or(0);
+  return n.value();
+}
+
+std::size_t upload(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response, std::uint8_t counter) noexcept {
+  const ObjectRead r = od.read(req.index, req.subindex);
+  if (r.abort_code != 0) return send(response, counter, coe::abort(req.index, req.subindex, r.abort_code));
+  return send(response, counter, coe::upload_response(req.index, req.subindex, r.bytes));
+}
+
+std::size_t download(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
+                     std::uint8_t counter) noexcept {
+  // A normal transfer announcing more than it carries would continue in segments.
+  if (!req.expedited && req.size_indicated && req.size != req.data.size()) {
+    return send(response, counter, coe::abort(req.index, req.subindex, coe::abort_code::kUnsupportedAccess));
+  }
+  ConstByteSpan value = req.data;
+  if (req.expedited && !req.size_indicated) {
+    // Size not indicated: the object's own size out of the 4 bytes.
+    const ObjectEntry* e = od.find(req.index, req.subindex);
+    if (e != nullptr && e->size < value.size()) value = value.first(e->size);
+  }
+  const std::uint32_t code = od.write(req.index, req.subindex, value, state);
+  if (code != 0) return send(response, counter, coe::abort(req.index, req.subindex, code));
+  return send(response, counter, coe::download_response(req.index, req.subindex));
+}
+
+}  // namespace
+
+std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
+                      std::uint8_t counter) noexcept {
+  auto m = mbx::decode(request);
+  if (!m.ok()) return error_reply(response, request.size() < mbx::kHeaderSize ? mbx::error_code::kSizeTooShort : mbx::error_code::kInvalidSize);
+  if (m.value().header.type != mbx::Type::coe) return error_reply(response, mbx::error_code::kUnsupportedProtocol);
+  auto c = coe::decode(request);
+  if (!c.ok()) {
+    if (c.error().code == Errc::unsupported) {
+      // A command specifier this server does not know (block transfer): abort that object.
+      const ConstByteSpan data = m.value().data;
+      const std::uint16_t index = data.size() >= 5 ? load_le16(data.data() + 3) : 0;
+      const std::uint8_t sub = data.size() >= 6 ? data[5] : 0;
+      return send(response, counter, coe::abort(index, sub, coe::abort_code::kUnknownCommand));
+    }
+    return error_reply(response, mbx::error_code::kSizeTooShort);
+  }
+  const coe::Message& msg = c.value();
+  if (msg.service != coe::Service::sdo_request) return error_reply(response, mbx::error_code::kServiceNotSupported);
+  const coe::Sdo& sdo = msg.sdo;
+  switch (sdo.kind) {
+    case coe::SdoKind::upload_initiate_request:
+      if (sdo.complete_access) {
+        return send(response, counter, coe::abort(sdo.index, sdo.subindex, coe::abort_code::kCompleteAccessUnsupported));
+      }
+      return upload(sdo, od, response, counter);
+    case coe::SdoKind::download_initiate_request:
+      if (sdo.complete_access) {
+        return send(response, counter, coe::abort(sdo.index, sdo.subindex, coe::abort_code::kCompleteAccessUnsupported));
+      }
+      return download(sdo, od, state, response, counter);
+    case coe::SdoKind::abort: return 0;  // the master gave up a transfer: nothing to answer
+    default: return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
+  }
+}
+
+}  // namespace rescue::drivers

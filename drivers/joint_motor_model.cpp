@@ -1,0 +1,118 @@
+#include "drivers/joint_motor_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rescue::drivers {
+namespace {
+
+double clamp(double v, double limit) noexcept { return std::max(-limit, std::min(limit, v)); }
+
+constexpr double kStandstillRadS = 1e-4;
+
+}  // namespace
+
+JointMotorModel::JointMotorModel(const MotorLimits& limits, double initial_position_rad) noexcept
+    : limits_(limits),
+      acceleration_max_(limits.velocity_max_rad_s / kAccelerationTime),
+      position_(initial_position_rad) {
+  inertia_ = limits.torque_max_nm / acceleration_max_;
+}
+
+bool JointMotorModel::standstill() const noexcept { return std::fabs(velocity_) < kStandstillRadS; }
+
+void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noexcept {
+  limited_ = false;
+  if (command.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
+  while (dt > 0) {
+    const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
+    substep(command, static_cast<double>(h) * 1e-9);
+    dt -= h;
+  }
+}
+
+void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
+  if (c.drive == MotorDrive::unpowered) {
+    // Self-locking worm gear: no back-driving, the joint stands still.
+    velocity_ = 0.0;
+    torque_ = 0.0;
+    return;
+  }
+  const double torque_limit = std::min(std::max(c.torque_limit_nm, 0.0), limits_.torque_max_nm);
+  const double velocity_limit = std::min(std::max(c.velocity_limit_rad_s, 0.0), limits_.velocity_max_rad_s);
+  double velocity_target = 0.0;
+  double torque = 0.0;
+  switch (c.drive) {
+    case MotorDrive::position: {
+      double target = c.position_rad;
+      if (!limits_.continuous) target = std::max(limits_.position_min_rad, std::min(limits_.position_max_rad, target));
+      if (target != c.position_rad) limited_ = true;
+      velocity_target = kPositionGain * (target - position_) + c.velocity_rad_s;
+      break;
+    }
+    case MotorDrive::velocity: velocity_target = c.velocity_rad_s; break;
+    case MotorDrive::braking: {
+      // Quick-stop ramp: the largest deceleration the torque allows, to standstill.
+      const double decel = torque_limit / inertia_;
+      const double dv = std::min(std::fabs(velocity_), decel * dt);
+      velocity_ -= std::copysign(dv, velocity_);
+      torque_ = velocity_ == 0.0 ? 0.0 : -std::copysign(decel * inertia_, velocity_);
+      position_ += velocity_ * dt;
+      return;
+    }
+    case MotorDrive::torque: torque = c.torque_nm; break;
+    case MotorDrive::unpowered: break;
+  }
+  if (c.drive != MotorDrive::torque) {
+    if (std::fabs(velocity_target) > velocity_limit) limited_ = true;
+    velocity_target = clamp(velocity_target, velocity_limit);
+    torque = inertia_ * kVelocityGain * (velocity_target - velocity_);
+  }
+  if (std::fabs(torque) > torque_limit) limited_ = true;
+  torque = clamp(torque, torque_limit);
+  velocity_ += torque / inertia_ * dt;
+  if (std::fabs(velocity_) > velocity_limit) {
+    // The drive's speed limiter (torque mode included): the internal limit is active.
+    velocity_ = clamp(velocity_, velocity_limit);
+    limited_ = true;
+  }
+  position_ += velocity_ * dt;
+  if (!limits_.continuous && (position_ < limits_.position_min_rad || position_ > limits_.position_max_rad)) {
+    // A joint end stop: the joint stops at its limit.
+    position_ = std::max(limits_.position_min_rad, std::min(limits_.position_max_rad, position_));
+    velocity_ = 0.0;
+    limited_ = true;
+  }
+  torque_ = torque;
+}
+
+std::int32_t JointMotorModel::position_counts() const noexcept {
+  // Wrap like a 32-bit modulo encoder counter (continuous joints run past the int32 range).
+  const double counts = std::nearbyint(position_ * kCountsPerRad);
+  const double wrapped = std::fmod(counts, 4294967296.0);
+  const auto raw = static_cast<std::int64_t>(wrapped);
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw)));
+}
+
+std::int32_t JointMotorModel::velocity_counts_s() const noexcept {
+  return static_cast<std::int32_t>(std::nearbyint(velocity_ * kCountsPerRad));
+}
+
+std::int16_t JointMotorModel::torque_per_mille() const noexcept {
+  const double permille = 1000.0 * torque_ / limits_.rated_torque_nm;
+  return static_cast<std::int16_t>(std::nearbyint(clamp(permille, 32767.0)));
+}
+
+MotorLimits motor_limits_of(std::size_t joint) noexcept {
+  const JointInfo& j = kJoints[joint];
+  MotorLimits m;
+  m.velocity_max_rad_s = j.limits.velocity_max_rad_s;
+  m.torque_max_nm = j.limits.torque_max_nm;
+  m.rated_torque_nm = j.rated_torque_nm;
+  m.position_min_rad = j.limits.position_min_rad;
+  m.position_max_rad = j.limits.position_max_rad;
+  m.continuous = j.continuous;
+  return m;
+}
+
+}  // namespace rescue::drivers

@@ -1,0 +1,57 @@
+// libFuzzer target: CaptureReader on arbitrary bytes (a capture file someone hands to `decode`)
+// never reads outside them; every frame it returns lies inside the input, frame numbers count up
+// by one, the reader always moves forward, and each frame goes through the frame decoder as
+// `decode` would do.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+
+#include "ecat/capture_reader.hpp"
+#include "ecat/frame.hpp"
+
+namespace {
+
+void check(bool condition) {
+  if (!condition) std::abort();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace rescue;        // NOLINT(google-build-using-namespace)
+  using namespace rescue::ecat;  // NOLINT(google-build-using-namespace)
+  auto reader = CaptureReader::open(ConstByteSpan(data, size));
+  if (!reader.ok()) {
+    check(reader.error().detail1 <= size);
+    return 0;
+  }
+  CapturedFrame frame;
+  std::uint32_t expected_number = 1;
+  std::size_t last_offset = reader.value().offset();
+  for (;;) {
+    const Result<bool> more = reader.value().next(frame);
+    if (!more.ok()) {
+      check(more.error().detail0 == expected_number);
+      check(more.error().detail1 <= size);
+      const Result<bool> again = reader.value().next(frame);  // sticky
+      check(!again.ok() && again.error().what == more.error().what);
+      break;
+    }
+    if (!more.value()) {
+      check(reader.value().offset() == size);
+      break;
+    }
+    check(frame.number == expected_number++);
+    check(frame.bytes.data() >= data && frame.bytes.data() + frame.bytes.size() <= data + size);
+    check(reader.value().offset() > last_offset && reader.value().offset() <= size);
+    last_offset = reader.value().offset();
+    unsigned sum = 0;
+    const auto parsed = FrameView::parse(frame.bytes);
+    if (parsed.ok()) {
+      for (const DatagramView d : parsed.value()) sum += d.length() + d.wkc();
+    }
+    (void)sum;
+  }
+  check(reader.value().frames_read() == expected_number - 1);
+  return 0;
+}

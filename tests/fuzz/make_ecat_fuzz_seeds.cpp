@@ -1,0 +1,143 @@
+// Writes the seed corpora of fuzz_frame_decoder and fuzz_capture_reader at build time:
+//   make_ecat_fuzz_seeds SEED_ROOT [SHARED_DIR]
+// into SEED_ROOT/seeds-fuzz_frame_decoder and SEED_ROOT/seeds-fuzz_capture_reader (toolchain/
+// check.sh hands these directories to the fuzzers). Seeds are built with our own codec: every
+// command and address form, VLAN, padding, FCS, 124 datagrams, the largest frame, the robot's
+// cyclic frame, captures in every pcap/pcapng flavour the reader knows. When SHARED_DIR holds the
+// real captures, their first frames and a short valid head of each file are added too; they stay
+// in the build tree, never in the repository.
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "ecat/capture_reader.hpp"
+#include "ecat/capture_writer.hpp"
+#include "ecat/frame.hpp"
+#include "tests/support/capture_bytes.hpp"
+
+namespace {
+
+using namespace rescue;        // NOLINT(google-build-using-namespace)
+using namespace rescue::ecat;  // NOLINT(google-build-using-namespace)
+using Bytes = std::vector<std::uint8_t>;
+
+int g_written = 0;
+
+void write_seed(const std::string& dir, const std::string& name, const Bytes& bytes) {
+  std::ofstream out(dir + "/" + name, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  ++g_written;
+}
+
+Bytes finish(FrameBuilder& b) {
+  const ConstByteSpan f = b.finish();
+  return Bytes(f.begin(), f.end());
+}
+
+std::vector<Bytes> synthetic_frames() {
+  std::vector<Bytes> frames;
+  for (std::uint8_t raw = 0; raw < kCommandCount; ++raw) {
+    FrameBuilder b;
+    b.reset(MacAddress{0x02, 0, 0, 0, 0, raw});
+    (void)b.add(static_cast<Command>(raw), raw, make_address(position_adp(raw), 0x0130), 2, {}, 0, 1);
+    (void)b.add(static_cast<Command>(raw), raw, make_address(0x1000 + raw, 0x0910), 8, {}, 0, 2);
+    frames.push_back(finish(b));
+  }
+  FrameBuilder cyclic;  // the robot's frame: DC reference time, then one LRW per branch
+  (void)cyclic.add(Command::FRMW, 1, make_address(0x1000, 0x0910), 8);
+  for (std::uint32_t branch = 0; branch < 4; ++branch) (void)cyclic.add(Command::LRW, 2, branch * 0x100U, 105);
+  frames.push_back(finish(cyclic));
+  FrameBuilder many;
+  for (int i = 0; i < 124; ++i) (void)many.add(Command::NOP, 0, 0, 0);
+  frames.push_back(finish(many));
+  FrameBuilder largest;
+  (void)largest.add(Command::LRD, 0, 0, static_cast<std::uint16_t>(kMaxDatagramDataLength));
+  frames.push_back(finish(largest));
+  FrameBuilder empty;
+  (void)empty.add(Command::BRD, 0, 0, 0);
+  Bytes unpadded = finish(empty);
+  unpadded.resize(28);
+  frames.push_back(unpadded);
+  Bytes tagged = frames[4];
+  tagged.insert(tagged.begin() + 12, {0x81, 0x00, 0x00, 0x05});
+  frames.push_back(tagged);
+  Bytes with_fcs = frames.back();
+  with_fcs.insert(with_fcs.end(), {0x12, 0x34, 0x56, 0x78});
+  frames.push_back(with_fcs);
+  return frames;
+}
+
+Bytes read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: make_ecat_fuzz_seeds SEED_ROOT [SHARED_DIR]\n");
+    return 2;
+  }
+  const std::string root = argv[1];
+  const std::string frames_dir = root + "/seeds-fuzz_frame_decoder";
+  const std::string captures_dir = root + "/seeds-fuzz_capture_reader";
+  ::mkdir(root.c_str(), 0755);
+  ::mkdir(frames_dir.c_str(), 0755);
+  ::mkdir(captures_dir.c_str(), 0755);
+
+  const std::vector<Bytes> frames = synthetic_frames();
+  for (std::size_t i = 0; i < frames.size(); ++i) write_seed(frames_dir, "synthetic-" + std::to_string(i), frames[i]);
+
+  // Captures: our writer, and hand-built flavours of both formats.
+  {
+    CaptureWriter w;
+    const std::string path = captures_dir + "/writer.pcapng";
+    if (w.open(path.c_str()).ok()) {
+      for (std::size_t i = 0; i < 6; ++i) {
+        w.record(ConstByteSpan(frames[i].data(), frames[i].size()), static_cast<hal::Nanoseconds>(i) * 1000,
+                 i % 2 == 0 ? FrameDirection::outbound : FrameDirection::inbound);
+      }
+      ++g_written;
+    }
+  }
+  for (const bool big : {false, true}) {
+    for (const bool nanos : {false, true}) {
+      test::PcapBuilder pcap(big, nanos);
+      pcap.record(1, 2, frames[0]).record(3, 4, frames[15]);
+      write_seed(captures_dir, std::string("pcap-") + (big ? "be" : "le") + (nanos ? "-ns" : "-us"), pcap.bytes());
+    }
+    test::PcapngBuilder ng(big);
+    ng.interface(capture::kLinkTypeEthernet, 0, std::uint8_t{0x80 | 20}, std::int64_t{-5}, std::uint8_t{4})
+        .interface(101)
+        .packet(0, 7, frames[1], 2U)
+        .simple_packet(frames[2])
+        .obsolete_packet(1, 8, frames[3])
+        .block(5, Bytes(16, 0));
+    ng.section(!big).interface().packet(0, 9, frames[4], 1U);
+    write_seed(captures_dir, std::string("pcapng-") + (big ? "be" : "le"), ng.bytes());
+  }
+
+  // Real frames and short valid heads of the real captures, when they are there.
+  if (argc >= 3) {
+    for (const char* name : {"twincat-run-ek1100-el1004.pcapng", "soem-single-lan9252.pcapng",
+                             "soem-sdinfo-akd.pcapng", "replay-dc.pcapng"}) {
+      const Bytes file = read_file(std::string(argv[2]) + "/vectors/captures/" + name);
+      auto reader = CaptureReader::open(ConstByteSpan(file.data(), file.size()));
+      if (!reader.ok()) continue;
+      CapturedFrame f;
+      std::size_t head_end = 0;
+      for (int i = 0; i < 40 && reader.value().next(f).value_or(false); ++i) {
+        write_seed(frames_dir, std::string(name) + "-" + std::to_string(f.number), Bytes(f.bytes.begin(), f.bytes.end()));
+        if (reader.value().offset() <= 4096) head_end = reader.value().offset();
+      }
+      if (head_end > 0) write_seed(captures_dir, std::string("head-") + name, Bytes(file.begin(), file.begin() + static_cast<std::ptrdiff_t>(head_end)));
+    }
+  }
+  std::printf("make_ecat_fuzz_seeds: %d seeds in %s\n", g_written, root.c_str());
+  return 0;
+}
