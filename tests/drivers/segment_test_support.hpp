@@ -107,6 +107,10 @@ struct DatagramResult {
 // A segment plus the devices it drives, and a clock for sending frames one by one.
 class Rig {
  public:
+  Rig() : own_segment_(std::make_unique<SimulatedSegment>()), segment(*own_segment_) {}
+  // Drives a segment someone else owns (e.g. a SimulatedRobot's).
+  explicit Rig(SimulatedSegment& external) : segment(external) {}
+
   // The robot: junctions and 21 test devices as joints.
   static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}) {
     auto rig = std::make_unique<Rig>();
@@ -203,7 +207,12 @@ class Rig {
     }
   }
 
-  SimulatedSegment segment;
+
+ private:
+  std::unique_ptr<SimulatedSegment> own_segment_;
+
+ public:
+  SimulatedSegment& segment;
   hal::Nanoseconds now{0};
   FrameOutcome last_outcome{};
   std::vector<std::unique_ptr<TestDevice>> devices;
