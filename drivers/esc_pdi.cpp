@@ -168,7 +168,7 @@ void Esc::run_cycle(CycleTrigger trigger, hal::Nanoseconds when, std::uint64_t s
   }
   const CycleContext context{when, system_time, state_, trigger};
   device_->on_cycle(outputs, inputs, context, *this);
-  if (!inputs.empty()) in_sm->device_published(memory_);
+  if (in_sm != nullptr && !inputs.empty()) in_sm->device_published(memory_);
   ++counters_.cycles;
   if (state_ == AlState::op && !outputs.empty()) {
     last_latch_ = OutputLatch{when, system_time, trigger};

@@ -87,18 +87,19 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
   if (text == nullptr) return make_error(Errc::invalid_argument, "no fault command");
   std::array<Token, kMaxTokens> tokens{};
   std::size_t count = 0;
-  std::size_t i = 0;
-  const std::size_t end = length < kMaxLine ? length : kMaxLine;
-  while (i < end && text[i] != '\0') {
+  bool in_word = false;
+  for (std::size_t i = 0; i < length && i < kMaxLine && text[i] != '\0'; ++i) {
     if (is_space(text[i])) {
-      ++i;
+      in_word = false;
       continue;
     }
-    if (count == kMaxTokens) return make_error(Errc::malformed, "too many words in fault command", static_cast<std::uint32_t>(i));
-    tokens[count].text = text + i;
-    while (i < end && text[i] != '\0' && !is_space(text[i])) ++i;
-    tokens[count].length = static_cast<std::size_t>(text + i - tokens[count].text);
-    ++count;
+    if (!in_word) {
+      if (count == kMaxTokens) return make_error(Errc::malformed, "too many words in fault command", static_cast<std::uint32_t>(i));
+      tokens[count].text = text + i;
+      ++count;
+      in_word = true;
+    }
+    ++tokens[count - 1].length;
   }
   if (count == 0) return make_error(Errc::invalid_argument, "empty fault command");
   const Verb* verb = nullptr;

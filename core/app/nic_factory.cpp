@@ -19,11 +19,11 @@ Status SelectedNic::open(const NicChoice& choice) noexcept {
     active_ = &raw_;
     return Status::success();
   }
-  hal::Clock& clock = simulation_clock_ != nullptr ? *simulation_clock_ : g_real_time;
-  drivers::SimulatedRobot& robot = simulated_robot(clock.now());
+  hal::Clock* clock = simulation_clock_ != nullptr ? simulation_clock_ : &g_real_time;
+  drivers::SimulatedRobot& robot = simulated_robot(clock->now());
   RESCUE_TRY(robot.status());
   simulated_.clear();
-  active_ = simulated_.emplace_back(robot.segment(), clock);
+  active_ = simulated_.emplace_back(robot.segment(), *clock);
   return Status::success();
 }
 
