@@ -76,6 +76,22 @@ inline void write_offsets_and_delays(Rig& rig, const LatchedTimes& t, const std:
   }
 }
 
+// The model's own propagation delays (what a perfect master would measure), from the arrival times
+// of one latch frame.
+inline std::array<std::int64_t, kMaxSegmentSlaves> model_delays(Rig& rig) {
+  (void)rig.write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
+  std::array<std::int64_t, kMaxSegmentSlaves> delays{};
+  for (std::size_t p = 0; p < rig.segment.slave_count(); ++p) delays[p] = rig.segment.last_arrival(p) - rig.segment.last_arrival(0);
+  return delays;
+}
+
+// Addresses, latch, offsets and delays (the model's, or as a master measures them).
+inline void prepare_distributed_clocks(Rig& rig, std::uint64_t master_time, bool use_model_delays) {
+  rig.assign_station_addresses();
+  const LatchedTimes t = latch_receive_times(rig);
+  write_offsets_and_delays(rig, t, use_model_delays ? model_delays(rig) : master_delays(rig, t), master_time);
+}
+
 // One cycle of drift compensation: the reference's time to every other slave (FRMW, 64 bit).
 inline void distribute_reference_time(Rig& rig, hal::Nanoseconds cycle) {
   const auto r = rig.exchange(Command::FRMW, ecat::make_address(kStationAddressBase, reg::kDcSystemTime), std::vector<std::uint8_t>(8, 0), cycle);

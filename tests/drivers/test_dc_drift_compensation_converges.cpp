@@ -14,14 +14,7 @@ constexpr std::uint64_t kMasterTime = 0x0123'4567'89AB'CDEFULL;
 
 std::unique_ptr<Rig> synchronised_rig(const RobotSegmentOptions& options, bool model_delays) {
   auto rig = Rig::robot(options);
-  rig->assign_station_addresses();
-  const LatchedTimes t = latch_receive_times(*rig);
-  std::array<std::int64_t, kMaxSegmentSlaves> delays = master_delays(*rig, t);
-  if (model_delays) {
-    (void)rig->write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
-    for (std::size_t p = 0; p < kSlaveCount; ++p) delays[p] = rig->segment.last_arrival(p) - rig->segment.last_arrival(0);
-  }
-  write_offsets_and_delays(*rig, t, delays, kMasterTime);
+  prepare_distributed_clocks(*rig, kMasterTime, model_delays);
   return rig;
 }
 
@@ -57,12 +50,7 @@ TEST(DcDriftCompensation, HoldsAtTheExtremesOfCrystalDrift) {
     slaves[p].esc.drift_ppm = p == 0 ? -100.0 : 100.0;
   }
   ASSERT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), rig->now).ok());
-  rig->assign_station_addresses();
-  const LatchedTimes t = latch_receive_times(*rig);
-  (void)rig->write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
-  std::array<std::int64_t, kMaxSegmentSlaves> delays{};
-  for (std::size_t p = 0; p < kSlaveCount; ++p) delays[p] = rig->segment.last_arrival(p) - rig->segment.last_arrival(0);
-  write_offsets_and_delays(*rig, t, delays, kMasterTime);
+  prepare_distributed_clocks(*rig, kMasterTime, true);
   for (int cycle = 0; cycle < 8000; ++cycle) distribute_reference_time(*rig, kCycle);
   EXPECT_LE(worst_sync_error(*rig, rig->now), 5);
   // The speed correction now cancels the 200 ppm (the speed counter difference shows it).

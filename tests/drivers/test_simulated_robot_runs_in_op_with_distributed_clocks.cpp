@@ -47,16 +47,14 @@ class Robot : public ::testing::Test {
   void bring_up() {
     // Scan and address.
     ASSERT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount);
-    rig->assign_station_addresses();
+    prepare_distributed_clocks(*rig, 1'000'000'000'000ULL, false);
     // Identity from the SII (4- and 8-byte ESCs alike, reading 32 bits at a time).
     for (std::size_t p = 0; p < kSlaveCount; ++p) {
       const DeviceIdentity& expected = identity_of(kSlaves[p].kind);
       EXPECT_EQ(sii_read32(*rig, kSlaves[p].station_address, ecat::sii::kVendorId), expected.vendor_id) << p;
       EXPECT_EQ(sii_read32(*rig, kSlaves[p].station_address, ecat::sii::kProductCode), expected.product_code) << p;
     }
-    // Distributed clocks, as in the DC tests.
-    const LatchedTimes t = latch_receive_times(*rig);
-    write_offsets_and_delays(*rig, t, master_delays(*rig, t), 1'000'000'000'000ULL);
+    // Distributed clocks (offsets and measured delays written above) converge.
     for (int i = 0; i < 3000; ++i) distribute_reference_time(*rig, kCycle);
     // Mailbox SyncManagers from the SII's standard mailbox words, then PRE-OP.
     for (std::size_t p = 0; p < kSlaveCount; ++p) {

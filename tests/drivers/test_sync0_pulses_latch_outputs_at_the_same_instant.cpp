@@ -26,12 +26,7 @@ class Sync0 : public ::testing::Test {
  protected:
   void SetUp() override {
     rig = Rig::robot();
-    rig->assign_station_addresses();
-    const LatchedTimes t = latch_receive_times(*rig);
-    (void)rig->write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
-    std::array<std::int64_t, kMaxSegmentSlaves> delays{};
-    for (std::size_t p = 0; p < kSlaveCount; ++p) delays[p] = rig->segment.last_arrival(p) - rig->segment.last_arrival(0);
-    write_offsets_and_delays(*rig, t, delays, kMasterTime);
+    prepare_distributed_clocks(*rig, kMasterTime, true);
     for (int i = 0; i < 3000; ++i) distribute_reference_time(*rig, kCycle);
     // Every joint to SAFE-OP with its mailbox and process data configured.
     for (std::size_t p = 0; p < kSlaveCount; ++p) {
