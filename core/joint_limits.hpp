@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 #include "core/joint_fault.hpp"
 #include "core/robot.hpp"
@@ -19,18 +20,21 @@ namespace rescue {
 // shared memory; read by the joint manager. When a joint becomes unreachable the handler clears
 // `reachable` and leaves the last values it received in place: they are the joint's last known state
 // (reconfiguration step 2 reads them).
+// A trivial type (no member initialisers) so it can be published through the seqlock as bytes;
+// value-initialise it (`JointSample s{};`): all zero, unreachable.
 struct JointSample {
-  bool reachable{false};             // this cycle's working counter included the joint
-  std::int32_t position_counts{0};   // actual position as the drive reported it (held position record)
-  double position_rad{0.0};          // actual
-  double velocity_rad_s{0.0};
-  double torque_nm{0.0};
-  double position_ref_rad{0.0};      // what the handler sends this cycle
-  double velocity_ref_rad_s{0.0};
-  double torque_ref_nm{0.0};
-  bool drive_fault{false};           // statusword fault bit
-  std::uint16_t drive_error_code{0}; // CiA 402 error code (0x603F)
+  bool reachable;                  // this cycle's working counter included the joint
+  std::int32_t position_counts;    // actual position as the drive reported it (held position record)
+  double position_rad;             // actual
+  double velocity_rad_s;
+  double torque_nm;
+  double position_ref_rad;         // what the handler sends this cycle
+  double velocity_ref_rad_s;
+  double torque_ref_nm;
+  bool drive_fault;                // statusword fault bit
+  std::uint16_t drive_error_code;  // CiA 402 error code (0x603F)
 };
+static_assert(std::is_trivial_v<JointSample>, "published through the seqlock as bytes");
 
 using RobotSample = std::array<JointSample, kJointCount>;
 

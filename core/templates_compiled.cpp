@@ -6,6 +6,7 @@
 #include "core/fixed_vector.hpp"
 #include "core/ring_buffer.hpp"
 #include "core/seqlock.hpp"
+#include "core/spsc_message_port.hpp"
 #include "core/spsc_queue.hpp"
 
 namespace rescue {
@@ -22,5 +23,7 @@ template class FixedVector<std::uint32_t, 8>;
 template class RingBuffer<std::uint32_t, 8>;
 template class Seqlock<Sample>;
 template class SpscQueue<Sample, 16>;
+template class SpscMessageSink<Sample, 16>;
+template class SpscMessageSource<Sample, 16>;
 
 }  // namespace rescue

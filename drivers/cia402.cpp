@@ -1,37 +1,6 @@
 #include "drivers/cia402.hpp"
 
-#include <algorithm>
-
 namespace rescue::drivers::cia402 {
-namespace {
-
-// The transition-13 row a fault takes from any state that is not already a fault state.
-constexpr std::array<Transition, 6> kFaultRows{{
-    {State::not_ready_to_switch_on, Command::fault_detected, State::fault_reaction_active, 13},
-    {State::switch_on_disabled, Command::fault_detected, State::fault_reaction_active, 13},
-    {State::ready_to_switch_on, Command::fault_detected, State::fault_reaction_active, 13},
-    {State::switched_on, Command::fault_detected, State::fault_reaction_active, 13},
-    {State::operation_enabled, Command::fault_detected, State::fault_reaction_active, 13},
-    {State::quick_stop_active, Command::fault_detected, State::fault_reaction_active, 13},
-}};
-
-// Every (from, command) pair appears at most once: the machine is deterministic.
-constexpr bool rows_are_unique() noexcept {
-  for (std::size_t i = 0; i < kTransitions.size(); ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if (kTransitions[i].from == kTransitions[k].from && kTransitions[i].command == kTransitions[k].command) return false;
-    }
-    for (const Transition& f : kFaultRows) {
-      // cppcheck-suppress useStlAlgorithm ; std::any_of is not constexpr in C++17
-      if (kTransitions[i].from == f.from && kTransitions[i].command == f.command) return false;
-    }
-  }
-  return true;
-}
-static_assert(rows_are_unique(), "CiA 402 table has two rows for one (state, command)");
-
-}  // namespace
-
 Command decode_controlword(std::uint16_t controlword, std::uint16_t previous) noexcept {
   const bool reset_edge = (controlword & cw::kFaultReset) != 0 && (previous & cw::kFaultReset) == 0;
   if (reset_edge) return Command::fault_reset;
@@ -79,14 +48,6 @@ State state_from_statusword(std::uint16_t s) noexcept {
   return State::not_ready_to_switch_on;
 }
 
-const Transition* find_transition(State from, Command command) noexcept {
-  auto matches = [&](const Transition& t) { return t.from == from && t.command == command; };
-  const auto* row = std::find_if(kTransitions.begin(), kTransitions.end(), matches);
-  if (row != kTransitions.end()) return row;
-  const auto* fault = std::find_if(kFaultRows.begin(), kFaultRows.end(), matches);
-  return fault != kFaultRows.end() ? fault : nullptr;
-}
-
 bool StateMachine::apply_controlword(std::uint16_t controlword) noexcept {
   const Command command = decode_controlword(controlword, previous_controlword_);
   previous_controlword_ = controlword;
@@ -95,13 +56,9 @@ bool StateMachine::apply_controlword(std::uint16_t controlword) noexcept {
 }
 
 bool StateMachine::apply(Command command) noexcept {
-  const Transition* t = find_transition(state_, command);
-  if (t == nullptr || (t->number == 15 && !fault_reset_allowed_)) {
-    ++refused_;
-    return false;
-  }
-  if (t->to != state_) last_transition_ = t->number;
-  state_ = t->to;
+  const State before = machine_.state();
+  if (!machine_.dispatch(context_, command).ok()) return false;
+  if (machine_.state() != before) last_transition_ = transition_number(before, machine_.state());
   return true;
 }
 

@@ -21,13 +21,15 @@
 // Quick stop option code 2 (the CiA 402 default): decelerate on the quick-stop ramp, then Switch
 // on disabled, so transition 16 (quick stop active -> operation enabled) is refused.
 //
-// The fsm/ engine (a generic table-driven engine) had not landed on main when this was written;
-// the table below has the same shape (from, input, to) and can move onto it unchanged.
+// The table runs on the generic engine of fsm/engine.hpp (Cia402Definition below); the one guard
+// is on transition 15: a fault reset is refused while the fault's cause persists.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+
+#include "fsm/engine.hpp"
 
 namespace rescue::drivers::cia402 {
 
@@ -105,72 +107,136 @@ std::uint16_t statusword_bits(State state) noexcept;
 // The state a statusword shows (the master's view), or not_ready_to_switch_on for none.
 State state_from_statusword(std::uint16_t statusword) noexcept;
 
-struct Transition {
-  State from;
-  Command command;
-  State to;
-  std::uint8_t number;  // CiA 402 transition number (0: staying in the state)
+// The CiA 402 number of the transition from `from` to `to` (0 when none: staying in a state).
+constexpr std::uint8_t transition_number(State from, State to) noexcept {
+  using S = State;
+  if (from == to) return 0;
+  switch (to) {
+    case S::switch_on_disabled:
+      switch (from) {
+        case S::not_ready_to_switch_on: return 1;
+        case S::ready_to_switch_on: return 7;
+        case S::operation_enabled: return 9;
+        case S::switched_on: return 10;
+        case S::quick_stop_active: return 12;
+        case S::fault: return 15;
+        default: return 0;
+      }
+    case S::ready_to_switch_on: return from == S::switch_on_disabled ? 2 : from == S::switched_on ? 6 : 8;
+    case S::switched_on: return from == S::ready_to_switch_on ? 3 : 5;
+    case S::operation_enabled: return from == S::switched_on ? 4 : 3;  // from Ready: 3 and 4 at once
+    case S::quick_stop_active: return 11;
+    case S::fault_reaction_active: return 13;
+    case S::fault: return 14;
+    case S::not_ready_to_switch_on: return 0;
+  }
+  return 0;
+}
+
+// What the guard of transition 15 reads.
+struct Context {
+  bool fault_cause_persists{false};
 };
 
-// clang-format off
-inline constexpr std::array<Transition, 29> kTransitions{{
-  {State::not_ready_to_switch_on, Command::self_test_done,   State::switch_on_disabled,    1},
-  {State::switch_on_disabled,     Command::shutdown,         State::ready_to_switch_on,    2},
-  {State::switch_on_disabled,     Command::disable_voltage,  State::switch_on_disabled,    0},
-  {State::switch_on_disabled,     Command::quick_stop,       State::switch_on_disabled,    0},
-  {State::ready_to_switch_on,     Command::switch_on,        State::switched_on,           3},
-  {State::ready_to_switch_on,     Command::enable_operation, State::operation_enabled,     3},  // 3 then 4
-  {State::ready_to_switch_on,     Command::shutdown,         State::ready_to_switch_on,    0},
-  {State::ready_to_switch_on,     Command::disable_voltage,  State::switch_on_disabled,    7},
-  {State::ready_to_switch_on,     Command::quick_stop,       State::switch_on_disabled,    7},
-  {State::switched_on,            Command::enable_operation, State::operation_enabled,     4},
-  {State::switched_on,            Command::switch_on,        State::switched_on,           0},
-  {State::switched_on,            Command::shutdown,         State::ready_to_switch_on,    6},
-  {State::switched_on,            Command::disable_voltage,  State::switch_on_disabled,   10},
-  {State::switched_on,            Command::quick_stop,       State::switch_on_disabled,   10},
-  {State::operation_enabled,      Command::switch_on,        State::switched_on,           5},  // disable operation
-  {State::operation_enabled,      Command::enable_operation, State::operation_enabled,     0},
-  {State::operation_enabled,      Command::shutdown,         State::ready_to_switch_on,    8},
-  {State::operation_enabled,      Command::disable_voltage,  State::switch_on_disabled,    9},
-  {State::operation_enabled,      Command::quick_stop,       State::quick_stop_active,    11},
-  {State::quick_stop_active,      Command::quick_stop,       State::quick_stop_active,     0},
-  {State::quick_stop_active,      Command::disable_voltage,  State::switch_on_disabled,   12},
-  {State::quick_stop_active,      Command::stopped,          State::switch_on_disabled,   12},
-  {State::fault_reaction_active,  Command::stopped,          State::fault,                14},
-  {State::fault,                  Command::fault_reset,      State::switch_on_disabled,   15},
-  {State::fault,                  Command::disable_voltage,  State::fault,                 0},
-  {State::fault,                  Command::quick_stop,       State::fault,                 0},
-  {State::fault,                  Command::shutdown,         State::fault,                 0},  // masters send it with the reset
-  {State::fault_reaction_active,  Command::fault_detected,   State::fault_reaction_active, 0},
-  {State::fault,                  Command::fault_detected,   State::fault,                 0},
-}};
-// clang-format on
+// The machine as an fsm/ engine definition.
+struct Cia402Definition {
+  using State = cia402::State;
+  using Input = cia402::Command;
+  using Context = cia402::Context;
+  using S = State;
+  using C = Command;
 
-// The row for (state, command), or nullptr. fault_detected from any state but the fault states
-// is transition 13 (not listed per state above); see find_transition.
-const Transition* find_transition(State from, Command command) noexcept;
+  static constexpr const char* kName = "cia402";
+  static constexpr State kInitial = S::not_ready_to_switch_on;
 
-// The state machine of one drive: current state, the last controlword (for the reset edge) and
-// counters of refused commands.
+  static constexpr fsm::Guard<Context> kCauseCleared{
+      [](const Context& c) noexcept { return !c.fault_cause_persists; }, "only if the fault's cause is gone"};
+
+  // clang-format off
+  static constexpr std::array<fsm::StateSpec<State, Context>, 8> kStates{{
+    {S::not_ready_to_switch_on, "Not ready to switch on", "power-up self test; brake applied", {}, {}},
+    {S::switch_on_disabled,     "Switch on disabled",     "power stage off, worm gear holds", {}, {}},
+    {S::ready_to_switch_on,     "Ready to switch on",     "power stage off, ready to switch on", {}, {}},
+    {S::switched_on,            "Switched on",            "power stage ready, no torque", {}, {}},
+    {S::operation_enabled,      "Operation enabled",      "the motor follows the target of the mode", {}, {}},
+    {S::quick_stop_active,      "Quick stop active",      "braking on the quick-stop ramp", {}, {}},
+    {S::fault_reaction_active,  "Fault reaction active",  "a fault: braking, then power off", {}, {}},
+    {S::fault,                  "Fault",                  "power off, 0x603F holds the error code", {}, {}},
+  }};
+  static constexpr std::array<fsm::InputSpec<Input>, 10> kInputs{{
+    {C::none,             "none",             "bit 7 held high: no command"},
+    {C::shutdown,         "shutdown",         "controlword 0xxx x110"},
+    {C::switch_on,        "switch_on",        "controlword 0xxx 0111 (also disable operation)"},
+    {C::enable_operation, "enable_operation", "controlword 0xxx 1111"},
+    {C::disable_voltage,  "disable_voltage",  "controlword 0xxx xx0x"},
+    {C::quick_stop,       "quick_stop",       "controlword 0xxx x01x"},
+    {C::fault_reset,      "fault_reset",      "rising edge of controlword bit 7"},
+    {C::self_test_done,   "self_test_done",   "power-up initialisation finished"},
+    {C::fault_detected,   "fault_detected",   "a drive fault (injected, following error)"},
+    {C::stopped,          "stopped",          "the braking ramp reached standstill"},
+  }};
+  static constexpr std::array<fsm::Row<State, Input, Context>, 35> kRows{{
+    {S::not_ready_to_switch_on, C::self_test_done,   S::switch_on_disabled},
+    {S::not_ready_to_switch_on, C::fault_detected,   S::fault_reaction_active},
+    {S::switch_on_disabled,     C::shutdown,         S::ready_to_switch_on},
+    {S::switch_on_disabled,     C::disable_voltage,  S::switch_on_disabled},
+    {S::switch_on_disabled,     C::quick_stop,       S::switch_on_disabled},
+    {S::switch_on_disabled,     C::fault_detected,   S::fault_reaction_active},
+    {S::ready_to_switch_on,     C::switch_on,        S::switched_on},
+    {S::ready_to_switch_on,     C::enable_operation, S::operation_enabled},
+    {S::ready_to_switch_on,     C::shutdown,         S::ready_to_switch_on},
+    {S::ready_to_switch_on,     C::disable_voltage,  S::switch_on_disabled},
+    {S::ready_to_switch_on,     C::quick_stop,       S::switch_on_disabled},
+    {S::ready_to_switch_on,     C::fault_detected,   S::fault_reaction_active},
+    {S::switched_on,            C::enable_operation, S::operation_enabled},
+    {S::switched_on,            C::switch_on,        S::switched_on},
+    {S::switched_on,            C::shutdown,         S::ready_to_switch_on},
+    {S::switched_on,            C::disable_voltage,  S::switch_on_disabled},
+    {S::switched_on,            C::quick_stop,       S::switch_on_disabled},
+    {S::switched_on,            C::fault_detected,   S::fault_reaction_active},
+    {S::operation_enabled,      C::switch_on,        S::switched_on},
+    {S::operation_enabled,      C::enable_operation, S::operation_enabled},
+    {S::operation_enabled,      C::shutdown,         S::ready_to_switch_on},
+    {S::operation_enabled,      C::disable_voltage,  S::switch_on_disabled},
+    {S::operation_enabled,      C::quick_stop,       S::quick_stop_active},
+    {S::operation_enabled,      C::fault_detected,   S::fault_reaction_active},
+    {S::quick_stop_active,      C::quick_stop,       S::quick_stop_active},
+    {S::quick_stop_active,      C::disable_voltage,  S::switch_on_disabled},
+    {S::quick_stop_active,      C::stopped,          S::switch_on_disabled},
+    {S::quick_stop_active,      C::fault_detected,   S::fault_reaction_active},
+    {S::fault_reaction_active,  C::stopped,          S::fault},
+    {S::fault_reaction_active,  C::fault_detected,   S::fault_reaction_active},
+    {S::fault,                  C::fault_reset,      S::switch_on_disabled, kCauseCleared},
+    {S::fault,                  C::disable_voltage,  S::fault},
+    {S::fault,                  C::quick_stop,       S::fault},
+    {S::fault,                  C::shutdown,         S::fault},  // masters send it with the reset
+    {S::fault,                  C::fault_detected,   S::fault},
+  }};
+  // clang-format on
+};
+
+// The state machine of one drive: the engine's machine, the last controlword (for the reset
+// edge) and the fault-reset guard's fact.
 class StateMachine {
  public:
-  State state() const noexcept { return state_; }
+  using Machine = fsm::Machine<Cia402Definition>;
+
+  State state() const noexcept { return machine_.state(); }
   // Applies a controlword; returns true when the command was accepted (or there was none).
   bool apply_controlword(std::uint16_t controlword) noexcept;
-  // Applies an internal event (self_test_done, fault_detected, stopped).
+  // Applies a command or an internal event (self_test_done, fault_detected, stopped).
   bool apply(Command command) noexcept;
-  std::uint32_t refused_count() const noexcept { return refused_; }
+  std::uint32_t refused_count() const noexcept { return machine_.refused_count(); }
   std::uint8_t last_transition() const noexcept { return last_transition_; }
   std::uint16_t previous_controlword() const noexcept { return previous_controlword_; }
   // Guard of transition 15: a fault reset is refused while the fault's cause is still present.
-  void set_fault_reset_allowed(bool allowed) noexcept { fault_reset_allowed_ = allowed; }
+  void set_fault_reset_allowed(bool allowed) noexcept { context_.fault_cause_persists = !allowed; }
 
  private:
-  State state_{State::not_ready_to_switch_on};
+  Machine machine_{};
+  Context context_{};
   std::uint16_t previous_controlword_{0};
-  std::uint32_t refused_{0};
   std::uint8_t last_transition_{0};
-  bool fault_reset_allowed_{true};
 };
 
 const char* to_string(State state) noexcept;

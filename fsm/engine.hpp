@@ -45,7 +45,8 @@ using GuardFn = bool (*)(const Context&) noexcept;
 template <typename Context>
 using ActionFn = void (*)(Context&) noexcept;
 
-// A guard or action with the sentence that documents it (used by the generated docs).
+// A guard or action with the sentence that documents it (used by the generated docs). A function
+// always comes with its sentence, and no function means "" (tests check every documented machine).
 template <typename Context>
 struct Guard {
   GuardFn<Context> fn{nullptr};

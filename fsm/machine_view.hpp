@@ -40,6 +40,9 @@ struct MachineView {
   Span<const RowView> rows;
 };
 
+// The views take the documenting sentences only: a guard or action is documented by its text (the
+// engine's convention: a function always comes with its sentence). Function pointers are not compared
+// here because GCC cannot fold such comparisons at compile time in sanitizer builds.
 namespace view_detail {
 
 template <typename Def>
@@ -47,8 +50,7 @@ constexpr std::array<StateView, state_count<Def>()> make_states() noexcept {
   std::array<StateView, state_count<Def>()> out{};
   for (std::size_t s = 0; s < out.size(); ++s) {
     const auto& spec = Def::kStates[s];
-    out[s] = StateView{spec.name, spec.meaning, spec.on_entry.fn != nullptr ? spec.on_entry.text : "",
-                       spec.on_exit.fn != nullptr ? spec.on_exit.text : ""};
+    out[s] = StateView{spec.name, spec.meaning, spec.on_entry.text, spec.on_exit.text};
   }
   return out;
 }
@@ -66,8 +68,7 @@ constexpr std::array<RowView, Def::kRows.size()> make_rows() noexcept {
   for (std::size_t r = 0; r < out.size(); ++r) {
     const auto& row = Def::kRows[r];
     out[r] = RowView{static_cast<std::uint16_t>(index_of(row.from)), static_cast<std::uint16_t>(index_of(row.input)),
-                     static_cast<std::uint16_t>(index_of(row.to)), row.guard.fn != nullptr ? row.guard.text : "",
-                     row.action.fn != nullptr ? row.action.text : ""};
+                     static_cast<std::uint16_t>(index_of(row.to)), row.guard.text, row.action.text};
   }
   return out;
 }

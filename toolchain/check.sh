@@ -44,13 +44,13 @@ fi
 
 if want fuzz; then
   banner "libFuzzer: ${fuzz_seconds}s per target"
-  cmake --preset clang >/dev/null
-  cmake --build build/clang -j "$jobs" --target fuzzers
+  cmake --preset fuzz >/dev/null
+  cmake --build --preset fuzz -j "$jobs"
   fuzzers=0
-  for f in build/clang/fuzz/fuzz_*; do
+  for f in build/fuzz/fuzz/fuzz_*; do
     [ -x "$f" ] || continue  # also the unexpanded pattern when there is no fuzzer yet
     fuzzers=$((fuzzers + 1))
-    corpus="build/clang/fuzz/corpus-$(basename "$f")"
+    corpus="build/fuzz/fuzz/corpus-$(basename "$f")"
     mkdir -p "$corpus"
     seeds="$(dirname "$f")/seeds-$(basename "$f")"
     echo "fuzz: $f"

@@ -26,6 +26,7 @@
 #include "core/app/error_joints_storage.hpp"
 #include "core/app/joint_events.hpp"
 #include "core/app/joint_messages.hpp"
+#include "core/app/joint_sample_source.hpp"
 #include "core/error_joints_file.hpp"
 #include "core/fixed_vector.hpp"
 #include "core/joint_limits.hpp"
@@ -35,19 +36,6 @@
 #include "hal/wall_clock.hpp"
 
 namespace rescue::app {
-
-// The handler's published joint values (shared memory). read() copies one consistent snapshot, or
-// returns false when none could be had this time (the joint manager then keeps the previous one).
-class JointSampleSource {
- public:
-  JointSampleSource() = default;
-  JointSampleSource(const JointSampleSource&) = delete;
-  JointSampleSource& operator=(const JointSampleSource&) = delete;
-  JointSampleSource(JointSampleSource&&) = delete;
-  JointSampleSource& operator=(JointSampleSource&&) = delete;
-  virtual ~JointSampleSource() = default;
-  virtual bool read(RobotSample& out) noexcept = 0;
-};
 
 struct JointManagerPorts {
   MessageSource<LostJointsReport>* reports;    // from the EtherCAT handler (step 1)

@@ -3,6 +3,7 @@
 // thousands of further cycles with the lost joints pending and every other joint commanded. Only when
 // the write is released does the answer arrive. If the handler waited for the write, this test would
 // hang (and CTest's timeout would fail it). No sleeps and no timing: progress is observed via atomics.
+// The threads share what the firmware's tasks share: lock-free SPSC queues and the seqlocked samples.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -11,48 +12,13 @@
 #include <thread>
 
 #include "core/app/lost_joint_tracker.hpp"
+#include "core/spsc_message_port.hpp"
 #include "joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {
 
 const JointMask kElbowCut = joints_lost_by_link_failure_at(joint_index_by_name("l_elbow"));
-
-// A queue two threads may share (the firmware uses the lock-free SPSC queues of shared memory).
-template <typename T>
-class LockedQueue final : public MessageSink<T>, public MessageSource<T> {
- public:
-  bool try_send(const T& m) noexcept override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return inner_.try_send(m);
-  }
-  bool try_receive(T& out) noexcept override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return inner_.try_receive(out);
-  }
-
- private:
-  std::mutex mutex_;
-  testing::FakeQueue<T> inner_;
-};
-
-// The handler's published samples, shared between the threads.
-class LockedSamples final : public JointSampleSource {
- public:
-  bool read(RobotSample& out) noexcept override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    out = inner_.robot;
-    return true;
-  }
-  void lose(JointMask mask) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    inner_.lose(mask);
-  }
-
- private:
-  std::mutex mutex_;
-  testing::FakeSamples inner_;
-};
 
 // save() blocks until released.
 class StuckDisk final : public ErrorJointsStorage {
@@ -89,13 +55,19 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   testing::TempStateDir dir;
   ErrorJointsFileStorage files(dir.path.c_str());
   StuckDisk disk(files);
-  LockedQueue<LostJointsReport> reports;
-  LockedQueue<JointManagerNotice> notices;
-  LockedQueue<JointCommand> commands;
-  LockedSamples samples;
+  SpscQueue<LostJointsReport, 16> report_queue;
+  SpscQueue<JointManagerNotice, 16> notice_queue;
+  SpscQueue<JointCommand, 16> command_queue;
+  Seqlock<RobotSample> published;
+  SpscMessageSink<LostJointsReport, 16> report_sink(report_queue);
+  SpscMessageSource<LostJointsReport, 16> report_source(report_queue);
+  SpscMessageSink<JointManagerNotice, 16> notice_sink(notice_queue);
+  SpscMessageSource<JointManagerNotice, 16> notice_source(notice_queue);
+  SpscMessageSource<JointCommand, 16> commands(command_queue);
+  SeqlockSampleSource samples(published);
   hal::ManualWallClock wall(1'700'000'000'000'000'000LL);
   NullLog log;
-  JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &disk, &wall, &log});
+  JointManager manager(JointManagerPorts{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log});
 
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> handler_cycles{0};
@@ -104,10 +76,12 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   std::atomic<std::uint64_t> commanded_healthy_cycles{0};
 
   std::thread handler([&] {
-    LostJointTracker tracker(reports, notices, 0);
+    LostJointTracker tracker(report_sink, notice_source, 0);
+    testing::FakeSamples robot;  // the handler's view of the joints, published every cycle
     for (std::uint64_t cycle = 1; !stop.load(); ++cycle) {
       const JointMask cut = cycle > 100 ? kElbowCut : 0;
-      samples.lose(cut);
+      robot.lose(cut);
+      published.write(robot.robot);
       tracker.on_cycle(cycle, static_cast<hal::Nanoseconds>(cycle) * hal::kNsPerMs, cut);
       if (((kAllJoints & ~kElbowCut) & tracker.excluded()) == 0) commanded_healthy_cycles.fetch_add(1);
       handler_pending.store(tracker.pending());

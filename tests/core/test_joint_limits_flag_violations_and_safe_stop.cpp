@@ -14,7 +14,7 @@ const std::size_t kElbow = joint_index_by_name("l_elbow");    // position 0.0 ..
 const std::size_t kTrack = joint_index_by_name("l_track");    // continuous, 12 rad/s, 250 Nm
 
 JointSample inside(std::size_t joint) {
-  JointSample s;
+  JointSample s{};
   s.reachable = true;
   const JointLimits& lim = kJoints[joint].limits;
   s.position_rad = s.position_ref_rad = 0.5 * (lim.position_min_rad + lim.position_max_rad);

@@ -161,9 +161,17 @@ TEST(Cia402Controlword, CommandPatternsIgnoreTheDontCareBits) {
   EXPECT_EQ(decode_controlword(0x0086, 0x0080), Command::none);
 }
 
-TEST(Cia402Table, HasNoTwoRowsForOneStateAndCommand) {
-  for (std::size_t i = 0; i < kTransitions.size(); ++i) {
-    EXPECT_EQ(find_transition(kTransitions[i].from, kTransitions[i].command), &kTransitions[i]) << i;
+TEST(Cia402Table, RunsOnTheFsmEngineWithOneRowPerStateAndCommand) {
+  EXPECT_EQ(fsm::check_definition<Cia402Definition>(), fsm::DefinitionCheck::ok);
+  for (const auto& row : Cia402Definition::kRows) {
+    EXPECT_EQ(StateMachine::Machine::find_row(row.from, row.input), &row);
+  }
+  // Every state can be left (no dead end) and every non-fault state can fault.
+  for (const auto& spec : Cia402Definition::kStates) {
+    bool leaves = false;
+    for (const auto& row : Cia402Definition::kRows) leaves = leaves || (row.from == spec.state && row.to != spec.state);
+    EXPECT_TRUE(leaves) << spec.name;
+    EXPECT_NE(StateMachine::Machine::find_row(spec.state, Command::fault_detected), nullptr) << spec.name;
   }
 }
 

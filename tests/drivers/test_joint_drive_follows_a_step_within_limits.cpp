@@ -38,6 +38,13 @@ struct DriveUnderTest {
     }
     ASSERT_EQ(drive.state(), cia402::State::operation_enabled);
   }
+  // Outputs of an enabled drive in `mode` (targets zero).
+  static JointOutputs operating(ControlMode mode) {
+    JointOutputs out;
+    out.controlword = cia402::cw::kEnableOperationCommand;
+    out.mode_of_operation = static_cast<std::int8_t>(mode);
+    return out;
+  }
   std::size_t joint;
   JointDriveObjects objects;
   Cia402Drive drive;
@@ -84,9 +91,7 @@ TEST(JointMotorModel, CommandAboveTheVelocityLimitIsClampedAndFlagged) {
 TEST(Cia402Drive, CspPositionStepIsReachedWithoutExceedingTheVelocityLimit) {
   DriveUnderTest t("l_elbow");
   t.enable(ControlMode::cyclic_position);
-  JointOutputs out;
-  out.controlword = cia402::cw::kEnableOperationCommand;
-  out.mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_position);
+  JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_position);
   out.target_position = rad_to_counts(0.3);
   const std::int32_t vmax_counts = rad_to_counts(kJoints[t.joint].limits.velocity_max_rad_s);
   JointInputs in;
@@ -108,9 +113,7 @@ TEST(Cia402Drive, CspPositionStepIsReachedWithoutExceedingTheVelocityLimit) {
 TEST(Cia402Drive, CspTargetBeyondTheSoftwareLimitStopsAtTheLimit) {
   DriveUnderTest t("neck_tilt");  // -0.8 .. 1.0 rad
   t.enable(ControlMode::cyclic_position);
-  JointOutputs out;
-  out.controlword = cia402::cw::kEnableOperationCommand;
-  out.mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_position);
+  JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_position);
   JointInputs in;
   // Walk the target past the upper limit slowly (no following error), then hold it there.
   for (int i = 0; i < 3000; ++i) {
@@ -124,9 +127,7 @@ TEST(Cia402Drive, CspTargetBeyondTheSoftwareLimitStopsAtTheLimit) {
 TEST(Cia402Drive, CstTorqueStepAcceleratesUpToTheVelocityLimit) {
   DriveUnderTest t("r_track");
   t.enable(ControlMode::cyclic_torque);
-  JointOutputs out;
-  out.controlword = cia402::cw::kEnableOperationCommand;
-  out.mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_torque);
+  JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_torque);
   out.target_torque = 500;  // half the rated torque
   JointInputs in = t.cycle(out);
   EXPECT_EQ(in.torque_actual, 500);
@@ -138,9 +139,7 @@ TEST(Cia402Drive, CstTorqueStepAcceleratesUpToTheVelocityLimit) {
 TEST(WormGear, HoldsTheJointWhenTheDriveIsSwitchedOff) {
   DriveUnderTest t("r_shoulder_pitch");
   t.enable(ControlMode::cyclic_velocity);
-  JointOutputs out;
-  out.controlword = cia402::cw::kEnableOperationCommand;
-  out.mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_velocity);
+  JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_velocity);
   out.target_velocity = rad_to_counts(1.0);
   for (int i = 0; i < 500; ++i) (void)t.cycle(out);
   ASSERT_GT(t.drive.motor().velocity_rad_s(), 0.9);
@@ -157,9 +156,7 @@ TEST(WormGear, HoldsTheJointWhenTheDriveIsSwitchedOff) {
 TEST(WormGear, HoldsTheJointWhenOutputsStopBeingValid) {
   DriveUnderTest t("l_leg");
   t.enable(ControlMode::cyclic_velocity);
-  JointOutputs out;
-  out.controlword = cia402::cw::kEnableOperationCommand;
-  out.mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_velocity);
+  JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_velocity);
   out.target_velocity = rad_to_counts(-0.5);
   for (int i = 0; i < 300; ++i) (void)t.cycle(out);
   ASSERT_LT(t.drive.motor().velocity_rad_s(), -0.4);

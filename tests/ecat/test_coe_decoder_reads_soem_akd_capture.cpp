@@ -3,9 +3,7 @@
 // (FPWR 0x1800) and every response it read from SM1 (FPRD 0x1C00, working counter 1) decodes,
 // each response answers its request, and each decoded field matches what Wireshark's dissector
 // says (tshark, when installed). Our encoder rebuilds every request byte for byte.
-//
-// The capture is walked by a few lines of pcapng reading here: the project's capture reader had
-// not landed when this test was written.
+// The capture is read with the project's own reader (ecat/capture_reader.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -13,9 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/endian.hpp"
 #include "ecat/coe.hpp"
+#include "ecat/capture_reader.hpp"
 #include "ecat/frame.hpp"
+#include "tests/support/read_frames.hpp"
 
 namespace rescue::ecat::coe {
 namespace {
@@ -28,35 +27,23 @@ struct MailboxFrame {
   std::vector<std::uint8_t> mailbox;
 };
 
-// Enhanced packet blocks (type 6) of a little-endian pcapng file.
-std::vector<std::vector<std::uint8_t>> read_packets(const std::string& path) {
-  std::vector<std::vector<std::uint8_t>> packets;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return packets;
+std::vector<std::uint8_t> read_file(const std::string& path) {
   std::vector<std::uint8_t> file;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return file;
   std::uint8_t chunk[4096];
   std::size_t n = 0;
   while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) file.insert(file.end(), chunk, chunk + n);
   std::fclose(f);
-  std::size_t at = 0;
-  while (at + 12 <= file.size()) {
-    const std::uint32_t type = load_le32(&file[at]);
-    const std::uint32_t length = load_le32(&file[at + 4]);
-    if (length < 12 || at + length > file.size()) break;
-    if (type == 6 && length >= 32) {
-      const std::uint32_t captured = load_le32(&file[at + 20]);
-      if (28 + captured <= length) packets.emplace_back(file.begin() + static_cast<long>(at + 28), file.begin() + static_cast<long>(at + 28 + captured));
-    }
-    at += length;
-  }
-  return packets;
+  return file;
 }
 
 std::vector<MailboxFrame> mailbox_frames() {
   std::vector<MailboxFrame> out;
-  const auto packets = read_packets(kCapture);
-  for (std::size_t i = 0; i < packets.size(); ++i) {
-    auto frame = FrameView::parse(ConstByteSpan(packets[i].data(), packets[i].size()));
+  const std::vector<std::uint8_t> file = read_file(kCapture);
+  if (file.empty()) return out;
+  for (const CapturedFrame& captured : test::read_all_frames(file)) {
+    auto frame = FrameView::parse(captured.bytes);
     if (!frame.ok()) continue;
     for (DatagramView d : frame.value()) {
       const bool req = d.command() == Command::FPWR && d.ado() == 0x1800 && d.wkc() == 0;
@@ -65,7 +52,7 @@ std::vector<MailboxFrame> mailbox_frames() {
       const auto data = d.data();
       // An empty mailbox reads as zeros: skip those polls.
       if (resp && (data.size() < 6 || (data[0] == 0 && data[1] == 0))) continue;
-      out.push_back(MailboxFrame{i + 1, req, std::vector<std::uint8_t>(data.begin(), data.end())});
+      out.push_back(MailboxFrame{captured.number, req, std::vector<std::uint8_t>(data.begin(), data.end())});
     }
   }
   return out;

@@ -140,6 +140,17 @@ TEST(JointDfa, DriveIsEnabledOnlyInEnabled) {
   EXPECT_FALSE(ctx.drive_enabled);
 }
 
+TEST(JointDfa, EveryGuardAndActionIsDocumentedAndEveryTextHasAFunction) {
+  for (const auto& row : JointStatusDfa::kRows) {
+    EXPECT_EQ(row.guard.fn != nullptr, row.guard.text[0] != '\0');
+    EXPECT_EQ(row.action.fn != nullptr, row.action.text[0] != '\0');
+  }
+  for (const auto& state : JointStatusDfa::kStates) {
+    EXPECT_EQ(state.on_entry.fn != nullptr, state.on_entry.text[0] != '\0') << state.name;
+    EXPECT_EQ(state.on_exit.fn != nullptr, state.on_exit.text[0] != '\0') << state.name;
+  }
+}
+
 TEST(JointDfa, InputNamesParse) {
   JointInput in = I::fault;
   EXPECT_TRUE(parse_joint_input("set_reference", in));

@@ -1,12 +1,12 @@
 # One line per fuzz target: rescue_add_fuzzer(fuzz_NAME SOURCES fuzz_NAME.cpp DEPS libs...)
+# The fuzz preset instruments every library for coverage (-fsanitize=fuzzer-no-link) and ASan/UBSan,
+# so fuzzers link the decoders' libraries as the program does.
 rescue_add_fuzzer(fuzz_nic_input SOURCES fuzz_nic_input.cpp DEPS rescue_app)
-# The decoders' own sources are compiled into their fuzzers so libFuzzer sees their coverage and
-# ASan checks their accesses (the libraries themselves are built without instrumentation).
-rescue_add_fuzzer(fuzz_sii_parser SOURCES fuzz_sii_parser.cpp ${PROJECT_SOURCE_DIR}/ecat/sii.cpp DEPS rescue_core)
-rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp ${PROJECT_SOURCE_DIR}/ecat/mailbox.cpp ${PROJECT_SOURCE_DIR}/ecat/coe.cpp DEPS rescue_core)
-rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp ${PROJECT_SOURCE_DIR}/core/error_joints_file.cpp DEPS rescue_core)
-rescue_add_fuzzer(fuzz_frame_decoder SOURCES fuzz_frame_decoder.cpp ${PROJECT_SOURCE_DIR}/ecat/frame.cpp ${PROJECT_SOURCE_DIR}/ecat/command.cpp DEPS rescue_core)
-rescue_add_fuzzer(fuzz_capture_reader SOURCES fuzz_capture_reader.cpp ${PROJECT_SOURCE_DIR}/ecat/capture_reader.cpp ${PROJECT_SOURCE_DIR}/ecat/frame.cpp ${PROJECT_SOURCE_DIR}/ecat/command.cpp DEPS rescue_core)
+rescue_add_fuzzer(fuzz_sii_parser SOURCES fuzz_sii_parser.cpp DEPS rescue_ecat)
+rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp DEPS rescue_ecat)
+rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp DEPS rescue_core)
+rescue_add_fuzzer(fuzz_frame_decoder SOURCES fuzz_frame_decoder.cpp DEPS rescue_ecat)
+rescue_add_fuzzer(fuzz_capture_reader SOURCES fuzz_capture_reader.cpp DEPS rescue_ecat)
 rescue_add_fuzz_seeds(make_ecat_fuzz_seeds SOURCES make_ecat_fuzz_seeds.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_simulated_segment SOURCES fuzz_simulated_segment.cpp
   ${PROJECT_SOURCE_DIR}/drivers/esc.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_al.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_pdi.cpp

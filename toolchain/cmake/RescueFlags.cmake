@@ -13,6 +13,13 @@ endif()
 add_library(rescue_test_flags INTERFACE)
 target_compile_options(rescue_test_flags INTERFACE -Wall -Wextra -Wshadow -Werror)
 
+# Fuzz builds: every library is coverage-instrumented (fuzzer-no-link) and sanitized, so libFuzzer
+# sees inside the decoders, not only inside the fuzz target's own file.
+if(RESCUE_BUILD_FUZZERS)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 if(RESCUE_SANITIZE)
   add_compile_options(-fsanitize=${RESCUE_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${RESCUE_SANITIZE})

@@ -1,0 +1,92 @@
+// Test support: the whole simulated robot on virtual time (2 junctions, 21 joint drives, the
+// segment with its delays and drifting clocks, the loopback NIC) and the master's JointBus on it.
+// Heap allocated by the test (the objects are large); nothing here is firmware.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "core/robot.hpp"
+#include "drivers/joint_bus.hpp"
+#include "drivers/joint_drive_device.hpp"
+#include "drivers/junction_device.hpp"
+#include "drivers/robot_segment.hpp"
+#include "drivers/simulated_nic.hpp"
+#include "drivers/simulated_segment.hpp"
+#include "hal/clock.hpp"
+
+namespace rescue::testing {
+
+struct SimulatedRobotRig {
+  hal::VirtualClock clock{hal::kNsPerSec};
+  std::array<std::unique_ptr<drivers::SlaveDevice>, kSlaveCount> devices{};
+  std::array<drivers::SegmentSlave, kSlaveCount + 1> slaves{};
+  drivers::SimulatedSegment segment;
+  drivers::SimulatedNic nic{segment, clock};
+  drivers::JointBus bus{nic};
+
+  // The robot as built; with build_now = false the test may first replace devices (wrong device,
+  // swapped cables) or add an extra slave, then call build().
+  explicit SimulatedRobotRig(bool build_now = true, const drivers::RobotSegmentOptions& options = {}) {
+    for (std::size_t p = 0; p < kSlaveCount; ++p) {
+      if (kSlaves[p].kind == SlaveKind::junction) {
+        devices[p] = std::make_unique<drivers::JunctionDevice>(p);
+      } else {
+        devices[p] = std::make_unique<drivers::JointDriveDevice>(p);
+      }
+    }
+    if (build_now) build(options);
+  }
+
+  // `extra`: one more slave cabled behind an existing one (its device owned by the test).
+  void build(const drivers::RobotSegmentOptions& options = {}, const drivers::SegmentSlave* extra = nullptr) {
+    std::array<drivers::SlaveDevice*, kSlaveCount> raw{};
+    for (std::size_t p = 0; p < kSlaveCount; ++p) raw[p] = devices[p].get();
+    built = drivers::describe_robot_segment(Span<drivers::SlaveDevice* const>(raw.data(), raw.size()), options,
+                                            Span<drivers::SegmentSlave>(slaves.data(), kSlaveCount));
+    std::size_t count = kSlaveCount;
+    if (extra != nullptr) slaves[count++] = *extra;
+    if (built.ok()) built = segment.build(Span<const drivers::SegmentSlave>(slaves.data(), count), clock.now());
+  }
+
+  drivers::JointDriveDevice& drive(std::size_t joint) {
+    return static_cast<drivers::JointDriveDevice&>(*devices[slave_position_of_joint(joint)]);
+  }
+
+  // One period: sleep to the master's wake-up, exchange the frame.
+  ecat::CycleResult cycle(const drivers::JointReferences& references, drivers::JointFeedback& feedback) {
+    clock.sleep_until(bus.next_wakeup());
+    return bus.cycle(references, feedback);
+  }
+
+  Status built{};
+};
+
+// The bring-up report in words: failed step, error, AL failure, every network difference.
+inline std::string describe_master_failure(const ecat::Master& m) {
+  char line[256];
+  std::string s = m.report().failed_step != nullptr ? m.report().failed_step : "-";
+  s += ": ";
+  s += m.report().error.what;
+  s += " (" + std::to_string(m.report().error.detail0) + ", " + std::to_string(m.report().error.detail1) + ")";
+  if (m.report().al_failure.position != 0xFF) {
+    (void)ecat::describe(m.report().al_failure, m.plan(), line, sizeof line);
+    s += "; ";
+    s += line;
+  }
+  for (const ecat::NetworkDifference& d : m.report().match.differences) {
+    (void)ecat::describe(d, m.plan(), m.report().found.span(), line, sizeof line);
+    s += "\n  ";
+    s += line;
+  }
+  return s;
+}
+
+inline ecat::MasterOptions fast_options() {
+  ecat::MasterOptions options;
+  options.drift_compensation_frames = 2000;  // enough on the model; the bench runs the full 15000
+  return options;
+}
+
+}  // namespace rescue::testing
