@@ -1,6 +1,7 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
 #include <cstring>
 
+#include "core/app/bench_codec.hpp"
 #include "core/app/bench_core.hpp"
 #include "core/app/bench_nic.hpp"
 #include "core/app/commands.hpp"
@@ -11,7 +12,7 @@ namespace {
 
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
-    {"frames", "N", "nic: frames to send (default 10000)"},
+    {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
 };
 
 struct Bench {
@@ -22,6 +23,7 @@ struct Bench {
 const Bench kBenches[] = {
     {"nic", bench_nic},
     {"core", bench_core},
+    {"codec", bench_codec},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -39,7 +41,8 @@ const CommandSpec kBenchCommand{
     "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
-    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init",
+    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
+    "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
