@@ -3,6 +3,7 @@
 
 #include "core/app/bench_codec.hpp"
 #include "core/app/bench_core.hpp"
+#include "core/app/bench_master.hpp"
 #include "core/app/bench_nic.hpp"
 #include "core/app/commands.hpp"
 #include "core/app/nic_option.hpp"
@@ -13,6 +14,8 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
+    {"cycles", "N", "master: cycles of the measured run (default 10000)"},
+    {"seed", "S", "master: seed of the simulated robot's clocks and delays (default 1)"},
 };
 
 struct Bench {
@@ -24,6 +27,7 @@ const Bench kBenches[] = {
     {"nic", bench_nic},
     {"core", bench_core},
     {"codec", bench_codec},
+    {"master", bench_master},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -42,7 +46,8 @@ const CommandSpec kBenchCommand{
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
-    "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time",
+    "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
+    "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
