@@ -121,7 +121,12 @@ void Esc::advance_to(hal::Nanoseconds now) noexcept {
   dc_.advance(now);
   now_ = now;
   sii_.update(memory_, now);
+  if (sii_.take_reload_done()) {
+    apply_configuration_area();
+    refresh_dl_status();
+  }
   check_watchdogs(now);
+  serve_application(now);
   if (!frozen_ && !device_emulation_) device_->step(now, *this);
 }
 

@@ -147,6 +147,8 @@ class Esc final : public EscPdi {
   void refuse(AlState stay_in, std::uint16_t code) noexcept;
   void complete_safe_op_to_op() noexcept;
   void handle_sync_manager_events(hal::Nanoseconds now) noexcept;
+  // What the firmware's main loop does whenever it runs: AL control, mailbox in and out.
+  void serve_application(hal::Nanoseconds now) noexcept;
   void deliver_queued_mailbox() noexcept;
   bool publish_mailbox(ConstByteSpan message) noexcept;
   void run_cycle(CycleTrigger trigger, hal::Nanoseconds when, std::uint64_t system_time) noexcept;

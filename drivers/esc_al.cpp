@@ -120,21 +120,20 @@ void Esc::handle_al_control(hal::Nanoseconds now) noexcept {
     (void)device_->on_state_change(from, to, *this);
     return;
   }
-  std::uint16_t refusal = al::kNoError;
   if (from == AlState::init && to == AlState::pre_op) {
-    refusal = check_mailbox_sync_managers();
+    std::uint16_t refusal = check_mailbox_sync_managers();
     if (refusal == al::kNoError) refusal = device_->on_state_change(from, to, *this);
     if (refusal != al::kNoError) return refuse(AlState::init, refusal);
     enter_state(from, to);
   } else if (from == AlState::pre_op && to == AlState::safe_op) {
-    refusal = check_mailbox_sync_managers();
+    std::uint16_t refusal = check_mailbox_sync_managers();
     if (refusal != al::kNoError) return refuse(AlState::init, refusal);
     refusal = check_process_data_sync_managers();
     if (refusal == al::kNoError) refusal = device_->on_state_change(from, to, *this);
     if (refusal != al::kNoError) return refuse(AlState::pre_op, refusal);
     enter_state(from, to);
   } else if (from == AlState::safe_op && to == AlState::op) {
-    refusal = check_mailbox_sync_managers();
+    std::uint16_t refusal = check_mailbox_sync_managers();
     if (refusal != al::kNoError) return refuse(AlState::init, refusal);
     refusal = check_process_data_sync_managers();
     if (refusal != al::kNoError) return refuse(AlState::pre_op, refusal);

@@ -42,8 +42,10 @@ bool Esc::logical_pass(std::uint32_t logical, std::uint8_t* frame, std::uint32_t
 
 bool Esc::fmmu_byte_aligned(const EscFmmu& f, std::uint32_t logical, std::uint8_t* frame, std::uint32_t count,
                             bool write) noexcept {
-  const std::uint64_t first = std::max<std::uint64_t>(logical, f.logical_start);
-  const std::uint64_t end = std::min<std::uint64_t>(std::uint64_t{logical} + count, std::uint64_t{f.logical_start} + f.length);
+  const std::uint64_t datagram_end = std::uint64_t{logical} + count;
+  const std::uint64_t fmmu_end = std::uint64_t{f.logical_start} + f.length;
+  const std::uint64_t first = logical > f.logical_start ? logical : f.logical_start;
+  const std::uint64_t end = datagram_end < fmmu_end ? datagram_end : fmmu_end;
   if (first >= end) return false;
   const auto offset = static_cast<std::uint32_t>(first - logical);
   const auto physical = static_cast<std::uint32_t>(f.physical_start + (first - f.logical_start));

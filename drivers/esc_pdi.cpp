@@ -32,10 +32,24 @@ void Esc::end_frame(hal::Nanoseconds now) noexcept {
     return;
   }
   handle_sync_manager_events(now);
-  if (!frozen_ && al_control_unread_) {
+  serve_application(now);
+}
+
+void Esc::serve_application(hal::Nanoseconds now) noexcept {
+  if (!powered_ || frozen_ || device_emulation_) return;
+  if (al_control_unread_) {
     al_control_unread_ = false;
     handle_al_control(now);
   }
+  // A complete message in the SM0 mailbox (possibly written while the application hung).
+  EscSyncManager* in = sync_manager(0);
+  if (in != nullptr && has_mailbox() && in->active() && in->mailbox_mode() && in->master_writes() && in->mailbox_full()) {
+    const ConstByteSpan message = in->device_read_buffer(memory_);
+    ++counters_.mailbox_received;
+    device_->on_mailbox(message, *this);
+    in->device_consumed_mailbox(memory_);
+  }
+  deliver_queued_mailbox();
 }
 
 void Esc::handle_sync_manager_events(hal::Nanoseconds now) noexcept {
@@ -65,17 +79,7 @@ void Esc::handle_sync_manager_events(hal::Nanoseconds now) noexcept {
           run_cycle(CycleTrigger::inputs_read, now, dc_.system_time_at(memory_, now));
         }
         break;
-      case EscSyncManager::Event::mailbox_written: {
-        const ConstByteSpan message = sm.device_read_buffer(memory_);
-        ++counters_.mailbox_received;
-        device_->on_mailbox(message, *this);
-        sm.device_consumed_mailbox(memory_);
-        break;
-      }
-      case EscSyncManager::Event::mailbox_read:
-        deliver_queued_mailbox();
-        break;
-      default:
+      default:  // mailbox events: served by serve_application()
         break;
     }
   }
@@ -164,7 +168,7 @@ void Esc::run_cycle(CycleTrigger trigger, hal::Nanoseconds when, std::uint64_t s
   }
   const CycleContext context{when, system_time, state_, trigger};
   device_->on_cycle(outputs, inputs, context, *this);
-  if (!inputs.empty()) in_sm->device_published(memory_);
+  if (in_sm != nullptr && !inputs.empty()) in_sm->device_published(memory_);
   ++counters_.cycles;
   if (state_ == AlState::op && !outputs.empty()) {
     last_latch_ = OutputLatch{when, system_time, trigger};

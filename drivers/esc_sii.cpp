@@ -32,6 +32,7 @@ void EscSii::power_up(EscMemory& memory, const EscConfig& config, ConstByteSpan 
   pending_ = false;
   busy_ = false;
   command_ = 0;
+  reload_done_ = false;
 
   std::uint16_t status = 0;
   if (read_bytes_ == 8) status |= reg::kSiiRead8Bytes;
@@ -114,7 +115,15 @@ void EscSii::finish(EscMemory& memory) noexcept {
     eeprom_[at] = static_cast<std::uint8_t>(w);
     eeprom_[at + 1] = static_cast<std::uint8_t>(w >> 8U);
   }
-  // Reload: the ESC re-reads its configuration area; the ESC applies it (it owns those registers).
+  if (command_ == reg::kSiiCommandReload) {
+    // The ESC re-reads its configuration area (and applies it: it owns those registers).
+    configuration_valid_ = sii_config_crc(ConstByteSpan(eeprom_.data(), 14)) == eeprom_[14];
+    std::uint16_t status = memory.u16(kBlock);
+    status = configuration_valid_ ? static_cast<std::uint16_t>(status & ~(reg::kSiiChecksumError | reg::kSiiDeviceInfoError))
+                                  : static_cast<std::uint16_t>(status | reg::kSiiChecksumError | reg::kSiiDeviceInfoError);
+    memory.set_u16(kBlock, status);
+    reload_done_ = true;
+  }
   const std::uint16_t control = memory.u16(kBlock);
   memory.set_u16(kBlock, static_cast<std::uint16_t>(control & ~(reg::kSiiBusy | reg::kSiiCommandMask | reg::kSiiWriteEnable)));
 }

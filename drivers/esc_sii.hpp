@@ -41,6 +41,12 @@ class EscSii {
   // Completes a running command whose time is up.
   void update(EscMemory& memory, hal::Nanoseconds now) noexcept;
   bool busy() const noexcept { return busy_; }
+  // True once after a reload command completed (the ESC then re-applies the configuration area).
+  bool take_reload_done() noexcept {
+    const bool done = reload_done_;
+    reload_done_ = false;
+    return done;
+  }
 
  private:
   void finish(EscMemory& memory) noexcept;
@@ -54,6 +60,7 @@ class EscSii {
   bool pending_{false};
   bool busy_{false};
   std::uint16_t command_{0};
+  bool reload_done_{false};
   hal::Nanoseconds done_at_{0};
 };
 

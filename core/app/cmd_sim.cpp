@@ -2,12 +2,20 @@
 // interface, for a master on the other end of the wire (or of a veth pair). Each frame from the
 // master goes through the simulated segment and back out of the same interface, with the source
 // MAC marked as real slave controllers mark it (core/app/frame_server.hpp). docs/hal.md has recipes.
+// Fault commands (drivers/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
+// can be typed on standard input while it serves; docs/simulator.md lists them.
+#include <poll.h>
+#include <unistd.h>
+
+#include <array>
 #include <csignal>
 #include <cstdio>
 
 #include "core/app/commands.hpp"
 #include "core/app/frame_server.hpp"
 #include "core/app/nic_factory.hpp"
+#include "core/app/simulated_robot_instance.hpp"
+#include "drivers/fault_command.hpp"
 #include "hal/raw_socket_nic.hpp"
 
 namespace rescue::app {
@@ -38,8 +46,47 @@ void print_counters(const FrameServerCounters& served, const hal::NicStats& nic)
   (void)std::fflush(stdout);
 }
 
-// The simulated segment (drivers/, issue 4) plugs in here once it is on main.
-FrameProcessor* simulated_segment() noexcept { return nullptr; }
+// Fault commands from standard input, one per line, applied between frames.
+class FaultConsole {
+ public:
+  // Reads what is available without waiting; applies every complete line.
+  void poll_once(drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+    if (closed_) return;
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    if (::poll(&p, 1, 0) <= 0) return;
+    const ssize_t got = ::read(STDIN_FILENO, line_.data() + length_, line_.size() - length_);
+    if (got <= 0) {
+      closed_ = true;  // end of input (or no terminal): stop looking
+      return;
+    }
+    length_ += static_cast<std::size_t>(got);
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < length_; ++i) {
+      if (line_[i] != '\n') continue;
+      apply(line_.data() + start, i - start, segment, now);
+      start = i + 1;
+    }
+    if (start == 0 && length_ == line_.size()) start = length_;  // an endless line: dropped
+    for (std::size_t i = start; i < length_; ++i) line_[i - start] = line_[i];
+    length_ -= start;
+  }
+
+ private:
+  static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+    const Result<drivers::FaultCommand> command = drivers::parse_fault_command(text, length, segment);
+    Status applied = command.ok() ? drivers::apply_fault_command(command.value(), segment, now) : Status(command.error());
+    if (applied.ok()) {
+      (void)std::printf("fault: ok %.*s\n", static_cast<int>(length), text);
+    } else {
+      (void)std::printf("fault: refused %.*s: %s\n", static_cast<int>(length), text, applied.error().what);
+    }
+    (void)std::fflush(stdout);
+  }
+
+  std::array<char, 256> line_{};
+  std::size_t length_{0};
+  bool closed_{false};
+};
 
 const OptionSpec kOptions[] = {
     {"iface", "IFACE", "network interface to serve the segment on (required)"},
@@ -52,18 +99,19 @@ int sim_main(const ParsedArgs& args) {
   hal::RawSocketNic nic;
   const Status opened = nic.open(iface);
   if (!opened.ok()) return fail_nic("sim", iface, opened.error());
-  FrameProcessor* segment = simulated_segment();
-  // Always true until the segment plugs into simulated_segment().
-  // cppcheck-suppress knownConditionTrueFalse
-  if (segment == nullptr) return fail("sim", "the simulated segment is not in this build yet");
+  drivers::SimulatedRobot& robot = simulated_robot(nic.clock().now());
+  if (!robot.status().ok()) return fail("sim", "cannot build the simulated robot", robot.status().error());
+  SegmentFrameProcessor segment(robot.segment());
   if (!install_stop_handlers()) return fail("sim", "cannot install SIGINT/SIGTERM handlers");
 
-  (void)std::printf("serving %zu slaves on %s\n", segment->slave_count(), iface);
+  (void)std::printf("serving %zu slaves on %s\n", segment.slave_count(), iface);
   (void)std::fflush(stdout);  // scripts and tests wait for this line
 
-  FrameServer server(nic, *segment);
+  FrameServer server(nic, segment);
+  FaultConsole faults;
   int exit_status = 0;
   while (g_stop_signal == 0) {
+    faults.poll_once(robot.segment(), nic.clock().now());
     const Status served = server.serve_one(nic.clock().now() + kStopLatency);
     if (!served.ok() && served.error().code != Errc::timeout) {
       exit_status = fail("sim", "serving stopped", served.error());

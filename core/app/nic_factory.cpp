@@ -3,7 +3,14 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/app/simulated_robot_instance.hpp"
+
 namespace rescue::app {
+namespace {
+
+hal::MonotonicClock g_real_time;
+
+}  // namespace
 
 Status SelectedNic::open(const NicChoice& choice) noexcept {
   active_ = nullptr;
@@ -12,7 +19,12 @@ Status SelectedNic::open(const NicChoice& choice) noexcept {
     active_ = &raw_;
     return Status::success();
   }
-  return make_error(Errc::unsupported, "the in-process simulated segment is not in this build yet (use --nic raw:IFACE)");
+  hal::Clock* clock = simulation_clock_ != nullptr ? simulation_clock_ : &g_real_time;
+  drivers::SimulatedRobot& robot = simulated_robot(clock->now());
+  RESCUE_TRY(robot.status());
+  simulated_.clear();
+  active_ = simulated_.emplace_back(robot.segment(), *clock);
+  return Status::success();
 }
 
 int fail_nic(const char* command, const char* nic_text, const Error& error) noexcept {

@@ -3,7 +3,10 @@
 #pragma once
 
 #include "core/app/nic_option.hpp"
+#include "core/fixed_vector.hpp"
 #include "core/result.hpp"
+#include "drivers/simulated_nic.hpp"
+#include "hal/clock.hpp"
 #include "hal/nic.hpp"
 #include "hal/raw_socket_nic.hpp"
 
@@ -13,12 +16,16 @@ class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
   Status open(const NicChoice& choice) noexcept;
+  // The clock the simulated robot runs on (default: CLOCK_MONOTONIC; a VirtualClock runs it
+  // faster than real time). Set before open().
+  void set_simulation_clock(hal::Clock& clock) noexcept { simulation_clock_ = &clock; }
   // The open NIC; nullptr before a successful open().
   hal::Nic* nic() noexcept { return active_; }
 
  private:
   hal::RawSocketNic raw_;
-  // The simulated segment's loopback NIC (drivers/) joins here once it is on main.
+  FixedVector<drivers::SimulatedNic, 1> simulated_;  // the loopback NIC over the simulated robot
+  hal::Clock* simulation_clock_{nullptr};
   hal::Nic* active_{nullptr};
 };
 

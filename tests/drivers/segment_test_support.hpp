@@ -107,6 +107,10 @@ struct DatagramResult {
 // A segment plus the devices it drives, and a clock for sending frames one by one.
 class Rig {
  public:
+  Rig() : own_segment_(std::make_unique<SimulatedSegment>()), segment(*own_segment_) {}
+  // Drives a segment someone else owns (e.g. a SimulatedRobot's).
+  explicit Rig(SimulatedSegment& external) : segment(external) {}
+
   // The robot: junctions and 21 test devices as joints.
   static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}) {
     auto rig = std::make_unique<Rig>();
@@ -118,6 +122,7 @@ class Rig {
       } else {
         rig->devices.push_back(std::make_unique<TestDevice>(kSlaves[p].station_address));
         devices[p] = rig->devices.back().get();
+        rig->by_position[p] = rig->devices.back().get();
       }
     }
     std::array<SegmentSlave, kSlaveCount> slaves{};
@@ -141,6 +146,8 @@ class Rig {
   }
 
   TestDevice& device(std::size_t i = 0) { return *devices[i]; }
+  // The test device at a position of the robot (joints only).
+  TestDevice& device_at(std::size_t position) { return *by_position[position]; }
 
   // Sends one frame with one datagram and returns it as it came back; time then moves on by `gap`.
   DatagramResult exchange(Command command, std::uint32_t address, std::vector<std::uint8_t> data,
@@ -200,11 +207,17 @@ class Rig {
     }
   }
 
-  SimulatedSegment segment;
+
+ private:
+  std::unique_ptr<SimulatedSegment> own_segment_;
+
+ public:
+  SimulatedSegment& segment;
   hal::Nanoseconds now{0};
   FrameOutcome last_outcome{};
   std::vector<std::unique_ptr<TestDevice>> devices;
   std::vector<std::unique_ptr<JunctionDevice>> junctions;
+  std::array<TestDevice*, kMaxSegmentSlaves> by_position{};
 
  private:
   std::uint8_t index_{0};
