@@ -147,6 +147,9 @@ void print_failure(const ecat::Master& master) noexcept {
   (void)std::fprintf(stderr, "bring-up failed at %s: %s (%u, %u)\n", r.failed_step != nullptr ? r.failed_step : "?",
                      r.error.what, r.error.detail0, r.error.detail1);
   ecat::print_differences(stderr, r.match, master.plan(), r.found.span());
+  const ecat::LinkStats& link = const_cast<ecat::Master&>(master).link().stats();  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  (void)std::fprintf(stderr, "link: %" PRIu64 " exchanges, %" PRIu64 " timeouts, %" PRIu64 " late frames, %" PRIu64 " malformed\n",
+                     link.exchanges, link.timeouts, link.stale_frames, link.malformed);
   if (r.al_failure.position != ecat::kNoPosition) {
     std::array<char, 256> line{};
     (void)ecat::describe(r.al_failure, master.plan(), line.data(), line.size());
@@ -215,7 +218,10 @@ int bench_master(const ParsedArgs& args) noexcept {
   const hal::PageFaults faults_at_init = hal::page_faults_of_process();
   declare_init_complete(HeapGuardMode::count);
   std::int64_t all_valid = 0;
+  std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
+  std::array<std::uint32_t, 5> reports_by_kind{};
+  ecat::LinkReport report;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
     clock.sleep_until(bus.next_wakeup());
@@ -229,6 +235,8 @@ int bench_master(const ParsedArgs& args) noexcept {
     g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
     g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(r.dc_phase_error)));
     all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    frames_lost += r.frame_received ? 0 : 1;
+    while (bus.pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
@@ -308,6 +316,9 @@ int bench_master(const ParsedArgs& args) noexcept {
   }
   (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
   (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
+  (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
+  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored\n",
+                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2]);
   const HistogramSummary master = g_master_ns.summary();
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));
