@@ -41,7 +41,7 @@ class TimedNic final : public hal::Nic {
   }
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
     const std::uint64_t t0 = timer_.start();
-    const Result<std::size_t> r = inner_.receive(buffer, deadline);
+    Result<std::size_t> r = inner_.receive(buffer, deadline);
     ticks_ += timer_.stop() - t0;
     return r;
   }
@@ -216,6 +216,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     const std::uint64_t t0 = timer.start();
     const ecat::CycleResult r = bus.cycle(enabler.refs, enabler.feedback);
     const std::uint64_t total = timer.stop() - t0;
+    // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
     const std::uint64_t in_nic = nic.ticks() - nic_before;
     g_master_ns.record(static_cast<std::uint64_t>(timer.to_ns(total - std::min(total, in_nic))));
     g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
