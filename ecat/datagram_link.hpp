@@ -17,6 +17,7 @@
 
 #include "core/result.hpp"
 #include "core/span.hpp"
+#include "ecat/capture_writer.hpp"
 #include "ecat/frame.hpp"
 #include "hal/nic.hpp"
 
@@ -25,6 +26,12 @@ namespace rescue::ecat {
 enum class TapDirection : std::uint8_t { outbound, inbound };
 // Called with each frame the link sends or receives, and the NIC clock's time.
 using FrameTapFn = void (*)(void* context, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept;
+
+// The tap that records into a capture file: set_tap(capture_tap, &writer).
+inline void capture_tap(void* writer, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept {
+  static_cast<CaptureWriter*>(writer)->record(
+      frame, time, direction == TapDirection::outbound ? FrameDirection::outbound : FrameDirection::inbound);
+}
 
 struct LinkStats {
   std::uint64_t exchanges{0};
