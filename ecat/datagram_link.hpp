@@ -8,7 +8,7 @@
 // must have the datagrams that were sent (count, commands, lengths), else it is refused.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
-// optional tap, e.g. the capture writer (ecat/capture_writer.hpp) recording a pcapng file.
+// optional tap, e.g. the capture writer recording a pcapng file (ecat/capture_tap.hpp).
 #pragma once
 
 #include <array>
@@ -17,7 +17,6 @@
 
 #include "core/result.hpp"
 #include "core/span.hpp"
-#include "ecat/capture_writer.hpp"
 #include "ecat/frame.hpp"
 #include "hal/nic.hpp"
 
@@ -26,12 +25,6 @@ namespace rescue::ecat {
 enum class TapDirection : std::uint8_t { outbound, inbound };
 // Called with each frame the link sends or receives, and the NIC clock's time.
 using FrameTapFn = void (*)(void* context, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept;
-
-// The tap that records into a capture file: set_tap(capture_tap, &writer).
-inline void capture_tap(void* writer, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept {
-  static_cast<CaptureWriter*>(writer)->record(
-      frame, time, direction == TapDirection::outbound ? FrameDirection::outbound : FrameDirection::inbound);
-}
 
 struct LinkStats {
   std::uint64_t exchanges{0};

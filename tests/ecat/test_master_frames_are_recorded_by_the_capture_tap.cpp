@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ecat/capture_reader.hpp"
+#include "ecat/capture_tap.hpp"
 #include "ecat/capture_writer.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
