@@ -71,7 +71,10 @@ std::uint16_t Esc::check_process_data_sync_managers() const noexcept {
   std::array<Area, 4> areas{};
   std::size_t area_count = 0;
   if (has_mailbox()) {
-    for (unsigned n = 0; n < 2; ++n) areas[area_count++] = Area{sync_manager(n)->start(), sync_manager(n)->length()};
+    for (unsigned n = 0; n < 2; ++n) {
+      const EscSyncManager* mailbox = sync_manager(n);
+      if (mailbox != nullptr) areas[area_count++] = Area{mailbox->start(), mailbox->length()};
+    }
   }
   const auto check = [&](std::uint8_t index, std::uint16_t bytes, bool master_writes, std::uint16_t refusal) {
     if (bytes == 0) return al::kNoError;
