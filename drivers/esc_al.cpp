@@ -72,8 +72,8 @@ std::uint16_t Esc::check_process_data_sync_managers() const noexcept {
   std::size_t area_count = 0;
   if (has_mailbox()) {
     for (unsigned n = 0; n < 2; ++n) {
-      const EscSyncManager* mailbox = sync_manager(n);
-      if (mailbox != nullptr) areas[area_count++] = Area{mailbox->start(), mailbox->length()};
+      const EscSyncManager* sm = sync_manager(n);  // never null for n < 2; optimised builds cannot tell
+      if (sm != nullptr) areas[area_count++] = Area{sm->start(), sm->length()};
     }
   }
   const auto check = [&](std::uint8_t index, std::uint16_t bytes, bool master_writes, std::uint16_t refusal) {

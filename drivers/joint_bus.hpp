@@ -53,6 +53,11 @@ class JointBus {
   // master().mailbox()). False when the mailbox queue has no room for them all.
   [[nodiscard]] bool request_limits(std::size_t joint, const JointLimits& limits, std::uint32_t tag) noexcept;
 
+  // Explicit re-integration of restored joints (after their `restored` report).
+  [[nodiscard]] bool reintegrate(JointMask joints) noexcept {
+    return master_.reintegrate(ecat::slaves_of_joints(kRobotNetworkPlan, joints));
+  }
+
   ecat::Master& master() noexcept { return master_; }
 
  private:

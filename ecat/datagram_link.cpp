@@ -65,6 +65,15 @@ Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
   }
 }
 
+Result<FrameView> DatagramLink::exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept {
+  Result<FrameView> back = make_error(Errc::timeout, "no frame came back", attempts);
+  for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+    back = exchange(nic_.clock().now() + timeout);
+    if (back.ok() || back.error().code != Errc::timeout) break;
+  }
+  return back;
+}
+
 Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t address, ByteSpan data,
                                              hal::Nanoseconds timeout, unsigned attempts) noexcept {
   if (data.size() > kMaxDatagramDataLength) return make_error(Errc::invalid_argument, "transfer too long");

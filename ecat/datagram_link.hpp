@@ -54,6 +54,10 @@ class DatagramLink {
   // points into the link's receive buffer and stays valid until the next begin().
   Result<FrameView> exchange(hal::Nanoseconds deadline) noexcept;
 
+  // The same, sending the frame again (same index) when nothing came back within `timeout`, up
+  // to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
+  Result<FrameView> exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept;
+
   // One datagram in a frame of its own, sent up to `attempts` times while no frame comes back
   // (each attempt waits `timeout`). For reading commands the returned data is copied into `data`;
   // for writing ones `data` is what is sent. Returns the working counter.

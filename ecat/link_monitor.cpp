@@ -29,6 +29,7 @@ const char* to_string(LinkEventKind kind) noexcept {
     case LinkEventKind::not_operational: return "not operational";
     case LinkEventKind::restored: return "restored";
     case LinkEventKind::reintegrated: return "reintegrated";
+    case LinkEventKind::reintegration_failed: return "reintegration failed";
   }
   return "?";
 }
@@ -165,6 +166,15 @@ void LinkMonitor::reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanos
   cycle_ = cycle;
   time_ = time;
   report(LinkEventKind::reintegrated, slaves, cycle);
+}
+
+void LinkMonitor::reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                                       std::uint16_t al_status, std::uint16_t al_code) noexcept {
+  if (slaves == 0) return;
+  cycle_ = cycle;
+  time_ = time;
+  fmmus_cleared_ &= ~slaves;  // clear them again: they must add nothing to the counters
+  report(LinkEventKind::reintegration_failed, slaves, cycle, al_status, al_code);
 }
 
 void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status,

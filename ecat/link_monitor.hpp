@@ -35,6 +35,7 @@ enum class LinkEventKind : std::uint8_t {
   not_operational,  // reachable, but left OP (AL status code says why)
   restored,         // a lost slave answers again (not re-used until re-integrated)
   reintegrated,     // back in the exchange after an explicit re-integration
+  reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
 };
 const char* to_string(LinkEventKind kind) noexcept;
 
@@ -86,6 +87,9 @@ class LinkMonitor {
 
   // Re-integration: the owner brought these (restored) slaves back to OP with their FMMUs set.
   void reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
+  // ... or could not (they stay restored, out of the exchange; AL status and code of the first).
+  void reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
+                            std::uint16_t al_code) noexcept;
 
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
 

@@ -213,7 +213,7 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
     FrameBuilder& frame = link.begin();
     const std::size_t n = add_datagrams(frame, link.index(), link.clock().now());
     if (n > 0) {
-      const Result<FrameView> back = link.exchange(link.clock().now() + frame_timeout);
+      const Result<FrameView> back = link.exchange(frame_timeout, 3);
       if (back.ok()) {
         std::size_t k = 0;
         for (const DatagramView d : back.value()) on_datagram(k++, d);

@@ -140,6 +140,12 @@ class Master {
   MasterState state() const noexcept { return state_; }
   std::uint64_t cycles() const noexcept { return cycle_; }
 
+  // Re-integration of restored slaves (the explicit action after a `restored` report): their
+  // FMMUs are written again, an AL error is acknowledged and OP requested, one step per cycle;
+  // a `reintegrated` report (or `reintegration_failed`) follows. False when a slave of `slaves`
+  // is not restored or a re-integration is already running.
+  [[nodiscard]] bool reintegrate(SlaveMask slaves) noexcept;
+
   // Lost / restored / not operational reports, oldest first.
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept { return monitor_.pop_report(out); }
   const LinkMonitor& monitor() const noexcept { return monitor_; }
@@ -176,8 +182,12 @@ class Master {
   void evaluate_cycle_frame(const FrameView& frame, CycleResult& result) noexcept;
   void step_op_transition(CycleResult& result) noexcept;
   void silence_outputs_of_out_slaves() noexcept;
+  // Re-integration (master_reintegration.cpp).
+  void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
+  void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
+  void finish_reintegration_step() noexcept;
 
-  enum class Role : std::uint8_t { reference_time, branch, probe_status, probe_clear, al_control, al_status, mailbox };
+  enum class Role : std::uint8_t { reference_time, branch, probe_status, probe_clear, al_control, al_status, mailbox, reintegration };
   struct Planned {
     Role role;
     std::uint8_t param;  // branch or slave position
@@ -212,6 +222,11 @@ class Master {
   std::array<OpStep, kMaxSlaves> op_step_{};
   std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
   hal::Nanoseconds op_deadline_{0};
+  // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
+  enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
+  SlaveMask reintegrating_{0};
+  std::array<ReStep, kMaxSlaves> re_step_{};
+  hal::Nanoseconds re_deadline_{0};
   std::uint64_t overruns_{0};
   // Last reference time read (bring-up), to place the first wake-up.
   std::uint64_t last_reference_time_{0};

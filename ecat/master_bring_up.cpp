@@ -14,6 +14,9 @@ namespace {
 
 std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v); }
 
+// Bring-up frames whose datagrams may be repeated are sent again when they do not come back.
+constexpr unsigned kBringUpAttempts = 3;
+
 // Reset values real masters broadcast before configuring (SOEM ecx_set_slaves_to_default).
 struct ResetWrite {
   std::uint16_t ado;
@@ -141,7 +144,7 @@ Status Master::count_and_reset() noexcept {
         frame.add(Command::BWR, link_.index(), make_address(0, w.ado), w.length, ConstByteSpan(bytes.data(), w.length));
     if (!slot.ok()) return fail("reset", slot.error());
   }
-  const Result<FrameView> back = link_.exchange(link_.clock().now() + options_.frame_timeout);
+  const Result<FrameView> back = link_.exchange(options_.frame_timeout, kBringUpAttempts);
   if (!back.ok()) return fail("reset", back.error());
   return Status::success();
 }
@@ -211,7 +214,7 @@ Status Master::assign_addresses() noexcept {
                                                  2, ConstByteSpan(address));
     if (!added.ok()) return fail("address", added.error());
   }
-  const Result<FrameView> back = link_.exchange(link_.clock().now() + options_.frame_timeout);
+  const Result<FrameView> back = link_.exchange(options_.frame_timeout, kBringUpAttempts);
   if (!back.ok()) return fail("address", back.error());
   for (const DatagramView d : back.value()) {
     // cppcheck-suppress useStlAlgorithm ; frame views have no standard iterators

@@ -62,6 +62,7 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
       }
     }
     probe_count_ = kept;  // the rest are asked for again next cycle
+    add_reintegration_datagrams(frame);
   } else if (state_ == MasterState::going_op) {
     std::array<std::uint8_t, 2> value{};
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
@@ -132,6 +133,9 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
       case Role::mailbox:
         mailbox_.on_datagram(what.param, d);
         break;
+      case Role::reintegration:
+        on_reintegration_datagram(what.param, d);
+        break;
     }
   }
 }
@@ -178,6 +182,7 @@ CycleResult Master::cycle() noexcept {
     monitor_.observe(cycle_, result.sent_at, result.frame_received, result.branch_wkc,
                      Span<const ProbeResult>(probe_results_.data(), probe_count_));
     result.valid = monitor_.valid();
+    finish_reintegration_step();
   } else if (state_ == MasterState::going_op) {
     step_op_transition(result);
   }

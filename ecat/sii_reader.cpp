@@ -75,7 +75,7 @@ Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, 
     }
     if (added > 0) {
       ++stats.frames;
-      const Result<FrameView> back = link.exchange(link.clock().now() + options.frame_timeout);
+      const Result<FrameView> back = link.exchange(options.frame_timeout, options.attempts);
       if (!back.ok()) return back.error();
       std::size_t i = 0;
       for (const DatagramView d : back.value()) {
@@ -102,7 +102,7 @@ Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, 
     }
     if (added == 0) break;  // nobody active
     ++stats.frames;
-    const Result<FrameView> back = link.exchange(link.clock().now() + options.frame_timeout);
+    const Result<FrameView> back = link.exchange(options.frame_timeout, options.attempts);
     if (!back.ok()) return back.error();
     std::size_t i = 0;
     for (const DatagramView d : back.value()) {

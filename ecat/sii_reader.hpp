@@ -38,6 +38,7 @@ struct SiiReadOptions {
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};   // one frame's round trip
   hal::Nanoseconds busy_timeout{20 * hal::kNsPerMs};   // one EEPROM read
   unsigned command_retries{3};
+  unsigned attempts{3};  // sends of a frame that does not come back (reads and commands repeat safely)
 };
 
 struct SiiReadStats {

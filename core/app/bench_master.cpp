@@ -14,9 +14,9 @@
 #include "core/latency_histogram.hpp"
 #include "drivers/cia402_enable.hpp"
 #include "drivers/joint_bus.hpp"
-#include "drivers/robot_devices.hpp"
 #include "drivers/robot_segment.hpp"
 #include "drivers/simulated_nic.hpp"
+#include "drivers/simulated_robot.hpp"
 #include "drivers/simulated_segment.hpp"
 #include "hal/rt_setup.hpp"
 #include "hal/tsc_timer.hpp"
@@ -32,57 +32,62 @@ constexpr int kColdConvergenceCycles = 5'000;
 // simulator's time, not the master's).
 class TimedNic final : public hal::Nic {
  public:
-  TimedNic(hal::Nic& inner, const hal::TscTimer& timer) noexcept : inner_(inner), timer_(timer) {}
+  TimedNic(hal::Nic& inner, const hal::TscTimer& timer) noexcept : inner_(&inner), timer_(timer) {}
+  void set_inner(hal::Nic& inner) noexcept { inner_ = &inner; }
   Status send(ConstByteSpan frame) noexcept override {
     const std::uint64_t t0 = timer_.start();
-    const Status s = inner_.send(frame);
+    const Status s = inner_->send(frame);
     ticks_ += timer_.stop() - t0;
     return s;
   }
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
     const std::uint64_t t0 = timer_.start();
-    const Result<std::size_t> r = inner_.receive(buffer, deadline);
+    Result<std::size_t> r = inner_->receive(buffer, deadline);
     ticks_ += timer_.stop() - t0;
     return r;
   }
-  hal::Clock& clock() noexcept override { return inner_.clock(); }
-  const char* name() const noexcept override { return inner_.name(); }
-  hal::NicStats stats() const noexcept override { return inner_.stats(); }
+  hal::Clock& clock() noexcept override { return inner_->clock(); }
+  const char* name() const noexcept override { return inner_->name(); }
+  hal::NicStats stats() const noexcept override { return inner_->stats(); }
   std::uint64_t ticks() const noexcept { return ticks_; }
 
  private:
-  hal::Nic& inner_;
+  hal::Nic* inner_;
   const hal::TscTimer& timer_;
   std::uint64_t ticks_{0};
 };
 
-// The simulated robot (tool storage: static, no heap).
-hal::VirtualClock g_virtual_clock{hal::kNsPerSec};
-drivers::RobotDevices g_devices;
-std::array<drivers::SegmentSlave, kSlaveCount> g_segment_slaves{};
-drivers::SimulatedSegment g_segment;
-drivers::SimulatedNic g_sim_nic{g_segment, g_virtual_clock};
+// Histograms in static storage (18 KiB each), reset (touched) before init.
 LatencyHistogram g_master_ns;
 LatencyHistogram g_nic_ns;
 LatencyHistogram g_latch_spread_ns;
 LatencyHistogram g_phase_error_ns;
 
-Status build_simulated_robot(std::uint64_t seed) noexcept {
+// The simulated robot the master runs on (nullptr with --nic raw), and its virtual clock.
+hal::VirtualClock g_virtual_clock{hal::kNsPerSec};
+drivers::SimulatedSegment* g_segment = nullptr;
+
+// Two simulated robots with different seeds: the measured run, then the cold start (static
+// storage: about a megabyte each of ESC memories).
+drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, int which) noexcept {
   drivers::RobotSegmentOptions options;
   options.seed = seed;
   options.max_drift_ppm = 100.0;
-  RESCUE_TRY(drivers::describe_robot_segment(Span<drivers::SlaveDevice* const>(g_devices.devices().data(), kSlaveCount),
-                                             options, Span<drivers::SegmentSlave>(g_segment_slaves)));
-  return g_segment.build(Span<const drivers::SegmentSlave>(g_segment_slaves), g_virtual_clock.now());
+  if (which == 0) {
+    static drivers::SimulatedRobot first(options, g_virtual_clock.now());
+    return first;
+  }
+  static drivers::SimulatedRobot second(options, g_virtual_clock.now());
+  return second;
 }
 
 // Largest |true system time - reference's system time| over all slaves, now (simulator only).
 std::int64_t true_max_offset_ns() noexcept {
   const hal::Nanoseconds now = g_virtual_clock.now();
-  const std::uint64_t reference = g_segment.esc(0).system_time_at(now);
+  const std::uint64_t reference = g_segment->esc(0).system_time_at(now);
   std::int64_t worst = 0;
   for (std::size_t p = 1; p < kSlaveCount; ++p) {
-    worst = std::max(worst, std::abs(static_cast<std::int64_t>(g_segment.esc(p).system_time_at(now) - reference)));
+    worst = std::max(worst, std::abs(static_cast<std::int64_t>(g_segment->esc(p).system_time_at(now) - reference)));
   }
   return worst;
 }
@@ -95,7 +100,7 @@ bool latch_spread_ns(std::uint64_t& spread) noexcept {
   bool any = false;
   for (std::size_t p = 0; p < kSlaveCount; ++p) {
     if (kSlaves[p].kind != SlaveKind::joint_drive) continue;
-    const drivers::OutputLatch latch = g_segment.esc(p).last_output_latch();
+    const drivers::OutputLatch latch = g_segment->esc(p).last_output_latch();
     if (latch.trigger != drivers::CycleTrigger::sync0) return false;
     if (!any) {
       first = last = latch.segment_time;
@@ -142,6 +147,9 @@ void print_failure(const ecat::Master& master) noexcept {
   (void)std::fprintf(stderr, "bring-up failed at %s: %s (%u, %u)\n", r.failed_step != nullptr ? r.failed_step : "?",
                      r.error.what, r.error.detail0, r.error.detail1);
   ecat::print_differences(stderr, r.match, master.plan(), r.found.span());
+  const ecat::LinkStats& link = const_cast<ecat::Master&>(master).link().stats();  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  (void)std::fprintf(stderr, "link: %" PRIu64 " exchanges, %" PRIu64 " timeouts, %" PRIu64 " late frames, %" PRIu64 " malformed\n",
+                     link.exchanges, link.timeouts, link.stale_frames, link.malformed);
   if (r.al_failure.position != ecat::kNoPosition) {
     std::array<char, 256> line{};
     (void)ecat::describe(r.al_failure, master.plan(), line.data(), line.size());
@@ -176,9 +184,11 @@ int bench_master(const ParsedArgs& args) noexcept {
   static SelectedNic selected;
   hal::Nic* inner = nullptr;
   if (simulated) {
-    const Status built = build_simulated_robot(static_cast<std::uint64_t>(seed.value()));
-    if (!built.ok()) return fail("bench", "cannot build the simulated robot", built.error());
-    inner = &g_sim_nic;
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()), 0);
+    if (!robot.status().ok()) return fail("bench", "cannot build the simulated robot", robot.status().error());
+    static drivers::SimulatedNic sim_nic(robot.segment(), g_virtual_clock);
+    g_segment = &robot.segment();
+    inner = &sim_nic;
   } else {
     const Status opened = selected.open(choice.value());
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
@@ -208,7 +218,10 @@ int bench_master(const ParsedArgs& args) noexcept {
   const hal::PageFaults faults_at_init = hal::page_faults_of_process();
   declare_init_complete(HeapGuardMode::count);
   std::int64_t all_valid = 0;
+  std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
+  std::array<std::uint32_t, 5> reports_by_kind{};
+  ecat::LinkReport report;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
     clock.sleep_until(bus.next_wakeup());
@@ -216,11 +229,14 @@ int bench_master(const ParsedArgs& args) noexcept {
     const std::uint64_t t0 = timer.start();
     const ecat::CycleResult r = bus.cycle(enabler.refs, enabler.feedback);
     const std::uint64_t total = timer.stop() - t0;
+    // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
     const std::uint64_t in_nic = nic.ticks() - nic_before;
     g_master_ns.record(static_cast<std::uint64_t>(timer.to_ns(total - std::min(total, in_nic))));
     g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
     g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(r.dc_phase_error)));
     all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    frames_lost += r.frame_received ? 0 : 1;
+    while (bus.pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
@@ -235,8 +251,11 @@ int bench_master(const ParsedArgs& args) noexcept {
   // 3. Cold start: no static drift compensation; how many cycles until the cyclic distribution
   //    brings every slave within 100 ns and 20 ns (0x092C read between cycles).
   if (simulated) {
-    const Status rebuilt = build_simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1);
-    if (!rebuilt.ok()) return fail("bench", "cannot rebuild the simulated robot", rebuilt.error());
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1, 1);
+    if (!robot.status().ok()) return fail("bench", "cannot build the second simulated robot", robot.status().error());
+    static drivers::SimulatedNic cold_nic(robot.segment(), g_virtual_clock);
+    g_segment = &robot.segment();
+    nic.set_inner(cold_nic);
   }
   ecat::MasterOptions cold = options;
   cold.drift_compensation_frames = 0;
@@ -297,6 +316,9 @@ int bench_master(const ParsedArgs& args) noexcept {
   }
   (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
   (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
+  (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
+  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored\n",
+                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2]);
   const HistogramSummary master = g_master_ns.summary();
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));

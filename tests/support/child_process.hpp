@@ -29,18 +29,22 @@ class ChildProcess {
       (void)::waitpid(pid_, &ignored, 0);
     }
     if (out_ >= 0) ::close(out_);
+    if (in_ >= 0) ::close(in_);
   }
 
   // Starts `argv` (argv[0] is the program's path); in `netns` when not empty. stdout and stderr go
-  // to one pipe, read by wait_for_output() and output().
+  // to one pipe, read by wait_for_output() and output(); stdin comes from write_input().
   bool start(const std::vector<std::string>& argv, const std::string& netns = "") {
     int pipe_fds[2];
+    int input_fds[2];
     if (::pipe2(pipe_fds, O_CLOEXEC) != 0) return false;
+    if (::pipe2(input_fds, O_CLOEXEC) != 0) return false;
     pid_ = ::fork();
     if (pid_ < 0) return false;
     if (pid_ == 0) {
       ::dup2(pipe_fds[1], STDOUT_FILENO);
       ::dup2(pipe_fds[1], STDERR_FILENO);
+      ::dup2(input_fds[0], STDIN_FILENO);
       if (!netns.empty()) {
         const int ns = ::open(("/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
         if (ns < 0 || ::setns(ns, CLONE_NEWNET) != 0) ::_exit(126);
@@ -52,8 +56,15 @@ class ChildProcess {
       ::_exit(127);
     }
     ::close(pipe_fds[1]);
+    ::close(input_fds[0]);
     out_ = pipe_fds[0];
+    in_ = input_fds[1];
     return true;
+  }
+
+  // Writes `text` to the child's stdin (e.g. fault commands for `rescue-motion sim`).
+  bool write_input(const std::string& text) {
+    return in_ >= 0 && ::write(in_, text.data(), text.size()) == static_cast<ssize_t>(text.size());
   }
 
   // Reads output until it contains `text` or `timeout_ms` passed or the child closed its output.
@@ -103,6 +114,7 @@ class ChildProcess {
 
   pid_t pid_{-1};
   int out_{-1};
+  int in_{-1};
   std::string output_;
 };
 
