@@ -8,7 +8,7 @@
 // must have the datagrams that were sent (count, commands, lengths), else it is refused.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
-// optional tap, e.g. the capture writer (ecat/capture_writer.hpp) recording a pcapng file.
+// optional tap, e.g. the capture writer recording a pcapng file (ecat/capture_tap.hpp).
 #pragma once
 
 #include <array>
