@@ -6,11 +6,9 @@
 
 #include <cstddef>
 
-#include "core/fixed_vector.hpp"
 #include "core/result.hpp"
-#include "core/robot.hpp"
 #include "drivers/joint_drive_device.hpp"
-#include "drivers/junction_device.hpp"
+#include "drivers/robot_devices.hpp"
 #include "drivers/robot_segment.hpp"
 #include "drivers/simulated_segment.hpp"
 #include "hal/clock.hpp"
@@ -31,12 +29,10 @@ class SimulatedRobot {
   SimulatedSegment& segment() noexcept { return segment_; }
   const SimulatedSegment& segment() const noexcept { return segment_; }
   // The drive of joint `joint` (index into kJoints).
-  JointDriveDevice& drive(std::size_t joint) noexcept { return drives_[joint]; }
-  const JointDriveDevice& drive(std::size_t joint) const noexcept { return drives_[joint]; }
+  JointDriveDevice& drive(std::size_t joint) noexcept { return devices_.drive_of_joint(joint); }
 
  private:
-  FixedVector<JunctionDevice, kJunctionCount> junctions_;
-  FixedVector<JointDriveDevice, kJointCount> drives_;  // in joint order
+  RobotDevices devices_;
   SimulatedSegment segment_;
   Status status_;
 };

@@ -26,10 +26,17 @@ TEST(DcDriftCompensation, ConvergesToAFewNanosecondsWithTheTrueDelays) {
   for (int cycle = 0; cycle < 20; ++cycle) distribute_reference_time(*rig, kCycle);
   initial_error = worst_sync_error(*rig, rig->now);
   int converged_at = -1;
+  std::printf("dc: cycle worst-true-error-ns worst-0x092C-ns:");
   for (int cycle = 0; cycle < 8000; ++cycle) {
     distribute_reference_time(*rig, kCycle);
     if (converged_at < 0 && worst_sync_error(*rig, rig->now) <= 5 && worst_reported_difference(*rig) <= 5) converged_at = cycle;
+    if (cycle == 0 || cycle == 50 || cycle == 100 || cycle == 200 || cycle == 400 || cycle == 700 || cycle == 1000 ||
+        cycle == 1500 || cycle == 2000 || cycle == 4000) {
+      std::printf(" %d:%lld/%lld", cycle, static_cast<long long>(worst_sync_error(*rig, rig->now)),
+                  static_cast<long long>(worst_reported_difference(*rig)));
+    }
   }
+  std::printf("\n");
   std::printf("dc: initial error %lld ns, converged (<= 5 ns) after %d cycles, final error %lld ns, |0x092C| %lld ns\n",
               static_cast<long long>(initial_error), converged_at, static_cast<long long>(worst_sync_error(*rig, rig->now)),
               static_cast<long long>(worst_reported_difference(*rig)));
