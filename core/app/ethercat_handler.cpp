@@ -131,8 +131,8 @@ ecat::CycleResult EthercatHandler::cycle() noexcept {
 
     // A frame that did not come back in time (host scheduling, a dropped frame) is counted apart:
     // it costs every joint the cycle, whatever the network's state.
-    if (counting && !result.frame_received) ++frames_missing_;
-    for (std::size_t j = 0; counting && result.frame_received && j < kJointCount; ++j) {
+    if (!result.frame_received) ++frames_missing_;
+    for (std::size_t j = 0; result.frame_received && j < kJointCount; ++j) {
       if ((result.valid_joints & joint_bit(j)) == 0) ++missed_[j];
     }
   }

@@ -81,6 +81,8 @@ class EthercatHandler {
   void publish_sample(const ecat::CycleResult& result) noexcept;
   void post(const HandlerEvent& event) noexcept;
 
+  // Largest and most aligned first (the event queue's indices sit on cache lines of their own).
+  SpscQueue<HandlerEvent, kEventQueueDepth> events_;
   drivers::JointBus& bus_;
   TaskLinks& links_;
   SpscMessageSink<LostJointsReport, TaskLinks::kReportQueueDepth> report_sink_;
@@ -90,13 +92,12 @@ class EthercatHandler {
   drivers::JointFeedback feedback_{};
   RobotSample sample_{};
   RobotDemand demand_{};
-  SpscQueue<HandlerEvent, kEventQueueDepth> events_;
+  std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
+  std::uint64_t last_answer_cycle_{0};
+  std::uint64_t frames_missing_{0};
   JointMask last_pending_{0};
   std::uint32_t last_reports_sent_{0};
-  std::uint64_t last_answer_cycle_{0};
-  std::array<std::uint64_t, kJointCount> missed_{};
-  std::uint64_t frames_missing_{0};  // per joint, cycles without valid inputs since OP
   bool op_seen_{false};
   bool stopping_{false};
   bool drives_disabled_{false};
