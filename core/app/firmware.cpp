@@ -117,7 +117,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
                   RunState& state) noexcept {
   apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
   state.tasks_started.fetch_add(1, std::memory_order_release);
-  drivers::JointBus& bus = handler.bus();
+  const drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
   hal::Nanoseconds stopping_since = -1;
