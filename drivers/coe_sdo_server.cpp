@@ -1,6 +1,7 @@
 #include "drivers/coe_sdo_server.hpp"
 
 #include "core/endian.hpp"
+#include "drivers/coe_sdo_information.hpp"
 #include "ecat/coe.hpp"
 #include "ecat/mailbox.hpp"
 
@@ -65,6 +66,7 @@ std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::Al
     return error_reply(response, mbx::error_code::kSizeTooShort);
   }
   const coe::Message& msg = c.value();
+  if (msg.service == coe::Service::sdo_information) return serve_sdo_information(msg.payload, od, response, counter, 0).length;
   if (msg.service != coe::Service::sdo_request) return error_reply(response, mbx::error_code::kServiceNotSupported);
   const coe::Sdo& sdo = msg.sdo;
   switch (sdo.kind) {
@@ -81,6 +83,14 @@ std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::Al
     case coe::SdoKind::abort: return 0;  // the master gave up a transfer: nothing to answer
     default: return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
   }
+}
+
+std::size_t serve_sdo_fragment(ConstByteSpan request, const ObjectDictionary& od, ByteSpan response,
+                               std::uint8_t counter, std::uint16_t fragment) noexcept {
+  if (fragment == 0) return 0;
+  auto c = coe::decode(request);
+  if (!c.ok() || c.value().service != coe::Service::sdo_information) return 0;
+  return serve_sdo_information(c.value().payload, od, response, counter, fragment).length;
 }
 
 }  // namespace rescue::drivers

@@ -158,8 +158,8 @@ TEST_F(SdoServer, WhatIsNotAnSdoGetsAMailboxErrorReply) {
   };
   std::array<std::uint8_t, 16> eoe{10, 0, 0, 0, 0, 0x12};  // EoE
   EXPECT_EQ(error_of(ConstByteSpan(eoe)), mbx::error_code::kUnsupportedProtocol);
-  std::array<std::uint8_t, 16> info{8, 0, 0, 0, 0, 0x13, 0x00, 0x80, 0x01, 0, 0, 0};  // CoE SDO information
-  EXPECT_EQ(error_of(ConstByteSpan(info)), mbx::error_code::kServiceNotSupported);
+  std::array<std::uint8_t, 16> tx_pdo{2, 0, 0, 0, 0, 0x13, 0x00, 0x40};  // CoE TxPDO over the mailbox
+  EXPECT_EQ(error_of(ConstByteSpan(tx_pdo)), mbx::error_code::kServiceNotSupported);
   std::array<std::uint8_t, 16> too_long{200, 0, 0, 0, 0, 0x13};  // length past the buffer
   EXPECT_EQ(error_of(ConstByteSpan(too_long)), mbx::error_code::kInvalidSize);
   std::array<std::uint8_t, 16> short_sdo{4, 0, 0, 0, 0, 0x13, 0x00, 0x20, 0x40, 0x41};
