@@ -6,7 +6,8 @@
 //   download initiate    -> download response after ObjectDictionary::write, or its abort code
 //   segments             -> abort 0x05040001: no segmented transfer is in progress (every
 //                           object of the drive fits one mailbox, so none is ever started)
-//   complete access      -> abort 0x06010004 (the SII does not announce it)
+//   complete access      -> the whole object (drivers/coe_complete_access.hpp): upload as a normal
+//                           transfer with the CA bit mirrored, download through the single writes
 //   abort from the master-> no answer
 //   not CoE              -> mailbox error reply "unsupported protocol" (0x0002)
 //   SDO information      -> drivers/coe_sdo_information.hpp (OD list, object and entry descriptions)

@@ -111,7 +111,8 @@ TEST_F(SdoServer, AbortsWithTheStandardCodes) {
   EXPECT_EQ(abort_code_of(write<std::uint8_t>(0x607A, 0, 1)), coe::abort_code::kLengthMismatch);
   EXPECT_EQ(abort_code_of(write<std::uint16_t>(0x6072, 0, 1001)), coe::abort_code::kValueTooHigh);
   EXPECT_EQ(abort_code_of(write<std::int8_t>(0x6060, 0, 1)), coe::abort_code::kValueRange);  // profile position: not supported
-  EXPECT_EQ(abort_code_of(coe::upload_request(0x1C12, 0, true)), coe::abort_code::kCompleteAccessUnsupported);
+  // Complete access: test_coe_complete_access_reads_and_writes_whole_objects.
+  EXPECT_EQ(abort_code_of(coe::upload_request(0x1C12, 2, true)), coe::abort_code::kUnsupportedAccess);
 }
 
 TEST_F(SdoServer, PdoAssignmentIsWritableOnlyInPreOp) {
