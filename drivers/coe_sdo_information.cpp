@@ -28,18 +28,18 @@ bool in_range(std::uint16_t index, std::uint16_t first, std::uint16_t last) noex
 // Whether the PDO mapping objects in [first, last] map (index, subindex); subindex 0xFF: any.
 bool mapped_by(const ObjectDictionary& od, std::uint16_t first, std::uint16_t last, std::uint16_t index,
                std::uint8_t subindex) noexcept {
-  for (const ObjectEntry& e : od.entries()) {
-    if (!in_range(e.index, first, last) || e.subindex == 0 || e.size != 4) continue;
+  const auto maps = [&](const ObjectEntry& e) {
+    if (!in_range(e.index, first, last) || e.subindex == 0 || e.size != 4) return false;
     const ObjectRead count = od.read(e.index, 0);
-    if (count.abort_code != 0 || count.bytes.empty() || e.subindex > count.bytes[0]) continue;
+    if (count.abort_code != 0 || count.bytes.empty() || e.subindex > count.bytes[0]) return false;
     const ObjectRead value = od.read(e.index, e.subindex);
-    if (value.abort_code != 0 || value.bytes.size() != 4) continue;
+    if (value.abort_code != 0 || value.bytes.size() != 4) return false;
     const std::uint32_t mapping = load_le32(value.bytes.data());
     const auto mapped_index = static_cast<std::uint16_t>(mapping >> 16U);
     const auto mapped_sub = static_cast<std::uint8_t>(mapping >> 8U);
-    if (mapped_index == index && (subindex == 0xFF || mapped_sub == subindex)) return true;
-  }
-  return false;
+    return mapped_index == index && (subindex == 0xFF || mapped_sub == subindex);
+  };
+  return std::any_of(od.entries().begin(), od.entries().end(), maps);
 }
 
 bool rx_mappable(const ObjectDictionary& od, std::uint16_t index, std::uint8_t sub) noexcept {
