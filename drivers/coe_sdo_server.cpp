@@ -1,6 +1,10 @@
 #include "drivers/coe_sdo_server.hpp"
 
+#include <array>
+
 #include "core/endian.hpp"
+#include "drivers/coe_complete_access.hpp"
+#include "drivers/coe_sdo_information.hpp"
 #include "ecat/coe.hpp"
 #include "ecat/mailbox.hpp"
 
@@ -29,6 +33,24 @@ std::size_t upload(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan res
   return send(response, counter, coe::upload_response(req.index, req.subindex, r.bytes));
 }
 
+std::size_t upload_complete(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response,
+                            std::uint8_t counter) noexcept {
+  constexpr std::size_t kOverhead = mbx::kHeaderSize + coe::kSdoInitiateSize;  // the u32 size is in the SDO part
+  std::array<std::uint8_t, 512> object{};
+  const std::size_t room = response.size() > kOverhead ? response.size() - kOverhead : 0;
+  std::size_t length = 0;
+  const std::uint32_t code =
+      read_complete(od, req.index, req.subindex, ByteSpan(object.data(), room < object.size() ? room : object.size()), length);
+  if (code != 0) return send(response, counter, coe::abort(req.index, req.subindex, code));
+  // Always a normal transfer, with the complete-access bit mirrored (0x51), as slaves answer.
+  coe::Sdo r = coe::upload_response(req.index, req.subindex, ConstByteSpan(object.data(), length));
+  r.expedited = false;
+  r.size_indicated = true;
+  r.size = static_cast<std::uint32_t>(length);
+  r.complete_access = true;
+  return send(response, counter, r);
+}
+
 std::size_t download(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
                      std::uint8_t counter) noexcept {
   // A normal transfer announcing more than it carries would continue in segments.
@@ -41,7 +63,8 @@ std::size_t download(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlSta
     const ObjectEntry* e = od.find(req.index, req.subindex);
     if (e != nullptr && e->size < value.size()) value = value.first(e->size);
   }
-  const std::uint32_t code = od.write(req.index, req.subindex, value, state);
+  const std::uint32_t code = req.complete_access ? write_complete(od, req.index, req.subindex, value, state)
+                                                 : od.write(req.index, req.subindex, value, state);
   if (code != 0) return send(response, counter, coe::abort(req.index, req.subindex, code));
   return send(response, counter, coe::download_response(req.index, req.subindex));
 }
@@ -65,22 +88,24 @@ std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::Al
     return error_reply(response, mbx::error_code::kSizeTooShort);
   }
   const coe::Message& msg = c.value();
+  if (msg.service == coe::Service::sdo_information) return serve_sdo_information(msg.payload, od, response, counter, 0).length;
   if (msg.service != coe::Service::sdo_request) return error_reply(response, mbx::error_code::kServiceNotSupported);
   const coe::Sdo& sdo = msg.sdo;
   switch (sdo.kind) {
     case coe::SdoKind::upload_initiate_request:
-      if (sdo.complete_access) {
-        return send(response, counter, coe::abort(sdo.index, sdo.subindex, coe::abort_code::kCompleteAccessUnsupported));
-      }
-      return upload(sdo, od, response, counter);
-    case coe::SdoKind::download_initiate_request:
-      if (sdo.complete_access) {
-        return send(response, counter, coe::abort(sdo.index, sdo.subindex, coe::abort_code::kCompleteAccessUnsupported));
-      }
-      return download(sdo, od, state, response, counter);
+      return sdo.complete_access ? upload_complete(sdo, od, response, counter) : upload(sdo, od, response, counter);
+    case coe::SdoKind::download_initiate_request: return download(sdo, od, state, response, counter);
     case coe::SdoKind::abort: return 0;  // the master gave up a transfer: nothing to answer
     default: return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
   }
+}
+
+std::size_t serve_sdo_fragment(ConstByteSpan request, const ObjectDictionary& od, ByteSpan response,
+                               std::uint8_t counter, std::uint16_t fragment) noexcept {
+  if (fragment == 0) return 0;
+  auto c = coe::decode(request);
+  if (!c.ok() || c.value().service != coe::Service::sdo_information) return 0;
+  return serve_sdo_information(c.value().payload, od, response, counter, fragment).length;
 }
 
 }  // namespace rescue::drivers

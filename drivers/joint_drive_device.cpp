@@ -66,7 +66,17 @@ void JointDriveDevice::on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept {
   response_counter_ = ecat::mbx::next_counter(response_counter_);
   last_response_length_ = serve_sdo(message, objects_.od(), esc.al_state(), ByteSpan(last_response_.data(), capacity),
                                     response_counter_);
-  if (last_response_length_ > 0) (void)esc.post_mailbox(ConstByteSpan(last_response_.data(), last_response_length_));
+  if (last_response_length_ == 0) return;
+  if (!esc.post_mailbox(ConstByteSpan(last_response_.data(), last_response_length_)).ok()) return;
+  // The fragments of a long SDO Information answer follow on their own (the master reads them
+  // without asking again), as many as the mailbox queue takes.
+  for (std::uint16_t fragment = 1;; ++fragment) {
+    const std::uint8_t next = ecat::mbx::next_counter(response_counter_);
+    const std::size_t n = serve_sdo_fragment(message, objects_.od(), ByteSpan(last_response_.data(), capacity), next, fragment);
+    if (n == 0 || !esc.post_mailbox(ConstByteSpan(last_response_.data(), n)).ok()) return;
+    response_counter_ = next;
+    last_response_length_ = n;
+  }
 }
 
 void JointDriveDevice::on_cycle(ConstByteSpan outputs, ByteSpan inputs, const CycleContext& ctx, EscPdi&) noexcept {

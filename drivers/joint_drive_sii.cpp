@@ -70,7 +70,8 @@ Result<SiiImage> build_joint_drive_sii(std::size_t position) noexcept {
   g.group_index = kStrGroup;
   g.order_index = kStrName;
   g.name_index = kStrName;
-  g.coe_details = sii::kCoeDetailSdo | sii::kCoeDetailPdoAssign | sii::kCoeDetailPdoConfig;
+  g.coe_details = sii::kCoeDetailSdo | sii::kCoeDetailSdoInfo | sii::kCoeDetailPdoAssign | sii::kCoeDetailPdoConfig |
+                  sii::kCoeDetailSdoCompleteAccess;
   g.ds402_channels = 1;
   g.physical_ports = sii::kPortMii | (sii::kPortMii << 4U);
   write_general(w, g);

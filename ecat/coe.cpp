@@ -113,7 +113,10 @@ Result<Sdo> decode_sdo(ConstByteSpan sdo_bytes, Service service) noexcept {
       decode_initiate_data(b, command, sdo);
       break;
     case SdoKind::upload_initiate_request: sdo.complete_access = (command & kBitCompleteAccess) != 0; break;
-    case SdoKind::upload_initiate_response: decode_initiate_data(b, command, sdo); break;
+    case SdoKind::upload_initiate_response:
+      sdo.complete_access = (command & kBitCompleteAccess) != 0;
+      decode_initiate_data(b, command, sdo);
+      break;
     default: break;  // download initiate response: index and subindex only
   }
   return sdo;
@@ -184,7 +187,8 @@ Result<std::size_t> encode(ByteSpan out, const mbx::Header& mailbox, const Sdo& 
     case SdoKind::upload_initiate_response: {
       const std::uint8_t cs = sdo.kind == SdoKind::download_initiate_request ? kCcsDownloadInitiate : kScsUploadInitiate;
       auto command = static_cast<std::uint8_t>(cs << 5U);
-      if (sdo.complete_access && sdo.kind == SdoKind::download_initiate_request) command |= kBitCompleteAccess;
+      // Complete access is marked in the download request and, mirrored, in the upload response.
+      if (sdo.complete_access) command |= kBitCompleteAccess;
       if (sdo.expedited) {
         command = static_cast<std::uint8_t>(command | ((kMaxExpeditedSize - sdo.data.size()) << 2U) | kBitExpedited | kBitSizeIndicated);
         put_header(p, command, sdo.index, sdo.subindex);

@@ -13,7 +13,8 @@
 //   upload initiate    req 010 0 0000      resp 010 0 n n e s
 //   upload segment     req 011 t 0000      resp 000 t n n n c
 //   abort              100 00000 (both directions), u32 abort code in bytes 4..7
-// Bit 4 of an initiate request is "complete access" (whole object from subindex 0 or 1).
+// Bit 4 of an initiate request is "complete access" (whole object from subindex 0 or 1); the upload
+// response mirrors it (0x51 for a normal one, as slaves answer SOEM's 0x50).
 //
 // decode() takes untrusted bytes (a mailbox message): every length is checked against the
 // mailbox length, and the sizes an SDO announces against the bytes present.

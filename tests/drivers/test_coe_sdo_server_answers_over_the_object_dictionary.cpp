@@ -111,7 +111,8 @@ TEST_F(SdoServer, AbortsWithTheStandardCodes) {
   EXPECT_EQ(abort_code_of(write<std::uint8_t>(0x607A, 0, 1)), coe::abort_code::kLengthMismatch);
   EXPECT_EQ(abort_code_of(write<std::uint16_t>(0x6072, 0, 1001)), coe::abort_code::kValueTooHigh);
   EXPECT_EQ(abort_code_of(write<std::int8_t>(0x6060, 0, 1)), coe::abort_code::kValueRange);  // profile position: not supported
-  EXPECT_EQ(abort_code_of(coe::upload_request(0x1C12, 0, true)), coe::abort_code::kCompleteAccessUnsupported);
+  // Complete access: test_coe_complete_access_reads_and_writes_whole_objects.
+  EXPECT_EQ(abort_code_of(coe::upload_request(0x1C12, 2, true)), coe::abort_code::kUnsupportedAccess);
 }
 
 TEST_F(SdoServer, PdoAssignmentIsWritableOnlyInPreOp) {
@@ -158,8 +159,8 @@ TEST_F(SdoServer, WhatIsNotAnSdoGetsAMailboxErrorReply) {
   };
   std::array<std::uint8_t, 16> eoe{10, 0, 0, 0, 0, 0x12};  // EoE
   EXPECT_EQ(error_of(ConstByteSpan(eoe)), mbx::error_code::kUnsupportedProtocol);
-  std::array<std::uint8_t, 16> info{8, 0, 0, 0, 0, 0x13, 0x00, 0x80, 0x01, 0, 0, 0};  // CoE SDO information
-  EXPECT_EQ(error_of(ConstByteSpan(info)), mbx::error_code::kServiceNotSupported);
+  std::array<std::uint8_t, 16> tx_pdo{2, 0, 0, 0, 0, 0x13, 0x00, 0x40};  // CoE TxPDO over the mailbox
+  EXPECT_EQ(error_of(ConstByteSpan(tx_pdo)), mbx::error_code::kServiceNotSupported);
   std::array<std::uint8_t, 16> too_long{200, 0, 0, 0, 0, 0x13};  // length past the buffer
   EXPECT_EQ(error_of(ConstByteSpan(too_long)), mbx::error_code::kInvalidSize);
   std::array<std::uint8_t, 16> short_sdo{4, 0, 0, 0, 0, 0x13, 0x00, 0x20, 0x40, 0x41};

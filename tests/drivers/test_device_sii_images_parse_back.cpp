@@ -68,7 +68,7 @@ TEST(JointDriveSii, MailboxSyncManagersFmmusPdosAndDcModes) {
   EXPECT_EQ(s.standard_mailbox.send_offset, kJointMailboxInStart);
   EXPECT_EQ(s.standard_mailbox.send_size, kJointMailboxSize);
   EXPECT_FALSE(s.bootstrap_mailbox.present());
-  EXPECT_EQ(s.general.coe_details, 0x0D);
+  EXPECT_EQ(s.general.coe_details, 0x2F);  // SDO, SDO information, PDO assign, PDO config, complete access
   EXPECT_EQ(s.general.ds402_channels, 1);
   EXPECT_EQ(s.general.physical_ports, 0x0011);
 

@@ -174,6 +174,15 @@ TEST(CoeSdo, AbortCodesTravelIntactAndAreExplained) {
 TEST(CoeSdo, CompleteAccessBitIsKept) {
   const Message m = decode_ok(encode_ok(upload_request(0x1C12, 0, true)));
   EXPECT_TRUE(m.sdo.complete_access);
+  // The upload response mirrors it: 0x51, as the LAN9252 answers SOEM (soem-single-lan9252.pcapng).
+  const std::array<std::uint8_t, 6> whole{4, 0, 1, 2, 3, 4};
+  Sdo r = upload_response(0x1C00, 0, ConstByteSpan(whole));
+  r.complete_access = true;
+  const auto bytes = encode_ok(r);
+  EXPECT_EQ(bytes.sdo()[0], 0x51);
+  const Message back = decode_ok(bytes);
+  EXPECT_TRUE(back.sdo.complete_access);
+  EXPECT_EQ(back.sdo.size, 6u);
 }
 
 TEST(CoeSdo, EncodeRefusesImpossibleExpeditedSizesAndSmallBuffers) {

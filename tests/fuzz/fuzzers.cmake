@@ -16,3 +16,4 @@ rescue_add_fuzzer(fuzz_simulated_segment SOURCES fuzz_simulated_segment.cpp
   ${PROJECT_SOURCE_DIR}/drivers/minimal_sii.cpp ${PROJECT_SOURCE_DIR}/drivers/junction_device.cpp ${PROJECT_SOURCE_DIR}/drivers/robot_segment.cpp
   DEPS rescue_ecat rescue_hal rescue_core)
 rescue_add_fuzzer(fuzz_master_replies SOURCES fuzz_master_replies.cpp DEPS rescue_drivers rescue_ecat)
+rescue_add_fuzzer(fuzz_sdo_server SOURCES fuzz_sdo_server.cpp DEPS rescue_drivers rescue_ecat)

@@ -102,6 +102,8 @@ class ChildProcess {
   }
 
   const std::string& output() const { return output_; }
+  // The running child's process id (-1 before start() and after it was reaped).
+  pid_t pid() const { return pid_; }
 
  private:
   bool read_some() {

@@ -1,0 +1,31 @@
+// Fuzzes the simulated drive's CoE server (SDO and SDO Information) with what a master may write
+// into SM0: arbitrary mailbox bytes, any SM1 length from the first input byte, answered in any AL
+// state, and the following fragments of the same request. Every answer must fit SM1.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+
+#include "drivers/coe_sdo_server.hpp"
+#include "drivers/device_identity.hpp"
+#include "drivers/joint_drive_objects.hpp"
+
+using namespace rescue;
+using namespace rescue::drivers;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static JointDriveObjects objects(joint_index_by_name("l_elbow"), slave_position_of_joint(joint_index_by_name("l_elbow")));
+  if (size < 2) return 0;
+  // SM1 lengths a master may configure: 16..271 bytes.
+  const std::size_t sm1 = 16 + data[0];
+  const auto state = static_cast<ecat::reg::AlState>(1U << (data[1] % 4U));
+  const ConstByteSpan request(data + 2, size - 2);
+  std::array<std::uint8_t, 272> response{};
+  const std::size_t n = serve_sdo(request, objects.od(), state, ByteSpan(response.data(), sm1), 1);
+  if (n > sm1) std::abort();
+  for (std::uint16_t fragment = 1; fragment < 4; ++fragment) {
+    const std::size_t f = serve_sdo_fragment(request, objects.od(), ByteSpan(response.data(), sm1), 2, fragment);
+    if (f > sm1) std::abort();
+  }
+  return 0;
+}
