@@ -2,13 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace rescue::drivers {
 namespace {
 
-double clamp(double v, double limit) noexcept { return std::max(-limit, std::min(limit, v)); }
+// max(-limit, min(limit, v)). The usual case, inside the limits, is a branch the CPU predicts:
+// min/max instructions would sit on the integration's dependency chain (docs/simulator.md, Speed).
+// Same result bit for bit: inside the limits both forms return v.
+double clamp(double v, double limit) noexcept {
+  if (v < limit && -limit < v) return v;
+  return std::max(-limit, std::min(limit, v));
+}
 
 constexpr double kStandstillRadS = 1e-4;
+constexpr double kTwoTo32 = 4294967296.0;
+
+std::uint64_t bits_of(double v) noexcept {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
 
 }  // namespace
 
@@ -26,8 +41,18 @@ void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noe
   if (command.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
   while (dt > 0) {
     const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
+    const std::uint64_t position_before = bits_of(position_);
+    const std::uint64_t velocity_before = bits_of(velocity_);
+    const std::uint64_t torque_before = bits_of(torque_);
     substep(command, static_cast<double>(h) * 1e-9);
     dt -= h;
+    if (h == kMotorSubstepNs && bits_of(position_) == position_before && bits_of(velocity_) == velocity_before &&
+        bits_of(torque_) == torque_before) {
+      // A fixed point (a joint held still): substep() is a pure function of the state, the
+      // command and h, so the remaining whole substeps would change nothing either. Only the
+      // shorter last one is left to compute.
+      dt %= kMotorSubstepNs;
+    }
   }
 }
 
@@ -89,7 +114,8 @@ void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
 std::int32_t JointMotorModel::position_counts() const noexcept {
   // Wrap like a 32-bit modulo encoder counter (continuous joints run past the int32 range).
   const double counts = std::nearbyint(position_ * kCountsPerRad);
-  const double wrapped = std::fmod(counts, 4294967296.0);
+  // fmod(x, 2^32) is x itself inside +-2^32 (every joint but a long-running track): skip the call.
+  const double wrapped = std::fabs(counts) < kTwoTo32 ? counts : std::fmod(counts, kTwoTo32);
   const auto raw = static_cast<std::int64_t>(wrapped);
   return static_cast<std::int32_t>(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw)));
 }
