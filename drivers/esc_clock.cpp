@@ -27,7 +27,10 @@ double EscLocalClock::gained(double dt) const noexcept {
 }
 
 std::uint64_t EscLocalClock::local_at(hal::Nanoseconds t) const noexcept {
-  const double dt = t > base_t_ ? static_cast<double>(t - base_t_) : 0.0;
+  // At (or before) the reference point nothing was gained: the formula below gives base_local_
+  // exactly (the fraction is in [0, 1)), so skip it. Most reads are of the time just advanced to.
+  if (t <= base_t_) return base_local_;
+  const auto dt = static_cast<double>(t - base_t_);
   const double total = base_fraction_ + gained(dt);
   // The clock never runs backwards (|phase rate| stays far below the crystal rate).
   const double whole = std::floor(total);

@@ -28,6 +28,16 @@ double speed_of_counter_diff(double start, double diff) noexcept {
   return diff / (5.0 * (s2 - diff * diff));
 }
 
+// std::llround for |x| < 2^53 (what the registers hold is far smaller), without the library call:
+// truncate, then the exact remainder (x - trunc(x) is exact) decides, halves away from zero.
+std::int64_t round_half_away(double x) noexcept {
+  auto i = static_cast<std::int64_t>(x);
+  const double remainder = x - static_cast<double>(i);
+  if (remainder >= 0.5) ++i;
+  if (remainder <= -0.5) --i;
+  return i;
+}
+
 double max_speed(std::uint16_t start) noexcept {
   const double s = std::max<double>(start, kSpeedCounterStartMin);
   return speed_of_counter_diff(s, s - 127.0);
@@ -83,7 +93,7 @@ void EscDc::on_system_time_write(EscMemory& memory, std::uint64_t received, unsi
   mean_difference_ += (difference - mean_difference_) / static_cast<double>(1U << filter_depth);
   const double shown = std::fmin(std::fabs(mean_difference_), 2147483647.0);
   memory.set_u32(reg::kDcSystemTimeDifference,
-                 static_cast<std::uint32_t>(std::llround(shown)) | (mean_difference_ > 0.0 ? reg::kDcDiffLocalSmaller : 0U));
+                 static_cast<std::uint32_t>(round_half_away(shown)) | (mean_difference_ > 0.0 ? reg::kDcDiffLocalSmaller : 0U));
 
   const std::uint64_t local_now = clock_.local_at(t);
   const std::uint16_t start = std::max<std::uint16_t>(memory.u16(reg::kDcSpeedCounterStart), kSpeedCounterStartMin);
@@ -115,7 +125,7 @@ void EscDc::update_speed_counter_diff(EscMemory& memory) const noexcept {
   }
   const double limit = start - 127.0;
   memory.set_u16(reg::kDcSpeedCounterDiff,
-                 static_cast<std::uint16_t>(static_cast<std::int16_t>(std::llround(std::clamp(diff, -limit, limit)))));
+                 static_cast<std::uint16_t>(static_cast<std::int16_t>(round_half_away(std::clamp(diff, -limit, limit)))));
 }
 
 void EscDc::on_speed_counter_start_write(EscMemory& memory) noexcept {

@@ -11,10 +11,7 @@ void Esc::process_logical(const ecat::MutableDatagramView& d) noexcept {
   const Command command = d.command();
   const ByteSpan data = d.data();
   const auto count = static_cast<std::uint32_t>(data.size());
-  if (fmmus_dirty_) {
-    for (unsigned n = 0; n < config_.fmmu_count; ++n) fmmus_[n] = EscFmmu::load(memory_, n);
-    fmmus_dirty_ = false;
-  }
+  if (fmmus_dirty_) reload_fmmus();
   // LRW: the memory takes the data as it arrives (write FMMUs first), then the frame leaves with
   // what the read FMMUs map (the same logical bytes may be both).
   bool wrote = false;
@@ -27,7 +24,28 @@ void Esc::process_logical(const ecat::MutableDatagramView& d) noexcept {
   if (increment != 0) d.set_wkc(static_cast<std::uint16_t>(d.wkc() + increment));
 }
 
+void Esc::reload_fmmus() noexcept {
+  fmmu_first_bit_.fill(~std::uint64_t{0});
+  fmmu_end_bit_.fill(0);
+  for (unsigned n = 0; n < config_.fmmu_count; ++n) {
+    const EscFmmu& f = fmmus_[n] = EscFmmu::load(memory_, n);
+    if (!f.active) continue;
+    for (unsigned direction = 0; direction < 2; ++direction) {
+      if ((f.type & (1U << direction)) == 0) continue;
+      fmmu_first_bit_[direction] = std::min(fmmu_first_bit_[direction], f.first_bit());
+      fmmu_end_bit_[direction] = std::max(fmmu_end_bit_[direction], f.end_bit());
+    }
+  }
+  fmmus_dirty_ = false;
+}
+
 bool Esc::logical_pass(std::uint32_t logical, std::uint8_t* frame, std::uint32_t count, bool write) noexcept {
+  const unsigned direction = write ? 1U : 0U;
+  // Outside every FMMU of this direction: no FMMU below would find an overlap either.
+  if (std::uint64_t{logical} * 8U >= fmmu_end_bit_[direction] ||
+      (std::uint64_t{logical} + count) * 8U <= fmmu_first_bit_[direction]) {
+    return false;
+  }
   const std::uint8_t wanted = write ? 0x02 : 0x01;
   bool any = false;
   for (unsigned n = 0; n < config_.fmmu_count; ++n) {
