@@ -179,12 +179,7 @@ void LinkMonitor::reintegration_failed(SlaveMask slaves, std::uint64_t cycle, ha
 
 void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status,
                          std::uint16_t al_code) noexcept {
-  if (report_count_ == kReportCapacity) {
-    ++reports_dropped_;
-    return;
-  }
-  LinkReport& r = reports_[(report_head_ + report_count_) % kReportCapacity];
-  r = LinkReport{};
+  LinkReport r;
   r.kind = kind;
   r.branch = common_branch(plan_, slaves);
   r.al_status = al_status;
@@ -194,15 +189,9 @@ void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t det
   r.cycle = cycle_;
   r.detected_cycle = detected_cycle;
   r.time = time_;
-  ++report_count_;
+  if (!reports_.push(r)) ++reports_dropped_;  // nobody collects them: keep the oldest, count the rest
 }
 
-bool LinkMonitor::pop_report(LinkReport& out) noexcept {
-  if (report_count_ == 0) return false;
-  out = reports_[report_head_];
-  report_head_ = (report_head_ + 1) % kReportCapacity;
-  --report_count_;
-  return true;
-}
+bool LinkMonitor::pop_report(LinkReport& out) noexcept { return reports_.pop(out); }
 
 }  // namespace rescue::ecat

@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 
+#include "core/ring_buffer.hpp"
 #include "core/robot.hpp"
 #include "core/span.hpp"
 #include "ecat/network_plan.hpp"
@@ -133,9 +134,7 @@ class LinkMonitor {
   SlaveMask pending_restored_{0};
   std::uint64_t pending_detected_{0};  // earliest cycle whose counter showed a pending loss
 
-  std::array<LinkReport, kReportCapacity> reports_{};
-  std::size_t report_head_{0};
-  std::size_t report_count_{0};
+  RingBuffer<LinkReport, kReportCapacity> reports_{};
 };
 
 }  // namespace rescue::ecat

@@ -66,38 +66,20 @@ void MailboxClient::configure(std::size_t position, std::uint16_t out_start, std
                 in_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && in_size <= kMaxMailboxSize;
 }
 
-bool MailboxClient::submit(const SdoRequest& request) noexcept {
-  if (queued_ == kQueueCapacity) return false;
-  queue_[(queue_head_ + queued_) % kQueueCapacity] = request;
-  ++queued_;
-  return true;
-}
+bool MailboxClient::submit(const SdoRequest& request) noexcept { return queue_.push(request); }
 
-bool MailboxClient::pop_completion(SdoCompletion& out) noexcept {
-  if (done_count_ == 0) return false;
-  out = done_[done_head_];
-  done_head_ = (done_head_ + 1) % kQueueCapacity;
-  --done_count_;
-  return true;
-}
+bool MailboxClient::pop_completion(SdoCompletion& out) noexcept { return done_.pop(out); }
 
 void MailboxClient::complete(SdoOutcome outcome) noexcept {
   current_.outcome = outcome;
   phase_ = Phase::none;
-  if (done_count_ == kQueueCapacity) {  // the oldest completion nobody collected goes
-    done_head_ = (done_head_ + 1) % kQueueCapacity;
-    --done_count_;
-  }
-  done_[(done_head_ + done_count_) % kQueueCapacity] = current_;
-  ++done_count_;
+  (void)done_.push_overwrite(current_);
 }
 
 void MailboxClient::start_next(hal::Nanoseconds now) noexcept {
-  while (phase_ == Phase::none && queued_ > 0) {
+  while (phase_ == Phase::none && !queue_.empty()) {
     current_ = SdoCompletion{};
-    current_.request = queue_[queue_head_];
-    queue_head_ = (queue_head_ + 1) % kQueueCapacity;
-    --queued_;
+    (void)queue_.pop(current_.request);
     const SdoRequest& r = current_.request;
     if (!has_mailbox(r.position)) {
       complete(SdoOutcome::no_mailbox);

@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "core/result.hpp"
+#include "core/ring_buffer.hpp"
 #include "ecat/datagram_link.hpp"
 #include "ecat/frame.hpp"
 #include "ecat/network_plan.hpp"
@@ -77,8 +78,8 @@ class MailboxClient {
   // complete at once with no_mailbox.
   [[nodiscard]] bool submit(const SdoRequest& request) noexcept;
   [[nodiscard]] bool pop_completion(SdoCompletion& out) noexcept;
-  bool idle() const noexcept { return phase_ == Phase::none && queued_ == 0; }
-  std::size_t free_slots() const noexcept { return kQueueCapacity - queued_; }
+  bool idle() const noexcept { return phase_ == Phase::none && queue_.empty(); }
+  std::size_t free_slots() const noexcept { return kQueueCapacity - queue_.size(); }
 
   // One step: adds this exchange's datagrams (0 to kMaxDatagrams) to `frame` if they fit.
   std::size_t add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now) noexcept;
@@ -110,12 +111,8 @@ class MailboxClient {
 
   const NetworkPlan& plan_;
   std::array<Box, kMaxSlaves> boxes_{};
-  std::array<SdoRequest, kQueueCapacity> queue_{};
-  std::size_t queue_head_{0};
-  std::size_t queued_{0};
-  std::array<SdoCompletion, kQueueCapacity> done_{};
-  std::size_t done_head_{0};
-  std::size_t done_count_{0};
+  RingBuffer<SdoRequest, kQueueCapacity> queue_{};
+  RingBuffer<SdoCompletion, kQueueCapacity> done_{};  // the oldest uncollected one goes when full
 
   Phase phase_{Phase::none};
   SdoCompletion current_{};

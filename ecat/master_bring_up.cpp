@@ -79,6 +79,10 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   const std::uint64_t frames_before = link_.stats().exchanges;
   state_ = MasterState::idle;
   cycle_ = 0;
+  // Nothing of an earlier bring-up carries over.
+  monitor_.start(0);
+  reintegrating_ = 0;
+  setup_.fill(SlaveSetup{});
   if (image_.size() < layout_.total_bytes) {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));
   }
