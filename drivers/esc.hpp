@@ -178,8 +178,7 @@ class Esc final : public EscPdi {
   std::array<EscSyncManager, kMaxSyncManagers> sync_managers_{};
   std::array<EscFmmu, kMaxFmmus> fmmus_{};
   bool fmmus_dirty_{true};
-  // Logical bits [first, end) some active FMMU maps, per direction (0: read, 1: write): most
-  // logical datagrams of a frame are for other slaves, and this rejects them at once.
+  // Logical bits [first, end) the active FMMUs map, per direction (0: read, 1: write).
   std::array<std::uint64_t, 2> fmmu_first_bit_{};
   std::array<std::uint64_t, 2> fmmu_end_bit_{};
 

@@ -12,12 +12,23 @@ void Esc::process_logical(const ecat::MutableDatagramView& d) noexcept {
   const ByteSpan data = d.data();
   const auto count = static_cast<std::uint32_t>(data.size());
   if (fmmus_dirty_) reload_fmmus();
+  // Outside every FMMU of a direction, no FMMU of it would find an overlap: most logical
+  // datagrams of a frame are for other slaves, and are passed on here at once.
+  const std::uint64_t first_bit = std::uint64_t{d.address()} * 8U;
+  const std::uint64_t end_bit = (std::uint64_t{d.address()} + count) * 8U;
+  const auto reaches = [&](unsigned direction) {
+    return first_bit < fmmu_end_bit_[direction] && end_bit > fmmu_first_bit_[direction];
+  };
   // LRW: the memory takes the data as it arrives (write FMMUs first), then the frame leaves with
   // what the read FMMUs map (the same logical bytes may be both).
   bool wrote = false;
   bool read = false;
-  if (command == Command::LWR || command == Command::LRW) wrote = logical_pass(d.address(), data.data(), count, true);
-  if (command == Command::LRD || command == Command::LRW) read = logical_pass(d.address(), data.data(), count, false);
+  if ((command == Command::LWR || command == Command::LRW) && reaches(1)) {
+    wrote = logical_pass(d.address(), data.data(), count, true);
+  }
+  if ((command == Command::LRD || command == Command::LRW) && reaches(0)) {
+    read = logical_pass(d.address(), data.data(), count, false);
+  }
   unsigned increment = 0;
   if (read) increment += 1;
   if (wrote) increment += command == Command::LRW ? 2U : 1U;
@@ -40,12 +51,6 @@ void Esc::reload_fmmus() noexcept {
 }
 
 bool Esc::logical_pass(std::uint32_t logical, std::uint8_t* frame, std::uint32_t count, bool write) noexcept {
-  const unsigned direction = write ? 1U : 0U;
-  // Outside every FMMU of this direction: no FMMU below would find an overlap either.
-  if (std::uint64_t{logical} * 8U >= fmmu_end_bit_[direction] ||
-      (std::uint64_t{logical} + count) * 8U <= fmmu_first_bit_[direction]) {
-    return false;
-  }
   const std::uint8_t wanted = write ? 0x02 : 0x01;
   bool any = false;
   for (unsigned n = 0; n < config_.fmmu_count; ++n) {

@@ -1,12 +1,12 @@
 #include "core/app/bench_sim.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <array>
 #include <cinttypes>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
 
 #include "core/app/bench_header.hpp"
 #include "core/app/timed_nic.hpp"
@@ -84,6 +84,7 @@ struct RunFigures {
   std::uint64_t cpu_ns{0};
   std::int64_t cycles{0};
   std::int64_t all_valid{0};
+  std::uint64_t frames{0};  // through the segment during the run
 };
 
 // CPU time of this thread: unlike the wall clock, not stretched when other work shares the CPU.
@@ -119,6 +120,7 @@ int run(Motion motion, std::uint64_t seed, std::int64_t cycles, const hal::TscTi
 
   g_cycle_ns.reset();
   g_segment_ns.reset();
+  const std::uint64_t frames_before = robot.segment().counters().frames;
   const std::uint64_t cpu_start = thread_cpu_ns();
   const std::uint64_t run_start = timer.start();
   for (std::int64_t k = 0; k < cycles; ++k) {
@@ -135,6 +137,7 @@ int run(Motion motion, std::uint64_t seed, std::int64_t cycles, const hal::TscTi
   }
   out.host_ns = static_cast<std::uint64_t>(timer.to_ns(timer.stop() - run_start));
   out.cpu_ns = thread_cpu_ns() - cpu_start;
+  out.frames = robot.segment().counters().frames - frames_before;
   out.cycles = cycles;
   out.cycle = g_cycle_ns.summary();
   out.segment = g_segment_ns.summary();
@@ -147,6 +150,7 @@ void print(Motion motion, const RunFigures& f) noexcept {
   const double wall_ratio = f.host_ns > 0 ? simulated_s / (static_cast<double>(f.host_ns) * 1e-9) : 0.0;
   const double cpu_ratio = f.cpu_ns > 0 ? simulated_s / (static_cast<double>(f.cpu_ns) * 1e-9) : 0.0;
   (void)std::printf("%s_cycles_all_joints_valid: %" PRId64 " of %" PRId64 " cycles\n", m, f.all_valid, f.cycles);
+  (void)std::printf("%s_frames_per_cycle: %.2f frames\n", m, static_cast<double>(f.frames) / static_cast<double>(f.cycles));
   (void)std::printf("%s_robot_cycle_host_median: %" PRIu64 " ns (master + simulator, per simulated 1 ms cycle)\n", m, f.cycle.p50);
   (void)std::printf("%s_robot_cycle_host_p99: %" PRIu64 " ns\n", m, f.cycle.p99);
   (void)std::printf("%s_segment_cycle_host_median: %" PRIu64 " ns (the simulator alone)\n", m, f.segment.p50);
@@ -176,14 +180,24 @@ int bench_sim(const ParsedArgs& args) noexcept {
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("robot: 23 slaves (2 junctions, 21 joint drives), 1 ms cycle, virtual time\n");
 
+  const char* motion = args.value("motion");
+  const bool both = motion == nullptr || std::strcmp(motion, "both") == 0;
+  const bool hold_only = motion != nullptr && std::strcmp(motion, "hold") == 0;
+  const bool move_only = motion != nullptr && std::strcmp(motion, "move") == 0;
+  if (!both && !hold_only && !move_only) return fail("bench", "--motion must be hold, move or both");
+
   RunFigures hold{};
   RunFigures move{};
   declare_init_complete(HeapGuardMode::count);
   const auto s = static_cast<std::uint64_t>(seed.value());
-  if (run(Motion::hold, s, cycles.value(), timer, hold) != 0) return 1;
-  print(Motion::hold, hold);
-  if (run(Motion::move, s, cycles.value(), timer, move) != 0) return 1;
-  print(Motion::move, move);
+  if (!move_only) {
+    if (run(Motion::hold, s, cycles.value(), timer, hold) != 0) return 1;
+    print(Motion::hold, hold);
+  }
+  if (!hold_only) {
+    if (run(Motion::move, s, cycles.value(), timer, move) != 0) return 1;
+    print(Motion::move, move);
+  }
   const HeapGuardCounters heap = heap_guard_counters();
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");

@@ -17,6 +17,7 @@ const OptionSpec kOptions[] = {
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
     {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
+    {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
 };
 
 struct Bench {
