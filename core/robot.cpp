@@ -1,6 +1,7 @@
 #include "core/robot.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -22,6 +23,19 @@ std::size_t joint_index_by_name(const char* name) noexcept {
     if (std::strcmp(kJoints[j].name, name) == 0) return j;
   }
   return kJointCount;
+}
+
+void format_joint_names(JointMask mask, char* out, std::size_t capacity) noexcept {
+  if (capacity == 0) return;
+  std::size_t used = 0;
+  out[0] = '\0';
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((mask & joint_bit(j)) == 0 || used >= capacity) continue;
+    const int n = std::snprintf(out + used, capacity - used, "%s%s", used == 0 ? "" : ",", kJoints[j].name);
+    if (n < 0) return;
+    used += static_cast<std::size_t>(n);
+  }
+  if (used == 0) (void)std::snprintf(out, capacity, "none");
 }
 
 std::int32_t rad_to_counts(double rad) noexcept {

@@ -162,6 +162,12 @@ constexpr JointMask joints_of_branch(Branch branch) noexcept {
   return mask;
 }
 
+// The names of the joints in `mask`, comma-separated ("none" for an empty mask), into `out`
+// (truncated to fit, always NUL-terminated when capacity > 0).
+void format_joint_names(JointMask mask, char* out, std::size_t capacity) noexcept;
+// Room for every joint's name, commas and the terminator.
+constexpr std::size_t kJointNamesCapacity = 320;
+
 // Index of the joint called `name`, or kJointCount when there is none.
 std::size_t joint_index_by_name(const char* name) noexcept;
 

@@ -58,6 +58,9 @@ Status request_al_state(DatagramLink& link, const NetworkPlan& plan, SlaveMask s
         return make_error(Errc::io_error, "slave does not answer", static_cast<std::uint32_t>(p));
       }
     }
+    // The deadline is judged by when the status was asked for, not by when the answer was looked at:
+    // a master preempted after the read must not call a slave late that answered in time.
+    const hal::Nanoseconds asked_at = link.clock().now();
     const Result<AlSnapshot> snap = read_al_status(link, plan, pending, options.frame_timeout);
     if (!snap.ok()) return snap.error();
     SlaveMask acknowledge = 0;
@@ -92,7 +95,7 @@ Status request_al_state(DatagramLink& link, const NetworkPlan& plan, SlaveMask s
       }
       RESCUE_TRY(write_al_control(link, plan, acknowledge, target, options.frame_timeout, unreachable));
     }
-    if (link.clock().now() >= deadline) {
+    if (asked_at >= deadline) {
       for (std::size_t p = 0; p < kMaxSlaves; ++p) {
         if ((pending & slave_bit(p)) == 0) continue;
         failure.position = static_cast<std::uint8_t>(p);

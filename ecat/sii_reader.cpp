@@ -102,6 +102,9 @@ Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, 
     }
     if (added == 0) break;  // nobody active
     ++stats.frames;
+    // A busy status is judged by when the poll was sent (the state it shows), not by when the master
+    // got round to reading it: a preempted master must not time out an EEPROM that finished in time.
+    const hal::Nanoseconds polled_at = link.clock().now();
     const Result<FrameView> back = link.exchange(options.frame_timeout, options.attempts);
     if (!back.ok()) return back.error();
     std::size_t i = 0;
@@ -117,7 +120,7 @@ Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, 
       const std::uint16_t status = load_le16(p);
       if ((status & reg::kSiiBusy) != 0) {
         ++stats.busy_polls;
-        if (link.clock().now() > st.busy_deadline) {
+        if (polled_at > st.busy_deadline) {
           fail(image, st, make_error(Errc::timeout, "SII read stays busy", static_cast<std::uint32_t>(s), image.size / 2U));
         }
         continue;

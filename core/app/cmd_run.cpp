@@ -1,29 +1,49 @@
-// rescue-motion run: the firmware. Filled in by the master and joint-manager work.
+// rescue-motion run: the firmware (core/app/firmware.hpp).
 #include "core/app/commands.hpp"
+#include "core/app/firmware.hpp"
 #include "core/app/nic_option.hpp"
+#include "core/app/run_scenario.hpp"
 
 namespace rescue::app {
 namespace {
 
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
-    {"scenario", "NAME", "simulator scenario (e.g. link-cut)"},
-    {"duration", "SECONDS", "stop after this long (default: run until SIGINT/SIGTERM)"},
+    {"scenario", "NAME", "simulated fault scenario: link-cut (cut the cable into l_elbow 1 s after OP)"},
+    {"duration", "SECONDS", "stop after this long (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
+    {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
 };
 
 int run_main(const ParsedArgs& args) {
+  FirmwareOptions options;
   const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
   if (!nic.ok()) return fail("run", nic.error().what);
-  return fail("run", "not implemented yet");
+  options.nic = nic.value();
+  if (args.value("nic") != nullptr) options.nic_text = args.value("nic");
+  const Result<Scenario> scenario = parse_scenario(args.value("scenario"));
+  if (!scenario.ok()) return fail("run", scenario.error().what);
+  options.scenario = scenario.value();
+  if (options.scenario.kind != ScenarioKind::none && options.nic.kind != NicKind::sim) {
+    return fail("run", "scenarios inject faults into the simulated robot: use --nic sim");
+  }
+  const Result<double> duration = args.number("duration", 0.0, 0.0, 7.0 * 24 * 3600);
+  if (!duration.ok()) return fail("run", "--duration SECONDS", duration.error());
+  options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
+  options.capture_path = args.value("capture");
+  options.state_dir = args.value("state-dir");
+  options.initialize = args.has("initialize");
+  return run_firmware(options);
 }
 
 }  // namespace
 
 const CommandSpec kRunCommand{
     "run", "run [OPTIONS]", "run the motion-control firmware (on the simulated robot by default)",
-    "SIGINT or SIGTERM stop it cleanly: drives disabled, state saved.",
+    "Reads the error-joints file of the state directory, brings the EtherCAT network up to OP with\n"
+    "distributed clocks, and runs the EtherCAT handler (1 ms) and the joint manager. SIGINT or SIGTERM\n"
+    "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop.",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app

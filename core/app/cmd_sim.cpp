@@ -8,13 +8,13 @@
 #include <unistd.h>
 
 #include <array>
-#include <csignal>
 #include <cstdio>
 
 #include "core/app/commands.hpp"
 #include "core/app/frame_server.hpp"
 #include "core/app/nic_factory.hpp"
 #include "core/app/simulated_robot_instance.hpp"
+#include "core/app/stop_signal.hpp"
 #include "drivers/fault_command.hpp"
 #include "hal/raw_socket_nic.hpp"
 
@@ -23,19 +23,6 @@ namespace {
 
 // Longest time a stop signal waits to be seen: each receive wait ends by then.
 constexpr hal::Nanoseconds kStopLatency = 100 * hal::kNsPerMs;
-
-volatile std::sig_atomic_t g_stop_signal = 0;
-
-extern "C" void on_stop_signal(int signal_number) { g_stop_signal = signal_number; }
-
-// Without SA_RESTART, so the receive wait (ppoll) returns early when a signal arrives.
-bool install_stop_handlers() noexcept {
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  (void)sigemptyset(&action.sa_mask);
-  action.sa_flags = 0;
-  return sigaction(SIGINT, &action, nullptr) == 0 && sigaction(SIGTERM, &action, nullptr) == 0;
-}
 
 void print_counters(const FrameServerCounters& served, const hal::NicStats& nic) noexcept {
   (void)std::printf("frames received: %llu\n", static_cast<unsigned long long>(served.frames_received));
@@ -110,7 +97,7 @@ int sim_main(const ParsedArgs& args) {
   FrameServer server(nic, segment);
   FaultConsole faults;
   int exit_status = 0;
-  while (g_stop_signal == 0) {
+  while (stop_signal() == 0) {
     faults.poll_once(robot.segment(), nic.clock().now());
     const Status served = server.serve_one(nic.clock().now() + kStopLatency);
     if (!served.ok() && served.error().code != Errc::timeout) {
@@ -118,7 +105,7 @@ int sim_main(const ParsedArgs& args) {
       break;
     }
   }
-  if (g_stop_signal != 0) (void)std::printf("stopped by signal %d\n", static_cast<int>(g_stop_signal));
+  if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
   print_counters(server.counters(), nic.stats());
   return exit_status;
 }

@@ -5,8 +5,8 @@ namespace rescue::app {
 void JointEventPrinter::on_event(const JointEvent& event) noexcept {
   char line[512];
   (void)format_event(event, line, sizeof line);
-  std::fprintf(out_, "%s[%lld.%03lld s] %s\n", prefix_, static_cast<long long>(event.time / hal::kNsPerSec),
-               static_cast<long long>((event.time % hal::kNsPerSec) / hal::kNsPerMs), line);
+  const double t = static_cast<double>(event.time - origin_) / static_cast<double>(hal::kNsPerSec);
+  (void)std::fprintf(out_, "[%8.3f s] %s%s\n", t, prefix_, line);
 }
 
 }  // namespace rescue::app

@@ -15,10 +15,13 @@ class JointEventPrinter final : public JointEventSink {
   // `prefix` starts every line (e.g. "joint-manager: "); `out` must outlive the printer.
   JointEventPrinter(std::FILE* out, const char* prefix) noexcept : out_(out), prefix_(prefix) {}
   void on_event(const JointEvent& event) noexcept override;
+  // Times print relative to `origin` (the program's start), as the other tasks' lines do.
+  void set_origin(hal::Nanoseconds origin) noexcept { origin_ = origin; }
 
  private:
   std::FILE* out_;
   const char* prefix_;
+  hal::Nanoseconds origin_{0};
 };
 
 }  // namespace rescue::app

@@ -7,18 +7,6 @@ namespace {
 
 const char* joint_name(std::uint8_t joint) noexcept { return joint < kJointCount ? kJoints[joint].name : "robot"; }
 
-// The names of the joints in `mask`, comma-separated, into out.
-void mask_names(JointMask mask, char* out, std::size_t capacity) noexcept {
-  std::size_t used = 0;
-  out[0] = '\0';
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((mask & joint_bit(j)) == 0 || used >= capacity) continue;
-    const int n = std::snprintf(out + used, capacity - used, "%s%s", used == 0 ? "" : ",", kJoints[j].name);
-    if (n < 0) return;
-    used += static_cast<std::size_t>(n);
-  }
-  if (used == 0) (void)std::snprintf(out, capacity, "none");
-}
 
 const char* kStepWhat[] = {
     "",
@@ -52,8 +40,8 @@ const char* to_string(JointEventKind kind) noexcept {
 
 std::size_t format_event(const JointEvent& e, char* out, std::size_t capacity) noexcept {
   if (capacity == 0) return 0;
-  char names[320];
-  mask_names(e.joints, names, sizeof names);
+  char names[kJointNamesCapacity];
+  format_joint_names(e.joints, names, sizeof names);
   int n = 0;
   switch (e.kind) {
     case JointEventKind::file_absent:

@@ -15,9 +15,10 @@ TEST(JointEventPrinter, WritesPrefixTimeAndTheEventsLine) {
   FILE* out = open_memstream(&buf, &len);
   ASSERT_NE(out, nullptr);
   JointEventPrinter printer(out, "joint-manager: ");
+  printer.set_origin(1'000 * hal::kNsPerMs);  // times print relative to the program's start
   JointEvent e;
   e.kind = JointEventKind::transition;
-  e.time = 1'234 * hal::kNsPerMs;
+  e.time = 2'234 * hal::kNsPerMs;
   e.joint = static_cast<std::uint8_t>(joint_index_by_name("l_elbow"));
   e.from = fsm::JointState::enabled;
   e.to = fsm::JointState::error;
@@ -31,8 +32,8 @@ TEST(JointEventPrinter, WritesPrefixTimeAndTheEventsLine) {
   const std::string text(buf, len);
   std::free(buf);
   EXPECT_EQ(text,
-            "joint-manager: [1.234 s] l_elbow: Enabled --comm_lost--> Error\n"
-            "joint-manager: [1.234 s] reconfiguration step 3 wrote the error-joints file: "
+            "[   1.234 s] joint-manager: l_elbow: Enabled --comm_lost--> Error\n"
+            "[   1.234 s] joint-manager: reconfiguration step 3 wrote the error-joints file: "
             "l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand\n");
 }
 
