@@ -66,11 +66,20 @@ void Cia402Drive::apply_outputs(const JointOutputs& outputs, bool valid, const D
   last_outputs_at_ = now;
 }
 
-MotorCommand Cia402Drive::motor_command(const DriveSettings& settings) const noexcept {
+MotorCommand Cia402Drive::motor_command(const DriveSettings& settings) noexcept {
   const MotorLimits& limits = motor_.limits();
+  // The limits in SI units change only when the settings do: converted once, not every step.
+  if (!limits_converted_ || settings.max_torque_per_mille != converted_torque_per_mille_ ||
+      settings.max_velocity_counts_s != converted_velocity_counts_s_) {
+    converted_torque_per_mille_ = settings.max_torque_per_mille;
+    converted_velocity_counts_s_ = settings.max_velocity_counts_s;
+    torque_limit_nm_ = limits.rated_torque_nm * settings.max_torque_per_mille / 1000.0;
+    velocity_limit_rad_s_ = rad(settings.max_velocity_counts_s);
+    limits_converted_ = true;
+  }
   MotorCommand c;
-  c.torque_limit_nm = limits.rated_torque_nm * settings.max_torque_per_mille / 1000.0;
-  c.velocity_limit_rad_s = rad(settings.max_velocity_counts_s);
+  c.torque_limit_nm = torque_limit_nm_;
+  c.velocity_limit_rad_s = velocity_limit_rad_s_;
   switch (machine_.state()) {
     case State::operation_enabled:
       switch (mode_) {

@@ -70,7 +70,7 @@ class Cia402Drive {
   std::uint16_t error_code() const noexcept { return error_code_; }
 
  private:
-  MotorCommand motor_command(const DriveSettings& settings) const noexcept;
+  MotorCommand motor_command(const DriveSettings& settings) noexcept;
   void raise(std::uint16_t error_code) noexcept;
   std::int32_t following_error_counts() const noexcept;
 
@@ -86,6 +86,12 @@ class Cia402Drive {
   bool following_error_{false};
   bool target_clamped_{false};
   bool fault_cause_persists_{false};
+  // motor_command()'s conversion of the settings' limits, and what it was converted from.
+  bool limits_converted_{false};
+  std::uint16_t converted_torque_per_mille_{0};
+  std::uint32_t converted_velocity_counts_s_{0};
+  double torque_limit_nm_{0.0};
+  double velocity_limit_rad_s_{0.0};
 };
 
 }  // namespace rescue::drivers

@@ -239,6 +239,9 @@ void Esc::process(const ecat::MutableDatagramView& d) noexcept {
                 ((dl_control_ & kDlControlAliasEnable) != 0 && adp == memory_.u16(reg::kStationAlias));
   }
 
+  // A datagram for another ESC passes by untouched (ARMW/FRMW: every other ESC writes).
+  if (!addressed && command != Command::ARMW && command != Command::FRMW) return;
+
   const ByteSpan data = d.data();
   const std::uint32_t address = d.ado();
   const auto count = static_cast<std::uint32_t>(data.size());
@@ -416,7 +419,10 @@ bool Esc::trigger_writes(std::uint32_t address, const std::uint8_t* frame, std::
     sii_.on_master_write(memory_, bytes.data(), mask.data());
     accepted = true;
   }
-  for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
+  // Most trigger writes are the reference time (0x0910): skip the SyncManager block at once.
+  const unsigned sm_count = config_.sync_manager_count;
+  const bool reaches_sync_managers = overlaps(address, end, reg::sync_manager(0), 8U * sm_count);
+  for (unsigned n = 0; reaches_sync_managers && n < sm_count; ++n) {
     const std::uint32_t base = reg::sync_manager(n);
     if (!overlaps(address, end, base, 8)) continue;
     EscSyncManager& sm = sync_managers_[n];

@@ -126,6 +126,7 @@ class Esc final : public EscPdi {
   void after_register_read(std::uint32_t first, std::uint32_t end) noexcept;
   bool trigger_writes(std::uint32_t address, const std::uint8_t* frame, std::uint32_t count) noexcept;
   void process_logical(const ecat::MutableDatagramView& datagram) noexcept;
+  void reload_fmmus() noexcept;
   bool logical_pass(std::uint32_t logical, std::uint8_t* frame, std::uint32_t count, bool write) noexcept;
   bool fmmu_byte_aligned(const EscFmmu& f, std::uint32_t logical, std::uint8_t* frame, std::uint32_t count,
                          bool write) noexcept;
@@ -177,6 +178,9 @@ class Esc final : public EscPdi {
   std::array<EscSyncManager, kMaxSyncManagers> sync_managers_{};
   std::array<EscFmmu, kMaxFmmus> fmmus_{};
   bool fmmus_dirty_{true};
+  // Logical bits [first, end) the active FMMUs map, per direction (0: read, 1: write).
+  std::array<std::uint64_t, 2> fmmu_first_bit_{};
+  std::array<std::uint64_t, 2> fmmu_end_bit_{};
 
   // Ports.
   std::array<bool, kMaxEscPorts> link_{};

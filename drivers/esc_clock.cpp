@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "drivers/inline_math.hpp"
+
 namespace rescue::drivers {
 
 void EscLocalClock::reset(hal::Nanoseconds t, std::uint64_t local, double drift_ppm) noexcept {
@@ -22,15 +24,18 @@ void EscLocalClock::set_phase_correction(double budget_ns, double rate) noexcept
 double EscLocalClock::gained(double dt) const noexcept {
   const double linear = dt * crystal_rate_ * (1.0 + speed_);
   if (phase_rate_ == 0.0) return linear;
-  const double phase = std::fmin(std::fabs(phase_budget_), std::fabs(phase_rate_) * dt);
+  const double phase = inline_math::fmin(std::fabs(phase_budget_), std::fabs(phase_rate_) * dt);
   return linear + std::copysign(phase, phase_budget_);
 }
 
 std::uint64_t EscLocalClock::local_at(hal::Nanoseconds t) const noexcept {
-  const double dt = t > base_t_ ? static_cast<double>(t - base_t_) : 0.0;
+  // At (or before) the reference point nothing was gained: the formula below gives base_local_
+  // exactly (the fraction is in [0, 1)), so skip it. Most reads are of the time just advanced to.
+  if (t <= base_t_) return base_local_;
+  const auto dt = static_cast<double>(t - base_t_);
   const double total = base_fraction_ + gained(dt);
   // The clock never runs backwards (|phase rate| stays far below the crystal rate).
-  const double whole = std::floor(total);
+  const double whole = inline_math::floor(total);
   return base_local_ + static_cast<std::uint64_t>(whole > 0.0 ? whole : 0.0);
 }
 
@@ -47,7 +52,7 @@ hal::Nanoseconds EscLocalClock::time_of_local(std::uint64_t local) const noexcep
     dt = need <= during_phase ? need / (linear_rate + phase_rate_)
                               : phase_duration + (need - during_phase) / linear_rate;
   }
-  hal::Nanoseconds t = base_t_ + static_cast<hal::Nanoseconds>(std::ceil(dt));
+  hal::Nanoseconds t = base_t_ + static_cast<hal::Nanoseconds>(inline_math::ceil(dt));
   // Rounding of the double arithmetic: step to the first nanosecond that really reaches `local`.
   while (t > base_t_ && local_at(t - 1) >= local) --t;
   while (local_at(t) < local) ++t;
@@ -59,14 +64,14 @@ void EscLocalClock::advance(hal::Nanoseconds t) noexcept {
   const auto dt = static_cast<double>(t - base_t_);
   const double total = base_fraction_ + gained(dt);
   if (phase_rate_ != 0.0) {
-    const double used = std::fmin(std::fabs(phase_budget_), std::fabs(phase_rate_) * dt);
+    const double used = inline_math::fmin(std::fabs(phase_budget_), std::fabs(phase_rate_) * dt);
     phase_budget_ -= std::copysign(used, phase_budget_);
     if (std::fabs(phase_budget_) < 1e-9) {
       phase_budget_ = 0.0;
       phase_rate_ = 0.0;
     }
   }
-  const double whole = std::floor(total);
+  const double whole = inline_math::floor(total);
   base_local_ += static_cast<std::uint64_t>(whole > 0.0 ? whole : 0.0);
   base_fraction_ = total - whole;
   base_t_ = t;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drivers/inline_math.hpp"
 #include "ecat/registers.hpp"
 
 namespace rescue::drivers {
@@ -80,42 +81,58 @@ void EscDc::on_system_time_write(EscMemory& memory, std::uint64_t received, unsi
                                              static_cast<std::uint32_t>(expected) - static_cast<std::uint32_t>(local_copy)));
 
   const unsigned filter_depth = memory.u8(reg::kDcTimeDiffFilterDepth) & 0x0FU;
-  mean_difference_ += (difference - mean_difference_) / static_cast<double>(1U << filter_depth);
-  const double shown = std::fmin(std::fabs(mean_difference_), 2147483647.0);
+  // x / 2^k and x * 2^-k are the same double (2^-k is exact): no division on the way.
+  mean_difference_ += (difference - mean_difference_) * (1.0 / static_cast<double>(1U << filter_depth));
+  const double shown = inline_math::fmin(std::fabs(mean_difference_), 2147483647.0);
   memory.set_u32(reg::kDcSystemTimeDifference,
-                 static_cast<std::uint32_t>(std::llround(shown)) | (mean_difference_ > 0.0 ? reg::kDcDiffLocalSmaller : 0U));
+                 static_cast<std::uint32_t>(inline_math::llround(shown)) | (mean_difference_ > 0.0 ? reg::kDcDiffLocalSmaller : 0U));
 
   const std::uint64_t local_now = clock_.local_at(t);
-  const std::uint16_t start = std::max<std::uint16_t>(memory.u16(reg::kDcSpeedCounterStart), kSpeedCounterStartMin);
-  const double kp = std::clamp(256.0 / static_cast<double>(start), 1.0 / 256.0, 0.5);
+  const SpeedCounterTerms& terms = speed_counter_terms(memory);
+  const double kp = terms.kp;
   const double ki = 1.0 / static_cast<double>(1U << (memory.u8(reg::kDcSpeedCounterFilterDepth) & 0x0FU));
   clock_.advance(t);
   if (have_previous_write_ && local_now > previous_write_local_) {
     const double interval = std::clamp(static_cast<double>(local_now - previous_write_local_), kMinIntervalNs, kMaxIntervalNs);
-    const double limit = max_speed(start);
+    const double limit = terms.max_speed;
     clock_.set_speed_correction(std::clamp(clock_.speed_correction() + ki * difference / interval, -limit, limit));
     interval_estimate_ns_ = interval;
   }
   const double budget = kp * difference;
-  clock_.set_phase_correction(budget, std::fmin(std::fabs(budget) / interval_estimate_ns_, kMaxPhaseRate));
+  clock_.set_phase_correction(budget, inline_math::fmin(std::fabs(budget) / interval_estimate_ns_, kMaxPhaseRate));
   have_previous_write_ = true;
   previous_write_local_ = local_now;
   update_speed_counter_diff(memory);
 }
 
-void EscDc::update_speed_counter_diff(EscMemory& memory) const noexcept {
-  const double start = std::max<double>(memory.u16(reg::kDcSpeedCounterStart), kSpeedCounterStartMin);
+const EscDc::SpeedCounterTerms& EscDc::speed_counter_terms(const EscMemory& memory) noexcept {
+  const std::uint16_t written = memory.u16(reg::kDcSpeedCounterStart);
+  if (!terms_valid_ || written != terms_.written) {
+    const std::uint16_t start = std::max<std::uint16_t>(written, kSpeedCounterStartMin);
+    const auto s = static_cast<double>(start);
+    terms_.written = written;
+    terms_.kp = std::clamp(256.0 / s, 1.0 / 256.0, 0.5);
+    terms_.max_speed = max_speed(start);
+    terms_.start_plus_2_squared = (s + 2.0) * (s + 2.0);
+    terms_.limit = s - 127.0;
+    terms_valid_ = true;
+  }
+  return terms_;
+}
+
+void EscDc::update_speed_counter_diff(EscMemory& memory) noexcept {
+  const SpeedCounterTerms& terms = speed_counter_terms(memory);
   const double c = clock_.speed_correction();
   double diff = 0.0;
   if (c != 0.0) {
     // Inverse of speed_of_counter_diff: 5c D^2 + D - 5c (S+2)^2 = 0.
     const double a = 5.0 * c;
-    const double s2 = (start + 2.0) * (start + 2.0);
+    const double s2 = terms.start_plus_2_squared;
     diff = (-1.0 + std::sqrt(1.0 + 4.0 * a * a * s2)) / (2.0 * a);
   }
-  const double limit = start - 127.0;
+  const double limit = terms.limit;
   memory.set_u16(reg::kDcSpeedCounterDiff,
-                 static_cast<std::uint16_t>(static_cast<std::int16_t>(std::llround(std::clamp(diff, -limit, limit)))));
+                 static_cast<std::uint16_t>(static_cast<std::int16_t>(inline_math::llround(std::clamp(diff, -limit, limit)))));
 }
 
 void EscDc::on_speed_counter_start_write(EscMemory& memory) noexcept {

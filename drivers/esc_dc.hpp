@@ -63,7 +63,17 @@ class EscDc {
   double mean_difference_ns() const noexcept { return mean_difference_; }
 
  private:
-  void update_speed_counter_diff(EscMemory& memory) const noexcept;
+  // What the loop derives from the speed counter start (0x0930), recomputed when it changes:
+  // the same doubles every write, without their divisions (docs/simulator.md, Speed).
+  struct SpeedCounterTerms {
+    std::uint16_t written{0};  // the register as written
+    double kp{0.0};
+    double max_speed{0.0};
+    double start_plus_2_squared{0.0};
+    double limit{0.0};  // of the speed counter difference
+  };
+  const SpeedCounterTerms& speed_counter_terms(const EscMemory& memory) noexcept;
+  void update_speed_counter_diff(EscMemory& memory) noexcept;
 
   EscLocalClock clock_{};
   std::uint64_t start_time_written_{0};
@@ -74,6 +84,8 @@ class EscDc {
   bool have_previous_write_{false};
   std::uint64_t previous_write_local_{0};
   double interval_estimate_ns_{1e6};
+  SpeedCounterTerms terms_{};
+  bool terms_valid_{false};
 };
 
 }  // namespace rescue::drivers

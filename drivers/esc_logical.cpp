@@ -11,20 +11,43 @@ void Esc::process_logical(const ecat::MutableDatagramView& d) noexcept {
   const Command command = d.command();
   const ByteSpan data = d.data();
   const auto count = static_cast<std::uint32_t>(data.size());
-  if (fmmus_dirty_) {
-    for (unsigned n = 0; n < config_.fmmu_count; ++n) fmmus_[n] = EscFmmu::load(memory_, n);
-    fmmus_dirty_ = false;
-  }
+  if (fmmus_dirty_) reload_fmmus();
+  // Outside every FMMU of a direction, no FMMU of it would find an overlap: most logical
+  // datagrams of a frame are for other slaves, and are passed on here at once.
+  const std::uint64_t first_bit = std::uint64_t{d.address()} * 8U;
+  const std::uint64_t end_bit = (std::uint64_t{d.address()} + count) * 8U;
+  const auto reaches = [&](unsigned direction) {
+    return first_bit < fmmu_end_bit_[direction] && end_bit > fmmu_first_bit_[direction];
+  };
   // LRW: the memory takes the data as it arrives (write FMMUs first), then the frame leaves with
   // what the read FMMUs map (the same logical bytes may be both).
   bool wrote = false;
   bool read = false;
-  if (command == Command::LWR || command == Command::LRW) wrote = logical_pass(d.address(), data.data(), count, true);
-  if (command == Command::LRD || command == Command::LRW) read = logical_pass(d.address(), data.data(), count, false);
+  if ((command == Command::LWR || command == Command::LRW) && reaches(1)) {
+    wrote = logical_pass(d.address(), data.data(), count, true);
+  }
+  if ((command == Command::LRD || command == Command::LRW) && reaches(0)) {
+    read = logical_pass(d.address(), data.data(), count, false);
+  }
   unsigned increment = 0;
   if (read) increment += 1;
   if (wrote) increment += command == Command::LRW ? 2U : 1U;
   if (increment != 0) d.set_wkc(static_cast<std::uint16_t>(d.wkc() + increment));
+}
+
+void Esc::reload_fmmus() noexcept {
+  fmmu_first_bit_.fill(~std::uint64_t{0});
+  fmmu_end_bit_.fill(0);
+  for (unsigned n = 0; n < config_.fmmu_count; ++n) {
+    const EscFmmu& f = fmmus_[n] = EscFmmu::load(memory_, n);
+    if (!f.active) continue;
+    for (unsigned direction = 0; direction < 2; ++direction) {
+      if ((f.type & (1U << direction)) == 0) continue;
+      fmmu_first_bit_[direction] = std::min(fmmu_first_bit_[direction], f.first_bit());
+      fmmu_end_bit_[direction] = std::max(fmmu_end_bit_[direction], f.end_bit());
+    }
+  }
+  fmmus_dirty_ = false;
 }
 
 bool Esc::logical_pass(std::uint32_t logical, std::uint8_t* frame, std::uint32_t count, bool write) noexcept {

@@ -43,7 +43,8 @@ void Esc::serve_application(hal::Nanoseconds now) noexcept {
   }
   // A complete message in the SM0 mailbox (possibly written while the application hung).
   EscSyncManager* in = sync_manager(0);
-  if (in != nullptr && has_mailbox() && in->active() && in->mailbox_mode() && in->master_writes() && in->mailbox_full()) {
+  // has_mailbox() (two SII words) last: the SM state rules out most calls first.
+  if (in != nullptr && in->mailbox_full() && in->active() && in->mailbox_mode() && in->master_writes() && has_mailbox()) {
     const ConstByteSpan message = in->device_read_buffer(memory_);
     ++counters_.mailbox_received;
     device_->on_mailbox(message, *this);

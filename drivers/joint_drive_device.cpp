@@ -53,6 +53,7 @@ std::uint16_t JointDriveDevice::on_state_change(AlState from, AlState to, EscPdi
 }
 
 void JointDriveDevice::on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept {
+  mirror_inputs();  // an SDO upload may read the inputs
   auto header = ecat::mbx::decode(message);
   const std::uint8_t counter = header.ok() ? header.value().header.counter : 0;
   if (counter != 0 && counter == last_request_counter_ && last_response_length_ > 0) {
@@ -91,6 +92,7 @@ void JointDriveDevice::on_cycle(ConstByteSpan outputs, ByteSpan inputs, const Cy
   }
   const JointInputs in = drive_.inputs();
   objects_.store_inputs(in);
+  od_inputs_stale_ = false;
   if (inputs.size() >= kJointInputBytes) encode_inputs(in, inputs);
 }
 
@@ -104,18 +106,26 @@ void JointDriveDevice::step(hal::Nanoseconds now, EscPdi&) noexcept {
   if (now > now_) {
     drive_.advance(now - now_, objects_.settings());
     now_ = now;
-    objects_.store_inputs(drive_.inputs());
+    od_inputs_stale_ = true;
   }
+}
+
+void JointDriveDevice::mirror_inputs() noexcept {
+  if (!od_inputs_stale_) return;
+  objects_.store_inputs(drive_.inputs());
+  od_inputs_stale_ = false;
 }
 
 void JointDriveDevice::lose_outputs(hal::Nanoseconds now) noexcept {
   drive_.apply_outputs(JointOutputs{}, false, objects_.settings(), now);
   objects_.store_inputs(drive_.inputs());
+  od_inputs_stale_ = false;
 }
 
 void JointDriveDevice::inject_fault(std::uint16_t error_code) noexcept {
   drive_.inject_fault(error_code);
   objects_.store_inputs(drive_.inputs());
+  od_inputs_stale_ = false;
 }
 
 }  // namespace rescue::drivers

@@ -38,15 +38,29 @@ class JointDriveDevice final : public SlaveDevice {
   void step(hal::Nanoseconds now, EscPdi& esc) noexcept override;
   void inject_fault(std::uint16_t error_code) noexcept override;
 
-  // For tests and fault injection from a running simulator.
-  Cia402Drive& drive() noexcept { return drive_; }
+  // For tests and fault injection from a running simulator. The dictionary mirrors the drive's
+  // inputs as of the last time the device ran (see mirror_inputs()); use drive() for one call at
+  // a time, so a change made through it shows in the dictionary only when the device next runs.
+  Cia402Drive& drive() noexcept {
+    mirror_inputs();
+    return drive_;
+  }
   const Cia402Drive& drive() const noexcept { return drive_; }
-  JointDriveObjects& objects() noexcept { return objects_; }
+  JointDriveObjects& objects() noexcept {
+    mirror_inputs();
+    return objects_;
+  }
   std::size_t joint() const noexcept { return joint_; }
   std::uint32_t mailbox_repeats() const noexcept { return mailbox_repeats_; }
 
  private:
   void lose_outputs(hal::Nanoseconds now) noexcept;
+  // The drive's inputs into the dictionary (0x6041, 0x6064, ...), if time passed since they were
+  // last put there. step() runs several times a cycle and only marks them stale: computing the
+  // inputs (encoder rounding) each time cost more than anything else in the drive. Whoever reads
+  // the dictionary or changes the drive from outside mirrors them first, so what it sees is what
+  // an eager copy after every step would have left there.
+  void mirror_inputs() noexcept;
 
   std::size_t joint_;
   SiiImage sii_{};
@@ -54,6 +68,7 @@ class JointDriveDevice final : public SlaveDevice {
   Cia402Drive drive_;
   hal::Nanoseconds now_{0};
   bool started_{false};
+  bool od_inputs_stale_{false};
   std::array<std::uint8_t, kJointMailboxSize> last_response_{};
   std::size_t last_response_length_{0};
   std::uint8_t last_request_counter_{0};

@@ -85,6 +85,27 @@ constexpr std::size_t storage_bytes() noexcept {
 static_assert(storage_bytes() <= kJointDriveObjectBytes, "object dictionary storage too small");
 static_assert(entries_are_sorted(kTable), "object table must be sorted by index and subindex");
 
+// The objects the drive reads or writes on every cycle, resolved here once (see
+// drivers/object_dictionary.hpp, "Speed").
+constexpr const ObjectEntry& kErrorRegister = object_entry(kTable, 0x1001, 0);
+constexpr const ObjectEntry& kErrorCode = object_entry(kTable, 0x603F, 0);
+constexpr const ObjectEntry& kControlword = object_entry(kTable, 0x6040, 0);
+constexpr const ObjectEntry& kStatusword = object_entry(kTable, 0x6041, 0);
+constexpr const ObjectEntry& kModesOfOperation = object_entry(kTable, 0x6060, 0);
+constexpr const ObjectEntry& kModesDisplay = object_entry(kTable, 0x6061, 0);
+constexpr const ObjectEntry& kPositionActual = object_entry(kTable, 0x6064, 0);
+constexpr const ObjectEntry& kFollowingErrorWindow = object_entry(kTable, 0x6065, 0);
+constexpr const ObjectEntry& kFollowingErrorTimeout = object_entry(kTable, 0x6066, 0);
+constexpr const ObjectEntry& kVelocityActual = object_entry(kTable, 0x606C, 0);
+constexpr const ObjectEntry& kTargetTorque = object_entry(kTable, 0x6071, 0);
+constexpr const ObjectEntry& kMaxTorque = object_entry(kTable, 0x6072, 0);
+constexpr const ObjectEntry& kTorqueActual = object_entry(kTable, 0x6077, 0);
+constexpr const ObjectEntry& kTargetPosition = object_entry(kTable, 0x607A, 0);
+constexpr const ObjectEntry& kPositionMin = object_entry(kTable, 0x607D, 1);
+constexpr const ObjectEntry& kPositionMax = object_entry(kTable, 0x607D, 2);
+constexpr const ObjectEntry& kMaxProfileVelocity = object_entry(kTable, 0x607F, 0);
+constexpr const ObjectEntry& kTargetVelocity = object_entry(kTable, 0x60FF, 0);
+
 std::uint32_t value_of(ConstByteSpan v) noexcept {
   std::uint32_t x = 0;
   for (std::size_t i = 0; i < v.size() && i < 4; ++i) x |= static_cast<std::uint32_t>(v[i]) << (8U * i);
@@ -189,42 +210,42 @@ JointDriveObjects::JointDriveObjects(std::size_t joint, std::size_t position) no
 }
 
 void JointDriveObjects::store_outputs(const JointOutputs& o) noexcept {
-  od_.set(0x6040, 0, o.controlword);
-  od_.set(0x6060, 0, static_cast<std::uint8_t>(o.mode_of_operation));
-  od_.set(0x607A, 0, u32_of(o.target_position));
-  od_.set(0x60FF, 0, u32_of(o.target_velocity));
-  od_.set(0x6071, 0, static_cast<std::uint16_t>(o.target_torque));
+  od_.set(kControlword, o.controlword);
+  od_.set(kModesOfOperation, static_cast<std::uint8_t>(o.mode_of_operation));
+  od_.set(kTargetPosition, u32_of(o.target_position));
+  od_.set(kTargetVelocity, u32_of(o.target_velocity));
+  od_.set(kTargetTorque, static_cast<std::uint16_t>(o.target_torque));
 }
 
 void JointDriveObjects::store_inputs(const JointInputs& i) noexcept {
-  od_.set(0x6041, 0, i.statusword);
-  od_.set(0x6061, 0, static_cast<std::uint8_t>(i.mode_display));
-  od_.set(0x6064, 0, u32_of(i.position_actual));
-  od_.set(0x606C, 0, u32_of(i.velocity_actual));
-  od_.set(0x6077, 0, static_cast<std::uint16_t>(i.torque_actual));
-  od_.set(0x603F, 0, i.error_code);
+  od_.set(kStatusword, i.statusword);
+  od_.set(kModesDisplay, static_cast<std::uint8_t>(i.mode_display));
+  od_.set(kPositionActual, u32_of(i.position_actual));
+  od_.set(kVelocityActual, u32_of(i.velocity_actual));
+  od_.set(kTorqueActual, static_cast<std::uint16_t>(i.torque_actual));
+  od_.set(kErrorCode, i.error_code);
   // Error register (CiA 301): bit 0 generic error while a fault is present.
-  od_.set(0x1001, 0, i.error_code != 0 ? 1U : 0U);
+  od_.set(kErrorRegister, i.error_code != 0 ? 1U : 0U);
 }
 
 JointOutputs JointDriveObjects::outputs() const noexcept {
   JointOutputs o;
-  o.controlword = static_cast<std::uint16_t>(od_.get_u32(0x6040, 0));
-  o.mode_of_operation = static_cast<std::int8_t>(od_.get_i32(0x6060, 0));
-  o.target_position = od_.get_i32(0x607A, 0);
-  o.target_velocity = od_.get_i32(0x60FF, 0);
-  o.target_torque = static_cast<std::int16_t>(od_.get_i32(0x6071, 0));
+  o.controlword = static_cast<std::uint16_t>(od_.get_u32(kControlword));
+  o.mode_of_operation = static_cast<std::int8_t>(od_.get_i32(kModesOfOperation));
+  o.target_position = od_.get_i32(kTargetPosition);
+  o.target_velocity = od_.get_i32(kTargetVelocity);
+  o.target_torque = static_cast<std::int16_t>(od_.get_i32(kTargetTorque));
   return o;
 }
 
 DriveSettings JointDriveObjects::settings() const noexcept {
   DriveSettings s;
-  s.position_min_counts = od_.get_i32(0x607D, 1);
-  s.position_max_counts = od_.get_i32(0x607D, 2);
-  s.max_velocity_counts_s = od_.get_u32(0x607F, 0);
-  s.max_torque_per_mille = static_cast<std::uint16_t>(od_.get_u32(0x6072, 0));
-  s.following_error_window_counts = od_.get_u32(0x6065, 0);
-  s.following_error_timeout_ms = static_cast<std::uint16_t>(od_.get_u32(0x6066, 0));
+  s.position_min_counts = od_.get_i32(kPositionMin);
+  s.position_max_counts = od_.get_i32(kPositionMax);
+  s.max_velocity_counts_s = od_.get_u32(kMaxProfileVelocity);
+  s.max_torque_per_mille = static_cast<std::uint16_t>(od_.get_u32(kMaxTorque));
+  s.following_error_window_counts = od_.get_u32(kFollowingErrorWindow);
+  s.following_error_timeout_ms = static_cast<std::uint16_t>(od_.get_u32(kFollowingErrorTimeout));
   return s;
 }
 

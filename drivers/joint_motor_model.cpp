@@ -2,13 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "drivers/inline_math.hpp"
 
 namespace rescue::drivers {
 namespace {
 
-double clamp(double v, double limit) noexcept { return std::max(-limit, std::min(limit, v)); }
+// max(-limit, min(limit, v)). The usual case, inside the limits, is a branch the CPU predicts:
+// min/max instructions would sit on the integration's dependency chain (docs/simulator.md, Speed).
+// Same result bit for bit: inside the limits both forms return v.
+double clamp(double v, double limit) noexcept {
+  if (v < limit && -limit < v) return v;
+  return std::max(-limit, std::min(limit, v));
+}
 
 constexpr double kStandstillRadS = 1e-4;
+constexpr double kTwoTo32 = 4294967296.0;
+
+std::uint64_t bits_of(double v) noexcept {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
 
 }  // namespace
 
@@ -22,13 +39,29 @@ JointMotorModel::JointMotorModel(const MotorLimits& limits, double initial_posit
 bool JointMotorModel::standstill() const noexcept { return std::fabs(velocity_) < kStandstillRadS; }
 
 void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noexcept {
-  limited_ = false;
-  if (command.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
+  // The integration runs on local copies, written back at the end: with nothing the loop stores
+  // able to alias the command or the model, the state stays in registers instead of going
+  // through memory on every substep's dependency chain. Same arithmetic, same results.
+  const MotorCommand c = command;
+  JointMotorModel m = *this;
+  m.limited_ = false;
+  if (c.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
   while (dt > 0) {
     const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
-    substep(command, static_cast<double>(h) * 1e-9);
+    const std::uint64_t position_before = bits_of(m.position_);
+    const std::uint64_t velocity_before = bits_of(m.velocity_);
+    const std::uint64_t torque_before = bits_of(m.torque_);
+    m.substep(c, static_cast<double>(h) * 1e-9);
     dt -= h;
+    if (h == kMotorSubstepNs && bits_of(m.position_) == position_before && bits_of(m.velocity_) == velocity_before &&
+        bits_of(m.torque_) == torque_before) {
+      // A fixed point (a joint held still): substep() is a pure function of the state, the
+      // command and h, so the remaining whole substeps would change nothing either. Only the
+      // shorter last one is left to compute.
+      dt %= kMotorSubstepNs;
+    }
   }
+  *this = m;
 }
 
 void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
@@ -88,19 +121,20 @@ void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
 
 std::int32_t JointMotorModel::position_counts() const noexcept {
   // Wrap like a 32-bit modulo encoder counter (continuous joints run past the int32 range).
-  const double counts = std::nearbyint(position_ * kCountsPerRad);
-  const double wrapped = std::fmod(counts, 4294967296.0);
+  const double counts = inline_math::nearbyint(position_ * kCountsPerRad);
+  // fmod(x, 2^32) is x itself inside +-2^32 (every joint but a long-running track): skip the call.
+  const double wrapped = std::fabs(counts) < kTwoTo32 ? counts : std::fmod(counts, kTwoTo32);
   const auto raw = static_cast<std::int64_t>(wrapped);
   return static_cast<std::int32_t>(static_cast<std::uint32_t>(static_cast<std::uint64_t>(raw)));
 }
 
 std::int32_t JointMotorModel::velocity_counts_s() const noexcept {
-  return static_cast<std::int32_t>(std::nearbyint(velocity_ * kCountsPerRad));
+  return static_cast<std::int32_t>(inline_math::nearbyint(velocity_ * kCountsPerRad));
 }
 
 std::int16_t JointMotorModel::torque_per_mille() const noexcept {
   const double permille = 1000.0 * torque_ / limits_.rated_torque_nm;
-  return static_cast<std::int16_t>(std::nearbyint(clamp(permille, 32767.0)));
+  return static_cast<std::int16_t>(inline_math::nearbyint(clamp(permille, 32767.0)));
 }
 
 MotorLimits motor_limits_of(std::size_t joint) noexcept {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstring>
+#include <utility>
 
 #include "core/endian.hpp"
 #include "drivers/joint_drive_pdo.hpp"
@@ -14,17 +15,24 @@ namespace abort_code = ecat::coe::abort_code;
 
 ObjectDictionary::ObjectDictionary(Span<const ObjectEntry> entries, ByteSpan storage, Validator validator) noexcept
     : entries_(entries), storage_(storage), validator_(validator) {
+  assert(std::is_sorted(entries_.begin(), entries_.end(), [](const ObjectEntry& a, const ObjectEntry& b) {
+    return a.index != b.index ? a.index < b.index : a.subindex < b.subindex;
+  }));
   std::memset(storage_.data(), 0, storage_.size());
 }
 
 const ObjectEntry* ObjectDictionary::find(std::uint16_t index, std::uint8_t subindex) const noexcept {
-  const auto* it = std::find_if(entries_.begin(), entries_.end(),
-                                [&](const ObjectEntry& e) { return e.index == index && e.subindex == subindex; });
-  return it == entries_.end() ? nullptr : it;
+  // The table is sorted by (index, subindex) (entries_are_sorted, checked by the constructor).
+  const auto* it = std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(index, subindex),
+                                    [](const ObjectEntry& e, const std::pair<std::uint16_t, std::uint8_t>& key) {
+                                      return e.index != key.first ? e.index < key.first : e.subindex < key.second;
+                                    });
+  return it != entries_.end() && it->index == index && it->subindex == subindex ? it : nullptr;
 }
 
 bool ObjectDictionary::has_index(std::uint16_t index) const noexcept {
-  return std::any_of(entries_.begin(), entries_.end(), [&](const ObjectEntry& e) { return e.index == index; });
+  // Every index starts at subindex 0 (entries_are_sorted).
+  return find(index, 0) != nullptr;
 }
 
 const ObjectEntry& ObjectDictionary::entry(std::uint16_t index, std::uint8_t subindex) const noexcept {
@@ -60,30 +68,6 @@ std::uint32_t ObjectDictionary::write(std::uint16_t index, std::uint8_t subindex
   std::memset(storage_.data() + e->offset, 0, e->size);
   std::memcpy(storage_.data() + e->offset, value.data(), value.size());
   return 0;
-}
-
-std::uint32_t ObjectDictionary::get_u32(std::uint16_t index, std::uint8_t subindex) const noexcept {
-  const ObjectEntry& e = entry(index, subindex);
-  assert(e.size <= 4);
-  std::uint32_t v = 0;
-  for (std::size_t i = 0; i < e.size; ++i) v |= static_cast<std::uint32_t>(storage_[e.offset + i]) << (8U * i);
-  return v;
-}
-
-std::int32_t ObjectDictionary::get_i32(std::uint16_t index, std::uint8_t subindex) const noexcept {
-  const ObjectEntry& e = entry(index, subindex);
-  const std::uint32_t raw = get_u32(index, subindex);
-  switch (e.size) {
-    case 1: return static_cast<std::int8_t>(raw);
-    case 2: return static_cast<std::int16_t>(raw);
-    default: return static_cast<std::int32_t>(raw);
-  }
-}
-
-void ObjectDictionary::set(std::uint16_t index, std::uint8_t subindex, std::uint32_t value) noexcept {
-  const ObjectEntry& e = entry(index, subindex);
-  assert(e.size <= 4);
-  for (std::size_t i = 0; i < e.size; ++i) storage_[e.offset + i] = static_cast<std::uint8_t>(value >> (8U * i));
 }
 
 void ObjectDictionary::set_string(std::uint16_t index, std::uint8_t subindex, const char* text) noexcept {

@@ -10,6 +10,7 @@
 #include "core/app/bench_header.hpp"
 #include "core/app/nic_factory.hpp"
 #include "core/app/nic_option.hpp"
+#include "core/app/timed_nic.hpp"
 #include "core/heap_guard.hpp"
 #include "core/latency_histogram.hpp"
 #include "drivers/cia402_enable.hpp"
@@ -27,35 +28,6 @@ namespace {
 constexpr std::int64_t kDefaultCycles = 10'000;
 constexpr int kMaxCyclesToOp = 2'000;
 constexpr int kColdConvergenceCycles = 5'000;
-
-// The NIC under the master, with the time spent inside send/receive counted (the wire's or the
-// simulator's time, not the master's).
-class TimedNic final : public hal::Nic {
- public:
-  TimedNic(hal::Nic& inner, const hal::TscTimer& timer) noexcept : inner_(&inner), timer_(timer) {}
-  void set_inner(hal::Nic& inner) noexcept { inner_ = &inner; }
-  Status send(ConstByteSpan frame) noexcept override {
-    const std::uint64_t t0 = timer_.start();
-    const Status s = inner_->send(frame);
-    ticks_ += timer_.stop() - t0;
-    return s;
-  }
-  Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
-    const std::uint64_t t0 = timer_.start();
-    Result<std::size_t> r = inner_->receive(buffer, deadline);
-    ticks_ += timer_.stop() - t0;
-    return r;
-  }
-  hal::Clock& clock() noexcept override { return inner_->clock(); }
-  const char* name() const noexcept override { return inner_->name(); }
-  hal::NicStats stats() const noexcept override { return inner_->stats(); }
-  std::uint64_t ticks() const noexcept { return ticks_; }
-
- private:
-  hal::Nic* inner_;
-  const hal::TscTimer& timer_;
-  std::uint64_t ticks_{0};
-};
 
 // Histograms in static storage (18 KiB each), reset (touched) before init.
 LatencyHistogram g_master_ns;

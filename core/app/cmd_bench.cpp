@@ -5,6 +5,7 @@
 #include "core/app/bench_core.hpp"
 #include "core/app/bench_master.hpp"
 #include "core/app/bench_nic.hpp"
+#include "core/app/bench_sim.hpp"
 #include "core/app/commands.hpp"
 #include "core/app/nic_option.hpp"
 
@@ -14,8 +15,9 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
-    {"cycles", "N", "master: cycles of the measured run (default 10000)"},
-    {"seed", "S", "master: seed of the simulated robot's clocks and delays (default 1)"},
+    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
+    {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
+    {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
 };
 
 struct Bench {
@@ -28,6 +30,7 @@ const Bench kBenches[] = {
     {"core", bench_core},
     {"codec", bench_codec},
     {"master", bench_master},
+    {"sim", bench_sim},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -47,7 +50,8 @@ const CommandSpec kBenchCommand{
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
-    "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init",
+    "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
+    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
