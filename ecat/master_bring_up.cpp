@@ -179,7 +179,8 @@ Status Master::identify() noexcept {
     f.input_bits = info.default_bits_of_sync_manager(3);
     f.pdo_sizes_known = !info.rx_pdos.empty() || !info.tx_pdos.empty();
     const std::string_view name = info.name();
-    std::memcpy(f.name.data(), name.data(), std::min(name.size(), f.name.size() - 1));
+    // An SII without a name string gives an empty view whose data() may be null: copy nothing.
+    if (!name.empty()) std::memcpy(f.name.data(), name.data(), std::min(name.size(), f.name.size() - 1));
     (void)report_.found.push_back(f);  // capacity kMaxFoundSlaves >= n
 
     SlaveSetup& found = found_setup[a];

@@ -53,7 +53,7 @@ if want fuzz; then
     mkdir -p "$corpus"
     seeds="$(dirname "$f")/seeds-$(basename "$f")"
     echo "fuzz: $f"
-    "$f" -max_total_time="$fuzz_seconds" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) 2>&1 | tail -n 12
+    "$f" -max_total_time="$fuzz_seconds" -artifact_prefix="build/fuzz/fuzz/" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) 2>&1 | tail -n 12
   done
   [ "$fuzzers" -gt 0 ] || echo "fuzz: no fuzz targets yet (tests/fuzz/fuzzers.cmake lists none)"
 fi
