@@ -4,13 +4,14 @@
 #   2. debug build + the whole GoogleTest suite through CTest
 #   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
 #   4. ThreadSanitizer build + the tests labelled 'concurrency'
-#   5. clang build with libFuzzer targets + a short bounded run of each fuzzer
-#   6. aarch64 cross compile of the firmware libraries
-# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [tsan] [fuzz] [cross]
+#   5. AddressSanitizer + UndefinedBehaviorSanitizer build + the whole suite
+#   6. fuzz build (clang, every library instrumented) + a short bounded run of each fuzzer
+#   7. aarch64 cross compile of the firmware libraries
+# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [tsan] [asan] [fuzz] [cross]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis tsan fuzz cross)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis tsan asan fuzz cross)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
 
@@ -39,6 +40,13 @@ if want tsan; then
   # Only the concurrency tests run under TSan, so only they (and what they link) are built.
   cmake --build --preset tsan -j "$jobs" --target concurrency_tests
   ctest --preset tsan -j "$jobs"
+fi
+
+if want asan; then
+  banner "AddressSanitizer + UndefinedBehaviorSanitizer: every test"
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan -j "$jobs"
+  ctest --preset asan -j "$jobs"
 fi
 
 if want fuzz; then
