@@ -289,6 +289,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
   }
   handler_thread.join();
+  // The drives are off: the joint manager's DFAs follow (Enabled -> Ready) in its last step.
+  for (const JointCommand& command : stop_robot_commands(kAllJoints & ~manager.lost_joints())) {
+    if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
+  }
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   while (handler.pop_event(event)) print_handler_event(event, start);
