@@ -53,7 +53,7 @@ void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noe
   // through memory on every substep's dependency chain. Same arithmetic, same results.
   const MotorCommand c = command;
   MotorState s{position_, velocity_, torque_, false};
-  bool limited = false;
+  bool any_limit = false;
   if (c.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
   while (dt > 0) {
     const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
@@ -63,13 +63,13 @@ void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noe
       // rest_.h. With a step no longer than that it does too: every increment it adds is then
       // no larger, so it vanishes in the same roundings; the limit flags do not depend on h.
       // So this and every later (never longer) substep would change nothing.
-      limited = limited || rest_.limited;
+      any_limit = any_limit || rest_.limited;
       break;
     }
     const MotorState before = s;
     s.limited = false;
     substep(c, static_cast<double>(h) * 1e-9, s);
-    limited = limited || s.limited;
+    any_limit = any_limit || s.limited;
     dt -= h;
     if (bits_of(s.position) == bits_of(before.position) && bits_of(s.velocity) == bits_of(before.velocity) &&
         bits_of(s.torque) == bits_of(before.torque)) {
@@ -81,7 +81,7 @@ void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noe
   position_ = s.position;
   velocity_ = s.velocity;
   torque_ = s.torque;
-  limited_ = limited;
+  limited_ = any_limit;
 }
 
 void JointMotorModel::substep(const MotorCommand& c, double dt, MotorState& s) const noexcept {
