@@ -14,11 +14,13 @@ void EscLocalClock::reset(hal::Nanoseconds t, std::uint64_t local, double drift_
   speed_ = 0.0;
   phase_budget_ = 0.0;
   phase_rate_ = 0.0;
+  memo_valid_ = false;
 }
 
 void EscLocalClock::set_phase_correction(double budget_ns, double rate) noexcept {
   phase_budget_ = budget_ns;
   phase_rate_ = budget_ns == 0.0 ? 0.0 : std::copysign(std::fabs(rate), budget_ns);
+  memo_valid_ = false;
 }
 
 double EscLocalClock::gained(double dt) const noexcept {
@@ -28,12 +30,21 @@ double EscLocalClock::gained(double dt) const noexcept {
   return linear + std::copysign(phase, phase_budget_);
 }
 
+double EscLocalClock::total_at(hal::Nanoseconds t) const noexcept {
+  // The ESC asks for the same instant twice in a row (is SYNC0 due at t? then advance to t):
+  // remembered until the clock changes, computed once.
+  if (memo_valid_ && memo_t_ == t) return memo_total_;
+  memo_total_ = base_fraction_ + gained(static_cast<double>(t - base_t_));
+  memo_t_ = t;
+  memo_valid_ = true;
+  return memo_total_;
+}
+
 std::uint64_t EscLocalClock::local_at(hal::Nanoseconds t) const noexcept {
   // At (or before) the reference point nothing was gained: the formula below gives base_local_
   // exactly (the fraction is in [0, 1)), so skip it. Most reads are of the time just advanced to.
   if (t <= base_t_) return base_local_;
-  const auto dt = static_cast<double>(t - base_t_);
-  const double total = base_fraction_ + gained(dt);
+  const double total = total_at(t);
   // The clock never runs backwards (|phase rate| stays far below the crystal rate).
   const double whole = inline_math::floor(total);
   return base_local_ + static_cast<std::uint64_t>(whole > 0.0 ? whole : 0.0);
@@ -62,7 +73,8 @@ hal::Nanoseconds EscLocalClock::time_of_local(std::uint64_t local) const noexcep
 void EscLocalClock::advance(hal::Nanoseconds t) noexcept {
   if (t <= base_t_) return;
   const auto dt = static_cast<double>(t - base_t_);
-  const double total = base_fraction_ + gained(dt);
+  const double total = total_at(t);
+  memo_valid_ = false;  // the reference point moves
   if (phase_rate_ != 0.0) {
     const double used = inline_math::fmin(std::fabs(phase_budget_), std::fabs(phase_rate_) * dt);
     phase_budget_ -= std::copysign(used, phase_budget_);

@@ -33,7 +33,10 @@ class EscLocalClock {
   void advance(hal::Nanoseconds t) noexcept;
 
   // Loop outputs, applied from the last advance on.
-  void set_speed_correction(double speed) noexcept { speed_ = speed; }
+  void set_speed_correction(double speed) noexcept {
+    speed_ = speed;
+    memo_valid_ = false;
+  }
   void set_phase_correction(double budget_ns, double rate) noexcept;
   double speed_correction() const noexcept { return speed_; }
   double phase_budget() const noexcept { return phase_budget_; }
@@ -42,6 +45,8 @@ class EscLocalClock {
  private:
   // Local nanoseconds (with fraction) gained between the reference point and t0 + dt.
   double gained(double dt) const noexcept;
+  // base_fraction_ + gained(t - base_t_), for t after the reference point (memo_ below).
+  double total_at(hal::Nanoseconds t) const noexcept;
 
   hal::Nanoseconds base_t_{0};
   std::uint64_t base_local_{0};
@@ -50,6 +55,10 @@ class EscLocalClock {
   double speed_{0.0};
   double phase_budget_{0.0};   // local ns still to add (negative: to remove)
   double phase_rate_{0.0};     // local ns per segment ns, same sign as the budget
+  // The last total_at(): valid until the reference point or a rate changes.
+  mutable bool memo_valid_{false};
+  mutable hal::Nanoseconds memo_t_{0};
+  mutable double memo_total_{0.0};
 };
 
 }  // namespace rescue::drivers

@@ -59,9 +59,9 @@ class EscMemory {
   }
   void mark(std::uint32_t first, std::uint32_t count, std::uint8_t attributes) noexcept;
 
+  std::uint32_t ram_end_{kEscRegisterSpace};  // first: read on every RAM access, next to the ESC's state
   std::array<std::uint8_t, kEscMemorySize> bytes_{};
   std::array<std::uint8_t, kEscRegisterSpace> attributes_{};
-  std::uint32_t ram_end_{kEscRegisterSpace};
 };
 
 }  // namespace rescue::drivers

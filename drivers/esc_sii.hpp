@@ -51,7 +51,6 @@ class EscSii {
  private:
   void finish(EscMemory& memory) noexcept;
 
-  std::array<std::uint8_t, kMaxEepromBytes> eeprom_{};
   std::size_t size_{0};
   bool configuration_valid_{false};
   std::uint8_t read_bytes_{8};
@@ -62,6 +61,8 @@ class EscSii {
   std::uint16_t command_{0};
   bool reload_done_{false};
   hal::Nanoseconds done_at_{0};
+  // Last: the flags above are read every frame, the EEPROM only by commands.
+  std::array<std::uint8_t, kMaxEepromBytes> eeprom_{};
 };
 
 }  // namespace rescue::drivers

@@ -21,10 +21,10 @@ double initial_position(std::size_t joint) noexcept {
 
 JointDriveDevice::JointDriveDevice(std::size_t position) noexcept
     : joint_(kSlaves[position].joint),
-      // Cannot fail: the content is fixed and its size is checked by the tests.
-      sii_(build_joint_drive_sii(position).value_or(SiiImage{})),
       objects_(joint_, position),
-      drive_(motor_limits_of(joint_), initial_position(joint_)) {
+      drive_(motor_limits_of(joint_), initial_position(joint_)),
+      // Cannot fail: the content is fixed and its size is checked by the tests.
+      sii_(build_joint_drive_sii(position).value_or(SiiImage{})) {
   drive_.power_up();
   objects_.store_inputs(drive_.inputs());
 }
@@ -67,6 +67,7 @@ void JointDriveDevice::on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept {
   response_counter_ = ecat::mbx::next_counter(response_counter_);
   last_response_length_ = serve_sdo(message, objects_.od(), esc.al_state(), ByteSpan(last_response_.data(), capacity),
                                     response_counter_);
+  settings_stale_ = true;  // a download may have changed them
   if (last_response_length_ == 0) return;
   if (!esc.post_mailbox(ConstByteSpan(last_response_.data(), last_response_length_)).ok()) return;
   // The fragments of a long SDO Information answer follow on their own (the master reads them
@@ -82,13 +83,13 @@ void JointDriveDevice::on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept {
 
 void JointDriveDevice::on_cycle(ConstByteSpan outputs, ByteSpan inputs, const CycleContext& ctx, EscPdi&) noexcept {
   const bool valid = ctx.state == AlState::op && outputs.size() >= kJointOutputBytes;
-  const DriveSettings settings = objects_.settings();
+  const DriveSettings& current = settings();
   if (valid) {
     const JointOutputs out = decode_outputs(outputs);
     objects_.store_outputs(out);
-    drive_.apply_outputs(out, true, settings, ctx.now);
+    drive_.apply_outputs(out, true, current, ctx.now);
   } else {
-    drive_.apply_outputs(JointOutputs{}, false, settings, ctx.now);
+    drive_.apply_outputs(JointOutputs{}, false, current, ctx.now);
   }
   const JointInputs in = drive_.inputs();
   objects_.store_inputs(in);
@@ -104,10 +105,18 @@ void JointDriveDevice::step(hal::Nanoseconds now, EscPdi&) noexcept {
     return;
   }
   if (now > now_) {
-    drive_.advance(now - now_, objects_.settings());
+    drive_.advance(now - now_, settings());
     now_ = now;
     od_inputs_stale_ = true;
   }
+}
+
+const DriveSettings& JointDriveDevice::settings() noexcept {
+  if (settings_stale_) {
+    settings_ = objects_.settings();
+    settings_stale_ = false;
+  }
+  return settings_;
 }
 
 void JointDriveDevice::mirror_inputs() noexcept {
@@ -117,7 +126,7 @@ void JointDriveDevice::mirror_inputs() noexcept {
 }
 
 void JointDriveDevice::lose_outputs(hal::Nanoseconds now) noexcept {
-  drive_.apply_outputs(JointOutputs{}, false, objects_.settings(), now);
+  drive_.apply_outputs(JointOutputs{}, false, settings(), now);
   objects_.store_inputs(drive_.inputs());
   od_inputs_stale_ = false;
 }

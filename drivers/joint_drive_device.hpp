@@ -48,6 +48,7 @@ class JointDriveDevice final : public SlaveDevice {
   const Cia402Drive& drive() const noexcept { return drive_; }
   JointDriveObjects& objects() noexcept {
     mirror_inputs();
+    settings_stale_ = true;  // the caller may change them through the dictionary
     return objects_;
   }
   std::size_t joint() const noexcept { return joint_; }
@@ -61,19 +62,26 @@ class JointDriveDevice final : public SlaveDevice {
   // the dictionary or changes the drive from outside mirrors them first, so what it sees is what
   // an eager copy after every step would have left there.
   void mirror_inputs() noexcept;
+  // The dictionary's drive settings (0x607D, 0x607F, 0x6072, 0x6065, 0x6066), read again only
+  // after something may have written them (an SDO download, a caller of objects()): every
+  // step needs them, and reading the dictionary each time costs cache misses.
+  const DriveSettings& settings() noexcept;
 
   std::size_t joint_;
-  SiiImage sii_{};
   JointDriveObjects objects_;
   Cia402Drive drive_;
+  DriveSettings settings_{};
+  bool settings_stale_{true};
   hal::Nanoseconds now_{0};
   bool started_{false};
   bool od_inputs_stale_{false};
-  std::array<std::uint8_t, kJointMailboxSize> last_response_{};
   std::size_t last_response_length_{0};
   std::uint8_t last_request_counter_{0};
   std::uint8_t response_counter_{0};
   std::uint32_t mailbox_repeats_{0};
+  // Last: read at start-up and on mailbox traffic only.
+  SiiImage sii_{};
+  std::array<std::uint8_t, kJointMailboxSize> last_response_{};
 };
 
 }  // namespace rescue::drivers

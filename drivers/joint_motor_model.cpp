@@ -38,37 +38,57 @@ JointMotorModel::JointMotorModel(const MotorLimits& limits, double initial_posit
 
 bool JointMotorModel::standstill() const noexcept { return std::fabs(velocity_) < kStandstillRadS; }
 
+bool JointMotorModel::rests_under(const MotorCommand& c, hal::Nanoseconds h) const noexcept {
+  return rest_.known && h <= rest_.h && c.drive == rest_.command.drive &&
+         bits_of(c.position_rad) == bits_of(rest_.command.position_rad) &&
+         bits_of(c.velocity_rad_s) == bits_of(rest_.command.velocity_rad_s) &&
+         bits_of(c.torque_nm) == bits_of(rest_.command.torque_nm) &&
+         bits_of(c.torque_limit_nm) == bits_of(rest_.command.torque_limit_nm) &&
+         bits_of(c.velocity_limit_rad_s) == bits_of(rest_.command.velocity_limit_rad_s);
+}
+
 void JointMotorModel::step(const MotorCommand& command, hal::Nanoseconds dt) noexcept {
   // The integration runs on local copies, written back at the end: with nothing the loop stores
-  // able to alias the command or the model, the state stays in registers instead of going
+  // able to alias the command or the state, the state stays in registers instead of going
   // through memory on every substep's dependency chain. Same arithmetic, same results.
   const MotorCommand c = command;
-  JointMotorModel m = *this;
-  m.limited_ = false;
+  MotorState s{position_, velocity_, torque_, false};
+  bool any_limit = false;
   if (c.drive == MotorDrive::unpowered) dt = std::min(dt, kMotorSubstepNs);  // nothing moves: one step does
   while (dt > 0) {
     const hal::Nanoseconds h = std::min(dt, kMotorSubstepNs);
-    const std::uint64_t position_before = bits_of(m.position_);
-    const std::uint64_t velocity_before = bits_of(m.velocity_);
-    const std::uint64_t torque_before = bits_of(m.torque_);
-    m.substep(c, static_cast<double>(h) * 1e-9);
+    if (rests_under(c, h)) {
+      // At rest (a joint held still): substep() is a pure function of the state, the command
+      // and h, and left this state bit for bit unchanged under this command with a step of
+      // rest_.h. With a step no longer than that it does too: every increment it adds is then
+      // no larger, so it vanishes in the same roundings; the limit flags do not depend on h.
+      // So this and every later (never longer) substep would change nothing.
+      any_limit = any_limit || rest_.limited;
+      break;
+    }
+    const MotorState before = s;
+    s.limited = false;
+    substep(c, static_cast<double>(h) * 1e-9, s);
+    any_limit = any_limit || s.limited;
     dt -= h;
-    if (h == kMotorSubstepNs && bits_of(m.position_) == position_before && bits_of(m.velocity_) == velocity_before &&
-        bits_of(m.torque_) == torque_before) {
-      // A fixed point (a joint held still): substep() is a pure function of the state, the
-      // command and h, so the remaining whole substeps would change nothing either. Only the
-      // shorter last one is left to compute.
-      dt %= kMotorSubstepNs;
+    if (bits_of(s.position) == bits_of(before.position) && bits_of(s.velocity) == bits_of(before.velocity) &&
+        bits_of(s.torque) == bits_of(before.torque)) {
+      rest_ = Rest{true, c, h, s.limited};
+    } else {
+      rest_.known = false;
     }
   }
-  *this = m;
+  position_ = s.position;
+  velocity_ = s.velocity;
+  torque_ = s.torque;
+  limited_ = any_limit;
 }
 
-void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
+void JointMotorModel::substep(const MotorCommand& c, double dt, MotorState& s) const noexcept {
   if (c.drive == MotorDrive::unpowered) {
     // Self-locking worm gear: no back-driving, the joint stands still.
-    velocity_ = 0.0;
-    torque_ = 0.0;
+    s.velocity = 0.0;
+    s.torque = 0.0;
     return;
   }
   const double torque_limit = std::min(std::max(c.torque_limit_nm, 0.0), limits_.torque_max_nm);
@@ -79,44 +99,44 @@ void JointMotorModel::substep(const MotorCommand& c, double dt) noexcept {
     case MotorDrive::position: {
       double target = c.position_rad;
       if (!limits_.continuous) target = std::max(limits_.position_min_rad, std::min(limits_.position_max_rad, target));
-      if (target != c.position_rad) limited_ = true;
-      velocity_target = kPositionGain * (target - position_) + c.velocity_rad_s;
+      if (target != c.position_rad) s.limited = true;
+      velocity_target = kPositionGain * (target - s.position) + c.velocity_rad_s;
       break;
     }
     case MotorDrive::velocity: velocity_target = c.velocity_rad_s; break;
     case MotorDrive::braking: {
       // Quick-stop ramp: the largest deceleration the torque allows, to standstill.
       const double decel = torque_limit / inertia_;
-      const double dv = std::min(std::fabs(velocity_), decel * dt);
-      velocity_ -= std::copysign(dv, velocity_);
-      torque_ = velocity_ == 0.0 ? 0.0 : -std::copysign(decel * inertia_, velocity_);
-      position_ += velocity_ * dt;
+      const double dv = std::min(std::fabs(s.velocity), decel * dt);
+      s.velocity -= std::copysign(dv, s.velocity);
+      s.torque = s.velocity == 0.0 ? 0.0 : -std::copysign(decel * inertia_, s.velocity);
+      s.position += s.velocity * dt;
       return;
     }
     case MotorDrive::torque: torque = c.torque_nm; break;
     case MotorDrive::unpowered: break;
   }
   if (c.drive != MotorDrive::torque) {
-    if (std::fabs(velocity_target) > velocity_limit) limited_ = true;
+    if (std::fabs(velocity_target) > velocity_limit) s.limited = true;
     velocity_target = clamp(velocity_target, velocity_limit);
-    torque = inertia_ * kVelocityGain * (velocity_target - velocity_);
+    torque = inertia_ * kVelocityGain * (velocity_target - s.velocity);
   }
-  if (std::fabs(torque) > torque_limit) limited_ = true;
+  if (std::fabs(torque) > torque_limit) s.limited = true;
   torque = clamp(torque, torque_limit);
-  velocity_ += torque / inertia_ * dt;
-  if (std::fabs(velocity_) > velocity_limit) {
+  s.velocity += torque / inertia_ * dt;
+  if (std::fabs(s.velocity) > velocity_limit) {
     // The drive's speed limiter (torque mode included): the internal limit is active.
-    velocity_ = clamp(velocity_, velocity_limit);
-    limited_ = true;
+    s.velocity = clamp(s.velocity, velocity_limit);
+    s.limited = true;
   }
-  position_ += velocity_ * dt;
-  if (!limits_.continuous && (position_ < limits_.position_min_rad || position_ > limits_.position_max_rad)) {
+  s.position += s.velocity * dt;
+  if (!limits_.continuous && (s.position < limits_.position_min_rad || s.position > limits_.position_max_rad)) {
     // A joint end stop: the joint stops at its limit.
-    position_ = std::max(limits_.position_min_rad, std::min(limits_.position_max_rad, position_));
-    velocity_ = 0.0;
-    limited_ = true;
+    s.position = std::max(limits_.position_min_rad, std::min(limits_.position_max_rad, s.position));
+    s.velocity = 0.0;
+    s.limited = true;
   }
-  torque_ = torque;
+  s.torque = torque;
 }
 
 std::int32_t JointMotorModel::position_counts() const noexcept {

@@ -75,7 +75,24 @@ class JointMotorModel {
   std::int16_t torque_per_mille() const noexcept;
 
  private:
-  void substep(const MotorCommand& command, double dt) noexcept;
+  struct MotorState {
+    double position;
+    double velocity;
+    double torque;
+    bool limited;  // this substep hit a limit
+  };
+  void substep(const MotorCommand& command, double dt, MotorState& state) const noexcept;
+  // True when a substep of `h` under `command` is known to leave the state as it is (rest_).
+  bool rests_under(const MotorCommand& command, hal::Nanoseconds h) const noexcept;
+
+  // The last substep left the state bit for bit unchanged: under which command, with which step,
+  // and whether it hit a limit (a joint held still rests there until its command changes).
+  struct Rest {
+    bool known{false};
+    MotorCommand command{};
+    hal::Nanoseconds h{0};
+    bool limited{false};
+  };
 
   MotorLimits limits_{};
   double inertia_{1.0};
@@ -84,6 +101,7 @@ class JointMotorModel {
   double velocity_{0.0};
   double torque_{0.0};
   bool limited_{false};
+  Rest rest_{};
 };
 
 // The limits of joint `joint` from core/robot.hpp.

@@ -39,6 +39,9 @@ Result<std::size_t> SimulatedNic::receive(ByteSpan buffer, hal::Nanoseconds dead
     Pending& front = queue_[head_];
     head_ = (head_ + 1) % kQueueDepth;
     --count_;
+    // Empty again: the next frame goes to the first slot, whose lines are still in the cache,
+    // rather than round all sixteen (24 KiB) one per cycle. The order of frames is unchanged.
+    if (count_ == 0) head_ = 0;
     clock_.sleep_until(front.ready_at);
     const auto frame = ConstByteSpan(front.bytes.data(), front.length);
     // Only EtherCAT frames that fit are handed over (the hal::Nic contract).

@@ -74,6 +74,7 @@ Status SimulatedSegment::build(Span<const SegmentSlave> slaves, hal::Nanoseconds
   children_ = children;
   for (std::size_t p = 0; p < count_; ++p) {
     slaves_[p] = slaves[p];
+    timing_[p] = Timing{slaves[p].link_delay_ns, slaves[p].esc.processing_delay_ns, slaves[p].esc.forwarding_delay_ns};
     cut_[p] = false;
     arrival_[p] = -1;
     escs_[p].power_up(slaves_[p].esc, *slaves_[p].device, now);
@@ -151,9 +152,9 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
 
   std::array<Visit, kMaxSegmentSlaves> stack{};
   std::size_t depth = 0;
-  const hal::Nanoseconds t0 = sent_at + slaves_[0].link_delay_ns;
+  const hal::Nanoseconds t0 = sent_at + timing_[0].link_delay_ns;
   enter(0, view, t0);
-  stack[depth++] = Visit{0, 0, 0, t0 + slaves_[0].esc.processing_delay_ns};
+  stack[depth++] = Visit{0, 0, 0, t0 + timing_[0].processing_delay_ns};
   bool lost = false;
   while (depth > 0) {
     Visit& v = stack[depth - 1];
@@ -167,9 +168,9 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
         break;
       }
       const std::uint8_t c = children_[v.position][port];
-      const hal::Nanoseconds t_child = v.t + slaves_[c].link_delay_ns;
+      const hal::Nanoseconds t_child = v.t + timing_[c].link_delay_ns;
       enter(c, view, t_child);
-      stack[depth++] = Visit{c, port, 0, t_child + slaves_[c].esc.processing_delay_ns};
+      stack[depth++] = Visit{c, port, 0, t_child + timing_[c].processing_delay_ns};
       descended = true;
       break;
     }
@@ -182,13 +183,13 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
     e.frame_left();
     --depth;
     if (depth == 0) {
-      outcome.first_bit_back = t_out + slaves_[0].link_delay_ns;
+      outcome.first_bit_back = t_out + timing_[0].link_delay_ns;
       break;
     }
     Visit& parent = stack[depth - 1];
-    const hal::Nanoseconds t_rx = t_out + slaves_[position].link_delay_ns;
+    const hal::Nanoseconds t_rx = t_out + timing_[position].link_delay_ns;
     escs_[parent.position].arrived_at_port(via, t_rx);
-    parent.t = t_rx + slaves_[parent.position].esc.forwarding_delay_ns;
+    parent.t = t_rx + timing_[parent.position].forwarding_delay_ns;
   }
   if (lost) {
     for (std::size_t i = 0; i < depth; ++i) escs_[stack[i].position].frame_left();

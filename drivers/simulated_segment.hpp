@@ -121,8 +121,14 @@ class SimulatedSegment {
   bool cable_up(std::size_t position) const noexcept;
   void enter(std::size_t position, ecat::MutableFrameView* view, hal::Nanoseconds t) noexcept;
 
+  // The delays a frame's passage reads, packed (a few cache lines for the whole segment).
+  struct Timing {
+    hal::Nanoseconds link_delay_ns{0};
+    hal::Nanoseconds processing_delay_ns{0};
+    hal::Nanoseconds forwarding_delay_ns{0};
+  };
+  std::array<Timing, kMaxSegmentSlaves> timing_{};
   std::array<SegmentSlave, kMaxSegmentSlaves> slaves_{};
-  std::array<Esc, kMaxSegmentSlaves> escs_{};
   std::array<std::array<std::uint8_t, kMaxEscPorts>, kMaxSegmentSlaves> children_{};
   std::array<bool, kMaxSegmentSlaves> cut_{};
   std::array<hal::Nanoseconds, kMaxSegmentSlaves> arrival_{};
@@ -131,6 +137,8 @@ class SimulatedSegment {
   std::uint32_t corrupt_pending_{0};
   std::uint64_t corrupt_sequence_{0};
   SegmentCounters counters_{};
+  // Last: the segment's own state above stays together, before the ESCs' 30 KiB each.
+  std::array<Esc, kMaxSegmentSlaves> escs_{};
 };
 
 }  // namespace rescue::drivers

@@ -149,14 +149,14 @@ void print(Motion motion, const RunFigures& f) noexcept {
   const double simulated_s = static_cast<double>(f.cycles) * 1e-3;
   const double wall_ratio = f.host_ns > 0 ? simulated_s / (static_cast<double>(f.host_ns) * 1e-9) : 0.0;
   const double cpu_ratio = f.cpu_ns > 0 ? simulated_s / (static_cast<double>(f.cpu_ns) * 1e-9) : 0.0;
-  (void)std::printf("%s_cycles_all_joints_valid: %" PRId64 " of %" PRId64 " cycles\n", m, f.all_valid, f.cycles);
+  (void)std::printf("%s_cycles_all_joints_valid: %" PRId64 " cycles (of %" PRId64 ")\n", m, f.all_valid, f.cycles);
   (void)std::printf("%s_frames_per_cycle: %.2f frames\n", m, static_cast<double>(f.frames) / static_cast<double>(f.cycles));
   (void)std::printf("%s_robot_cycle_host_median: %" PRIu64 " ns (master + simulator, per simulated 1 ms cycle)\n", m, f.cycle.p50);
   (void)std::printf("%s_robot_cycle_host_p99: %" PRIu64 " ns\n", m, f.cycle.p99);
   (void)std::printf("%s_segment_cycle_host_median: %" PRIu64 " ns (the simulator alone)\n", m, f.segment.p50);
   (void)std::printf("%s_segment_cycle_host_p99: %" PRIu64 " ns\n", m, f.segment.p99);
-  (void)std::printf("%s_simulated_seconds_per_host_second: %.0f (wall clock)\n", m, wall_ratio);
-  (void)std::printf("%s_simulated_seconds_per_cpu_second: %.0f (this thread's CPU time)\n", m, cpu_ratio);
+  (void)std::printf("%s_simulated_seconds_per_host_second: %.0f s/s (wall clock)\n", m, wall_ratio);
+  (void)std::printf("%s_simulated_seconds_per_cpu_second: %.0f s/s (this thread's CPU time)\n", m, cpu_ratio);
   (void)std::printf("%s_host_seconds_per_simulated_hour: %.1f s (wall clock)\n", m, wall_ratio > 0.0 ? kSecondsPerHour / wall_ratio : 0.0);
   (void)std::printf("%s_cpu_seconds_per_simulated_hour: %.1f s\n", m, cpu_ratio > 0.0 ? kSecondsPerHour / cpu_ratio : 0.0);
 }
@@ -178,7 +178,7 @@ int bench_sim(const ParsedArgs& args) noexcept {
   hal::apply_rt_config(rt).print(stdout);
   static const hal::TscTimer timer = hal::TscTimer::calibrate();
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
-  (void)std::printf("robot: 23 slaves (2 junctions, 21 joint drives), 1 ms cycle, virtual time\n");
+  (void)std::printf("robot_slaves: %u slaves (2 junctions, 21 joint drives), 1 ms cycle, virtual time\n", static_cast<unsigned>(kSlaveCount));
 
   const char* motion = args.value("motion");
   const bool both = motion == nullptr || std::strcmp(motion, "both") == 0;
