@@ -158,6 +158,16 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
   g_links.demand.write(demand_of(manager));
 }
 
+// Whether the handler's latest published values show every joint of `joints` reachable.
+bool all_reachable(JointMask joints) noexcept {
+  RobotSample sample{};
+  if (!g_links.samples.try_read(sample)) return false;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((joints & joint_bit(j)) != 0 && !sample[j].reachable) return false;
+  }
+  return true;
+}
+
 int report_bring_up_failure(drivers::JointBus& bus) noexcept {
   const ecat::BringUpReport& report = bus.master().report();
   (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
@@ -276,7 +286,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
                         seconds(state.op_at.load(std::memory_order_relaxed) - start));
     }
-    if (op_announced && !initialized) {
+    // The DFA takes its steps only for reachable joints: wait until the handler's published values
+    // show every joint that is not recorded lost reachable (the first OP cycles may not).
+    if (op_announced && !initialized && all_reachable(kAllJoints & ~restored.restored)) {
       initialized = true;
       (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
                         seconds(clock.now() - start));
