@@ -301,8 +301,16 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
   }
   handler_thread.join();
-  // The drives are off: the joint manager's DFAs follow (Enabled -> Ready) in its last step.
-  for (const JointCommand& command : stop_robot_commands(kAllJoints & ~manager.lost_joints())) {
+  // The drives are off: the joint manager's Enabled DFAs follow (Enabled -> Ready) in its last step.
+  // Which joints are Enabled comes from its published demand (its own state belongs to its thread).
+  RobotDemand demand{};
+  JointMask enabled = 0;
+  if (g_links.demand.try_read(demand)) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (demand[j].enable) enabled |= joint_bit(j);
+    }
+  }
+  for (const JointCommand& command : stop_robot_commands(enabled)) {
     if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
   }
   state.manager_stop.store(true, std::memory_order_release);
