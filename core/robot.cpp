@@ -25,6 +25,27 @@ std::size_t joint_index_by_name(const char* name) noexcept {
   return kJointCount;
 }
 
+Result<JointMask> parse_joint_names(const char* list) noexcept {
+  if (list == nullptr || list[0] == '\0') return make_error(Errc::invalid_argument, "empty list of joint names");
+  JointMask mask = 0;
+  std::uint32_t item = 0;
+  const char* begin = list;
+  for (;;) {
+    ++item;
+    const char* end = std::strchr(begin, ',');
+    const std::size_t length = end != nullptr ? static_cast<std::size_t>(end - begin) : std::strlen(begin);
+    if (length == 0) return make_error(Errc::invalid_argument, "empty joint name in the list", item);
+    std::size_t found = kJointCount;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (std::strlen(kJoints[j].name) == length && std::strncmp(kJoints[j].name, begin, length) == 0) found = j;
+    }
+    if (found == kJointCount) return make_error(Errc::invalid_argument, "unknown joint name in the list", item);
+    mask |= joint_bit(found);
+    if (end == nullptr) return mask;
+    begin = end + 1;
+  }
+}
+
 void format_joint_names(JointMask mask, char* out, std::size_t capacity) noexcept {
   if (capacity == 0) return;
   std::size_t used = 0;

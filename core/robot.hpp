@@ -17,6 +17,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/result.hpp"
+
 namespace rescue {
 
 constexpr std::size_t kJointCount = 21;
@@ -170,6 +172,10 @@ constexpr std::size_t kJointNamesCapacity = 320;
 
 // Index of the joint called `name`, or kJointCount when there is none.
 std::size_t joint_index_by_name(const char* name) noexcept;
+
+// The joints of a comma-separated list of names ("l_elbow,l_hand"), e.g. from the command line.
+// Errors: an empty list or item, or an unknown name (detail0: the item's 1-based number).
+Result<JointMask> parse_joint_names(const char* list) noexcept;
 
 // Encoder counts <-> radians (joint side).
 constexpr double counts_to_rad(std::int32_t counts) noexcept { return static_cast<double>(counts) / kCountsPerRad; }

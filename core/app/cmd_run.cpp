@@ -1,4 +1,6 @@
 // rescue-motion run: the firmware (core/app/firmware.hpp).
+#include <cstdio>
+
 #include "core/app/commands.hpp"
 #include "core/app/firmware.hpp"
 #include "core/app/nic_option.hpp"
@@ -14,6 +16,7 @@ const OptionSpec kOptions[] = {
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
+    {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
 };
 
 int run_main(const ParsedArgs& args) {
@@ -34,6 +37,17 @@ int run_main(const ParsedArgs& args) {
   options.capture_path = args.value("capture");
   options.state_dir = args.value("state-dir");
   options.initialize = args.has("initialize");
+  if (args.value("clear-joint") != nullptr) {
+    const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
+    if (!clear.ok()) {
+      char known[kJointNamesCapacity];
+      format_joint_names(kAllJoints, known, sizeof known);
+      (void)std::fprintf(stderr, "rescue-motion run: --clear-joint '%s': %s (item %u); the joints are: %s\n",
+                         args.value("clear-joint"), clear.error().what, static_cast<unsigned>(clear.error().detail0), known);
+      return 1;
+    }
+    options.clear_joints = clear.value();
+  }
   return run_firmware(options);
 }
 
@@ -43,7 +57,9 @@ const CommandSpec kRunCommand{
     "run", "run [OPTIONS]", "run the motion-control firmware (on the simulated robot by default)",
     "Reads the error-joints file of the state directory, brings the EtherCAT network up to OP with\n"
     "distributed clocks, and runs the EtherCAT handler (1 ms) and the joint manager. SIGINT or SIGTERM\n"
-    "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop.",
+    "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop.\n"
+    "After a repair, --clear-joint names the joints to clear: they must answer at bring-up; once they\n"
+    "do in OP they leave the error-joints file (logged) and are reset to Idle.",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app

@@ -16,6 +16,7 @@
 #include "core/app/joint_sample_source.hpp"
 #include "core/app/nic_factory.hpp"
 #include "core/app/predefined_messages.hpp"
+#include "core/app/repaired_joints.hpp"
 #include "core/app/simulated_robot_instance.hpp"
 #include "core/app/stop_signal.hpp"
 #include "core/app/task_links.hpp"
@@ -176,6 +177,32 @@ int report_bring_up_failure(drivers::JointBus& bus) noexcept {
   return 1;
 }
 
+// Prints what the operator's --clear-joint request will do; false when it is refused.
+bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
+  char names[kJointNamesCapacity];
+  if (plan.not_recorded != 0) {
+    format_joint_names(plan.not_recorded, names, sizeof names);
+    (void)std::printf("rescue-motion run: --clear-joint: %s not recorded lost; nothing to clear\n", names);
+  }
+  if (plan.refused()) {
+    format_joint_names(plan.stranded, names, sizeof names);
+    char blocking[kJointNamesCapacity];
+    format_joint_names(plan.blocking, blocking, sizeof blocking);
+    (void)std::fprintf(stderr,
+                       "rescue-motion run: --clear-joint: %s cannot answer behind %s, which stay(s) recorded lost: "
+                       "clear those too; the error-joints file is unchanged\n",
+                       names, blocking);
+    return false;
+  }
+  if (plan.to_clear != 0) {
+    format_joint_names(plan.to_clear, names, sizeof names);
+    (void)std::printf("rescue-motion run: operator declares %s repaired: expected on the network, cleared once they "
+                      "answer in OP\n",
+                      names);
+  }
+  return true;
+}
+
 }  // namespace
 
 int run_firmware(const FirmwareOptions& options) noexcept {
@@ -213,6 +240,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                       "they stay out of the exchange until an operator clears them\n",
                       names);
   }
+  // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
+  // once they do (a clear that cannot be confirmed loses nothing).
+  const RepairedJointsPlan repaired = plan_repaired_joints(options.clear_joints, restored.restored);
+  if (!announce_repaired_joints(repaired)) return 1;
+  const JointMask to_clear = repaired.to_clear;
+  const JointMask out_of_service = repaired.out_of_service;
   if (!restored.file_status.ok() && restored.file_present) {
     (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); starting safely\n",
                       restored.file_status.error().what, to_string(restored.file_status.error().code));
@@ -234,11 +267,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     bus.master().set_tap(ecat::capture_tap, &g_capture);
   }
   ecat::MasterOptions master_options;
-  master_options.known_lost = restored.restored;
+  master_options.known_lost = out_of_service;
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
   const Status up = bus.bring_up(master_options);
-  if (!up.ok()) return report_bring_up_failure(bus);
+  if (!up.ok()) {
+    if (to_clear != 0) {
+      (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "
+                                 "must answer at bring-up\n");
+    }
+    return report_bring_up_failure(bus);
+  }
   const ecat::BringUpReport& bring_up = bus.master().report();
   (void)std::printf("rescue-motion run: %u slaves found, SAFE-OP after %.3f s, distributed clocks within %u ns\n",
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
@@ -265,6 +304,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   bool op_announced = false;
   bool scenario_announced = false;
   bool initialized = !(options.initialize || options.scenario.kind != ScenarioKind::none);
+  bool clear_sent = to_clear == 0;
   HandlerEvent event{};
   for (;;) {
     const bool done = state.handler_done.load(std::memory_order_acquire);
@@ -288,11 +328,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     }
     // The DFA takes its steps only for reachable joints: wait until the handler's published values
     // show every joint that is not recorded lost reachable (the first OP cycles may not).
-    if (op_announced && !initialized && all_reachable(kAllJoints & ~restored.restored)) {
+    if (op_announced && !clear_sent && all_reachable(to_clear)) {
+      clear_sent = true;
+      char names[kJointNamesCapacity];
+      format_joint_names(to_clear, names, sizeof names);
+      (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - start), names);
+      for (const JointCommand& command : clear_repaired_joints_commands(to_clear)) {
+        if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
+      }
+    }
+    if (op_announced && clear_sent && !initialized && all_reachable(kAllJoints & ~out_of_service)) {
       initialized = true;
       (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
                         seconds(clock.now() - start));
-      for (const JointCommand& command : initialize_robot_commands(kAllJoints & ~restored.restored)) {
+      for (const JointCommand& command : initialize_robot_commands(kAllJoints & ~out_of_service)) {
         if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
       }
     }

@@ -7,13 +7,16 @@
 //   EtherCAT handler  CPU thread 3, SCHED_FIFO 80: one frame per millisecond
 //
 // Start-up order (design brief section 6): the error-joints file is read before the network
-// comes up; the master then expects the joints it lists to be absent.
+// comes up; the master then expects the joints it lists to be absent, except those the operator
+// declares repaired (--clear-joint): they must answer at bring-up, and once they do in OP the
+// joint manager clears them (one durable write, logged) and resets them to Idle.
 #pragma once
 
 #include <cstdint>
 
 #include "core/app/nic_option.hpp"
 #include "core/app/run_scenario.hpp"
+#include "core/robot.hpp"
 #include "hal/clock.hpp"
 
 namespace rescue::app {
@@ -26,6 +29,7 @@ struct FirmwareOptions {
   const char* capture_path{nullptr};
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)
   bool initialize{false};            // send "initialize robot" once the network is in OP
+  JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)
 };
 
 // Runs until the duration, the scenario's end or a stop signal; returns the exit status.

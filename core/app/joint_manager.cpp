@@ -156,6 +156,10 @@ void JointManager::latch_loss(std::size_t j, FaultReason reason, std::int32_t po
 }
 
 void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  if (command.kind == JointCommandKind::clear_lost) {
+    if (!clear_lost_joints(command.joints & kAllJoints, now).ok()) ++refused_commands_;
+    return;
+  }
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((command.joints & joint_bit(j)) == 0) continue;
     // Preconditions of the manager, before the table: a mode to select, and a joint to talk to.
@@ -224,37 +228,69 @@ void JointManager::monitor(hal::Nanoseconds now) noexcept {
 }
 
 Status JointManager::clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept {
-  Error refusal{};
   if (joint >= kJointCount) {
-    refusal = make_error(Errc::invalid_argument, "no such joint", static_cast<std::uint32_t>(joint));
-  } else if ((lost_ & joint_bit(joint)) == 0) {
-    refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(joint));
-  } else if (!sample_[joint].reachable) {
-    refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(joint));
-  }
-  if (refusal.code == Errc::ok) {
-    ErrorJointsContents next;
-    next.sequence = recorded_.sequence;
-    for (const LostJointRecord& r : recorded_.records) {
-      if (r.joint != joint) (void)next.records.push_back(r);
-    }
-    const Status saved = persist(next, now);  // durable first: a clear that is not on disk did not happen
-    if (!saved.ok()) refusal = saved.error();
-  }
-  if (refusal.code != Errc::ok) {
-    JointEvent e = joint_event(JointEventKind::operator_clear_refused, joint < kJointCount ? joint : kNoJoint, now);
+    const Error refusal = make_error(Errc::invalid_argument, "no such joint", static_cast<std::uint32_t>(joint));
+    JointEvent e = joint_event(JointEventKind::operator_clear_refused, kNoJoint, now);
     e.error = refusal;
     emit(e);
     return refusal;
   }
-  lost_ &= ~joint_bit(joint);
-  joints_[joint].context.loss_latched = false;
-  emit(joint_event(JointEventKind::operator_cleared, joint, now));
+  return clear_lost_joints(joint_bit(joint), now);
+}
+
+Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept {
+  // Each joint is judged on its own; the ones that may be cleared leave the file in one durable write.
+  Error first_refusal{};
+  JointMask accepted = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((joints & joint_bit(j)) == 0) continue;
+    Error refusal{};
+    if ((lost_ & joint_bit(j)) == 0) {
+      refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
+    } else if (!sample_[j].reachable) {
+      refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
+    }
+    if (refusal.code == Errc::ok) {
+      accepted |= joint_bit(j);
+      continue;
+    }
+    if (first_refusal.code == Errc::ok) first_refusal = refusal;
+    JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
+    e.error = refusal;
+    emit(e);
+  }
+  if (accepted == 0) {
+    return first_refusal.code != Errc::ok ? Status(first_refusal)
+                                          : Status(make_error(Errc::invalid_argument, "no joint to clear"));
+  }
+
+  ErrorJointsContents next;
+  next.sequence = recorded_.sequence;
+  for (const LostJointRecord& r : recorded_.records) {
+    if ((accepted & joint_bit(r.joint)) == 0) (void)next.records.push_back(r);
+  }
+  const Status saved = persist(next, now);  // durable first: a clear that is not on disk did not happen
+  if (!saved.ok()) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((accepted & joint_bit(j)) == 0) continue;
+      JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
+      e.error = saved.error();
+      emit(e);
+    }
+    return saved;
+  }
+  lost_ &= ~accepted;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((accepted & joint_bit(j)) == 0) continue;
+    joints_[j].context.loss_latched = false;
+    emit(joint_event(JointEventKind::operator_cleared, j, now));
+  }
   JointManagerNotice notice;
   notice.kind = NoticeKind::joints_cleared;
-  notice.joints = joint_bit(joint);
+  notice.joints = accepted;
   send_notice(notice, now);
   publish();
+  if (first_refusal.code != Errc::ok) return first_refusal;  // the others were cleared
   return Status::success();
 }
 

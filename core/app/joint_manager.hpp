@@ -88,6 +88,9 @@ class JointManager {
   // error-joints file (durably, or the clear is refused), its loss is unlatched and the handler told;
   // the joint stays in Error until a `reset` command.
   Status clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept;
+  // The same for a set of joints (the operator's `clear_lost` command): each joint is judged alone and
+  // logged; those that may be cleared leave the file in one write. The first refusal is returned.
+  Status clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept;
 
   const std::array<JointStatus, kJointCount>& statuses() const noexcept { return status_; }
   std::array<fsm::JointState, kJointCount> states() const noexcept;

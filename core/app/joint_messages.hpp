@@ -31,11 +31,18 @@ struct JointManagerNotice {
   Errc file_status{Errc::ok};      // ok: the error-joints file holds the change durably
 };
 
-// Message parser -> joint manager (the paper's "joint handle queue"): one DFA input for a set of joints.
+enum class JointCommandKind : std::uint8_t {
+  dfa_input,    // `input` for each joint of `joints`
+  clear_lost,   // operator: `joints` were repaired; unlatch their loss and drop them from the error file
+};
+
+// Message parser -> joint manager (the paper's "joint handle queue"): one DFA input for a set of
+// joints, or the operator's clear of repaired joints (logged, refused while a joint is unreachable).
 struct JointCommand {
   JointMask joints{0};
   fsm::JointInput input{fsm::JointInput::disable};
   ControlMode mode{ControlMode::none};  // the mode for select_mode
+  JointCommandKind kind{JointCommandKind::dfa_input};
 };
 
 }  // namespace rescue::app

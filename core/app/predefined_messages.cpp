@@ -3,10 +3,11 @@
 namespace rescue::app {
 namespace {
 
-void add(JointCommandSequence& sequence, JointMask joints, fsm::JointInput input, ControlMode mode) noexcept {
+void add(JointCommandSequence& sequence, JointMask joints, fsm::JointInput input, ControlMode mode,
+         JointCommandKind kind = JointCommandKind::dfa_input) noexcept {
   if (joints == 0) return;
   // Capacity is sized for the longest sequence this file builds.
-  const bool added = sequence.push_back(JointCommand{joints, input, mode});
+  const bool added = sequence.push_back(JointCommand{joints, input, mode, kind});
   (void)added;
 }
 
@@ -30,6 +31,13 @@ JointCommandSequence initialize_robot_commands(JointMask joints) noexcept {
 JointCommandSequence stop_robot_commands(JointMask joints) noexcept {
   JointCommandSequence sequence;
   add(sequence, joints, fsm::JointInput::disable, ControlMode::none);
+  return sequence;
+}
+
+JointCommandSequence clear_repaired_joints_commands(JointMask joints) noexcept {
+  JointCommandSequence sequence;
+  add(sequence, joints, fsm::JointInput::reset, ControlMode::none, JointCommandKind::clear_lost);
+  add(sequence, joints, fsm::JointInput::reset, ControlMode::none);
   return sequence;
 }
 

@@ -3,6 +3,7 @@
 //
 //   "initialize robot"  -> select_mode (each joint's default mode) -> set_reference -> enable
 //   "stop robot"        -> disable
+//   "clear repaired"    -> clear_lost (operator: the joints were repaired) -> reset (Error -> Idle)
 //
 // The joint manager applies the commands in order; a joint that cannot take a step (lost, in
 // Error) refuses it and the refusal is counted and logged there, the others go on.
@@ -20,5 +21,6 @@ using JointCommandSequence = FixedVector<JointCommand, kMaxInitializeSteps>;
 
 JointCommandSequence initialize_robot_commands(JointMask joints) noexcept;
 JointCommandSequence stop_robot_commands(JointMask joints) noexcept;
+JointCommandSequence clear_repaired_joints_commands(JointMask joints) noexcept;
 
 }  // namespace rescue::app

@@ -126,7 +126,7 @@ struct Rig {
     return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log};
   }
   void command(JointMask joints, fsm::JointInput input, ControlMode mode = ControlMode::none) {
-    ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode}));
+    ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode, JointCommandKind::dfa_input}));
   }
   FakeQueue<LostJointsReport> reports;
   FakeQueue<JointManagerNotice> notices;

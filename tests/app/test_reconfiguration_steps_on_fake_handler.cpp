@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/app/lost_joint_tracker.hpp"
+#include "core/app/predefined_messages.hpp"
 #include "joint_manager_fakes.hpp"
 
 namespace rescue::app {
@@ -195,6 +196,36 @@ TEST_F(Reconfiguration, OperatorClearsARepairedJointExplicitlyAndItComesBackThro
   EXPECT_EQ(manager.statuses()[joint_index_by_name("l_wrist_pitch")].state, JointState::error);
 }
 
+TEST_F(Reconfiguration, OperatorClearCommandClearsRepairedJointsInOneWriteAndRefusesTheRest) {
+  initialize_robot();
+  handler.cut = kElbowCut;
+  run(10);
+  const int saves_before = flaky.saves;
+
+  // Repair: every joint answers again. The operator's "clear repaired" message names the cut joints
+  // and one that was never lost.
+  handler.cut = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) rig.samples.robot[j].reachable = true;
+  run(1);
+  const std::size_t neck = joint_index_by_name("neck_pan");
+  for (const JointCommand& command : clear_repaired_joints_commands(kElbowCut | joint_bit(neck))) {
+    ASSERT_TRUE(rig.commands.try_send(command));
+  }
+  run(2);
+  EXPECT_EQ(flaky.saves, saves_before + 1);              // one durable write for the four joints
+  EXPECT_EQ(file_on_disk().joints(), JointMask{0});
+  EXPECT_EQ(manager.lost_joints(), JointMask{0});
+  EXPECT_EQ(handler.tracker.confirmed(), JointMask{0});  // the handler commands them again
+  EXPECT_TRUE(rig.log.contains("l_elbow: cleared by operator after repair"));
+  EXPECT_TRUE(rig.log.contains("l_hand: cleared by operator after repair"));
+  EXPECT_TRUE(rig.log.contains("neck_pan: operator clear refused: joint is not recorded as lost"));
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((kElbowCut & joint_bit(j)) != 0) {
+      EXPECT_EQ(manager.statuses()[j].state, JointState::idle) << kJoints[j].name;
+    }
+  }
+}
+
 TEST_F(Reconfiguration, SecondCutKeepsTheFirstJointsInTheFile) {
   initialize_robot();
   handler.cut = kElbowCut;
@@ -235,7 +266,9 @@ TEST_F(Reconfiguration, ClearThatCannotBeWrittenIsRefusedAndNothingChanges) {
   run(1);
   flaky.fail_saves = true;
   EXPECT_FALSE(manager.clear_lost_joint(kElbow, clock.now()).ok());
-  EXPECT_EQ(manager.lost_joints(), kElbowCut);
+  EXPECT_FALSE(manager.clear_lost_joints(kElbowCut, clock.now()).ok());  // the set: each joint refused
+  EXPECT_TRUE(rig.log.contains("l_wrist_yaw: operator clear refused: write temporary file"));
+  EXPECT_EQ(manager.lost_joints(), kElbowCut);  // a clear that is not on disk did not happen
   EXPECT_EQ(file_on_disk().joints(), kElbowCut);
 }
 

@@ -1,7 +1,8 @@
 // `rescue-motion run` end to end on the simulated robot (design brief section 6, issue 6):
 //   run --scenario link-cut --state-dir DIR   cuts l_elbow 1 s after OP, reconfigures, exits 0;
 //   run --duration S --state-dir DIR          restores the lost joints from the file before bring-up;
-//   a truncated, garbage, empty or huge file  starts safely and says why the file was not used.
+//   a truncated, garbage, empty or huge file  starts safely and says why the file was not used;
+//   run --clear-joint NAMES                   the operator's clear after a repair, logged and durable.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -37,6 +38,47 @@ TEST(RunCommand, LinkCutScenarioReconfiguresThenARestartRestoresTheLostJoints) {
   ASSERT_NE(restored, std::string::npos) << second.out;
   ASSERT_NE(bring_up, std::string::npos) << second.out;
   EXPECT_LT(restored, bring_up) << "the file must be read before the network comes up";
+}
+
+TEST(RunCommand, OperatorClearsRepairedJointsAndTheNextStartRestoresNone) {
+  testing::TempStateDir dir;
+  const test::CommandOutput cut = run("--scenario link-cut --state-dir " + dir.path);
+  ASSERT_EQ(cut.exit_status, 0) << cut.out;
+
+  // Repaired (the simulated robot starts whole): the operator clears the four joints.
+  const test::CommandOutput cleared =
+      run("--duration 0.5 --initialize --clear-joint l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand,neck_pan --state-dir " + dir.path);
+  EXPECT_EQ(cleared.exit_status, 0) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "--clear-joint: neck_pan not recorded lost; nothing to clear")) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "operator declares l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand repaired")) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "l_elbow: cleared by operator after repair")) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "l_hand: Error --reset--> Idle")) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "l_hand: Ready --enable--> Enabled")) << cleared.out;
+  EXPECT_TRUE(contains(cleared.out, "lost joints: none")) << cleared.out;
+
+  const test::CommandOutput next = run("--duration 0.2 --state-dir " + dir.path);
+  EXPECT_EQ(next.exit_status, 0) << next.out;
+  EXPECT_FALSE(contains(next.out, "restored lost joints")) << next.out;
+}
+
+TEST(RunCommand, ClearingAJointBehindOneThatStaysLostIsRefusedAndTheFileKept) {
+  testing::TempStateDir dir;
+  const test::CommandOutput cut = run("--scenario link-cut --state-dir " + dir.path);
+  ASSERT_EQ(cut.exit_status, 0) << cut.out;
+  const test::CommandOutput refused = run("--duration 0.2 --clear-joint l_elbow,l_hand --state-dir " + dir.path);
+  EXPECT_EQ(refused.exit_status, 1) << refused.out;
+  EXPECT_TRUE(contains(refused.out, "--clear-joint: l_hand cannot answer behind l_wrist_yaw,l_wrist_pitch")) << refused.out;
+  EXPECT_FALSE(contains(refused.out, "bringing the EtherCAT network up")) << refused.out;
+  const test::CommandOutput next = run("--duration 0.2 --state-dir " + dir.path);
+  EXPECT_TRUE(contains(next.out, "restored lost joints l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand")) << next.out;
+}
+
+TEST(RunCommand, UnknownJointToClearIsRefusedBeforeAnythingStarts) {
+  testing::TempStateDir dir;
+  const test::CommandOutput out = run("--clear-joint l_elbow,tail --state-dir " + dir.path);
+  EXPECT_EQ(out.exit_status, 1) << out.out;
+  EXPECT_TRUE(contains(out.out, "--clear-joint 'l_elbow,tail': unknown joint name in the list (item 2)")) << out.out;
+  EXPECT_FALSE(contains(out.out, "bringing the EtherCAT network up")) << out.out;
 }
 
 void expect_safe_start_with(const std::string& bytes, const std::string& why) {

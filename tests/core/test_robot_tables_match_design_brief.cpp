@@ -41,6 +41,30 @@ TEST(Robot, LinkFailureLosesJointAndEverythingBehindIt) {
 
 TEST(Robot, UnknownJointNameIsReported) { EXPECT_EQ(joint_index_by_name("tail"), kJointCount); }
 
+TEST(Robot, JointNameListParsesToAMask) {
+  const Result<JointMask> one = parse_joint_names("l_hand");
+  ASSERT_TRUE(one.ok());
+  EXPECT_EQ(one.value(), joint_bit(joint_index_by_name("l_hand")));
+  const Result<JointMask> cut = parse_joint_names("l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand,l_elbow");
+  ASSERT_TRUE(cut.ok());
+  EXPECT_EQ(cut.value(), joints_lost_by_link_failure_at(joint_index_by_name("l_elbow")));
+}
+
+TEST(Robot, JointNameListRejectsUnknownAndEmptyItemsNamingTheItem) {
+  const Result<JointMask> unknown = parse_joint_names("l_elbow,tail");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error().detail0, 2u);
+  EXPECT_STREQ(unknown.error().what, "unknown joint name in the list");
+  const Result<JointMask> prefix = parse_joint_names("l_elb");  // no prefix matching
+  EXPECT_FALSE(prefix.ok());
+  const Result<JointMask> empty_item = parse_joint_names("l_elbow,,l_hand");
+  ASSERT_FALSE(empty_item.ok());
+  EXPECT_EQ(empty_item.error().detail0, 2u);
+  EXPECT_FALSE(parse_joint_names("").ok());
+  EXPECT_FALSE(parse_joint_names("l_hand,").ok());
+  EXPECT_FALSE(parse_joint_names(nullptr).ok());
+}
+
 TEST(Robot, CountsRoundTripAndSaturate) {
   EXPECT_NEAR(counts_to_rad(rad_to_counts(1.25)), 1.25, 1e-5);
   EXPECT_EQ(rad_to_counts(1e9), 2147483647);
