@@ -23,6 +23,7 @@
 #include "core/heap_guard.hpp"
 #include "core/spsc_message_port.hpp"
 #include "drivers/joint_bus.hpp"
+#include "ecat/capture_queue.hpp"
 #include "ecat/capture_tap.hpp"
 #include "ecat/capture_writer.hpp"
 #include "hal/rt_setup.hpp"
@@ -45,6 +46,10 @@ constexpr hal::Nanoseconds kScenarioRunOn = hal::kNsPerSec;
 // Everything the tasks use, in static storage: taken once at start-up, never from the heap.
 TaskLinks g_links;
 ecat::CaptureWriter g_capture;
+// The handler's tap only copies frames into this queue; the logger thread writes them (the disk
+// may block, the 1 ms cycle must not).
+ecat::CaptureQueue g_capture_queue;
+constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
 int cpu_for(int wanted) noexcept {
@@ -177,6 +182,17 @@ int report_bring_up_failure(drivers::JointBus& bus) noexcept {
   return 1;
 }
 
+// After the tasks stopped: the frames still queued are written, the figures printed, the file closed.
+Status finish_capture(const char* path) noexcept {
+  while (g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass) != 0) {
+  }
+  const ecat::CaptureQueueStats queued = g_capture_queue.stats();
+  (void)std::printf("rescue-motion run: capture %s: %" PRIu64 " frames, %" PRIu64 " write errors, %" PRIu64
+                    " dropped (queue full)\n",
+                    path, g_capture.stats().frames_written, g_capture.stats().write_errors, queued.frames_dropped);
+  return g_capture.close();
+}
+
 // Prints what the operator's --clear-joint request will do; false when it is refused.
 bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
   char names[kJointNamesCapacity];
@@ -264,7 +280,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);
     const Status capture = g_capture.open(options.capture_path, capture_options);
     if (!capture.ok()) return fail("run", "cannot open the capture file", capture.error());
-    bus.master().set_tap(ecat::capture_tap, &g_capture);
+    bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
   master_options.known_lost = out_of_service;
@@ -283,7 +299,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
 
-  // 4. The tasks.
+  // 4. The tasks. From now on the handler's thread only queues captured frames.
+  if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
   static EthercatHandler handler(bus, g_links, restored.restored);
@@ -346,6 +363,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       }
     }
     (void)std::fflush(stdout);
+    if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
     if (done) break;
     logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
   }
@@ -383,9 +401,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
   if (options.capture_path != nullptr) {
-    (void)std::printf("rescue-motion run: capture %s: %" PRIu64 " frames, %" PRIu64 " write errors\n",
-                      options.capture_path, g_capture.stats().frames_written, g_capture.stats().write_errors);
-    const Status closed = g_capture.close();
+    const Status closed = finish_capture(options.capture_path);
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
   }
 
