@@ -1,5 +1,6 @@
 #include "core/robot.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -35,12 +36,15 @@ Result<JointMask> parse_joint_names(const char* list) noexcept {
     const char* end = std::strchr(begin, ',');
     const std::size_t length = end != nullptr ? static_cast<std::size_t>(end - begin) : std::strlen(begin);
     if (length == 0) return make_error(Errc::invalid_argument, "empty joint name in the list", item);
-    std::size_t found = kJointCount;
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (std::strlen(kJoints[j].name) == length && std::strncmp(kJoints[j].name, begin, length) == 0) found = j;
+    // A bounded copy of the item, so the table lookup is the one joint_index_by_name does.
+    std::array<char, kMaxJointNameLength + 1> name{};
+    std::size_t joint = kJointCount;
+    if (length <= kMaxJointNameLength) {
+      for (std::size_t i = 0; i < length; ++i) name[i] = begin[i];  // name[length] stays '\0'
+      joint = joint_index_by_name(name.data());
     }
-    if (found == kJointCount) return make_error(Errc::invalid_argument, "unknown joint name in the list", item);
-    mask |= joint_bit(found);
+    if (joint == kJointCount) return make_error(Errc::invalid_argument, "unknown joint name in the list", item);
+    mask |= joint_bit(joint);
     if (end == nullptr) return mask;
     begin = end + 1;
   }

@@ -172,6 +172,8 @@ constexpr std::size_t kJointNamesCapacity = 320;
 
 // Index of the joint called `name`, or kJointCount when there is none.
 std::size_t joint_index_by_name(const char* name) noexcept;
+// No joint's name is longer (checked below).
+constexpr std::size_t kMaxJointNameLength = 31;
 
 // The joints of a comma-separated list of names ("l_elbow,l_hand"), e.g. from the command line.
 // Errors: an empty list or item, or an unknown name (detail0: the item's 1-based number).
@@ -201,6 +203,15 @@ constexpr bool slaves_match_joints() {
 }
 static_assert(slaves_match_joints(), "kSlaves and kJoints disagree");
 static_assert(kJointCount <= 32, "JointMask holds 32 joints");
+constexpr bool joint_names_fit() {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    std::size_t length = 0;
+    while (kJoints[j].name[length] != '\0') ++length;
+    if (length > kMaxJointNameLength) return false;
+  }
+  return true;
+}
+static_assert(joint_names_fit(), "a joint name is longer than kMaxJointNameLength");
 }  // namespace robot_checks
 
 }  // namespace rescue

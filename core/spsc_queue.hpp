@@ -81,24 +81,39 @@ class SpscQueue {
 
   // Producer only. Returns false (and changes nothing) when the queue is full.
   [[nodiscard]] bool try_push(const T& value) noexcept {
+    return try_push_in_place([&value](T& slot) noexcept { slot = value; });
+  }
+
+  // Producer only: `fill(T&)` writes the payload straight into the free slot (no staging copy for
+  // large payloads; the slot holds whatever an earlier payload left). False when the queue is full,
+  // and `fill` is not called.
+  template <typename Fill>
+  [[nodiscard]] bool try_push_in_place(Fill&& fill) noexcept {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);  // our own counter
     if (tail - producer_cached_head_ == N) {
       producer_cached_head_ = head_.load(std::memory_order_acquire);
       if (tail - producer_cached_head_ == N) return false;
     }
-    slots_[slot(tail)] = value;
+    fill(slots_[slot(tail)]);
     tail_.store(tail + 1, std::memory_order_release);
     return true;
   }
 
   // Consumer only. Returns false (and leaves `out` alone) when the queue is empty.
   [[nodiscard]] bool try_pop(T& out) noexcept {
+    return try_pop_in_place([&out](const T& slot) noexcept { out = slot; });
+  }
+
+  // Consumer only: `use(const T&)` reads the payload in its slot, which is released when `use`
+  // returns. False when the queue is empty, and `use` is not called.
+  template <typename Use>
+  [[nodiscard]] bool try_pop_in_place(Use&& use) noexcept {
     const std::uint64_t head = head_.load(std::memory_order_relaxed);  // our own counter
     if (head == consumer_cached_tail_) {
       consumer_cached_tail_ = tail_.load(std::memory_order_acquire);
       if (head == consumer_cached_tail_) return false;
     }
-    out = slots_[slot(head)];
+    use(static_cast<const T&>(slots_[slot(head)]));
     head_.store(head + 1, std::memory_order_release);
     return true;
   }

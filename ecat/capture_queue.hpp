@@ -53,8 +53,6 @@ class CaptureQueue {
 
  private:
   SpscQueue<QueuedCaptureFrame, kCapacity> queue_;
-  QueuedCaptureFrame staging_{};  // producer's: built here, copied into a slot
-  QueuedCaptureFrame drained_{};  // consumer's
   std::atomic<std::uint64_t> queued_{0};
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> truncated_{0};

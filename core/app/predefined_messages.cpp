@@ -36,6 +36,7 @@ JointCommandSequence stop_robot_commands(JointMask joints) noexcept {
 
 JointCommandSequence clear_repaired_joints_commands(JointMask joints) noexcept {
   JointCommandSequence sequence;
+  // `input` is not read for a clear_lost command.
   add(sequence, joints, fsm::JointInput::reset, ControlMode::none, JointCommandKind::clear_lost);
   add(sequence, joints, fsm::JointInput::reset, ControlMode::none);
   return sequence;

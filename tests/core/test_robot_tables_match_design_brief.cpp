@@ -57,6 +57,8 @@ TEST(Robot, JointNameListRejectsUnknownAndEmptyItemsNamingTheItem) {
   EXPECT_STREQ(unknown.error().what, "unknown joint name in the list");
   const Result<JointMask> prefix = parse_joint_names("l_elb");  // no prefix matching
   EXPECT_FALSE(prefix.ok());
+  const Result<JointMask> longer = parse_joint_names("l_elbow_and_a_name_longer_than_any_joint_has");
+  EXPECT_FALSE(longer.ok());
   const Result<JointMask> empty_item = parse_joint_names("l_elbow,,l_hand");
   ASSERT_FALSE(empty_item.ok());
   EXPECT_EQ(empty_item.error().detail0, 2u);

@@ -29,6 +29,35 @@ TEST(SpscQueue, DeliversInOrderUpToCapacity) {
   EXPECT_TRUE(queue.empty_approx());
 }
 
+TEST(SpscQueue, InPlacePushAndPopSeeTheSlotAndAreNotCalledWhenFullOrEmpty) {
+  SpscQueue<Message, 4> queue;
+  int fills = 0;
+  for (std::uint64_t i = 0; i < 4; ++i) {
+    ASSERT_TRUE(queue.try_push_in_place([&](Message& slot) noexcept {
+      ++fills;
+      slot.sequence = i;
+      slot.value = -static_cast<std::int32_t>(i);
+    }));
+  }
+  EXPECT_FALSE(queue.try_push_in_place([&](Message&) noexcept { ++fills; }));
+  EXPECT_EQ(fills, 4);  // full: the slot of an unread message is never handed out
+  int uses = 0;
+  for (std::uint64_t i = 0; i < 4; ++i) {
+    ASSERT_TRUE(queue.try_pop_in_place([&](const Message& slot) noexcept {
+      ++uses;
+      EXPECT_EQ(slot.sequence, i);
+      EXPECT_EQ(slot.value, -static_cast<std::int32_t>(i));
+    }));
+  }
+  EXPECT_FALSE(queue.try_pop_in_place([&](const Message&) noexcept { ++uses; }));
+  EXPECT_EQ(uses, 4);
+  // Mixed with the copying calls, order holds across the wrap.
+  ASSERT_TRUE(queue.try_push(Message{10, 1}));
+  Message out{};
+  ASSERT_TRUE(queue.try_pop(out));
+  EXPECT_EQ(out.sequence, 10u);
+}
+
 TEST(SpscQueue, WrapsAroundItsSlots) {
   SpscQueue<Message, 4> queue;
   std::uint64_t next_in = 0;
