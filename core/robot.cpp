@@ -37,9 +37,9 @@ Result<JointMask> parse_joint_names(const char* list) noexcept {
     const std::size_t length = end != nullptr ? static_cast<std::size_t>(end - begin) : std::strlen(begin);
     if (length == 0) return make_error(Errc::invalid_argument, "empty joint name in the list", item);
     // A bounded copy of the item, so the table lookup is the one joint_index_by_name does.
-    std::array<char, kMaxJointNameLength + 1> name{};
     std::size_t joint = kJointCount;
     if (length <= kMaxJointNameLength) {
+      std::array<char, kMaxJointNameLength + 1> name{};
       for (std::size_t i = 0; i < length; ++i) name[i] = begin[i];  // name[length] stays '\0'
       joint = joint_index_by_name(name.data());
     }
