@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
+#include "core/base/span.hpp"
 
 namespace rescue {
 

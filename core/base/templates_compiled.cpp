@@ -3,11 +3,11 @@
 // analyse firmware .cpp files: this unit puts every member under -Werror -Wconversion and analysis.
 #include <cstdint>
 
-#include "core/fixed_vector.hpp"
-#include "core/ring_buffer.hpp"
-#include "core/seqlock.hpp"
-#include "core/spsc_message_port.hpp"
-#include "core/spsc_queue.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue {
 

@@ -1,12 +1,12 @@
-// MessageSink / MessageSource (core/message_port.hpp) over a lock-free SpscQueue (core/spsc_queue.hpp):
+// MessageSink / MessageSource (core/concurrency/message_port.hpp) over a lock-free SpscQueue (core/concurrency/spsc_queue.hpp):
 // the producing task holds the sink, the consuming task the source, whether the queue lives in one
 // process or in shared memory between processes.
 #pragma once
 
 #include <cstddef>
 
-#include "core/message_port.hpp"
-#include "core/spsc_queue.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue {
 

@@ -28,7 +28,7 @@
 #include <new>
 #include <type_traits>
 
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue {
 

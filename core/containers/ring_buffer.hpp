@@ -1,7 +1,7 @@
 // RingBuffer<T, N>: a first-in first-out buffer of at most N elements stored in place, for one
 // thread (histories, pending messages, last-N samples). push() on a full buffer refuses with false;
 // push_overwrite() drops the oldest element instead, for "keep the latest N" uses. Never allocates.
-// For two threads or two processes use SpscQueue (core/spsc_queue.hpp).
+// For two threads or two processes use SpscQueue (core/concurrency/spsc_queue.hpp).
 #pragma once
 
 #include <array>

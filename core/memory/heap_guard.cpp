@@ -1,10 +1,10 @@
 // Heap guard: replacement operator new/delete and (outside sanitizer builds) the C allocator, each
-// noting the allocation and then forwarding to glibc's own allocator. See core/heap_guard.hpp.
+// noting the allocation and then forwarding to glibc's own allocator. See core/memory/heap_guard.hpp.
 //
 // Everything here may run before main(), inside other threads and inside glibc itself, so it uses
 // only constant-initialised atomics, one initial-exec thread_local int, write(2) and abort(): no
 // stdio, no locks, nothing that could allocate or recurse into the allocator.
-#include "core/heap_guard.hpp"
+#include "core/memory/heap_guard.hpp"
 
 #include <malloc.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <cstdlib>
 #include <new>
 
-#include "core/sanitizers.hpp"
+#include "core/base/sanitizers.hpp"
 
 // glibc's allocator under its internal names: the replacements below forward here, so glibc's
 // allocator still does the work and nothing is counted twice.

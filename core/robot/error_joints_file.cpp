@@ -1,11 +1,11 @@
-#include "core/error_joints_file.hpp"
+#include "core/robot/error_joints_file.hpp"
 
 #include <algorithm>
 #include <cstring>
 #include <numeric>
 
-#include "core/crc32.hpp"
-#include "core/endian.hpp"
+#include "core/base/crc32.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue {
 namespace {

@@ -1,11 +1,11 @@
 // The error-joints file (design brief section 6, paper IV-C): the joints the robot lost, why, when,
 // and where each one was when it was lost (its worm gear still holds it there). It is versioned and
-// little-endian, each field written byte by byte (core/endian.hpp). The header and every record carry
+// little-endian, each field written byte by byte (core/base/endian.hpp). The header and every record carry
 // their own CRC-32, so one damaged record never hides the others. docs/joint-manager.md lays it out
 // byte by byte.
 //
 //   header, 32 bytes                         record, 48 bytes (one per lost joint)
-//   0  4 magic "RMEJ"                        0  1 joint index (core/robot.hpp order)
+//   0  4 magic "RMEJ"                        0  1 joint index (core/robot/robot.hpp order)
 //   4  2 format version (1)                  1  1 reason (FaultReason)
 //   6  2 header size (32)                    2  2 reserved, 0
 //   8  2 record size (48)                    4  4 last position, encoder counts (int32)
@@ -24,11 +24,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/fixed_vector.hpp"
-#include "core/joint_fault.hpp"
-#include "core/result.hpp"
-#include "core/robot.hpp"
-#include "core/span.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/robot/joint_fault.hpp"
+#include "core/base/result.hpp"
+#include "core/robot/robot.hpp"
+#include "core/base/span.hpp"
 
 namespace rescue {
 

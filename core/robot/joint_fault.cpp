@@ -1,4 +1,4 @@
-#include "core/joint_fault.hpp"
+#include "core/robot/joint_fault.hpp"
 
 namespace rescue {
 

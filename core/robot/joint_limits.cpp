@@ -1,4 +1,4 @@
-#include "core/joint_limits.hpp"
+#include "core/robot/joint_limits.hpp"
 
 #include <cmath>
 

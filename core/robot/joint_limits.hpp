@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/joint_fault.hpp"
-#include "core/robot.hpp"
+#include "core/robot/joint_fault.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue {
 

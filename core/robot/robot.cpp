@@ -1,4 +1,4 @@
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 #include <array>
 #include <cmath>

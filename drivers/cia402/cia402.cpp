@@ -1,4 +1,4 @@
-#include "drivers/cia402.hpp"
+#include "drivers/cia402/cia402.hpp"
 
 namespace rescue::drivers::cia402 {
 Command decode_controlword(std::uint16_t controlword, std::uint16_t previous) noexcept {

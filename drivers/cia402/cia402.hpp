@@ -21,7 +21,7 @@
 // Quick stop option code 2 (the CiA 402 default): decelerate on the quick-stop ramp, then Switch
 // on disabled, so transition 16 (quick stop active -> operation enabled) is refused.
 //
-// The table runs on the generic engine of fsm/engine.hpp (Cia402Definition below); the one guard
+// The table runs on the generic engine of fsm/engine/engine.hpp (Cia402Definition below); the one guard
 // is on transition 15: a fault reset is refused while the fault's cause persists.
 #pragma once
 
@@ -29,7 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "fsm/engine.hpp"
+#include "fsm/engine/engine.hpp"
 
 namespace rescue::drivers::cia402 {
 

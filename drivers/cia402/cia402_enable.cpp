@@ -1,6 +1,6 @@
-#include "drivers/cia402_enable.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
 
-#include "drivers/cia402.hpp"
+#include "drivers/cia402/cia402.hpp"
 
 namespace rescue::drivers {
 

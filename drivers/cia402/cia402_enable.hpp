@@ -1,4 +1,4 @@
-// The master's side of CiA 402 (drivers/cia402.hpp is the drive's side): which controlword takes a
+// The master's side of CiA 402 (drivers/cia402/cia402.hpp is the drive's side): which controlword takes a
 // drive, one step per cycle, from the state its statusword shows to Operation enabled, or back to
 // a safe stop. Used by whoever writes the joints' outputs (the EtherCAT handler for "enable" and
 // "disable" joint messages, tests and benchmarks).

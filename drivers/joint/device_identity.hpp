@@ -14,7 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::drivers {
 

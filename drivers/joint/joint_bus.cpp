@@ -1,4 +1,4 @@
-#include "drivers/joint_bus.hpp"
+#include "drivers/joint/joint_bus.hpp"
 
 #include <algorithm>
 #include <cmath>

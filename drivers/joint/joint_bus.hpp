@@ -1,6 +1,6 @@
-// The robot's 21 joints over EtherCAT: the master (ecat/master.hpp) with the robot's network plan,
+// The robot's 21 joints over EtherCAT: the master (ecat/master/master.hpp) with the robot's network plan,
 // its compile-time sized process image, and the joint drive's process data codec
-// (drivers/joint_drive_pdo.hpp). This is what the EtherCAT handler task calls every period:
+// (drivers/joint/joint_drive_pdo.hpp). This is what the EtherCAT handler task calls every period:
 //
 //   bus.bring_up(options);                       // once, at start-up (blocking)
 //   for (;;) {
@@ -16,10 +16,10 @@
 #include <array>
 #include <cstdint>
 
-#include "core/robot.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/master.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/master/master.hpp"
 
 namespace rescue::drivers {
 
@@ -40,7 +40,7 @@ class JointBus {
  public:
   explicit JointBus(hal::Nic& nic) noexcept : master_(nic, kRobotNetworkPlan, kRobotImageLayout, ByteSpan(image_)) {}
 
-  // Brings the network up; adds every joint's limits (core/robot.hpp) as start-up SDOs.
+  // Brings the network up; adds every joint's limits (core/robot/robot.hpp) as start-up SDOs.
   Status bring_up(ecat::MasterOptions options) noexcept;
 
   // One cycle: references of joints in the exchange go out, feedback of valid joints comes back.

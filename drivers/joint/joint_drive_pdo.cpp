@@ -1,8 +1,8 @@
-#include "drivers/joint_drive_pdo.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
 
 #include <cassert>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::drivers {
 

@@ -1,14 +1,14 @@
-// The robot's EtherCAT network as the master expects it: core/robot.hpp's slaves in frame order,
-// each with its device identity (drivers/device_identity.hpp), its process-data sizes and its
+// The robot's EtherCAT network as the master expects it: core/robot/robot.hpp's slaves in frame order,
+// each with its device identity (drivers/joint/device_identity.hpp), its process-data sizes and its
 // branch. Built at compile time; the process image layout follows from it.
 #pragma once
 
 #include <cstdint>
 
-#include "core/robot.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "ecat/network_plan.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::drivers {
 

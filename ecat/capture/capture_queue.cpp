@@ -1,4 +1,4 @@
-#include "ecat/capture_queue.hpp"
+#include "ecat/capture/capture_queue.hpp"
 
 #include <cstring>
 

@@ -14,10 +14,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "core/spsc_queue.hpp"
-#include "ecat/capture_writer.hpp"
-#include "ecat/datagram_link.hpp"
+#include "core/base/span.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "ecat/master/datagram_link.hpp"
 
 namespace rescue::ecat {
 

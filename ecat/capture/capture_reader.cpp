@@ -1,8 +1,8 @@
-#include "ecat/capture_reader.hpp"
+#include "ecat/capture/capture_reader.hpp"
 
 #include <limits>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::ecat {
 namespace {

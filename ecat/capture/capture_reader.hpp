@@ -36,10 +36,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/fixed_vector.hpp"
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/capture_format.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/capture/capture_format.hpp"
 
 namespace rescue::ecat {
 

@@ -12,8 +12,8 @@
 // record() never fails the cycle: a refused write is counted in stats() and the frame is lost.
 #pragma once
 
-#include "ecat/capture_writer.hpp"
-#include "ecat/datagram_link.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "ecat/master/datagram_link.hpp"
 
 namespace rescue::ecat {
 

@@ -1,4 +1,4 @@
-#include "ecat/capture_writer.hpp"
+#include "ecat/capture/capture_writer.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -7,7 +7,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -15,11 +15,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/capture_format.hpp"
-#include "ecat/frame.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/capture/capture_format.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::ecat {
 

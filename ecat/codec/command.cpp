@@ -1,4 +1,4 @@
-#include "ecat/command.hpp"
+#include "ecat/codec/command.hpp"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 #include <cstring>
 

@@ -18,10 +18,10 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "core/endian.hpp"
-#include "ecat/command.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/codec/command.hpp"
 
 namespace rescue::ecat {
 

@@ -1,4 +1,4 @@
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat::reg {
 

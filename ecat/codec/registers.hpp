@@ -196,7 +196,7 @@ constexpr std::uint16_t kProductCode = 0x000A;     // u32
 constexpr std::uint16_t kRevision = 0x000C;        // u32
 constexpr std::uint16_t kSerial = 0x000E;          // u32
 // Words 0x0010..0x0013 are reserved (delays); the mailboxes follow. Checked against real images
-// (tests/ecat/test_sii_word_map_matches_real_images.cpp).
+// (tests/ecat/sii/test_sii_word_map_matches_real_images.cpp).
 constexpr std::uint16_t kBootRxMailboxOffset = 0x0014;
 constexpr std::uint16_t kBootRxMailboxSize = 0x0015;
 constexpr std::uint16_t kBootTxMailboxOffset = 0x0016;

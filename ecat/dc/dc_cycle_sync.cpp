@@ -1,4 +1,4 @@
-#include "ecat/dc_cycle_sync.hpp"
+#include "ecat/dc/dc_cycle_sync.hpp"
 
 namespace rescue::ecat {
 namespace {

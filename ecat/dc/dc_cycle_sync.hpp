@@ -17,7 +17,7 @@
 
 #include <cstdint>
 
-#include "hal/clock.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::ecat {
 

@@ -1,4 +1,4 @@
-#include "ecat/dc_delay.hpp"
+#include "ecat/dc/dc_delay.hpp"
 
 namespace rescue::ecat {
 namespace {

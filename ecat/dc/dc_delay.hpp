@@ -21,8 +21,8 @@
 #include <array>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "ecat/network_plan.hpp"
+#include "core/base/result.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -1,8 +1,8 @@
-#include "ecat/coe.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 #include <cstring>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::ecat::coe {
 namespace {

@@ -23,9 +23,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/mailbox.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::ecat::coe {
 

@@ -1,6 +1,6 @@
-#include "ecat/mailbox.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::ecat::mbx {
 namespace {

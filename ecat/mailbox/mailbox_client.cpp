@@ -1,10 +1,10 @@
-#include "ecat/mailbox_client.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
 
 #include <cstring>
 
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
-#include "ecat/registers.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -16,11 +16,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/ring_buffer.hpp"
-#include "ecat/datagram_link.hpp"
-#include "ecat/frame.hpp"
-#include "ecat/network_plan.hpp"
+#include "core/base/result.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -1,8 +1,8 @@
-#include "ecat/al_control.hpp"
+#include "ecat/master/al_control.hpp"
 
 #include <cstdio>
 
-#include "ecat/station_io.hpp"
+#include "ecat/master/station_io.hpp"
 
 namespace rescue::ecat {
 namespace {

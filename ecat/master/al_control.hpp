@@ -6,10 +6,10 @@
 
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "ecat/datagram_link.hpp"
-#include "ecat/network_plan.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/result.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/master/network_plan.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 

@@ -1,4 +1,4 @@
-#include "ecat/datagram_link.hpp"
+#include "ecat/master/datagram_link.hpp"
 
 #include <cstring>
 

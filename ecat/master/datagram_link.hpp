@@ -8,17 +8,17 @@
 // must have the datagrams that were sent (count, commands, lengths), else it is refused.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
-// optional tap, e.g. the capture writer recording a pcapng file (ecat/capture_tap.hpp).
+// optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/frame.hpp"
-#include "hal/nic.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/net/nic.hpp"
 
 namespace rescue::ecat {
 

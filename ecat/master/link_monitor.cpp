@@ -1,6 +1,6 @@
-#include "ecat/link_monitor.hpp"
+#include "ecat/master/link_monitor.hpp"
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -23,11 +23,11 @@
 #include <array>
 #include <cstdint>
 
-#include "core/ring_buffer.hpp"
-#include "core/robot.hpp"
-#include "core/span.hpp"
-#include "ecat/network_plan.hpp"
-#include "hal/clock.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "core/robot/robot.hpp"
+#include "core/base/span.hpp"
+#include "ecat/master/network_plan.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::ecat {
 

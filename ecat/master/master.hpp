@@ -23,18 +23,18 @@
 #include <array>
 #include <cstdint>
 
-#include "core/fixed_vector.hpp"
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/al_control.hpp"
-#include "ecat/datagram_link.hpp"
-#include "ecat/dc_cycle_sync.hpp"
-#include "ecat/dc_delay.hpp"
-#include "ecat/link_monitor.hpp"
-#include "ecat/mailbox_client.hpp"
-#include "ecat/network_match.hpp"
-#include "ecat/network_plan.hpp"
-#include "ecat/sii_reader.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/master/al_control.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/dc/dc_cycle_sync.hpp"
+#include "ecat/dc/dc_delay.hpp"
+#include "ecat/master/link_monitor.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/master/network_match.hpp"
+#include "ecat/master/network_plan.hpp"
+#include "ecat/sii/sii_reader.hpp"
 
 namespace rescue::ecat {
 

@@ -3,11 +3,11 @@
 #include <cstring>
 #include <numeric>
 
-#include "ecat/master.hpp"
-#include "ecat/registers.hpp"
-#include "ecat/sii.hpp"
-#include "ecat/slave_config.hpp"
-#include "ecat/station_io.hpp"
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/sii/sii.hpp"
+#include "ecat/master/slave_config.hpp"
+#include "ecat/master/station_io.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -2,9 +2,9 @@
 // No heap, no system call but the NIC's send and receive, bounded loops only.
 #include <cstring>
 
-#include "ecat/master.hpp"
-#include "ecat/registers.hpp"
-#include "ecat/slave_config.hpp"
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/slave_config.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -1,7 +1,7 @@
 // Master bring-up, distributed clocks: delays, offsets, static drift compensation, SYNC0.
-#include "ecat/master.hpp"
-#include "ecat/registers.hpp"
-#include "ecat/station_io.hpp"
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/station_io.hpp"
 
 namespace rescue::ecat {
 namespace {

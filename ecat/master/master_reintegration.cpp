@@ -10,9 +10,9 @@
 // Its outputs stay all-zero until it is back in the exchange (silence_outputs_of_out_slaves).
 #include <cstring>
 
-#include "ecat/master.hpp"
-#include "ecat/registers.hpp"
-#include "ecat/slave_config.hpp"
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/slave_config.hpp"
 
 namespace rescue::ecat {
 namespace {

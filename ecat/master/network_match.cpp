@@ -1,4 +1,4 @@
-#include "ecat/network_match.hpp"
+#include "ecat/master/network_match.hpp"
 
 #include <algorithm>
 #include <cinttypes>

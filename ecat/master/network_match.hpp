@@ -1,4 +1,4 @@
-// Comparing the network the master found with the one it expects (ecat/network_plan.hpp), and
+// Comparing the network the master found with the one it expects (ecat/master/network_plan.hpp), and
 // naming every difference: missing, extra, wrong device, wrong position, plus the softer ones
 // (other revision, process data of another size, a joint listed as lost that answers again).
 //
@@ -19,9 +19,9 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/fixed_vector.hpp"
-#include "core/robot.hpp"
-#include "ecat/network_plan.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/robot/robot.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -1,5 +1,5 @@
 // What the master expects on the wire, fixed at compile time: one SlavePlan per slave in frame
-// order (the robot's is built in drivers/robot_network_plan.hpp), and the logical process image
+// order (the robot's is built in drivers/joint/robot_network_plan.hpp), and the logical process image
 // derived from it.
 //
 // Process image: one logical address space, one region per branch, in branch order. A region holds
@@ -17,7 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::ecat {
 

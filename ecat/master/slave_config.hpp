@@ -1,11 +1,11 @@
 // Register images the master writes into a slave's ESC during bring-up: SyncManager and FMMU
-// entries (ETG.1000.4 tables 57 and 59; byte layout in ecat/registers.hpp), encoded byte by byte.
+// entries (ETG.1000.4 tables 57 and 59; byte layout in ecat/codec/registers.hpp), encoded byte by byte.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 

@@ -7,9 +7,9 @@
 #include <array>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "ecat/datagram_link.hpp"
-#include "ecat/network_plan.hpp"
+#include "core/base/result.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -1,8 +1,8 @@
-#include "ecat/sii.hpp"
+#include "ecat/sii/sii.hpp"
 
 #include <numeric>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::ecat::sii {
 namespace {

@@ -23,15 +23,15 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/fixed_vector.hpp"
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/registers.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat::sii {
 
 // Word addresses of the fixed header, mailbox protocol bits and category types are in
-// ecat/registers.hpp (kVendorId, kStdRxMailboxOffset, kMailboxCoE, kCategoryGeneral, ...).
+// ecat/codec/registers.hpp (kVendorId, kStdRxMailboxOffset, kMailboxCoE, kCategoryGeneral, ...).
 constexpr std::size_t kConfigAreaCrcBytes = 14;  // words 0..6
 constexpr std::size_t kHeaderBytes = std::size_t{2} * kFirstCategory;  // 128
 

@@ -1,8 +1,8 @@
-#include "ecat/sii_reader.hpp"
+#include "ecat/sii/sii_reader.hpp"
 
 #include <cstring>
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -16,9 +16,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/datagram_link.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/master/datagram_link.hpp"
 
 namespace rescue::ecat {
 

@@ -1,4 +1,4 @@
-#include "fsm/engine.hpp"
+#include "fsm/engine/engine.hpp"
 
 namespace rescue::fsm {
 

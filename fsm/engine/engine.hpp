@@ -36,7 +36,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue::fsm {
 

@@ -1,5 +1,5 @@
 // A type-erased, read-only view of a machine definition's tables (names, sentences, rows), built at
-// compile time from the definition itself. The documentation writers (fsm/table_docs.hpp) take this
+// compile time from the definition itself. The documentation writers (fsm/engine/table_docs.hpp) take this
 // view, so the diagrams and tables in docs/ are printed from the very tables the firmware runs.
 #pragma once
 
@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "fsm/engine.hpp"
+#include "core/base/span.hpp"
+#include "fsm/engine/engine.hpp"
 
 namespace rescue::fsm {
 

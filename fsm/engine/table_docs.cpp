@@ -1,4 +1,4 @@
-#include "fsm/table_docs.hpp"
+#include "fsm/engine/table_docs.hpp"
 
 #include <algorithm>
 

@@ -1,11 +1,11 @@
-// Documentation printed from a machine's own tables (fsm/machine_view.hpp): a Markdown section and a
+// Documentation printed from a machine's own tables (fsm/engine/machine_view.hpp): a Markdown section and a
 // Graphviz dot diagram. `rescue-motion docs fsm` prints them; docs/fsm.md holds their output and a
 // test checks that it still equals what the tables print, so the docs cannot drift from the code.
 #pragma once
 
 #include <cstdio>
 
-#include "fsm/machine_view.hpp"
+#include "fsm/engine/machine_view.hpp"
 
 namespace rescue::fsm {
 

@@ -1,9 +1,9 @@
-#include "fsm/documented_machines.hpp"
+#include "fsm/machines/documented_machines.hpp"
 
 #include <array>
 #include <cstring>
 
-#include "fsm/joint_status_dfa.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 
 namespace rescue::fsm {
 namespace {

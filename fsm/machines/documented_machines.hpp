@@ -2,8 +2,8 @@
 // is added here with one line (ViewOf<Def>::view()) and docs/fsm.md is regenerated from the command.
 #pragma once
 
-#include "core/span.hpp"
-#include "fsm/machine_view.hpp"
+#include "core/base/span.hpp"
+#include "fsm/engine/machine_view.hpp"
 
 namespace rescue::fsm {
 

@@ -1,4 +1,4 @@
-#include "fsm/joint_status_dfa.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 
 #include <cstring>
 

@@ -10,8 +10,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/robot.hpp"
-#include "fsm/engine.hpp"
+#include "core/robot/robot.hpp"
+#include "fsm/engine/engine.hpp"
 
 namespace rescue::fsm {
 

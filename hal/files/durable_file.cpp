@@ -1,4 +1,4 @@
-#include "hal/durable_file.hpp"
+#include "hal/files/durable_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

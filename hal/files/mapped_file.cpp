@@ -1,4 +1,4 @@
-#include "hal/mapped_file.hpp"
+#include "hal/files/mapped_file.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>

@@ -1,4 +1,4 @@
-#include "hal/state_dir.hpp"
+#include "hal/files/state_dir.hpp"
 
 #include <unistd.h>
 

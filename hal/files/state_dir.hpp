@@ -4,8 +4,8 @@
 // $HOME/.local/state/rescue-motion. The directory is created when missing.
 #pragma once
 
-#include "core/result.hpp"
-#include "hal/durable_file.hpp"
+#include "core/base/result.hpp"
+#include "hal/files/durable_file.hpp"
 
 namespace rescue::hal {
 

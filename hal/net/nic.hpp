@@ -1,14 +1,14 @@
 // The network card under the EtherCAT master. Two implementations are chosen at start-up
-// (`--nic sim|raw:IFACE`): a Linux AF_PACKET raw socket on a named interface (hal/raw_socket_nic)
+// (`--nic sim|raw:IFACE`): a Linux AF_PACKET raw socket on a named interface (hal/net/raw_socket_nic)
 // and the in-process simulated segment (drivers/, loopback). The master sees only this interface.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::hal {
 

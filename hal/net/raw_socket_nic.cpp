@@ -1,4 +1,4 @@
-#include "hal/raw_socket_nic.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 
 #include <arpa/inet.h>
 #include <linux/filter.h>
@@ -15,7 +15,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "core/endian.hpp"
+#include "core/base/endian.hpp"
 
 namespace rescue::hal {
 namespace {

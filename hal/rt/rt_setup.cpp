@@ -1,4 +1,4 @@
-#include "hal/rt_setup.hpp"
+#include "hal/rt/rt_setup.hpp"
 
 #include <pthread.h>
 #include <sched.h>
@@ -11,7 +11,7 @@
 #include <cinttypes>
 #include <cstdint>
 
-#include "core/sanitizers.hpp"
+#include "core/base/sanitizers.hpp"
 
 namespace rescue::hal {
 namespace {

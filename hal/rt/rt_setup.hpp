@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue::hal {
 

@@ -1,4 +1,4 @@
-#include "hal/clock.hpp"
+#include "hal/time/clock.hpp"
 
 #include <cerrno>
 #include <ctime>

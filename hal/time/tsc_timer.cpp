@@ -1,4 +1,4 @@
-#include "hal/tsc_timer.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <cpuid.h>

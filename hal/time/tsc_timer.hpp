@@ -26,7 +26,7 @@
 #include <x86intrin.h>
 #endif
 
-#include "hal/clock.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::hal {
 

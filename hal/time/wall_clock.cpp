@@ -1,4 +1,4 @@
-#include "hal/wall_clock.hpp"
+#include "hal/time/wall_clock.hpp"
 
 #include <ctime>
 

@@ -7,7 +7,7 @@
 #include <array>
 #include <cstdint>
 
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 

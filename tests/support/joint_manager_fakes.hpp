@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "core/app/error_joints_storage.hpp"
-#include "core/app/joint_events.hpp"
-#include "core/app/joint_manager.hpp"
-#include "core/message_port.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/joint_events.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/concurrency/message_port.hpp"
 
 namespace rescue::app::testing {
 

@@ -10,13 +10,13 @@
 #include <memory>
 #include <vector>
 
-#include "core/robot.hpp"
-#include "drivers/junction_device.hpp"
-#include "drivers/minimal_sii.hpp"
-#include "drivers/robot_segment.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "ecat/frame.hpp"
-#include "ecat/registers.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers::testing {
 

@@ -1,4 +1,4 @@
-#include "core/app/bench_codec.hpp"
+#include "core/app/bench/bench_codec.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,15 +7,15 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/app/bench_header.hpp"
-#include "core/heap_guard.hpp"
-#include "core/latency_histogram.hpp"
-#include "core/robot.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "ecat/frame.hpp"
-#include "ecat/registers.hpp"
-#include "hal/rt_setup.hpp"
-#include "hal/tsc_timer.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::app {
 namespace {

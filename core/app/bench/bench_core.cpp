@@ -1,4 +1,4 @@
-#include "core/app/bench_core.hpp"
+#include "core/app/bench/bench_core.hpp"
 
 #include <atomic>
 #include <cinttypes>
@@ -6,14 +6,14 @@
 #include <cstdio>
 #include <thread>
 
-#include "core/app/bench_header.hpp"
-#include "core/heap_guard.hpp"
-#include "core/latency_histogram.hpp"
-#include "core/seqlock.hpp"
-#include "core/spsc_queue.hpp"
-#include "hal/clock.hpp"
-#include "hal/rt_setup.hpp"
-#include "hal/tsc_timer.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::app {
 namespace {

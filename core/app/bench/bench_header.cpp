@@ -1,4 +1,4 @@
-#include "core/app/bench_header.hpp"
+#include "core/app/bench/bench_header.hpp"
 
 #include <sys/utsname.h>
 #include <unistd.h>

@@ -1,15 +1,15 @@
-#include "core/app/bench_nic.hpp"
+#include "core/app/bench/bench_nic.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
 
-#include "core/app/bench_header.hpp"
-#include "core/app/nic_factory.hpp"
-#include "core/app/nic_option.hpp"
-#include "ecat/frame.hpp"
-#include "hal/clock.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 namespace {

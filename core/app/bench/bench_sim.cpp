@@ -1,4 +1,4 @@
-#include "core/app/bench_sim.hpp"
+#include "core/app/bench/bench_sim.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,16 +8,16 @@
 #include <cstring>
 #include <ctime>
 
-#include "core/app/bench_header.hpp"
-#include "core/app/timed_nic.hpp"
-#include "core/heap_guard.hpp"
-#include "core/latency_histogram.hpp"
-#include "drivers/cia402_enable.hpp"
-#include "drivers/joint_bus.hpp"
-#include "drivers/simulated_nic.hpp"
-#include "drivers/simulated_robot.hpp"
-#include "hal/rt_setup.hpp"
-#include "hal/tsc_timer.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/app/bench/timed_nic.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::app {
 namespace {

@@ -7,7 +7,7 @@
 // host seconds an hour of robot time takes. docs/simulator.md, "Speed", quotes the figures.
 #pragma once
 
-#include "core/app/cli.hpp"
+#include "core/app/cli/cli.hpp"
 
 namespace rescue::app {
 

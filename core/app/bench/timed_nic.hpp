@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "hal/nic.hpp"
-#include "hal/tsc_timer.hpp"
+#include "hal/net/nic.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::app {
 

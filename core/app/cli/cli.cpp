@@ -1,4 +1,4 @@
-#include "core/app/cli.hpp"
+#include "core/app/cli/cli.hpp"
 
 #include <algorithm>
 #include <cerrno>

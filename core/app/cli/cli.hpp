@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/fixed_vector.hpp"
-#include "core/result.hpp"
-#include "core/span.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
 
 namespace rescue::app {
 

@@ -1,13 +1,13 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
 #include <cstring>
 
-#include "core/app/bench_codec.hpp"
-#include "core/app/bench_core.hpp"
-#include "core/app/bench_master.hpp"
-#include "core/app/bench_nic.hpp"
-#include "core/app/bench_sim.hpp"
-#include "core/app/commands.hpp"
-#include "core/app/nic_option.hpp"
+#include "core/app/bench/bench_codec.hpp"
+#include "core/app/bench/bench_core.hpp"
+#include "core/app/bench/bench_master.hpp"
+#include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_sim.hpp"
+#include "core/app/cli/commands.hpp"
+#include "core/app/cli/nic_option.hpp"
 
 namespace rescue::app {
 namespace {

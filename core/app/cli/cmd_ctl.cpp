@@ -1,5 +1,5 @@
 // rescue-motion ctl: the operator client (sends control messages over UDP).
-#include "core/app/commands.hpp"
+#include "core/app/cli/commands.hpp"
 
 namespace rescue::app {
 namespace {

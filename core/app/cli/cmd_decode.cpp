@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/app/commands.hpp"
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
-#include "hal/mapped_file.hpp"
+#include "core/app/cli/commands.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/files/mapped_file.hpp"
 
 namespace rescue::app {
 namespace {

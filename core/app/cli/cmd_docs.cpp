@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/app/commands.hpp"
-#include "fsm/documented_machines.hpp"
-#include "fsm/table_docs.hpp"
+#include "core/app/cli/commands.hpp"
+#include "fsm/machines/documented_machines.hpp"
+#include "fsm/engine/table_docs.hpp"
 
 namespace rescue::app {
 namespace {

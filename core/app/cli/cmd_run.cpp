@@ -1,10 +1,10 @@
-// rescue-motion run: the firmware (core/app/firmware.hpp).
+// rescue-motion run: the firmware (core/app/runtime/firmware.hpp).
 #include <cstdio>
 
-#include "core/app/commands.hpp"
-#include "core/app/firmware.hpp"
-#include "core/app/nic_option.hpp"
-#include "core/app/run_scenario.hpp"
+#include "core/app/cli/commands.hpp"
+#include "core/app/runtime/firmware.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "core/app/sim/run_scenario.hpp"
 
 namespace rescue::app {
 namespace {

@@ -1,8 +1,8 @@
 // rescue-motion sim --iface IFACE: serve the simulated robot's EtherCAT segment on a network
 // interface, for a master on the other end of the wire (or of a veth pair). Each frame from the
 // master goes through the simulated segment and back out of the same interface, with the source
-// MAC marked as real slave controllers mark it (core/app/frame_server.hpp). docs/hal.md has recipes.
-// Fault commands (drivers/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
+// MAC marked as real slave controllers mark it (core/app/sim/frame_server.hpp). docs/hal.md has recipes.
+// Fault commands (drivers/sim/segment/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
 // can be typed on standard input while it serves; docs/simulator.md lists them.
 #include <poll.h>
 #include <unistd.h>
@@ -12,14 +12,14 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/app/commands.hpp"
-#include "core/app/frame_server.hpp"
-#include "core/app/nic_factory.hpp"
-#include "core/app/simulated_robot_instance.hpp"
-#include "core/app/stop_signal.hpp"
-#include "drivers/fault_command.hpp"
-#include "hal/raw_socket_nic.hpp"
-#include "hal/rt_setup.hpp"
+#include "core/app/cli/commands.hpp"
+#include "core/app/sim/frame_server.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/sim/simulated_robot_instance.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "drivers/sim/segment/fault_command.hpp"
+#include "hal/net/raw_socket_nic.hpp"
+#include "hal/rt/rt_setup.hpp"
 
 namespace rescue::app {
 namespace {

@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/app/commands.hpp"
+#include "core/app/cli/commands.hpp"
 
 namespace {
 

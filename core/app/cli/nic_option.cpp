@@ -1,4 +1,4 @@
-#include "core/app/nic_option.hpp"
+#include "core/app/cli/nic_option.hpp"
 
 #include <cstring>
 

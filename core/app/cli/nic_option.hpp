@@ -1,14 +1,14 @@
 // The --nic option shared by `run` and `bench`: which NIC the EtherCAT master talks to.
 //   sim         the built-in simulated robot, in process (the default when the option is absent)
-//   raw:IFACE   a Linux raw socket on network interface IFACE (hal/raw_socket_nic.hpp)
+//   raw:IFACE   a Linux raw socket on network interface IFACE (hal/net/raw_socket_nic.hpp)
 // Parsing only checks the text; whether the interface exists is known when the NIC is opened.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "hal/raw_socket_nic.hpp"
+#include "core/base/result.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 
 namespace rescue::app {
 

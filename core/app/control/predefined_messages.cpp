@@ -1,4 +1,4 @@
-#include "core/app/predefined_messages.hpp"
+#include "core/app/control/predefined_messages.hpp"
 
 namespace rescue::app {
 namespace {

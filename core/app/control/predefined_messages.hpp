@@ -9,9 +9,9 @@
 // Error) refuses it and the refusal is counted and logged there, the others go on.
 #pragma once
 
-#include "core/app/joint_messages.hpp"
-#include "core/fixed_vector.hpp"
-#include "core/robot.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::app {
 

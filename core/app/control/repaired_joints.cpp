@@ -1,4 +1,4 @@
-#include "core/app/repaired_joints.hpp"
+#include "core/app/control/repaired_joints.hpp"
 
 namespace rescue::app {
 

@@ -5,7 +5,7 @@
 // recorded lost cannot be expected back: such a request is refused whole (nothing is cleared).
 #pragma once
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::app {
 

@@ -1,13 +1,13 @@
 // Messages between the EtherCAT handler, the message parser and the joint manager (design brief
-// sections 3 and 6). Plain fixed-size records, copied through bounded queues (core/message_port.hpp).
+// sections 3 and 6). Plain fixed-size records, copied through bounded queues (core/concurrency/message_port.hpp).
 #pragma once
 
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/robot.hpp"
-#include "fsm/joint_status_dfa.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/robot/robot.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

@@ -1,9 +1,9 @@
 // Where the joint manager reads the EtherCAT handler's published joint values: an interface, and its
-// implementation over the seqlock the handler writes every cycle (core/seqlock.hpp).
+// implementation over the seqlock the handler writes every cycle (core/concurrency/seqlock.hpp).
 #pragma once
 
-#include "core/joint_limits.hpp"
-#include "core/seqlock.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/concurrency/seqlock.hpp"
 
 namespace rescue::app {
 

@@ -9,11 +9,11 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/app/joint_messages.hpp"
-#include "core/joint_limits.hpp"
-#include "core/robot.hpp"
-#include "core/seqlock.hpp"
-#include "core/spsc_queue.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/robot/robot.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue::app {
 

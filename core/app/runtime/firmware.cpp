@@ -1,4 +1,4 @@
-#include "core/app/firmware.hpp"
+#include "core/app/runtime/firmware.hpp"
 
 #include <unistd.h>
 
@@ -7,28 +7,28 @@
 #include <cstdio>
 #include <thread>
 
-#include "core/app/cli.hpp"
-#include "core/app/error_joints_storage.hpp"
-#include "core/app/ethercat_handler.hpp"
-#include "core/app/joint_demand.hpp"
-#include "core/app/joint_event_printer.hpp"
-#include "core/app/joint_manager.hpp"
-#include "core/app/joint_sample_source.hpp"
-#include "core/app/nic_factory.hpp"
-#include "core/app/predefined_messages.hpp"
-#include "core/app/repaired_joints.hpp"
-#include "core/app/simulated_robot_instance.hpp"
-#include "core/app/stop_signal.hpp"
-#include "core/app/task_links.hpp"
-#include "core/heap_guard.hpp"
-#include "core/spsc_message_port.hpp"
-#include "drivers/joint_bus.hpp"
-#include "ecat/capture_queue.hpp"
-#include "ecat/capture_tap.hpp"
-#include "ecat/capture_writer.hpp"
-#include "hal/rt_setup.hpp"
-#include "hal/state_dir.hpp"
-#include "hal/wall_clock.hpp"
+#include "core/app/cli/cli.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
+#include "core/app/tasks/joint_demand.hpp"
+#include "core/app/tasks/joint_event_printer.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/app/links/joint_sample_source.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/control/predefined_messages.hpp"
+#include "core/app/control/repaired_joints.hpp"
+#include "core/app/sim/simulated_robot_instance.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "ecat/capture/capture_queue.hpp"
+#include "ecat/capture/capture_tap.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/files/state_dir.hpp"
+#include "hal/time/wall_clock.hpp"
 
 namespace rescue::app {
 namespace {

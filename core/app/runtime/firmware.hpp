@@ -14,10 +14,10 @@
 
 #include <cstdint>
 
-#include "core/app/nic_option.hpp"
-#include "core/app/run_scenario.hpp"
-#include "core/robot.hpp"
-#include "hal/clock.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "core/app/sim/run_scenario.hpp"
+#include "core/robot/robot.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

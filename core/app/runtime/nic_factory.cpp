@@ -1,9 +1,9 @@
-#include "core/app/nic_factory.hpp"
+#include "core/app/runtime/nic_factory.hpp"
 
 #include <cstdio>
 #include <cstring>
 
-#include "core/app/simulated_robot_instance.hpp"
+#include "core/app/sim/simulated_robot_instance.hpp"
 
 namespace rescue::app {
 namespace {

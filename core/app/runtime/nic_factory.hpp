@@ -2,13 +2,13 @@
 // the raw socket on a named interface, or the in-process simulated segment.
 #pragma once
 
-#include "core/app/nic_option.hpp"
-#include "core/fixed_vector.hpp"
-#include "core/result.hpp"
-#include "drivers/simulated_nic.hpp"
-#include "hal/clock.hpp"
-#include "hal/nic.hpp"
-#include "hal/raw_socket_nic.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 
 namespace rescue::app {
 

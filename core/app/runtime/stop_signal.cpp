@@ -1,4 +1,4 @@
-#include "core/app/stop_signal.hpp"
+#include "core/app/runtime/stop_signal.hpp"
 
 #include <csignal>
 

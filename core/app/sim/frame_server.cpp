@@ -1,4 +1,4 @@
-#include "core/app/frame_server.hpp"
+#include "core/app/sim/frame_server.hpp"
 
 namespace rescue::app {
 namespace {

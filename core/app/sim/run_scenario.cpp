@@ -1,4 +1,4 @@
-#include "core/app/run_scenario.hpp"
+#include "core/app/sim/run_scenario.hpp"
 
 #include <cstring>
 

@@ -10,10 +10,10 @@
 
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/robot.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

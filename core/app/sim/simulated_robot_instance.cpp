@@ -1,4 +1,4 @@
-#include "core/app/simulated_robot_instance.hpp"
+#include "core/app/sim/simulated_robot_instance.hpp"
 
 namespace rescue::app {
 

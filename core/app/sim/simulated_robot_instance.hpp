@@ -1,14 +1,14 @@
-// The program's one simulated robot (drivers/simulated_robot.hpp) in static storage, shared by
+// The program's one simulated robot (drivers/sim/segment/simulated_robot.hpp) in static storage, shared by
 // `run --nic sim` (the loopback NIC) and `sim --iface` (served on a raw socket), and the adapter
 // that lets the frame server push frames through its segment.
 #pragma once
 
 #include <cstddef>
 
-#include "core/app/frame_server.hpp"
-#include "core/result.hpp"
-#include "drivers/simulated_robot.hpp"
-#include "hal/clock.hpp"
+#include "core/app/sim/frame_server.hpp"
+#include "core/base/result.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

@@ -1,4 +1,4 @@
-#include "core/app/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
 
 #include <array>
 #include <cstring>

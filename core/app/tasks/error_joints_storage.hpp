@@ -2,9 +2,9 @@
 // and the real one, a file in the state directory written with hal::write_file_atomically.
 #pragma once
 
-#include "core/error_joints_file.hpp"
-#include "core/result.hpp"
-#include "hal/durable_file.hpp"
+#include "core/robot/error_joints_file.hpp"
+#include "core/base/result.hpp"
+#include "hal/files/durable_file.hpp"
 
 namespace rescue::app {
 

@@ -1,6 +1,6 @@
-#include "core/app/ethercat_handler.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
 
-#include "drivers/cia402_enable.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
 
 namespace rescue::app {
 namespace {

@@ -16,14 +16,14 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/lost_joint_tracker.hpp"
-#include "core/app/task_links.hpp"
-#include "core/joint_limits.hpp"
-#include "core/message_port.hpp"
-#include "core/spsc_message_port.hpp"
-#include "core/spsc_queue.hpp"
-#include "drivers/joint_bus.hpp"
-#include "ecat/link_monitor.hpp"
+#include "core/app/tasks/lost_joint_tracker.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "ecat/master/link_monitor.hpp"
 
 namespace rescue::app {
 

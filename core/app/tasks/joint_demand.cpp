@@ -1,4 +1,4 @@
-#include "core/app/joint_demand.hpp"
+#include "core/app/tasks/joint_demand.hpp"
 
 namespace rescue::app {
 

@@ -2,8 +2,8 @@
 // its drive is to be powered, in which mode, and the reference it holds.
 #pragma once
 
-#include "core/app/joint_manager.hpp"
-#include "core/app/task_links.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/app/links/task_links.hpp"
 
 namespace rescue::app {
 

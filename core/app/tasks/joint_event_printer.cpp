@@ -1,4 +1,4 @@
-#include "core/app/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_printer.hpp"
 
 namespace rescue::app {
 

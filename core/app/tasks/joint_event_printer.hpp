@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "core/app/joint_events.hpp"
+#include "core/app/tasks/joint_events.hpp"
 
 namespace rescue::app {
 

@@ -1,4 +1,4 @@
-#include "core/app/joint_events.hpp"
+#include "core/app/tasks/joint_events.hpp"
 
 #include <cstdio>
 

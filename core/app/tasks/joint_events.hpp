@@ -7,11 +7,11 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/joint_fault.hpp"
-#include "core/result.hpp"
-#include "core/robot.hpp"
-#include "fsm/joint_status_dfa.hpp"
-#include "hal/clock.hpp"
+#include "core/robot/joint_fault.hpp"
+#include "core/base/result.hpp"
+#include "core/robot/robot.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

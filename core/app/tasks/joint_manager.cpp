@@ -1,4 +1,4 @@
-#include "core/app/joint_manager.hpp"
+#include "core/app/tasks/joint_manager.hpp"
 
 #include <cassert>
 

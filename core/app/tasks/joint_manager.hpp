@@ -5,7 +5,7 @@
 // (JointManagerPorts), so the same code runs in the firmware (shared-memory queues and snapshots),
 // on threads of one process, and in tests on virtual time. It holds no locks and never waits. The
 // one slow operation, the durable file write, happens here, on the joint manager's own thread. The
-// EtherCAT handler only queues a report and reads the answer later (core/app/lost_joint_tracker.hpp),
+// EtherCAT handler only queues a report and reads the answer later (core/app/tasks/lost_joint_tracker.hpp),
 // so the file write never blocks it.
 //
 // Per period, step(now):
@@ -23,17 +23,17 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/error_joints_storage.hpp"
-#include "core/app/joint_events.hpp"
-#include "core/app/joint_messages.hpp"
-#include "core/app/joint_sample_source.hpp"
-#include "core/error_joints_file.hpp"
-#include "core/fixed_vector.hpp"
-#include "core/joint_limits.hpp"
-#include "core/message_port.hpp"
-#include "fsm/joint_status_dfa.hpp"
-#include "hal/clock.hpp"
-#include "hal/wall_clock.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/joint_events.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/app/links/joint_sample_source.hpp"
+#include "core/robot/error_joints_file.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/wall_clock.hpp"
 
 namespace rescue::app {
 

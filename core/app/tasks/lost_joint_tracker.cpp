@@ -1,4 +1,4 @@
-#include "core/app/lost_joint_tracker.hpp"
+#include "core/app/tasks/lost_joint_tracker.hpp"
 
 namespace rescue::app {
 

@@ -13,10 +13,10 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/joint_messages.hpp"
-#include "core/message_port.hpp"
-#include "core/robot.hpp"
-#include "hal/clock.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/robot/robot.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 

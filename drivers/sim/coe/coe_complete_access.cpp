@@ -1,9 +1,9 @@
-#include "drivers/coe_complete_access.hpp"
+#include "drivers/sim/coe/coe_complete_access.hpp"
 
 #include <array>
 #include <cstring>
 
-#include "ecat/coe.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -14,9 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/object_dictionary.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/coe/object_dictionary.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 

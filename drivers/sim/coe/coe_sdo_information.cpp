@@ -1,11 +1,11 @@
-#include "drivers/coe_sdo_information.hpp"
+#include "drivers/sim/coe/coe_sdo_information.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "core/endian.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::drivers {
 namespace {

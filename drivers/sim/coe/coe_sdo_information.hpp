@@ -31,8 +31,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/object_dictionary.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/coe/object_dictionary.hpp"
 
 namespace rescue::drivers {
 

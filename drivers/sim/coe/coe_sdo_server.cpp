@@ -1,12 +1,12 @@
-#include "drivers/coe_sdo_server.hpp"
+#include "drivers/sim/coe/coe_sdo_server.hpp"
 
 #include <array>
 
-#include "core/endian.hpp"
-#include "drivers/coe_complete_access.hpp"
-#include "drivers/coe_sdo_information.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/sim/coe/coe_complete_access.hpp"
+#include "drivers/sim/coe/coe_sdo_information.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::drivers {
 namespace {

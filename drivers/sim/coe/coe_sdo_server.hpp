@@ -6,11 +6,11 @@
 //   download initiate    -> download response after ObjectDictionary::write, or its abort code
 //   segments             -> abort 0x05040001: no segmented transfer is in progress (every
 //                           object of the drive fits one mailbox, so none is ever started)
-//   complete access      -> the whole object (drivers/coe_complete_access.hpp): upload as a normal
+//   complete access      -> the whole object (drivers/sim/coe/coe_complete_access.hpp): upload as a normal
 //                           transfer with the CA bit mirrored, download through the single writes
 //   abort from the master-> no answer
 //   not CoE              -> mailbox error reply "unsupported protocol" (0x0002)
-//   SDO information      -> drivers/coe_sdo_information.hpp (OD list, object and entry descriptions)
+//   SDO information      -> drivers/sim/coe/coe_sdo_information.hpp (OD list, object and entry descriptions)
 //   other CoE services   -> mailbox error reply "service not supported" (0x0004) (PDO over mailbox)
 //   too short / too long -> mailbox error reply "size too short" (0x0006) / "invalid size" (0x0008)
 #pragma once
@@ -18,9 +18,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/object_dictionary.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/coe/object_dictionary.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 

@@ -1,13 +1,13 @@
-#include "drivers/object_dictionary.hpp"
+#include "drivers/sim/coe/object_dictionary.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cstring>
 #include <utility>
 
-#include "core/endian.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "ecat/coe.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::drivers {
 

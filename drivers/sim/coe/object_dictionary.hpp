@@ -19,9 +19,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/endian.hpp"
-#include "core/span.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/endian.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 
@@ -34,7 +34,7 @@ enum class Access : std::uint8_t {
 struct ObjectEntry {
   std::uint16_t index;
   std::uint8_t subindex;
-  std::uint16_t data_type;  // drivers/joint_drive_pdo.hpp data_type codes
+  std::uint16_t data_type;  // drivers/joint/joint_drive_pdo.hpp data_type codes
   std::uint8_t size;        // bytes (capacity for visible strings)
   Access access;
   std::uint16_t offset;     // in the storage array

@@ -1,4 +1,4 @@
-#include "drivers/cia402_drive.hpp"
+#include "drivers/sim/devices/cia402_drive.hpp"
 
 #include <algorithm>
 #include <cstdlib>

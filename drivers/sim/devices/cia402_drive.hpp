@@ -1,6 +1,6 @@
-// One CiA 402 joint drive: the state machine (drivers/cia402.hpp) driven by the controlword, the
-// cyclic synchronous modes CSP/CSV/CST (core/robot.hpp ControlMode) and the motor behind it
-// (drivers/joint_motor_model.hpp), with injectable faults. Stepped on virtual time, no heap.
+// One CiA 402 joint drive: the state machine (drivers/cia402/cia402.hpp) driven by the controlword, the
+// cyclic synchronous modes CSP/CSV/CST (core/robot/robot.hpp ControlMode) and the motor behind it
+// (drivers/sim/devices/joint_motor_model.hpp), with injectable faults. Stepped on virtual time, no heap.
 //
 // Per cycle the device hands it the outputs the master wrote (apply_outputs) and reads the
 // inputs back (inputs); between cycles time passes (advance). Outside EtherCAT OP the outputs are
@@ -15,10 +15,10 @@
 
 #include <cstdint>
 
-#include "drivers/cia402.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/joint_motor_model.hpp"
-#include "hal/clock.hpp"
+#include "drivers/cia402/cia402.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/sim/devices/joint_motor_model.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

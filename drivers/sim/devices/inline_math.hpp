@@ -3,8 +3,8 @@
 // Why: on the baseline x86-64 target (no SSE4.1 rounding instructions) these are library calls
 // through the PLT, and the simulator makes some hundred of them per simulated cycle (local clocks,
 // DC registers, encoders). Their results feed the simulated robot's frames, which must not change
-// (tests/drivers/test_simulated_robot_replays_the_recorded_digest.cpp), so these are exact:
-// tests/drivers/test_inline_math_matches_libm.cpp compares them with libm, signed zeros, halves,
+// (tests/drivers/sim/segment/test_simulated_robot_replays_the_recorded_digest.cpp), so these are exact:
+// tests/drivers/sim/devices/test_inline_math_matches_libm.cpp compares them with libm, signed zeros, halves,
 // infinities and NaN included. The rounding mode is the default one (the program never changes it).
 #pragma once
 

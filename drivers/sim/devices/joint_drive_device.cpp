@@ -1,11 +1,11 @@
-#include "drivers/joint_drive_device.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "core/robot.hpp"
-#include "drivers/coe_sdo_server.hpp"
-#include "ecat/mailbox.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/sim/coe/coe_sdo_server.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::drivers {
 namespace {

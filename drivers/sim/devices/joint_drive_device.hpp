@@ -1,6 +1,6 @@
-// A joint drive as a slave device behind a simulated ESC (drivers/slave_device.hpp): its SII
+// A joint drive as a slave device behind a simulated ESC (drivers/sim/devices/slave_device.hpp): its SII
 // image, its CoE mailbox (SDO server over its object dictionary), its process data (13 output and
-// 15 input bytes, drivers/joint_drive_pdo.hpp) and the CiA 402 drive with its motor and worm gear.
+// 15 input bytes, drivers/joint/joint_drive_pdo.hpp) and the CiA 402 drive with its motor and worm gear.
 //
 //   PRE-OP -> SAFE-OP  refused with AL status 0x0025 / 0x0024 when the RxPDO / TxPDO assignment
 //                      or mapping is not the fixed layout (e.g. left at 0 entries by a master), and
@@ -16,10 +16,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "drivers/cia402_drive.hpp"
-#include "drivers/joint_drive_objects.hpp"
-#include "drivers/joint_drive_sii.hpp"
-#include "drivers/slave_device.hpp"
+#include "drivers/sim/devices/cia402_drive.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "drivers/sim/devices/joint_drive_sii.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
 
 namespace rescue::drivers {
 

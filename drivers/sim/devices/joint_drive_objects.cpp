@@ -1,10 +1,10 @@
-#include "drivers/joint_drive_objects.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
 
 #include <limits>
 
-#include "core/endian.hpp"
-#include "drivers/device_identity.hpp"
-#include "ecat/coe.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -86,7 +86,7 @@ static_assert(storage_bytes() <= kJointDriveObjectBytes, "object dictionary stor
 static_assert(entries_are_sorted(kTable), "object table must be sorted by index and subindex");
 
 // The objects the drive reads or writes on every cycle, resolved here once (see
-// drivers/object_dictionary.hpp, "Speed").
+// drivers/sim/coe/object_dictionary.hpp, "Speed").
 constexpr const ObjectEntry& kErrorRegister = object_entry(kTable, 0x1001, 0);
 constexpr const ObjectEntry& kErrorCode = object_entry(kTable, 0x603F, 0);
 constexpr const ObjectEntry& kControlword = object_entry(kTable, 0x6040, 0);

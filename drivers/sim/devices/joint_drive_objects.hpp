@@ -4,7 +4,7 @@
 //
 //   0x1000 device type ro | 0x1001 error register ro | 0x1008 device name ro | 0x1018 identity ro
 //   0x1600 RxPDO mapping, 0x1A00 TxPDO mapping, 0x1C12/0x1C13 PDO assignment: rw in PRE-OP only,
-//          and only the fixed layout of drivers/joint_drive_pdo.hpp (sub 0 may go to 0 and back,
+//          and only the fixed layout of drivers/joint/joint_drive_pdo.hpp (sub 0 may go to 0 and back,
 //          as masters do when they download a mapping) | 0x1C00 SyncManager types ro
 //   0x603F error code ro | 0x6040 controlword rw | 0x6041 statusword ro | 0x6060 modes of
 //   operation rw | 0x6061 display ro | 0x6064 position actual ro | 0x6065 following error window
@@ -20,9 +20,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "drivers/cia402_drive.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/object_dictionary.hpp"
+#include "drivers/sim/devices/cia402_drive.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/sim/coe/object_dictionary.hpp"
 
 namespace rescue::drivers {
 

@@ -1,9 +1,9 @@
-#include "drivers/joint_drive_sii.hpp"
+#include "drivers/sim/devices/joint_drive_sii.hpp"
 
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/sii_writer.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/sim/devices/sii_writer.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,7 +1,7 @@
 // The joint drive's SII (EEPROM) image and the ESC memory layout it announces, as a real CoE
 // servo drive carries it (compare ../shared/vectors/sii/akd.bin):
 //
-//   header     identity kJointDriveIdentity (drivers/device_identity.hpp) with the slot's serial
+//   header     identity kJointDriveIdentity (drivers/joint/device_identity.hpp) with the slot's serial
 //              number and commissioned station alias; standard mailbox 0x1000/0x1080, 128 bytes
 //              each; protocols CoE; no bootstrap mailbox; 2 KiB EEPROM
 //   Strings    order/name, group, PDO and entry names, DC mode names
@@ -9,7 +9,7 @@
 //              ports 0 and 1 MII
 //   FMMU       outputs, inputs, SyncManager status
 //   SyncManager SM0 mailbox out, SM1 mailbox in, SM2 outputs (13 bytes), SM3 inputs (15 bytes)
-//   TxPDO      0x1A00 on SM3, RxPDO 0x1600 on SM2: the entries of drivers/joint_drive_pdo.hpp
+//   TxPDO      0x1A00 on SM3, RxPDO 0x1600 on SM2: the entries of drivers/joint/joint_drive_pdo.hpp
 //   DC         "DC-Synchron" (AssignActivate 0x0300: cyclic unit + SYNC0) and "SM-Synchron" (0)
 //
 // docs/devices.md lists the bytes.
@@ -19,7 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue::drivers {
 

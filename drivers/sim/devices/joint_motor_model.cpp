@@ -1,11 +1,11 @@
-#include "drivers/joint_motor_model.hpp"
+#include "drivers/sim/devices/joint_motor_model.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
-#include "drivers/inline_math.hpp"
+#include "drivers/sim/devices/inline_math.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -11,14 +11,14 @@
 //
 // The inertia is chosen so that the joint's torque limit gives it its acceleration limit
 // (velocity limit reached in kAccelerationTime). Position is integrated in double radians and
-// read out through a 2^20-counts/rev encoder (core/robot.hpp); continuous joints (tracks) wrap.
+// read out through a 2^20-counts/rev encoder (core/robot/robot.hpp); continuous joints (tracks) wrap.
 // Pure arithmetic on a few doubles: no heap, no clock, deterministic.
 #pragma once
 
 #include <cstdint>
 
-#include "core/robot.hpp"
-#include "hal/clock.hpp"
+#include "core/robot/robot.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 
@@ -104,7 +104,7 @@ class JointMotorModel {
   Rest rest_{};
 };
 
-// The limits of joint `joint` from core/robot.hpp.
+// The limits of joint `joint` from core/robot/robot.hpp.
 MotorLimits motor_limits_of(std::size_t joint) noexcept;
 
 }  // namespace rescue::drivers

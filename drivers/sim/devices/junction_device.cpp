@@ -1,4 +1,4 @@
-#include "drivers/junction_device.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
 
 namespace rescue::drivers {
 

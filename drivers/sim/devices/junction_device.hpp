@@ -6,16 +6,16 @@
 #include <array>
 #include <cstdint>
 
-#include "drivers/device_identity.hpp"
-#include "drivers/minimal_sii.hpp"
-#include "drivers/slave_device.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
 
 namespace rescue::drivers {
 
 class JunctionDevice final : public SlaveDevice {
  public:
   // The junction built into slot `position` of kSlaves: identity kJunctionIdentity, its own serial
-  // number and commissioned station alias (drivers/device_identity.hpp).
+  // number and commissioned station alias (drivers/joint/device_identity.hpp).
   explicit JunctionDevice(std::size_t position) noexcept;
 
   ConstByteSpan sii_image() const noexcept override { return {sii_.data(), sii_length_}; }

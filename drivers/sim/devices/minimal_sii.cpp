@@ -1,10 +1,10 @@
-#include "drivers/minimal_sii.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
 
 #include <cstring>
 
-#include "core/endian.hpp"
-#include "ecat/registers.hpp"
-#include "ecat/sii.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::drivers {
 

@@ -8,8 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
 
 namespace rescue::drivers {
 

@@ -1,16 +1,16 @@
 // The device applications of the whole robot, in fixed storage: the two junctions and the 21
-// joint drives (drivers/junction_device.hpp, drivers/joint_drive_device.hpp), each built for its
-// slot of kSlaves. devices() is what describe_robot_segment (drivers/robot_segment.hpp) takes.
+// joint drives (drivers/sim/devices/junction_device.hpp, drivers/sim/devices/joint_drive_device.hpp), each built for its
+// slot of kSlaves. devices() is what describe_robot_segment (drivers/sim/segment/robot_segment.hpp) takes.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <utility>
 
-#include "core/robot.hpp"
-#include "drivers/joint_drive_device.hpp"
-#include "drivers/junction_device.hpp"
-#include "drivers/slave_device.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
 
 namespace rescue::drivers {
 

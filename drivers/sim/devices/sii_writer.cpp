@@ -1,9 +1,9 @@
-#include "drivers/sii_writer.hpp"
+#include "drivers/sim/devices/sii_writer.hpp"
 
 #include <cstring>
 
-#include "core/endian.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,7 +1,7 @@
 // Writes an SII (EEPROM) image the way real devices carry it: the 64-word header with the
 // config-area CRC, then categories (type, size in words, data padded to a whole word), then the
-// end marker; unused EEPROM reads 0xFF. Layout constants are those of ecat/sii.hpp and
-// ecat/registers.hpp, so what this writes is what ecat::sii::Sii::parse reads back.
+// end marker; unused EEPROM reads 0xFF. Layout constants are those of ecat/sii/sii.hpp and
+// ecat/codec/registers.hpp, so what this writes is what ecat::sii::Sii::parse reads back.
 //
 // Every write is bounds-checked: a write that does not fit marks the writer failed (the first
 // failure is kept) instead of writing past the buffer; finish() reports it.
@@ -10,9 +10,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/sii.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::drivers {
 

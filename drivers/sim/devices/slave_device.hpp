@@ -1,4 +1,4 @@
-// The boundary between a simulated EtherCAT slave controller (ESC, drivers/esc.hpp) and the device
+// The boundary between a simulated EtherCAT slave controller (ESC, drivers/sim/esc/esc.hpp) and the device
 // application behind it: what a real slave's microcontroller sees through the ESC's PDI (process data
 // interface). The ESC model owns everything on the EtherCAT side (registers, SyncManagers, FMMUs,
 // SII interface, distributed clocks) plus the generic part of the slave firmware (the AL state
@@ -18,10 +18,10 @@
 
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "ecat/registers.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/registers.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

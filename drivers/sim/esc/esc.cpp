@@ -1,12 +1,12 @@
 // The ESC hardware: power-up, ports, the EtherCAT processing unit and the master's memory access.
 // The slave firmware's part lives in esc_al.cpp (AL state machine) and esc_pdi.cpp (PDI side).
-#include "drivers/esc.hpp"
+#include "drivers/sim/esc/esc.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "ecat/command.hpp"
-#include "ecat/registers.hpp"
+#include "ecat/codec/command.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,7 +1,7 @@
 // A register-level model of one EtherCAT slave controller (ESC) and of the generic part of the slave
 // firmware behind it (what every slave stack does: the AL state machine with its SyncManager checks,
 // mailbox and process-data buffer handling, watchdog reactions). The device application
-// (drivers/slave_device.hpp) supplies the rest.
+// (drivers/sim/devices/slave_device.hpp) supplies the rest.
 //
 // Per frame, the segment calls, in time order:
 //   advance_to(t0)      time moves on: device physics, SYNC0 pulses, watchdogs, EEPROM completion
@@ -17,23 +17,23 @@
 // broadcast (every ESC, ADP incremented), logical through FMMUs. Working counter: +1 for a read,
 // +1 for a write, +1/+2/+3 for read-write (read/write/both); ARMW/FRMW: the addressed ESC reads,
 // every other ESC writes. A datagram counts only if it reached at least one byte that exists and
-// may be accessed that way (see drivers/esc_memory.hpp).
+// may be accessed that way (see drivers/sim/esc/esc_memory.hpp).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/esc_config.hpp"
-#include "drivers/esc_dc.hpp"
-#include "drivers/esc_fmmu.hpp"
-#include "drivers/esc_memory.hpp"
-#include "drivers/esc_sii.hpp"
-#include "drivers/esc_sync_manager.hpp"
-#include "drivers/slave_device.hpp"
-#include "ecat/frame.hpp"
-#include "hal/clock.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/esc/esc_dc.hpp"
+#include "drivers/sim/esc/esc_fmmu.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
+#include "drivers/sim/esc/esc_sii.hpp"
+#include "drivers/sim/esc/esc_sync_manager.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

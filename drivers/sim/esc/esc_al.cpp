@@ -13,8 +13,8 @@
 //                     unknown states 0x0012
 // While the error indication is set, requests without the acknowledge bit are ignored, except a
 // request for INIT; an acknowledge clears it.
-#include "drivers/esc.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/sim/esc/esc.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,8 +1,8 @@
-#include "drivers/esc_clock.hpp"
+#include "drivers/sim/esc/esc_clock.hpp"
 
 #include <cmath>
 
-#include "drivers/inline_math.hpp"
+#include "drivers/sim/devices/inline_math.hpp"
 
 namespace rescue::drivers {
 

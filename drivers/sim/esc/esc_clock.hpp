@@ -14,7 +14,7 @@
 
 #include <cstdint>
 
-#include "hal/clock.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

@@ -1,10 +1,10 @@
-#include "drivers/esc_dc.hpp"
+#include "drivers/sim/esc/esc_dc.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "drivers/inline_math.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/sim/devices/inline_math.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

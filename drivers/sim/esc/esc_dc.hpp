@@ -24,10 +24,10 @@
 #include <array>
 #include <cstdint>
 
-#include "drivers/esc_clock.hpp"
-#include "drivers/esc_config.hpp"
-#include "drivers/esc_memory.hpp"
-#include "hal/clock.hpp"
+#include "drivers/sim/esc/esc_clock.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

@@ -1,6 +1,6 @@
-#include "drivers/esc_fmmu.hpp"
+#include "drivers/sim/esc/esc_fmmu.hpp"
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 

@@ -10,7 +10,7 @@
 
 #include <cstdint>
 
-#include "drivers/esc_memory.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
 
 namespace rescue::drivers {
 

@@ -1,7 +1,7 @@
 // Logical addressing (LRD, LWR, LRW) through the ESC's FMMUs.
 #include <algorithm>
 
-#include "drivers/esc.hpp"
+#include "drivers/sim/esc/esc.hpp"
 
 namespace rescue::drivers {
 

@@ -1,8 +1,8 @@
-#include "drivers/esc_memory.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
 
 #include <algorithm>
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

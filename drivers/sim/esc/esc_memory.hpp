@@ -11,8 +11,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/endian.hpp"
-#include "drivers/esc_config.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
 
 namespace rescue::drivers {
 

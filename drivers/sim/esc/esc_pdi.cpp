@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "drivers/esc.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/sim/esc/esc.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

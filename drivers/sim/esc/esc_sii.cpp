@@ -1,10 +1,10 @@
-#include "drivers/esc_sii.hpp"
+#include "drivers/sim/esc/esc_sii.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "drivers/minimal_sii.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -14,10 +14,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/esc_config.hpp"
-#include "drivers/esc_memory.hpp"
-#include "hal/clock.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

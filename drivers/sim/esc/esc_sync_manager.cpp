@@ -1,8 +1,8 @@
-#include "drivers/esc_sync_manager.hpp"
+#include "drivers/sim/esc/esc_sync_manager.hpp"
 
 #include <cstring>
 
-#include "ecat/registers.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

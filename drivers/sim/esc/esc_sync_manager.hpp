@@ -18,8 +18,8 @@
 
 #include <cstdint>
 
-#include "core/span.hpp"
-#include "drivers/esc_memory.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc_memory.hpp"
 
 namespace rescue::drivers {
 

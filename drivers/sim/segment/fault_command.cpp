@@ -1,4 +1,4 @@
-#include "drivers/fault_command.hpp"
+#include "drivers/sim/segment/fault_command.hpp"
 
 #include <array>
 #include <cstring>

@@ -17,9 +17,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

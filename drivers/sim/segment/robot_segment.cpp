@@ -1,8 +1,8 @@
-#include "drivers/robot_segment.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
 
 #include <cmath>
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::drivers {
 namespace {

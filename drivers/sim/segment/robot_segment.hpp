@@ -1,4 +1,4 @@
-// The robot's EtherCAT segment as the simulator builds it (design brief section 2, core/robot.hpp):
+// The robot's EtherCAT segment as the simulator builds it (design brief section 2, core/robot/robot.hpp):
 // junction_a and junction_b (four-port ET1100-class ESCs without an application, like junction
 // modules) and 21 joint drives (two-port ESCs of a class common in drives: 3 FMMUs, 4 SMs, 4 KiB,
 // 4-byte SII reads), cabled as kSlaves says.
@@ -10,10 +10,10 @@
 
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "drivers/esc_config.hpp"
-#include "drivers/simulated_segment.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
 
 namespace rescue::drivers {
 

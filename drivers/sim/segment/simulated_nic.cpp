@@ -1,4 +1,4 @@
-#include "drivers/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
 
 #include <algorithm>
 #include <cstring>

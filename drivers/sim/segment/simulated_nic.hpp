@@ -10,12 +10,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "ecat/frame.hpp"
-#include "hal/clock.hpp"
-#include "hal/nic.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
 
 namespace rescue::drivers {
 

@@ -1,4 +1,4 @@
-#include "drivers/simulated_robot.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
 
 #include <array>
 

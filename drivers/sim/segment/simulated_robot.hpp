@@ -1,17 +1,17 @@
 // The simulated robot's EtherCAT segment with its devices: junction_a and junction_b, and the 21
-// joint drives (drivers/joint_drive_device.hpp), cabled as core/robot.hpp says, with per-slave
-// crystal drifts and delays from a seed (drivers/robot_segment.hpp). What `run --nic sim` and
+// joint drives (drivers/sim/devices/joint_drive_device.hpp), cabled as core/robot/robot.hpp says, with per-slave
+// crystal drifts and delays from a seed (drivers/sim/segment/robot_segment.hpp). What `run --nic sim` and
 // `sim --iface` put behind the master. Large (the ESC memories): give it static storage.
 #pragma once
 
 #include <cstddef>
 
-#include "core/result.hpp"
-#include "drivers/joint_drive_device.hpp"
-#include "drivers/robot_devices.hpp"
-#include "drivers/robot_segment.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
+#include "drivers/sim/devices/robot_devices.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

@@ -1,10 +1,10 @@
-#include "drivers/simulated_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-#include "ecat/frame.hpp"
-#include "ecat/registers.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,4 +1,4 @@
-// A simulated EtherCAT segment: ESCs (drivers/esc.hpp) cabled as a tree, each with its device
+// A simulated EtherCAT segment: ESCs (drivers/sim/esc/esc.hpp) cabled as a tree, each with its device
 // application, and the timing of a frame travelling through it.
 //
 // A frame from the master enters the first ESC's port 0. Every ESC processes it in its EtherCAT
@@ -20,12 +20,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/result.hpp"
-#include "core/span.hpp"
-#include "drivers/esc.hpp"
-#include "drivers/esc_config.hpp"
-#include "drivers/slave_device.hpp"
-#include "hal/clock.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::drivers {
 

@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "core/crc32.hpp"
+#include "core/base/crc32.hpp"
 
 namespace rescue {
 namespace {

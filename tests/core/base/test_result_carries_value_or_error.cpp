@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue {
 namespace {

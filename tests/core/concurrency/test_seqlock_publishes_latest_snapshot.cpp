@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "core/seqlock.hpp"
+#include "core/concurrency/seqlock.hpp"
 
 namespace rescue {
 namespace {

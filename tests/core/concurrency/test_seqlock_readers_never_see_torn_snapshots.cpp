@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <thread>
 
-#include "core/sanitizers.hpp"
-#include "core/seqlock.hpp"
+#include "core/base/sanitizers.hpp"
+#include "core/concurrency/seqlock.hpp"
 
 namespace rescue {
 namespace {

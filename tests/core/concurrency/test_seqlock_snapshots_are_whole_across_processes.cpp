@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <new>
 
-#include "core/sanitizers.hpp"
-#include "core/seqlock.hpp"
+#include "core/base/sanitizers.hpp"
+#include "core/concurrency/seqlock.hpp"
 #include "tests/support/forked_child.hpp"
 #include "tests/support/shared_memory_segment.hpp"
 

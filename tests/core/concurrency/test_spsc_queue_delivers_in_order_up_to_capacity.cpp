@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "core/spsc_queue.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <thread>
 
-#include "core/sanitizers.hpp"
-#include "core/spsc_queue.hpp"
+#include "core/base/sanitizers.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue {
 namespace {

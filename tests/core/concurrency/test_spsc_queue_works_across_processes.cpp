@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <thread>
 
-#include "core/sanitizers.hpp"
-#include "core/spsc_queue.hpp"
+#include "core/base/sanitizers.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 #include "tests/support/forked_child.hpp"
 #include "tests/support/shared_memory_segment.hpp"
 

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "core/fixed_vector.hpp"
+#include "core/containers/fixed_vector.hpp"
 
 namespace rescue {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "core/ring_buffer.hpp"
+#include "core/containers/ring_buffer.hpp"
 
 namespace rescue {
 namespace {

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <memory>
 
-#include "core/heap_guard.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "tests/support/do_not_optimize.hpp"
 
 namespace rescue {

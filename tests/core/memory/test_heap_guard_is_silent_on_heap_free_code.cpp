@@ -6,15 +6,15 @@
 #include <cstdio>
 #include <thread>
 
-#include "core/fixed_vector.hpp"
-#include "core/heap_guard.hpp"
-#include "core/latency_histogram.hpp"
-#include "core/result.hpp"
-#include "core/ring_buffer.hpp"
-#include "core/seqlock.hpp"
-#include "core/spsc_queue.hpp"
-#include "hal/clock.hpp"
-#include "hal/tsc_timer.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "core/base/result.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue {
 namespace {

@@ -5,7 +5,7 @@
 #include <csignal>
 #include <cstdlib>
 
-#include "core/heap_guard.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "tests/support/do_not_optimize.hpp"
 
 namespace rescue {

@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "core/crc32.hpp"
-#include "core/endian.hpp"
-#include "core/error_joints_file.hpp"
+#include "core/base/crc32.hpp"
+#include "core/base/endian.hpp"
+#include "core/robot/error_joints_file.hpp"
 
 namespace rescue {
 namespace {

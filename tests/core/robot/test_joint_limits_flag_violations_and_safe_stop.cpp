@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/joint_limits.hpp"
+#include "core/robot/joint_limits.hpp"
 
 namespace rescue {
 namespace {

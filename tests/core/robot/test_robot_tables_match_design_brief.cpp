@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue {
 namespace {

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "core/latency_histogram.hpp"
+#include "core/timing/latency_histogram.hpp"
 
 namespace rescue {
 namespace {

@@ -1,10 +1,10 @@
-// The master's CiA 402 helper driving the drive-side state machine (drivers/cia402.hpp): from
+// The master's CiA 402 helper driving the drive-side state machine (drivers/cia402/cia402.hpp): from
 // every state it reaches Operation enabled in a few cycles, a fault is reset by a rising edge of
 // bit 7 (also when bit 7 was already high), and the disable helper brings the drive to a stop.
 #include <gtest/gtest.h>
 
-#include "drivers/cia402.hpp"
-#include "drivers/cia402_enable.hpp"
+#include "drivers/cia402/cia402.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -2,7 +2,7 @@
 // and internal events, the statusword each state shows, and the commands each state refuses.
 #include <gtest/gtest.h>
 
-#include "drivers/cia402.hpp"
+#include "drivers/cia402/cia402.hpp"
 
 namespace rescue::drivers::cia402 {
 namespace {

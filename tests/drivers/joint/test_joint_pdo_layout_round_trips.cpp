@@ -5,7 +5,7 @@
 
 #include <limits>
 
-#include "drivers/joint_drive_pdo.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "core/heap_guard.hpp"
-#include "ecat/capture_queue.hpp"
-#include "ecat/frame.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "ecat/capture/capture_queue.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/read_frames.hpp"
 
 namespace rescue::ecat {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
+#include "ecat/capture/capture_reader.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/shared_captures.hpp"
 

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/capture_bytes.hpp"
 #include "tests/support/read_frames.hpp"
 

@@ -1,5 +1,5 @@
 // Capture files are untrusted input. Each kind of damage gives its documented error value (field,
-// frame number, byte offset; see ecat/capture_reader.hpp), errors are sticky, and a file cut at
+// frame number, byte offset; see ecat/capture/capture_reader.hpp), errors are sticky, and a file cut at
 // any byte or with any byte overwritten is read without a single access outside the file: every
 // variant is held in a heap block of exactly its size, so the asan preset catches stray reads.
 #include <gtest/gtest.h>
@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/capture_bytes.hpp"
 
 namespace rescue::ecat {

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "drivers/simulated_nic.hpp"
-#include "ecat/capture_tap.hpp"
-#include "ecat/datagram_link.hpp"
-#include "ecat/registers.hpp"
-#include "tests/drivers/segment_test_support.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "ecat/capture/capture_tap.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/codec/registers.hpp"
+#include "tests/support/segment_test_support.hpp"
 #include "tests/support/read_frames.hpp"
 
 namespace rescue::ecat {

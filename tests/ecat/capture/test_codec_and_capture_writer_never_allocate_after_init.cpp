@@ -9,9 +9,9 @@
 #include <csignal>
 #include <string>
 
-#include "core/heap_guard.hpp"
-#include "ecat/capture_writer.hpp"
-#include "ecat/frame.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/capture_tap.hpp"
-#include "ecat/capture_writer.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/capture/capture_tap.hpp"
+#include "ecat/capture/capture_writer.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::ecat {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/shared_captures.hpp"
 
 namespace rescue::ecat {

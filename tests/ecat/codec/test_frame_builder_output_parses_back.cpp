@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
 namespace {

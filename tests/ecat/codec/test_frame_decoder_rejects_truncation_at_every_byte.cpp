@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -1,13 +1,13 @@
 // Each way a frame can be inconsistent gives its own error value: the field (Error::what), the
 // datagram (detail0, kFrameLevel for frame-level fields) and the byte offset of that field (detail1),
-// as the table in ecat/frame.hpp documents.
+// as the table in ecat/codec/frame.hpp documents.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "ecat/dc_cycle_sync.hpp"
+#include "ecat/dc/dc_cycle_sync.hpp"
 
 namespace rescue::ecat {
 namespace {

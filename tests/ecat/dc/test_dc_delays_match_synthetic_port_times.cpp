@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/dc_delay.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/dc/dc_delay.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -3,7 +3,7 @@
 // (FPWR 0x1800) and every response it read from SM1 (FPRD 0x1C00, working counter 1) decodes,
 // each response answers its request, and each decoded field matches what Wireshark's dissector
 // says (tshark, when installed). Our encoder rebuilds every request byte for byte.
-// The capture is read with the project's own reader (ecat/capture_reader.hpp).
+// The capture is read with the project's own reader (ecat/capture/capture_reader.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "ecat/coe.hpp"
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/read_frames.hpp"
 
 namespace rescue::ecat::coe {

@@ -5,7 +5,7 @@
 #include <array>
 #include <vector>
 
-#include "ecat/coe.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::ecat::coe {
 namespace {

@@ -9,11 +9,11 @@
 #include <map>
 #include <vector>
 
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
-#include "ecat/mailbox_client.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <array>
 
-#include "ecat/mailbox.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::ecat::mbx {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <vector>
 
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/link_monitor.hpp"
-#include "ecat/registers.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/master/link_monitor.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -7,8 +7,8 @@
 #include <array>
 #include <memory>
 
-#include "drivers/minimal_sii.hpp"
-#include "drivers/robot_segment.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::ecat {

@@ -7,7 +7,7 @@
 
 #include <memory>
 
-#include "drivers/cia402_enable.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::ecat {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "drivers/joint_bus.hpp"
-#include "hal/raw_socket_nic.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/netns_veth.hpp"
 

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <vector>
 
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/network_match.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/master/network_match.hpp"
 
 namespace rescue::ecat {
 namespace {

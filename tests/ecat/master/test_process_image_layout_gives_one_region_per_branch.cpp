@@ -2,8 +2,8 @@
 // wiring order), regions back to back, every joint's data exactly once, junctions absent.
 #include <gtest/gtest.h>
 
-#include "drivers/robot_network_plan.hpp"
-#include "ecat/network_plan.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "ecat/sii.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::ecat::sii {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "ecat/sii.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::ecat::sii {
 namespace {

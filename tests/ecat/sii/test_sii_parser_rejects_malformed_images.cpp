@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "core/endian.hpp"
-#include "ecat/sii.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::ecat::sii {
 namespace {

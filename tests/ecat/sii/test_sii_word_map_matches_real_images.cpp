@@ -1,4 +1,4 @@
-// The SII word addresses in ecat/registers.hpp read the right fields of real EEPROM images
+// The SII word addresses in ecat/codec/registers.hpp read the right fields of real EEPROM images
 // (../shared/vectors/sii): identity, mailbox layout, protocols, size, the configuration checksum and
 // the first category.
 #include <gtest/gtest.h>
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/endian.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/endian.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -5,7 +5,7 @@
 #include <array>
 #include <cstring>
 
-#include "fsm/engine.hpp"
+#include "fsm/engine/engine.hpp"
 
 namespace rescue::fsm {
 namespace {

@@ -1,11 +1,11 @@
 // Every (state, input) pair of the joint status DFA against the design brief's table (section 5),
-// written out here independently of fsm/joint_status_dfa.hpp, plus the reset guard, the actions and
+// written out here independently of fsm/machines/joint_status_dfa.hpp, plus the reset guard, the actions and
 // the robot-level summary.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "fsm/joint_status_dfa.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 
 namespace rescue::fsm {
 namespace {

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string>
 
-#include "fsm/joint_status_dfa.hpp"
-#include "fsm/table_docs.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "fsm/engine/table_docs.hpp"
 
 namespace rescue::fsm {
 namespace {

@@ -1,4 +1,4 @@
-// hal/durable_file: atomic replacement, capped reads that refuse oversized and non-regular files, and
+// hal/files/durable_file: atomic replacement, capped reads that refuse oversized and non-regular files, and
 // directory creation.
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "hal/durable_file.hpp"
+#include "hal/files/durable_file.hpp"
 
 namespace rescue::hal {
 namespace {

@@ -21,8 +21,8 @@
 #include <random>
 #include <string>
 
-#include "core/error_joints_file.hpp"
-#include "hal/durable_file.hpp"
+#include "core/robot/error_joints_file.hpp"
+#include "hal/files/durable_file.hpp"
 
 namespace rescue {
 namespace {

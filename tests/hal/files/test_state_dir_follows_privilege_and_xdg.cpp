@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "hal/state_dir.hpp"
+#include "hal/files/state_dir.hpp"
 
 namespace rescue::hal {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hal/raw_socket_nic.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 
 namespace rescue::hal {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hal/raw_socket_nic.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 #include "tests/support/netns_veth.hpp"
 
 namespace rescue::hal {

@@ -3,7 +3,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "hal/rt_setup.hpp"
+#include "hal/rt/rt_setup.hpp"
 
 namespace rescue::hal {
 namespace {

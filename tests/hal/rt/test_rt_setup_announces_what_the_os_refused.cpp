@@ -13,8 +13,8 @@
 #include <string>
 #include <thread>
 
-#include "core/sanitizers.hpp"
-#include "hal/rt_setup.hpp"
+#include "core/base/sanitizers.hpp"
+#include "hal/rt/rt_setup.hpp"
 #include "tests/support/forked_child.hpp"
 
 namespace rescue::hal {

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "hal/clock.hpp"
-#include "hal/tsc_timer.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::hal {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "hal/wall_clock.hpp"
+#include "hal/time/wall_clock.hpp"
 
 namespace rescue::hal {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/capture_bytes.hpp"
 #include "tests/support/run_command.hpp"
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "ecat/capture_writer.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/shared_captures.hpp"
 #include "tests/support/tshark_listing.hpp"

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/app/nic_option.hpp"
+#include "core/app/cli/nic_option.hpp"
 
 namespace rescue::app {
 namespace {

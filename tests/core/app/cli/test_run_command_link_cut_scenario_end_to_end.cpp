@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "../support/run_command.hpp"
-#include "joint_manager_fakes.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ecat/frame.hpp"
-#include "hal/raw_socket_nic.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/netns_veth.hpp"
 #include "tests/support/test_frames.hpp"

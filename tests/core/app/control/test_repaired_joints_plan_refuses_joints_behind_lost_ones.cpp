@@ -1,7 +1,7 @@
 // The operator's --clear-joint request judged against the joints the error-joints file restored.
 #include <gtest/gtest.h>
 
-#include "core/app/repaired_joints.hpp"
+#include "core/app/control/repaired_joints.hpp"
 
 namespace rescue::app {
 namespace {

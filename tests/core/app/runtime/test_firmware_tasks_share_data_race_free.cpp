@@ -4,8 +4,8 @@
 // (seqlocks, SPSC queues, run-state atomics) while the program runs as it does for the robot team.
 #include <gtest/gtest.h>
 
-#include "core/app/firmware.hpp"
-#include "joint_manager_fakes.hpp"
+#include "core/app/runtime/firmware.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/app/frame_server.hpp"
-#include "ecat/frame.hpp"
+#include "core/app/sim/frame_server.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/test_frames.hpp"
 
 namespace rescue::app {

@@ -6,17 +6,17 @@
 
 #include <memory>
 
-#include "../support/simulated_robot_rig.hpp"
-#include "core/app/error_joints_storage.hpp"
-#include "core/app/ethercat_handler.hpp"
-#include "core/app/joint_demand.hpp"
-#include "core/app/joint_manager.hpp"
-#include "core/app/predefined_messages.hpp"
-#include "core/app/task_links.hpp"
-#include "core/spsc_message_port.hpp"
-#include "drivers/cia402_enable.hpp"
-#include "hal/wall_clock.hpp"
-#include "joint_manager_fakes.hpp"
+#include "tests/support/simulated_robot_rig.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
+#include "core/app/tasks/joint_demand.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/app/control/predefined_messages.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
+#include "hal/time/wall_clock.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

@@ -11,9 +11,9 @@
 #include <mutex>
 #include <thread>
 
-#include "core/app/lost_joint_tracker.hpp"
-#include "core/spsc_message_port.hpp"
-#include "joint_manager_fakes.hpp"
+#include "core/app/tasks/lost_joint_tracker.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

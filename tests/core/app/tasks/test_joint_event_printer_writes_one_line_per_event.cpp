@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/app/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_printer.hpp"
 
 namespace rescue::app {
 namespace {

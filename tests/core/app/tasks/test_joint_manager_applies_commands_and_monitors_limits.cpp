@@ -3,7 +3,7 @@
 // recorded; reset is refused until the fault is gone.
 #include <gtest/gtest.h>
 
-#include "joint_manager_fakes.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

@@ -11,8 +11,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/endian.hpp"
-#include "joint_manager_fakes.hpp"
+#include "core/base/endian.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

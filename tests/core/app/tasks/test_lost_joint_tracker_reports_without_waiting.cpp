@@ -3,8 +3,8 @@
 // cleared by the joint manager's notices.
 #include <gtest/gtest.h>
 
-#include "core/app/lost_joint_tracker.hpp"
-#include "joint_manager_fakes.hpp"
+#include "core/app/tasks/lost_joint_tracker.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
 namespace {

@@ -8,13 +8,13 @@
 #include <array>
 #include <vector>
 
-#include "core/endian.hpp"
-#include "drivers/coe_sdo_server.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_objects.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/sim/coe/coe_sdo_server.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 namespace rescue::drivers {
 namespace {

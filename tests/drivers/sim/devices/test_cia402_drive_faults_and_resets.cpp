@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "drivers/cia402_drive.hpp"
-#include "drivers/joint_drive_objects.hpp"
+#include "drivers/sim/devices/cia402_drive.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,16 +1,16 @@
-// The SII images our two device types carry parse back with the master's parser (ecat/sii.hpp):
+// The SII images our two device types carry parse back with the master's parser (ecat/sii/sii.hpp):
 // identity, unique serials, commissioned aliases, the config-area CRC, the drive's mailbox and
-// SyncManagers, and PDO categories equal to the process-data layout of drivers/joint_drive_pdo.hpp.
+// SyncManagers, and PDO categories equal to the process-data layout of drivers/joint/joint_drive_pdo.hpp.
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "core/robot.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/joint_drive_sii.hpp"
-#include "drivers/junction_device.hpp"
-#include "ecat/sii.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/sim/devices/joint_drive_sii.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::drivers {
 namespace {

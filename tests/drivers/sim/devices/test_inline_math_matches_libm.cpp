@@ -1,4 +1,4 @@
-// drivers/inline_math.hpp gives, bit for bit, what libm gives: the simulator's frames depend on
+// drivers/sim/devices/inline_math.hpp gives, bit for bit, what libm gives: the simulator's frames depend on
 // it. Edge values (signed zeros, halves, the ends of the exact range, infinities, NaN) and a
 // million values spread over the magnitudes the simulator uses.
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "drivers/inline_math.hpp"
+#include "drivers/sim/devices/inline_math.hpp"
 
 namespace rescue::drivers {
 namespace {

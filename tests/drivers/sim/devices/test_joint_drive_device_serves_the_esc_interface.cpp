@@ -1,4 +1,4 @@
-// The joint drive as the ESC sees it (drivers/slave_device.hpp): SII image, process-data sizes,
+// The joint drive as the ESC sees it (drivers/sim/devices/slave_device.hpp): SII image, process-data sizes,
 // AL state checks (PDO mapping, SYNC0 cycle), mailbox requests answered through EscPdi with
 // mailbox counters and retry detection, and cycles in OP that enable the drive and move the joint;
 // leaving OP switches the power stage off and the worm gear holds.
@@ -7,12 +7,12 @@
 #include <array>
 #include <vector>
 
-#include "core/endian.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_device.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
-#include "ecat/sii.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
+#include "ecat/sii/sii.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,13 +1,13 @@
 // The joint drive's mechanics: a step in velocity, position or torque is followed without ever
-// exceeding the joint's velocity, acceleration and torque limits (core/robot.hpp); the worm gear
+// exceeding the joint's velocity, acceleration and torque limits (core/robot/robot.hpp); the worm gear
 // holds the joint still when the drive is not powered or its outputs are no longer valid.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/robot.hpp"
-#include "drivers/cia402_drive.hpp"
-#include "drivers/joint_drive_objects.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/sim/devices/cia402_drive.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,11 +1,11 @@
 // The joint drive's object dictionary: table shape, defaults taken from the robot tables, and the
 // PDO mapping/assignment rules: a master may rewrite the mapping the way masters do (sub 0 to 0,
-// entries, sub 0 back) but only with the fixed layout of drivers/joint_drive_pdo.hpp.
+// entries, sub 0 back) but only with the fixed layout of drivers/joint/joint_drive_pdo.hpp.
 #include <gtest/gtest.h>
 
-#include "core/endian.hpp"
-#include "drivers/joint_drive_objects.hpp"
-#include "ecat/coe.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::drivers {
 namespace {

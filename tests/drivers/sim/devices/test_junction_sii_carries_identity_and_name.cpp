@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-#include "core/endian.hpp"
-#include "drivers/junction_device.hpp"
-#include "ecat/registers.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,4 +1,4 @@
-// The robot's own devices (drivers/robot_devices.hpp) in the simulated segment, reached the way a
+// The robot's own devices (drivers/sim/devices/robot_devices.hpp) in the simulated segment, reached the way a
 // master reaches them: mailbox SyncManagers configured as the SII announces, PRE-OP, an SDO upload
 // written into SM0 and its answer read from SM1 through the ESC; a PDO assignment the drive
 // cannot run makes the ESC refuse SAFE-OP with the drive's AL status code.
@@ -6,15 +6,15 @@
 
 #include <memory>
 
-#include "core/endian.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/robot_devices.hpp"
-#include "drivers/robot_segment.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "ecat/coe.hpp"
-#include "ecat/frame.hpp"
-#include "ecat/registers.hpp"
-#include "tests/drivers/segment_test_support.hpp"
+#include "core/base/endian.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/sim/devices/robot_devices.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers {
 namespace {

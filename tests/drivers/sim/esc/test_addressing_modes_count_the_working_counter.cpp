@@ -1,6 +1,6 @@
 // Each addressing mode reaches the slaves ETG.1000.4 says it reaches, and each command adds to the
 // working counter what real ESCs add, on the robot's 23-slave segment.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

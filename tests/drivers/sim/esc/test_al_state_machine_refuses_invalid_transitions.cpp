@@ -2,7 +2,7 @@
 // indication and the AL status code a slave stack gives (0x0011, 0x0012, 0x0013, 0x0016, 0x0017,
 // 0x001D, 0x001E, device codes), error acknowledge, SAFE-OP -> OP waiting for valid outputs, the
 // process-data watchdog, and device emulation on the junctions.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

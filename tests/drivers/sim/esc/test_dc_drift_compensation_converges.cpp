@@ -4,7 +4,7 @@
 // nanoseconds within a few thousand cycles.
 #include <cstdio>
 
-#include "tests/drivers/dc_master_steps.hpp"
+#include "tests/support/dc_master_steps.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

@@ -2,7 +2,7 @@
 // of its ports. The delays a master derives from those times (through the junction tree, as
 // ETG.1020 describes) are the model's propagation delays: exactly when every ESC forwards
 // symmetrically, and within the model's known asymmetry when processing and forwarding delays differ.
-#include "tests/drivers/dc_master_steps.hpp"
+#include "tests/support/dc_master_steps.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

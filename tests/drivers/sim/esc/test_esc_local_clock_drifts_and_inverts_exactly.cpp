@@ -2,7 +2,7 @@
 // and its inverse (the segment time at which a local time is reached) is exact to the nanosecond.
 #include <gtest/gtest.h>
 
-#include "drivers/esc_clock.hpp"
+#include "drivers/sim/esc/esc_clock.hpp"
 
 namespace rescue::drivers {
 namespace {

@@ -1,7 +1,7 @@
 // Register blocks outside the big units: ESC information, station address and alias, DL status
 // per port, ECAT events and the datagram IRQ field, error and lost-link counters, watchdogs, user
 // RAM, and the PDI-related bits (PDI operational, PDI watchdog) on joints and junctions.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

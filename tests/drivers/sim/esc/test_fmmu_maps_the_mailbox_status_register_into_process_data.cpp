@@ -5,7 +5,7 @@
 // FMMU does not take the answer away, and the ESC counts its read once in the LRW working counter
 // although two of its read FMMUs (inputs and status) match (SOEM expects no extra count from a
 // slave that has inputs).
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

@@ -2,7 +2,7 @@
 // datagram, busy for a while in virtual time, then 4 or 8 bytes of data; errors for addresses
 // beyond the EEPROM, unknown commands and writes without write enable; writes and reload; the
 // configuration area's CRC checked at power-up.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

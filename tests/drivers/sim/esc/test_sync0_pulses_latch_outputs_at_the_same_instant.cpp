@@ -4,7 +4,7 @@
 // start time reads back as the next pulse, a start time in the past waits for the 32-bit wrap.
 #include <cstdio>
 
-#include "tests/drivers/dc_master_steps.hpp"
+#include "tests/support/dc_master_steps.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

@@ -3,7 +3,7 @@
 // queued behind earlier ones, the repeat request; three-buffer process data where the reader always
 // gets the newest complete buffer; configuration registers locked while enabled; SyncManagers the
 // device switched off lock their memory.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

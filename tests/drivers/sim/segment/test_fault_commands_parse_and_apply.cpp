@@ -3,8 +3,8 @@
 // the segment.
 #include <cstring>
 
-#include "drivers/fault_command.hpp"
-#include "tests/drivers/segment_test_support.hpp"
+#include "drivers/sim/segment/fault_command.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

@@ -1,7 +1,7 @@
 // Fault injection: a hung application (the ESC still forwards and answers, the application part
 // stops), a dead slave (its links drop on both sides; powered again it starts over in INIT), a frame
 // dropped or corrupted on its way back, a drive fault handed to the device, a malformed frame.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

@@ -1,7 +1,7 @@
 // A cut cable at any of the 21 joints makes that joint and every joint after it on its branch
 // unreachable (the upstream port closes, the frame comes back without them); all other slaves
 // still answer. Restoring the cable brings them back.
-#include "tests/drivers/segment_test_support.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

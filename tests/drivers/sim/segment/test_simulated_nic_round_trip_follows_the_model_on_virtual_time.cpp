@@ -2,8 +2,8 @@
 // ESC's forwarding delays, the frame's own length at 100 Mbit/s), moving only virtual time.
 #include <cstdio>
 
-#include "drivers/simulated_nic.hpp"
-#include "tests/drivers/segment_test_support.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::drivers::testing {
 namespace {

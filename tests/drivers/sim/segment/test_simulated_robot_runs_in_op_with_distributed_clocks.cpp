@@ -1,13 +1,13 @@
-// The whole simulated robot (junctions and the 21 joint drives of drivers/joint_drive_device.hpp)
+// The whole simulated robot (junctions and the 21 joint drives of drivers/sim/devices/joint_drive_device.hpp)
 // brought up the way an independent master does it, only through frames: count, address, identity
 // from the SII, mailbox SyncManagers from the SII, PDO assignment over CoE left as the drive has it,
 // process-data SyncManagers and FMMUs, distributed clocks with SYNC0, SAFE-OP, OP; then a joint
 // enabled through CiA 402 follows a target, and a cut link sends the joints behind it to SAFE-OP
 // by their watchdog while the others keep running.
-#include "drivers/joint_drive_pdo.hpp"
-#include "drivers/joint_drive_sii.hpp"
-#include "drivers/simulated_robot.hpp"
-#include "tests/drivers/dc_master_steps.hpp"
+#include "drivers/joint/joint_drive_pdo.hpp"
+#include "drivers/sim/devices/joint_drive_sii.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "tests/support/dc_master_steps.hpp"
 
 namespace rescue::drivers::testing {
 namespace {
