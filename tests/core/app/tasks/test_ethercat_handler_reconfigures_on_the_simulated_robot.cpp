@@ -41,15 +41,14 @@ struct Firmware {
     restored = manager.restore(rig->clock.now()).restored;
     links->demand.write(demand_of(manager));
     ecat::MasterOptions options;
-    options.known_lost = restored;
-    if (!rig->bus.bring_up(options).ok()) return false;
+    if (!rig->bus.bring_up(options, restored).ok()) return false;
     handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
-  ecat::CycleResult period() {
+  drivers::JointCycleResult period() {
     rig->clock.sleep_until(rig->bus.next_wakeup());
-    const ecat::CycleResult r = handler->cycle();
+    const drivers::JointCycleResult r = handler->cycle();
     manager.step(rig->clock.now());
     links->demand.write(demand_of(manager));
     return r;
