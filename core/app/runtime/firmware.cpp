@@ -193,6 +193,44 @@ Status finish_capture(const char* path) noexcept {
   return g_capture.close();
 }
 
+// What start-up did with a damaged error-joints file or an interrupted write: exactly what was salvaged,
+// dropped and added, where the original is kept, and what the operator can do.
+void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
+  char kept[64];
+  set_aside_name(r.set_aside_suffix, kept, sizeof kept);
+  char names[kJointNamesCapacity];
+  if (r.newer_temporary) {
+    format_joint_names(r.from_temporary, names, sizeof names);
+    (void)std::printf("rescue-motion run: %s/%s is complete and newer (sequence %" PRIu64 ") than the error-joints "
+                      "file: a write was interrupted before its rename; its joints are kept recorded lost%s%s\n",
+                      dir, ErrorJointsFileStorage::kTemporaryName, r.temporary_sequence,
+                      r.from_temporary != 0 ? "; it adds " : "", r.from_temporary != 0 ? names : "");
+  }
+  if (!r.damaged()) return;
+  const Error& why = r.file_status.error();
+  if (r.salvaged == 0) {
+    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); %u record(s) dropped; starting safely\n",
+                      why.what, to_string(why.code), r.records_dropped);
+    if (r.set_aside) (void)std::printf("rescue-motion run:   the original is kept as %s/%s\n", dir, kept);
+    return;
+  }
+  format_joint_names(r.salvaged, names, sizeof names);
+  (void)std::printf("rescue-motion run: error-joints file damaged: %s (%s); salvaged %s from the records that passed "
+                    "their checks; dropped %u record(s) that did not\n",
+                    why.what, to_string(why.code), names, r.records_dropped);
+  if (r.added_behind != 0) {
+    format_joint_names(r.added_behind, names, sizeof names);
+    (void)std::printf("rescue-motion run:   also recorded lost: %s, behind a salvaged lost joint on its branch and "
+                      "so unreachable too (held position unknown)\n",
+                      names);
+  }
+  if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
+  format_joint_names(r.restored, names, sizeof names);
+  (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
+                    "they are repaired and checked, clear them with --clear-joint %s\n",
+                    names, names);
+}
+
 // Prints what the operator's --clear-joint request will do; false when it is refused.
 bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
   char names[kJointNamesCapacity];
@@ -262,10 +300,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!announce_repaired_joints(repaired)) return 1;
   const JointMask to_clear = repaired.to_clear;
   const JointMask out_of_service = repaired.out_of_service;
-  if (!restored.file_status.ok() && restored.file_present) {
-    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); starting safely\n",
-                      restored.file_status.error().what, to_string(restored.file_status.error().code));
-  }
+  print_restore_problems(restored, dir.value().path.c_str());
 
   // 2. The machine: memory locked and prefaulted once (each task sets its own priority and CPU).
   hal::RtConfig process_rt;

@@ -59,11 +59,18 @@ struct JointStatus {
 };
 
 struct RestoreReport {
-  JointMask restored{0};        // joints put in Error from the file
+  JointMask restored{0};        // joints put in Error from the file (all of the masks below)
   bool file_present{false};
   Status file_status;           // success, or why the file (or part of it) was not used
   std::uint32_t records_dropped{0};
-  bool set_aside{false};        // the unusable file was kept aside as error-joints.bin.unusable
+  JointMask salvaged{0};        // damaged file: the joints of the records that passed their checks
+  JointMask added_behind{0};    // damaged file: joints behind a salvaged one on its branch (unreachable too)
+  JointMask from_temporary{0};  // joints only a complete newer error-joints.bin.tmp lists
+  bool newer_temporary{false};  // such a temporary file was found (an interrupted write)
+  std::uint64_t temporary_sequence{0};
+  bool set_aside{false};        // the unusable file was kept aside (set_aside_name(set_aside_suffix))
+  std::uint32_t set_aside_suffix{0};
+  bool damaged() const noexcept { return file_present && !file_status.ok(); }
 };
 
 class JointManager {
@@ -77,8 +84,11 @@ class JointManager {
   explicit JointManager(const JointManagerPorts& ports) noexcept;
 
   // Start-up, before the network comes up: reads the error-joints file; its joints start in Error
-  // (loss latched, held position known). An unusable file is reported, kept aside, and whatever part
-  // of it can be trusted is restored and rewritten; the robot starts safely either way.
+  // (loss latched, held position known). An unusable file is reported, kept aside under a name of its
+  // own, and whatever part of it can be trusted is restored and rewritten; the salvage follows the
+  // wiring (a joint behind a salvaged lost joint on its branch was unreachable too, so it is recorded
+  // lost as well). A complete newer temporary file (a write interrupted before its rename) is
+  // reported and its joints kept lost. The robot starts safely either way.
   RestoreReport restore(hal::Nanoseconds now) noexcept;
 
   // One period (see the file comment).
