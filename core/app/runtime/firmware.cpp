@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cinttypes>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 
 #include "core/app/cli/cli.hpp"
@@ -27,6 +28,7 @@
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/rt/rt_setup.hpp"
+#include "hal/files/instance_lock.hpp"
 #include "hal/files/state_dir.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -174,6 +176,23 @@ bool all_reachable(JointMask joints) noexcept {
   return true;
 }
 
+// A resource another instance holds: name it and the holder's pid; the run does not start.
+int fail_locked(const char* what, const char* name, const Error& error) noexcept {
+  if (error.code == Errc::busy) {
+    if (error.detail0 != 0) {
+      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid %u); not starting\n",
+                         what, name, error.detail0);
+    } else {
+      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid unknown); not starting\n",
+                         what, name);
+    }
+    return 1;
+  }
+  (void)std::fprintf(stderr, "rescue-motion run: cannot lock %s %s: %s (%s, errno %u); not starting\n", what, name,
+                     error.what, to_string(error.code), error.detail0);
+  return 1;
+}
+
 int report_bring_up_failure(drivers::JointBus& bus) noexcept {
   const ecat::BringUpReport& report = bus.master().report();
   (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
@@ -269,6 +288,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
+  // One instance per state directory and per raw NIC (a second one would erase the first's losses).
+  const Status writable = hal::check_writable(dir.value().path.c_str());
+  if (!writable.ok()) {
+    (void)std::fprintf(stderr,
+                       "rescue-motion run: WARNING: state directory %s is not writable (%s): a joint lost in this run "
+                       "cannot be recorded, and no other instance is kept out; fix its permissions or use "
+                       "--state-dir\n",
+                       dir.value().path.c_str(), std::strerror(static_cast<int>(writable.error().detail0)));
+  } else {
+    const Status locked = hal::lock_state_directory(dir.value().path.c_str());
+    if (!locked.ok()) return fail_locked("state directory", dir.value().path.c_str(), locked.error());
+  }
+  if (options.nic.kind == NicKind::raw) {
+    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
+    if (!locked.ok()) return fail_locked("interface", options.nic.interface_name.data(), locked.error());
+  }
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
   static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
   static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
