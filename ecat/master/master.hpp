@@ -60,6 +60,9 @@ struct MasterOptions {
   // SDO downloads done in PRE-OP, before SAFE-OP (IgH's slave-config SDOs): e.g. joint limits.
   // Requests to slaves that are not operated are skipped. Any refusal fails the bring-up.
   Span<const SdoRequest> startup_sdos{};
+  // Polled between the bring-up's steps and inside its long loops: true stops the bring-up at once
+  // (failed step "stopped", Errc::refused), slaves left in their current (not operational) state.
+  bool (*stop_requested)() noexcept {nullptr};
   hal::Nanoseconds startup_sdo_timeout{5 * hal::kNsPerSec};
 };
 
@@ -179,6 +182,8 @@ class Master {
   Status configure_process_data() noexcept;
   Status run_startup_sdos() noexcept;
   Status fail(const char* step, const Error& error) noexcept;
+  // The owner asked to stop (MasterOptions::stop_requested): fails the bring-up before `step`.
+  Status check_stop(const char* step) noexcept;
   // Distributed clocks (master_dc.cpp).
   Status configure_dc() noexcept;
   Status compensate_static_drift() noexcept;

@@ -95,23 +95,35 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
     return fail("plan", make_error(Errc::capacity_exceeded, "process image does not fit one frame", u32(cyclic_bytes)));
   }
 
-  Status st = count_and_reset();
+  Status st = check_stop("count");
+  if (st.ok()) st = count_and_reset();
+  if (st.ok()) st = check_stop("identify");
   if (st.ok()) st = identify();
+  if (st.ok()) st = check_stop("address");
   if (st.ok()) st = assign_addresses();
+  if (st.ok()) st = check_stop("INIT");
   if (st.ok()) {
     const Status init = request_al_state(link_, plan_, operated(), reg::AlState::init, options_.al, report_.al_failure);
     if (!init.ok()) st = fail("INIT", init.error());
   }
+  if (st.ok()) st = check_stop("mailbox");
   if (st.ok()) st = configure_mailboxes();
+  if (st.ok()) st = check_stop("PRE-OP");
   if (st.ok()) {
     const Status pre_op = request_al_state(link_, plan_, operated(), reg::AlState::pre_op, options_.al, report_.al_failure);
     if (!pre_op.ok()) st = fail("PRE-OP", pre_op.error());
   }
+  if (st.ok()) st = check_stop("PRE-OP SDO");
   if (st.ok()) st = run_startup_sdos();
+  if (st.ok()) st = check_stop("process data");
   if (st.ok()) st = configure_process_data();
+  if (st.ok()) st = check_stop("DC");
   if (st.ok()) st = configure_dc();
+  if (st.ok()) st = check_stop("DC drift");
   if (st.ok()) st = compensate_static_drift();
+  if (st.ok()) st = check_stop("SYNC0");
   if (st.ok()) st = start_sync0();
+  if (st.ok()) st = check_stop("SAFE-OP");
   if (st.ok()) {
     const Status safe_op = request_al_state(link_, plan_, operated(), reg::AlState::safe_op, options_.al, report_.al_failure);
     if (!safe_op.ok()) st = fail("SAFE-OP", safe_op.error());
@@ -129,6 +141,11 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   op_deadline_ = link_.clock().now() + options_.op_timeout;
   next_wakeup_ = dc_sync_.first_wakeup(link_.clock().now(), last_reference_read_at_, last_reference_time_);
   return Status::success();
+}
+
+Status Master::check_stop(const char* step) noexcept {
+  if (options_.stop_requested == nullptr || !options_.stop_requested()) return Status::success();
+  return fail(step, make_error(Errc::refused, "stopped on request"));
 }
 
 Status Master::count_and_reset() noexcept {

@@ -283,6 +283,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static JointEventPrinter events(stdout, "joint-manager: ");
   static RunState state;
 
+  // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
+  // cleanly, with one line saying where.
+  if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
+
   // 1. The error-joints file, before the network (design brief section 6).
   const Result<hal::StateDir> dir = hal::resolve_state_dir(options.state_dir);
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
@@ -353,10 +357,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
+  master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
   const Status up = bus.bring_up(master_options, out_of_service);
+  if (!up.ok() && stop_signal() != 0) {
+    const ecat::BringUpReport& report = bus.master().report();
+    (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
+                      "(no slave reached OP); error-joints file unchanged\n",
+                      stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
+    if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
+    return 0;
+  }
   if (!up.ok()) {
     if (to_clear != 0) {
       (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "
@@ -375,7 +388,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
   static EthercatHandler handler(bus, g_links, restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
-  if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
   (void)std::fflush(stdout);
   std::thread manager_thread(joint_manager_task, std::ref(manager), std::ref(clock), std::ref(state));
   std::thread handler_thread(handler_task, std::ref(handler), std::ref(scenario), std::cref(options), std::ref(clock),
@@ -460,7 +472,13 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const std::uint64_t healthy_missed = handler.missed_cycles(kAllJoints & ~lost);
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) (void)std::printf("rescue-motion run: stopped by signal %d\n", stop_signal());
+  if (stop_signal() != 0) {
+    (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
+                      "file %s\n",
+                      stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
+                      handler.drives_disabled() ? "disabled" : "told to disable (not all confirmed)",
+                      manager.file_dirty() ? "NOT written" : "up to date");
+  }
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
                     state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
