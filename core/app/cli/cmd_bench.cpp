@@ -45,7 +45,7 @@ int bench_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kBenchCommand{
-    "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"

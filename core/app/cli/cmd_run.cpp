@@ -12,7 +12,7 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
     {"scenario", "NAME", "simulated fault scenario: link-cut (cut the cable into l_elbow 1 s after OP)"},
-    {"duration", "SECONDS", "stop after this long (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
+    {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
@@ -33,6 +33,10 @@ int run_main(const ParsedArgs& args) {
   }
   const Result<double> duration = args.number("duration", 0.0, 0.0, 7.0 * 24 * 3600);
   if (!duration.ok()) return fail("run", "--duration SECONDS", duration.error());
+  // 0 is refused rather than read as "forever": leaving --duration out is how to run until a signal.
+  if (args.has("duration") && !(duration.value() > 0.0)) {
+    return fail("run", "--duration SECONDS: must be above 0 (leave it out to run until SIGINT/SIGTERM)");
+  }
   options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
   options.capture_path = args.value("capture");
   options.state_dir = args.value("state-dir");
