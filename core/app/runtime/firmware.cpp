@@ -10,7 +10,6 @@
 #include "core/app/cli/cli.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
-#include "core/app/tasks/joint_demand.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/links/joint_sample_source.hpp"
@@ -156,12 +155,10 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
   hal::Nanoseconds next = clock.now();
   while (!state.manager_stop.load(std::memory_order_acquire)) {
     manager.step(clock.now());
-    g_links.demand.write(demand_of(manager));
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
   manager.step(clock.now());  // the last answers and marks
-  g_links.demand.write(demand_of(manager));
 }
 
 // Whether the handler's latest published values show every joint of `joints` reachable.
@@ -236,7 +233,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
   static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
   static SeqlockSampleSource samples(g_links.samples);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events});
+  static SeqlockDemandSink demand_sink(g_links.demand);
+  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events, &demand_sink});
   static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(g_links.joint_commands);
 
   static SelectedNic selected;
@@ -248,7 +246,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   events.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
-  g_links.demand.write(demand_of(manager));
   if (restored.restored != 0) {
     char names[kJointNamesCapacity];
     format_joint_names(restored.restored, names, sizeof names);
