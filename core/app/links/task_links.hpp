@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
@@ -20,9 +21,9 @@ namespace rescue::app {
 
 struct TaskLinks {
   static constexpr std::uint32_t kLayoutVersion = 1;
-  static constexpr std::size_t kReportQueueDepth = 16;
-  static constexpr std::size_t kNoticeQueueDepth = 16;
-  static constexpr std::size_t kCommandQueueDepth = 64;
+  static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
+  static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
+  static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
 
   std::uint32_t layout_version{kLayoutVersion};
   Seqlock<RobotSample> samples;                                   // handler -> joint manager, RC tasks

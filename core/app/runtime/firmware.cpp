@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/app/cli/cli.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
@@ -32,15 +33,16 @@
 namespace rescue::app {
 namespace {
 
-constexpr int kHandlerPriority = 80;
-constexpr int kJointManagerPriority = 70;
-constexpr int kHandlerCpu = 3;        // design brief Table I, on a 4-thread motion PC
-constexpr int kJointManagerCpu = 2;
-constexpr hal::Nanoseconds kJointManagerPeriod = hal::kNsPerMs;
-constexpr hal::Nanoseconds kLoggerPeriod = 5 * hal::kNsPerMs;
-constexpr hal::Nanoseconds kDisableTimeout = 500 * hal::kNsPerMs;
+// Priorities, CPUs and periods: the task table (runtime/task_table.hpp, config/firmware_config.hpp).
+constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
+constexpr int kJointManagerPriority = config::kJointManagerPriority;
+constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
+constexpr int kJointManagerCpu = config::kJointManagerCpu;
+constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
+constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
+constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 // A scenario without --duration runs this long after it acted, then stops.
-constexpr hal::Nanoseconds kScenarioRunOn = hal::kNsPerSec;
+constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
 // Everything the tasks use, in static storage: taken once at start-up, never from the heap.
 TaskLinks g_links;
@@ -58,12 +60,12 @@ int cpu_for(int wanted) noexcept {
 }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
-  hal::RtConfig config;
-  config.lock_memory = false;  // done once for the process
-  config.prefault_stack_bytes = std::size_t{256} * 1024;
-  config.fifo_priority = priority;
-  config.cpu = cpu_for(cpu);
-  const hal::RtReport report = hal::apply_rt_config(config);
+  hal::RtConfig rt;
+  rt.lock_memory = false;  // done once for the process
+  rt.prefault_stack_bytes = config::kRealTimeStackPrefaultBytes;
+  rt.fifo_priority = priority;
+  rt.cpu = cpu_for(cpu);
+  const hal::RtReport report = hal::apply_rt_config(rt);
   if (!report.fully_applied()) {
     (void)std::printf("%s: running degraded, %zu real-time setting(s) refused:\n", task, report.refused_count());
   }
