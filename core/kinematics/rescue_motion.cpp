@@ -19,15 +19,11 @@ JointVector ready_posture() noexcept {
   const auto set = [&q](const char* name, double value) {
     q(static_cast<Eigen::Index>(joint_index(name))) = value;
   };
-  // Upper arm 0.3 rad forward, elbow bent so the forearm is level (0.3 + 1.2708 = pi/2).
-  set("l_shoulder_pitch", -0.3);
-  set("r_shoulder_pitch", -0.3);
+  // Upper arms down, elbows at a right angle: forearms and palms level, pointing forward.
   set("l_shoulder_roll", 0.1);
   set("r_shoulder_roll", -0.1);
-  set("l_elbow", 1.2708);
-  set("r_elbow", 1.2708);
-  set("l_wrist_pitch", 0.3);
-  set("r_wrist_pitch", 0.3);
+  set("l_elbow", 1.5707963267948966);
+  set("r_elbow", 1.5707963267948966);
   set("l_hand", 0.2);
   set("r_hand", 0.2);
   return q;

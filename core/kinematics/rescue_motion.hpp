@@ -21,9 +21,9 @@ struct RescueMotionConfig {
   double person_kg{70.0};
   std::array<double, 3> phase_s{3.0, 2.5, 3.0};  // lowering, forwarding, backwarding
   // Palm displacement at the end of each phase from the ready posture (base_link, m; y mirrored).
-  Vector3 lowered{0.15, 0.0, -0.25};
-  Vector3 forwarded{0.30, 0.0, -0.25};
-  Vector3 lifted{0.05, 0.0, 0.0};
+  Vector3 lowered{0.0, 0.0, -0.12};
+  Vector3 forwarded{0.08, 0.0, -0.12};
+  Vector3 lifted{-0.08, 0.0, 0.05};
 };
 
 struct RescueSample {

@@ -140,7 +140,20 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     const Eigen::Matrix4d b =
         j2n * j2n.transpose() + s.subtask_damping * s.subtask_damping * Eigen::Matrix4d::Identity();
     const IkVector dq2 = j2n.transpose() * b.llt().solve(e2r);
-    dq = dq_fixed + dq1 + dq2;
+    // The sub-tasks may only use what the velocity limits leave over from the main task.
+    const IkVector main = dq_fixed + dq1;
+    double sub_scale = 1.0;
+    for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+      const auto col = static_cast<Eigen::Index>(c);
+      const double reach = kJoints[kIkJoints[c]].limits.velocity_max_rad_s * s.dt_s;
+      if (std::fabs(main(col)) >= reach) {
+        sub_scale = 0.0;
+      } else if (dq2(col) != 0.0) {
+        const double room = (dq2(col) > 0.0 ? reach - main(col) : -reach - main(col)) / dq2(col);
+        sub_scale = std::min(sub_scale, room);
+      }
+    }
+    dq = main + std::max(0.0, sub_scale) * dq2;
 
     // Position limits: lock the joints that would cross one and solve again.
     bool clamped = false;

@@ -9,8 +9,9 @@
 // lambda grows smoothly from a tiny floor to lambda_max as the smallest singular value of J1 (an
 // inverse-iteration estimate, warm-started every period) falls below a threshold. Joints out of
 // service are locked: their columns are removed, their positions held. A joint that would cross a
-// position limit is locked at the limit and the step solved again (at most three passes); the
-// whole step is then scaled so no joint exceeds its velocity limit, keeping its direction.
+// position limit is locked at the limit and the step solved again (at most three passes). The
+// sub-task step is scaled down to what the velocity limits leave over from the main task; if the
+// main task alone exceeds them, the whole step is scaled, keeping its direction.
 //
 // Unreachable targets: each step moves towards the damped least-squares minimum of
 // |e|^2 + lambda^2 |dq|^2, so repeated steps settle at the closest reachable pose; the report gives
@@ -30,10 +31,10 @@ struct IkSettings {
   double dt_s{0.001};                 // the RC period
   double max_linear_step_m{0.004};    // main-task error used per step (position), m
   double max_angular_step_rad{0.02};  // main-task error used per step (rotation), rad
-  double singular_threshold{0.04};    // sigma_min below which damping starts
-  double max_damping{0.06};           // lambda at sigma_min = 0
+  double singular_threshold{0.08};    // sigma_min below which damping starts
+  double max_damping{0.1};           // lambda at sigma_min = 0
   double floor_damping{1e-5};         // lambda far from singularities (keeps J J^T factorisable)
-  double subtask_damping{0.02};       // lambda of the sub-task solve
+  double subtask_damping{0.05};       // lambda of the sub-task solve
   double forearm_gain{0.05};          // share of the forearm level error corrected per step
   double com_gain{0.02};              // share of the COM error corrected per step
   double limit_margin_rad{1e-3};      // joints stop this far inside their position limits

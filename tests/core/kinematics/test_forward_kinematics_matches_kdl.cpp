@@ -63,7 +63,7 @@ TEST(ForwardKinematics, ZeroConfigurationPlacesLinksAtTheirUrdfOrigins) {
     EXPECT_TRUE(poses[i].p.isApprox(parent.p + Vector3(d.origin[0], d.origin[1], d.origin[2]))) << d.name;
   }
   // Arms hang down at q = 0: the palm is below the shoulder by the arm's length.
-  EXPECT_NEAR(poses[kLeftEe].p.z(), 0.5 + 0.5 - (0.15 + 0.25 + 0.3 + 0.05 + 0.15), 1e-12);
+  EXPECT_NEAR(poses[kLeftEe].p.z(), 0.5 + 0.5 - (0.15 + 0.3 + 0.35 + 0.05 + 0.15), 1e-12);
 }
 
 }  // namespace
