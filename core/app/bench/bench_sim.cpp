@@ -129,12 +129,12 @@ int run(Motion motion, std::uint64_t seed, std::int64_t cycles, const hal::TscTi
     g_clock.sleep_until(bus.next_wakeup());
     const std::uint64_t in_nic_before = nic.ticks();
     const std::uint64_t t0 = timer.start();
-    const ecat::CycleResult r = bus.cycle(exerciser.refs, exerciser.feedback);
+    const drivers::JointCycleResult r = bus.cycle(exerciser.refs, exerciser.feedback);
     const std::uint64_t total = timer.stop() - t0;
     g_cycle_ns.record(static_cast<std::uint64_t>(timer.to_ns(total)));
     // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
     g_segment_ns.record(static_cast<std::uint64_t>(timer.to_ns(nic.ticks() - in_nic_before)));
-    out.all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    out.all_valid += r.valid == kAllJoints ? 1 : 0;
   }
   out.host_ns = static_cast<std::uint64_t>(timer.to_ns(timer.stop() - run_start));
   out.cpu_ns = thread_cpu_ns() - cpu_start;

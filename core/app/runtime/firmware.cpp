@@ -130,7 +130,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   hal::Nanoseconds stopping_since = -1;
   for (;;) {
     clock.sleep_until(bus.next_wakeup());
-    const ecat::CycleResult r = handler.cycle();
+    const drivers::JointCycleResult r = handler.cycle();
     const hal::Nanoseconds now = clock.now();
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
@@ -282,10 +282,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
-  master_options.known_lost = out_of_service;
+
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
-  const Status up = bus.bring_up(master_options);
+  const Status up = bus.bring_up(master_options, out_of_service);
   if (!up.ok()) {
     if (to_clear != 0) {
       (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "

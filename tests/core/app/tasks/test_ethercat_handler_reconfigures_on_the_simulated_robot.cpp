@@ -41,15 +41,14 @@ struct Firmware {
   bool bring_up() {
     restored = manager.restore(rig->clock.now()).restored;
     ecat::MasterOptions options;
-    options.known_lost = restored;
-    if (!rig->bus.bring_up(options).ok()) return false;
+    if (!rig->bus.bring_up(options, restored).ok()) return false;
     handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
-  ecat::CycleResult period() {
+  drivers::JointCycleResult period() {
     rig->clock.sleep_until(rig->bus.next_wakeup());
-    const ecat::CycleResult r = handler->cycle();
+    const drivers::JointCycleResult r = handler->cycle();
     manager.step(rig->clock.now());
     return r;
   }

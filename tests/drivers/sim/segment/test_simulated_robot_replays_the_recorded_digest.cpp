@@ -89,7 +89,7 @@ struct ScriptedRun {
   Digest state;
   std::array<std::int32_t, kJointCount> start{};
 
-  ecat::CycleResult cycle() {
+  drivers::JointCycleResult cycle() {
     rig.clock.sleep_until(bus.next_wakeup());
     return bus.cycle(refs, fb);
   }
@@ -182,7 +182,7 @@ TEST(SimulatedRobotDigest, ScriptedRunReplaysTheRecordedFramesAndState) {
   JointMask restored = 0;  // waiting for re-integration
   JointMask reintegrated = 0;
   int all_valid = 0;
-  ecat::CycleResult r{};
+  drivers::JointCycleResult r{};
   for (int k = 0; k < kCycles; ++k) {
     // 3300..3799: every joint held where its references left it (a robot standing still).
     run->set_references(k < 3300 || k >= 3800 ? k : 3300);
@@ -214,16 +214,16 @@ TEST(SimulatedRobotDigest, ScriptedRunReplaysTheRecordedFramesAndState) {
       restored = 0;
     }
     r = run->cycle();
-    all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    all_valid += r.valid == kAllJoints ? 1 : 0;
     ecat::LinkReport report;
-    while (run->bus.pop_report(report)) {
-      if (report.kind == ecat::LinkEventKind::restored) restored |= report.joints;
+    while (run->bus.master().pop_report(report)) {
+      if (report.kind == ecat::LinkEventKind::restored) restored |= drivers::joints_of_slaves(report.slaves);
     }
     if (k % 250 == 249) run->add_state();
   }
   // The run did what it says (the digest is of a robot that worked, not of a broken one).
   EXPECT_EQ(reintegrated & joints_lost_by_link_failure_at(wrist), joints_lost_by_link_failure_at(wrist));
-  EXPECT_EQ(r.valid_joints, kAllJoints);
+  EXPECT_EQ(r.valid, kAllJoints);
   EXPECT_GT(all_valid, kCycles / 2);
   EXPECT_TRUE(is_enabled(run->fb.joints[elbow].statusword));
   EXPECT_TRUE(is_enabled(run->fb.joints[wrist].statusword));
