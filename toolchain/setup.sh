@@ -13,7 +13,10 @@ packages=(
   tshark                                             # Wireshark's dissector: checks our captures
   iproute2                                           # ip netns / veth for raw-socket tests
   graphviz                                           # state-machine diagrams in docs/
-  python3                                            # plot of the Fig. 4 experiment
+  python3                                            # plot of the Fig. 4 experiment, toolchain/rt_verify.py
+  binutils                                           # readelf: vtables for toolchain/rt_verify.py
+  rt-tests                                           # cyclictest: the OS latency floor (bench latency)
+  valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)
 )
 
 missing=()

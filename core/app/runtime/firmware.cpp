@@ -61,7 +61,7 @@ int cpu_for(int wanted) noexcept {
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig config;
   config.lock_memory = false;  // done once for the process
-  config.prefault_stack_bytes = std::size_t{256} * 1024;
+  config.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   config.fifo_priority = priority;
   config.cpu = cpu_for(cpu);
   const hal::RtReport report = hal::apply_rt_config(config);
