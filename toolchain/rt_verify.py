@@ -294,6 +294,12 @@ class Checker:
                 return why
         return None
 
+    def boundary_reason(self, name):
+        for rx, why in self.boundaries:
+            if rx.fullmatch(name):
+                return why
+        return None
+
     def is_safe_external(self, node):
         return any(rx.fullmatch(node.qname) or rx.fullmatch(bare(node.title)) for rx in self.safe)
 
@@ -437,10 +443,8 @@ class Checker:
                 why = "external symbol not classified (add it to deny or safe_externals)"
             if why is not None:
                 findings.append((t, why))
-        for t in sorted(parent, key=self.label):
-            why = self.boundary(t)
-            if why is not None and t != entry:
-                self.out.write("%s_boundary: %s: %s\n" % (task, self.label(t), why))
+        for name in sorted(set(self.label(t) for t in parent if t != entry and self.boundary(t) is not None)):
+            self.out.write("%s_boundary: %s: %s\n" % (task, name, self.boundary_reason(name)))
         allowed = []
         for t, why in sorted(findings, key=lambda x: self.label(x[0])):
             entries = self.allow_entries(task, t) if not t.startswith("<") else []
