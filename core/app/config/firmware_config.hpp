@@ -31,8 +31,8 @@ constexpr std::int64_t kJointManagerPeriodNs = 1'000'000;
 constexpr std::int64_t kRcTaskPeriodNs = 1'000'000;
 constexpr std::int64_t kLoggerPeriodNs = 5'000'000;           // drains events and capture frames
 
-// Stack each real-time thread prefaults at start-up, so a period never page-faults on its stack.
-constexpr std::size_t kRealTimeStackPrefaultBytes = std::size_t{256} * 1024;
+// The stack each real-time thread prefaults at start-up is hal::kTaskStackPrefaultBytes
+// (hal/rt/rt_setup.hpp), where toolchain/rt_verify.py reads it to check the deepest stack path.
 
 // --- Queues between the tasks (core/app/links/task_links.hpp) -------------------------------------
 constexpr std::size_t kLostReportQueueDepth = 16;  // handler -> joint manager (reconfiguration step 1)

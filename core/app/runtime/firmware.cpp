@@ -19,6 +19,7 @@
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
@@ -62,7 +63,7 @@ int cpu_for(int wanted) noexcept {
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
   rt.lock_memory = false;  // done once for the process
-  rt.prefault_stack_bytes = config::kRealTimeStackPrefaultBytes;
+  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
   rt.fifo_priority = priority;
   rt.cpu = cpu_for(cpu);
   const hal::RtReport report = hal::apply_rt_config(rt);
@@ -128,9 +129,14 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
   hal::Nanoseconds stopping_since = -1;
+  TaskTiming& timing = task_timing();
   for (;;) {
-    clock.sleep_until(bus.next_wakeup());
+    const hal::Nanoseconds release = bus.next_wakeup();
+    clock.sleep_until(release);
+    const hal::Nanoseconds woke = clock.now();
+    const std::uint64_t work_start = timing.timer.start();
     const drivers::JointCycleResult r = handler.cycle();
+    timing.handler.record(woke - release, work_start, timing.timer.stop());
     const hal::Nanoseconds now = clock.now();
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
@@ -155,8 +161,12 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
   apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
+  TaskTiming& timing = task_timing();
   while (!state.manager_stop.load(std::memory_order_acquire)) {
-    manager.step(clock.now());
+    const hal::Nanoseconds woke = clock.now();
+    const std::uint64_t work_start = timing.timer.start();
+    manager.step(woke);
+    timing.manager.record(woke - next, work_start, timing.timer.stop());
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
@@ -305,6 +315,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static EthercatHandler handler(bus, g_links, restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
+  start_task_timing();
   (void)std::fflush(stdout);
   std::thread manager_thread(joint_manager_task, std::ref(manager), std::ref(clock), std::ref(state));
   std::thread handler_thread(handler_task, std::ref(handler), std::ref(scenario), std::cref(options), std::ref(clock),
@@ -399,6 +410,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  if (options.timing_out != nullptr) {
+    const Status timing = write_task_timing(options.timing_out);
+    if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
+  }
   if (options.capture_path != nullptr) {
     const Status closed = finish_capture(options.capture_path);
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
