@@ -1,4 +1,5 @@
 #include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,10 +21,10 @@ std::size_t joint_limit_sdos(std::size_t joint, const JointLimits& limits, ecat:
   const JointInfo& info = kJoints[joint];
   std::size_t n = 0;
   if (!info.continuous) {
-    out[n++] = ecat::sdo_download(position, 0x607D, 1, static_cast<std::uint32_t>(rad_to_counts(limits.position_min_rad)), 4);
-    out[n++] = ecat::sdo_download(position, 0x607D, 2, static_cast<std::uint32_t>(rad_to_counts(limits.position_max_rad)), 4);
+    out[n++] = ecat::sdo_download(position, 0x607D, 1, static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_min_rad)), 4);
+    out[n++] = ecat::sdo_download(position, 0x607D, 2, static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_max_rad)), 4);
   }
-  out[n++] = ecat::sdo_download(position, 0x607F, 0, saturate_u32(limits.velocity_max_rad_s * kCountsPerRad), 4);
+  out[n++] = ecat::sdo_download(position, 0x607F, 0, saturate_u32(limits.velocity_max_rad_s * drivers::kCountsPerRad), 4);
   const double per_mille = info.rated_torque_nm > 0.0 ? 1000.0 * limits.torque_max_nm / info.rated_torque_nm : 0.0;
   out[n++] = ecat::sdo_download(position, 0x6072, 0, std::min<std::uint32_t>(saturate_u32(per_mille), 0xFFFF), 2);
   return n;

@@ -1,4 +1,5 @@
 #include "core/app/bench/bench_sim.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -66,8 +67,8 @@ struct Exerciser {
       r.mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
       r.controlword = drivers::controlword_towards_enabled(feedback.joints[j].statusword, r.controlword);
       const bool moving = motion == Motion::move && aligned;
-      r.target_position = start[j] + (moving ? rad_to_counts(0.0002 * triangle) : 0);
-      r.target_velocity = moving ? rad_to_counts(0.001 * (triangle - 1000)) : 0;
+      r.target_position = start[j] + (moving ? drivers::rad_to_counts(0.0002 * triangle) : 0);
+      r.target_velocity = moving ? drivers::rad_to_counts(0.001 * (triangle - 1000)) : 0;
     }
   }
   bool all_enabled() const noexcept {

@@ -1,6 +1,7 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 
 #include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::app {
 namespace {
@@ -8,8 +9,6 @@ namespace {
 // CiA 402 statusword: voltage enabled (bit 4) / operation enabled (bit 2) tell a powered stage.
 constexpr std::uint16_t kSwOperationEnabled = 0x0004;
 constexpr std::uint16_t kSwSwitchedOn = 0x0002;
-
-constexpr double kPerMille = 1000.0;
 
 }  // namespace
 
@@ -40,7 +39,7 @@ void EthercatHandler::build_outputs() noexcept {
     if (demand_[j].mode != 0) out.mode_of_operation = demand_[j].mode;
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
-      out.target_position = demand_[j].position_counts;
+      out.target_position = drivers::rad_to_counts(demand_[j].position_ref_rad);
     } else {
       out.controlword = drivers::controlword_towards_disabled(in.statusword);
       // A disabled drive's target follows its actual position, so enabling later moves nothing.
@@ -55,18 +54,16 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
   for (std::size_t j = 0; j < kJointCount; ++j) {
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
-    const double rated = kJoints[j].rated_torque_nm;
-    s.position_ref_rad = counts_to_rad(out.target_position);
-    s.velocity_ref_rad_s = counts_to_rad(out.target_velocity);
-    s.torque_ref_nm = static_cast<double>(out.target_torque) * rated / kPerMille;
+    s.position_ref_rad = drivers::counts_to_rad(out.target_position);
+    s.velocity_ref_rad_s = drivers::counts_to_rad(out.target_velocity);
+    s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
     const bool valid = (result.valid & joint_bit(j)) != 0;
     s.reachable = valid;
     if (!valid) continue;  // last known values stay (reconfiguration step 2 reads them)
     const drivers::JointInputs& in = feedback_.joints[j];
-    s.position_counts = in.position_actual;
-    s.position_rad = counts_to_rad(in.position_actual);
-    s.velocity_rad_s = counts_to_rad(in.velocity_actual);
-    s.torque_nm = static_cast<double>(in.torque_actual) * rated / kPerMille;
+    s.position_rad = drivers::counts_to_rad(in.position_actual);
+    s.velocity_rad_s = drivers::counts_to_rad(in.velocity_actual);
+    s.torque_nm = drivers::per_mille_to_nm(in.torque_actual, kJoints[j]);
     s.drive_fault = drivers::is_faulted(in.statusword);
     s.drive_error_code = in.error_code;
   }

@@ -9,6 +9,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -76,16 +77,16 @@ TEST(MasterOnSimulatedRobot, EnablesEveryDriveAndTheJointsFollowTheirTargets) {
 
   // The elbow moves 0.2 rad in 0.5 s; every other joint holds.
   const std::size_t elbow = joint_index_by_name("l_elbow");
-  const std::int32_t goal = hold[elbow] + rad_to_counts(0.2);
+  const std::int32_t goal = hold[elbow] + drivers::rad_to_counts(0.2);
   for (int i = 0; i < 1000; ++i) {
     const double f = std::min(1.0, i / 500.0);
     refs[elbow].target_position = hold[elbow] + static_cast<std::int32_t>(f * (goal - hold[elbow]));
     const drivers::JointCycleResult r = rig->cycle(refs, fb);
     ASSERT_EQ(r.valid, kAllJoints);
   }
-  EXPECT_NEAR(fb.joints[elbow].position_actual, goal, rad_to_counts(0.002));
+  EXPECT_NEAR(fb.joints[elbow].position_actual, goal, drivers::rad_to_counts(0.002));
   const std::size_t neck = joint_index_by_name("neck_pan");
-  EXPECT_NEAR(fb.joints[neck].position_actual, hold[neck], rad_to_counts(0.002));
+  EXPECT_NEAR(fb.joints[neck].position_actual, hold[neck], drivers::rad_to_counts(0.002));
   EXPECT_EQ(fb.joints[elbow].mode_display, static_cast<std::int8_t>(ControlMode::cyclic_position));
 }
 

@@ -8,6 +8,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -131,7 +132,7 @@ TEST_F(RunningRobot, JointLimitsWrittenAtRuntime) {
     EXPECT_EQ(c.outcome, SdoOutcome::ok) << std::hex << c.request.index << " " << c.abort_code;
     EXPECT_EQ(c.request.tag, 77u);
   }
-  EXPECT_EQ(rig->drive(elbow).objects().od().get_i32(0x607D, 2), rad_to_counts(1.0));
+  EXPECT_EQ(rig->drive(elbow).objects().od().get_i32(0x607D, 2), drivers::rad_to_counts(1.0));
   EXPECT_EQ(rig->drive(elbow).objects().od().get_u32(0x6072, 0), 500u);  // 40 of 80 Nm
 }
 

@@ -18,6 +18,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -146,13 +147,13 @@ struct ScriptedRun {
       r.controlword = controlword_towards_enabled(fb.joints[j].statusword, r.controlword);
       switch (static_cast<ControlMode>(r.mode_of_operation)) {
         case ControlMode::cyclic_velocity:
-          r.target_velocity = rad_to_counts(0.002 * (triangle - 500) * static_cast<double>(j % 3 + 1));
+          r.target_velocity = drivers::rad_to_counts(0.002 * (triangle - 500) * static_cast<double>(j % 3 + 1));
           break;
         case ControlMode::cyclic_torque:
           r.target_torque = static_cast<std::int16_t>((triangle - 500) / 10);
           break;
         default:
-          r.target_position = start[j] + rad_to_counts(0.0002 * triangle * static_cast<double>(j % 4 + 1));
+          r.target_position = start[j] + drivers::rad_to_counts(0.0002 * triangle * static_cast<double>(j % 4 + 1));
           break;
       }
     }
