@@ -202,6 +202,28 @@ int fail_locked(const char* what, const char* name, const Error& error) noexcept
   return 1;
 }
 
+// One instance per state directory and per raw NIC; 0 when taken, else the exit status. A read-only
+// state directory is warned about (a loss could not be recorded) and takes no lock.
+int take_instance_locks(const FirmwareOptions& options, const char* dir) noexcept {
+  // One instance per state directory and per raw NIC (a second one would erase the first's losses).
+  const Status writable = hal::check_writable(dir);
+  if (!writable.ok()) {
+    (void)std::fprintf(stderr,
+                       "rescue-motion run: WARNING: state directory %s is not writable (errno %u): a joint lost in this run "
+                       "cannot be recorded, and no other instance is kept out; fix its permissions or use "
+                       "--state-dir\n",
+                       dir, writable.error().detail0);
+  } else {
+    const Status locked = hal::lock_state_directory(dir);
+    if (!locked.ok()) return fail_locked("state directory", dir, locked.error());
+  }
+  if (options.nic.kind == NicKind::raw) {
+    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
+    if (!locked.ok()) return fail_locked("interface", options.nic.interface_name.data(), locked.error());
+  }
+  return 0;
+}
+
 int report_bring_up_failure(drivers::JointBus& bus) noexcept {
   const ecat::BringUpReport& report = bus.master().report();
   (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
@@ -219,6 +241,15 @@ Status finish_capture(const char* path) noexcept {
                     " dropped (queue full)\n",
                     path, g_capture.stats().frames_written, g_capture.stats().write_errors, queued.frames_dropped);
   return g_capture.close();
+}
+
+void print_restored(JointMask restored) noexcept {
+  if (restored == 0) return;
+  char names[kJointNamesCapacity];
+  format_joint_names(restored, names, sizeof names);
+  (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
+                    "they stay out of the exchange until an operator clears them\n",
+                    names);
 }
 
 // What start-up did with a damaged error-joints file or an interrupted write: exactly what was salvaged,
@@ -257,6 +288,25 @@ void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
   (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
                     "they are repaired and checked, clear them with --clear-joint %s\n",
                     names, names);
+}
+
+// A signal stopped the bring-up: nothing reached OP, no drive was enabled; exit 0.
+int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) noexcept {
+  const ecat::BringUpReport& report = bus.master().report();
+  (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
+                    "(no slave reached OP); error-joints file unchanged\n",
+                    stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
+  if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
+  return 0;
+}
+
+// The one line saying where a signal stopped the run.
+void print_stop_line(const RunState& state, bool drives_disabled, bool file_dirty) noexcept {
+  (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
+                    "file %s\n",
+                    stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
+                    drives_disabled ? "disabled" : "told to disable (not all confirmed)",
+                    file_dirty ? "NOT written" : "up to date");
 }
 
 // Prints what the operator's --clear-joint request will do; false when it is refused.
@@ -301,22 +351,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
-  // One instance per state directory and per raw NIC (a second one would erase the first's losses).
-  const Status writable = hal::check_writable(dir.value().path.c_str());
-  if (!writable.ok()) {
-    (void)std::fprintf(stderr,
-                       "rescue-motion run: WARNING: state directory %s is not writable (%s): a joint lost in this run "
-                       "cannot be recorded, and no other instance is kept out; fix its permissions or use "
-                       "--state-dir\n",
-                       dir.value().path.c_str(), std::strerror(static_cast<int>(writable.error().detail0)));
-  } else {
-    const Status locked = hal::lock_state_directory(dir.value().path.c_str());
-    if (!locked.ok()) return fail_locked("state directory", dir.value().path.c_str(), locked.error());
-  }
-  if (options.nic.kind == NicKind::raw) {
-    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
-    if (!locked.ok()) return fail_locked("interface", options.nic.interface_name.data(), locked.error());
-  }
+  const int lock_status = take_instance_locks(options, dir.value().path.c_str());
+  if (lock_status != 0) return lock_status;
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
   static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
   static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
@@ -335,13 +371,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   events.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
-  if (restored.restored != 0) {
-    char names[kJointNamesCapacity];
-    format_joint_names(restored.restored, names, sizeof names);
-    (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
-                      "they stay out of the exchange until an operator clears them\n",
-                      names);
-  }
+  print_restored(restored.restored);
   // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
   // once they do (a clear that cannot be confirmed loses nothing).
   const RepairedJointsPlan repaired = plan_repaired_joints(options.clear_joints, restored.restored);
@@ -371,14 +401,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
   const Status up = bus.bring_up(master_options, out_of_service);
-  if (!up.ok() && stop_signal() != 0) {
-    const ecat::BringUpReport& report = bus.master().report();
-    (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
-                      "(no slave reached OP); error-joints file unchanged\n",
-                      stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
-    if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
-    return 0;
-  }
+  if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
   if (!up.ok()) {
     if (to_clear != 0) {
       (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "
@@ -482,13 +505,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const std::uint64_t healthy_missed = handler.missed_cycles(kAllJoints & ~lost);
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) {
-    (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
-                      "file %s\n",
-                      stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
-                      handler.drives_disabled() ? "disabled" : "told to disable (not all confirmed)",
-                      manager.file_dirty() ? "NOT written" : "up to date");
-  }
+  if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
                     state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
