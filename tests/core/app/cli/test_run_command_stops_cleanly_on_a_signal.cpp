@@ -25,8 +25,14 @@ struct Stopped {
   std::string out;
 };
 
-// Starts `run --duration 5`, sends `signal` after `delay`, waits for the end.
-Stopped run_and_signal(int signal_number, std::chrono::milliseconds delay) {
+std::string read_all(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Starts `run --duration 20`, sends `signal` after `delay` (or, with `wait_for`, once the log shows
+// it: a loaded host may take longer to reach OP), waits for the end.
+Stopped run_and_signal(int signal_number, std::chrono::milliseconds delay, const char* wait_for = nullptr) {
   testing::TempStateDir dir;
   const std::string log = dir.path + "/run.log";
   const pid_t pid = fork();
@@ -34,19 +40,21 @@ Stopped run_and_signal(int signal_number, std::chrono::milliseconds delay) {
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     (void)dup2(fd, 1);
     (void)dup2(fd, 2);
-    execl(kBinary.c_str(), kBinary.c_str(), "run", "--duration", "5", "--state-dir", dir.path.c_str(), nullptr);
+    execl(kBinary.c_str(), kBinary.c_str(), "run", "--duration", "20", "--state-dir", dir.path.c_str(), nullptr);
     _exit(127);
   }
   Stopped s;
   if (pid < 0) return s;
   std::this_thread::sleep_for(delay);
+  for (int i = 0; wait_for != nullptr && i < 1500 && read_all(log).find(wait_for) == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   (void)kill(pid, signal_number);
   int status = 0;
   (void)waitpid(pid, &status, 0);
   s.exited = WIFEXITED(status);
   s.status = s.exited ? WEXITSTATUS(status) : -WTERMSIG(status);
-  std::ifstream in(log);
-  s.out.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  s.out = read_all(log);
   return s;
 }
 
@@ -65,7 +73,7 @@ TEST(RunCommandSignals, SigintDuringBringUpStopsCleanlyAndSaysWhere) {
 }
 
 TEST(RunCommandSignals, SigtermInOpStopsCleanlyWithDrivesDisabled) {
-  const Stopped s = run_and_signal(SIGTERM, std::chrono::milliseconds(3000));
+  const Stopped s = run_and_signal(SIGTERM, std::chrono::milliseconds(100), "network in OP");
   EXPECT_TRUE(s.exited) << s.out;
   EXPECT_EQ(s.status, 0) << s.out;
   EXPECT_NE(s.out.find("stopped by signal 15 while in OP"), std::string::npos) << s.out;
