@@ -14,6 +14,7 @@ packages=(
   iproute2                                           # ip netns / veth for raw-socket tests
   graphviz                                           # state-machine diagrams in docs/
   python3                                            # plot of the Fig. 4 experiment
+  libsodium-dev                                      # UDP protocol authentication (crypto_auth), keys
 )
 
 missing=()
