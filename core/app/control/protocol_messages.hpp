@@ -110,13 +110,14 @@ struct OwnerPayload {
   std::uint8_t task{0};
 };
 
+// IMU and GPS records are trivial (published through a seqlock): value-initialise them.
 // IMU record (SI units): orientation as a unit quaternion, angular velocity in rad/s, linear
 // acceleration in m/s^2, in the IMU's frame; time is the sender's Unix time of the measurement.
 struct ImuRecord {
-  std::uint64_t time_unix_ns{0};
-  std::array<double, 4> orientation_wxyz{{1.0, 0.0, 0.0, 0.0}};
-  std::array<double, 3> angular_velocity_rad_s{};
-  std::array<double, 3> linear_acceleration_m_s2{};
+  std::uint64_t time_unix_ns;
+  std::array<double, 4> orientation_wxyz;
+  std::array<double, 3> angular_velocity_rad_s;
+  std::array<double, 3> linear_acceleration_m_s2;
 };
 constexpr double kMaxAngularVelocityRadS = 35.0;   // 2000 deg/s, a common gyro's full scale
 constexpr double kMaxAccelerationMs2 = 160.0;      // 16 g
@@ -126,14 +127,14 @@ enum class GpsFix : std::uint8_t { none = 0, fix_2d = 1, fix_3d = 2, rtk = 3 };
 // GPS record (WGS-84): latitude/longitude in degrees, altitude above the ellipsoid and accuracies
 // in metres.
 struct GpsRecord {
-  std::uint64_t time_unix_ns{0};
-  double latitude_deg{0.0};
-  double longitude_deg{0.0};
-  double altitude_m{0.0};
-  double horizontal_accuracy_m{0.0};
-  double vertical_accuracy_m{0.0};
-  GpsFix fix{GpsFix::none};
-  std::uint8_t satellites{0};
+  std::uint64_t time_unix_ns;
+  double latitude_deg;
+  double longitude_deg;
+  double altitude_m;
+  double horizontal_accuracy_m;
+  double vertical_accuracy_m;
+  GpsFix fix;
+  std::uint8_t satellites;
 };
 
 enum class Outcome : std::uint8_t { accepted = 0, refused = 1 };
