@@ -21,9 +21,9 @@ constexpr std::size_t kStatusHeadSize = 16;
 constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
 constexpr std::size_t kListHeadSize = 8;
-constexpr std::size_t kSlaveRecordSize = 24;
+constexpr std::size_t kSlaveRecordSize = 32;
 constexpr std::size_t kMasterSize = 112;
-constexpr std::size_t kTaskRecordSize = 48;
+constexpr std::size_t kTaskRecordSize = 56;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload,
               "every payload fits");
