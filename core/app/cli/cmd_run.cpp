@@ -18,6 +18,10 @@ const OptionSpec kOptions[] = {
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
+    {"listen", "ADDR", "IPv4 address the UDP ports bind (default 0.0.0.0)"},
+    {"control-port", "PORT", "operator control UDP port (default 47010)"},
+    {"sensor-port", "PORT", "IMU/GPS sensor UDP port (default 47011)"},
+    {"key", "FILE", "pre-shared key file (default <state dir>/operator.key; made by: rescue-motion ctl keygen)"},
 };
 
 int run_main(const ParsedArgs& args) {
@@ -54,6 +58,15 @@ int run_main(const ParsedArgs& args) {
     }
     options.clear_joints = clear.value();
   }
+  const Result<std::int64_t> control_port = args.integer("control-port", 47010, 1, 65535);
+  if (!control_port.ok()) return fail("run", "--control-port PORT", control_port.error());
+  const Result<std::int64_t> sensor_port = args.integer("sensor-port", 47011, 1, 65535);
+  if (!sensor_port.ok()) return fail("run", "--sensor-port PORT", sensor_port.error());
+  if (control_port.value() == sensor_port.value()) return fail("run", "--control-port and --sensor-port must differ");
+  options.control_port = static_cast<std::uint16_t>(control_port.value());
+  options.sensor_port = static_cast<std::uint16_t>(sensor_port.value());
+  if (args.value("listen") != nullptr) options.listen = args.value("listen");
+  options.key_path = args.value("key");
   return run_firmware(options);
 }
 
@@ -65,7 +78,9 @@ const CommandSpec kRunCommand{
     "distributed clocks, and runs the EtherCAT handler (1 ms) and the joint manager. SIGINT or SIGTERM\n"
     "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop.\n"
     "After a repair, --clear-joint names the joints to clear: they must answer at bring-up; once they\n"
-    "do in OP they leave the error-joints file (logged) and are reset to Idle.",
+    "do in OP they leave the error-joints file (logged) and are reset to Idle.\n"
+    "With a key file the operator's commands arrive on the control port and IMU/GPS records on the\n"
+    "sensor port (docs/protocol.md); `rescue-motion ctl` is the operator client (docs/operator.md).",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app

@@ -212,22 +212,47 @@ void JointManager::latch_loss(std::size_t j, FaultReason reason, double position
 }
 
 void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  JointCommandOutcome outcome;
+  outcome.request = command.request;
+  outcome.input = command.input;
+  outcome.kind = command.kind;
+  const auto refuse = [&outcome, this](std::size_t j, CommandRefusal why) noexcept {
+    if (outcome.refused == 0) {
+      outcome.first_reason = why;
+      outcome.first_joint = static_cast<std::uint8_t>(j);
+      outcome.first_state = joints_[j].machine.state();
+    }
+    outcome.refused |= joint_bit(j);
+  };
   if (command.kind == JointCommandKind::clear_lost) {
-    if (!clear_lost_joints(command.joints & kAllJoints, now).ok()) ++refused_commands_;
+    const JointMask joints = command.joints & kAllJoints;
+    if (clear_lost_joints(joints, now).ok()) {
+      outcome.applied = joints;
+    } else {
+      ++refused_commands_;
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        if ((joints & joint_bit(j)) != 0) refuse(j, CommandRefusal::clear_refused);
+      }
+    }
+    report_outcome(outcome);
     return;
   }
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((command.joints & joint_bit(j)) == 0) continue;
     // Preconditions of the manager, before the table: a mode to select, and a joint to talk to.
     Error precondition{};
+    CommandRefusal why = CommandRefusal::none;
     if (command.input == JointInput::select_mode && !valid_mode(command.mode)) {
       precondition = make_error(Errc::invalid_argument, "select_mode needs CSP, CSV or CST",
                                 static_cast<std::uint32_t>(static_cast<std::uint8_t>(command.mode)));
+      why = CommandRefusal::bad_mode;
     } else if (!sample_[j].reachable && command.input != JointInput::disable && command.input != JointInput::reset) {
       precondition = make_error(Errc::refused, "joint not reachable");
+      why = CommandRefusal::unreachable;
     }
     if (precondition.code != Errc::ok) {
       ++refused_commands_;
+      refuse(j, why);
       JointEvent e = joint_event(JointEventKind::refused, j, now);
       e.from = joints_[j].machine.state();
       e.input = command.input;
@@ -237,8 +262,20 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     }
     joints_[j].context.requested_mode = command.mode;
     joints_[j].context.actual_position_rad = sample_[j].position_rad;
-    if (!dispatch(j, command.input, now).ok()) ++refused_commands_;
+    if (dispatch(j, command.input, now).ok()) {
+      outcome.applied |= joint_bit(j);
+    } else {  // a refused input leaves the state as it was
+      ++refused_commands_;
+      refuse(j, CommandRefusal::state_machine);
+    }
   }
+  report_outcome(outcome);
+}
+
+void JointManager::report_outcome(const JointCommandOutcome& outcome) noexcept {
+  if (outcome.request == 0 || ports_.outcomes == nullptr) return;
+  // The parser times a request out when an outcome never comes: a full queue loses nothing else.
+  if (!ports_.outcomes->try_send(outcome)) ++outcomes_dropped_;
 }
 
 Status JointManager::dispatch(std::size_t j, JointInput input, hal::Nanoseconds now) noexcept {

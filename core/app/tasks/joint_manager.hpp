@@ -46,19 +46,11 @@ struct JointManagerPorts {
   ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
   hal::WallClock* wall_clock;                  // Unix time for the file's records
   JointEventSink* events;                      // what happened, for the log
-  JointDemandSink* demand;                     // its drive demand, after every step (nullptr: not published)
+  JointDemandSink* demand{nullptr};            // its drive demand, after every step (nullptr: not published)
+  MessageSink<JointCommandOutcome>* outcomes{nullptr};  // to the message parser (commands with a request id)
 };
 
-// What the joint manager publishes about one joint (shared memory, read by the handler and RC tasks).
-struct JointStatus {
-  fsm::JointState state{fsm::JointState::idle};
-  ControlMode mode{ControlMode::none};
-  bool drive_enabled{false};
-  bool lost{false};                         // recorded lost: RC tasks plan without it
-  double reference_position_rad{0.0};
-  double held_position_rad{0.0};            // where a lost joint's worm gear holds it
-  JointFault fault{};                       // why it is (or was last) in Error
-};
+// JointStatus, what it publishes per joint, is in core/app/links/joint_messages.hpp.
 
 struct RestoreReport {
   JointMask restored{0};        // joints put in Error from the file (all of the masks below)
@@ -114,6 +106,7 @@ class JointManager {
   std::uint32_t file_writes() const noexcept { return file_writes_; }
   std::uint32_t file_write_failures() const noexcept { return file_write_failures_; }
   bool file_dirty() const noexcept { return file_dirty_; }
+  std::uint32_t outcomes_dropped() const noexcept { return outcomes_dropped_; }
 
  private:
   struct Joint {
@@ -125,6 +118,7 @@ class JointManager {
 
   void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
   void apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
+  void report_outcome(const JointCommandOutcome& outcome) noexcept;
   void monitor(hal::Nanoseconds now) noexcept;
   void publish() noexcept;
   // Saves `next` as the file's new contents (sequence + 1). Success: recorded_ = next. Failure: the file
@@ -148,6 +142,7 @@ class JointManager {
   hal::Nanoseconds next_write_retry_{0};
   FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
   std::uint32_t refused_commands_{0};
+  std::uint32_t outcomes_dropped_{0};
   std::uint32_t file_writes_{0};
   std::uint32_t file_write_failures_{0};
 };
