@@ -24,8 +24,12 @@
 namespace rescue::app {
 namespace {
 
-// Longest time a stop signal waits to be seen: each receive wait ends by then.
-constexpr hal::Nanoseconds kStopLatency = 100 * hal::kNsPerMs;
+// Longest wait for a frame before the simulated slaves catch up with the time on their own. They
+// run SYNC0 pulses and drive models as hardware does; without these steps the first frame after an
+// idle spell made them simulate the whole spell first (8.8 ms of work after 5 s idle with SYNC0 at
+// 1 ms, 127 ms after 60 s: the master's first frames timed out). With them, at most 2 ms are left
+// to simulate. A stop signal is seen at the end of each wait too.
+constexpr hal::Nanoseconds kIdleStep = 2 * hal::kNsPerMs;
 // The simulator stands for hardware, which answers within microseconds whatever else the host
 // runs: served at a real-time priority above the master's EtherCAT task (80), a busy host cannot
 // hold a frame back for milliseconds. Masters do not retry every read: SOEM's ec_configdc takes a
@@ -116,7 +120,7 @@ int sim_main(const ParsedArgs& args) {
   int exit_status = 0;
   while (stop_signal() == 0) {
     faults.poll_once(robot.segment(), nic.clock().now());
-    const Status served = server.serve_one(nic.clock().now() + kStopLatency);
+    const Status served = server.serve_one(nic.clock().now() + kIdleStep);
     if (!served.ok() && served.error().code != Errc::timeout) {
       exit_status = fail("sim", "serving stopped", served.error());
       break;

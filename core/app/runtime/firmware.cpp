@@ -221,6 +221,10 @@ bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
 
 }  // namespace
 
+int exit_status_for(fsm::RobotCondition condition) noexcept {
+  return condition == fsm::RobotCondition::error ? kExitRobotError : 0;
+}
+
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");
@@ -405,6 +409,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
   }
 
+  const int status = exit_status_for(manager.summary().condition);
+  if (status != 0) {
+    (void)std::fprintf(stderr, "rescue-motion run: the robot ended in error (every joint in Error): exit status %d\n",
+                       status);
+    return status;
+  }
   if (options.scenario.kind == ScenarioKind::link_cut) {
     if (!scenario.acted() || !scenario.action_status().ok()) return fail("run", "the scenario's link cut did not happen");
     if ((lost & options.scenario.expected_lost) != options.scenario.expected_lost ||

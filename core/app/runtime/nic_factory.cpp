@@ -1,6 +1,7 @@
 #include "core/app/runtime/nic_factory.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "core/app/sim/simulated_robot_instance.hpp"
@@ -15,7 +16,12 @@ hal::MonotonicClock g_real_time;
 Status SelectedNic::open(const NicChoice& choice) noexcept {
   active_ = nullptr;
   if (choice.kind == NicKind::raw) {
-    RESCUE_TRY(raw_.open(choice.interface_name.data()));
+    hal::RawSocketSettings settings;
+    settings.receive_spin = kMasterReceiveSpin;
+    if (const char* spin_us = std::getenv("RESCUE_RECEIVE_SPIN_US"); spin_us != nullptr) {
+      settings.receive_spin = static_cast<hal::Nanoseconds>(std::strtol(spin_us, nullptr, 10)) * hal::kNsPerUs;
+    }
+    RESCUE_TRY(raw_.open(choice.interface_name.data(), settings));
     active_ = &raw_;
     return Status::success();
   }

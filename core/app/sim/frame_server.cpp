@@ -15,7 +15,13 @@ void mark_processed_by_esc(ByteSpan frame) noexcept {
 
 Status FrameServer::serve_one(hal::Nanoseconds deadline) noexcept {
   const Result<std::size_t> got = nic_.receive(ByteSpan(buffer_), deadline);
-  if (!got.ok()) return got.error();
+  if (!got.ok()) {
+    if (got.error().code == Errc::timeout) {
+      processor_.idle(nic_.clock().now());
+      ++counters_.idle_steps;
+    }
+    return got.error();
+  }
   ++counters_.frames_received;
   const hal::Nanoseconds arrival = nic_.clock().now();
 

@@ -34,6 +34,10 @@ class FrameProcessor {
   // the length of the frame that goes back to the master, or an error when none goes back (a frame
   // the segment cannot parse, or one it lost on purpose).
   virtual Result<std::size_t> process(ByteSpan frame, hal::Nanoseconds arrival) noexcept = 0;
+  // No frame came until `now`: bring the slaves' own time up to it (hardware runs while the wire is
+  // quiet), so the next frame finds only the last moments left to simulate, however long the
+  // segment was idle.
+  virtual void idle(hal::Nanoseconds now) noexcept { (void)now; }
 };
 
 struct FrameServerCounters {
@@ -41,6 +45,7 @@ struct FrameServerCounters {
   std::uint64_t frames_returned{0};
   std::uint64_t frames_not_returned{0};  // the processor kept them (malformed or lost on purpose)
   std::uint64_t send_errors{0};
+  std::uint64_t idle_steps{0};  // quiet waits after which the segment caught up with the time
 };
 
 // What every ESC does to a frame passing its EtherCAT processing unit: it sets SOURCE_MAC[1], the
@@ -57,7 +62,8 @@ class FrameServer {
   FrameServer(hal::Nic& nic, FrameProcessor& processor) noexcept : nic_(nic), processor_(processor) {}
 
   // Waits until `deadline` (on the NIC's clock) for one frame and serves it. Errc::timeout when no
-  // frame came; other NIC errors are returned as they are. A frame the processor keeps, or one the
+  // frame came (the processor's idle() has then caught up with the deadline); other NIC errors
+  // are returned as they are. A frame the processor keeps, or one the
   // NIC cannot send, is counted, not an error: the master sees a lost frame, as on a real wire.
   Status serve_one(hal::Nanoseconds deadline) noexcept;
 
