@@ -35,6 +35,11 @@ Status set_fifo_priority(int priority) noexcept;
 // Pins the calling thread to one CPU.
 Status pin_to_cpu(int cpu) noexcept;
 
+// Stack each real-time task thread prefaults at start-up (apply_rt_config). The static stack check
+// (toolchain/rt_verify.py, docs/verification.md) reads this line: every task's deepest period path
+// must fit in it.
+inline constexpr std::size_t kTaskStackPrefaultBytes = std::size_t{256} * 1024;
+
 struct RtConfig {
   bool lock_memory{true};
   std::size_t prefault_stack_bytes{std::size_t{512} * 1024};  // 0: skip

@@ -14,6 +14,7 @@ const OptionSpec kOptions[] = {
     {"scenario", "NAME", "simulated fault scenario: link-cut (cut the cable into l_elbow 1 s after OP)"},
     {"duration", "SECONDS", "stop after this long (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
+    {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
@@ -35,6 +36,7 @@ int run_main(const ParsedArgs& args) {
   if (!duration.ok()) return fail("run", "--duration SECONDS", duration.error());
   options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
   options.capture_path = args.value("capture");
+  options.timing_out = args.value("timing-out");
   options.state_dir = args.value("state-dir");
   options.initialize = args.has("initialize");
   if (args.value("clear-joint") != nullptr) {

@@ -28,6 +28,7 @@ struct FirmwareOptions {
   Scenario scenario{};
   hal::Nanoseconds duration{0};      // 0: until SIGINT/SIGTERM (or the scenario's own end)
   const char* capture_path{nullptr};
+  const char* timing_out{nullptr};   // directory: per-period timing of the tasks written there at the end
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)
   bool initialize{false};            // send "initialize robot" once the network is in OP
   JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)

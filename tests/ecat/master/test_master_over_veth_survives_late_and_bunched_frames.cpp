@@ -44,10 +44,10 @@ class LateFramesOverVeth : public rescue::testing::NetnsTest {
     bus_ = std::make_unique<drivers::JointBus>(nic_);
   }
 
-  ecat::CycleResult cycle() {
+  drivers::JointCycleResult cycle() {
     nic_.clock().sleep_until(bus_->next_wakeup());
-    const ecat::CycleResult r = bus_->cycle(refs_, feedback_);
-    ecat::LinkReport report;
+    const drivers::JointCycleResult r = bus_->cycle(refs_, feedback_);
+    drivers::JointLinkReport report;
     while (bus_->pop_report(report)) reports_.push_back(report);
     return r;
   }
@@ -57,7 +57,7 @@ class LateFramesOverVeth : public rescue::testing::NetnsTest {
   std::unique_ptr<drivers::JointBus> bus_;
   drivers::JointReferences refs_{};
   drivers::JointFeedback feedback_{};
-  std::vector<ecat::LinkReport> reports_;
+  std::vector<drivers::JointLinkReport> reports_;
 };
 
 TEST_F(LateFramesOverVeth, NoJointIsFalselyLostAndARealCutIsStillFound) {
@@ -82,7 +82,7 @@ TEST_F(LateFramesOverVeth, NoJointIsFalselyLostAndARealCutIsStillFound) {
     if (i % 250 == 100) {
       ASSERT_TRUE(sim_.write_input("stall " + std::to_string(3 + (i / 250) % 5) + "\n"));
     }
-    const ecat::CycleResult r = cycle();
+    const drivers::JointCycleResult r = cycle();
     missing += r.frame_received ? 0 : 1;
   }
   if (netem) {
@@ -90,12 +90,12 @@ TEST_F(LateFramesOverVeth, NoJointIsFalselyLostAndARealCutIsStillFound) {
                                              VethPair::kSlaveInterface + " root", output), 0) << output;
   }
   EXPECT_GT(missing, 20U) << "the jitter made frames late (else this test proves nothing)";
-  EXPECT_TRUE(reports_.empty()) << reports_.size() << " link reports, first: " << ecat::to_string(reports_[0].kind);
+  EXPECT_TRUE(reports_.empty()) << reports_.size() << " link reports, first: " << ecat::to_string(reports_[0].link.kind);
   EXPECT_EQ(bus_->master().monitor().lost(), 0U);
   EXPECT_EQ(bus_->master().monitor().out_of_exchange(), 0U);
   for (int i = 0; i < 200; ++i) (void)cycle();  // the last stall's frames drain
   int all_valid = 0;
-  for (int i = 0; i < 200; ++i) all_valid += cycle().valid_joints == kAllJoints ? 1 : 0;
+  for (int i = 0; i < 200; ++i) all_valid += cycle().valid == kAllJoints ? 1 : 0;
   EXPECT_GE(all_valid, 150) << "every joint valid again once the jitter stopped";
 
   // 2. A real cut: found exactly, once kLossConfirmFrames frames that came back showed it.
@@ -104,16 +104,16 @@ TEST_F(LateFramesOverVeth, NoJointIsFalselyLostAndARealCutIsStillFound) {
   ASSERT_TRUE(sim_.write_input("cut l_elbow\n"));
   std::vector<std::uint64_t> returned_cycles;
   for (int i = 0; i < 2000 && reports_.empty(); ++i) {
-    const ecat::CycleResult r = cycle();
+    const drivers::JointCycleResult r = cycle();
     if (r.frame_received) returned_cycles.push_back(r.cycle);
   }
   ASSERT_EQ(reports_.size(), 1U);
-  EXPECT_EQ(reports_[0].kind, ecat::LinkEventKind::lost);
+  EXPECT_EQ(reports_[0].link.kind, ecat::LinkEventKind::lost);
   EXPECT_EQ(reports_[0].joints, lost);
   std::size_t evidence = 0;
-  for (const std::uint64_t c : returned_cycles) evidence += c >= reports_[0].detected_cycle && c <= reports_[0].cycle ? 1 : 0;
-  EXPECT_EQ(evidence, ecat::LinkMonitor::kLossConfirmFrames) << "detected in cycle " << reports_[0].detected_cycle
-                                                             << ", confirmed in cycle " << reports_[0].cycle;
+  for (const std::uint64_t c : returned_cycles) evidence += c >= reports_[0].link.detected_cycle && c <= reports_[0].link.cycle ? 1 : 0;
+  EXPECT_EQ(evidence, ecat::LinkMonitor::kLossConfirmFrames) << "detected in cycle " << reports_[0].link.detected_cycle
+                                                             << ", confirmed in cycle " << reports_[0].link.cycle;
   EXPECT_EQ(sim_.stop(SIGTERM), 0) << sim_.output();
 }
 
