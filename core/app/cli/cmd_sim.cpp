@@ -116,14 +116,14 @@ int sim_main(const ParsedArgs& args) {
   const Result<std::int64_t> priority = args.integer("priority", kDefaultPriority, 0, 99);
   if (!priority.ok()) return fail("sim", "--priority must be 0..99", priority.error());
 
-  hal::RawSocketNic nic;
+  static hal::RawSocketNic nic;  // static, like the server that refers to it
   hal::RawSocketSettings settings;
   settings.qdisc_bypass = !args.has("through-qdisc");
   const Status opened = nic.open(iface, settings);
   if (!opened.ok()) return fail_nic("sim", iface, opened.error());
   drivers::SimulatedRobot& robot = simulated_robot(nic.clock().now());
   if (!robot.status().ok()) return fail("sim", "cannot build the simulated robot", robot.status().error());
-  SegmentFrameProcessor segment(robot.segment());
+  static SegmentFrameProcessor segment(robot.segment());
   if (!install_stop_handlers()) return fail("sim", "cannot install SIGINT/SIGTERM handlers");
   // Best effort, each item reported: without privilege the simulator still serves, only slower
   // to answer on a loaded host.

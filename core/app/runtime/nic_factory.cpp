@@ -1,7 +1,6 @@
 #include "core/app/runtime/nic_factory.hpp"
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 
 #include "core/app/sim/simulated_robot_instance.hpp"
@@ -18,9 +17,6 @@ Status SelectedNic::open(const NicChoice& choice) noexcept {
   if (choice.kind == NicKind::raw) {
     hal::RawSocketSettings settings;
     settings.receive_spin = kMasterReceiveSpin;
-    if (const char* spin_us = std::getenv("RESCUE_RECEIVE_SPIN_US"); spin_us != nullptr) {
-      settings.receive_spin = static_cast<hal::Nanoseconds>(std::strtol(spin_us, nullptr, 10)) * hal::kNsPerUs;
-    }
     RESCUE_TRY(raw_.open(choice.interface_name.data(), settings));
     active_ = &raw_;
     return Status::success();

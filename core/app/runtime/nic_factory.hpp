@@ -15,7 +15,7 @@ namespace rescue::app {
 // The master's raw socket reads for this long before it sleeps waiting for a frame
 // (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
 // is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
-// CPU per exchange. RESCUE_RECEIVE_SPIN_US overrides it (measurements; 0 turns it off).
+// CPU per exchange.
 constexpr hal::Nanoseconds kMasterReceiveSpin = 150 * hal::kNsPerUs;
 
 class SelectedNic {
