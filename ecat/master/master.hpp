@@ -46,7 +46,11 @@ constexpr std::size_t kCycleFrameReserve = 400;
 struct MasterOptions {
   hal::Nanoseconds cycle_time{hal::kNsPerMs};
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
-  hal::Nanoseconds cycle_receive_timeout{400 * hal::kNsPerUs};  // cyclic frame's deadline after sending
+  // First contact: the count BRD is sent again every frame_timeout until a frame comes back or this
+  // much time has passed (a segment just powered, a simulator just started or long idle, a link
+  // still negotiating). Only then does bring-up fail, saying that nothing answered.
+  hal::Nanoseconds first_contact_timeout{5 * hal::kNsPerSec};
+  hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
   unsigned drift_compensation_frames{15000};  // static drift compensation before cycling
@@ -86,6 +90,7 @@ struct BringUpReport {
   const char* failed_step{nullptr};  // nullptr when bring-up succeeded
   Error error{};
   std::uint16_t slaves_counted{0};
+  std::uint32_t first_contact_frames{0};  // count BRDs sent until one came back
   FixedVector<FoundSlave, kMaxFoundSlaves> found{};
   NetworkMatch match{};
   AlFailure al_failure{};

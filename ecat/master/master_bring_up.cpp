@@ -149,9 +149,25 @@ Status Master::check_stop(const char* step) noexcept {
 }
 
 Status Master::count_and_reset() noexcept {
+  // First contact, patiently: one BRD per frame_timeout until a frame comes back or
+  // first_contact_timeout has passed. At least kBringUpAttempts are sent whatever the times.
   std::array<std::uint8_t, 2> type{};
-  const Result<std::uint16_t> counted =
-      link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout);
+  const hal::Nanoseconds give_up_at = link_.clock().now() + options_.first_contact_timeout;
+  Result<std::uint16_t> counted = make_error(Errc::timeout, "no frame came back");
+  report_.first_contact_frames = 0;
+  for (;;) {
+    ++report_.first_contact_frames;
+    counted = link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout, 1);
+    if (counted.ok() || counted.error().code != Errc::timeout) break;
+    if (report_.first_contact_frames >= kBringUpAttempts && link_.clock().now() >= give_up_at) break;
+  }
+  if (!counted.ok() && counted.error().code == Errc::timeout) {
+    const auto waited_ms = static_cast<std::uint32_t>(options_.first_contact_timeout / hal::kNsPerMs);
+    return fail("count", make_error(Errc::timeout,
+                                    "no EtherCAT frame came back (BRDs sent, ms waited): is the segment cabled to "
+                                    "this interface and powered, or `rescue-motion sim --iface` running at its end?",
+                                    report_.first_contact_frames, waited_ms));
+  }
   if (!counted.ok()) return fail("count", counted.error());
   report_.slaves_counted = counted.value();
   if (counted.value() == 0) return fail("count", make_error(Errc::not_found, "no slave answers"));

@@ -76,7 +76,8 @@ const CommandSpec kRunCommand{
     "run", "run [OPTIONS]", "run the motion-control firmware (on the simulated robot by default)",
     "Reads the error-joints file of the state directory, brings the EtherCAT network up to OP with\n"
     "distributed clocks, and runs the EtherCAT handler (1 ms) and the joint manager. SIGINT or SIGTERM\n"
-    "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop.\n"
+    "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop, 3 when the robot\n"
+    "ended in error (every joint in Error), 1 on any other failure.\n"
     "After a repair, --clear-joint names the joints to clear: they must answer at bring-up; once they\n"
     "do in OP they leave the error-joints file (logged) and are reset to Idle.\n"
     "With a key file the operator's commands arrive on the control port and IMU/GPS records on the\n"

@@ -443,6 +443,22 @@ bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
 
 }  // namespace
 
+int exit_status_for(fsm::RobotCondition condition) noexcept {
+  return condition == fsm::RobotCondition::error ? kExitRobotError : 0;
+}
+
+namespace {
+// The exit status of a run that stopped in order, said on stderr when it is not 0.
+int robot_exit(fsm::RobotCondition condition) noexcept {
+  const int status = exit_status_for(condition);
+  if (status != 0) {
+    (void)std::fprintf(stderr, "rescue-motion run: the robot ended in error (every joint in Error): exit status %d\n",
+                       status);
+  }
+  return status;
+}
+}  // namespace
+
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");
@@ -747,7 +763,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
-  return 0;
+  return robot_exit(manager.summary().condition);
 }
 
 }  // namespace rescue::app

@@ -20,6 +20,7 @@
 #include "core/app/cli/nic_option.hpp"
 #include "core/app/sim/run_scenario.hpp"
 #include "core/robot/robot.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -53,6 +54,11 @@ struct Report {
   std::uint16_t control_port{0};
   std::uint16_t sensor_port{0};
 };
+
+// Exit status of a run that stopped in order: 0, except kExitRobotError when the robot ended in
+// error (every joint in Error): a script or supervisor must never read that as success.
+constexpr int kExitRobotError = 3;
+int exit_status_for(fsm::RobotCondition condition) noexcept;
 
 // Runs until the duration, the scenario's end or a stop signal; returns the exit status.
 int run_firmware(const FirmwareOptions& options) noexcept;
