@@ -84,7 +84,7 @@ TEST(TaskPriorityIk, UnreachableTargetSettlesAtTheClosestPoseWithItsResidual) {
   const Vector3 shoulder = poses[link_index("l_shoulder_roll_link")].p;
   const double reach = (poses[kLeftEe].p - shoulder).norm();
   EXPECT_GT(last.position_residual_m[0], 1.0);
-  EXPECT_NEAR(last.position_residual_m[0], (targets.left.p - poses[kLeftEe].p).norm(), 1e-12);
+  EXPECT_NEAR(last.position_residual_m[0], (targets.left.p - poses[kLeftEe].p).norm(), 1e-6);  // settled
   EXPECT_GT(reach, 0.8) << "the arm reaches out";
   EXPECT_GT(last.damping, 1e-3) << "stretched arm: singular, damped";
   // Converged: another step changes nothing noticeable.
