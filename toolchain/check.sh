@@ -3,15 +3,17 @@
 #   1. install the Debian packages (toolchain/setup.sh)
 #   2. debug build + the whole GoogleTest suite through CTest
 #   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
+#   3b. verify: release-flag build with GCC's stack usage and call graph + toolchain/rt_verify.py
+#      (deepest stack of each real-time period function, no allocation/lock/blocking call on it)
 #   4. ThreadSanitizer build + the tests labelled 'concurrency'
 #   5. AddressSanitizer + UndefinedBehaviorSanitizer build + the whole suite
 #   6. fuzz build (clang, every library instrumented) + a short bounded run of each fuzzer
 #   7. aarch64 cross compile of the firmware libraries
-# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [tsan] [asan] [fuzz] [cross]
+# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis tsan asan fuzz cross)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis verify tsan asan fuzz cross)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
 
@@ -32,6 +34,13 @@ if want analysis; then
   banner "static analysis"
   [ -f build/debug/compile_commands.json ] || cmake --preset debug >/dev/null
   bash toolchain/static-analysis.sh . build/debug
+fi
+
+if want verify; then
+  banner "static verification: stack depth and blocking calls of the real-time tasks"
+  cmake --preset verify >/dev/null
+  cmake --build --preset verify -j "$jobs"
+  python3 toolchain/rt_verify.py --build build/verify --source .
 fi
 
 if want tsan; then

@@ -11,7 +11,7 @@ It refuses (exit status 1, one line saying why) a URDF outside the model's assum
   - joint origins without rotation (rpy 0) and axes along +-x, +-y or +-z of the parent link;
   - revolute, continuous or fixed joints only.
 The limits are written as the URDF gives them; core/kinematics/kinematic_model.hpp checks at
-compile time that they equal core/robot.hpp's kJoints (one source of truth).
+compile time that they equal core/robot/robot.hpp's kJoints (one source of truth).
 """
 import sys
 import xml.etree.ElementTree as ET
@@ -139,7 +139,7 @@ def render(links, by_child, support, source):
            "struct Link {",
            "  const char* name;",
            "  int parent;             // index into kLinks, -1 for base_link",
-           "  const char* joint;      // joint from the parent (its name in core/robot.hpp kJoints, or a fixed joint's name)",
+           "  const char* joint;      // joint from the parent (its name in core/robot/robot.hpp kJoints, or a fixed joint's name)",
            "  JointType type;",
            "  int axis;               // 0 x, 1 y, 2 z of the parent-side joint frame",
            "  double axis_sign;       // +1 or -1",

@@ -16,6 +16,9 @@ packages=(
   python3 python3-matplotlib                         # plots (Fig. 4 experiment, docs/kinematics.md joint frames)
   liburdfdom-tools                                   # check_urdf: the robot description is valid URDF
   liborocos-kdl-dev                                  # Orocos KDL: kinematics oracle in tests and bench rc (never firmware)
+  binutils                                           # readelf: vtables for toolchain/rt_verify.py
+  rt-tests                                           # cyclictest: the OS latency floor (bench latency)
+  valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)
 )
 
 missing=()

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "core/kinematics/kinematic_model.hpp"
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue::kin {
 

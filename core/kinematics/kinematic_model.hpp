@@ -1,5 +1,5 @@
 // The robot's kinematic model as the kinematics code uses it: the generated description
-// (core/robot/robot_description.hpp, from core/robot/rescue_robot.urdf) tied to core/robot.hpp's
+// (core/robot/robot_description.hpp, from core/robot/rescue_robot.urdf) tied to core/robot/robot.hpp's
 // joint table, the two arm chains, the joints the RC task's IK moves, and the fixed-size Eigen types.
 // Everything here is constexpr or a type; the compile-time checks below make the URDF and kJoints
 // one source of truth (names and limits must agree or the firmware does not build).
@@ -9,7 +9,7 @@
 #include <array>
 #include <cstddef>
 
-#include "core/robot.hpp"
+#include "core/robot/robot.hpp"
 #include "core/robot/robot_description.hpp"
 
 namespace rescue::kin {
@@ -77,7 +77,7 @@ constexpr bool urdf_joints_are_kjoints() {
   return moving == kJointCount;
 }
 static_assert(urdf_joints_are_kjoints(),
-              "core/robot/rescue_robot.urdf and core/robot.hpp kJoints disagree (names, kinds or limits)");
+              "core/robot/rescue_robot.urdf and core/robot/robot.hpp kJoints disagree (names, kinds or limits)");
 }  // namespace model_checks
 
 // ---- chains: the links from the root to a frame, root excluded ----

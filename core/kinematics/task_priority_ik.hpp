@@ -24,7 +24,7 @@
 
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/pose.hpp"
-#include "core/result.hpp"
+#include "core/base/result.hpp"
 
 namespace rescue::kin {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "ecat/coe.hpp"
-#include "ecat/mailbox.hpp"
+#include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rescue::ecat;

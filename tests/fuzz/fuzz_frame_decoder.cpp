@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace {
 

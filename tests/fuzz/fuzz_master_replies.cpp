@@ -9,10 +9,10 @@
 #include <cstring>
 #include <memory>
 
-#include "drivers/joint_bus.hpp"
-#include "ecat/frame.hpp"
-#include "hal/clock.hpp"
-#include "hal/nic.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
 
 namespace {
 

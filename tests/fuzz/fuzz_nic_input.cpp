@@ -5,9 +5,9 @@
 #include <cstring>
 #include <vector>
 
-#include "core/app/frame_server.hpp"
-#include "core/app/nic_option.hpp"
-#include "hal/raw_socket_nic.hpp"
+#include "core/app/sim/frame_server.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "hal/net/raw_socket_nic.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::uint8_t> frame(data, data + size);  // exact size: reads past it are caught

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "drivers/coe_sdo_server.hpp"
-#include "drivers/device_identity.hpp"
-#include "drivers/joint_drive_objects.hpp"
+#include "drivers/sim/coe/coe_sdo_server.hpp"
+#include "drivers/joint/device_identity.hpp"
+#include "drivers/sim/devices/joint_drive_objects.hpp"
 
 using namespace rescue;
 using namespace rescue::drivers;

@@ -7,11 +7,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "drivers/fault_command.hpp"
-#include "drivers/junction_device.hpp"
-#include "drivers/minimal_sii.hpp"
-#include "drivers/robot_segment.hpp"
-#include "drivers/simulated_segment.hpp"
+#include "drivers/sim/segment/fault_command.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "drivers/sim/devices/minimal_sii.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
 
 namespace {
 

@@ -9,11 +9,11 @@ rescue_add_fuzzer(fuzz_frame_decoder SOURCES fuzz_frame_decoder.cpp DEPS rescue_
 rescue_add_fuzzer(fuzz_capture_reader SOURCES fuzz_capture_reader.cpp DEPS rescue_ecat)
 rescue_add_fuzz_seeds(make_ecat_fuzz_seeds SOURCES make_ecat_fuzz_seeds.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_simulated_segment SOURCES fuzz_simulated_segment.cpp
-  ${PROJECT_SOURCE_DIR}/drivers/esc.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_al.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_pdi.cpp
-  ${PROJECT_SOURCE_DIR}/drivers/esc_logical.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_memory.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_clock.cpp
-  ${PROJECT_SOURCE_DIR}/drivers/esc_dc.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_sync_manager.cpp ${PROJECT_SOURCE_DIR}/drivers/esc_sii.cpp
-  ${PROJECT_SOURCE_DIR}/drivers/esc_fmmu.cpp ${PROJECT_SOURCE_DIR}/drivers/simulated_segment.cpp ${PROJECT_SOURCE_DIR}/drivers/fault_command.cpp
-  ${PROJECT_SOURCE_DIR}/drivers/minimal_sii.cpp ${PROJECT_SOURCE_DIR}/drivers/junction_device.cpp ${PROJECT_SOURCE_DIR}/drivers/robot_segment.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_al.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_pdi.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_logical.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_memory.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_clock.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_dc.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_sync_manager.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_sii.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/sim/esc/esc_fmmu.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/segment/simulated_segment.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/segment/fault_command.cpp
+  ${PROJECT_SOURCE_DIR}/drivers/sim/devices/minimal_sii.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/devices/junction_device.cpp ${PROJECT_SOURCE_DIR}/drivers/sim/segment/robot_segment.cpp
   DEPS rescue_ecat rescue_hal rescue_core)
-rescue_add_fuzzer(fuzz_master_replies SOURCES fuzz_master_replies.cpp DEPS rescue_drivers rescue_ecat)
-rescue_add_fuzzer(fuzz_sdo_server SOURCES fuzz_sdo_server.cpp DEPS rescue_drivers rescue_ecat)
+rescue_add_fuzzer(fuzz_master_replies SOURCES fuzz_master_replies.cpp DEPS rescue_drivers rescue_sim rescue_ecat)
+rescue_add_fuzzer(fuzz_sdo_server SOURCES fuzz_sdo_server.cpp DEPS rescue_drivers rescue_sim rescue_ecat)

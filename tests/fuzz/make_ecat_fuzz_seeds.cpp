@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
-#include "ecat/capture_writer.hpp"
-#include "ecat/frame.hpp"
+#include "ecat/capture/capture_reader.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "ecat/codec/frame.hpp"
 #include "tests/support/capture_bytes.hpp"
 
 namespace {

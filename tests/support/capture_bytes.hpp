@@ -1,5 +1,5 @@
 // Hand-built pcap and pcapng files for tests and fuzz seeds: any byte order, timestamp resolution,
-// block kind, and deliberately odd contents. Independent of ecat/capture_writer on purpose, so the
+// block kind, and deliberately odd contents. Independent of ecat/capture/capture_writer on purpose, so the
 // reader is not only tested against our own writer. Tests only: allocates freely.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "ecat/capture_format.hpp"
+#include "ecat/capture/capture_format.hpp"
 
 namespace rescue::test {
 

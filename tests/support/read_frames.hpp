@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ecat/capture_reader.hpp"
+#include "ecat/capture/capture_reader.hpp"
 
 namespace rescue::test {
 

@@ -7,14 +7,14 @@
 #include <memory>
 #include <string>
 
-#include "core/robot.hpp"
-#include "drivers/joint_bus.hpp"
-#include "drivers/joint_drive_device.hpp"
-#include "drivers/junction_device.hpp"
-#include "drivers/robot_segment.hpp"
-#include "drivers/simulated_nic.hpp"
-#include "drivers/simulated_segment.hpp"
-#include "hal/clock.hpp"
+#include "core/robot/robot.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::testing {
 
@@ -55,7 +55,7 @@ struct SimulatedRobotRig {
   }
 
   // One period: sleep to the master's wake-up, exchange the frame.
-  ecat::CycleResult cycle(const drivers::JointReferences& references, drivers::JointFeedback& feedback) {
+  drivers::JointCycleResult cycle(const drivers::JointReferences& references, drivers::JointFeedback& feedback) {
     clock.sleep_until(bus.next_wakeup());
     return bus.cycle(references, feedback);
   }

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ecat/frame.hpp"
+#include "ecat/codec/frame.hpp"
 
 namespace rescue::testing {
 

@@ -4,13 +4,13 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/app/bench_header.hpp"
-#include "core/heap_guard.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "core/kinematics/damped_least_squares.hpp"
 #include "core/kinematics/rc_period.hpp"
-#include "core/latency_histogram.hpp"
-#include "hal/rt_setup.hpp"
-#include "hal/tsc_timer.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
 
 namespace rescue::app {
 namespace {

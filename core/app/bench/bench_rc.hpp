@@ -15,7 +15,7 @@
 // and prints the ratios (docs/kinematics.md).
 #pragma once
 
-#include "core/app/cli.hpp"
+#include "core/app/cli/cli.hpp"
 
 namespace rescue::app {
 

@@ -7,7 +7,7 @@
 #include <kdl/chainjnttojacsolver.hpp>
 
 #include "core/app/bench/bench_rc.hpp"
-#include "core/app/commands.hpp"
+#include "core/app/cli/commands.hpp"
 #include "tests/core/kinematics/kdl_chain.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 // strict mode: any allocation would abort the test.
 #include <gtest/gtest.h>
 
-#include "core/heap_guard.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "core/kinematics/centre_of_mass.hpp"
 #include "core/kinematics/damped_least_squares.hpp"
 #include "core/kinematics/rc_period.hpp"

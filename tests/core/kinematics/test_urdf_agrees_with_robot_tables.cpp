@@ -1,4 +1,4 @@
-// The URDF (through the generated description) is the robot of core/robot.hpp: every joint of
+// The URDF (through the generated description) is the robot of core/robot/robot.hpp: every joint of
 // kJoints once, with its kind and limits; a half-humanoid on tracks with plausible masses; the
 // support polygon under the tracks. (The same agreement is a static_assert in kinematic_model.hpp.)
 #include <gtest/gtest.h>

@@ -1,0 +1,168 @@
+#include "core/app/bench/bench_core.hpp"
+
+#include <atomic>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <thread>
+
+#include "core/app/bench/bench_header.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
+
+namespace rescue::app {
+namespace {
+
+constexpr std::uint64_t kTimerPairs = 1'000'000;
+constexpr std::uint64_t kClockBatches = 10'000;
+constexpr std::uint64_t kClockBatch = 100;
+constexpr std::uint64_t kRoundTrips = 100'000;
+constexpr std::uint64_t kThroughputMessages = 1'000'000;
+constexpr std::uint64_t kSeqlockOps = 1'000'000;
+
+struct Message {
+  std::uint64_t sequence;
+  std::uint64_t payload[3];  // 32 bytes: a joint command's size
+};
+struct Snapshot {
+  std::int64_t words[8];  // 64 bytes: a joint state record
+};
+
+// Static: 18 KiB each, touched (reset) before init so they never fault afterwards.
+LatencyHistogram g_timer_ticks;
+LatencyHistogram g_clock_ns;
+LatencyHistogram g_round_trip_ns;
+LatencyHistogram g_record_probe;
+SpscQueue<Message, 1024> g_ping;
+SpscQueue<Message, 1024> g_pong;
+Seqlock<Snapshot> g_snapshot;
+
+enum class Phase : int { echo, drain, stop };
+std::atomic<Phase> g_phase{Phase::echo};
+std::atomic<std::uint64_t> g_drained{0};
+
+// The second thread: echoes pings, then drains the throughput stream.
+void partner() noexcept {
+  Message m{};
+  std::uint64_t drained = 0;
+  for (;;) {
+    const Phase phase = g_phase.load(std::memory_order_acquire);
+    if (phase == Phase::stop) return;
+    if (!g_ping.try_pop(m)) continue;
+    if (phase == Phase::echo) {
+      while (!g_pong.try_push(m)) {
+      }
+    } else {
+      g_drained.store(++drained, std::memory_order_relaxed);  // a plain store: no locked RMW per message
+    }
+  }
+}
+
+double per_op_ns(const hal::TscTimer& timer, std::uint64_t ticks, std::uint64_t ops) noexcept {
+  return static_cast<double>(timer.to_ns(ticks)) / static_cast<double>(ops);
+}
+
+}  // namespace
+
+int bench_core(const ParsedArgs& /*args*/) noexcept {
+  // ---- init: everything that may allocate or fault ----
+  print_bench_header(stdout, "core");
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  const hal::RtReport report = hal::apply_rt_config(rt);
+  report.print(stdout);
+  const hal::TscTimer timer = hal::TscTimer::calibrate();
+  g_timer_ticks.reset();
+  g_clock_ns.reset();
+  g_round_trip_ns.reset();
+  g_record_probe.reset();
+  std::thread second(partner);
+  (void)std::fflush(stdout);
+  const hal::PageFaults faults_at_init = hal::page_faults_of_process();
+  declare_init_complete(HeapGuardMode::count);
+
+  // ---- measured: nothing below may allocate ----
+  for (std::uint64_t i = 0; i < kTimerPairs; ++i) {
+    const std::uint64_t start = timer.start();
+    g_timer_ticks.record(timer.stop() - start);
+  }
+
+  hal::MonotonicClock clock;
+  for (std::uint64_t b = 0; b < kClockBatches; ++b) {
+    const std::uint64_t start = timer.start();
+    for (std::uint64_t i = 0; i < kClockBatch; ++i) (void)clock.now();
+    g_clock_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - start)) / kClockBatch);
+  }
+
+  Message m{};
+  for (std::uint64_t i = 0; i < kRoundTrips; ++i) {
+    const std::uint64_t start = timer.start();
+    m.sequence = i;
+    while (!g_ping.try_push(m)) {
+    }
+    while (!g_pong.try_pop(m)) {
+    }
+    g_round_trip_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - start)));
+  }
+
+  g_phase.store(Phase::drain, std::memory_order_release);
+  const std::uint64_t stream_start = timer.start();
+  for (std::uint64_t i = 0; i < kThroughputMessages; ++i) {
+    m.sequence = i;
+    while (!g_ping.try_push(m)) {
+    }
+  }
+  while (g_drained.load(std::memory_order_relaxed) < kThroughputMessages) {
+  }
+  const std::uint64_t stream_ticks = timer.stop() - stream_start;
+
+  Snapshot s{};
+  const std::uint64_t write_start = timer.start();
+  for (std::uint64_t i = 0; i < kSeqlockOps; ++i) {
+    s.words[0] = static_cast<std::int64_t>(i);
+    g_snapshot.write(s);
+  }
+  const std::uint64_t write_ticks = timer.stop() - write_start;
+  std::uint64_t read_failures = 0;
+  const std::uint64_t read_start = timer.start();
+  for (std::uint64_t i = 0; i < kSeqlockOps; ++i) {
+    if (!g_snapshot.try_read(s)) ++read_failures;
+  }
+  const std::uint64_t read_ticks = timer.stop() - read_start;
+
+  const std::uint64_t record_start = timer.start();
+  for (std::uint64_t i = 0; i < kSeqlockOps; ++i) g_record_probe.record(i & 0xFFFFU);
+  const std::uint64_t record_ticks = timer.stop() - record_start;
+
+  const HeapGuardCounters heap = heap_guard_counters();
+  const hal::PageFaults faults_after = hal::page_faults_of_process();
+  g_phase.store(Phase::stop, std::memory_order_release);
+  second.join();
+
+  // ---- report ----
+  (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
+  (void)std::printf("timer_reason: %s\n", timer.reason());
+  (void)std::printf("timer_ticks_per_ns: %.4f ticks/ns\n", timer.ticks_per_ns());
+  g_timer_ticks.print(stdout, "timer_overhead", "ticks");
+  (void)std::printf("timer_overhead_p50_ns: %" PRId64 " ns\n", timer.to_ns(g_timer_ticks.percentile(50.0)));
+  (void)std::printf("clock_gettime_p50: %" PRIu64 " ns\n", g_clock_ns.percentile(50.0));
+  g_round_trip_ns.print(stdout, "spsc_round_trip", "ns");
+  (void)std::printf("spsc_throughput: %.1f Mmsg/s\n",
+                    1e3 * static_cast<double>(kThroughputMessages) / static_cast<double>(timer.to_ns(stream_ticks)));
+  (void)std::printf("seqlock_write: %.1f ns\n", per_op_ns(timer, write_ticks, kSeqlockOps));
+  (void)std::printf("seqlock_read: %.1f ns\n", per_op_ns(timer, read_ticks, kSeqlockOps));
+  (void)std::printf("seqlock_read_failures: %" PRIu64 " reads\n", read_failures);
+  (void)std::printf("histogram_record: %.1f ns\n", per_op_ns(timer, record_ticks, kSeqlockOps));
+  (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
+  (void)std::printf("page_faults_after_init: %" PRIu64 " faults\n",
+                    (faults_after.minor - faults_at_init.minor) + (faults_after.major - faults_at_init.major));
+  return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");
+}
+
+}  // namespace rescue::app

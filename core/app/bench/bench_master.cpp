@@ -1,0 +1,309 @@
+#include "core/app/bench/bench_master.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/app/bench/bench_header.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/cli/nic_option.hpp"
+#include "core/app/bench/timed_nic.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/tsc_timer.hpp"
+
+namespace rescue::app {
+namespace {
+
+constexpr std::int64_t kDefaultCycles = 10'000;
+constexpr int kMaxCyclesToOp = 2'000;
+constexpr int kColdConvergenceCycles = 5'000;
+
+// Histograms in static storage (18 KiB each), reset (touched) before init.
+LatencyHistogram g_master_ns;
+LatencyHistogram g_nic_ns;
+LatencyHistogram g_latch_spread_ns;
+LatencyHistogram g_phase_error_ns;
+
+// The simulated robot the master runs on (nullptr with --nic raw), and its virtual clock.
+hal::VirtualClock g_virtual_clock{hal::kNsPerSec};
+drivers::SimulatedSegment* g_segment = nullptr;
+
+// Two simulated robots with different seeds: the measured run, then the cold start (static
+// storage: about a megabyte each of ESC memories).
+drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, int which) noexcept {
+  drivers::RobotSegmentOptions options;
+  options.seed = seed;
+  options.max_drift_ppm = 100.0;
+  if (which == 0) {
+    static drivers::SimulatedRobot first(options, g_virtual_clock.now());
+    return first;
+  }
+  static drivers::SimulatedRobot second(options, g_virtual_clock.now());
+  return second;
+}
+
+// Largest |true system time - reference's system time| over all slaves, now (simulator only).
+std::int64_t true_max_offset_ns() noexcept {
+  const hal::Nanoseconds now = g_virtual_clock.now();
+  const std::uint64_t reference = g_segment->esc(0).system_time_at(now);
+  std::int64_t worst = 0;
+  for (std::size_t p = 1; p < kSlaveCount; ++p) {
+    worst = std::max(worst, std::abs(static_cast<std::int64_t>(g_segment->esc(p).system_time_at(now) - reference)));
+  }
+  return worst;
+}
+
+// Spread of the instants the joints latched their last outputs, when all latched the same SYNC0.
+bool latch_spread_ns(std::uint64_t& spread) noexcept {
+  hal::Nanoseconds first = 0;
+  hal::Nanoseconds last = 0;
+  std::uint64_t system_time = 0;
+  bool any = false;
+  for (std::size_t p = 0; p < kSlaveCount; ++p) {
+    if (kSlaves[p].kind != SlaveKind::joint_drive) continue;
+    const drivers::OutputLatch latch = g_segment->esc(p).last_output_latch();
+    if (latch.trigger != drivers::CycleTrigger::sync0) return false;
+    if (!any) {
+      first = last = latch.segment_time;
+      system_time = latch.system_time;
+      any = true;
+    } else if (latch.system_time != system_time) {
+      return false;  // not the same SYNC0 (a slave has not latched this one yet)
+    }
+    first = std::min(first, latch.segment_time);
+    last = std::max(last, latch.segment_time);
+  }
+  spread = static_cast<std::uint64_t>(last - first);
+  return any;
+}
+
+struct Enabler {
+  drivers::JointReferences refs{};
+  drivers::JointFeedback feedback{};
+  bool aligned{false};
+  // Holds every joint where it is and walks its drive to Operation enabled.
+  void step() noexcept {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (!aligned && (feedback.valid & joint_bit(j)) != 0) refs[j].target_position = feedback.joints[j].position_actual;
+      refs[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
+      refs[j].controlword = drivers::controlword_towards_enabled(feedback.joints[j].statusword, refs[j].controlword);
+    }
+    aligned = aligned || feedback.valid == kAllJoints;
+  }
+};
+
+double ms(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / 1e6; }
+double us(std::uint64_t ns) noexcept { return static_cast<double>(ns) / 1e3; }
+
+int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexcept {
+  for (int i = 0; i < kMaxCyclesToOp && bus.master().state() == ecat::MasterState::going_op; ++i) {
+    clock.sleep_until(bus.next_wakeup());
+    (void)bus.cycle(enabler.refs, enabler.feedback);
+  }
+  return bus.master().state() == ecat::MasterState::op ? 0 : 1;
+}
+
+void print_failure(const ecat::Master& master) noexcept {
+  const ecat::BringUpReport& r = master.report();
+  (void)std::fprintf(stderr, "bring-up failed at %s: %s (%u, %u)\n", r.failed_step != nullptr ? r.failed_step : "?",
+                     r.error.what, r.error.detail0, r.error.detail1);
+  ecat::print_differences(stderr, r.match, master.plan(), r.found.span());
+  const ecat::LinkStats& link = const_cast<ecat::Master&>(master).link().stats();  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  (void)std::fprintf(stderr, "link: %" PRIu64 " exchanges, %" PRIu64 " timeouts, %" PRIu64 " late frames, %" PRIu64 " malformed\n",
+                     link.exchanges, link.timeouts, link.stale_frames, link.malformed);
+  if (r.al_failure.position != ecat::kNoPosition) {
+    std::array<char, 256> line{};
+    (void)ecat::describe(r.al_failure, master.plan(), line.data(), line.size());
+    (void)std::fprintf(stderr, "%s\n", line.data());
+  }
+}
+
+}  // namespace
+
+int bench_master(const ParsedArgs& args) noexcept {
+  const Result<NicChoice> choice = parse_nic_option(args.value("nic"));
+  if (!choice.ok()) return fail("bench", choice.error().what);
+  const Result<std::int64_t> cycles = args.integer("cycles", kDefaultCycles, 100, 1'000'000);
+  if (!cycles.ok()) return fail("bench", "--cycles must be 100..1000000", cycles.error());
+  const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
+  if (!seed.ok()) return fail("bench", "--seed must be 0..1000000", seed.error());
+  const bool simulated = choice.value().kind == NicKind::sim;
+
+  // Init: everything that may allocate or fault. The EtherCAT handler's real-time set-up
+  // (docs/hal.md): memory locked, stack prefaulted, SCHED_FIFO 80 on CPU 1, each one announced.
+  print_bench_header(stdout, "master");
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  rt.fifo_priority = 80;
+  rt.cpu = 1;
+  hal::apply_rt_config(rt).print(stdout);
+  g_master_ns.reset();
+  g_nic_ns.reset();
+  g_latch_spread_ns.reset();
+  g_phase_error_ns.reset();
+
+  static SelectedNic selected;
+  hal::Nic* inner = nullptr;
+  if (simulated) {
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()), 0);
+    if (!robot.status().ok()) return fail("bench", "cannot build the simulated robot", robot.status().error());
+    static drivers::SimulatedNic sim_nic(robot.segment(), g_virtual_clock);
+    g_segment = &robot.segment();
+    inner = &sim_nic;
+  } else {
+    const Status opened = selected.open(choice.value());
+    if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
+    inner = selected.nic();
+  }
+  static const hal::TscTimer timer = hal::TscTimer::calibrate();
+  static TimedNic nic(*inner, timer);
+  static drivers::JointBus bus(nic);
+  static Enabler enabler;
+  hal::Clock& clock = nic.clock();
+
+  // 1. Bring-up with the full static drift compensation, then to OP.
+  ecat::MasterOptions options;
+  const Status up = bus.bring_up(options);
+  if (!up.ok()) {
+    print_failure(bus.master());
+    return fail("bench", "bring-up failed", up.error());
+  }
+  if (up_to_op(bus, clock, enabler) != 0) {
+    print_failure(bus.master());
+    return fail("bench", "the network did not reach OP");
+  }
+  const ecat::BringUpReport first = bus.master().report();
+  const std::int64_t true_offset_after_static = simulated ? true_max_offset_ns() : -1;
+
+  // 2. The cyclic run, init complete: every allocation from here on is counted.
+  const hal::PageFaults faults_at_init = hal::page_faults_of_process();
+  declare_init_complete(HeapGuardMode::count);
+  std::int64_t all_valid = 0;
+  std::int64_t frames_lost = 0;
+  std::int64_t latch_samples = 0;
+  std::array<std::uint32_t, 5> reports_by_kind{};
+  ecat::LinkReport report;
+  for (std::int64_t i = 0; i < cycles.value(); ++i) {
+    enabler.step();
+    clock.sleep_until(bus.next_wakeup());
+    const std::uint64_t nic_before = nic.ticks();
+    const std::uint64_t t0 = timer.start();
+    const drivers::JointCycleResult r = bus.cycle(enabler.refs, enabler.feedback);
+    const std::uint64_t total = timer.stop() - t0;
+    // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
+    const std::uint64_t in_nic = nic.ticks() - nic_before;
+    g_master_ns.record(static_cast<std::uint64_t>(timer.to_ns(total - std::min(total, in_nic))));
+    g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
+    g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(bus.last_cycle().dc_phase_error)));
+    all_valid += r.valid == kAllJoints ? 1 : 0;
+    frames_lost += r.frame_received ? 0 : 1;
+    while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
+    std::uint64_t spread = 0;
+    if (simulated && latch_spread_ns(spread)) {
+      g_latch_spread_ns.record(spread);
+      ++latch_samples;
+    }
+  }
+  const HeapGuardCounters heap_after_run = heap_guard_counters();
+  const hal::PageFaults faults_after_run = hal::page_faults_of_process();
+  const Result<ecat::DcSnapshot> after_run = bus.master().read_dc_snapshot();
+  const std::int64_t true_offset_after_run = simulated ? true_max_offset_ns() : -1;
+
+  // 3. Cold start: no static drift compensation; how many cycles until the cyclic distribution
+  //    brings every slave within 100 ns and 20 ns (0x092C read between cycles).
+  if (simulated) {
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1, 1);
+    if (!robot.status().ok()) return fail("bench", "cannot build the second simulated robot", robot.status().error());
+    static drivers::SimulatedNic cold_nic(robot.segment(), g_virtual_clock);
+    g_segment = &robot.segment();
+    nic.set_inner(cold_nic);
+  }
+  ecat::MasterOptions cold = options;
+  cold.drift_compensation_frames = 0;
+  enabler = Enabler{};
+  const Status cold_up = bus.bring_up(cold);
+  if (!cold_up.ok() || up_to_op(bus, clock, enabler) != 0) {
+    print_failure(bus.master());
+    return fail("bench", "cold bring-up failed");
+  }
+  std::uint32_t cold_first = 0;  // after the first cycle's time distribution
+  int under_100 = -1;
+  int under_20 = -1;
+  std::uint32_t cold_last = 0;
+  for (int k = 0; k < kColdConvergenceCycles && under_20 < 0; ++k) {
+    enabler.step();
+    clock.sleep_until(bus.next_wakeup());
+    (void)bus.cycle(enabler.refs, enabler.feedback);
+    const Result<ecat::DcSnapshot> snap = bus.master().read_dc_snapshot();
+    if (!snap.ok()) continue;
+    cold_last = snap.value().max_difference_ns;
+    if (k == 0) cold_first = cold_last;
+    if (under_100 < 0 && cold_last < 100) under_100 = k + 1;
+    if (under_20 < 0 && cold_last < 20) under_20 = k + 1;
+  }
+  const HeapGuardCounters heap = heap_guard_counters();
+
+  (void)std::printf("nic: %s\n", simulated ? "sim (in-process simulated robot, virtual time)" : nic.name());
+  (void)std::printf("time_base: %s\n", simulated ? "simulated (virtual clock)" : "wall (CLOCK_MONOTONIC)");
+  (void)std::printf("slaves: %u slaves\n", static_cast<unsigned>(first.slaves_counted));
+  (void)std::printf("cycle_time: %.0f us\n", us(static_cast<std::uint64_t>(options.cycle_time)));
+  (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));
+  (void)std::printf("bring_up_to_op: %.3f ms\n", ms(first.op_at - first.started_at));
+  (void)std::printf("bring_up_frames: %" PRIu64 " frames\n", first.frames);
+  (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
+  (void)std::printf("dc_static_compensation: %u frames\n", options.drift_compensation_frames);
+  (void)std::printf("dc_max_difference_after_static: %" PRIu32 " ns\n", first.dc_max_difference_ns);
+  if (after_run.ok()) {
+    (void)std::printf("dc_max_difference_after_cycles: %" PRIu32 " ns (after %" PRId64 " cycles)\n",
+                      after_run.value().max_difference_ns, cycles.value());
+  }
+  if (simulated) {
+    (void)std::printf("dc_true_max_offset_after_static: %" PRId64 " ns\n", true_offset_after_static);
+    (void)std::printf("dc_true_max_offset_after_cycles: %" PRId64 " ns\n", true_offset_after_run);
+  }
+  (void)std::printf("dc_cold_first_cycle_max_difference: %" PRIu32 " ns (no static compensation)\n", cold_first);
+  (void)std::printf("dc_cold_cycles_to_100ns: %d cycles\n", under_100);
+  (void)std::printf("dc_cold_cycles_to_20ns: %d cycles\n", under_20);
+  (void)std::printf("dc_cold_last_max_difference: %" PRIu32 " ns\n", cold_last);
+  const HistogramSummary phase = g_phase_error_ns.summary();
+  (void)std::printf("dc_phase_error_p99: %" PRIu64 " ns\n", phase.p99);
+  (void)std::printf("dc_phase_error_max: %" PRIu64 " ns\n", phase.max);
+  if (simulated && latch_samples > 0) {
+    const HistogramSummary latch = g_latch_spread_ns.summary();
+    (void)std::printf("sync0_latch_spread_median: %" PRIu64 " ns (%" PRId64 " SYNC0 events, 21 joints)\n", latch.p50, latch_samples);
+    (void)std::printf("sync0_latch_spread_max: %" PRIu64 " ns\n", latch.max);
+  } else {
+    (void)std::printf("sync0_latch_spread_median: n/a (needs the simulator's view of the slaves)\n");
+  }
+  (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
+  (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
+  (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
+  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored\n",
+                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2]);
+  const HistogramSummary master = g_master_ns.summary();
+  (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
+  (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));
+  (void)std::printf("master_cycle_cpu_p99: %.2f us\n", us(master.p99));
+  (void)std::printf("master_cycle_cpu_max: %.2f us\n", us(master.max));
+  const HistogramSummary wire = g_nic_ns.summary();
+  (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), simulated ? "the simulator processing the frame" : "send + wait for the frame");
+  (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations (cyclic run %" PRIu64 ")\n", heap.allocations,
+                    heap_after_run.allocations);
+  (void)std::printf("page_faults_after_init: %" PRIu64 " faults (cyclic run)\n",
+                    (faults_after_run.minor - faults_at_init.minor) + (faults_after_run.major - faults_at_init.major));
+  return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,62 @@
+// rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
+#include <cstring>
+
+#include "core/app/bench/bench_codec.hpp"
+#include "core/app/bench/bench_core.hpp"
+#include "core/app/bench/bench_master.hpp"
+#include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_rc.hpp"
+#include "core/app/bench/bench_sim.hpp"
+#include "core/app/cli/commands.hpp"
+#include "core/app/cli/nic_option.hpp"
+
+namespace rescue::app {
+namespace {
+
+const OptionSpec kOptions[] = {
+    {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
+    {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
+    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
+    {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
+    {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
+    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000)"},
+};
+
+struct Bench {
+  const char* name;
+  int (*run)(const ParsedArgs& args) noexcept;
+};
+
+const Bench kBenches[] = {
+    {"nic", bench_nic},
+    {"core", bench_core},
+    {"codec", bench_codec},
+    {"master", bench_master},
+    {"sim", bench_sim},
+    {"rc", bench_rc},
+};
+
+int bench_main(const ParsedArgs& args) {
+  const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
+  if (!nic.ok()) return fail("bench", nic.error().what);
+  for (const Bench& bench : kBenches) {
+    if (std::strcmp(bench.name, args.positional(0)) == 0) return bench.run(args);
+  }
+  return fail("bench", "unknown benchmark (see rescue-motion bench --help)");
+}
+
+}  // namespace
+
+const CommandSpec kBenchCommand{
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
+    "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
+    "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
+    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
+    "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
+    "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
+    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
+    "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
+    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl",
+    Span<const OptionSpec>(kOptions), 1, 1, bench_main};
+
+}  // namespace rescue::app

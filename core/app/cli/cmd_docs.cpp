@@ -1,0 +1,60 @@
+// rescue-motion docs fsm|tasks: documentation printed from the firmware's own tables, so docs/ cannot
+// drift from the code (a test compares docs/fsm.md with this command's output).
+#include <cstdio>
+#include <cstring>
+
+#include "core/app/cli/commands.hpp"
+#include "core/app/runtime/task_table.hpp"
+#include "fsm/machines/documented_machines.hpp"
+#include "fsm/engine/table_docs.hpp"
+
+namespace rescue::app {
+namespace {
+
+const OptionSpec kOptions[] = {
+    {"format", "markdown|dot", "Markdown tables (default) or a Graphviz digraph per machine"},
+    {"machine", "NAME", "only this state machine (default: all)"},
+};
+
+int docs_main(const ParsedArgs& args) {
+  const char* topic = args.positional(0);
+  if (std::strcmp(topic, "tasks") == 0) {
+    write_task_table_markdown(stdout);
+    return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
+  }
+  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm, tasks)");
+  const char* format = args.value("format") != nullptr ? args.value("format") : "markdown";
+  const bool dot = std::strcmp(format, "dot") == 0;
+  if (!dot && std::strcmp(format, "markdown") != 0) return fail("docs", "--format must be markdown or dot");
+
+  const char* only = args.value("machine");
+  if (only != nullptr && fsm::find_documented_machine(only) == nullptr) {
+    return fail("docs", "no state machine of that name (see rescue-motion docs fsm)");
+  }
+  bool first = true;
+  for (const fsm::MachineView& machine : fsm::documented_machines()) {
+    if (only != nullptr && std::strcmp(only, machine.name) != 0) continue;
+    if (!first) std::printf("\n");
+    first = false;
+    if (dot) {
+      fsm::write_dot(stdout, machine);
+    } else {
+      fsm::write_markdown(stdout, machine);
+    }
+  }
+  return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
+}
+
+}  // namespace
+
+const CommandSpec kDocsCommand{
+    "docs", "docs fsm|tasks [--format markdown|dot] [--machine NAME]",
+    "print documentation generated from the firmware's tables",
+    "Topics:\n"
+    "  fsm    every state machine: states, inputs, the (state, input) grid, guards and actions.\n"
+    "  tasks  the firmware's tasks (paper Table I): scheduling, CPU, period, shared memory, role.\n"
+    "docs/fsm.md and docs/tasks.md hold this output; render a state-machine diagram with\n"
+    "  rescue-motion docs fsm --format dot | dot -Tsvg > fsm.svg",
+    Span<const OptionSpec>(kOptions), 1, 1, docs_main};
+
+}  // namespace rescue::app

@@ -1,0 +1,141 @@
+// rescue-motion sim --iface IFACE: serve the simulated robot's EtherCAT segment on a network
+// interface, for a master on the other end of the wire (or of a veth pair). Each frame from the
+// master goes through the simulated segment and back out of the same interface, with the source
+// MAC marked as real slave controllers mark it (core/app/sim/frame_server.hpp). docs/hal.md has recipes.
+// Fault commands (drivers/sim/segment/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
+// can be typed on standard input while it serves; docs/simulator.md lists them.
+#include <poll.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+
+#include "core/app/cli/commands.hpp"
+#include "core/app/sim/frame_server.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/sim/simulated_robot_instance.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "drivers/sim/segment/fault_command.hpp"
+#include "hal/net/raw_socket_nic.hpp"
+#include "hal/rt/rt_setup.hpp"
+
+namespace rescue::app {
+namespace {
+
+// Longest time a stop signal waits to be seen: each receive wait ends by then.
+constexpr hal::Nanoseconds kStopLatency = 100 * hal::kNsPerMs;
+// The simulator stands for hardware, which answers within microseconds whatever else the host
+// runs: served at a real-time priority above the master's EtherCAT task (80), a busy host cannot
+// hold a frame back for milliseconds. Masters do not retry every read: SOEM's ec_configdc takes a
+// port receive time that timed out (2 ms) as unchanged, and computes wrong propagation delays.
+constexpr std::int64_t kDefaultPriority = 90;
+
+void print_counters(const FrameServerCounters& served, const hal::NicStats& nic) noexcept {
+  (void)std::printf("frames received: %llu\n", static_cast<unsigned long long>(served.frames_received));
+  (void)std::printf("frames returned: %llu\n", static_cast<unsigned long long>(served.frames_returned));
+  (void)std::printf("frames not returned: %llu\n", static_cast<unsigned long long>(served.frames_not_returned));
+  (void)std::printf("frames dropped by the nic: %llu\n", static_cast<unsigned long long>(nic.frames_dropped));
+  (void)std::printf("send errors: %llu\n", static_cast<unsigned long long>(served.send_errors));
+  (void)std::fflush(stdout);
+}
+
+// Fault commands from standard input, one per line, applied between frames.
+class FaultConsole {
+ public:
+  // Reads what is available without waiting; applies every complete line.
+  void poll_once(drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+    if (closed_) return;
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    if (::poll(&p, 1, 0) <= 0) return;
+    const ssize_t got = ::read(STDIN_FILENO, line_.data() + length_, line_.size() - length_);
+    if (got <= 0) {
+      closed_ = true;  // end of input (or no terminal): stop looking
+      return;
+    }
+    length_ += static_cast<std::size_t>(got);
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < length_; ++i) {
+      if (line_[i] != '\n') continue;
+      apply(line_.data() + start, i - start, segment, now);
+      start = i + 1;
+    }
+    if (start == 0 && length_ == line_.size()) start = length_;  // an endless line: dropped
+    for (std::size_t i = start; i < length_; ++i) line_[i - start] = line_[i];
+    length_ -= start;
+  }
+
+ private:
+  static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+    const Result<drivers::FaultCommand> command = drivers::parse_fault_command(text, length, segment);
+    Status applied = command.ok() ? drivers::apply_fault_command(command.value(), segment, now) : Status(command.error());
+    if (applied.ok()) {
+      (void)std::printf("fault: ok %.*s\n", static_cast<int>(length), text);
+    } else {
+      (void)std::printf("fault: refused %.*s: %s\n", static_cast<int>(length), text, applied.error().what);
+    }
+    (void)std::fflush(stdout);
+  }
+
+  std::array<char, 256> line_{};
+  std::size_t length_{0};
+  bool closed_{false};
+};
+
+const OptionSpec kOptions[] = {
+    {"iface", "IFACE", "network interface to serve the segment on (required)"},
+    {"priority", "N", "SCHED_FIFO priority 1..99 while serving, 0 for normal scheduling (default 90)"},
+};
+
+int sim_main(const ParsedArgs& args) {
+  const char* iface = args.value("iface");
+  if (iface == nullptr) return fail("sim", "--iface IFACE is required (e.g. --iface eth1)");
+  const Result<std::int64_t> priority = args.integer("priority", kDefaultPriority, 0, 99);
+  if (!priority.ok()) return fail("sim", "--priority must be 0..99", priority.error());
+
+  hal::RawSocketNic nic;
+  const Status opened = nic.open(iface);
+  if (!opened.ok()) return fail_nic("sim", iface, opened.error());
+  drivers::SimulatedRobot& robot = simulated_robot(nic.clock().now());
+  if (!robot.status().ok()) return fail("sim", "cannot build the simulated robot", robot.status().error());
+  SegmentFrameProcessor segment(robot.segment());
+  if (!install_stop_handlers()) return fail("sim", "cannot install SIGINT/SIGTERM handlers");
+  // Best effort, each item reported: without privilege the simulator still serves, only slower
+  // to answer on a loaded host.
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  rt.fifo_priority = static_cast<int>(priority.value());
+  hal::apply_rt_config(rt).print(stdout);
+
+  (void)std::printf("serving %zu slaves on %s\n", segment.slave_count(), iface);
+  (void)std::fflush(stdout);  // scripts and tests wait for this line
+
+  FrameServer server(nic, segment);
+  FaultConsole faults;
+  int exit_status = 0;
+  while (stop_signal() == 0) {
+    faults.poll_once(robot.segment(), nic.clock().now());
+    const Status served = server.serve_one(nic.clock().now() + kStopLatency);
+    if (!served.ok() && served.error().code != Errc::timeout) {
+      exit_status = fail("sim", "serving stopped", served.error());
+      break;
+    }
+  }
+  if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
+  print_counters(server.counters(), nic.stats());
+  return exit_status;
+}
+
+}  // namespace
+
+const CommandSpec kSimCommand{
+    "sim", "sim --iface IFACE [--priority N]", "serve the simulated robot's EtherCAT segment on a network interface",
+    "A master on the other end of the wire (or of a veth pair) sees the 23 slaves of the robot.\n"
+    "Needs CAP_NET_RAW (root, or `setcap cap_net_raw+ep rescue-motion`). It serves at SCHED_FIFO\n"
+    "priority 90 with its memory locked when allowed (each item is reported), so that it answers as\n"
+    "fast as hardware on a busy host. SIGINT or SIGTERM stop it and it prints its frame counters.\n"
+    "docs/hal.md shows how to run it on a veth pair.",
+    Span<const OptionSpec>(kOptions), 0, 0, sim_main};
+
+}  // namespace rescue::app

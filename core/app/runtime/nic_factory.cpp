@@ -1,0 +1,43 @@
+#include "core/app/runtime/nic_factory.hpp"
+
+#include <cstdio>
+#include <cstring>
+
+#include "core/app/sim/simulated_robot_instance.hpp"
+
+namespace rescue::app {
+namespace {
+
+hal::MonotonicClock g_real_time;
+
+}  // namespace
+
+Status SelectedNic::open(const NicChoice& choice) noexcept {
+  active_ = nullptr;
+  if (choice.kind == NicKind::raw) {
+    RESCUE_TRY(raw_.open(choice.interface_name.data()));
+    active_ = &raw_;
+    return Status::success();
+  }
+  hal::Clock* clock = simulation_clock_ != nullptr ? simulation_clock_ : &g_real_time;
+  drivers::SimulatedRobot& robot = simulated_robot(clock->now());
+  RESCUE_TRY(robot.status());
+  simulated_.clear();
+  active_ = simulated_.emplace_back(robot.segment(), *clock);
+  return Status::success();
+}
+
+int fail_nic(const char* command, const char* nic_text, const Error& error) noexcept {
+  if (error.code == Errc::io_error && error.detail0 != 0) {
+    // Start-up only, one thread: strerror's static buffer is not shared with anyone.
+    const char* os_reason = std::strerror(static_cast<int>(error.detail0));  // NOLINT(concurrency-mt-unsafe)
+    (void)std::fprintf(stderr, "rescue-motion %s: cannot open %s: %s (%s: %s)\n", command, nic_text, error.what,
+                       to_string(error.code), os_reason);
+  } else {
+    (void)std::fprintf(stderr, "rescue-motion %s: cannot open %s: %s (%s)\n", command, nic_text, error.what,
+                       to_string(error.code));
+  }
+  return 1;
+}
+
+}  // namespace rescue::app

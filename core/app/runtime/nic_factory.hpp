@@ -1,0 +1,36 @@
+// Creates, at start-up, the NIC that `--nic` chose, inside storage this object owns (no heap):
+// the raw socket on a named interface, or the in-process simulated segment.
+#pragma once
+
+#include "core/app/cli/nic_option.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
+#include "hal/net/raw_socket_nic.hpp"
+
+namespace rescue::app {
+
+class SelectedNic {
+ public:
+  // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
+  Status open(const NicChoice& choice) noexcept;
+  // The clock the simulated robot runs on (default: CLOCK_MONOTONIC; a VirtualClock runs it
+  // faster than real time). Set before open().
+  void set_simulation_clock(hal::Clock& clock) noexcept { simulation_clock_ = &clock; }
+  // The open NIC; nullptr before a successful open().
+  hal::Nic* nic() noexcept { return active_; }
+
+ private:
+  hal::RawSocketNic raw_;
+  FixedVector<drivers::SimulatedNic, 1> simulated_;  // the loopback NIC over the simulated robot
+  hal::Clock* simulation_clock_{nullptr};
+  hal::Nic* active_{nullptr};
+};
+
+// Prints "rescue-motion COMMAND: cannot open NIC_TEXT: reason (kind[, OS reason])" to stderr and
+// returns the exit status of a failed command.
+int fail_nic(const char* command, const char* nic_text, const Error& error) noexcept;
+
+}  // namespace rescue::app

@@ -1,0 +1,73 @@
+// Serves an EtherCAT segment on a NIC, as a real slave chain does on the wire: each frame the
+// master sends is received, processed by the segment, and sent back on the same interface with
+// the source MAC marked the way every ESC marks it. Used by `rescue-motion sim --iface IFACE`.
+//
+//   master --frame--> NIC --receive--> FrameProcessor (the simulated segment) --send--> master
+//
+// No heap: one frame buffer inside the server; the processor works on it in place.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
+
+namespace rescue::app {
+
+// What the slave chain does to a frame: the simulated segment, or a stand-in in tests.
+class FrameProcessor {
+ public:
+  FrameProcessor() = default;
+  FrameProcessor(const FrameProcessor&) = delete;
+  FrameProcessor& operator=(const FrameProcessor&) = delete;
+  FrameProcessor(FrameProcessor&&) = delete;
+  FrameProcessor& operator=(FrameProcessor&&) = delete;
+  virtual ~FrameProcessor() = default;
+
+  virtual std::size_t slave_count() const noexcept = 0;
+  // Processes the frame in `frame` in place; `arrival` is when it arrived (the NIC's clock). Returns
+  // the length of the frame that goes back to the master, or an error when none goes back (a frame
+  // the segment cannot parse, or one it lost on purpose).
+  virtual Result<std::size_t> process(ByteSpan frame, hal::Nanoseconds arrival) noexcept = 0;
+};
+
+struct FrameServerCounters {
+  std::uint64_t frames_received{0};
+  std::uint64_t frames_returned{0};
+  std::uint64_t frames_not_returned{0};  // the processor kept them (malformed or lost on purpose)
+  std::uint64_t send_errors{0};
+};
+
+// What every ESC does to a frame passing its EtherCAT processing unit: it sets SOURCE_MAC[1], the
+// locally-administered bit (0x02 of the first source-address byte), so the master can tell the
+// frames it sent from the ones coming back. Setting it is idempotent: after the first slave every
+// further one changes nothing. Frames shorter than an Ethernet header are left alone.
+void mark_processed_by_esc(ByteSpan frame) noexcept;
+
+class FrameServer {
+ public:
+  // A VLAN-tagged frame of full size still fits.
+  static constexpr std::size_t kBufferSize = ecat::kMaxFrameSize + ecat::kVlanTagSize;
+
+  FrameServer(hal::Nic& nic, FrameProcessor& processor) noexcept : nic_(nic), processor_(processor) {}
+
+  // Waits until `deadline` (on the NIC's clock) for one frame and serves it. Errc::timeout when no
+  // frame came; other NIC errors are returned as they are. A frame the processor keeps, or one the
+  // NIC cannot send, is counted, not an error: the master sees a lost frame, as on a real wire.
+  Status serve_one(hal::Nanoseconds deadline) noexcept;
+
+  const FrameServerCounters& counters() const noexcept { return counters_; }
+
+ private:
+  hal::Nic& nic_;
+  FrameProcessor& processor_;
+  FrameServerCounters counters_{};
+  std::array<std::uint8_t, kBufferSize> buffer_{};
+};
+
+}  // namespace rescue::app

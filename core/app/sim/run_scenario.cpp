@@ -1,0 +1,38 @@
+#include "core/app/sim/run_scenario.hpp"
+
+#include <cstring>
+
+namespace rescue::app {
+
+Result<Scenario> parse_scenario(const char* name) noexcept {
+  Scenario scenario{};
+  if (name == nullptr || std::strcmp(name, "none") == 0) return scenario;
+  if (std::strcmp(name, "link-cut") == 0) {
+    scenario.kind = ScenarioKind::link_cut;
+    scenario.name = "link-cut";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = hal::kNsPerSec;
+    scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
+    return scenario;
+  }
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut)");
+}
+
+bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
+  if (scenario_.kind == ScenarioKind::none || acted_) return false;
+  if (op_at_ < 0) {
+    if (!network_op) return false;
+    op_at_ = now;
+  }
+  if (now - op_at_ < scenario_.cut_after_op) return false;
+  acted_ = true;
+  acted_at_ = now;
+  if (segment_ == nullptr) {
+    action_status_ = make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
+    return true;
+  }
+  action_status_ = segment_->cut_link(slave_position_of_joint(scenario_.cut_joint));
+  return true;
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,174 @@
+#include "core/app/tasks/ethercat_handler.hpp"
+
+#include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_units.hpp"
+
+namespace rescue::app {
+namespace {
+
+// CiA 402 statusword: voltage enabled (bit 4) / operation enabled (bit 2) tell a powered stage.
+constexpr std::uint16_t kSwOperationEnabled = 0x0004;
+constexpr std::uint16_t kSwSwitchedOn = 0x0002;
+
+}  // namespace
+
+EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept
+    : bus_(bus),
+      links_(links),
+      report_sink_(links.lost_reports),
+      notice_source_(links.notices),
+      tracker_(report_sink_, notice_source_, restored_lost) {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
+  }
+}
+
+void EthercatHandler::post(const HandlerEvent& event) noexcept {
+  if (!events_.try_push(event)) ++events_dropped_;
+}
+
+void EthercatHandler::build_outputs() noexcept {
+  RobotDemand demand{};
+  if (links_.demand.try_read(demand)) demand_ = demand;  // else keep the last one
+  const JointMask excluded = tracker_.excluded();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    drivers::JointOutputs& out = outputs_[j];
+    const drivers::JointInputs& in = feedback_.joints[j];
+    const bool valid = (feedback_.valid & joint_bit(j)) != 0;
+    const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    if (demand_[j].mode != 0) out.mode_of_operation = demand_[j].mode;
+    if (drive) {
+      out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
+      out.target_position = drivers::rad_to_counts(demand_[j].position_ref_rad);
+    } else {
+      out.controlword = drivers::controlword_towards_disabled(in.statusword);
+      // A disabled drive's target follows its actual position, so enabling later moves nothing.
+      if (valid) out.target_position = in.position_actual;
+    }
+    out.target_velocity = 0;
+    out.target_torque = 0;
+  }
+}
+
+void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) noexcept {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    JointSample& s = sample_[j];
+    const drivers::JointOutputs& out = outputs_[j];
+    s.position_ref_rad = drivers::counts_to_rad(out.target_position);
+    s.velocity_ref_rad_s = drivers::counts_to_rad(out.target_velocity);
+    s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
+    const bool valid = (result.valid & joint_bit(j)) != 0;
+    s.reachable = valid;
+    if (!valid) continue;  // last known values stay (reconfiguration step 2 reads them)
+    const drivers::JointInputs& in = feedback_.joints[j];
+    s.position_rad = drivers::counts_to_rad(in.position_actual);
+    s.velocity_rad_s = drivers::counts_to_rad(in.velocity_actual);
+    s.torque_nm = drivers::per_mille_to_nm(in.torque_actual, kJoints[j]);
+    s.drive_fault = drivers::is_faulted(in.statusword);
+    s.drive_error_code = in.error_code;
+  }
+  links_.samples.write(sample_);
+}
+
+std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
+  std::uint64_t sum = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((joints & joint_bit(j)) != 0) sum += missed_[j];
+  }
+  return sum;
+}
+
+drivers::JointCycleResult EthercatHandler::cycle() noexcept {
+  build_outputs();
+  const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
+  publish_sample(result);
+  const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
+
+  // Master's link events (lost, restored, not operational), for the log.
+  drivers::JointLinkReport link{};
+  while (bus_.pop_report(link)) {
+    HandlerEvent e{};
+    e.kind = HandlerEventKind::link_report;
+    e.cycle = result.cycle;
+    e.time = link.link.time;
+    e.joints = link.joints;
+    e.link = link.link;
+    post(e);
+  }
+
+  // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,
+  // and the cycle that first reports OP carries inputs from before the switch; so from the next.
+  const bool counting = op_seen_;
+  if (result.state == ecat::MasterState::op) op_seen_ = true;
+  if (counting) {
+    // A frame that did not come back says nothing about single joints (a late frame on a busy
+    // host): then only what the master has established as out of the exchange counts.
+    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid : result.out;
+    tracker_.on_cycle(result.cycle, now, unreachable);
+    if (tracker_.reports_sent() != last_reports_sent_) {
+      last_reports_sent_ = tracker_.reports_sent();
+      HandlerEvent e{};
+      e.kind = HandlerEventKind::loss_reported;
+      e.cycle = result.cycle;
+      e.time = now;
+      e.joints = tracker_.pending() & ~last_pending_;
+      post(e);
+    }
+    if (tracker_.last_answer_cycle() != last_answer_cycle_) {
+      last_answer_cycle_ = tracker_.last_answer_cycle();
+      HandlerEvent e{};
+      e.kind = HandlerEventKind::loss_recorded;
+      e.cycle = result.cycle;
+      e.time = now;
+      e.joints = tracker_.confirmed();
+      e.file_status = tracker_.last_file_status();
+      post(e);
+    }
+    last_pending_ = tracker_.pending();
+
+    // A frame that did not come back in time (host scheduling, a dropped frame) is counted apart:
+    // it costs every joint the cycle, whatever the network's state.
+    if (!result.frame_received) ++frames_missing_;
+    for (std::size_t j = 0; result.frame_received && j < kJointCount; ++j) {
+      if ((result.valid & joint_bit(j)) == 0) ++missed_[j];
+    }
+  }
+
+  // The handler's own limit check over the joints it drives this cycle.
+  JointMask monitored = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if (demand_[j].enable && (result.valid & joint_bit(j)) != 0) monitored |= joint_bit(j);
+  }
+  monitored &= ~tracker_.excluded();
+  const SafeStopDecision decision = decide_safe_stop(sample_, monitored);
+  if (decision.stop && !safe_stopped_ && !stopping_) {
+    safe_stopped_ = true;
+    HandlerEvent e{};
+    e.kind = HandlerEventKind::safe_stop;
+    e.cycle = result.cycle;
+    e.time = now;
+    e.joints = decision.violating;
+    e.stop = decision;
+    post(e);
+  }
+
+  if (stopping_ && !drives_disabled_) {
+    bool all_off = true;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((result.valid & joint_bit(j)) == 0) continue;
+      if ((feedback_.joints[j].statusword & (kSwOperationEnabled | kSwSwitchedOn)) != 0) all_off = false;
+    }
+    if (all_off) {
+      drives_disabled_ = true;
+      HandlerEvent e{};
+      e.kind = HandlerEventKind::drives_disabled;
+      e.cycle = result.cycle;
+      e.time = now;
+      e.joints = result.valid;
+      post(e);
+    }
+  }
+  return result;
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,107 @@
+// The EtherCAT handler task (design brief section 3; paper III-B): the highest-priority task, one
+// period per millisecond on CPU thread 3. Per period, cycle():
+//   1. builds every joint's outputs: joints the joint manager has Enabled (and the handler has not
+//      stopped or excluded) are driven towards Operation enabled and follow their reference; every
+//      other reachable joint is driven towards a disabled power stage, its worm gear holding;
+//   2. exchanges one frame with all slaves (drivers::JointBus: the master);
+//   3. publishes every joint's values (seqlock; an unreachable joint keeps its last values);
+//   4. reconfiguration steps 1 and 6 (LostJointTracker): unreachable joints are excluded at once,
+//      reported on a queue to the joint manager, and the healthy branches go on;
+//   5. its own limit check (decide_safe_stop): any monitored joint over a limit stops the robot
+//      safely, whatever the joint manager does: every drive disabled, worm gears holding;
+//   6. queues what happened (HandlerEvent) for a lower-priority logger to print.
+// No heap, no locks, no syscalls but the NIC's; bounded work.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/app/tasks/lost_joint_tracker.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "ecat/master/link_monitor.hpp"
+
+namespace rescue::app {
+
+enum class HandlerEventKind : std::uint8_t {
+  link_report,      // the master established a lost / restored / not-operational set
+  loss_reported,    // reconfiguration step 1: lost joints reported to the joint manager
+  loss_recorded,    // step 4 answer read: the joint manager recorded them (file status inside)
+  safe_stop,        // the handler's own limit check stopped the robot
+  drives_disabled,  // shutdown: every reachable drive reports its power stage off
+};
+
+struct HandlerEvent {
+  HandlerEventKind kind{HandlerEventKind::link_report};
+  std::uint64_t cycle{0};
+  hal::Nanoseconds time{0};
+  JointMask joints{0};
+  ecat::LinkReport link{};       // link_report (its slaves; `joints` holds their joints)
+  Errc file_status{Errc::ok};    // loss_recorded
+  SafeStopDecision stop{};       // safe_stop
+};
+
+class EthercatHandler {
+ public:
+  static constexpr std::size_t kEventQueueDepth = 64;
+
+  // `links` carries the queues and seqlocks shared with the joint manager; `restored_lost` the
+  // joints the error-joints file lists (excluded from the first cycle on).
+  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept;
+
+  // One period; call at bus().next_wakeup() once the bus is up.
+  drivers::JointCycleResult cycle() noexcept;
+
+  // Shutdown: from now on every drive is driven to a disabled power stage.
+  void stop_drives() noexcept { stopping_ = true; }
+  // True once every reachable joint's statusword shows its power stage off (after stop_drives()).
+  bool drives_disabled() const noexcept { return drives_disabled_; }
+  bool safe_stopped() const noexcept { return safe_stopped_; }
+
+  // Events for the logger (single consumer).
+  [[nodiscard]] bool pop_event(HandlerEvent& out) noexcept { return events_.try_pop(out); }
+  std::uint64_t events_dropped() const noexcept { return events_dropped_; }
+
+  const LostJointTracker& tracker() const noexcept { return tracker_; }
+  drivers::JointBus& bus() noexcept { return bus_; }
+  const RobotSample& sample() const noexcept { return sample_; }
+  // Cycles since OP whose frame came back but without valid inputs of joints of `joints`, summed
+  // over the joints. With `joints` = the joints never lost, this is the "healthy branches miss no
+  // cycle" figure.
+  std::uint64_t missed_cycles(JointMask joints) const noexcept;
+  // Cycles since OP whose frame did not come back before its deadline (late or lost frame).
+  std::uint64_t frames_missing() const noexcept { return frames_missing_; }
+
+ private:
+  void build_outputs() noexcept;
+  void publish_sample(const drivers::JointCycleResult& result) noexcept;
+  void post(const HandlerEvent& event) noexcept;
+
+  // Largest and most aligned first (the event queue's indices sit on cache lines of their own).
+  SpscQueue<HandlerEvent, kEventQueueDepth> events_;
+  drivers::JointBus& bus_;
+  TaskLinks& links_;
+  SpscMessageSink<LostJointsReport, TaskLinks::kReportQueueDepth> report_sink_;
+  SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
+  LostJointTracker tracker_;
+  drivers::JointReferences outputs_{};
+  drivers::JointFeedback feedback_{};
+  RobotSample sample_{};
+  RobotDemand demand_{};
+  std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
+  std::uint64_t events_dropped_{0};
+  std::uint64_t last_answer_cycle_{0};
+  std::uint64_t frames_missing_{0};
+  JointMask last_pending_{0};
+  std::uint32_t last_reports_sent_{0};
+  bool op_seen_{false};
+  bool stopping_{false};
+  bool drives_disabled_{false};
+  bool safe_stopped_{false};
+};
+
+}  // namespace rescue::app

@@ -1,0 +1,370 @@
+#include "core/app/tasks/joint_manager.hpp"
+
+#include <cassert>
+
+#include "drivers/joint/joint_units.hpp"
+
+namespace rescue::app {
+namespace {
+
+using fsm::JointInput;
+using fsm::JointState;
+
+bool valid_mode(ControlMode mode) noexcept {
+  return mode == ControlMode::cyclic_position || mode == ControlMode::cyclic_velocity ||
+         mode == ControlMode::cyclic_torque;
+}
+
+JointEvent event(JointEventKind kind, hal::Nanoseconds now) noexcept {
+  JointEvent e;
+  e.kind = kind;
+  e.time = now;
+  return e;
+}
+
+JointEvent joint_event(JointEventKind kind, std::size_t joint, hal::Nanoseconds now) noexcept {
+  JointEvent e = event(kind, now);
+  e.joint = static_cast<std::uint8_t>(joint);
+  return e;
+}
+
+}  // namespace
+
+JointManager::JointManager(const JointManagerPorts& ports) noexcept : ports_(ports) {
+  assert(ports.reports != nullptr && ports.notices != nullptr && ports.commands != nullptr &&
+         ports.samples != nullptr && ports.storage != nullptr && ports.wall_clock != nullptr &&
+         ports.events != nullptr);
+  publish();
+}
+
+std::array<JointState, kJointCount> JointManager::states() const noexcept {
+  std::array<JointState, kJointCount> out{};
+  for (std::size_t j = 0; j < kJointCount; ++j) out[j] = joints_[j].machine.state();
+  return out;
+}
+
+RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
+  RestoreReport report;
+  ErrorJointsLoad load = ports_.storage->load();
+  report.file_present = load.file_present;
+  const ErrorJointsDecoded& decoded = load.decoded;
+  if (!load.file_present && decoded.status.error().code == Errc::not_found) {
+    emit(event(JointEventKind::file_absent, now));
+    return report;
+  }
+  report.file_status = decoded.status;
+  report.records_dropped = decoded.records_rejected;
+  recorded_ = decoded.contents;
+  for (const LostJointRecord& r : recorded_.records) {
+    latch_loss(r.joint, r.reason, drivers::counts_to_rad(r.last_position_counts), now);
+    report.restored |= joint_bit(r.joint);
+  }
+  if (!decoded.status.ok()) {
+    JointEvent e = event(JointEventKind::file_unusable, now);
+    e.error = decoded.status.error();
+    e.joints = report.restored;
+    e.count = decoded.records_rejected;
+    emit(e);
+    // Keep the damaged file for post-mortem rather than let the next write destroy it, then store the
+    // part that could be trusted under the file's name again.
+    if (load.file_present && ports_.storage->set_aside().ok()) {
+      report.set_aside = true;
+      emit(event(JointEventKind::file_set_aside, now));
+    }
+    if (!recorded_.records.empty()) (void)persist(recorded_, now);
+  }
+  if (report.restored != 0 || decoded.status.ok()) {
+    JointEvent e = event(JointEventKind::file_restored, now);
+    e.joints = report.restored;
+    emit(e);
+  }
+  publish();
+  return report;
+}
+
+void JointManager::step(hal::Nanoseconds now) noexcept {
+  (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
+  LostJointsReport report;
+  for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
+    handle_report(report, now);
+  }
+  flush_notices();
+  if (file_dirty_ && now >= next_write_retry_) (void)persist(recorded_, now);
+  JointCommand command;
+  for (std::size_t n = 0; n < kMaxCommandsPerStep && ports_.commands->try_receive(command); ++n) {
+    apply_command(command, now);
+  }
+  monitor(now);
+  publish();
+}
+
+// Paper section IV-C, steps 1-5; the handler does step 6 when it reads the answer.
+void JointManager::handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept {
+  const JointMask reported = report.lost & kAllJoints;
+  const JointMask fresh = reported & ~lost_;
+  emit_step(1, reported, now);
+
+  // Step 2: the last state the handler published for them (it leaves an unreachable joint's last values).
+  std::array<double, kJointCount> last_position{};
+  for (std::size_t j = 0; j < kJointCount; ++j) last_position[j] = sample_[j].position_rad;
+  emit_step(2, fresh, now);
+
+  // Step 3: the file lists every joint lost so far, not only this report's, so no joint's record is
+  // ever dropped by a later write.
+  Status file = file_dirty_ ? Status(make_error(Errc::io_error, "error-joints file not yet written")) : Status::success();
+  if (fresh != 0) {
+    ErrorJointsContents next = recorded_;
+    const std::int64_t wall = ports_.wall_clock->unix_time_ns();
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((fresh & joint_bit(j)) == 0) continue;
+      LostJointRecord r;
+      r.joint = static_cast<std::uint8_t>(j);
+      r.reason = FaultReason::comm_lost;
+      r.last_position_counts = drivers::rad_to_counts(last_position[j]);  // the file keeps the encoder's count
+      r.time_unix_ns = wall;
+      r.cycle = report.cycle;
+      (void)next.records.push_back(r);  // cannot fail: fresh joints are not recorded yet
+    }
+    file = persist(next, now);
+    if (!file.ok()) recorded_ = next;  // memory holds the truth; persist() retries later
+  }
+  emit_step(3, fresh, now);
+
+  // Step 4: answer, with whether the file holds them.
+  JointManagerNotice answer;
+  answer.kind = NoticeKind::lost_joints_recorded;
+  answer.joints = reported;
+  answer.cycle = report.cycle;
+  answer.file_status = file.ok() ? Errc::ok : file.error().code;
+  send_notice(answer, now);
+  emit_step(4, reported, now);
+
+  // Step 5: comm_lost into each DFA (safety does not wait for the disk: a failed write changes nothing here).
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((fresh & joint_bit(j)) != 0) latch_loss(j, FaultReason::comm_lost, last_position[j], now);
+  }
+  emit_step(5, fresh, now);
+}
+
+void JointManager::latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept {
+  lost_ |= joint_bit(j);
+  Joint& joint = joints_[j];
+  joint.held_position_rad = position_rad;
+  joint.fault = JointFault{reason, 0.0, 0.0};
+  JointEvent e = joint_event(JointEventKind::fault, j, now);
+  e.fault = joint.fault;
+  emit(e);
+  (void)dispatch(j, JointInput::comm_lost, now);
+}
+
+void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  if (command.kind == JointCommandKind::clear_lost) {
+    if (!clear_lost_joints(command.joints & kAllJoints, now).ok()) ++refused_commands_;
+    return;
+  }
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((command.joints & joint_bit(j)) == 0) continue;
+    // Preconditions of the manager, before the table: a mode to select, and a joint to talk to.
+    Error precondition{};
+    if (command.input == JointInput::select_mode && !valid_mode(command.mode)) {
+      precondition = make_error(Errc::invalid_argument, "select_mode needs CSP, CSV or CST",
+                                static_cast<std::uint32_t>(static_cast<std::uint8_t>(command.mode)));
+    } else if (!sample_[j].reachable && command.input != JointInput::disable && command.input != JointInput::reset) {
+      precondition = make_error(Errc::refused, "joint not reachable");
+    }
+    if (precondition.code != Errc::ok) {
+      ++refused_commands_;
+      JointEvent e = joint_event(JointEventKind::refused, j, now);
+      e.from = joints_[j].machine.state();
+      e.input = command.input;
+      e.error = precondition;
+      emit(e);
+      continue;
+    }
+    joints_[j].context.requested_mode = command.mode;
+    joints_[j].context.actual_position_rad = sample_[j].position_rad;
+    if (!dispatch(j, command.input, now).ok()) ++refused_commands_;
+  }
+}
+
+Status JointManager::dispatch(std::size_t j, JointInput input, hal::Nanoseconds now) noexcept {
+  Joint& joint = joints_[j];
+  // The guard's facts, current at the instant of the dispatch.
+  JointFault present = check_drive_fault(sample_[j]);
+  if (!present.active()) present = check_actual_limits(sample_[j], kJoints[j]);
+  joint.context.reachable = sample_[j].reachable;
+  joint.context.fault_present = sample_[j].reachable && present.active();
+  joint.context.loss_latched = (lost_ & joint_bit(j)) != 0;
+
+  const JointState from = joint.machine.state();
+  const Status status = joint.machine.dispatch(joint.context, input);
+  JointEvent e = joint_event(status.ok() ? JointEventKind::transition : JointEventKind::refused, j, now);
+  e.from = from;
+  e.to = joint.machine.state();
+  e.input = input;
+  if (!status.ok()) e.error = status.error();
+  if (status.ok() && input == JointInput::reset) joint.fault = JointFault{};  // the fault is history now
+  emit(e);
+  return status;
+}
+
+void JointManager::monitor(hal::Nanoseconds now) noexcept {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointSample& s = sample_[j];
+    // Lost joints have no fresh data, and an unreachable joint's stale values are not judged: losses
+    // come from the handler's report.
+    if ((lost_ & joint_bit(j)) != 0 || !s.reachable) continue;
+    Joint& joint = joints_[j];
+    const JointState state = joint.machine.state();
+    if (state == JointState::error) continue;
+    JointFault f = check_drive_fault(s);
+    if (!f.active()) f = check_actual_limits(s, kJoints[j]);
+    if (!f.active() && state == JointState::enabled) f = check_reference_limits(s, kJoints[j]);
+    if (!f.active()) continue;
+    joint.fault = f;
+    JointEvent e = joint_event(JointEventKind::fault, j, now);
+    e.fault = f;
+    emit(e);
+    (void)dispatch(j, JointInput::fault, now);
+  }
+}
+
+Status JointManager::clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept {
+  if (joint >= kJointCount) {
+    const Error refusal = make_error(Errc::invalid_argument, "no such joint", static_cast<std::uint32_t>(joint));
+    JointEvent e = joint_event(JointEventKind::operator_clear_refused, kNoJoint, now);
+    e.error = refusal;
+    emit(e);
+    return refusal;
+  }
+  return clear_lost_joints(joint_bit(joint), now);
+}
+
+Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept {
+  // Each joint is judged on its own; the ones that may be cleared leave the file in one durable write.
+  Error first_refusal{};
+  JointMask accepted = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((joints & joint_bit(j)) == 0) continue;
+    Error refusal{};
+    if ((lost_ & joint_bit(j)) == 0) {
+      refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
+    } else if (!sample_[j].reachable) {
+      refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
+    }
+    if (refusal.code == Errc::ok) {
+      accepted |= joint_bit(j);
+      continue;
+    }
+    if (first_refusal.code == Errc::ok) first_refusal = refusal;
+    JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
+    e.error = refusal;
+    emit(e);
+  }
+  if (accepted == 0) {
+    return first_refusal.code != Errc::ok ? Status(first_refusal)
+                                          : Status(make_error(Errc::invalid_argument, "no joint to clear"));
+  }
+
+  ErrorJointsContents next;
+  next.sequence = recorded_.sequence;
+  for (const LostJointRecord& r : recorded_.records) {
+    if ((accepted & joint_bit(r.joint)) == 0) (void)next.records.push_back(r);
+  }
+  const Status saved = persist(next, now);  // durable first: a clear that is not on disk did not happen
+  if (!saved.ok()) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((accepted & joint_bit(j)) == 0) continue;
+      JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
+      e.error = saved.error();
+      emit(e);
+    }
+    return saved;
+  }
+  lost_ &= ~accepted;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((accepted & joint_bit(j)) == 0) continue;
+    joints_[j].context.loss_latched = false;
+    emit(joint_event(JointEventKind::operator_cleared, j, now));
+  }
+  JointManagerNotice notice;
+  notice.kind = NoticeKind::joints_cleared;
+  notice.joints = accepted;
+  send_notice(notice, now);
+  publish();
+  if (first_refusal.code != Errc::ok) return first_refusal;  // the others were cleared
+  return Status::success();
+}
+
+Status JointManager::persist(const ErrorJointsContents& next, hal::Nanoseconds now) noexcept {
+  ErrorJointsContents numbered = next;
+  numbered.sequence = recorded_.sequence + 1;
+  const Status status = ports_.storage->save(numbered);
+  if (status.ok()) {
+    recorded_ = numbered;
+    file_dirty_ = false;
+    ++file_writes_;
+    JointEvent e = event(JointEventKind::file_written, now);
+    e.joints = recorded_.joints();
+    e.count = recorded_.sequence;
+    emit(e);
+    return status;
+  }
+  file_dirty_ = true;
+  next_write_retry_ = now + kWriteRetryPeriod;
+  ++file_write_failures_;
+  JointEvent e = event(JointEventKind::file_write_failed, now);
+  e.error = status.error();
+  emit(e);
+  return status;
+}
+
+void JointManager::send_notice(const JointManagerNotice& notice, hal::Nanoseconds now) noexcept {
+  if (deferred_notices_.empty() && ports_.notices->try_send(notice)) return;
+  // Keep it (in order) and resend next step; when even the reserve is full, fold it into the last
+  // one of its kind so no joint is forgotten.
+  if (!deferred_notices_.push_back(notice)) {
+    JointManagerNotice& last = deferred_notices_.back();
+    last.joints |= notice.joints;
+    if (notice.file_status != Errc::ok) last.file_status = notice.file_status;
+  }
+  JointEvent e = event(JointEventKind::notice_deferred, now);
+  e.joints = notice.joints;
+  emit(e);
+}
+
+void JointManager::flush_notices() noexcept {
+  while (!deferred_notices_.empty() && ports_.notices->try_send(deferred_notices_[0])) deferred_notices_.erase_at(0);
+}
+
+void JointManager::emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept {
+  JointEvent e = event(JointEventKind::reconfiguration_step, now);
+  e.step = step;
+  e.joints = joints;
+  emit(e);
+}
+
+void JointManager::publish() noexcept {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const Joint& joint = joints_[j];
+    JointStatus& s = status_[j];
+    s.state = joint.machine.state();
+    s.mode = joint.context.mode;
+    s.drive_enabled = joint.context.drive_enabled;
+    s.lost = (lost_ & joint_bit(j)) != 0;
+    s.reference_position_rad = joint.context.reference_position_rad;
+    s.held_position_rad = joint.held_position_rad;
+    s.fault = joint.fault;
+  }
+  if (ports_.demand == nullptr) return;
+  RobotDemand demand{};
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointStatus& s = status_[j];
+    demand[j].enable = s.drive_enabled && !s.lost;
+    demand[j].mode = static_cast<std::int8_t>(s.mode);
+    demand[j].position_ref_rad = s.reference_position_rad;
+  }
+  ports_.demand->publish(demand);
+}
+
+}  // namespace rescue::app

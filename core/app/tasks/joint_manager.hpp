@@ -1,0 +1,145 @@
+// The joint manager task (design brief sections 3, 5, 6; paper III-B and IV-C): one joint status DFA
+// per joint, limit monitoring, and the reconfiguration procedure after damage.
+//
+// It runs as a high-priority periodic task (CPU thread 2). Everything it talks to is an interface
+// (JointManagerPorts), so the same code runs in the firmware (shared-memory queues and snapshots),
+// on threads of one process, and in tests on virtual time. It holds no locks and never waits. The
+// one slow operation, the durable file write, happens here, on the joint manager's own thread. The
+// EtherCAT handler only queues a report and reads the answer later (core/app/tasks/lost_joint_tracker.hpp),
+// so the file write never blocks it.
+//
+// Per period, step(now):
+//   1. read the handler's latest joint values (one consistent snapshot);
+//   2. reconfigure for each lost-joints report (paper steps 1-5: report, read last state, write the
+//      file, answer, mark comm_lost);
+//   3. resend deferred notices, and retry a failed file write;
+//   4. apply queued joint commands (the message parser's joint handle queue) to the DFAs;
+//   5. limit monitoring: drive fault, actual position/velocity/torque, and for Enabled joints the
+//      commanded values -> `fault` with the reason recorded;
+//   6. publish each joint's status (statuses()) for the shared memory.
+// Bounded: at most kMaxReportsPerStep reports and kMaxCommandsPerStep commands per step. No heap.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/joint_events.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/app/links/joint_sample_source.hpp"
+#include "core/robot/error_joints_file.hpp"
+#include "core/containers/fixed_vector.hpp"
+#include "core/robot/joint_limits.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/app/links/joint_demand_sink.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/wall_clock.hpp"
+
+namespace rescue::app {
+
+struct JointManagerPorts {
+  MessageSource<LostJointsReport>* reports;    // from the EtherCAT handler (step 1)
+  MessageSink<JointManagerNotice>* notices;    // to the EtherCAT handler (step 4, operator clears)
+  MessageSource<JointCommand>* commands;       // the joint handle queue, from the message parser
+  JointSampleSource* samples;                  // the handler's published joint values (step 2, monitoring)
+  ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
+  hal::WallClock* wall_clock;                  // Unix time for the file's records
+  JointEventSink* events;                      // what happened, for the log
+  JointDemandSink* demand;                     // its drive demand, after every step (nullptr: not published)
+};
+
+// What the joint manager publishes about one joint (shared memory, read by the handler and RC tasks).
+struct JointStatus {
+  fsm::JointState state{fsm::JointState::idle};
+  ControlMode mode{ControlMode::none};
+  bool drive_enabled{false};
+  bool lost{false};                         // recorded lost: RC tasks plan without it
+  double reference_position_rad{0.0};
+  double held_position_rad{0.0};            // where a lost joint's worm gear holds it
+  JointFault fault{};                       // why it is (or was last) in Error
+};
+
+struct RestoreReport {
+  JointMask restored{0};        // joints put in Error from the file
+  bool file_present{false};
+  Status file_status;           // success, or why the file (or part of it) was not used
+  std::uint32_t records_dropped{0};
+  bool set_aside{false};        // the unusable file was kept aside as error-joints.bin.unusable
+};
+
+class JointManager {
+ public:
+  static constexpr std::size_t kMaxReportsPerStep = 4;
+  static constexpr std::size_t kMaxCommandsPerStep = 32;
+  static constexpr std::size_t kMaxDeferredNotices = 8;
+  static constexpr hal::Nanoseconds kWriteRetryPeriod = 100 * hal::kNsPerMs;
+
+  // Every port must be non-null.
+  explicit JointManager(const JointManagerPorts& ports) noexcept;
+
+  // Start-up, before the network comes up: reads the error-joints file; its joints start in Error
+  // (loss latched, held position known). An unusable file is reported, kept aside, and whatever part
+  // of it can be trusted is restored and rewritten; the robot starts safely either way.
+  RestoreReport restore(hal::Nanoseconds now) noexcept;
+
+  // One period (see the file comment).
+  void step(hal::Nanoseconds now) noexcept;
+
+  // Operator action after a repair, logged: the joint must be reachable again. It is removed from the
+  // error-joints file (durably, or the clear is refused), its loss is unlatched and the handler told;
+  // the joint stays in Error until a `reset` command.
+  Status clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept;
+  // The same for a set of joints (the operator's `clear_lost` command): each joint is judged alone and
+  // logged; those that may be cleared leave the file in one write. The first refusal is returned.
+  Status clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept;
+
+  const std::array<JointStatus, kJointCount>& statuses() const noexcept { return status_; }
+  std::array<fsm::JointState, kJointCount> states() const noexcept;
+  fsm::RobotStatusSummary summary() const noexcept { return fsm::summarize(states()); }
+  JointMask lost_joints() const noexcept { return lost_; }
+  const ErrorJointsContents& recorded() const noexcept { return recorded_; }
+
+  std::uint32_t refused_commands() const noexcept { return refused_commands_; }
+  std::uint32_t file_writes() const noexcept { return file_writes_; }
+  std::uint32_t file_write_failures() const noexcept { return file_write_failures_; }
+  bool file_dirty() const noexcept { return file_dirty_; }
+
+ private:
+  struct Joint {
+    fsm::JointStatusMachine machine;
+    fsm::JointContext context;
+    JointFault fault;
+    double held_position_rad{0.0};
+  };
+
+  void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
+  void apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
+  void monitor(hal::Nanoseconds now) noexcept;
+  void publish() noexcept;
+  // Saves `next` as the file's new contents (sequence + 1). Success: recorded_ = next. Failure: the file
+  // is marked dirty and the caller decides what recorded_ holds; step() retries a dirty file.
+  Status persist(const ErrorJointsContents& next, hal::Nanoseconds now) noexcept;
+  void send_notice(const JointManagerNotice& notice, hal::Nanoseconds now) noexcept;
+  void flush_notices() noexcept;
+  // Dispatches `input` to joint j with its guard facts refreshed; logs the transition or the refusal.
+  Status dispatch(std::size_t j, fsm::JointInput input, hal::Nanoseconds now) noexcept;
+  void latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept;
+  void emit(const JointEvent& event) const noexcept { ports_.events->on_event(event); }
+  void emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept;
+
+  JointManagerPorts ports_;
+  std::array<Joint, kJointCount> joints_{};
+  std::array<JointStatus, kJointCount> status_{};
+  RobotSample sample_{};                 // the last snapshot read (lost joints keep their last values)
+  JointMask lost_{0};                    // loss latched (file or report) until an operator clears it
+  ErrorJointsContents recorded_;         // what the error-joints file holds (or must hold: file_dirty_)
+  bool file_dirty_{false};
+  hal::Nanoseconds next_write_retry_{0};
+  FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
+  std::uint32_t refused_commands_{0};
+  std::uint32_t file_writes_{0};
+  std::uint32_t file_write_failures_{0};
+};
+
+}  // namespace rescue::app

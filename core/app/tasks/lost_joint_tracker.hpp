@@ -1,0 +1,63 @@
+// The EtherCAT handler's side of reconfiguration (paper IV-C steps 1 and 6), called once per cycle.
+// It never blocks and never touches the disk: it turns the working-counter verdict into a lost-joints
+// report on a queue, keeps lost joints out of the commands at once, and reads the joint manager's
+// answer when it comes. The healthy branches keep their cycle throughout.
+//
+//   unreachable for kConfirmCycles cycles in a row  -> `unreported` (excluded at once: held, not commanded)
+//   report queued (try_send succeeded)              -> `pending`    (step 1 done; waiting for the answer)
+//   answer read (lost_joints_recorded)              -> `confirmed`  (step 6: resume with the others)
+//   operator cleared them (joints_cleared)          -> commanded again
+// A full report queue costs nothing but a retry next cycle (counted).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/app/links/joint_messages.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/robot/robot.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::app {
+
+class LostJointTracker {
+ public:
+  static constexpr std::uint8_t kDefaultConfirmCycles = 3;
+  static constexpr std::size_t kMaxNoticesPerCycle = 4;
+
+  // `restored_lost`: the joints the joint manager restored from the error-joints file at start-up;
+  // they are excluded from the first cycle on. `confirm_cycles` >= 1 filters a single lost frame.
+  LostJointTracker(MessageSink<LostJointsReport>& reports, MessageSource<JointManagerNotice>& notices,
+                   JointMask restored_lost, std::uint8_t confirm_cycles = kDefaultConfirmCycles) noexcept;
+
+  // Once per cycle. `unreachable`: the joints this cycle's working counters did not confirm. Bounded
+  // work: one try_send, at most kMaxNoticesPerCycle try_receive.
+  void on_cycle(std::uint64_t cycle, hal::Nanoseconds now, JointMask unreachable) noexcept;
+
+  JointMask unreported() const noexcept { return unreported_; }
+  JointMask pending() const noexcept { return pending_; }
+  JointMask confirmed() const noexcept { return confirmed_; }
+  // Joints the handler must not command (their drives hold; their outputs are not sent).
+  JointMask excluded() const noexcept { return unreported_ | pending_ | confirmed_; }
+
+  std::uint32_t reports_sent() const noexcept { return reports_sent_; }
+  std::uint32_t reports_deferred() const noexcept { return reports_deferred_; }
+  // Whether the joint manager's last answer said the error-joints file holds the loss.
+  Errc last_file_status() const noexcept { return last_file_status_; }
+  std::uint64_t last_answer_cycle() const noexcept { return last_answer_cycle_; }
+
+ private:
+  MessageSink<LostJointsReport>& reports_;
+  MessageSource<JointManagerNotice>& notices_;
+  std::uint8_t confirm_cycles_;
+  std::array<std::uint8_t, kJointCount> missed_{};  // consecutive unreachable cycles, saturating
+  JointMask unreported_{0};
+  JointMask pending_{0};
+  JointMask confirmed_{0};
+  std::uint32_t reports_sent_{0};
+  std::uint32_t reports_deferred_{0};
+  Errc last_file_status_{Errc::ok};
+  std::uint64_t last_answer_cycle_{0};
+};
+
+}  // namespace rescue::app

@@ -1,0 +1,41 @@
+// Fault injection as text, for a running simulator (`rescue-motion sim`, an operator console, a
+// test script): one command per line, slaves by name (as in kSlaves) or auto-increment position.
+//
+//   cut SLAVE            cut the cable into SLAVE's port 0 (SLAVE and everything behind it drop off)
+//   restore SLAVE        reconnect it
+//   freeze SLAVE         hang SLAVE's application (the ESC keeps forwarding and answering)
+//   thaw SLAVE           let it run again
+//   power-off SLAVE      SLAVE dies (links down on both sides)
+//   power-on SLAVE       SLAVE starts again, fresh, in INIT
+//   drop N               lose the next N frames on their way back
+//   corrupt N            flip one bit in each of the next N frames
+//   drive-fault SLAVE CODE   raise a device fault with error code CODE (decimal or 0x hex)
+//
+// The text is untrusted: every token is checked, nothing is assumed about its length.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::drivers {
+
+enum class FaultKind : std::uint8_t { cut, restore, freeze, thaw, power_off, power_on, drop, corrupt, drive_fault };
+
+struct FaultCommand {
+  FaultKind kind{FaultKind::cut};
+  std::size_t position{0};  // slave, for the commands that name one
+  std::uint32_t value{0};   // count (drop, corrupt) or error code (drive-fault)
+};
+
+// Parses one line (at most `length` characters, stops at the first NUL). Slave names are looked up
+// in `segment`. Errors name what was wrong (unknown command, unknown slave, bad number, extra words).
+Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, const SimulatedSegment& segment) noexcept;
+
+// Applies a parsed command at segment time `now`.
+Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segment, hal::Nanoseconds now) noexcept;
+
+}  // namespace rescue::drivers

@@ -1,0 +1,37 @@
+// The robot's EtherCAT segment as the simulator builds it (design brief section 2, core/robot/robot.hpp):
+// junction_a and junction_b (four-port ET1100-class ESCs without an application, like junction
+// modules) and 21 joint drives (two-port ESCs of a class common in drives: 3 FMMUs, 4 SMs, 4 KiB,
+// 4-byte SII reads), cabled as kSlaves says.
+//
+// Every slave gets, deterministically from a seed, its own crystal drift (uniform in +-max ppm),
+// power-up instant (local time offset) and small variations of its forwarding delays, so
+// propagation delays are measurable, differ per position, and runs repeat exactly.
+#pragma once
+
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+
+namespace rescue::drivers {
+
+struct RobotSegmentOptions {
+  std::uint64_t seed{1};
+  double max_drift_ppm{100.0};
+};
+
+// Cables (100BASE-TX): propagation 5 ns/m plus the two PHYs' latency.
+constexpr hal::Nanoseconds kPhyPairDelayNs = 200;
+constexpr double kCableNsPerMetre = 5.0;
+
+EscConfig junction_esc_config() noexcept;
+EscConfig joint_esc_config() noexcept;
+
+// Fills `out` (kSlaveCount entries) with the robot's slaves in kSlaves order, with `devices[p]` as
+// the device of position p. Fails when the spans are too short or a device is missing.
+Status describe_robot_segment(Span<SlaveDevice* const> devices, const RobotSegmentOptions& options,
+                              Span<SegmentSlave> out) noexcept;
+
+}  // namespace rescue::drivers

@@ -1,0 +1,54 @@
+// The in-process loopback NIC: hal::Nic over a SimulatedSegment, on the caller's clock (virtual time
+// in tests and `run --nic sim`). A frame sent at time t leaves when the wire is free (frames are
+// serialised at 100 Mbit/s with the inter-frame gap), goes through the segment, and can be received
+// once its last bit is back: its round trip is the segment's cable, PHY and ESC delays plus its own
+// length on the wire, as on a real network. receive() sleeps on the clock until then (a virtual
+// clock just jumps), so an hour of robot time runs in seconds.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
+
+namespace rescue::drivers {
+
+class SimulatedNic final : public hal::Nic {
+ public:
+  // Frames on their way back at once (a NIC's receive ring); more are dropped and counted.
+  static constexpr std::size_t kQueueDepth = 16;
+  static constexpr std::size_t kMaxFrame = ecat::kMaxFrameSize + ecat::kVlanTagSize;
+
+  SimulatedNic(SimulatedSegment& segment, hal::Clock& clock) noexcept : segment_(segment), clock_(clock) {}
+
+  Status send(ConstByteSpan frame) noexcept override;
+  Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override;
+  hal::Clock& clock() noexcept override { return clock_; }
+  const char* name() const noexcept override { return "sim"; }
+  hal::NicStats stats() const noexcept override { return stats_; }
+
+  SimulatedSegment& segment() noexcept { return segment_; }
+
+ private:
+  struct Pending {
+    std::array<std::uint8_t, kMaxFrame> bytes{};
+    std::size_t length{0};
+    hal::Nanoseconds ready_at{0};
+  };
+
+  SimulatedSegment& segment_;
+  hal::Clock& clock_;
+  std::array<Pending, kQueueDepth> queue_{};
+  std::size_t head_{0};
+  std::size_t count_{0};
+  hal::Nanoseconds wire_free_at_{0};
+  hal::NicStats stats_{};
+};
+
+}  // namespace rescue::drivers

@@ -1,0 +1,40 @@
+// The simulated robot's EtherCAT segment with its devices: junction_a and junction_b, and the 21
+// joint drives (drivers/sim/devices/joint_drive_device.hpp), cabled as core/robot/robot.hpp says, with per-slave
+// crystal drifts and delays from a seed (drivers/sim/segment/robot_segment.hpp). What `run --nic sim` and
+// `sim --iface` put behind the master. Large (the ESC memories): give it static storage.
+#pragma once
+
+#include <cstddef>
+
+#include "core/base/result.hpp"
+#include "drivers/sim/devices/joint_drive_device.hpp"
+#include "drivers/sim/devices/robot_devices.hpp"
+#include "drivers/sim/segment/robot_segment.hpp"
+#include "drivers/sim/segment/simulated_segment.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::drivers {
+
+class SimulatedRobot {
+ public:
+  // Builds the devices and the segment, powered up at `now`. status() says whether it worked.
+  explicit SimulatedRobot(const RobotSegmentOptions& options = {}, hal::Nanoseconds now = 0) noexcept;
+  SimulatedRobot(const SimulatedRobot&) = delete;
+  SimulatedRobot& operator=(const SimulatedRobot&) = delete;
+  SimulatedRobot(SimulatedRobot&&) = delete;
+  SimulatedRobot& operator=(SimulatedRobot&&) = delete;
+  ~SimulatedRobot() = default;
+
+  const Status& status() const noexcept { return status_; }
+  SimulatedSegment& segment() noexcept { return segment_; }
+  const SimulatedSegment& segment() const noexcept { return segment_; }
+  // The drive of joint `joint` (index into kJoints).
+  JointDriveDevice& drive(std::size_t joint) noexcept { return devices_.drive_of_joint(joint); }
+
+ private:
+  RobotDevices devices_;
+  SimulatedSegment segment_;
+  Status status_;
+};
+
+}  // namespace rescue::drivers

@@ -1,0 +1,144 @@
+// A simulated EtherCAT segment: ESCs (drivers/sim/esc/esc.hpp) cabled as a tree, each with its device
+// application, and the timing of a frame travelling through it.
+//
+// A frame from the master enters the first ESC's port 0. Every ESC processes it in its EtherCAT
+// processing unit on the way out of port 0 and then sends it out of its ports in the order
+// 0 -> 3 -> 1 -> 2: a port whose loop is open sends the frame down its branch and receives it back,
+// a closed port passes it on internally; from the last port the frame goes back out of port 0.
+// Returning frames are only forwarded. So the processing order (auto-increment positions) is the
+// depth-first order with ports 3, 1, 2 visited in that order, and a closed port (no link, or closed
+// by the master) cuts off everything behind it. A port forced open without a link loses the frame.
+//
+// Times (start of frame, segment time = true time): an ESC forwards after `processing_delay_ns`
+// (port 0 in, through the processing unit) or `forwarding_delay_ns` (other ports); a cable adds
+// its PHY and propagation delay. The frame's end follows its start by its length at 100 Mbit/s.
+//
+// Not thread-safe: one thread drives the segment (frames, time and fault injection).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "drivers/sim/esc/esc.hpp"
+#include "drivers/sim/esc/esc_config.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::drivers {
+
+constexpr std::size_t kMaxSegmentSlaves = 32;
+constexpr std::uint8_t kUpstreamIsMaster = 0xFF;
+
+// 100BASE-TX: 80 ns per byte; a frame also carries preamble + SFD (8) and FCS (4) on the wire.
+constexpr hal::Nanoseconds kNsPerByte = 80;
+constexpr std::size_t kWireOverheadBytes = 12;
+constexpr std::size_t kInterFrameGapBytes = 12;
+
+// One slave: where it is cabled, what silicon it is, and its device.
+struct SegmentSlave {
+  const char* name{""};
+  std::uint8_t upstream{kUpstreamIsMaster};  // position of the ESC whose port it hangs off
+  std::uint8_t upstream_port{0};
+  EscConfig esc{};
+  // The cable into port 0 (from the upstream ESC or the master): propagation plus both PHYs.
+  hal::Nanoseconds link_delay_ns{0};
+  SlaveDevice* device{nullptr};
+};
+
+// What became of one frame.
+struct FrameOutcome {
+  bool returned{false};            // false: lost (see the segment's counters for why)
+  hal::Nanoseconds first_bit_back{0};  // its start arrives back at the master
+  hal::Nanoseconds last_bit_back{0};   // its end arrives back at the master
+};
+
+struct SegmentCounters {
+  std::uint64_t frames{0};
+  std::uint64_t returned{0};
+  std::uint64_t lost_no_link{0};        // the master's cable is cut or the first ESC is off
+  std::uint64_t lost_open_port{0};      // sent out of an open port without a link
+  std::uint64_t lost_not_ethercat{0};   // destroyed by the first ESC (DL control bit 0)
+  std::uint64_t lost_malformed{0};      // a datagram ran past the frame's end
+  std::uint64_t dropped_by_fault{0};
+  std::uint64_t corrupted_by_fault{0};
+};
+
+class SimulatedSegment {
+ public:
+  SimulatedSegment() = default;
+  SimulatedSegment(const SimulatedSegment&) = delete;
+  SimulatedSegment& operator=(const SimulatedSegment&) = delete;
+  SimulatedSegment(SimulatedSegment&&) = delete;
+  SimulatedSegment& operator=(SimulatedSegment&&) = delete;
+  ~SimulatedSegment() = default;
+
+  // Builds the segment (slaves in auto-increment order: each one's upstream comes earlier) and
+  // powers every ESC up at `now`. Fails on an inconsistent description (nothing is built).
+  Status build(Span<const SegmentSlave> slaves, hal::Nanoseconds now) noexcept;
+
+  std::size_t slave_count() const noexcept { return count_; }
+  const SegmentSlave& slave(std::size_t position) const noexcept { return slaves_[position]; }
+  Esc& esc(std::size_t position) noexcept { return escs_[position]; }
+  const Esc& esc(std::size_t position) const noexcept { return escs_[position]; }
+
+  // Processes one Ethernet frame in place as the slaves do. `sent_at` is when its first bit left
+  // the master. A frame that does not come back is reported as such (returned = false), not as an
+  // error; errors are only for arguments (an empty span).
+  Result<FrameOutcome> process(ByteSpan frame, hal::Nanoseconds sent_at) noexcept;
+
+  // Lets time pass for every ESC and device (SYNC0 pulses, watchdogs, device physics).
+  void advance_to(hal::Nanoseconds now) noexcept;
+
+  // --- fault injection (from tests or a running simulator) ---
+  // Cuts the cable into `position`'s port 0: that slave and everything behind it drop off; the
+  // upstream port closes (auto loop control) so the frame returns without them.
+  Status cut_link(std::size_t position) noexcept;
+  Status restore_link(std::size_t position) noexcept;
+  // A hung application: the ESC still forwards and answers registers, AL control/mailbox/process
+  // data are no longer served.
+  Status freeze(std::size_t position, bool frozen) noexcept;
+  // A dead slave (power lost): its links go down on both sides. Power on = a fresh ESC in INIT.
+  Status set_power(std::size_t position, bool on, hal::Nanoseconds now) noexcept;
+  Status inject_device_fault(std::size_t position, std::uint16_t error_code) noexcept;
+  // The next `count` frames are lost on the way back / come back with one bit flipped (a
+  // corruption the Ethernet FCS did not catch, for testing the master's own checks).
+  void drop_frames(std::uint32_t count) noexcept { drop_pending_ = count; }
+  void corrupt_frames(std::uint32_t count) noexcept { corrupt_pending_ = count; }
+  bool link_cut(std::size_t position) const noexcept { return position < count_ && cut_[position]; }
+
+  // --- observation ---
+  const SegmentCounters& counters() const noexcept { return counters_; }
+  // When the last processed frame's start reached `position`'s port 0 (-1 if it did not).
+  hal::Nanoseconds last_arrival(std::size_t position) const noexcept { return arrival_[position]; }
+  // The slave behind `position`'s `port`, or kUpstreamIsMaster when none is cabled there.
+  std::uint8_t child(std::size_t position, unsigned port) const noexcept { return children_[position][port]; }
+
+ private:
+  void update_links() noexcept;
+  bool cable_up(std::size_t position) const noexcept;
+  void enter(std::size_t position, ecat::MutableFrameView* view, hal::Nanoseconds t) noexcept;
+
+  // The delays a frame's passage reads, packed (a few cache lines for the whole segment).
+  struct Timing {
+    hal::Nanoseconds link_delay_ns{0};
+    hal::Nanoseconds processing_delay_ns{0};
+    hal::Nanoseconds forwarding_delay_ns{0};
+  };
+  std::array<Timing, kMaxSegmentSlaves> timing_{};
+  std::array<SegmentSlave, kMaxSegmentSlaves> slaves_{};
+  std::array<std::array<std::uint8_t, kMaxEscPorts>, kMaxSegmentSlaves> children_{};
+  std::array<bool, kMaxSegmentSlaves> cut_{};
+  std::array<hal::Nanoseconds, kMaxSegmentSlaves> arrival_{};
+  std::size_t count_{0};
+  std::uint32_t drop_pending_{0};
+  std::uint32_t corrupt_pending_{0};
+  std::uint64_t corrupt_sequence_{0};
+  SegmentCounters counters_{};
+  // Last: the segment's own state above stays together, before the ESCs' 30 KiB each.
+  std::array<Esc, kMaxSegmentSlaves> escs_{};
+};
+
+}  // namespace rescue::drivers

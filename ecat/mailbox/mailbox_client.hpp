@@ -1,0 +1,128 @@
+// CoE SDO client over the slaves' standard mailboxes (SM0 master -> slave, SM1 slave -> master),
+// as a non-blocking state machine: each exchange (a cyclic frame, or a frame of its own during
+// bring-up) carries at most one step of one transfer, so the cycle never waits for a slave.
+//
+//   send   FPWR SM0 (the whole SM0 buffer: writing its last byte hands it to the slave);
+//          working counter 0 = the slave has not read the previous message yet: again next time
+//   wait   FPRD SM1 status (0x080D) + FPRD SM1 buffer; the buffer counts only when the status
+//          said "full" and the read's working counter is 1 (reading empties the mailbox)
+//   done   SDO response for the same index/subindex, an SDO abort (code), a mailbox error
+//          reply, or the response timeout. Emergencies that arrive meanwhile are counted.
+// Expedited transfers (1..4 bytes) both ways; an upload answered with a normal transfer of at
+// most 4 bytes is accepted too. One transfer is in flight at a time, the rest wait in a queue.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/codec/frame.hpp"
+#include "ecat/master/network_plan.hpp"
+
+namespace rescue::ecat {
+
+enum class SdoDirection : std::uint8_t { download, upload };
+enum class SdoOutcome : std::uint8_t {
+  ok,
+  aborted,       // the slave answered with an SDO abort (abort_code)
+  mailbox_error, // the slave answered with a mailbox error reply (mailbox_error)
+  timeout,       // no answer within the response timeout
+  no_mailbox,    // the slave has no configured mailbox
+  bad_response,  // an answer this client cannot use (e.g. a segmented upload)
+};
+const char* to_string(SdoOutcome outcome) noexcept;
+
+struct SdoRequest {
+  std::uint8_t position{0};  // planned position of the slave
+  SdoDirection direction{SdoDirection::upload};
+  std::uint16_t index{0};
+  std::uint8_t subindex{0};
+  std::uint8_t size{0};      // download: bytes of `data` (1..4)
+  std::array<std::uint8_t, 4> data{};
+  std::uint32_t tag{0};      // the caller's, returned with the completion
+};
+
+struct SdoCompletion {
+  SdoRequest request{};
+  SdoOutcome outcome{SdoOutcome::ok};
+  std::uint32_t abort_code{0};
+  std::uint16_t mailbox_error{0};
+  std::uint8_t size{0};                 // upload: bytes received
+  std::array<std::uint8_t, 4> data{};   // upload: the value, little-endian
+  std::uint32_t exchanges{0};           // frames the transfer took
+};
+
+// Helpers building requests.
+SdoRequest sdo_download(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, std::uint32_t value,
+                        std::uint8_t size, std::uint32_t tag = 0) noexcept;
+SdoRequest sdo_upload(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, std::uint32_t tag = 0) noexcept;
+std::uint32_t sdo_value(const SdoCompletion& completion) noexcept;  // upload data as a number
+
+class MailboxClient {
+ public:
+  static constexpr std::size_t kQueueCapacity = 32;
+  static constexpr std::size_t kMaxMailboxSize = 512;
+  static constexpr std::size_t kMaxDatagrams = 2;  // per exchange
+
+  explicit MailboxClient(const NetworkPlan& plan) noexcept : plan_(plan) {}
+
+  // The slave's standard mailbox (from SII); called by the bring-up.
+  void configure(std::size_t position, std::uint16_t out_start, std::uint16_t out_size, std::uint16_t in_start,
+                 std::uint16_t in_size) noexcept;
+  bool has_mailbox(std::size_t position) const noexcept { return position < kMaxSlaves && boxes_[position].present; }
+
+  // Queues a transfer; false when the queue is full. Requests to slaves without a mailbox
+  // complete at once with no_mailbox.
+  [[nodiscard]] bool submit(const SdoRequest& request) noexcept;
+  [[nodiscard]] bool pop_completion(SdoCompletion& out) noexcept;
+  bool idle() const noexcept { return phase_ == Phase::none && queue_.empty(); }
+  std::size_t free_slots() const noexcept { return kQueueCapacity - queue_.size(); }
+
+  // One step: adds this exchange's datagrams (0 to kMaxDatagrams) to `frame` if they fit.
+  std::size_t add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now) noexcept;
+  // The k-th datagram added by add_datagrams() came back (call for each, in order) ...
+  void on_datagram(std::size_t k, const DatagramView& datagram) noexcept;
+  // ... then this, once per exchange (also when the frame did not come back).
+  void end_exchange(hal::Nanoseconds now) noexcept;
+
+  // Runs queued transfers to completion with frames of their own (bring-up, outside the cycle).
+  Status run(DatagramLink& link, hal::Nanoseconds frame_timeout, hal::Nanoseconds overall_timeout) noexcept;
+
+  void set_response_timeout(hal::Nanoseconds timeout) noexcept { response_timeout_ = timeout; }
+  std::uint64_t emergencies() const noexcept { return emergencies_; }
+
+ private:
+  enum class Phase : std::uint8_t { none, send, wait };
+  struct Box {
+    std::uint16_t out_start{0};
+    std::uint16_t out_size{0};
+    std::uint16_t in_start{0};
+    std::uint16_t in_size{0};
+    std::uint8_t counter{0};
+    bool present{false};
+  };
+
+  void start_next(hal::Nanoseconds now) noexcept;
+  void complete(SdoOutcome outcome) noexcept;
+  void take_reply(ConstByteSpan bytes) noexcept;
+
+  const NetworkPlan& plan_;
+  std::array<Box, kMaxSlaves> boxes_{};
+  RingBuffer<SdoRequest, kQueueCapacity> queue_{};
+  RingBuffer<SdoCompletion, kQueueCapacity> done_{};  // the oldest uncollected one goes when full
+
+  Phase phase_{Phase::none};
+  SdoCompletion current_{};
+  hal::Nanoseconds deadline_{0};
+  hal::Nanoseconds response_timeout_{100 * hal::kNsPerMs};
+  std::array<std::uint8_t, kMaxMailboxSize> message_{};  // encoded request, SM0-sized
+  std::size_t added_{0};
+  bool sent_this_exchange_{false};
+  bool in_full_{false};
+  std::uint64_t emergencies_{0};
+};
+
+}  // namespace rescue::ecat

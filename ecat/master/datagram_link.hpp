@@ -1,0 +1,82 @@
+// The master's side of the wire: build a frame, send it, wait for it to come back, and hand back
+// the returned datagrams. Used for every exchange, bring-up (one blocking transfer at a time,
+// with retries) and cyclic (one frame per cycle with the caller's deadline).
+//
+// A returned frame is recognised by its datagrams' index byte (all datagrams of a frame carry
+// the frame's index, a counter); a frame that comes back late, after its exchange gave up, is
+// dropped and counted when it turns up, never mistaken for the current one. The returned frame
+// must have the datagrams that were sent (count, commands, lengths), else it is refused.
+//
+// Frame tap: every frame sent and every frame received (even a late one) is also handed to an
+// optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/net/nic.hpp"
+
+namespace rescue::ecat {
+
+enum class TapDirection : std::uint8_t { outbound, inbound };
+// Called with each frame the link sends or receives, and the NIC clock's time.
+using FrameTapFn = void (*)(void* context, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept;
+
+struct LinkStats {
+  std::uint64_t exchanges{0};
+  std::uint64_t timeouts{0};        // no matching frame before the deadline
+  std::uint64_t stale_frames{0};    // frames of earlier exchanges that came back late
+  std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
+  std::uint64_t send_errors{0};
+};
+
+class DatagramLink {
+ public:
+  // Source MAC of the frames the master sends (the ESCs do not care; captures show it).
+  static constexpr MacAddress kMasterMac{0x02, 0x52, 0x4D, 0x00, 0x00, 0x01};
+
+  explicit DatagramLink(hal::Nic& nic) noexcept : nic_(nic) {}
+
+  void set_tap(FrameTapFn tap, void* context) noexcept {
+    tap_ = tap;
+    tap_context_ = context;
+  }
+
+  // Starts a new frame; datagrams are added with index() as their index.
+  FrameBuilder& begin() noexcept;
+  std::uint8_t index() const noexcept { return index_; }
+
+  // Sends the frame built since begin() and waits for it until `deadline` (NIC clock). The view
+  // points into the link's receive buffer and stays valid until the next begin().
+  Result<FrameView> exchange(hal::Nanoseconds deadline) noexcept;
+
+  // The same, sending the frame again (same index) when nothing came back within `timeout`, up
+  // to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
+  Result<FrameView> exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept;
+
+  // One datagram in a frame of its own, sent up to `attempts` times while no frame comes back
+  // (each attempt waits `timeout`). For reading commands the returned data is copied into `data`;
+  // for writing ones `data` is what is sent. Returns the working counter.
+  Result<std::uint16_t> transfer(Command command, std::uint32_t address, ByteSpan data, hal::Nanoseconds timeout,
+                                 unsigned attempts = 3) noexcept;
+
+  hal::Clock& clock() noexcept { return nic_.clock(); }
+  hal::Nic& nic() noexcept { return nic_; }
+  const LinkStats& stats() const noexcept { return stats_; }
+
+ private:
+  hal::Nic& nic_;
+  FrameBuilder builder_{};
+  std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize + 4> rx_{};
+  ConstByteSpan sent_{};
+  std::uint8_t index_{0};
+  FrameTapFn tap_{nullptr};
+  void* tap_context_{nullptr};
+  LinkStats stats_{};
+};
+
+}  // namespace rescue::ecat

@@ -1,0 +1,196 @@
+#include "ecat/master/link_monitor.hpp"
+
+#include "ecat/codec/registers.hpp"
+
+namespace rescue::ecat {
+namespace {
+
+constexpr std::size_t kMaxOutProbesPerCycle = 2;
+
+// The branch all `slaves` belong to, or kNoBranch.
+std::uint8_t common_branch(const NetworkPlan& plan, SlaveMask slaves) noexcept {
+  std::uint8_t branch = kNoBranch;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((slaves & slave_bit(p)) == 0) continue;
+    if (branch == kNoBranch) {
+      branch = plan[p].branch;
+    } else if (plan[p].branch != branch) {
+      return kNoBranch;
+    }
+  }
+  return branch;
+}
+
+}  // namespace
+
+const char* to_string(LinkEventKind kind) noexcept {
+  switch (kind) {
+    case LinkEventKind::lost: return "lost";
+    case LinkEventKind::not_operational: return "not operational";
+    case LinkEventKind::restored: return "restored";
+    case LinkEventKind::reintegrated: return "reintegrated";
+    case LinkEventKind::reintegration_failed: return "reintegration failed";
+  }
+  return "?";
+}
+
+LinkMonitor::LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept
+    : plan_(plan), layout_(layout) {}
+
+void LinkMonitor::start(SlaveMask in_exchange) noexcept {
+  present_ = in_exchange;
+  out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = 0;
+  pending_lost_ = pending_restored_ = 0;
+  frames_lost_in_row_ = 0;
+}
+
+std::uint16_t LinkMonitor::expected_wkc(std::size_t branch) const noexcept {
+  return static_cast<std::uint16_t>(kLrwWkcPerSlave * popcount(present_ & branch_slaves(layout_, branch)));
+}
+
+std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) noexcept {
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
+    if ((suspect_ & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
+  }
+  const SlaveMask to_clear = out_ & ~fmmus_cleared_;
+  std::size_t budget = kMaxOutProbesPerCycle;
+  for (std::size_t i = 0; i < kMaxSlaves && n < capacity && budget > 0; ++i) {
+    const std::size_t p = (rotate_ + i) % kMaxSlaves;
+    if ((to_clear & slave_bit(p)) == 0) continue;
+    out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), true};
+    --budget;
+    rotate_ = p + 1;
+  }
+  return n;
+}
+
+void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame_received,
+                          const std::array<std::uint16_t, kMaxBranches>& branch_wkc,
+                          Span<const ProbeResult> probes) noexcept {
+  cycle_ = cycle;
+  time_ = time;
+  valid_ = 0;
+  pending_lost_ = pending_restored_ = 0;
+  pending_detected_ = cycle;
+  if (frame_received) {
+    frames_lost_in_row_ = 0;
+    const SlaveMask out_before = out_;
+    const bool probed_suspects = (suspect_ & present_) != 0;
+    for (const ProbeResult& probe : probes) observe_probe(probe);  // first: they change the expectation
+    if (probed_suspects && out_ == out_before) ++glitches_;       // a shortfall nobody explains
+    observe_branches(branch_wkc);
+  } else if (++frames_lost_in_row_ == kLostFrameLimit && present_ != 0) {
+    pending_detected_ = cycle + 1 - kLostFrameLimit;
+    pending_lost_ = present_;
+    out_ |= present_;
+    lost_ |= present_;
+    present_ = 0;
+    suspect_ = 0;
+  }
+  if (pending_lost_ != 0) report(LinkEventKind::lost, pending_lost_, pending_detected_);
+  if (pending_restored_ != 0) report(LinkEventKind::restored, pending_restored_, cycle);
+}
+
+void LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
+  if (probe.position >= kMaxSlaves) return;
+  const SlaveMask bit = slave_bit(probe.position);
+  if ((present_ & bit) != 0) {
+    if ((suspect_ & bit) == 0) return;  // only suspects are probed while in the exchange
+    suspect_ &= ~bit;
+    if (probe.status_wkc == 0) {
+      present_ &= ~bit;
+      out_ |= bit;
+      lost_ |= bit;
+      pending_lost_ |= bit;
+      if (suspect_since_[probe.position] < pending_detected_) pending_detected_ = suspect_since_[probe.position];
+    } else if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::op)) {
+      present_ &= ~bit;
+      out_ |= bit;
+      report(LinkEventKind::not_operational, bit, suspect_since_[probe.position], probe.al_status,
+             probe.al_status_code);
+    }
+    return;  // reachable and in OP: the shortfall was elsewhere on the branch, or transient
+  }
+  if ((out_ & bit) == 0) return;
+  if (probe.had_clear && probe.clear_wkc != 0) fmmus_cleared_ |= bit;
+  if (probe.status_wkc != 0 && (lost_ & bit) != 0) {
+    lost_ &= ~bit;
+    restored_ |= bit;
+    pending_restored_ |= bit;
+  } else if (probe.status_wkc == 0 && (lost_ & bit) == 0) {
+    // Out but reachable before (restored or not operational), now silent: lost again, quietly,
+    // as it is already out of the exchange. Its FMMUs may come back reset with it: clear again.
+    restored_ &= ~bit;
+    lost_ |= bit;
+    fmmus_cleared_ &= ~bit;
+  }
+}
+
+void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept {
+  for (std::size_t b = 0; b < kMaxBranches; ++b) {
+    const BranchLayout& branch = layout_.branches[b];
+    const SlaveMask present = present_ & branch_slaves(layout_, b);
+    const std::uint16_t wkc = branch_wkc[b];
+    if (wkc >= expected_wkc(b)) {
+      // A counter above the expectation is a slave out of the exchange still mapped for a cycle.
+      valid_ |= present;
+      continue;
+    }
+    // Short: probe every present slave of the branch. Only whole multiples of 3 say how many
+    // slaves from the start of the branch were reached in OP (a link cut); any other shortfall
+    // (a slave out of OP adds 1) cannot be placed, so nothing on the branch is trusted this cycle.
+    std::uint16_t fine = wkc % kLrwWkcPerSlave == 0 ? static_cast<std::uint16_t>(wkc / kLrwWkcPerSlave) : 0;
+    for (std::size_t i = 0; i < branch.slave_count; ++i) {
+      const std::size_t p = branch.slaves[i];
+      if ((present & slave_bit(p)) == 0) continue;
+      if (fine > 0) {
+        --fine;
+        valid_ |= slave_bit(p);
+      }
+      if ((suspect_ & slave_bit(p)) == 0) {
+        suspect_ |= slave_bit(p);
+        suspect_since_[p] = cycle_;
+      }
+    }
+  }
+}
+
+void LinkMonitor::reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept {
+  slaves &= restored_;
+  if (slaves == 0) return;
+  present_ |= slaves;
+  out_ &= ~slaves;
+  restored_ &= ~slaves;
+  fmmus_cleared_ &= ~slaves;
+  cycle_ = cycle;
+  time_ = time;
+  report(LinkEventKind::reintegrated, slaves, cycle);
+}
+
+void LinkMonitor::reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                                       std::uint16_t al_status, std::uint16_t al_code) noexcept {
+  if (slaves == 0) return;
+  cycle_ = cycle;
+  time_ = time;
+  fmmus_cleared_ &= ~slaves;  // clear them again: they must add nothing to the counters
+  report(LinkEventKind::reintegration_failed, slaves, cycle, al_status, al_code);
+}
+
+void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status,
+                         std::uint16_t al_code) noexcept {
+  LinkReport r;
+  r.kind = kind;
+  r.branch = common_branch(plan_, slaves);
+  r.al_status = al_status;
+  r.al_status_code = al_code;
+  r.slaves = slaves;
+  r.cycle = cycle_;
+  r.detected_cycle = detected_cycle;
+  r.time = time_;
+  if (!reports_.push(r)) ++reports_dropped_;  // nobody collects them: keep the oldest, count the rest
+}
+
+bool LinkMonitor::pop_report(LinkReport& out) noexcept { return reports_.pop(out); }
+
+}  // namespace rescue::ecat

@@ -1,0 +1,138 @@
+// Lost-slave detection from working counters, confirmed by probing (pure logic: the master feeds
+// it what came back, it says what to probe next and what to report).
+//
+// 1. Each cycle, each branch's LRW returns a working counter. Every slave in OP that the frame
+//    reaches adds 3, so with n slaves present on the branch (wiring order) a counter w = 3k < 3n
+//    means the frame reached the first k in OP and no further: a link cut at the (k+1)-th slave
+//    silences exactly it and everything after it, the link-failure set. Those first k slaves'
+//    inputs are valid this cycle. A counter that is not a multiple of 3 (a slave out of OP adds
+//    only 1) cannot be placed: nothing on that branch is valid this cycle. Either way every
+//    present slave of a short branch becomes a suspect. Healthy branches are untouched.
+// 2. Next cycle, each suspect is probed with an FPRD of its AL status (0x0130..0x0135): working
+//    counter 0 means unreachable -> reported lost; reachable but not in OP -> reported not
+//    operational (with its AL status code); reachable in OP -> a glitch, counted, nothing reported.
+// 3. A slave taken out of the exchange (lost or not operational) no longer counts in the expected
+//    working counter. The master clears its FMMU activation (FPWR 0x060C, 17 zero bytes: FMMU0 and
+//    FMMU1 off), so it adds nothing to the LRW even if it answers again. That write is repeated
+//    each cycle for lost slaves and doubles as the restoration probe: its first working counter of
+//    1 means the link is back -> reported restored. A restored slave stays out of the exchange
+//    until the owner re-integrates it explicitly.
+// 4. No frame back for kLostFrameLimit cycles in a row: every present slave is reported lost.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/containers/ring_buffer.hpp"
+#include "core/base/span.hpp"
+#include "ecat/master/network_plan.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::ecat {
+
+enum class LinkEventKind : std::uint8_t {
+  lost,             // unreachable: link failure at the first of them, or in front of them
+  not_operational,  // reachable, but left OP (AL status code says why)
+  restored,         // a lost slave answers again (not re-used until re-integrated)
+  reintegrated,     // back in the exchange after an explicit re-integration
+  reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
+};
+const char* to_string(LinkEventKind kind) noexcept;
+
+// One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
+struct LinkReport {
+  LinkEventKind kind{LinkEventKind::lost};
+  std::uint8_t branch{kNoBranch};   // branch of the slaves (kNoBranch when several)
+  std::uint16_t al_status{0};       // not_operational: AL status register (state, error bit)
+  std::uint16_t al_status_code{0};  // not_operational: AL status code (0x0134)
+  SlaveMask slaves{0};
+  std::uint64_t cycle{0};           // cycle in which it was established
+  std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
+  hal::Nanoseconds time{0};
+};
+
+struct ProbeRequest {
+  std::uint8_t position{0};
+  bool clear_fmmus{false};  // also write FMMU activation off (slaves out of the exchange)
+};
+
+struct ProbeResult {
+  std::uint8_t position{0};
+  bool had_clear{false};
+  std::uint16_t status_wkc{0};  // FPRD 0x0130
+  std::uint16_t al_status{0};
+  std::uint16_t al_status_code{0};
+  std::uint16_t clear_wkc{0};   // FPWR 0x060C (when had_clear)
+};
+
+class LinkMonitor {
+ public:
+  static constexpr std::uint32_t kLostFrameLimit = 3;
+  static constexpr std::size_t kReportCapacity = 32;
+
+  LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
+
+  // The slaves in the exchange at start (bring-up's operated set).
+  void start(SlaveMask in_exchange) noexcept;
+
+  // Probes the next frame should carry, most urgent first (suspects, then slaves out of the
+  // exchange, rotating). Fills `out`, returns how many.
+  std::size_t plan_probes(ProbeRequest* out, std::size_t capacity) noexcept;
+
+  // What this cycle's frame brought back: the branches' LRW working counters and the probes that
+  // plan_probes() asked for (ignored when no frame came back).
+  void observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame_received,
+               const std::array<std::uint16_t, kMaxBranches>& branch_wkc, Span<const ProbeResult> probes) noexcept;
+
+  // Re-integration: the owner brought these (restored) slaves back to OP with their FMMUs set.
+  void reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
+  // ... or could not (they stay restored, out of the exchange; AL status and code of the first).
+  void reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
+                            std::uint16_t al_code) noexcept;
+
+  [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
+
+  SlaveMask in_exchange() const noexcept { return present_; }
+  SlaveMask out_of_exchange() const noexcept { return out_; }
+  SlaveMask lost() const noexcept { return lost_; }
+  SlaveMask restored() const noexcept { return restored_; }
+  SlaveMask suspects() const noexcept { return suspect_; }
+  // Slaves whose inputs were exchanged by this cycle's frame.
+  SlaveMask valid() const noexcept { return valid_; }
+  std::uint16_t expected_wkc(std::size_t branch) const noexcept;
+  // Probe rounds that found every suspect reachable and in OP (a transient shortfall).
+  std::uint64_t glitches() const noexcept { return glitches_; }
+  std::uint64_t reports_dropped() const noexcept { return reports_dropped_; }
+
+ private:
+  void observe_probe(const ProbeResult& probe) noexcept;
+  void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
+  void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
+              std::uint16_t al_code = 0) noexcept;
+
+  const NetworkPlan& plan_;
+  const ProcessImageLayout& layout_;
+  SlaveMask present_{0};       // in the exchange, counted in the expected working counter
+  SlaveMask out_{0};           // taken out: lost, not operational or restored
+  SlaveMask lost_{0};          // out and unreachable when last probed
+  SlaveMask restored_{0};      // out, was lost, answers again
+  SlaveMask fmmus_cleared_{0}; // out slaves whose FMMU activation is confirmed off
+  SlaveMask suspect_{0};       // to probe next frame
+  SlaveMask valid_{0};
+  std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
+  std::uint32_t frames_lost_in_row_{0};
+  std::uint64_t cycle_{0};
+  hal::Nanoseconds time_{0};
+  std::size_t rotate_{0};
+  std::uint64_t glitches_{0};
+  std::uint64_t reports_dropped_{0};
+
+  // Established by the current frame's probes, merged into one report per kind.
+  SlaveMask pending_lost_{0};
+  SlaveMask pending_restored_{0};
+  std::uint64_t pending_detected_{0};  // earliest cycle whose counter showed a pending loss
+
+  RingBuffer<LinkReport, kReportCapacity> reports_{};
+};
+
+}  // namespace rescue::ecat

@@ -1,0 +1,244 @@
+// The EtherCAT master: brings the planned network up (scan, compare, address, configure,
+// distributed clocks, INIT -> PRE-OP -> SAFE-OP) and then exchanges the logical process image
+// once per cycle, taking the network to OP in the first cycles, keeping the master's cycle in
+// step with the DC reference, and detecting lost slaves from the working counters.
+//
+// Bring-up (blocking, at start-up; docs/master.md has the sequence diagram):
+//   1. count      BRD 0x0000: working counter = slaves on the wire
+//   2. reset      BWR: AL control INIT+ack, FMMUs and SMs off, DC sync off, DC filters, SII to ECAT
+//   3. identify   SII of every slave in parallel (APWR/APRD 0x0502..0x050F), parsed
+//   4. compare    with the plan (slaves held out of service may be absent); every difference
+//                 reported; fatal ones refuse to run
+//   5. address    APWR 0x0010 = planned station address of every present slave, held-out ones
+//                 included (a lost slave never shifts the others)
+//   6. INIT       confirmed; mailbox SM0/SM1 from SII; PRE-OP
+//   7. PRE-OP     SM2/SM3, FMMU0 (outputs) / FMMU1 (inputs) onto the image; DC over every present
+//                 slave (held-out ones answer and forward frames): latch 0x0900,
+//                 read port times, delays through the tree, offsets 0x0920 and delays 0x0928,
+//                 static drift compensation (FRMW 0x0910 N times), SYNC0 (0x0981/0x0990/0x09A0)
+//   8. SAFE-OP    requested and confirmed
+// Cycle (cycle(), once per period, no heap, no system call but the NIC's send/receive):
+//   frame = FRMW reference 0x0910 | LRW per branch | probes | service (AL control, mailbox)
+//   send, receive until the deadline, check the working counters, copy inputs into the image.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/containers/fixed_vector.hpp"
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/master/al_control.hpp"
+#include "ecat/master/datagram_link.hpp"
+#include "ecat/dc/dc_cycle_sync.hpp"
+#include "ecat/dc/dc_delay.hpp"
+#include "ecat/master/link_monitor.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/master/network_match.hpp"
+#include "ecat/master/network_plan.hpp"
+#include "ecat/sii/sii_reader.hpp"
+
+namespace rescue::ecat {
+
+// Room the cyclic frame keeps beyond the process image: probes, AL datagrams, a mailbox step.
+constexpr std::size_t kCycleFrameReserve = 400;
+
+struct MasterOptions {
+  hal::Nanoseconds cycle_time{hal::kNsPerMs};
+  hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
+  hal::Nanoseconds cycle_receive_timeout{400 * hal::kNsPerUs};  // cyclic frame's deadline after sending
+  AlOptions al{};
+  SiiReadOptions sii{};
+  unsigned drift_compensation_frames{15000};  // static drift compensation before cycling
+  hal::Nanoseconds sync0_start_margin{10 * hal::kNsPerMs};
+  hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
+  hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};  // SAFE-OP -> OP while cycling
+  // Slaves kept out of service (the owner's choice, e.g. their joints are recorded lost). They and the
+  // slaves behind them may be absent; one that answers is brought into the topology and the
+  // distributed clocks and never operated. Bring-up never fails for them.
+  SlaveMask held_out{0};
+  // SDO downloads done in PRE-OP, before SAFE-OP (IgH's slave-config SDOs): e.g. joint limits.
+  // Requests to slaves that are not operated are skipped. Any refusal fails the bring-up.
+  Span<const SdoRequest> startup_sdos{};
+  hal::Nanoseconds startup_sdo_timeout{5 * hal::kNsPerSec};
+};
+
+enum class MasterState : std::uint8_t { idle, failed, safe_op, going_op, op };
+const char* to_string(MasterState state) noexcept;
+
+// What one SyncManager of a slave looks like, from its SII.
+struct SyncManagerSetup {
+  std::uint16_t start{0};
+  std::uint16_t length{0};
+  std::uint8_t control{0};
+  bool present{false};
+};
+
+struct SlaveSetup {
+  std::array<SyncManagerSetup, 4> sm{};  // 0 mailbox out, 1 mailbox in, 2 outputs, 3 inputs
+  bool mailbox{false};                   // standard mailbox present, CoE supported
+};
+
+struct BringUpReport {
+  const char* failed_step{nullptr};  // nullptr when bring-up succeeded
+  Error error{};
+  std::uint16_t slaves_counted{0};
+  FixedVector<FoundSlave, kMaxFoundSlaves> found{};
+  NetworkMatch match{};
+  AlFailure al_failure{};
+  SiiReadStats sii{};
+  SdoCompletion failed_sdo{};            // when the failed step is "PRE-OP SDO"
+  std::uint32_t startup_sdos_done{0};
+  DcDelays delays{};
+  std::uint32_t dc_max_difference_ns{0};  // max |0x092C| after static drift compensation
+  std::uint64_t sync0_start{0};           // system time of the first SYNC0
+  hal::Nanoseconds started_at{0};
+  hal::Nanoseconds safe_op_at{0};
+  hal::Nanoseconds op_at{0};              // set by cycle() when every slave reached OP
+  std::uint64_t frames{0};                // frames exchanged during bring-up
+};
+
+struct CycleResult {
+  std::uint64_t cycle{0};
+  MasterState state{MasterState::idle};
+  bool frame_received{false};
+  hal::Nanoseconds sent_at{0};
+  hal::Nanoseconds received_at{0};
+  SlaveMask valid{0};        // slaves whose inputs this frame brought
+  SlaveMask out{0};          // slaves out of the exchange (not operated, lost, not operational, restored)
+  std::array<std::uint16_t, kMaxBranches> branch_wkc{};
+  std::array<std::uint16_t, kMaxBranches> expected_wkc{};
+  std::uint64_t reference_time{0};       // DC system time of the reference as the frame passed it
+  hal::Nanoseconds dc_phase_error{0};    // frame's phase error in the SYNC0 period
+  hal::Nanoseconds next_wakeup{0};       // when to call cycle() next (master clock)
+};
+
+// Per-slave DC diagnostics (acyclic; for benchmarks and tests, between cycles).
+struct DcSnapshot {
+  std::array<std::uint32_t, kMaxSlaves> difference_ns{};  // |0x092C|
+  SlaveMask answered{0};
+  std::uint32_t max_difference_ns{0};
+};
+
+class Master {
+ public:
+  Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept;
+  Master(const Master&) = delete;
+  Master& operator=(const Master&) = delete;
+  Master(Master&&) = delete;
+  Master& operator=(Master&&) = delete;
+  ~Master() = default;
+
+  // Frames sent and received are also handed to `tap` (capture writer).
+  void set_tap(FrameTapFn tap, void* context) noexcept { link_.set_tap(tap, context); }
+
+  // Blocking bring-up to SAFE-OP with distributed clocks running. On failure the report says
+  // which step and why (network differences, AL status codes).
+  Status bring_up(const MasterOptions& options) noexcept;
+  const BringUpReport& report() const noexcept { return report_; }
+
+  // One cycle: call at next_wakeup(). The caller writes outputs into the image before and reads
+  // inputs after (only those of `valid` slaves are fresh).
+  CycleResult cycle() noexcept;
+  hal::Nanoseconds next_wakeup() const noexcept { return next_wakeup_; }
+  MasterState state() const noexcept { return state_; }
+  std::uint64_t cycles() const noexcept { return cycle_; }
+
+  // Re-integration of restored slaves (the explicit action after a `restored` report): their
+  // FMMUs are written again, an AL error is acknowledged and OP requested, one step per cycle;
+  // a `reintegrated` report (or `reintegration_failed`) follows. False when a slave of `slaves`
+  // is not restored or a re-integration is already running.
+  [[nodiscard]] bool reintegrate(SlaveMask slaves) noexcept;
+
+  // Lost / restored / not operational reports, oldest first.
+  [[nodiscard]] bool pop_report(LinkReport& out) noexcept { return monitor_.pop_report(out); }
+  const LinkMonitor& monitor() const noexcept { return monitor_; }
+
+  // Aperiodic CoE SDO transfers, one mailbox datagram pair per cycle (never blocking the cycle).
+  MailboxClient& mailbox() noexcept { return mailbox_; }
+
+  // Between cycles, in a frame of its own: every slave's DC time difference (0x092C).
+  Result<DcSnapshot> read_dc_snapshot() noexcept;
+
+  const NetworkPlan& plan() const noexcept { return plan_; }
+  const ProcessImageLayout& layout() const noexcept { return layout_; }
+  ByteSpan image() noexcept { return image_; }
+  SlaveMask operated() const noexcept { return report_.match.operated; }
+  // Slaves that answered at their planned place at bring-up (operated or held out of service).
+  SlaveMask present() const noexcept { return report_.match.present; }
+  const SlaveSetup& setup(std::size_t position) const noexcept { return setup_[position]; }
+  DatagramLink& link() noexcept { return link_; }
+  const MasterOptions& options() const noexcept { return options_; }
+
+ private:
+  // Bring-up steps (master_bring_up.cpp).
+  Status count_and_reset() noexcept;
+  Status identify() noexcept;
+  Status assign_addresses() noexcept;
+  Status configure_mailboxes() noexcept;
+  Status configure_process_data() noexcept;
+  Status run_startup_sdos() noexcept;
+  Status fail(const char* step, const Error& error) noexcept;
+  // Distributed clocks (master_dc.cpp).
+  Status configure_dc() noexcept;
+  Status compensate_static_drift() noexcept;
+  Status start_sync0() noexcept;
+  // Cycle (master_cycle.cpp).
+  void build_cycle_frame(FrameBuilder& frame) noexcept;
+  void evaluate_cycle_frame(const FrameView& frame, CycleResult& result) noexcept;
+  void step_op_transition(CycleResult& result) noexcept;
+  void silence_outputs_of_out_slaves() noexcept;
+  // Re-integration (master_reintegration.cpp).
+  void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
+  void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
+  void finish_reintegration_step() noexcept;
+
+  enum class Role : std::uint8_t { reference_time, branch, probe_status, probe_clear, al_control, al_status, mailbox, reintegration };
+  struct Planned {
+    Role role;
+    std::uint8_t param;  // branch or slave position
+  };
+
+  hal::Nic& nic_;
+  DatagramLink link_;
+  const NetworkPlan& plan_;
+  const ProcessImageLayout& layout_;
+  ByteSpan image_;
+  MasterOptions options_{};
+  MasterState state_{MasterState::idle};
+  BringUpReport report_{};
+  std::array<SlaveSetup, kMaxSlaves> setup_{};
+  std::array<SiiImage, kMaxFoundSlaves> sii_{};  // bring-up scratch
+  LinkMonitor monitor_;
+  MailboxClient mailbox_;
+  DcCycleSync dc_sync_{};
+
+  // Cycle state.
+  std::uint64_t cycle_{0};
+  hal::Nanoseconds next_wakeup_{0};
+  std::array<Planned, kMaxDatagramsPerFrame> planned_{};
+  std::size_t planned_count_{0};
+  std::array<ProbeRequest, kMaxSlaves> probes_{};
+  std::array<ProbeResult, kMaxSlaves> probe_results_{};
+  std::size_t probe_count_{0};
+  // SAFE-OP -> OP while cycling, per slave: write OP, watch AL status, acknowledge a refusal
+  // (in a frame of its own: the slave reads AL control asynchronously) and write OP again.
+  enum class OpStep : std::uint8_t { request, wait, acknowledge };
+  SlaveMask op_pending_{0};        // slaves not yet confirmed in OP
+  std::array<OpStep, kMaxSlaves> op_step_{};
+  std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
+  hal::Nanoseconds op_deadline_{0};
+  // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
+  enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
+  SlaveMask reintegrating_{0};
+  std::array<ReStep, kMaxSlaves> re_step_{};
+  hal::Nanoseconds re_deadline_{0};
+  std::uint64_t overruns_{0};
+  // Last reference time read (bring-up), to place the first wake-up.
+  std::uint64_t last_reference_time_{0};
+  hal::Nanoseconds last_reference_read_at_{0};
+  std::uint16_t reference_station_{0};
+  SlaveMask dc_slaves_{0};
+};
+
+}  // namespace rescue::ecat

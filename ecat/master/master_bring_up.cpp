@@ -1,0 +1,336 @@
+// Master bring-up: count, reset, identify, compare, address, mailboxes, process data, states.
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/sii/sii.hpp"
+#include "ecat/master/slave_config.hpp"
+#include "ecat/master/station_io.hpp"
+
+namespace rescue::ecat {
+namespace {
+
+std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v); }
+
+// Bring-up frames whose datagrams may be repeated are sent again when they do not come back.
+constexpr unsigned kBringUpAttempts = 3;
+
+// Reset values real masters broadcast before configuring (SOEM ecx_set_slaves_to_default).
+struct ResetWrite {
+  std::uint16_t ado;
+  std::uint16_t length;
+  std::uint16_t value;  // little-endian into the first bytes, rest zero
+};
+constexpr std::array<ResetWrite, 10> kResetWrites{{
+    {0x0101, 1, 0x0000},                                     // DL control: ports on automatic loop
+    {reg::kRxErrorCounter, 8, 0x0000},                       // clear CRC/RX error counters
+    {reg::kFmmuBase, 4 * reg::kFmmuSize, 0x0000},            // FMMU 0..3 off
+    {reg::kSyncManagerBase, 4 * reg::kSyncManagerSize, 0x0000},  // SM 0..3 off
+    {reg::kDcActivation, 1, 0x0000},                         // SYNC0/1 off
+    {reg::kDcSpeedCounterStart, 2, 0x1000},                  // restart the drift control loop
+    {reg::kDcTimeDiffFilterDepth, 2, 0x0C00},                // filter depths 0 (time diff), 12 (speed)
+    {reg::kAlControl, 2, static_cast<std::uint16_t>(static_cast<std::uint16_t>(reg::AlState::init) | reg::kAlErrorBit)},
+    {reg::kSiiConfig, 1, 0x0002},                            // force EEPROM access to ECAT ...
+    {reg::kSiiConfig, 1, 0x0000},                            // ... and keep it there
+}};
+
+SyncManagerSetup sm_from_sii(const sii::Sii& image, std::size_t n) noexcept {
+  SyncManagerSetup sm;
+  if (n < image.sync_managers.size()) {
+    const sii::SyncManager& s = image.sync_managers[n];
+    sm.start = s.start_address;
+    sm.length = s.length;
+    sm.control = s.control;
+    sm.present = s.start_address != 0 && s.type != sii::SyncManagerType::unused;
+  }
+  return sm;
+}
+
+}  // namespace
+
+const char* to_string(MasterState state) noexcept {
+  switch (state) {
+    case MasterState::idle: return "idle";
+    case MasterState::failed: return "failed";
+    case MasterState::safe_op: return "SAFE-OP";
+    case MasterState::going_op: return "going to OP";
+    case MasterState::op: return "OP";
+  }
+  return "?";
+}
+
+Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept
+    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), mailbox_(plan) {}
+
+Status Master::fail(const char* step, const Error& error) noexcept {
+  report_.failed_step = step;
+  report_.error = error;
+  state_ = MasterState::failed;
+  return error;
+}
+
+Status Master::bring_up(const MasterOptions& options) noexcept {
+  options_ = options;
+  if (options_.sync0_target_phase < 0) options_.sync0_target_phase = options_.cycle_time / 2;
+  report_ = BringUpReport{};
+  report_.started_at = link_.clock().now();
+  const std::uint64_t frames_before = link_.stats().exchanges;
+  state_ = MasterState::idle;
+  cycle_ = 0;
+  // Nothing of an earlier bring-up carries over.
+  monitor_.start(0);
+  reintegrating_ = 0;
+  setup_.fill(SlaveSetup{});
+  if (image_.size() < layout_.total_bytes) {
+    return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));
+  }
+  std::memset(image_.data(), 0, image_.size());
+  // The reference time's datagram, then one LRW per branch.
+  const std::size_t cyclic_bytes = std::accumulate(
+      layout_.branches.begin(), layout_.branches.end(), kDatagramOverhead + 8,
+      [](std::size_t sum, const BranchLayout& branch) { return sum + kDatagramOverhead + branch.length; });
+  if (cyclic_bytes + kCycleFrameReserve > kMaxEcatPayload) {
+    return fail("plan", make_error(Errc::capacity_exceeded, "process image does not fit one frame", u32(cyclic_bytes)));
+  }
+
+  Status st = count_and_reset();
+  if (st.ok()) st = identify();
+  if (st.ok()) st = assign_addresses();
+  if (st.ok()) {
+    const Status init = request_al_state(link_, plan_, operated(), reg::AlState::init, options_.al, report_.al_failure);
+    if (!init.ok()) st = fail("INIT", init.error());
+  }
+  if (st.ok()) st = configure_mailboxes();
+  if (st.ok()) {
+    const Status pre_op = request_al_state(link_, plan_, operated(), reg::AlState::pre_op, options_.al, report_.al_failure);
+    if (!pre_op.ok()) st = fail("PRE-OP", pre_op.error());
+  }
+  if (st.ok()) st = run_startup_sdos();
+  if (st.ok()) st = configure_process_data();
+  if (st.ok()) st = configure_dc();
+  if (st.ok()) st = compensate_static_drift();
+  if (st.ok()) st = start_sync0();
+  if (st.ok()) {
+    const Status safe_op = request_al_state(link_, plan_, operated(), reg::AlState::safe_op, options_.al, report_.al_failure);
+    if (!safe_op.ok()) st = fail("SAFE-OP", safe_op.error());
+  }
+  report_.frames = link_.stats().exchanges - frames_before;
+  if (!st.ok()) return st;
+  report_.safe_op_at = link_.clock().now();
+
+  // Cyclic operation starts in SAFE-OP; the first cycles request OP (slaves want valid outputs
+  // flowing before they accept it).
+  state_ = MasterState::going_op;
+  op_pending_ = operated();
+  op_step_.fill(OpStep::request);
+  op_refusals_.fill(0);
+  op_deadline_ = link_.clock().now() + options_.op_timeout;
+  next_wakeup_ = dc_sync_.first_wakeup(link_.clock().now(), last_reference_read_at_, last_reference_time_);
+  return Status::success();
+}
+
+Status Master::count_and_reset() noexcept {
+  std::array<std::uint8_t, 2> type{};
+  const Result<std::uint16_t> counted =
+      link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout);
+  if (!counted.ok()) return fail("count", counted.error());
+  report_.slaves_counted = counted.value();
+  if (counted.value() == 0) return fail("count", make_error(Errc::not_found, "no slave answers"));
+
+  FrameBuilder& frame = link_.begin();
+  std::array<std::uint8_t, std::size_t{4} * reg::kFmmuSize> bytes{};
+  for (const ResetWrite& w : kResetWrites) {
+    bytes.fill(0);
+    store_le16(bytes.data(), w.value);
+    const Result<DatagramSlot> slot =
+        frame.add(Command::BWR, link_.index(), make_address(0, w.ado), w.length, ConstByteSpan(bytes.data(), w.length));
+    if (!slot.ok()) return fail("reset", slot.error());
+  }
+  const Result<FrameView> back = link_.exchange(options_.frame_timeout, kBringUpAttempts);
+  if (!back.ok()) return fail("reset", back.error());
+  return Status::success();
+}
+
+Status Master::identify() noexcept {
+  const std::size_t n = std::min<std::size_t>(report_.slaves_counted, kMaxFoundSlaves);
+  const Result<SiiReadStats> read = read_sii_images(link_, Span<SiiImage>(sii_.data(), n), options_.sii);
+  if (!read.ok()) return fail("identify", read.error());
+  report_.sii = read.value();
+  std::array<SlaveSetup, kMaxFoundSlaves> found_setup{};
+  report_.found.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    if (sii_[a].error.code != Errc::ok) return fail("identify", sii_[a].error);
+    const Result<sii::Sii> parsed = sii::Sii::parse(sii_[a].view(), sii::ChecksumPolicy::require);
+    if (!parsed.ok()) {
+      Error e = parsed.error();
+      e.detail0 = u32(a);  // which slave; the parser's `what` names the field
+      return fail("identify", e);
+    }
+    const sii::Sii& info = parsed.value();
+    FoundSlave f;
+    f.vendor_id = info.identity.vendor_id;
+    f.product_code = info.identity.product_code;
+    f.revision = info.identity.revision;
+    f.serial_number = info.identity.serial_number;
+    f.station_alias = info.config.station_alias;
+    f.output_bits = info.default_bits_of_sync_manager(2);
+    f.input_bits = info.default_bits_of_sync_manager(3);
+    f.pdo_sizes_known = !info.rx_pdos.empty() || !info.tx_pdos.empty();
+    const std::string_view name = info.name();
+    // An SII without a name string gives an empty view whose data() may be null: copy nothing.
+    if (!name.empty()) std::memcpy(f.name.data(), name.data(), std::min(name.size(), f.name.size() - 1));
+    (void)report_.found.push_back(f);  // capacity kMaxFoundSlaves >= n
+
+    SlaveSetup& found = found_setup[a];
+    for (std::size_t s = 0; s < found.sm.size(); ++s) found.sm[s] = sm_from_sii(info, s);
+    found.mailbox = info.standard_mailbox.present() && info.supports(sii::kMailboxCoE);
+    if (found.mailbox) {
+      // The standard mailbox words are authoritative for SM0/SM1 (the SM category may be absent).
+      found.sm[0] = SyncManagerSetup{info.standard_mailbox.receive_offset, info.standard_mailbox.receive_size,
+                                     found.sm[0].present ? found.sm[0].control : kSmControlMailboxOut, true};
+      found.sm[1] = SyncManagerSetup{info.standard_mailbox.send_offset, info.standard_mailbox.send_size,
+                                     found.sm[1].present ? found.sm[1].control : kSmControlMailboxIn, true};
+    }
+  }
+  report_.match = match_network(plan_, report_.found.span(), options_.held_out);
+  if (report_.match.fatal) {
+    const auto fatal = std::count_if(report_.match.differences.begin(), report_.match.differences.end(),
+                                     [](const NetworkDifference& d) { return is_fatal(d.kind); });
+    return fail("compare", make_error(Errc::mismatch, "network differs from the plan", u32(static_cast<std::size_t>(fatal)), u32(n)));
+  }
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::uint8_t slot = report_.match.slot_of_found[a];
+    if (slot != kNoPosition) setup_[slot] = found_setup[a];
+  }
+  return Status::success();
+}
+
+Status Master::assign_addresses() noexcept {
+  FrameBuilder& frame = link_.begin();
+  std::array<std::uint8_t, 2> address{};
+  for (std::size_t a = 0; a < report_.found.size(); ++a) {
+    const std::uint8_t slot = report_.match.slot_of_found[a];
+    if (slot == kNoPosition) continue;
+    store_le16(address.data(), plan_[slot].station_address);
+    const Result<DatagramSlot> added = frame.add(Command::APWR, link_.index(),
+                                                 make_address(position_adp(static_cast<std::uint16_t>(a)), reg::kStationAddress),
+                                                 2, ConstByteSpan(address));
+    if (!added.ok()) return fail("address", added.error());
+  }
+  const Result<FrameView> back = link_.exchange(options_.frame_timeout, kBringUpAttempts);
+  if (!back.ok()) return fail("address", back.error());
+  for (const DatagramView d : back.value()) {
+    // cppcheck-suppress useStlAlgorithm ; frame views have no standard iterators
+    if (d.wkc() != 1) return fail("address", make_error(Errc::io_error, "station address not taken", d.index_in_frame()));
+  }
+  // Read the addresses back through them: each must answer exactly once.
+  SlaveMask confirmed = 0;
+  const Status st = for_each_slave(
+      link_, plan_, present(), Command::FPRD, reg::kStationAddress, 2, [](std::size_t, ByteSpan) {},
+      [&](std::size_t p, std::uint16_t wkc, ConstByteSpan data) {
+        if (wkc == 1 && load_le16(data.data()) == plan_[p].station_address) confirmed |= slave_bit(p);
+      },
+      options_.frame_timeout);
+  if (!st.ok()) return fail("address", st.error());
+  if (confirmed != present()) {
+    return fail("address", make_error(Errc::mismatch, "station address not confirmed", present() & ~confirmed));
+  }
+  return Status::success();
+}
+
+Status Master::configure_mailboxes() noexcept {
+  SlaveMask with_mailbox = 0;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((operated() & slave_bit(p)) != 0 && plan_[p].mailbox) {
+      if (!setup_[p].mailbox) return fail("mailbox", make_error(Errc::unsupported, "planned CoE mailbox missing in SII", u32(p)));
+      with_mailbox |= slave_bit(p);
+      mailbox_.configure(p, setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[1].start, setup_[p].sm[1].length);
+    }
+  }
+  SlaveMask refused = 0;
+  const Status st = for_each_slave(
+      link_, plan_, with_mailbox, Command::FPWR, reg::sync_manager(0), 2 * reg::kSyncManagerSize,
+      [&](std::size_t p, ByteSpan out) {
+        const SyncManagerEntry sm0 = sync_manager_entry(setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[0].control);
+        const SyncManagerEntry sm1 = sync_manager_entry(setup_[p].sm[1].start, setup_[p].sm[1].length, setup_[p].sm[1].control);
+        std::memcpy(out.data(), sm0.data(), sm0.size());
+        std::memcpy(out.data() + sm0.size(), sm1.data(), sm1.size());
+      },
+      [&](std::size_t p, std::uint16_t wkc, ConstByteSpan) {
+        if (wkc != 1) refused |= slave_bit(p);
+      },
+      options_.frame_timeout);
+  if (!st.ok()) return fail("mailbox", st.error());
+  if (refused != 0) return fail("mailbox", make_error(Errc::io_error, "mailbox SyncManagers not written", refused));
+  return Status::success();
+}
+
+Status Master::run_startup_sdos() noexcept {
+  std::size_t next = 0;
+  while (next < options_.startup_sdos.size()) {
+    // As many as the queue holds, then run them (each slave answers in turn).
+    while (next < options_.startup_sdos.size()) {
+      const SdoRequest& r = options_.startup_sdos[next];
+      if (r.position < kMaxSlaves && (operated() & slave_bit(r.position)) != 0 && !mailbox_.submit(r)) break;
+      ++next;
+    }
+    const Status ran = mailbox_.run(link_, options_.frame_timeout, options_.startup_sdo_timeout);
+    SdoCompletion done;
+    while (mailbox_.pop_completion(done)) {
+      if (done.outcome != SdoOutcome::ok) {
+        report_.failed_sdo = done;
+        return fail("PRE-OP SDO", make_error(Errc::refused, "start-up SDO refused", done.request.position,
+                                             (static_cast<std::uint32_t>(done.request.index) << 8U) | done.request.subindex));
+      }
+      ++report_.startup_sdos_done;
+    }
+    if (!ran.ok()) return fail("PRE-OP SDO", ran.error());
+  }
+  return Status::success();
+}
+
+Status Master::configure_process_data() noexcept {
+  SlaveMask with_data = 0;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((operated() & slave_bit(p)) == 0 || plan_[p].output_bytes + plan_[p].input_bytes == 0) continue;
+    if (!setup_[p].sm[2].present || !setup_[p].sm[3].present) {
+      return fail("process data", make_error(Errc::unsupported, "SII gives no SM2/SM3 for a slave with process data", u32(p)));
+    }
+    with_data |= slave_bit(p);
+  }
+  SlaveMask refused = 0;
+  const auto check = [&](std::size_t p, std::uint16_t wkc, ConstByteSpan) {
+    if (wkc != 1) refused |= slave_bit(p);
+  };
+  Status st = for_each_slave(
+      link_, plan_, with_data, Command::FPWR, reg::sync_manager(2), 2 * reg::kSyncManagerSize,
+      [&](std::size_t p, ByteSpan out) {
+        const SyncManagerSetup& o = setup_[p].sm[2];
+        const SyncManagerSetup& i = setup_[p].sm[3];
+        const SyncManagerEntry sm2 = sync_manager_entry(o.start, plan_[p].output_bytes, o.control != 0 ? o.control : kSmControlOutputs);
+        const SyncManagerEntry sm3 = sync_manager_entry(i.start, plan_[p].input_bytes, i.control != 0 ? i.control : kSmControlInputs);
+        std::memcpy(out.data(), sm2.data(), sm2.size());
+        std::memcpy(out.data() + sm2.size(), sm3.data(), sm3.size());
+      },
+      check, options_.frame_timeout);
+  if (st.ok()) {
+    st = for_each_slave(
+        link_, plan_, with_data, Command::FPWR, reg::fmmu(kFmmuOutputs), 2 * reg::kFmmuSize,
+        [&](std::size_t p, ByteSpan out) {
+          const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes,
+                                               setup_[p].sm[2].start, reg::kFmmuTypeWrite);
+          const FmmuEntry inputs = fmmu_entry(layout_.slaves[p].input_offset, plan_[p].input_bytes,
+                                              setup_[p].sm[3].start, reg::kFmmuTypeRead);
+          std::memcpy(out.data(), outputs.data(), outputs.size());
+          std::memcpy(out.data() + outputs.size(), inputs.data(), inputs.size());
+        },
+        check, options_.frame_timeout);
+  }
+  if (!st.ok()) return fail("process data", st.error());
+  if (refused != 0) return fail("process data", make_error(Errc::io_error, "SM/FMMU configuration not written", refused));
+  return Status::success();
+}
+
+}  // namespace rescue::ecat

@@ -1,0 +1,208 @@
+// Master cycle: one frame per period, built, sent, received with a deadline and evaluated.
+// No heap, no system call but the NIC's send and receive, bounded loops only.
+#include <cstring>
+
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/slave_config.hpp"
+
+namespace rescue::ecat {
+namespace {
+
+constexpr std::uint16_t kAlStatusReadLength = 6;  // status, reserved, code
+constexpr std::size_t kProbeBytes = 2 * kDatagramOverhead + kAlStatusReadLength + kFmmuActivationOffLength;
+constexpr std::array<std::uint8_t, kFmmuActivationOffLength> kZeros{};
+constexpr std::size_t kOpStatusBytes = kDatagramOverhead + kAlStatusReadLength;
+constexpr std::size_t kMailboxReserve = 2 * kDatagramOverhead + 1 + 256;
+
+}  // namespace
+
+void Master::silence_outputs_of_out_slaves() noexcept {
+  // Slaves not operated or taken out of the exchange get all-zero outputs (controlword 0:
+  // disable voltage): should one answer again before its FMMUs are off, it receives no motion.
+  const SlaveMask silent = ~operated() | monitor_.out_of_exchange();
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((silent & slave_bit(p)) == 0 || plan_[p].output_bytes == 0) continue;
+    std::memset(image_.data() + layout_.slaves[p].output_offset, 0, plan_[p].output_bytes);
+  }
+}
+
+void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
+  planned_count_ = 0;
+  probe_count_ = 0;
+  const std::uint8_t index = link_.index();
+  // Capacity was checked at start-up (the frame with every branch always fits), so the adds of
+  // the fixed part cannot fail; the optional parts are added only while they fit.
+  const auto note = [&](Role role, std::size_t param, bool added) {
+    if (added) planned_[planned_count_++] = Planned{role, static_cast<std::uint8_t>(param)};
+  };
+  note(Role::reference_time, 0,
+       frame.add(Command::FRMW, index, make_address(reference_station_, reg::kDcSystemTime), 8).ok());
+  for (std::size_t b = 0; b < kMaxBranches; ++b) {
+    const BranchLayout& branch = layout_.branches[b];
+    if (branch.length == 0) continue;
+    note(Role::branch, b,
+         frame.add(Command::LRW, index, branch.logical_start, branch.length,
+                   ConstByteSpan(image_.data() + branch.logical_start, branch.length)).ok());
+  }
+  // Optional datagrams leave room for a mailbox step.
+  const auto fits = [&](std::size_t bytes) { return frame.remaining_data_capacity() >= bytes + kMailboxReserve; };
+  if (state_ == MasterState::op) {
+    probe_count_ = monitor_.plan_probes(probes_.data(), probes_.size());
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < probe_count_ && fits(kProbeBytes); ++i, ++kept) {
+      const ProbeRequest& probe = probes_[i];
+      const std::uint16_t station = plan_[probe.position].station_address;
+      probe_results_[i] = ProbeResult{probe.position, probe.clear_fmmus, 0, 0, 0, 0};
+      note(Role::probe_status, i, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
+      if (probe.clear_fmmus) {
+        note(Role::probe_clear, i,
+             frame.add(Command::FPWR, index, make_address(station, kFmmuActivationOffAddress), kFmmuActivationOffLength,
+                       ConstByteSpan(kZeros)).ok());
+      }
+    }
+    probe_count_ = kept;  // the rest are asked for again next cycle
+    add_reintegration_datagrams(frame);
+  } else if (state_ == MasterState::going_op) {
+    std::array<std::uint8_t, 2> value{};
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      if ((op_pending_ & slave_bit(p)) == 0 || !fits(kOpStatusBytes)) continue;
+      const std::uint16_t station = plan_[p].station_address;
+      if (op_step_[p] == OpStep::wait) {
+        note(Role::al_status, p, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
+        continue;
+      }
+      const auto control = op_step_[p] == OpStep::acknowledge
+                               ? static_cast<std::uint16_t>(static_cast<std::uint16_t>(reg::AlState::safe_op) | reg::kAlErrorBit)
+                               : static_cast<std::uint16_t>(reg::AlState::op);
+      store_le16(value.data(), control);
+      note(Role::al_control, p, frame.add(Command::FPWR, index, make_address(station, reg::kAlControl), 2, ConstByteSpan(value)).ok());
+    }
+  }
+  const std::size_t mailbox_datagrams = mailbox_.add_datagrams(frame, index, link_.clock().now());
+  for (std::size_t k = 0; k < mailbox_datagrams; ++k) note(Role::mailbox, k, true);
+}
+
+void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) noexcept {
+  std::size_t i = 0;
+  for (const DatagramView d : frame) {
+    if (i >= planned_count_) break;
+    const Planned what = planned_[i++];
+    const std::uint8_t* data = d.data().data();
+    switch (what.role) {
+      case Role::reference_time:
+        if (d.wkc() != 0) result.reference_time = load_le64(data);
+        break;
+      case Role::branch: {
+        const BranchLayout& branch = layout_.branches[what.param];
+        result.branch_wkc[what.param] = d.wkc();
+        // Inputs only: the outputs part comes back as sent. Slaves the frame did not reach
+        // leave their bytes as they were, so stale values stay and `valid` says so.
+        std::memcpy(image_.data() + branch.logical_start + branch.output_length, data + branch.output_length,
+                    static_cast<std::size_t>(branch.length - branch.output_length));
+        break;
+      }
+      case Role::probe_status: {
+        ProbeResult& r = probe_results_[what.param];
+        r.status_wkc = d.wkc();
+        r.al_status = load_le16(data);
+        r.al_status_code = load_le16(data + 4);
+        break;
+      }
+      case Role::probe_clear:
+        probe_results_[what.param].clear_wkc = d.wkc();
+        break;
+      case Role::al_control:
+        if (d.wkc() == 1) {
+          const std::size_t p = what.param;
+          op_step_[p] = op_step_[p] == OpStep::acknowledge ? OpStep::request : OpStep::wait;
+        }
+        break;
+      case Role::al_status: {
+        const std::size_t p = what.param;
+        const std::uint16_t status = load_le16(data);
+        if (d.wkc() != 1) break;
+        if ((status & reg::kAlErrorBit) == 0 && (status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op)) {
+          op_pending_ &= ~slave_bit(p);
+        } else if ((status & reg::kAlErrorBit) != 0) {
+          report_.al_failure = AlFailure{static_cast<std::uint8_t>(p), reg::AlState::op, status, load_le16(data + 4), false, false};
+          if (++op_refusals_[p] <= options_.al.retries) op_step_[p] = OpStep::acknowledge;
+        }
+        break;
+      }
+      case Role::mailbox:
+        mailbox_.on_datagram(what.param, d);
+        break;
+      case Role::reintegration:
+        on_reintegration_datagram(what.param, d);
+        break;
+    }
+  }
+}
+
+void Master::step_op_transition(CycleResult& result) noexcept {
+  const hal::Nanoseconds now = link_.clock().now();
+  if (op_pending_ == 0) {
+    state_ = MasterState::op;
+    report_.op_at = now;
+    monitor_.start(operated());
+  } else if (now > op_deadline_) {
+    // Stay in SAFE-OP, exchanging inputs; the report names the slave that did not follow.
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      if ((op_pending_ & slave_bit(p)) == 0) continue;
+      if (report_.al_failure.position != p) report_.al_failure = AlFailure{static_cast<std::uint8_t>(p), reg::AlState::op, 0, 0, true, false};
+      break;
+    }
+    report_.failed_step = "OP";
+    report_.error = make_error(Errc::timeout, "network did not reach OP", report_.al_failure.position);
+    state_ = MasterState::safe_op;
+  }
+  result.state = state_;
+}
+
+CycleResult Master::cycle() noexcept {
+  CycleResult result;
+  result.cycle = ++cycle_;
+  result.state = state_;
+  if (state_ != MasterState::going_op && state_ != MasterState::op && state_ != MasterState::safe_op) return result;
+
+  silence_outputs_of_out_slaves();
+  FrameBuilder& frame = link_.begin();
+  build_cycle_frame(frame);
+  result.sent_at = link_.clock().now();
+  const Result<FrameView> back = link_.exchange(result.sent_at + options_.cycle_receive_timeout);
+  result.frame_received = back.ok();
+  if (back.ok()) {
+    result.received_at = link_.clock().now();
+    evaluate_cycle_frame(back.value(), result);
+  }
+  mailbox_.end_exchange(link_.clock().now());
+
+  if (state_ == MasterState::op) {
+    monitor_.observe(cycle_, result.sent_at, result.frame_received, result.branch_wkc,
+                     Span<const ProbeResult>(probe_results_.data(), probe_count_));
+    result.valid = monitor_.valid();
+    finish_reintegration_step();
+  } else if (state_ == MasterState::going_op) {
+    step_op_transition(result);
+  }
+  result.out = monitor_.out_of_exchange() | (operated() ^ kAllSlaves);
+  for (std::size_t b = 0; b < kMaxBranches; ++b) result.expected_wkc[b] = monitor_.expected_wkc(b);
+
+  // Keep the cycle in step with the DC reference time.
+  hal::Nanoseconds shift = 0;
+  if (result.reference_time != 0) {
+    shift = dc_sync_.update(result.reference_time);
+    result.dc_phase_error = dc_sync_.last_error();
+  }
+  next_wakeup_ += options_.cycle_time + shift;
+  const hal::Nanoseconds now = link_.clock().now();
+  while (next_wakeup_ <= now) {  // overran: skip whole periods, keep the phase
+    next_wakeup_ += options_.cycle_time;
+    ++overruns_;
+  }
+  result.next_wakeup = next_wakeup_;
+  return result;
+}
+
+}  // namespace rescue::ecat

@@ -1,0 +1,155 @@
+#include "hal/files/durable_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+namespace rescue::hal {
+namespace {
+
+Error os_error(const char* what) noexcept {
+  const int e = errno;
+  if (e == ENOENT) return make_error(Errc::not_found, what, static_cast<std::uint32_t>(e));
+  if (e == EACCES || e == EPERM || e == EROFS) return make_error(Errc::permission_denied, what, static_cast<std::uint32_t>(e));
+  return make_error(Errc::io_error, what, static_cast<std::uint32_t>(e));
+}
+
+Status write_all(int fd, ConstByteSpan bytes) noexcept {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return os_error("write temporary file");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  return Status::success();
+}
+
+Status fsync_directory(const char* dir) noexcept {
+  const int fd = ::open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return os_error("open directory for fsync");
+  const int rc = ::fsync(fd);
+  const Error err = os_error("fsync directory");
+  ::close(fd);
+  if (rc != 0) return err;
+  return Status::success();
+}
+
+}  // namespace
+
+Result<PathBuffer> join_path(const char* dir, const char* name) noexcept {
+  PathBuffer out;
+  const int n = std::snprintf(out.text.data(), out.text.size(), "%s/%s", dir, name);
+  if (n < 0 || static_cast<std::size_t>(n) >= out.text.size()) {
+    return make_error(Errc::out_of_range, "path too long", static_cast<std::uint32_t>(n < 0 ? 0 : n));
+  }
+  return out;
+}
+
+Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept {
+  // O_NONBLOCK: opening a FIFO someone left in place of the file must not hang start-up.
+  const int fd = ::open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) return os_error("open file");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    const Error err = os_error("stat file");
+    ::close(fd);
+    return err;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return make_error(Errc::malformed, "not a regular file");
+  }
+  const auto announced = static_cast<std::uint64_t>(st.st_size);
+  if (announced > buffer.size()) {
+    ::close(fd);
+    return make_error(Errc::capacity_exceeded, "file larger than the read cap",
+                      static_cast<std::uint32_t>(announced > 0xFFFFFFFFU ? 0xFFFFFFFFU : announced),
+                      static_cast<std::uint32_t>(buffer.size()));
+  }
+  std::size_t got = 0;
+  for (;;) {
+    // The file may have grown since fstat: read one byte past the buffer to notice.
+    std::uint8_t extra = 0;
+    std::uint8_t* dst = got < buffer.size() ? buffer.data() + got : &extra;
+    const std::size_t want = got < buffer.size() ? buffer.size() - got : 1;
+    const ssize_t n = ::read(fd, dst, want);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const Error err = os_error("read file");
+      ::close(fd);
+      return err;
+    }
+    if (n == 0) break;
+    if (got >= buffer.size()) {
+      ::close(fd);
+      return make_error(Errc::capacity_exceeded, "file larger than the read cap", static_cast<std::uint32_t>(got + 1),
+                        static_cast<std::uint32_t>(buffer.size()));
+    }
+    got += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  return got;
+}
+
+Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept {
+  auto target = join_path(dir, name);
+  if (!target.ok()) return target.error();
+  PathBuffer temp_name;
+  const int n = std::snprintf(temp_name.text.data(), temp_name.text.size(), "%s.tmp", name);
+  if (n < 0 || static_cast<std::size_t>(n) >= temp_name.text.size()) return make_error(Errc::out_of_range, "path too long");
+  auto temp = join_path(dir, temp_name.c_str());
+  if (!temp.ok()) return temp.error();
+
+  // O_TRUNC: a temporary file left by a writer that crashed is simply overwritten.
+  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd < 0) return os_error("create temporary file");
+  Status status = write_all(fd, contents);
+  if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");
+  if (::close(fd) != 0 && status.ok()) status = os_error("close temporary file");
+  if (status.ok() && ::rename(temp.value().c_str(), target.value().c_str()) != 0) status = os_error("rename over the file");
+  if (!status.ok()) {
+    (void)::unlink(temp.value().c_str());
+    return status;
+  }
+  // The rename is atomic but lives in the directory: without this fsync a power cut could bring back
+  // the old name after we reported success.
+  return fsync_directory(dir);
+}
+
+Status rename_durably(const char* dir, const char* from, const char* to) noexcept {
+  auto a = join_path(dir, from);
+  if (!a.ok()) return a.error();
+  auto b = join_path(dir, to);
+  if (!b.ok()) return b.error();
+  if (::rename(a.value().c_str(), b.value().c_str()) != 0) return os_error("rename");
+  return fsync_directory(dir);
+}
+
+Status make_directories(const char* path, unsigned mode) noexcept {
+  PathBuffer buf;
+  const std::size_t len = std::strlen(path);
+  if (len == 0) return make_error(Errc::invalid_argument, "empty directory path");
+  if (len >= buf.text.size()) return make_error(Errc::out_of_range, "path too long", static_cast<std::uint32_t>(len));
+  std::memcpy(buf.text.data(), path, len + 1);
+  // Create each prefix in turn; an existing directory is fine.
+  for (std::size_t i = 1; i <= len; ++i) {
+    if (buf.text[i] != '/' && buf.text[i] != '\0') continue;
+    const char saved = buf.text[i];
+    buf.text[i] = '\0';
+    if (::mkdir(buf.c_str(), static_cast<mode_t>(mode)) != 0 && errno != EEXIST) return os_error("create directory");
+    buf.text[i] = saved;
+  }
+  struct stat st {};
+  if (::stat(path, &st) != 0) return os_error("stat directory");
+  if (!S_ISDIR(st.st_mode)) return make_error(Errc::invalid_argument, "exists and is not a directory");
+  return Status::success();
+}
+
+}  // namespace rescue::hal

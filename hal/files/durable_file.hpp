@@ -1,0 +1,45 @@
+// Files that must survive a crash or a power cut (the error-joints file). Replacing a file is atomic
+// and durable: write a temporary file in the same directory, fsync it, rename it over the old one,
+// fsync the directory. At every instant the directory holds either the complete old file or the
+// complete new one (POSIX rename is atomic; the fsyncs order the data before the name on disk).
+// Reading is capped: a file bigger than the caller's buffer is refused, never read into memory.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+
+namespace rescue::hal {
+
+constexpr std::size_t kMaxPathLength = 512;
+
+// A path in fixed storage (no heap); always NUL-terminated.
+struct PathBuffer {
+  std::array<char, kMaxPathLength> text{};
+  const char* c_str() const noexcept { return text.data(); }
+};
+
+// "dir/name"; out_of_range when it does not fit.
+Result<PathBuffer> join_path(const char* dir, const char* name) noexcept;
+
+// Reads the whole regular file at `path` into `buffer` and returns its size. Errors: not_found, a file
+// that is not a regular file (malformed: a FIFO or device would block or never end), capacity_exceeded
+// when the file is larger than the buffer (detail0 = its size, saturated; nothing beyond the buffer is
+// read), io_error (detail0 = errno).
+Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept;
+
+// Atomically and durably replaces dir/name with `contents` (through dir/name.tmp; one writer per file).
+// Success means the new file and its directory entry have been fsynced. On failure dir/name is
+// untouched (old contents) and the temporary file is removed.
+Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept;
+
+// Renames dir/from to dir/to (replacing it) and fsyncs the directory: keeps a file aside for
+// post-mortem before a new one takes its name.
+Status rename_durably(const char* dir, const char* from, const char* to) noexcept;
+
+// mkdir -p with `mode` for the directories it creates; success if `path` already is a directory.
+Status make_directories(const char* path, unsigned mode) noexcept;
+
+}  // namespace rescue::hal

@@ -1,0 +1,51 @@
+#include "hal/files/state_dir.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace rescue::hal {
+namespace {
+
+bool is_absolute(const char* p) noexcept { return p != nullptr && p[0] == '/'; }
+
+// `base` followed by `suffix`.
+Result<StateDir> make(const char* source, const char* base, const char* suffix) noexcept {
+  StateDir dir;
+  dir.source = source;
+  const int n = std::snprintf(dir.path.text.data(), dir.path.text.size(), "%s%s", base, suffix);
+  if (n < 0 || static_cast<std::size_t>(n) >= dir.path.text.size()) return make_error(Errc::out_of_range, "state directory path too long");
+  return dir;
+}
+
+}  // namespace
+
+Result<StateDir> choose_state_dir(const char* option, bool privileged, const char* xdg_state_home,
+                                  const char* home) noexcept {
+  if (option != nullptr) {
+    if (option[0] == '\0') return make_error(Errc::invalid_argument, "empty --state-dir");
+    return make("--state-dir", option, "");
+  }
+  if (privileged) return make("system default", kSystemStateDir, "");
+  // XDG: a relative XDG_STATE_HOME is invalid and must be ignored.
+  if (is_absolute(xdg_state_home)) return make("$XDG_STATE_HOME", xdg_state_home, "/rescue-motion");
+  if (is_absolute(home)) return make("$HOME", home, "/.local/state/rescue-motion");
+  return make_error(Errc::not_found, "no state directory: not root, and neither XDG_STATE_HOME nor HOME is set");
+}
+
+Result<StateDir> resolve_state_dir(const char* option) noexcept {
+  const bool privileged = ::geteuid() == 0;
+  // Start-up only, before any thread exists.
+  const char* xdg = std::getenv("XDG_STATE_HOME");  // NOLINT(concurrency-mt-unsafe)
+  const char* home = std::getenv("HOME");           // NOLINT(concurrency-mt-unsafe)
+  auto dir = choose_state_dir(option, privileged, xdg, home);
+  if (!dir.ok()) return dir;
+  const bool per_user = std::strcmp(dir.value().source, "$XDG_STATE_HOME") == 0 || std::strcmp(dir.value().source, "$HOME") == 0;
+  const Status made = make_directories(dir.value().path.c_str(), per_user ? 0700U : 0755U);
+  if (!made.ok()) return made.error();
+  return dir;
+}
+
+}  // namespace rescue::hal

@@ -1,0 +1,104 @@
+// hal::Nic on a real network interface: a Linux AF_PACKET raw socket bound to one named interface,
+// set up the way an EtherCAT master needs it (docs/hal.md explains each setting):
+//   - bound to that interface only, with a kernel (BPF) filter keeping EtherType 0x88A4, also
+//     behind an 802.1Q tag, which PACKET_AUXDATA lets us put back where it was on the wire;
+//   - promiscuous (PACKET_MR_PROMISC): returning frames carry whatever destination the master used;
+//   - PACKET_QDISC_BYPASS: frames go straight to the driver, no queueing discipline in the way;
+//   - non-blocking, with receive waiting in ppoll() at most until the caller's deadline;
+//   - our own outgoing frames ignored (PACKET_IGNORE_OUTGOING where the kernel has it, and the
+//     packet type checked on every frame), other EtherTypes dropped and counted;
+//   - SO_RCVBUF sized for a burst of returning frames.
+// Frames are read into and sent from the caller's buffers: no heap per frame. Not thread-safe: one
+// task owns the NIC (the EtherCAT handler, or the simulator's serve loop).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/net/nic.hpp"
+
+namespace rescue::hal {
+
+using HardwareAddress = std::array<std::uint8_t, 6>;
+
+// Linux interface names are at most 15 characters (IFNAMSIZ 16 with the terminating zero).
+constexpr std::size_t kMaxInterfaceNameLength = 15;
+
+struct RawSocketSettings {
+  // Which frames the kernel hands to the socket. EtherCAT only (the BPF filter) is what a master
+  // uses; every EtherType also brings all other traffic, and our own outgoing frames where the
+  // kernel lacks PACKET_IGNORE_OUTGOING, to user space, where they are dropped: useful to diagnose
+  // a wire, and what the tests use to prove the user-space filters.
+  enum class Capture : std::uint8_t { ethercat_only, all_ethertypes };
+  Capture capture{Capture::ethercat_only};
+  bool promiscuous{true};
+  bool qdisc_bypass{true};
+  // Requested receive buffer (the kernel doubles it for bookkeeping and caps it at rmem_max unless
+  // the process has CAP_NET_ADMIN). 256 KiB holds ~170 full-size frames.
+  int receive_buffer_bytes{256 * 1024};
+};
+
+// What open() obtained from the kernel, for logs and benchmark headers.
+struct RawSocketFeatures {
+  int interface_index{0};
+  HardwareAddress hardware_address{};
+  bool promiscuous{false};
+  bool qdisc_bypass{false};
+  bool ignore_outgoing{false};  // PACKET_IGNORE_OUTGOING (Linux 4.20+); else the packet type check
+  int receive_buffer_bytes{0};  // as reported back by the kernel
+};
+
+class RawSocketNic final : public Nic {
+ public:
+  RawSocketNic() = default;
+  ~RawSocketNic() override;
+  // Owns a file descriptor: neither copied nor moved.
+  RawSocketNic(const RawSocketNic&) = delete;
+  RawSocketNic& operator=(const RawSocketNic&) = delete;
+  RawSocketNic(RawSocketNic&&) = delete;
+  RawSocketNic& operator=(RawSocketNic&&) = delete;
+
+  // Opens the socket on `interface_name`. Errors (detail0 = errno where the OS refused):
+  //   invalid_argument  empty name or longer than 15 characters; already open
+  //   not_found         no interface of that name in this network namespace
+  //   permission_denied no CAP_NET_RAW (run as root, or `setcap cap_net_raw+ep rescue-motion`)
+  //   refused           the interface is administratively down (`ip link set IFACE up`)
+  //   io_error          any other refusal (Error::what names the call)
+  Status open(const char* interface_name, const RawSocketSettings& settings = RawSocketSettings{}) noexcept;
+  void close() noexcept;
+  bool is_open() const noexcept { return fd_ >= 0; }
+
+  // Sends one Ethernet frame as given (14..1514 bytes). busy when the driver's queue is full.
+  Status send(ConstByteSpan frame) noexcept override;
+  Result<std::size_t> receive(ByteSpan buffer, Nanoseconds deadline) noexcept override;
+  Clock& clock() noexcept override { return clock_; }
+  // "raw:IFACE", the same text as the --nic option that selects it.
+  const char* name() const noexcept override { return name_.data(); }
+  NicStats stats() const noexcept override { return stats_; }
+
+  const RawSocketFeatures& features() const noexcept { return features_; }
+  // Our own outgoing frames the kernel still showed us (only without PACKET_IGNORE_OUTGOING).
+  std::uint64_t outgoing_frames_ignored() const noexcept { return outgoing_ignored_; }
+
+ private:
+  Status configure(const char* interface_name, const RawSocketSettings& settings) noexcept;
+  // One non-blocking read. Returns the frame length, 0 when the frame was filtered out, or
+  // Errc::busy when nothing is queued.
+  Result<std::size_t> read_one(ByteSpan buffer) noexcept;
+
+  MonotonicClock clock_;
+  int fd_{-1};
+  std::array<char, 4 + kMaxInterfaceNameLength + 1> name_{};  // "raw:" + interface name
+  RawSocketFeatures features_{};
+  NicStats stats_{};
+  std::uint64_t outgoing_ignored_{0};
+};
+
+// True for an Ethernet frame of EtherType 0x88A4, directly or behind one 802.1Q tag.
+bool is_ethercat_frame(ConstByteSpan frame) noexcept;
+
+}  // namespace rescue::hal

@@ -1,0 +1,66 @@
+// Fault commands as text (for a running simulator): each command parses to what it says, names
+// and positions both find slaves, malformed lines are refused with a reason, applying one changes
+// the segment.
+#include <cstring>
+
+#include "drivers/sim/segment/fault_command.hpp"
+#include "tests/support/segment_test_support.hpp"
+
+namespace rescue::drivers::testing {
+namespace {
+
+Result<FaultCommand> parse(const SimulatedSegment& segment, const char* text) {
+  return parse_fault_command(text, std::strlen(text), segment);
+}
+
+TEST(FaultCommands, EachCommandParses) {
+  auto rig = Rig::robot();
+  const auto& s = rig->segment;
+  auto c = parse(s, "cut l_elbow");
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(c.value().kind, FaultKind::cut);
+  EXPECT_EQ(c.value().position, slave_position_of_joint(joint_index_by_name("l_elbow")));
+  EXPECT_EQ(parse(s, "restore 19").value().position, 19u);
+  EXPECT_EQ(parse(s, "  freeze   junction_b \n").value().kind, FaultKind::freeze);
+  EXPECT_EQ(parse(s, "thaw junction_b").value().position, 1u);
+  EXPECT_EQ(parse(s, "power-off r_hand").value().kind, FaultKind::power_off);
+  EXPECT_EQ(parse(s, "power-on r_hand").value().kind, FaultKind::power_on);
+  EXPECT_EQ(parse(s, "drop 3").value().value, 3u);
+  EXPECT_EQ(parse(s, "corrupt 0x10").value().value, 16u);
+  const auto fault = parse(s, "drive-fault neck_pan 0x7305");
+  ASSERT_TRUE(fault.ok());
+  EXPECT_EQ(fault.value().kind, FaultKind::drive_fault);
+  EXPECT_EQ(fault.value().value, 0x7305u);
+}
+
+TEST(FaultCommands, MalformedLinesAreRefusedWithAReason) {
+  auto rig = Rig::robot();
+  const auto& s = rig->segment;
+  EXPECT_EQ(parse(s, "").error().code, Errc::invalid_argument);
+  EXPECT_EQ(parse(s, "explode l_elbow").error().code, Errc::not_found);
+  EXPECT_EQ(parse(s, "cut nobody").error().code, Errc::not_found);
+  EXPECT_EQ(parse(s, "cut 23").error().code, Errc::not_found);  // positions 0..22
+  EXPECT_EQ(parse(s, "cut").error().code, Errc::invalid_argument);
+  EXPECT_EQ(parse(s, "cut l_elbow now").error().code, Errc::invalid_argument);
+  EXPECT_EQ(parse(s, "drop many").error().code, Errc::invalid_argument);
+  EXPECT_EQ(parse(s, "drop 99999999999").error().code, Errc::invalid_argument);
+  EXPECT_EQ(parse(s, "drive-fault l_leg 0x10000").error().code, Errc::out_of_range);
+  EXPECT_EQ(parse(s, "a b c d e").error().code, Errc::malformed);
+  const char not_terminated[] = {'c', 'u', 't', ' ', '3'};
+  EXPECT_TRUE(parse_fault_command(not_terminated, sizeof(not_terminated), s).ok());
+}
+
+TEST(FaultCommands, ApplyingACutTakesTheBranchTailAway) {
+  auto rig = Rig::robot();
+  const auto c = parse(rig->segment, "cut r_wrist_yaw");
+  ASSERT_TRUE(c.ok());
+  ASSERT_TRUE(apply_fault_command(c.value(), rig->segment, rig->now).ok());
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount - 3);
+  ASSERT_TRUE(apply_fault_command(parse(rig->segment, "restore r_wrist_yaw").value(), rig->segment, rig->now).ok());
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount);
+  ASSERT_TRUE(apply_fault_command(parse(rig->segment, "drop 1").value(), rig->segment, rig->now).ok());
+  EXPECT_FALSE(rig->read(Command::BRD, 0, reg::kType, 1).returned);
+}
+
+}  // namespace
+}  // namespace rescue::drivers::testing

@@ -1,0 +1,143 @@
+// Test doubles for the joint manager's ports: single-threaded bounded queues, a published joint-sample
+// table, an event recorder and a storage whose writes can be made to fail.
+#pragma once
+
+#include <cstdio>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/joint_events.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "drivers/joint/joint_units.hpp"
+
+namespace rescue::app::testing {
+
+template <typename T>
+class FakeQueue final : public MessageSink<T>, public MessageSource<T> {
+ public:
+  explicit FakeQueue(std::size_t capacity = 16) : capacity_(capacity) {}
+  bool try_send(const T& message) noexcept override {
+    if (items_.size() >= capacity_) return false;
+    items_.push_back(message);
+    return true;
+  }
+  bool try_receive(T& out) noexcept override {
+    if (items_.empty()) return false;
+    out = items_.front();
+    items_.pop_front();
+    return true;
+  }
+  std::size_t size() const { return items_.size(); }
+  void set_capacity(std::size_t c) { capacity_ = c; }
+
+ private:
+  std::size_t capacity_;
+  std::deque<T> items_;
+};
+
+// The shared-memory table the handler publishes: tests write it directly.
+class FakeSamples final : public JointSampleSource {
+ public:
+  FakeSamples() {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      JointSample& s = robot[j];
+      s.reachable = true;
+      const JointLimits& lim = kJoints[j].limits;
+      // Distinct per joint, and a whole encoder count (what a drive reports).
+      s.position_rad = drivers::counts_to_rad(drivers::rad_to_counts(0.5 * (lim.position_min_rad + lim.position_max_rad)) +
+                                              static_cast<std::int32_t>(j));
+      s.position_ref_rad = s.position_rad;
+    }
+  }
+  bool read(RobotSample& out) noexcept override {
+    out = robot;
+    return true;
+  }
+  // The handler's behaviour on a loss: reachable off, last values left in place.
+  void lose(JointMask mask) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (mask & joint_bit(j)) robot[j].reachable = false;
+    }
+  }
+  RobotSample robot{};
+};
+
+class EventLog final : public JointEventSink {
+ public:
+  void on_event(const JointEvent& e) noexcept override {
+    events.push_back(e);
+    char line[512];
+    format_event(e, line, sizeof line);
+    lines.emplace_back(line);
+    if (echo) std::printf("  [%lld ms] %s\n", static_cast<long long>(e.time / hal::kNsPerMs), line);
+  }
+  std::vector<JointEvent> of(JointEventKind kind) const {
+    std::vector<JointEvent> out;
+    for (const auto& e : events) {
+      if (e.kind == kind) out.push_back(e);
+    }
+    return out;
+  }
+  bool contains(const std::string& text) const {
+    for (const auto& l : lines) {
+      if (l.find(text) != std::string::npos) return true;
+    }
+    return false;
+  }
+  std::vector<JointEvent> events;
+  std::vector<std::string> lines;
+  bool echo{false};
+};
+
+// Wraps another storage; `fail_saves` makes save() fail like a full or read-only disk.
+class FlakyStorage final : public ErrorJointsStorage {
+ public:
+  explicit FlakyStorage(ErrorJointsStorage& inner) : inner_(inner) {}
+  ErrorJointsLoad load() noexcept override { return inner_.load(); }
+  Status save(const ErrorJointsContents& c) noexcept override {
+    ++saves;
+    if (fail_saves) return make_error(Errc::io_error, "write temporary file", 28 /* ENOSPC */);
+    return inner_.save(c);
+  }
+  Status set_aside() noexcept override { return inner_.set_aside(); }
+  bool fail_saves{false};
+  int saves{0};
+
+ private:
+  ErrorJointsStorage& inner_;
+};
+
+// A fresh temporary state directory, removed at the end.
+class TempStateDir {
+ public:
+  TempStateDir() {
+    std::string templ = ::testing::TempDir() + "state-XXXXXX";
+    path = mkdtemp(templ.data()) != nullptr ? templ : std::string();
+  }
+  ~TempStateDir() { (void)std::system(("rm -rf '" + path + "'").c_str()); }
+  std::string file() const { return path + "/" + ErrorJointsFileStorage::kFileName; }
+  std::string path;
+};
+
+// Everything a JointManager needs, wired to fakes.
+struct Rig {
+  explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in) {}
+  JointManagerPorts ports() {
+    return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
+  }
+  void command(JointMask joints, fsm::JointInput input, ControlMode mode = ControlMode::none) {
+    ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode, JointCommandKind::dfa_input}));
+  }
+  FakeQueue<LostJointsReport> reports;
+  FakeQueue<JointManagerNotice> notices;
+  FakeQueue<JointCommand> commands{64};
+  FakeSamples samples;
+  ErrorJointsStorage& storage;
+  hal::ManualWallClock wall{1'700'000'000'000'000'000LL};
+  EventLog log;
+};
+
+}  // namespace rescue::app::testing
