@@ -5,6 +5,7 @@
 #include "core/app/bench/bench_core.hpp"
 #include "core/app/bench/bench_master.hpp"
 #include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/nic_option.hpp"
@@ -18,6 +19,7 @@ const OptionSpec kOptions[] = {
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
     {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
+    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000)"},
 };
 
 struct Bench {
@@ -31,6 +33,7 @@ const Bench kBenches[] = {
     {"codec", bench_codec},
     {"master", bench_master},
     {"sim", bench_sim},
+    {"rc", bench_rc},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -51,7 +54,9 @@ const CommandSpec kBenchCommand{
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
-    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
+    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
+    "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
+    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
