@@ -48,7 +48,7 @@ const CommandSpec kBenchCommand{
     "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
-    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
+    "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
     "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",

@@ -132,11 +132,12 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   for (;;) {
     const hal::Nanoseconds release = bus.next_wakeup();
     clock.sleep_until(release);
-    const hal::Nanoseconds woke = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     const ecat::CycleResult r = handler.cycle();
-    timing.handler.record(woke - release, work_start, timing.timer.stop());
+    const std::uint64_t work_end = timing.timer.stop();
     const hal::Nanoseconds now = clock.now();
+    // Woke at now - the work's duration: no extra clock read.
+    timing.handler.record(now - timing.timer.to_ns(work_end - work_start) - release, work_start, work_end);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
