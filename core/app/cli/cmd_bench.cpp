@@ -3,6 +3,7 @@
 
 #include "core/app/bench/bench_codec.hpp"
 #include "core/app/bench/bench_core.hpp"
+#include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
 #include "core/app/bench/bench_nic.hpp"
 #include "core/app/bench/bench_sim.hpp"
@@ -16,6 +17,7 @@ const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
+    {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
     {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
 };
@@ -31,6 +33,7 @@ const Bench kBenches[] = {
     {"codec", bench_codec},
     {"master", bench_master},
     {"sim", bench_sim},
+    {"latency", bench_latency},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -51,7 +54,8 @@ const CommandSpec kBenchCommand{
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
-    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
+    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
+    "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
