@@ -5,6 +5,7 @@
 #include "core/app/bench/bench_core.hpp"
 #include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
+#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_nic.hpp"
 #include "core/app/bench/bench_sim.hpp"
 #include "core/app/cli/commands.hpp"
@@ -16,9 +17,9 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
-    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
+    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000); periods: measured periods (default 1000)"},
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
-    {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
+    {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
 };
 
@@ -34,6 +35,7 @@ const Bench kBenches[] = {
     {"master", bench_master},
     {"sim", bench_sim},
     {"latency", bench_latency},
+    {"periods", bench_periods},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -55,7 +57,8 @@ const CommandSpec kBenchCommand{
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
     "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
-    "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio",
+    "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
+    "  periods the handler's cycle and the joint manager's step on the simulated robot in virtual time (toolchain/instructions.sh)",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app
