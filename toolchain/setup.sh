@@ -13,7 +13,9 @@ packages=(
   tshark                                             # Wireshark's dissector: checks our captures
   iproute2                                           # ip netns / veth for raw-socket tests
   graphviz                                           # state-machine diagrams in docs/
-  python3                                            # plot of the Fig. 4 experiment, toolchain/rt_verify.py
+  python3 python3-matplotlib                         # plots (Fig. 4 experiment, docs/kinematics.md joint frames)
+  liburdfdom-tools                                   # check_urdf: the robot description is valid URDF
+  liborocos-kdl-dev                                  # Orocos KDL: kinematics oracle in tests and bench rc (never firmware)
   binutils                                           # readelf: vtables for toolchain/rt_verify.py
   rt-tests                                           # cyclictest: the OS latency floor (bench latency)
   valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs clang-tidy (config: .clang-tidy) and cppcheck over every firmware translation unit.
+# Runs the layout check (toolchain/checks/check_layout.py), then clang-tidy (config: .clang-tidy) and
+# cppcheck over every firmware translation unit.
 # Usage: toolchain/static-analysis.sh SOURCE_DIR BUILD_DIR   (BUILD_DIR holds compile_commands.json)
 # Exit status: 0 when both tools report nothing, 1 otherwise.
 set -euo pipefail
@@ -16,6 +17,9 @@ mapfile -t units < <(cd "$src" && git ls-files 'core/*.cpp' 'hal/*.cpp' 'ecat/*.
 [ "${#units[@]}" -gt 0 ] || { echo "static-analysis: no firmware sources"; exit 1; }
 
 status=0
+# Layout first (docs/architecture.md): include directions between folders, docs naming real files.
+python3 "$src/toolchain/checks/check_layout.py" "$src" || status=1
+
 echo "clang-tidy: ${#units[@]} units"
 # The compile database is GCC's: clang does not know -Wduplicated-cond / -Wlogical-op, which is not
 # a finding in our code (-Wno-unknown-warning-option).

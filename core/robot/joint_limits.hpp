@@ -11,32 +11,10 @@
 #include <type_traits>
 
 #include "core/robot/joint_fault.hpp"
+#include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
 
 namespace rescue {
-
-// One joint's values in one cycle, in SI units (the handler converts the process data: counts with
-// counts_to_rad, per-mille torque with the joint's rated torque). Written by the EtherCAT handler into
-// shared memory; read by the joint manager. When a joint becomes unreachable the handler clears
-// `reachable` and leaves the last values it received in place: they are the joint's last known state
-// (reconfiguration step 2 reads them).
-// A trivial type (no member initialisers) so it can be published through the seqlock as bytes;
-// value-initialise it (`JointSample s{};`): all zero, unreachable.
-struct JointSample {
-  bool reachable;                  // this cycle's working counter included the joint
-  std::int32_t position_counts;    // actual position as the drive reported it (held position record)
-  double position_rad;             // actual
-  double velocity_rad_s;
-  double torque_nm;
-  double position_ref_rad;         // what the handler sends this cycle
-  double velocity_ref_rad_s;
-  double torque_ref_nm;
-  bool drive_fault;                // statusword fault bit
-  std::uint16_t drive_error_code;  // CiA 402 error code (0x603F)
-};
-static_assert(std::is_trivial_v<JointSample>, "published through the seqlock as bytes");
-
-using RobotSample = std::array<JointSample, kJointCount>;
 
 // Actual values: position within [min, max] (not for continuous joints), |velocity| and |torque| within
 // their maxima, all finite. The first violation found, or reason none.

@@ -63,15 +63,4 @@ void format_joint_names(JointMask mask, char* out, std::size_t capacity) noexcep
   if (used == 0) (void)std::snprintf(out, capacity, "none");
 }
 
-std::int32_t rad_to_counts(double rad) noexcept {
-  const double counts = std::nearbyint(rad * kCountsPerRad);
-  if (!(counts > static_cast<double>(std::numeric_limits<std::int32_t>::min()))) {
-    return std::numeric_limits<std::int32_t>::min();
-  }
-  if (counts >= static_cast<double>(std::numeric_limits<std::int32_t>::max())) {
-    return std::numeric_limits<std::int32_t>::max();
-  }
-  return static_cast<std::int32_t>(counts);
-}
-
 }  // namespace rescue

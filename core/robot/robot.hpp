@@ -51,12 +51,9 @@ struct JointInfo {
   std::uint8_t order_on_branch;  // 0 = nearest to the switch
   bool continuous;               // tracks: no position limits, position wraps
   ControlMode default_mode;
-  double rated_torque_nm;        // CiA 402 torques are in per mille of this
+  double rated_torque_nm;        // CiA 402 torques are in per mille of this (drivers/joint/joint_units.hpp)
   JointLimits limits;
 };
-
-// Joint-side encoder: 2^20 counts per revolution of the joint (after the worm gear).
-constexpr double kCountsPerRad = 1048576.0 / 6.283185307179586;
 
 // Joint index = position in this table (the design brief's order).
 // clang-format off
@@ -178,10 +175,6 @@ constexpr std::size_t kMaxJointNameLength = 31;
 // The joints of a comma-separated list of names ("l_elbow,l_hand"), e.g. from the command line.
 // Errors: an empty list or item, or an unknown name (detail0: the item's 1-based number).
 Result<JointMask> parse_joint_names(const char* list) noexcept;
-
-// Encoder counts <-> radians (joint side).
-constexpr double counts_to_rad(std::int32_t counts) noexcept { return static_cast<double>(counts) / kCountsPerRad; }
-std::int32_t rad_to_counts(double rad) noexcept;  // saturates at the int32 range
 
 // Compile-time checks that the tables agree with each other.
 namespace robot_checks {

@@ -11,7 +11,7 @@
 //   11 i16 target torque      0x6071:00     11 i16 torque actual        0x6077:00
 //                                           13 u16 error code           0x603F:00
 //
-// Units: positions in encoder counts (core/robot/robot.hpp kCountsPerRad), velocities in counts/s,
+// Units: positions in encoder counts (drivers/joint/joint_units.hpp kCountsPerRad), velocities in counts/s,
 // torques in per mille of the joint's rated torque (CiA 402).
 //
 // The master and the simulator both encode and decode through these functions; the tables below

@@ -1,8 +1,12 @@
 // The robot's EtherCAT network as the master expects it: core/robot/robot.hpp's slaves in frame order,
 // each with its device identity (drivers/joint/device_identity.hpp), its process-data sizes and its
 // branch. Built at compile time; the process image layout follows from it.
+//
+// The master (ecat/) speaks in slaves only; which slave carries which joint is known here, in the
+// joint driver: kJointOfSlave, joints_of_slaves() and slaves_of_joints().
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/robot/robot.hpp"
@@ -12,6 +16,10 @@
 
 namespace rescue::drivers {
 
+// The robot fits the master's compile-time capacities (ecat/master/master_config.hpp).
+static_assert(kSlaveCount == ecat::kMaxSlaves, "the master's plan holds exactly the robot's slaves");
+static_assert(kBranchCount == ecat::kMaxBranches, "one process-data branch per robot branch");
+static_assert(kMasterUpstream == ecat::kMasterUpstream, "the robot's and the master's 'no upstream' agree");
 
 constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
   ecat::NetworkPlan plan{};
@@ -30,7 +38,6 @@ constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
         s.upstream,
         s.upstream_port,
         joint ? static_cast<std::uint8_t>(kJoints[s.joint].branch) : ecat::kNoBranch,
-        s.joint,
         joint ? static_cast<std::uint16_t>(kJointOutputBytes) : std::uint16_t{0},
         joint ? static_cast<std::uint16_t>(kJointInputBytes) : std::uint16_t{0},
         joint,
@@ -43,6 +50,32 @@ constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
 constexpr ecat::NetworkPlan kRobotNetworkPlan = make_robot_network_plan();
 constexpr ecat::ProcessImageLayout kRobotImageLayout = ecat::make_process_image_layout(kRobotNetworkPlan);
 constexpr std::size_t kRobotImageBytes = kRobotImageLayout.total_bytes;
+
+// Slave position -> joint (kNoJoint for the junctions).
+constexpr std::array<std::uint8_t, ecat::kMaxSlaves> make_joint_of_slave() noexcept {
+  std::array<std::uint8_t, ecat::kMaxSlaves> joint{};
+  for (std::size_t p = 0; p < kSlaveCount; ++p) joint[p] = kSlaves[p].joint;
+  return joint;
+}
+constexpr std::array<std::uint8_t, ecat::kMaxSlaves> kJointOfSlave = make_joint_of_slave();
+
+// Joints of the slaves in `slaves`.
+constexpr JointMask joints_of_slaves(ecat::SlaveMask slaves) noexcept {
+  JointMask joints = 0;
+  for (std::size_t p = 0; p < ecat::kMaxSlaves; ++p) {
+    if ((slaves & ecat::slave_bit(p)) != 0 && kJointOfSlave[p] != kNoJoint) joints |= joint_bit(kJointOfSlave[p]);
+  }
+  return joints;
+}
+
+// Slaves carrying the joints in `joints`.
+constexpr ecat::SlaveMask slaves_of_joints(JointMask joints) noexcept {
+  ecat::SlaveMask slaves = 0;
+  for (std::size_t p = 0; p < ecat::kMaxSlaves; ++p) {
+    if (kJointOfSlave[p] != kNoJoint && (joints & joint_bit(kJointOfSlave[p])) != 0) slaves |= ecat::slave_bit(p);
+  }
+  return slaves;
+}
 
 static_assert(kRobotImageLayout.valid, "a branch has more slaves than ecat::kMaxSlavesPerBranch");
 static_assert(kRobotImageBytes == kJointCount * (kJointOutputBytes + kJointInputBytes), "image holds every joint once");

@@ -185,7 +185,6 @@ void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t det
   r.al_status = al_status;
   r.al_status_code = al_code;
   r.slaves = slaves;
-  r.joints = joints_of_slaves(plan_, slaves);
   r.cycle = cycle_;
   r.detected_cycle = detected_cycle;
   r.time = time_;

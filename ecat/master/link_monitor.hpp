@@ -24,7 +24,6 @@
 #include <cstdint>
 
 #include "core/containers/ring_buffer.hpp"
-#include "core/robot/robot.hpp"
 #include "core/base/span.hpp"
 #include "ecat/master/network_plan.hpp"
 #include "hal/time/clock.hpp"
@@ -40,13 +39,12 @@ enum class LinkEventKind : std::uint8_t {
 };
 const char* to_string(LinkEventKind kind) noexcept;
 
-// One report for the joint manager (fixed size, trivially copyable: goes through SPSC queues).
+// One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
 struct LinkReport {
   LinkEventKind kind{LinkEventKind::lost};
-  std::uint8_t branch{kNoBranch};   // branch of the joints (kNoBranch when several)
+  std::uint8_t branch{kNoBranch};   // branch of the slaves (kNoBranch when several)
   std::uint16_t al_status{0};       // not_operational: AL status register (state, error bit)
   std::uint16_t al_status_code{0};  // not_operational: AL status code (0x0134)
-  JointMask joints{0};
   SlaveMask slaves{0};
   std::uint64_t cycle{0};           // cycle in which it was established
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it

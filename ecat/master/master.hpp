@@ -7,11 +7,13 @@
 //   1. count      BRD 0x0000: working counter = slaves on the wire
 //   2. reset      BWR: AL control INIT+ack, FMMUs and SMs off, DC sync off, DC filters, SII to ECAT
 //   3. identify   SII of every slave in parallel (APWR/APRD 0x0502..0x050F), parsed
-//   4. compare    with the plan (known-lost joints expected absent); every difference reported;
-//                 fatal ones refuse to run
-//   5. address    APWR 0x0010 = planned station address (a lost slave never shifts the others)
+//   4. compare    with the plan (slaves held out of service may be absent); every difference
+//                 reported; fatal ones refuse to run
+//   5. address    APWR 0x0010 = planned station address of every present slave, held-out ones
+//                 included (a lost slave never shifts the others)
 //   6. INIT       confirmed; mailbox SM0/SM1 from SII; PRE-OP
-//   7. PRE-OP     SM2/SM3, FMMU0 (outputs) / FMMU1 (inputs) onto the image; DC: latch 0x0900,
+//   7. PRE-OP     SM2/SM3, FMMU0 (outputs) / FMMU1 (inputs) onto the image; DC over every present
+//                 slave (held-out ones answer and forward frames): latch 0x0900,
 //                 read port times, delays through the tree, offsets 0x0920 and delays 0x0928,
 //                 static drift compensation (FRMW 0x0910 N times), SYNC0 (0x0981/0x0990/0x09A0)
 //   8. SAFE-OP    requested and confirmed
@@ -51,7 +53,10 @@ struct MasterOptions {
   hal::Nanoseconds sync0_start_margin{10 * hal::kNsPerMs};
   hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
   hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};  // SAFE-OP -> OP while cycling
-  JointMask known_lost{0};                    // joints the error file lists as lost: expected absent
+  // Slaves kept out of service (the owner's choice, e.g. their joints are recorded lost). They and the
+  // slaves behind them may be absent; one that answers is brought into the topology and the
+  // distributed clocks and never operated. Bring-up never fails for them.
+  SlaveMask held_out{0};
   // SDO downloads done in PRE-OP, before SAFE-OP (IgH's slave-config SDOs): e.g. joint limits.
   // Requests to slaves that are not operated are skipped. Any refusal fails the bring-up.
   Span<const SdoRequest> startup_sdos{};
@@ -100,8 +105,7 @@ struct CycleResult {
   hal::Nanoseconds sent_at{0};
   hal::Nanoseconds received_at{0};
   SlaveMask valid{0};        // slaves whose inputs this frame brought
-  JointMask valid_joints{0};
-  JointMask out_joints{0};   // joints out of the exchange (lost, not operational, restored)
+  SlaveMask out{0};          // slaves out of the exchange (not operated, lost, not operational, restored)
   std::array<std::uint16_t, kMaxBranches> branch_wkc{};
   std::array<std::uint16_t, kMaxBranches> expected_wkc{};
   std::uint64_t reference_time{0};       // DC system time of the reference as the frame passed it
@@ -160,6 +164,8 @@ class Master {
   const ProcessImageLayout& layout() const noexcept { return layout_; }
   ByteSpan image() noexcept { return image_; }
   SlaveMask operated() const noexcept { return report_.match.operated; }
+  // Slaves that answered at their planned place at bring-up (operated or held out of service).
+  SlaveMask present() const noexcept { return report_.match.present; }
   const SlaveSetup& setup(std::size_t position) const noexcept { return setup_[position]; }
   DatagramLink& link() noexcept { return link_; }
   const MasterOptions& options() const noexcept { return options_; }

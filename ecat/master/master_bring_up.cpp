@@ -194,7 +194,7 @@ Status Master::identify() noexcept {
                                      found.sm[1].present ? found.sm[1].control : kSmControlMailboxIn, true};
     }
   }
-  report_.match = match_network(plan_, report_.found.span(), options_.known_lost);
+  report_.match = match_network(plan_, report_.found.span(), options_.held_out);
   if (report_.match.fatal) {
     const auto fatal = std::count_if(report_.match.differences.begin(), report_.match.differences.end(),
                                      [](const NetworkDifference& d) { return is_fatal(d.kind); });
@@ -228,14 +228,14 @@ Status Master::assign_addresses() noexcept {
   // Read the addresses back through them: each must answer exactly once.
   SlaveMask confirmed = 0;
   const Status st = for_each_slave(
-      link_, plan_, operated(), Command::FPRD, reg::kStationAddress, 2, [](std::size_t, ByteSpan) {},
+      link_, plan_, present(), Command::FPRD, reg::kStationAddress, 2, [](std::size_t, ByteSpan) {},
       [&](std::size_t p, std::uint16_t wkc, ConstByteSpan data) {
         if (wkc == 1 && load_le16(data.data()) == plan_[p].station_address) confirmed |= slave_bit(p);
       },
       options_.frame_timeout);
   if (!st.ok()) return fail("address", st.error());
-  if (confirmed != operated()) {
-    return fail("address", make_error(Errc::mismatch, "station address not confirmed", operated() & ~confirmed));
+  if (confirmed != present()) {
+    return fail("address", make_error(Errc::mismatch, "station address not confirmed", present() & ~confirmed));
   }
   return Status::success();
 }

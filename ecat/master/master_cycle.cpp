@@ -186,8 +186,7 @@ CycleResult Master::cycle() noexcept {
   } else if (state_ == MasterState::going_op) {
     step_op_transition(result);
   }
-  result.valid_joints = joints_of_slaves(plan_, result.valid);
-  result.out_joints = joints_of_slaves(plan_, monitor_.out_of_exchange() | (operated() ^ kAllSlaves));
+  result.out = monitor_.out_of_exchange() | (operated() ^ kAllSlaves);
   for (std::size_t b = 0; b < kMaxBranches; ++b) result.expected_wkc[b] = monitor_.expected_wkc(b);
 
   // Keep the cycle in step with the DC reference time.

@@ -14,10 +14,11 @@ std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v)
 }  // namespace
 
 Status Master::configure_dc() noexcept {
-  // Which slaves have a DC unit (ESC features 0x0008 bit 2).
+  // Which slaves have a DC unit (ESC features 0x0008 bit 2). Every present slave counts, held-out
+  // ones too: they forward the frames and have their own propagation delay.
   dc_slaves_ = 0;
   Status st = for_each_slave(
-      link_, plan_, operated(), Command::FPRD, reg::kEscFeatures, 2, [](std::size_t, ByteSpan) {},
+      link_, plan_, present(), Command::FPRD, reg::kEscFeatures, 2, [](std::size_t, ByteSpan) {},
       [&](std::size_t p, std::uint16_t wkc, ConstByteSpan data) {
         if (wkc == 1 && (load_le16(data.data()) & kEscFeatureDc) != 0) dc_slaves_ |= slave_bit(p);
       },

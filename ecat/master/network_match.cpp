@@ -60,7 +60,7 @@ const char* to_string(DifferenceKind kind) noexcept {
     case DifferenceKind::duplicate_alias: return "duplicate alias";
     case DifferenceKind::process_data_size: return "process data size";
     case DifferenceKind::revision: return "revision";
-    case DifferenceKind::known_lost_present: return "known lost, present";
+    case DifferenceKind::known_lost_present: return "held out, present";
   }
   return "?";
 }
@@ -70,12 +70,15 @@ std::size_t NetworkMatch::count(DifferenceKind kind) const noexcept {
       std::count_if(differences.begin(), differences.end(), [kind](const NetworkDifference& d) { return d.kind == kind; }));
 }
 
-NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found, JointMask known_lost_joints) noexcept {
+NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found, SlaveMask held_out) noexcept {
   NetworkMatch match;
   match.slot_of_found.fill(kNoPosition);
   match.found_of_slot.fill(kNoPosition);
-  match.known_lost = slaves_of_joints(plan, known_lost_joints);
+  match.held_out = held_out & kAllSlaves;
+  match.may_be_absent = subtrees_of(plan, match.held_out);
   const std::size_t n = found.size() < kMaxFoundSlaves ? found.size() : kMaxFoundSlaves;
+  // By order: every planned slot when all answer, else the slots that must answer.
+  const SlaveMask skipped_by_order = n >= kMaxSlaves ? SlaveMask{0} : match.may_be_absent;
 
   // 1. Candidate slot of each found device: its alias, else its place among the expected ones.
   std::array<std::uint8_t, kMaxFoundSlaves> candidate{};
@@ -95,7 +98,7 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
   for (std::size_t a = 0; a < n; ++a) {
     std::size_t c = kMaxSlaves;
     for (std::size_t p = 0, k = 0; p < kMaxSlaves; ++p) {
-      if ((match.known_lost & slave_bit(p)) != 0) continue;
+      if ((skipped_by_order & slave_bit(p)) != 0) continue;
       if (k++ == expected_index) {
         c = p;
         break;
@@ -132,8 +135,12 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
       add(match, DifferenceKind::wrong_position, c, a);
       continue;
     }
-    if ((match.known_lost & slave_bit(c)) != 0) {
+    if ((match.held_out & slave_bit(c)) != 0) {
+      // Answers where planned: part of the topology (addressed, distributed clocks), not operated.
       add(match, DifferenceKind::known_lost_present, c, a);
+      match.slot_of_found[a] = c;
+      match.found_of_slot[c] = u8(a);
+      match.present |= slave_bit(c);
       continue;
     }
     if (found[a].revision != plan[c].revision) add(match, DifferenceKind::revision, c, a);
@@ -144,12 +151,13 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
     }
     match.slot_of_found[a] = c;
     match.found_of_slot[c] = u8(a);
+    match.present |= slave_bit(c);
     match.operated |= slave_bit(c);
   }
 
   // 4. Planned slots nobody answered for.
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if ((accounted & slave_bit(p)) == 0 && (match.known_lost & slave_bit(p)) == 0) {
+    if ((accounted & slave_bit(p)) == 0 && (match.may_be_absent & slave_bit(p)) == 0) {
       add(match, DifferenceKind::missing, p, kNoPosition);
     }
   }
@@ -161,7 +169,7 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
 std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<const FoundSlave> found, char* out,
                      std::size_t size) noexcept {
   if (size == 0) return 0;
-  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, kNoJoint, 0, 0, false, false};
+  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, 0, 0, false, false};
   static const FoundSlave kNoDevice{};
   const SlavePlan& s = d.planned < kMaxSlaves ? plan[d.planned] : kNoSlave;
   const FoundSlave& f = d.found < found.size() ? found[d.found] : kNoDevice;
@@ -199,8 +207,8 @@ std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<c
                         f.revision, s.revision);
       break;
     case DifferenceKind::known_lost_present:
-      n = std::snprintf(out, size, "known lost, present (warning): %s answers at position %u; kept out of operation "
-                        "until re-integrated", s.name, d.found);
+      n = std::snprintf(out, size, "held out of service, present (warning): %s answers at position %u; brought into "
+                        "the topology and distributed clocks, kept out of operation", s.name, d.found);
       break;
   }
   if (n < 0) {

@@ -1,17 +1,22 @@
 // Comparing the network the master found with the one it expects (ecat/master/network_plan.hpp), and
 // naming every difference: missing, extra, wrong device, wrong position, plus the softer ones
-// (other revision, process data of another size, a joint listed as lost that answers again).
+// (other revision, process data of another size, a slave held out of service that answers).
 //
 // Which found device is which planned slave:
 //  - by its commissioned station alias (SII word 4) when both sides have one: robust against the
 //    shift of auto-increment positions that every missing slave causes;
-//  - otherwise by order: the n-th found device is the n-th planned slave that is not known lost.
+//  - otherwise by order: the n-th found device is the n-th planned slave; when fewer devices answer
+//    than are planned, the slaves that may be absent (held out, and what is behind them) are skipped.
 // A device whose vendor/product differ from its slot's is a wrong device. Devices matched by alias
 // whose planned positions do not increase along the frame are in the wrong position (the longest
 // increasing run is taken as right, the rest is reported).
 //
-// Degraded start: joints known lost (the error-joints file) are expected absent. Their absence is
-// not a difference; their presence is reported (they stay out of operation until re-integrated).
+// Degraded start: slaves held out of service (the owner's choice: e.g. their joints are recorded lost)
+// and the slaves behind them may be absent: their absence is not a difference. Whether a slave answers
+// and whether it is operated are two things: a held-out slave that answers is `present` (addressed,
+// part of the topology and of the distributed clocks, so the slaves behind it are reachable) and
+// reported as a warning, but never `operated` (no process data, stays in INIT). Bring-up never fails
+// because of it.
 #pragma once
 
 #include <array>
@@ -20,7 +25,6 @@
 #include <cstdio>
 
 #include "core/containers/fixed_vector.hpp"
-#include "core/robot/robot.hpp"
 #include "ecat/master/network_plan.hpp"
 
 namespace rescue::ecat {
@@ -48,7 +52,7 @@ enum class DifferenceKind : std::uint8_t {
   duplicate_alias,    // two devices claim the same slot
   process_data_size,  // SII PDOs differ from the plan's sizes
   revision,           // another revision than planned (warning)
-  known_lost_present, // listed lost, answers: stays out of operation (warning)
+  known_lost_present, // held out of service, answers: in the topology, kept out of operation (warning)
 };
 const char* to_string(DifferenceKind kind) noexcept;
 // Whether a difference refuses operation (warnings do not).
@@ -63,20 +67,22 @@ struct NetworkDifference {
 };
 
 struct NetworkMatch {
-  // found position -> planned position it is operated as (kNoPosition: not operated).
+  // found position -> planned position it answers as (kNoPosition: not placed: extra, wrong device...).
   std::array<std::uint8_t, kMaxFoundSlaves> slot_of_found{};
-  // planned position -> found position (kNoPosition: absent or not operated).
+  // planned position -> found position (kNoPosition: absent or not placed).
   std::array<std::uint8_t, kMaxSlaves> found_of_slot{};
-  SlaveMask operated{0};     // planned slaves found, right device, right place: will be run
-  SlaveMask known_lost{0};   // planned slaves expected absent (joints listed lost, their subtrees)
+  SlaveMask present{0};      // planned slaves found, right device, right place (held-out ones included)
+  SlaveMask operated{0};     // present and not held out: will be run
+  SlaveMask held_out{0};     // slaves the owner keeps out of service
+  SlaveMask may_be_absent{0};  // held out and every slave behind them: absence is not a difference
   FixedVector<NetworkDifference, 2 * kMaxFoundSlaves> differences{};
   bool fatal{false};         // some difference refuses operation
 
   std::size_t count(DifferenceKind kind) const noexcept;
 };
 
-// `found` in frame order (auto-increment position 0 first). `known_lost_joints` from the error file.
-NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found, JointMask known_lost_joints) noexcept;
+// `found` in frame order (auto-increment position 0 first). `held_out`: slaves kept out of service.
+NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found, SlaveMask held_out) noexcept;
 
 // One line describing `difference` ("missing: r_elbow (position 5, expected RM-JD402 0x00000a5c:0x4a443432)").
 // Returns the number of characters written (truncated to `size` - 1).

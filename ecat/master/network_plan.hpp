@@ -17,13 +17,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/robot/robot.hpp"
+#include "ecat/master/master_config.hpp"
 
 namespace rescue::ecat {
 
-constexpr std::size_t kMaxSlaves = kSlaveCount;
-constexpr std::size_t kMaxBranches = kBranchCount;
-constexpr std::size_t kMaxSlavesPerBranch = 8;
 constexpr std::uint8_t kNoBranch = 0xFF;
 constexpr std::uint16_t kLrwWkcPerSlave = 3;  // read (1) + write (2) by one slave
 
@@ -44,7 +41,6 @@ struct SlavePlan {
   std::uint8_t upstream;          // position of the slave it hangs off, kMasterUpstream for the first
   std::uint8_t upstream_port;     // port of that slave
   std::uint8_t branch;            // kNoBranch: no process data
-  std::uint8_t joint;             // kNoJoint for slaves that are not joints
   std::uint16_t output_bytes;     // master -> slave process data (SM2)
   std::uint16_t input_bytes;      // slave -> master process data (SM3)
   bool mailbox;                   // CoE over SM0/SM1
@@ -109,28 +105,20 @@ constexpr SlaveMask branch_slaves(const ProcessImageLayout& layout, std::size_t 
   return mask;
 }
 
-// Joints of the slaves in `slaves`.
-constexpr JointMask joints_of_slaves(const NetworkPlan& plan, SlaveMask slaves) noexcept {
-  JointMask joints = 0;
-  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if ((slaves & slave_bit(p)) != 0 && plan[p].joint != kNoJoint) joints |= joint_bit(plan[p].joint);
-  }
-  return joints;
-}
-
-// Slaves carrying the joints in `joints`.
-constexpr SlaveMask slaves_of_joints(const NetworkPlan& plan, JointMask joints) noexcept {
-  SlaveMask slaves = 0;
-  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if (plan[p].joint != kNoJoint && (joints & joint_bit(plan[p].joint)) != 0) slaves |= slave_bit(p);
-  }
-  return slaves;
-}
-
 // Every slave behind `position` (its subtree, itself included): what a cut link into it loses.
 constexpr SlaveMask subtree_of(const NetworkPlan& plan, std::size_t position) noexcept {
   SlaveMask mask = slave_bit(position);
   for (std::size_t p = position + 1; p < kMaxSlaves; ++p) {
+    const std::uint8_t up = plan[p].upstream;
+    if (up != kMasterUpstream && (mask & slave_bit(up)) != 0) mask |= slave_bit(p);
+  }
+  return mask;
+}
+
+// `slaves` and every slave behind one of them (the closure of subtree_of over the set).
+constexpr SlaveMask subtrees_of(const NetworkPlan& plan, SlaveMask slaves) noexcept {
+  SlaveMask mask = slaves;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     const std::uint8_t up = plan[p].upstream;
     if (up != kMasterUpstream && (mask & slave_bit(up)) != 0) mask |= slave_bit(p);
   }

@@ -35,11 +35,11 @@ struct JointContext {
   bool fault_present{false}; // the drive reports a fault or a limit is violated right now
   bool loss_latched{false};  // recorded as lost (comm_lost or the error-joints file) until an operator clears it
   ControlMode requested_mode{ControlMode::none};  // argument of select_mode
-  std::int32_t actual_position_counts{0};         // argument of set_reference: the current position
+  double actual_position_rad{0.0};                // argument of set_reference: the current position
 
   // Effects the actions write; the joint manager publishes them to the EtherCAT handler.
   ControlMode mode{ControlMode::none};
-  std::int32_t reference_position_counts{0};
+  double reference_position_rad{0.0};
   bool drive_enabled{false};  // false: drive disabled, the worm gear holds the joint
 };
 
@@ -63,7 +63,7 @@ struct JointStatusDfa {
   static constexpr Action<Context> kApplyMode{
       [](Context& c) noexcept { c.mode = c.requested_mode; }, "mode := requested mode"};
   static constexpr Action<Context> kAlignReference{
-      [](Context& c) noexcept { c.reference_position_counts = c.actual_position_counts; },
+      [](Context& c) noexcept { c.reference_position_rad = c.actual_position_rad; },
       "reference := actual position"};
   static constexpr Action<Context> kClearMode{[](Context& c) noexcept { c.mode = ControlMode::none; },
                                               "mode := none"};

@@ -11,6 +11,7 @@
 #include "core/app/tasks/joint_events.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/concurrency/message_port.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::app::testing {
 
@@ -45,8 +46,10 @@ class FakeSamples final : public JointSampleSource {
       JointSample& s = robot[j];
       s.reachable = true;
       const JointLimits& lim = kJoints[j].limits;
-      s.position_rad = s.position_ref_rad = 0.5 * (lim.position_min_rad + lim.position_max_rad);
-      s.position_counts = rad_to_counts(s.position_rad) + static_cast<std::int32_t>(j);  // distinct per joint
+      // Distinct per joint, and a whole encoder count (what a drive reports).
+      s.position_rad = drivers::counts_to_rad(drivers::rad_to_counts(0.5 * (lim.position_min_rad + lim.position_max_rad)) +
+                                              static_cast<std::int32_t>(j));
+      s.position_ref_rad = s.position_rad;
     }
   }
   bool read(RobotSample& out) noexcept override {
@@ -123,7 +126,7 @@ class TempStateDir {
 struct Rig {
   explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in) {}
   JointManagerPorts ports() {
-    return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log};
+    return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
   }
   void command(JointMask joints, fsm::JointInput input, ControlMode mode = ControlMode::none) {
     ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode, JointCommandKind::dfa_input}));

@@ -55,7 +55,7 @@ struct SimulatedRobotRig {
   }
 
   // One period: sleep to the master's wake-up, exchange the frame.
-  ecat::CycleResult cycle(const drivers::JointReferences& references, drivers::JointFeedback& feedback) {
+  drivers::JointCycleResult cycle(const drivers::JointReferences& references, drivers::JointFeedback& feedback) {
     clock.sleep_until(bus.next_wakeup());
     return bus.cycle(references, feedback);
   }

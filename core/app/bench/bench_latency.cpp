@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
@@ -20,10 +21,10 @@ extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spaw
 namespace rescue::app {
 namespace {
 
-// The EtherCAT handler's settings in firmware.cpp (kHandlerPriority, kHandlerCpu, 1 ms period).
-constexpr int kHandlerPriority = 80;
-constexpr int kHandlerCpu = 3;
-constexpr hal::Nanoseconds kPeriod = hal::kNsPerMs;
+// The EtherCAT handler's settings (the task table: config/firmware_config.hpp).
+constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
+constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
+constexpr hal::Nanoseconds kPeriod = config::kEthercatHandlerPeriodNs;
 constexpr double kDefaultPeriods = 10000;
 constexpr std::size_t kCyclictestBuckets = 2000;  // us; beyond: overflow (counted in max only)
 

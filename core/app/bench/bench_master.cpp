@@ -199,16 +199,16 @@ int bench_master(const ParsedArgs& args) noexcept {
     clock.sleep_until(bus.next_wakeup());
     const std::uint64_t nic_before = nic.ticks();
     const std::uint64_t t0 = timer.start();
-    const ecat::CycleResult r = bus.cycle(enabler.refs, enabler.feedback);
+    const drivers::JointCycleResult r = bus.cycle(enabler.refs, enabler.feedback);
     const std::uint64_t total = timer.stop() - t0;
     // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
     const std::uint64_t in_nic = nic.ticks() - nic_before;
     g_master_ns.record(static_cast<std::uint64_t>(timer.to_ns(total - std::min(total, in_nic))));
     g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
-    g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(r.dc_phase_error)));
-    all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(bus.last_cycle().dc_phase_error)));
+    all_valid += r.valid == kAllJoints ? 1 : 0;
     frames_lost += r.frame_received ? 0 : 1;
-    while (bus.pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
+    while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);

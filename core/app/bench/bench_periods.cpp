@@ -10,7 +10,7 @@
 #include "core/app/links/task_links.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
-#include "core/app/tasks/joint_demand.hpp"
+#include "core/app/links/joint_demand_sink.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -25,7 +25,7 @@
 namespace rescue::app {
 
 // The two measured periods: out of line, with stable names, for callgrind's --toggle-collect.
-__attribute__((noinline)) ecat::CycleResult measured_handler_period(EthercatHandler& handler) noexcept {
+__attribute__((noinline)) drivers::JointCycleResult measured_handler_period(EthercatHandler& handler) noexcept {
   return handler.cycle();
 }
 __attribute__((noinline)) void measured_joint_manager_step(JointManager& manager, hal::Nanoseconds now) noexcept {
@@ -74,9 +74,9 @@ int bench_periods(const ParsedArgs& args) noexcept {
   static SeqlockSampleSource samples(g_links.samples);
   static hal::ManualWallClock wall;
   static NoEvents events;
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events});
+  static SeqlockDemandSink demand(g_links.demand);
+  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand});
   (void)manager.restore(g_clock.now());
-  g_links.demand.write(demand_of(manager));
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
   static EthercatHandler handler(bus, g_links, 0);
@@ -88,7 +88,7 @@ int bench_periods(const ParsedArgs& args) noexcept {
     g_clock.sleep_until(bus.next_wakeup());
     // Only the measured periods go through the named functions (callgrind counts inside them).
     const std::uint64_t t0 = timer.start();
-    const ecat::CycleResult r = record ? measured_handler_period(handler) : handler.cycle();
+    const drivers::JointCycleResult r = record ? measured_handler_period(handler) : handler.cycle();
     const std::uint64_t t1 = timer.stop();
     const std::uint64_t t2 = timer.start();
     if (record) {
@@ -96,7 +96,6 @@ int bench_periods(const ParsedArgs& args) noexcept {
     } else {
       manager.step(g_clock.now());
     }
-    g_links.demand.write(demand_of(manager));
     const std::uint64_t t3 = timer.stop();
     if (record) {
       g_handler.record(0, t0, t1);

@@ -1,4 +1,5 @@
 #include "core/app/bench/bench_sim.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -66,8 +67,8 @@ struct Exerciser {
       r.mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
       r.controlword = drivers::controlword_towards_enabled(feedback.joints[j].statusword, r.controlword);
       const bool moving = motion == Motion::move && aligned;
-      r.target_position = start[j] + (moving ? rad_to_counts(0.0002 * triangle) : 0);
-      r.target_velocity = moving ? rad_to_counts(0.001 * (triangle - 1000)) : 0;
+      r.target_position = start[j] + (moving ? drivers::rad_to_counts(0.0002 * triangle) : 0);
+      r.target_velocity = moving ? drivers::rad_to_counts(0.001 * (triangle - 1000)) : 0;
     }
   }
   bool all_enabled() const noexcept {
@@ -128,12 +129,12 @@ int run(Motion motion, std::uint64_t seed, std::int64_t cycles, const hal::TscTi
     g_clock.sleep_until(bus.next_wakeup());
     const std::uint64_t in_nic_before = nic.ticks();
     const std::uint64_t t0 = timer.start();
-    const ecat::CycleResult r = bus.cycle(exerciser.refs, exerciser.feedback);
+    const drivers::JointCycleResult r = bus.cycle(exerciser.refs, exerciser.feedback);
     const std::uint64_t total = timer.stop() - t0;
     g_cycle_ns.record(static_cast<std::uint64_t>(timer.to_ns(total)));
     // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
     g_segment_ns.record(static_cast<std::uint64_t>(timer.to_ns(nic.ticks() - in_nic_before)));
-    out.all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    out.all_valid += r.valid == kAllJoints ? 1 : 0;
   }
   out.host_ns = static_cast<std::uint64_t>(timer.to_ns(timer.stop() - run_start));
   out.cpu_ns = thread_cpu_ns() - cpu_start;

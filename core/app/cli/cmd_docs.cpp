@@ -1,9 +1,10 @@
-// rescue-motion docs fsm: documentation printed from the firmware's own tables, so docs/ cannot
+// rescue-motion docs fsm|tasks: documentation printed from the firmware's own tables, so docs/ cannot
 // drift from the code (a test compares docs/fsm.md with this command's output).
 #include <cstdio>
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "fsm/machines/documented_machines.hpp"
 #include "fsm/engine/table_docs.hpp"
 
@@ -17,7 +18,11 @@ const OptionSpec kOptions[] = {
 
 int docs_main(const ParsedArgs& args) {
   const char* topic = args.positional(0);
-  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm)");
+  if (std::strcmp(topic, "tasks") == 0) {
+    write_task_table_markdown(stdout);
+    return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
+  }
+  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm, tasks)");
   const char* format = args.value("format") != nullptr ? args.value("format") : "markdown";
   const bool dot = std::strcmp(format, "dot") == 0;
   if (!dot && std::strcmp(format, "markdown") != 0) return fail("docs", "--format must be markdown or dot");
@@ -43,11 +48,12 @@ int docs_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kDocsCommand{
-    "docs", "docs fsm [--format markdown|dot] [--machine NAME]",
+    "docs", "docs fsm|tasks [--format markdown|dot] [--machine NAME]",
     "print documentation generated from the firmware's tables",
     "Topics:\n"
-    "  fsm   every state machine: states, inputs, the (state, input) grid, guards and actions.\n"
-    "docs/fsm.md holds this output; render a diagram with\n"
+    "  fsm    every state machine: states, inputs, the (state, input) grid, guards and actions.\n"
+    "  tasks  the firmware's tasks (paper Table I): scheduling, CPU, period, shared memory, role.\n"
+    "docs/fsm.md and docs/tasks.md hold this output; render a state-machine diagram with\n"
     "  rescue-motion docs fsm --format dot | dot -Tsvg > fsm.svg",
     Span<const OptionSpec>(kOptions), 1, 1, docs_main};
 

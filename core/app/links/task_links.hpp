@@ -9,29 +9,21 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/links/joint_messages.hpp"
-#include "core/robot/joint_limits.hpp"
+#include "core/robot/joint_demand.hpp"
+#include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue::app {
 
-// What the joint manager wants of one drive, as the EtherCAT handler reads it every cycle.
-// Trivial (no member initialisers): published through a seqlock as bytes; value-initialise it.
-struct JointDemand {
-  bool enable;                    // DFA state Enabled: power the drive and follow the reference
-  std::int8_t mode;               // CiA 402 mode of operation (ControlMode)
-  std::int32_t position_counts;   // reference held while no RC task owns the motion
-};
-static_assert(std::is_trivial_v<JointDemand>, "published through the seqlock as bytes");
-using RobotDemand = std::array<JointDemand, kJointCount>;
-
 struct TaskLinks {
   static constexpr std::uint32_t kLayoutVersion = 1;
-  static constexpr std::size_t kReportQueueDepth = 16;
-  static constexpr std::size_t kNoticeQueueDepth = 16;
-  static constexpr std::size_t kCommandQueueDepth = 64;
+  static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
+  static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
+  static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
 
   std::uint32_t layout_version{kLayoutVersion};
   Seqlock<RobotSample> samples;                                   // handler -> joint manager, RC tasks

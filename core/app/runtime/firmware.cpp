@@ -8,9 +8,9 @@
 #include <thread>
 
 #include "core/app/cli/cli.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
-#include "core/app/tasks/joint_demand.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/links/joint_sample_source.hpp"
@@ -34,15 +34,16 @@
 namespace rescue::app {
 namespace {
 
-constexpr int kHandlerPriority = 80;
-constexpr int kJointManagerPriority = 70;
-constexpr int kHandlerCpu = 3;        // design brief Table I, on a 4-thread motion PC
-constexpr int kJointManagerCpu = 2;
-constexpr hal::Nanoseconds kJointManagerPeriod = hal::kNsPerMs;
-constexpr hal::Nanoseconds kLoggerPeriod = 5 * hal::kNsPerMs;
-constexpr hal::Nanoseconds kDisableTimeout = 500 * hal::kNsPerMs;
+// Priorities, CPUs and periods: the task table (runtime/task_table.hpp, config/firmware_config.hpp).
+constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
+constexpr int kJointManagerPriority = config::kJointManagerPriority;
+constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
+constexpr int kJointManagerCpu = config::kJointManagerCpu;
+constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
+constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
+constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 // A scenario without --duration runs this long after it acted, then stops.
-constexpr hal::Nanoseconds kScenarioRunOn = hal::kNsPerSec;
+constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
 // Everything the tasks use, in static storage: taken once at start-up, never from the heap.
 TaskLinks g_links;
@@ -60,12 +61,12 @@ int cpu_for(int wanted) noexcept {
 }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
-  hal::RtConfig config;
-  config.lock_memory = false;  // done once for the process
-  config.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
-  config.fifo_priority = priority;
-  config.cpu = cpu_for(cpu);
-  const hal::RtReport report = hal::apply_rt_config(config);
+  hal::RtConfig rt;
+  rt.lock_memory = false;  // done once for the process
+  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
+  rt.fifo_priority = priority;
+  rt.cpu = cpu_for(cpu);
+  const hal::RtReport report = hal::apply_rt_config(rt);
   if (!report.fully_applied()) {
     (void)std::printf("%s: running degraded, %zu real-time setting(s) refused:\n", task, report.refused_count());
   }
@@ -133,7 +134,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     const hal::Nanoseconds release = bus.next_wakeup();
     clock.sleep_until(release);
     const std::uint64_t work_start = timing.timer.start();
-    const ecat::CycleResult r = handler.cycle();
+    const drivers::JointCycleResult r = handler.cycle();
     const std::uint64_t work_end = timing.timer.stop();
     const hal::Nanoseconds now = clock.now();
     // Woke at now - the work's duration: no extra clock read.
@@ -166,13 +167,11 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
     const hal::Nanoseconds woke = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     manager.step(woke);
-    g_links.demand.write(demand_of(manager));
     timing.manager.record(woke - next, work_start, timing.timer.stop());
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
   manager.step(clock.now());  // the last answers and marks
-  g_links.demand.write(demand_of(manager));
 }
 
 // Whether the handler's latest published values show every joint of `joints` reachable.
@@ -247,7 +246,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
   static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
   static SeqlockSampleSource samples(g_links.samples);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events});
+  static SeqlockDemandSink demand_sink(g_links.demand);
+  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events, &demand_sink});
   static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(g_links.joint_commands);
 
   static SelectedNic selected;
@@ -259,7 +259,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   events.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
-  g_links.demand.write(demand_of(manager));
   if (restored.restored != 0) {
     char names[kJointNamesCapacity];
     format_joint_names(restored.restored, names, sizeof names);
@@ -294,10 +293,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
-  master_options.known_lost = out_of_service;
+
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
-  const Status up = bus.bring_up(master_options);
+  const Status up = bus.bring_up(master_options, out_of_service);
   if (!up.ok()) {
     if (to_clear != 0) {
       (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "

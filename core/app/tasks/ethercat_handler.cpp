@@ -1,6 +1,7 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 
 #include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::app {
 namespace {
@@ -8,8 +9,6 @@ namespace {
 // CiA 402 statusword: voltage enabled (bit 4) / operation enabled (bit 2) tell a powered stage.
 constexpr std::uint16_t kSwOperationEnabled = 0x0004;
 constexpr std::uint16_t kSwSwitchedOn = 0x0002;
-
-constexpr double kPerMille = 1000.0;
 
 }  // namespace
 
@@ -40,7 +39,7 @@ void EthercatHandler::build_outputs() noexcept {
     if (demand_[j].mode != 0) out.mode_of_operation = demand_[j].mode;
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
-      out.target_position = demand_[j].position_counts;
+      out.target_position = drivers::rad_to_counts(demand_[j].position_ref_rad);
     } else {
       out.controlword = drivers::controlword_towards_disabled(in.statusword);
       // A disabled drive's target follows its actual position, so enabling later moves nothing.
@@ -51,22 +50,20 @@ void EthercatHandler::build_outputs() noexcept {
   }
 }
 
-void EthercatHandler::publish_sample(const ecat::CycleResult& result) noexcept {
+void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) noexcept {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
-    const double rated = kJoints[j].rated_torque_nm;
-    s.position_ref_rad = counts_to_rad(out.target_position);
-    s.velocity_ref_rad_s = counts_to_rad(out.target_velocity);
-    s.torque_ref_nm = static_cast<double>(out.target_torque) * rated / kPerMille;
-    const bool valid = (result.valid_joints & joint_bit(j)) != 0;
+    s.position_ref_rad = drivers::counts_to_rad(out.target_position);
+    s.velocity_ref_rad_s = drivers::counts_to_rad(out.target_velocity);
+    s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
+    const bool valid = (result.valid & joint_bit(j)) != 0;
     s.reachable = valid;
     if (!valid) continue;  // last known values stay (reconfiguration step 2 reads them)
     const drivers::JointInputs& in = feedback_.joints[j];
-    s.position_counts = in.position_actual;
-    s.position_rad = counts_to_rad(in.position_actual);
-    s.velocity_rad_s = counts_to_rad(in.velocity_actual);
-    s.torque_nm = static_cast<double>(in.torque_actual) * rated / kPerMille;
+    s.position_rad = drivers::counts_to_rad(in.position_actual);
+    s.velocity_rad_s = drivers::counts_to_rad(in.velocity_actual);
+    s.torque_nm = drivers::per_mille_to_nm(in.torque_actual, kJoints[j]);
     s.drive_fault = drivers::is_faulted(in.statusword);
     s.drive_error_code = in.error_code;
   }
@@ -81,21 +78,21 @@ std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
   return sum;
 }
 
-ecat::CycleResult EthercatHandler::cycle() noexcept {
+drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   build_outputs();
-  const ecat::CycleResult result = bus_.cycle(outputs_, feedback_);
+  const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
   publish_sample(result);
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
 
   // Master's link events (lost, restored, not operational), for the log.
-  ecat::LinkReport link{};
+  drivers::JointLinkReport link{};
   while (bus_.pop_report(link)) {
     HandlerEvent e{};
     e.kind = HandlerEventKind::link_report;
     e.cycle = result.cycle;
-    e.time = link.time;
+    e.time = link.link.time;
     e.joints = link.joints;
-    e.link = link;
+    e.link = link.link;
     post(e);
   }
 
@@ -106,7 +103,7 @@ ecat::CycleResult EthercatHandler::cycle() noexcept {
   if (counting) {
     // A frame that did not come back says nothing about single joints (a late frame on a busy
     // host): then only what the master has established as out of the exchange counts.
-    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid_joints : result.out_joints;
+    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid : result.out;
     tracker_.on_cycle(result.cycle, now, unreachable);
     if (tracker_.reports_sent() != last_reports_sent_) {
       last_reports_sent_ = tracker_.reports_sent();
@@ -133,14 +130,14 @@ ecat::CycleResult EthercatHandler::cycle() noexcept {
     // it costs every joint the cycle, whatever the network's state.
     if (!result.frame_received) ++frames_missing_;
     for (std::size_t j = 0; result.frame_received && j < kJointCount; ++j) {
-      if ((result.valid_joints & joint_bit(j)) == 0) ++missed_[j];
+      if ((result.valid & joint_bit(j)) == 0) ++missed_[j];
     }
   }
 
   // The handler's own limit check over the joints it drives this cycle.
   JointMask monitored = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
-    if (demand_[j].enable && (result.valid_joints & joint_bit(j)) != 0) monitored |= joint_bit(j);
+    if (demand_[j].enable && (result.valid & joint_bit(j)) != 0) monitored |= joint_bit(j);
   }
   monitored &= ~tracker_.excluded();
   const SafeStopDecision decision = decide_safe_stop(sample_, monitored);
@@ -158,7 +155,7 @@ ecat::CycleResult EthercatHandler::cycle() noexcept {
   if (stopping_ && !drives_disabled_) {
     bool all_off = true;
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((result.valid_joints & joint_bit(j)) == 0) continue;
+      if ((result.valid & joint_bit(j)) == 0) continue;
       if ((feedback_.joints[j].statusword & (kSwOperationEnabled | kSwSwitchedOn)) != 0) all_off = false;
     }
     if (all_off) {
@@ -167,7 +164,7 @@ ecat::CycleResult EthercatHandler::cycle() noexcept {
       e.kind = HandlerEventKind::drives_disabled;
       e.cycle = result.cycle;
       e.time = now;
-      e.joints = result.valid_joints;
+      e.joints = result.valid;
       post(e);
     }
   }

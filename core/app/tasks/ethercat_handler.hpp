@@ -40,7 +40,7 @@ struct HandlerEvent {
   std::uint64_t cycle{0};
   hal::Nanoseconds time{0};
   JointMask joints{0};
-  ecat::LinkReport link{};       // link_report
+  ecat::LinkReport link{};       // link_report (its slaves; `joints` holds their joints)
   Errc file_status{Errc::ok};    // loss_recorded
   SafeStopDecision stop{};       // safe_stop
 };
@@ -54,7 +54,7 @@ class EthercatHandler {
   EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept;
 
   // One period; call at bus().next_wakeup() once the bus is up.
-  ecat::CycleResult cycle() noexcept;
+  drivers::JointCycleResult cycle() noexcept;
 
   // Shutdown: from now on every drive is driven to a disabled power stage.
   void stop_drives() noexcept { stopping_ = true; }
@@ -78,7 +78,7 @@ class EthercatHandler {
 
  private:
   void build_outputs() noexcept;
-  void publish_sample(const ecat::CycleResult& result) noexcept;
+  void publish_sample(const drivers::JointCycleResult& result) noexcept;
   void post(const HandlerEvent& event) noexcept;
 
   // Largest and most aligned first (the event queue's indices sit on cache lines of their own).

@@ -2,6 +2,8 @@
 
 #include <cassert>
 
+#include "drivers/joint/joint_units.hpp"
+
 namespace rescue::app {
 namespace {
 
@@ -54,7 +56,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   report.records_dropped = decoded.records_rejected;
   recorded_ = decoded.contents;
   for (const LostJointRecord& r : recorded_.records) {
-    latch_loss(r.joint, r.reason, r.last_position_counts, now);
+    latch_loss(r.joint, r.reason, drivers::counts_to_rad(r.last_position_counts), now);
     report.restored |= joint_bit(r.joint);
   }
   if (!decoded.status.ok()) {
@@ -103,8 +105,8 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
   emit_step(1, reported, now);
 
   // Step 2: the last state the handler published for them (it leaves an unreachable joint's last values).
-  std::array<std::int32_t, kJointCount> last_position{};
-  for (std::size_t j = 0; j < kJointCount; ++j) last_position[j] = sample_[j].position_counts;
+  std::array<double, kJointCount> last_position{};
+  for (std::size_t j = 0; j < kJointCount; ++j) last_position[j] = sample_[j].position_rad;
   emit_step(2, fresh, now);
 
   // Step 3: the file lists every joint lost so far, not only this report's, so no joint's record is
@@ -118,7 +120,7 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
       LostJointRecord r;
       r.joint = static_cast<std::uint8_t>(j);
       r.reason = FaultReason::comm_lost;
-      r.last_position_counts = last_position[j];
+      r.last_position_counts = drivers::rad_to_counts(last_position[j]);  // the file keeps the encoder's count
       r.time_unix_ns = wall;
       r.cycle = report.cycle;
       (void)next.records.push_back(r);  // cannot fail: fresh joints are not recorded yet
@@ -144,10 +146,10 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
   emit_step(5, fresh, now);
 }
 
-void JointManager::latch_loss(std::size_t j, FaultReason reason, std::int32_t position, hal::Nanoseconds now) noexcept {
+void JointManager::latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept {
   lost_ |= joint_bit(j);
   Joint& joint = joints_[j];
-  joint.held_position_counts = position;
+  joint.held_position_rad = position_rad;
   joint.fault = JointFault{reason, 0.0, 0.0};
   JointEvent e = joint_event(JointEventKind::fault, j, now);
   e.fault = joint.fault;
@@ -180,7 +182,7 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
       continue;
     }
     joints_[j].context.requested_mode = command.mode;
-    joints_[j].context.actual_position_counts = sample_[j].position_counts;
+    joints_[j].context.actual_position_rad = sample_[j].position_rad;
     if (!dispatch(j, command.input, now).ok()) ++refused_commands_;
   }
 }
@@ -350,10 +352,19 @@ void JointManager::publish() noexcept {
     s.mode = joint.context.mode;
     s.drive_enabled = joint.context.drive_enabled;
     s.lost = (lost_ & joint_bit(j)) != 0;
-    s.reference_position_counts = joint.context.reference_position_counts;
-    s.held_position_counts = joint.held_position_counts;
+    s.reference_position_rad = joint.context.reference_position_rad;
+    s.held_position_rad = joint.held_position_rad;
     s.fault = joint.fault;
   }
+  if (ports_.demand == nullptr) return;
+  RobotDemand demand{};
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointStatus& s = status_[j];
+    demand[j].enable = s.drive_enabled && !s.lost;
+    demand[j].mode = static_cast<std::int8_t>(s.mode);
+    demand[j].position_ref_rad = s.reference_position_rad;
+  }
+  ports_.demand->publish(demand);
 }
 
 }  // namespace rescue::app

@@ -31,6 +31,7 @@
 #include "core/containers/fixed_vector.hpp"
 #include "core/robot/joint_limits.hpp"
 #include "core/concurrency/message_port.hpp"
+#include "core/app/links/joint_demand_sink.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/time/clock.hpp"
 #include "hal/time/wall_clock.hpp"
@@ -45,6 +46,7 @@ struct JointManagerPorts {
   ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
   hal::WallClock* wall_clock;                  // Unix time for the file's records
   JointEventSink* events;                      // what happened, for the log
+  JointDemandSink* demand;                     // its drive demand, after every step (nullptr: not published)
 };
 
 // What the joint manager publishes about one joint (shared memory, read by the handler and RC tasks).
@@ -53,8 +55,8 @@ struct JointStatus {
   ControlMode mode{ControlMode::none};
   bool drive_enabled{false};
   bool lost{false};                         // recorded lost: RC tasks plan without it
-  std::int32_t reference_position_counts{0};
-  std::int32_t held_position_counts{0};     // where a lost joint's worm gear holds it
+  double reference_position_rad{0.0};
+  double held_position_rad{0.0};            // where a lost joint's worm gear holds it
   JointFault fault{};                       // why it is (or was last) in Error
 };
 
@@ -108,7 +110,7 @@ class JointManager {
     fsm::JointStatusMachine machine;
     fsm::JointContext context;
     JointFault fault;
-    std::int32_t held_position_counts{0};
+    double held_position_rad{0.0};
   };
 
   void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
@@ -122,7 +124,7 @@ class JointManager {
   void flush_notices() noexcept;
   // Dispatches `input` to joint j with its guard facts refreshed; logs the transition or the refusal.
   Status dispatch(std::size_t j, fsm::JointInput input, hal::Nanoseconds now) noexcept;
-  void latch_loss(std::size_t j, FaultReason reason, std::int32_t position, hal::Nanoseconds now) noexcept;
+  void latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept;
   void emit(const JointEvent& event) const noexcept { ports_.events->on_event(event); }
   void emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept;
 

@@ -1,4 +1,5 @@
 #include "drivers/sim/devices/cia402_drive.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -20,7 +21,7 @@ bool supported(std::int8_t mode) noexcept {
          mode == static_cast<std::int8_t>(ControlMode::cyclic_torque) || mode == 0;
 }
 
-double rad(std::int64_t counts) noexcept { return static_cast<double>(counts) / kCountsPerRad; }
+double rad(std::int64_t counts) noexcept { return static_cast<double>(counts) / drivers::kCountsPerRad; }
 
 }  // namespace
 
@@ -109,7 +110,7 @@ MotorCommand Cia402Drive::motor_command(const DriveSettings& settings) noexcept 
 }
 
 std::int32_t Cia402Drive::following_error_counts() const noexcept {
-  return static_cast<std::int32_t>((target_position_rad_ - motor_.position_rad()) * kCountsPerRad);
+  return static_cast<std::int32_t>((target_position_rad_ - motor_.position_rad()) * drivers::kCountsPerRad);
 }
 
 void Cia402Drive::advance(hal::Nanoseconds dt, const DriveSettings& settings) noexcept {

@@ -1,4 +1,5 @@
 #include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <limits>
 
@@ -191,7 +192,7 @@ JointDriveObjects::JointDriveObjects(std::size_t joint, std::size_t position) no
   od_.set(0x1C13, 0, 1);
   od_.set(0x1C13, 1, kJointTxPdoIndex);
   od_.set(0x6060, 0, static_cast<std::uint8_t>(info.default_mode));
-  od_.set(0x6065, 0, static_cast<std::uint32_t>(rad_to_counts(0.5)));
+  od_.set(0x6065, 0, static_cast<std::uint32_t>(drivers::rad_to_counts(0.5)));
   od_.set(0x6066, 0, 100);
   od_.set(0x6072, 0, 1000);
   od_.set(0x6076, 0, static_cast<std::uint32_t>(info.rated_torque_nm * 1000.0));
@@ -200,10 +201,10 @@ JointDriveObjects::JointDriveObjects(std::size_t joint, std::size_t position) no
     od_.set(0x607D, 1, u32_of(std::numeric_limits<std::int32_t>::min()));
     od_.set(0x607D, 2, u32_of(std::numeric_limits<std::int32_t>::max()));
   } else {
-    od_.set(0x607D, 1, u32_of(rad_to_counts(info.limits.position_min_rad)));
-    od_.set(0x607D, 2, u32_of(rad_to_counts(info.limits.position_max_rad)));
+    od_.set(0x607D, 1, u32_of(drivers::rad_to_counts(info.limits.position_min_rad)));
+    od_.set(0x607D, 2, u32_of(drivers::rad_to_counts(info.limits.position_max_rad)));
   }
-  const auto max_speed = static_cast<std::uint32_t>(rad_to_counts(info.limits.velocity_max_rad_s));
+  const auto max_speed = static_cast<std::uint32_t>(drivers::rad_to_counts(info.limits.velocity_max_rad_s));
   od_.set(0x607F, 0, max_speed);
   od_.set(0x6080, 0, max_speed);
   od_.set(0x6502, 0, kSupportedModesCsxBits);

@@ -1,4 +1,5 @@
 #include "drivers/sim/devices/joint_motor_model.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -141,7 +142,7 @@ void JointMotorModel::substep(const MotorCommand& c, double dt, MotorState& s) c
 
 std::int32_t JointMotorModel::position_counts() const noexcept {
   // Wrap like a 32-bit modulo encoder counter (continuous joints run past the int32 range).
-  const double counts = inline_math::nearbyint(position_ * kCountsPerRad);
+  const double counts = inline_math::nearbyint(position_ * drivers::kCountsPerRad);
   // fmod(x, 2^32) is x itself inside +-2^32 (every joint but a long-running track): skip the call.
   const double wrapped = std::fabs(counts) < kTwoTo32 ? counts : std::fmod(counts, kTwoTo32);
   const auto raw = static_cast<std::int64_t>(wrapped);
@@ -149,7 +150,7 @@ std::int32_t JointMotorModel::position_counts() const noexcept {
 }
 
 std::int32_t JointMotorModel::velocity_counts_s() const noexcept {
-  return static_cast<std::int32_t>(inline_math::nearbyint(velocity_ * kCountsPerRad));
+  return static_cast<std::int32_t>(inline_math::nearbyint(velocity_ * drivers::kCountsPerRad));
 }
 
 std::int16_t JointMotorModel::torque_per_mille() const noexcept {

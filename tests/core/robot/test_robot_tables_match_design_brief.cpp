@@ -67,12 +67,5 @@ TEST(Robot, JointNameListRejectsUnknownAndEmptyItemsNamingTheItem) {
   EXPECT_FALSE(parse_joint_names(nullptr).ok());
 }
 
-TEST(Robot, CountsRoundTripAndSaturate) {
-  EXPECT_NEAR(counts_to_rad(rad_to_counts(1.25)), 1.25, 1e-5);
-  EXPECT_EQ(rad_to_counts(1e9), 2147483647);
-  EXPECT_EQ(rad_to_counts(-1e9), -2147483647 - 1);
-  EXPECT_EQ(rad_to_counts(std::nan("")), -2147483647 - 1);
-}
-
 }  // namespace
 }  // namespace rescue

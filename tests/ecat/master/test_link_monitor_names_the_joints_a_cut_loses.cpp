@@ -104,8 +104,8 @@ TEST_P(LinkMonitorCut, ReportsExactlyTheLinkFailureSetAndKeepsTheRestValid) {
   {
     for (int i = 0; i < 5; ++i) (void)t.run_cycle();
     const JointMask expected = joints_lost_by_link_failure_at(j);
-    const SlaveMask expected_slaves = slaves_of_joints(kRobotNetworkPlan, expected);
-    const SlaveMask healthy = slaves_of_joints(kRobotNetworkPlan, kAllJoints & ~expected);
+    const SlaveMask expected_slaves = drivers::slaves_of_joints(expected);
+    const SlaveMask healthy = drivers::slaves_of_joints(kAllJoints & ~expected);
 
     t.net.cut_link_into(slave_position_of_joint(j));
     const std::uint64_t cut_cycle = t.cycle + 1;
@@ -117,7 +117,7 @@ TEST_P(LinkMonitorCut, ReportsExactlyTheLinkFailureSetAndKeepsTheRestValid) {
     ASSERT_EQ(t.reports.size(), 1u);
     const LinkReport& r = t.reports[0];
     EXPECT_EQ(r.kind, LinkEventKind::lost);
-    EXPECT_EQ(r.joints, expected);
+    EXPECT_EQ(drivers::joints_of_slaves(r.slaves), expected);
     EXPECT_EQ(r.detected_cycle, cut_cycle);  // the working counter of the cut's own cycle
     EXPECT_EQ(r.cycle, cut_cycle + 1);       // confirmed by probing in the next
     EXPECT_EQ(r.branch, static_cast<std::uint8_t>(kJoints[j].branch));
@@ -184,7 +184,7 @@ TEST_F(LinkMonitorTest, NoFrameBackForThreeCyclesLosesEveryone) {
   (void)run_cycle();
   ASSERT_EQ(reports.size(), 1u);
   EXPECT_EQ(reports[0].kind, LinkEventKind::lost);
-  EXPECT_EQ(reports[0].joints, kAllJoints);
+  EXPECT_EQ(drivers::joints_of_slaves(reports[0].slaves), kAllJoints);
   EXPECT_EQ(reports[0].branch, kNoBranch);
 }
 

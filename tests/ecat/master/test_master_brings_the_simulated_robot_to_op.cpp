@@ -9,6 +9,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -30,14 +31,14 @@ TEST(MasterOnSimulatedRobot, BringsEverySlaveToOp) {
 
   drivers::JointReferences refs{};
   drivers::JointFeedback feedback{};
-  CycleResult r;
+  drivers::JointCycleResult r;
   for (int i = 0; i < 200 && master.state() != MasterState::op; ++i) r = rig->cycle(refs, feedback);
   ASSERT_EQ(master.state(), MasterState::op) << describe_failure(master);
   for (int i = 0; i < 50; ++i) {
     r = rig->cycle(refs, feedback);
     ASSERT_TRUE(r.frame_received);
-    EXPECT_EQ(r.valid_joints, kAllJoints) << "cycle " << r.cycle;
-    for (std::size_t b = 0; b < kMaxBranches; ++b) EXPECT_EQ(r.branch_wkc[b], r.expected_wkc[b]);
+    EXPECT_EQ(r.valid, kAllJoints) << "cycle " << r.cycle;
+    for (std::size_t b = 0; b < kMaxBranches; ++b) EXPECT_EQ(rig->bus.last_cycle().branch_wkc[b], rig->bus.last_cycle().expected_wkc[b]);
   }
   LinkReport report;
   EXPECT_FALSE(master.pop_report(report)) << to_string(report.kind);
@@ -76,16 +77,16 @@ TEST(MasterOnSimulatedRobot, EnablesEveryDriveAndTheJointsFollowTheirTargets) {
 
   // The elbow moves 0.2 rad in 0.5 s; every other joint holds.
   const std::size_t elbow = joint_index_by_name("l_elbow");
-  const std::int32_t goal = hold[elbow] + rad_to_counts(0.2);
+  const std::int32_t goal = hold[elbow] + drivers::rad_to_counts(0.2);
   for (int i = 0; i < 1000; ++i) {
     const double f = std::min(1.0, i / 500.0);
     refs[elbow].target_position = hold[elbow] + static_cast<std::int32_t>(f * (goal - hold[elbow]));
-    const CycleResult r = rig->cycle(refs, fb);
-    ASSERT_EQ(r.valid_joints, kAllJoints);
+    const drivers::JointCycleResult r = rig->cycle(refs, fb);
+    ASSERT_EQ(r.valid, kAllJoints);
   }
-  EXPECT_NEAR(fb.joints[elbow].position_actual, goal, rad_to_counts(0.002));
+  EXPECT_NEAR(fb.joints[elbow].position_actual, goal, drivers::rad_to_counts(0.002));
   const std::size_t neck = joint_index_by_name("neck_pan");
-  EXPECT_NEAR(fb.joints[neck].position_actual, hold[neck], rad_to_counts(0.002));
+  EXPECT_NEAR(fb.joints[neck].position_actual, hold[neck], drivers::rad_to_counts(0.002));
   EXPECT_EQ(fb.joints[elbow].mode_display, static_cast<std::int8_t>(ControlMode::cyclic_position));
 }
 

@@ -8,6 +8,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -30,14 +31,14 @@ class RunningRobot : public ::testing::Test {
     for (int i = 0; i < 100 && fb.valid == kAllJoints && !all_enabled(); ++i) (void)enable_step();
     for (std::size_t j = 0; j < kJointCount; ++j) ASSERT_TRUE(drivers::is_enabled(fb.joints[j].statusword)) << kJoints[j].name;
   }
-  CycleResult cycle() { return rig->cycle(refs, fb); }
+  drivers::JointCycleResult cycle() { return rig->cycle(refs, fb); }
   bool all_enabled() const {
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if (!drivers::is_enabled(fb.joints[j].statusword)) return false;
     }
     return true;
   }
-  CycleResult enable_step() {
+  drivers::JointCycleResult enable_step() {
     for (std::size_t j = 0; j < kJointCount; ++j) refs[j].controlword = drivers::controlword_towards_enabled(fb.joints[j].statusword, refs[j].controlword);
     return cycle();
   }
@@ -52,8 +53,8 @@ TEST_F(RunningRobot, DriveFaultArrivesAsInputsAndIsReset) {
   rig->drive(elbow).drive().inject_fault(0x2310, false);  // over-current, cause gone at once
   bool seen = false;
   for (int i = 0; i < 20; ++i) {
-    const CycleResult r = cycle();
-    EXPECT_EQ(r.valid_joints, kAllJoints) << "a drive fault is not a lost link";
+    const drivers::JointCycleResult r = cycle();
+    EXPECT_EQ(r.valid, kAllJoints) << "a drive fault is not a lost link";
     if (drivers::is_faulted(fb.joints[elbow].statusword)) {
       seen = true;
       EXPECT_EQ(fb.joints[elbow].error_code, 0x2310);
@@ -66,7 +67,7 @@ TEST_F(RunningRobot, DriveFaultArrivesAsInputsAndIsReset) {
     }
   }
   LinkReport report;
-  EXPECT_FALSE(rig->bus.pop_report(report));
+  EXPECT_FALSE(rig->bus.master().pop_report(report));
 
   refs[elbow].target_position = fb.joints[elbow].position_actual;  // hold where it stopped
   for (int i = 0; i < 10; ++i) (void)enable_step();
@@ -95,8 +96,8 @@ TEST_F(RunningRobot, SdoRoundTripsThroughTheCyclicFrame) {
   ASSERT_TRUE(mailbox.submit(sdo_upload(neck, 0x5FFF, 0, 5)));             // no such object
   std::vector<SdoCompletion> done;
   for (int i = 0; i < 200 && done.size() < 5; ++i) {
-    const CycleResult r = cycle();
-    EXPECT_EQ(r.valid_joints, kAllJoints) << "the mailbox never costs a cycle";
+    const drivers::JointCycleResult r = cycle();
+    EXPECT_EQ(r.valid, kAllJoints) << "the mailbox never costs a cycle";
     SdoCompletion c;
     while (mailbox.pop_completion(c)) done.push_back(c);
   }
@@ -131,7 +132,7 @@ TEST_F(RunningRobot, JointLimitsWrittenAtRuntime) {
     EXPECT_EQ(c.outcome, SdoOutcome::ok) << std::hex << c.request.index << " " << c.abort_code;
     EXPECT_EQ(c.request.tag, 77u);
   }
-  EXPECT_EQ(rig->drive(elbow).objects().od().get_i32(0x607D, 2), rad_to_counts(1.0));
+  EXPECT_EQ(rig->drive(elbow).objects().od().get_i32(0x607D, 2), drivers::rad_to_counts(1.0));
   EXPECT_EQ(rig->drive(elbow).objects().od().get_u32(0x6072, 0), 500u);  // 40 of 80 Nm
 }
 

@@ -36,31 +36,31 @@ TEST(MasterReintegration, RestoredJointsComeBackOnlyWhenAsked) {
   LinkReport report;
   for (int i = 0; i < 40; ++i) {
     (void)rig->cycle(refs, fb);
-    while (rig->bus.pop_report(report)) {
-      if (report.kind == LinkEventKind::restored) restored |= report.joints;
+    while (rig->bus.master().pop_report(report)) {
+      if (report.kind == LinkEventKind::restored) restored |= drivers::joints_of_slaves(report.slaves);
     }
   }
   ASSERT_EQ(restored, lost);
-  for (int i = 0; i < 50; ++i) EXPECT_EQ(rig->cycle(refs, fb).valid_joints & lost, 0u);
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(rig->cycle(refs, fb).valid & lost, 0u);
 
   ASSERT_TRUE(rig->bus.reintegrate(lost));
   EXPECT_FALSE(rig->bus.reintegrate(lost)) << "one re-integration at a time";
   JointMask back = 0;
   int cycles = 0;
   for (; cycles < 50 && back != lost; ++cycles) {
-    const CycleResult r = rig->cycle(refs, fb);
-    EXPECT_EQ(r.valid_joints & ~lost, kAllJoints & ~lost) << "healthy joints keep every cycle";
-    while (rig->bus.pop_report(report)) {
+    const drivers::JointCycleResult r = rig->cycle(refs, fb);
+    EXPECT_EQ(r.valid & ~lost, kAllJoints & ~lost) << "healthy joints keep every cycle";
+    while (rig->bus.master().pop_report(report)) {
       ASSERT_EQ(report.kind, LinkEventKind::reintegrated) << to_string(report.kind);
-      back |= report.joints;
+      back |= drivers::joints_of_slaves(report.slaves);
     }
   }
   ASSERT_EQ(back, lost);
   EXPECT_LE(cycles, 10);
-  const CycleResult r = rig->cycle(refs, fb);
-  EXPECT_EQ(r.valid_joints, kAllJoints);
-  EXPECT_EQ(r.out_joints, 0u);
-  for (std::size_t b = 0; b < kMaxBranches; ++b) EXPECT_EQ(r.branch_wkc[b], r.expected_wkc[b]);
+  const drivers::JointCycleResult r = rig->cycle(refs, fb);
+  EXPECT_EQ(r.valid, kAllJoints);
+  EXPECT_EQ(r.out, 0u);
+  for (std::size_t b = 0; b < kMaxBranches; ++b) EXPECT_EQ(rig->bus.last_cycle().branch_wkc[b], rig->bus.last_cycle().expected_wkc[b]);
   EXPECT_EQ(rig->segment.esc(position).al_state(), reg::AlState::op);
 
   // Its drive is enabled again like any other.

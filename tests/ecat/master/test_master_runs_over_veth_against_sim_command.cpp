@@ -44,7 +44,7 @@ class MasterOverVeth : public rescue::testing::NetnsTest {
     bus_ = std::make_unique<drivers::JointBus>(nic_);
   }
 
-  ecat::CycleResult cycle() {
+  drivers::JointCycleResult cycle() {
     nic_.clock().sleep_until(bus_->next_wakeup());
     return bus_->cycle(refs_, feedback_);
   }
@@ -69,7 +69,7 @@ TEST_F(MasterOverVeth, ReachesOpAndReportsACutExactly) {
   for (int i = 0; i < 1000 && bus_->master().state() != ecat::MasterState::op; ++i) (void)cycle();
   ASSERT_EQ(bus_->master().state(), ecat::MasterState::op);
   int all_valid = 0;
-  for (int i = 0; i < 500; ++i) all_valid += cycle().valid_joints == kAllJoints ? 1 : 0;
+  for (int i = 0; i < 500; ++i) all_valid += cycle().valid == kAllJoints ? 1 : 0;
   EXPECT_GE(all_valid, 495) << "cycles with every joint valid (a late frame on a loaded machine is tolerated)";
 
   const JointMask lost = joints_lost_by_link_failure_at(joint_index_by_name("l_elbow"));
@@ -78,15 +78,15 @@ TEST_F(MasterOverVeth, ReachesOpAndReportsACutExactly) {
   JointMask reported = 0;
   for (int i = 0; i < 2000 && reported == 0; ++i) {
     (void)cycle();
-    while (bus_->pop_report(report)) {
-      if (report.kind == ecat::LinkEventKind::lost) reported |= report.joints;
+    while (bus_->master().pop_report(report)) {
+      if (report.kind == ecat::LinkEventKind::lost) reported |= drivers::joints_of_slaves(report.slaves);
     }
   }
   EXPECT_EQ(reported, lost);
   for (int i = 0; i < 100; ++i) {
-    const ecat::CycleResult r = cycle();
+    const drivers::JointCycleResult r = cycle();
     if (r.frame_received) {
-      EXPECT_EQ(r.valid_joints, kAllJoints & ~lost);
+      EXPECT_EQ(r.valid, kAllJoints & ~lost);
     }
   }
 
@@ -94,8 +94,8 @@ TEST_F(MasterOverVeth, ReachesOpAndReportsACutExactly) {
   JointMask restored = 0;
   for (int i = 0; i < 2000 && restored != lost; ++i) {
     (void)cycle();
-    while (bus_->pop_report(report)) {
-      if (report.kind == ecat::LinkEventKind::restored) restored |= report.joints;
+    while (bus_->master().pop_report(report)) {
+      if (report.kind == ecat::LinkEventKind::restored) restored |= drivers::joints_of_slaves(report.slaves);
     }
   }
   EXPECT_EQ(restored, lost);
@@ -103,8 +103,8 @@ TEST_F(MasterOverVeth, ReachesOpAndReportsACutExactly) {
   JointMask back = 0;
   for (int i = 0; i < 200 && back != lost; ++i) {
     (void)cycle();
-    while (bus_->pop_report(report)) {
-      if (report.kind == ecat::LinkEventKind::reintegrated) back |= report.joints;
+    while (bus_->master().pop_report(report)) {
+      if (report.kind == ecat::LinkEventKind::reintegrated) back |= drivers::joints_of_slaves(report.slaves);
     }
   }
   EXPECT_EQ(back, lost);

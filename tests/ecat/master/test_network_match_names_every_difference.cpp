@@ -37,7 +37,7 @@ std::vector<FoundSlave> robot() {
 }
 
 NetworkMatch match(const std::vector<FoundSlave>& found, JointMask lost = 0) {
-  return match_network(kRobotNetworkPlan, Span<const FoundSlave>(found.data(), found.size()), lost);
+  return match_network(kRobotNetworkPlan, Span<const FoundSlave>(found.data(), found.size()), drivers::slaves_of_joints(lost));
 }
 
 std::string lines(const NetworkMatch& m, const std::vector<FoundSlave>& found) {
@@ -78,7 +78,7 @@ TEST(NetworkMatch, KnownLostJointsAreNotADifferenceAndTheRestRuns) {
   const NetworkMatch m = match(found, lost);
   EXPECT_FALSE(m.fatal) << lines(m, found);
   EXPECT_TRUE(m.differences.empty()) << lines(m, found);
-  EXPECT_EQ(joints_of_slaves(kRobotNetworkPlan, m.operated), kAllJoints & ~lost);
+  EXPECT_EQ(drivers::joints_of_slaves(m.operated), kAllJoints & ~lost);
 }
 
 TEST(NetworkMatch, KnownLostJointThatAnswersIsAWarningAndStaysOut) {
@@ -87,7 +87,7 @@ TEST(NetworkMatch, KnownLostJointThatAnswersIsAWarningAndStaysOut) {
   const NetworkMatch m = match(found, lost);
   EXPECT_FALSE(m.fatal);
   EXPECT_EQ(m.count(DifferenceKind::known_lost_present), 1u);
-  EXPECT_EQ(joints_of_slaves(kRobotNetworkPlan, m.operated), kAllJoints & ~lost);
+  EXPECT_EQ(drivers::joints_of_slaves(m.operated), kAllJoints & ~lost);
 }
 
 TEST(NetworkMatch, ExtraDeviceIsNamed) {

@@ -30,8 +30,9 @@ TEST(ProcessImageLayout, SlavesOfABranchAreInWiringOrder) {
     const BranchLayout& branch = kRobotImageLayout.branches[b];
     for (std::size_t i = 0; i < branch.slave_count; ++i) {
       const SlavePlan& s = kRobotNetworkPlan[branch.slaves[i]];
-      ASSERT_NE(s.joint, kNoJoint);
-      EXPECT_EQ(kJoints[s.joint].order_on_branch, i) << s.name;
+      const std::uint8_t joint = drivers::kJointOfSlave[branch.slaves[i]];
+      ASSERT_NE(joint, kNoJoint);
+      EXPECT_EQ(kJoints[joint].order_on_branch, i) << s.name;
       const SlaveImage& image = kRobotImageLayout.slaves[branch.slaves[i]];
       EXPECT_EQ(image.output_offset, branch.logical_start + i * drivers::kJointOutputBytes) << s.name;
       EXPECT_EQ(image.input_offset, branch.logical_start + branch.output_length + i * drivers::kJointInputBytes) << s.name;
@@ -60,11 +61,11 @@ TEST(ProcessImageLayout, JunctionsHaveNoProcessDataAndNoBranch) {
 TEST(ProcessImageLayout, SubtreeOfAJointIsItsLinkFailureSet) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::size_t p = slave_position_of_joint(j);
-    EXPECT_EQ(joints_of_slaves(kRobotNetworkPlan, subtree_of(kRobotNetworkPlan, p)), joints_lost_by_link_failure_at(j))
+    EXPECT_EQ(drivers::joints_of_slaves(subtree_of(kRobotNetworkPlan, p)), joints_lost_by_link_failure_at(j))
         << kJoints[j].name;
   }
   // junction_b carries the right arm and the lower body.
-  EXPECT_EQ(joints_of_slaves(kRobotNetworkPlan, subtree_of(kRobotNetworkPlan, 1)),
+  EXPECT_EQ(drivers::joints_of_slaves(subtree_of(kRobotNetworkPlan, 1)),
             joints_of_branch(Branch::right_arm) | joints_of_branch(Branch::lower_body));
 }
 

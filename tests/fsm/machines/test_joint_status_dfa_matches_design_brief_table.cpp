@@ -120,10 +120,10 @@ TEST(JointDfa, SelectModeAppliesTheRequestedModeAndIdleClearsIt) {
 TEST(JointDfa, SetReferenceAlignsReferenceWithActualPosition) {
   JointContext ctx;
   JointStatusMachine m = machine_in(S::configured, ctx);
-  ctx.actual_position_counts = 123456;
-  ctx.reference_position_counts = -5;
+  ctx.actual_position_rad = 1.23456;
+  ctx.reference_position_rad = -0.5;
   ASSERT_TRUE(m.dispatch(ctx, I::set_reference).ok());
-  EXPECT_EQ(ctx.reference_position_counts, 123456);
+  EXPECT_EQ(ctx.reference_position_rad, 1.23456);
 }
 
 TEST(JointDfa, DriveIsEnabledOnlyInEnabled) {

@@ -9,7 +9,6 @@
 #include "tests/support/simulated_robot_rig.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
-#include "core/app/tasks/joint_demand.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/control/predefined_messages.hpp"
 #include "core/app/links/task_links.hpp"
@@ -17,6 +16,7 @@
 #include "drivers/cia402/cia402_enable.hpp"
 #include "hal/time/wall_clock.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::app {
 namespace {
@@ -35,23 +35,21 @@ struct Firmware {
         commands(links->joint_commands),
         parser(links->joint_commands),
         samples(links->samples),
-        manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events}) {}
+        demand(links->demand),
+        manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand}) {}
 
   bool bring_up() {
     restored = manager.restore(rig->clock.now()).restored;
-    links->demand.write(demand_of(manager));
     ecat::MasterOptions options;
-    options.known_lost = restored;
-    if (!rig->bus.bring_up(options).ok()) return false;
+    if (!rig->bus.bring_up(options, restored).ok()) return false;
     handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
-  ecat::CycleResult period() {
+  drivers::JointCycleResult period() {
     rig->clock.sleep_until(rig->bus.next_wakeup());
-    const ecat::CycleResult r = handler->cycle();
+    const drivers::JointCycleResult r = handler->cycle();
     manager.step(rig->clock.now());
-    links->demand.write(demand_of(manager));
     return r;
   }
   void run_until_op() {
@@ -71,6 +69,7 @@ struct Firmware {
   SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands;
   SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser;
   SeqlockSampleSource samples;
+  SeqlockDemandSink demand;
   hal::ManualWallClock wall;
   NoEvents events;
   JointManager manager;
@@ -152,9 +151,10 @@ TEST(EthercatHandlerOnSimulatedRobot, OwnLimitCheckStopsEveryDrive) {
 
   // A demand far beyond l_elbow's position limit, as a faulty task could publish it; the handler
   // must stop the robot whatever the joint manager does.
-  RobotDemand bad = demand_of(fw.manager);
+  RobotDemand bad{};
+  ASSERT_TRUE(fw.links->demand.try_read(bad));
   const std::size_t elbow = joint_index_by_name("l_elbow");
-  bad[elbow].position_counts = rad_to_counts(kJoints[elbow].limits.position_max_rad + 1.0);
+  bad[elbow].position_ref_rad = kJoints[elbow].limits.position_max_rad + 1.0;
   fw.links->demand.write(bad);
   fw.rig->clock.sleep_until(fw.rig->bus.next_wakeup());
   (void)fw.handler->cycle();

@@ -67,7 +67,7 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   SeqlockSampleSource samples(published);
   hal::ManualWallClock wall(1'700'000'000'000'000'000LL);
   NullLog log;
-  JointManager manager(JointManagerPorts{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log});
+  JointManager manager(JointManagerPorts{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr});
 
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> handler_cycles{0};

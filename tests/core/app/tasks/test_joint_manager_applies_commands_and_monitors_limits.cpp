@@ -47,7 +47,7 @@ TEST_F(JointManagerCommands, InitializeRobotEnablesEveryJointWithReferenceAtCurr
     EXPECT_EQ(s.state, JointState::enabled) << kJoints[j].name;
     EXPECT_TRUE(s.drive_enabled);
     EXPECT_EQ(s.mode, ControlMode::cyclic_position);
-    EXPECT_EQ(s.reference_position_counts, rig.samples.robot[j].position_counts);
+    EXPECT_EQ(s.reference_position_rad, rig.samples.robot[j].position_rad);
   }
   EXPECT_EQ(manager.refused_commands(), 0u);
 }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "drivers/joint/joint_units.hpp"
 #include "core/base/endian.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 
@@ -127,7 +128,7 @@ TEST_P(DamagedErrorFile, StartsSafelyAndSaysWhy) {
     const bool restored = (report.restored & joint_bit(j)) != 0;
     EXPECT_EQ(manager.statuses()[j].state, restored ? JointState::error : JointState::idle) << kJoints[j].name;
     if (restored) {
-      EXPECT_EQ(manager.statuses()[j].held_position_counts, static_cast<std::int32_t>(1000 * j));
+      EXPECT_EQ(manager.statuses()[j].held_position_rad, drivers::counts_to_rad(static_cast<std::int32_t>(1000 * j)));
     }
   }
   EXPECT_EQ(report.restored & ~kElbowCut, 0u);  // damage never invents a lost joint

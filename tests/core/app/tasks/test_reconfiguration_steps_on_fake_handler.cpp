@@ -3,6 +3,7 @@
 // error-joints file in a temporary state directory. The link into l_elbow is cut after one second.
 #include <gtest/gtest.h>
 
+#include "drivers/joint/joint_units.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/control/predefined_messages.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
@@ -103,7 +104,7 @@ TEST_F(Reconfiguration, CutReportFileAnswerMarkAndTheHealthyJointsNeverMissACycl
   EXPECT_EQ(file.joints(), kElbowCut);
   for (const LostJointRecord& r : file.records) {
     EXPECT_EQ(r.reason, FaultReason::comm_lost);
-    EXPECT_EQ(r.last_position_counts, before_cut[r.joint].position_counts) << kJoints[r.joint].name;
+    EXPECT_EQ(r.last_position_counts, drivers::rad_to_counts(before_cut[r.joint].position_rad)) << kJoints[r.joint].name;
     EXPECT_EQ(r.cycle, 1003u);
     EXPECT_EQ(r.time_unix_ns, rig.wall.unix_time_ns());
   }
@@ -116,7 +117,7 @@ TEST_F(Reconfiguration, CutReportFileAnswerMarkAndTheHealthyJointsNeverMissACycl
       EXPECT_TRUE(s.lost);
       EXPECT_FALSE(s.drive_enabled);
       EXPECT_EQ(s.fault.reason, FaultReason::comm_lost);
-      EXPECT_EQ(s.held_position_counts, before_cut[j].position_counts);
+      EXPECT_EQ(s.held_position_rad, before_cut[j].position_rad);
     } else {
       EXPECT_EQ(s.state, JointState::enabled) << kJoints[j].name;
     }
@@ -153,7 +154,7 @@ TEST_F(Reconfiguration, RestartRestoresLostJointsBeforeTheNetworkAndTheHandlerEx
     EXPECT_EQ(s.state, (kElbowCut & joint_bit(j)) ? JointState::error : JointState::idle) << kJoints[j].name;
     if (kElbowCut & joint_bit(j)) {
       EXPECT_TRUE(s.lost);
-      EXPECT_EQ(s.held_position_counts, held[j].held_position_counts);  // RC tasks know where it is held
+      EXPECT_EQ(s.held_position_rad, held[j].held_position_rad);  // RC tasks know where it is held
     }
   }
   FakeHandler handler2(rig2, report.restored);

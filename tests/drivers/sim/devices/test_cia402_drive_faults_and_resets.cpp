@@ -7,6 +7,7 @@
 
 #include "drivers/sim/devices/cia402_drive.hpp"
 #include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -30,7 +31,7 @@ struct Harness {
       out.controlword = cw;
       (void)cycle();
     }
-    out.target_velocity = rad_to_counts(rad_s);
+    out.target_velocity = drivers::rad_to_counts(rad_s);
     for (int i = 0; i < 400; ++i) (void)cycle();
   }
   std::size_t joint;
@@ -98,7 +99,7 @@ TEST(DriveFault, CspFollowingErrorBeyondWindowAndTimeoutFaults) {
     (void)h.cycle();
   }
   // A 2-rad jump: far outside the 0.5-rad window for longer than the 100-ms timeout.
-  h.out.target_position = rad_to_counts(2.0);
+  h.out.target_position = drivers::rad_to_counts(2.0);
   JointInputs in = h.cycle();
   EXPECT_NE(in.statusword & cia402::sw::kFollowingError, 0);
   for (int i = 0; i < 300 && h.drive.state() == cia402::State::operation_enabled; ++i) in = h.cycle();

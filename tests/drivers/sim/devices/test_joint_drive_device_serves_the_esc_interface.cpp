@@ -13,6 +13,7 @@
 #include "ecat/mailbox/coe.hpp"
 #include "ecat/mailbox/mailbox.hpp"
 #include "ecat/sii/sii.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -133,18 +134,18 @@ TEST(JointDriveDevice, CyclesInOpEnableAndMoveTheJointAndLeavingOpHoldsIt) {
   // Interpolated CSP ramp to 0.5 rad at 1 rad/s, as a master would send it.
   JointInputs in;
   for (int i = 1; i <= 1500; ++i) {
-    out.target_position = rad_to_counts(std::min(0.5, 0.001 * i));
+    out.target_position = drivers::rad_to_counts(std::min(0.5, 0.001 * i));
     in = cycle(out);
   }
   EXPECT_EQ(cia402::state_from_statusword(in.statusword), cia402::State::operation_enabled);
-  EXPECT_NEAR(counts_to_rad(in.position_actual), 0.5, 1e-3);
+  EXPECT_NEAR(drivers::counts_to_rad(in.position_actual), 0.5, 1e-3);
   EXPECT_EQ(in.mode_display, 8);
   EXPECT_EQ(device.objects().od().get_i32(0x6064, 0), in.position_actual);  // SDO sees the same
 
   const std::int32_t held = in.position_actual;
   (void)device.on_state_change(AlState::op, AlState::safe_op, esc);
   esc.state = AlState::safe_op;
-  out.target_position = rad_to_counts(1.5);  // ignored outside OP
+  out.target_position = drivers::rad_to_counts(1.5);  // ignored outside OP
   for (int i = 0; i < 500; ++i) in = cycle(out);
   EXPECT_EQ(cia402::state_from_statusword(in.statusword), cia402::State::switch_on_disabled);
   EXPECT_EQ(in.position_actual, held);

@@ -8,6 +8,7 @@
 #include "core/robot/robot.hpp"
 #include "drivers/sim/devices/cia402_drive.hpp"
 #include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -72,7 +73,7 @@ TEST(JointMotorModel, VelocityStepWithinVelocityAccelerationAndTorqueLimits) {
   EXPECT_LE(max_accel, motor.acceleration_limit() * 1.0001);
   EXPECT_GT(max_accel, 0.9 * motor.acceleration_limit());  // the step saturates the torque first
   EXPECT_NEAR(motor.acceleration_limit(), limits.velocity_max_rad_s / kAccelerationTime, 1e-9);
-  EXPECT_EQ(motor.velocity_counts_s(), static_cast<std::int32_t>(std::lround(0.8 * kCountsPerRad)));
+  EXPECT_EQ(motor.velocity_counts_s(), static_cast<std::int32_t>(std::lround(0.8 * drivers::kCountsPerRad)));
 }
 
 TEST(JointMotorModel, CommandAboveTheVelocityLimitIsClampedAndFlagged) {
@@ -92,8 +93,8 @@ TEST(Cia402Drive, CspPositionStepIsReachedWithoutExceedingTheVelocityLimit) {
   DriveUnderTest t("l_elbow");
   t.enable(ControlMode::cyclic_position);
   JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_position);
-  out.target_position = rad_to_counts(0.3);
-  const std::int32_t vmax_counts = rad_to_counts(kJoints[t.joint].limits.velocity_max_rad_s);
+  out.target_position = drivers::rad_to_counts(0.3);
+  const std::int32_t vmax_counts = drivers::rad_to_counts(kJoints[t.joint].limits.velocity_max_rad_s);
   JointInputs in;
   bool reached = false;
   for (int i = 0; i < 2000 && !reached; ++i) {
@@ -117,10 +118,10 @@ TEST(Cia402Drive, CspTargetBeyondTheSoftwareLimitStopsAtTheLimit) {
   JointInputs in;
   // Walk the target past the upper limit slowly (no following error), then hold it there.
   for (int i = 0; i < 3000; ++i) {
-    out.target_position = rad_to_counts(std::min(1.5, 0.001 * i));
+    out.target_position = drivers::rad_to_counts(std::min(1.5, 0.001 * i));
     in = t.cycle(out);
   }
-  EXPECT_NEAR(counts_to_rad(in.position_actual), 1.0, 1e-3);
+  EXPECT_NEAR(drivers::counts_to_rad(in.position_actual), 1.0, 1e-3);
   EXPECT_NE(in.statusword & cia402::sw::kInternalLimitActive, 0);
 }
 
@@ -132,7 +133,7 @@ TEST(Cia402Drive, CstTorqueStepAcceleratesUpToTheVelocityLimit) {
   JointInputs in = t.cycle(out);
   EXPECT_EQ(in.torque_actual, 500);
   for (int i = 0; i < 3000; ++i) in = t.cycle(out);
-  EXPECT_NEAR(in.velocity_actual, rad_to_counts(kJoints[t.joint].limits.velocity_max_rad_s), 2);
+  EXPECT_NEAR(in.velocity_actual, drivers::rad_to_counts(kJoints[t.joint].limits.velocity_max_rad_s), 2);
   EXPECT_NE(in.statusword & cia402::sw::kInternalLimitActive, 0);
 }
 
@@ -140,7 +141,7 @@ TEST(WormGear, HoldsTheJointWhenTheDriveIsSwitchedOff) {
   DriveUnderTest t("r_shoulder_pitch");
   t.enable(ControlMode::cyclic_velocity);
   JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_velocity);
-  out.target_velocity = rad_to_counts(1.0);
+  out.target_velocity = drivers::rad_to_counts(1.0);
   for (int i = 0; i < 500; ++i) (void)t.cycle(out);
   ASSERT_GT(t.drive.motor().velocity_rad_s(), 0.9);
   out.controlword = cia402::cw::kDisableVoltage;
@@ -157,7 +158,7 @@ TEST(WormGear, HoldsTheJointWhenOutputsStopBeingValid) {
   DriveUnderTest t("l_leg");
   t.enable(ControlMode::cyclic_velocity);
   JointOutputs out = DriveUnderTest::operating(ControlMode::cyclic_velocity);
-  out.target_velocity = rad_to_counts(-0.5);
+  out.target_velocity = drivers::rad_to_counts(-0.5);
   for (int i = 0; i < 300; ++i) (void)t.cycle(out);
   ASSERT_LT(t.drive.motor().velocity_rad_s(), -0.4);
   JointInputs in = t.cycle(out, false);  // the master is gone (SAFE-OP, watchdog)

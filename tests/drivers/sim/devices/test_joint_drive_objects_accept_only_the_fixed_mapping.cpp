@@ -6,6 +6,7 @@
 #include "core/base/endian.hpp"
 #include "drivers/sim/devices/joint_drive_objects.hpp"
 #include "ecat/mailbox/coe.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -35,9 +36,9 @@ TEST(JointDriveObjects, DefaultsComeFromTheRobotTables) {
   const std::size_t joint = joint_index_by_name("neck_tilt");
   JointDriveObjects objects(joint, slave_position_of_joint(joint));
   const DriveSettings s = objects.settings();
-  EXPECT_EQ(s.position_min_counts, rad_to_counts(-0.8));
-  EXPECT_EQ(s.position_max_counts, rad_to_counts(1.0));
-  EXPECT_EQ(s.max_velocity_counts_s, static_cast<std::uint32_t>(rad_to_counts(2.0)));
+  EXPECT_EQ(s.position_min_counts, drivers::rad_to_counts(-0.8));
+  EXPECT_EQ(s.position_max_counts, drivers::rad_to_counts(1.0));
+  EXPECT_EQ(s.max_velocity_counts_s, static_cast<std::uint32_t>(drivers::rad_to_counts(2.0)));
   EXPECT_EQ(s.max_torque_per_mille, 1000);
   EXPECT_EQ(objects.od().get_u32(0x6076, 0), 10000u);  // 10 N m rated, in mN m
   EXPECT_EQ(objects.od().get_i32(0x6060, 0), 8);
@@ -86,8 +87,8 @@ TEST(JointDriveObjects, SoftwareLimitsKeepMinBelowMax) {
   ObjectDictionary& od = objects.od();
   const auto max = static_cast<std::uint32_t>(od.get_i32(0x607D, 2));
   EXPECT_EQ(put(od, 0x607D, 1, max + 1, 4, AlState::op), abort_code::kMaxBelowMin);
-  EXPECT_EQ(put(od, 0x607D, 2, static_cast<std::uint32_t>(rad_to_counts(1.0)), 4, AlState::op), 0u);
-  EXPECT_EQ(objects.settings().position_max_counts, rad_to_counts(1.0));
+  EXPECT_EQ(put(od, 0x607D, 2, static_cast<std::uint32_t>(drivers::rad_to_counts(1.0)), 4, AlState::op), 0u);
+  EXPECT_EQ(objects.settings().position_max_counts, drivers::rad_to_counts(1.0));
   EXPECT_EQ(put(od, 0x607F, 0, od.get_u32(0x6080, 0) + 1, 4), abort_code::kValueTooHigh);
 }
 

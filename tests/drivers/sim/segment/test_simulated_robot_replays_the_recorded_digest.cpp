@@ -18,6 +18,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -88,7 +89,7 @@ struct ScriptedRun {
   Digest state;
   std::array<std::int32_t, kJointCount> start{};
 
-  ecat::CycleResult cycle() {
+  drivers::JointCycleResult cycle() {
     rig.clock.sleep_until(bus.next_wakeup());
     return bus.cycle(refs, fb);
   }
@@ -146,13 +147,13 @@ struct ScriptedRun {
       r.controlword = controlword_towards_enabled(fb.joints[j].statusword, r.controlword);
       switch (static_cast<ControlMode>(r.mode_of_operation)) {
         case ControlMode::cyclic_velocity:
-          r.target_velocity = rad_to_counts(0.002 * (triangle - 500) * static_cast<double>(j % 3 + 1));
+          r.target_velocity = drivers::rad_to_counts(0.002 * (triangle - 500) * static_cast<double>(j % 3 + 1));
           break;
         case ControlMode::cyclic_torque:
           r.target_torque = static_cast<std::int16_t>((triangle - 500) / 10);
           break;
         default:
-          r.target_position = start[j] + rad_to_counts(0.0002 * triangle * static_cast<double>(j % 4 + 1));
+          r.target_position = start[j] + drivers::rad_to_counts(0.0002 * triangle * static_cast<double>(j % 4 + 1));
           break;
       }
     }
@@ -181,7 +182,7 @@ TEST(SimulatedRobotDigest, ScriptedRunReplaysTheRecordedFramesAndState) {
   JointMask restored = 0;  // waiting for re-integration
   JointMask reintegrated = 0;
   int all_valid = 0;
-  ecat::CycleResult r{};
+  drivers::JointCycleResult r{};
   for (int k = 0; k < kCycles; ++k) {
     // 3300..3799: every joint held where its references left it (a robot standing still).
     run->set_references(k < 3300 || k >= 3800 ? k : 3300);
@@ -213,16 +214,16 @@ TEST(SimulatedRobotDigest, ScriptedRunReplaysTheRecordedFramesAndState) {
       restored = 0;
     }
     r = run->cycle();
-    all_valid += r.valid_joints == kAllJoints ? 1 : 0;
+    all_valid += r.valid == kAllJoints ? 1 : 0;
     ecat::LinkReport report;
-    while (run->bus.pop_report(report)) {
-      if (report.kind == ecat::LinkEventKind::restored) restored |= report.joints;
+    while (run->bus.master().pop_report(report)) {
+      if (report.kind == ecat::LinkEventKind::restored) restored |= drivers::joints_of_slaves(report.slaves);
     }
     if (k % 250 == 249) run->add_state();
   }
   // The run did what it says (the digest is of a robot that worked, not of a broken one).
   EXPECT_EQ(reintegrated & joints_lost_by_link_failure_at(wrist), joints_lost_by_link_failure_at(wrist));
-  EXPECT_EQ(r.valid_joints, kAllJoints);
+  EXPECT_EQ(r.valid, kAllJoints);
   EXPECT_GT(all_valid, kCycles / 2);
   EXPECT_TRUE(is_enabled(run->fb.joints[elbow].statusword));
   EXPECT_TRUE(is_enabled(run->fb.joints[wrist].statusword));

@@ -8,6 +8,7 @@
 #include "drivers/sim/devices/joint_drive_sii.hpp"
 #include "drivers/sim/segment/simulated_robot.hpp"
 #include "tests/support/dc_master_steps.hpp"
+#include "drivers/joint/joint_units.hpp"
 
 namespace rescue::drivers::testing {
 namespace {
@@ -127,12 +128,12 @@ TEST_F(Robot, AnEnabledJointFollowsItsTarget) {
     for (int i = 0; i < 5; ++i) in = inputs_of(cycle(image), joint);
   }
   EXPECT_EQ(in.statusword & 0x006F, 0x0027) << std::hex << in.statusword;  // operation enabled
-  const std::int32_t target = start + rad_to_counts(0.05);
+  const std::int32_t target = start + drivers::rad_to_counts(0.05);
   for (int i = 0; i < 500; ++i) {
     set_outputs(joint, JointOutputs{0x000F, 8, target, 0, 0});
     in = inputs_of(cycle(image), joint);
   }
-  EXPECT_NEAR(in.position_actual, target, rad_to_counts(0.002));
+  EXPECT_NEAR(in.position_actual, target, drivers::rad_to_counts(0.002));
 }
 
 TEST_F(Robot, CutLinkStopsTheJointsBehindItAndTheRestKeepCycling) {

@@ -1,4 +1,5 @@
-// docs/fsm.md holds the output of `rescue-motion docs fsm` between BEGIN/END GENERATED markers. This
+// docs/fsm.md and docs/tasks.md hold the output of `rescue-motion docs fsm|tasks` between BEGIN/END
+// GENERATED markers. This
 // test runs the built program and requires the committed blocks to equal what it prints now, so the
 // documented tables cannot drift from the tables the firmware runs. To refresh the docs after changing
 // a table, paste the command's output between the markers (the failure message prints it).
@@ -50,6 +51,7 @@ std::string generated_block(const std::string& doc, const std::string& command) 
 
 const std::string kProgram = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
 const std::string kDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/fsm.md";
+const std::string kTasksDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/tasks.md";
 
 TEST(DocsFsm, MarkdownInDocsEqualsCommandOutput) {
   const std::string printed = run(kProgram + " docs fsm --format markdown");
@@ -63,6 +65,13 @@ TEST(DocsFsm, DotDiagramInDocsEqualsCommandOutput) {
   ASSERT_FALSE(printed.empty());
   EXPECT_EQ(generated_block(read_file(kDoc), "rescue-motion docs fsm --format dot"), printed)
       << "docs/fsm.md is stale; put this between its dot markers:\n" << printed;
+}
+
+TEST(DocsTasks, TaskTableInDocsEqualsCommandOutput) {
+  const std::string printed = run(kProgram + " docs tasks");
+  ASSERT_NE(printed.find("| EtherCAT handler | SCHED_FIFO "), std::string::npos) << printed;
+  EXPECT_EQ(generated_block(read_file(kTasksDoc), "rescue-motion docs tasks"), printed)
+      << "docs/tasks.md is stale; put this between its markers:\n" << printed;
 }
 
 TEST(DocsFsm, UnknownTopicOrFormatFailsWithOneLineReason) {

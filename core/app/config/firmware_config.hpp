@@ -1,0 +1,46 @@
+// The firmware's tunables in one place (in the manner of F Prime's config headers): task priorities,
+// CPUs and periods (design brief Table I), queue depths between the tasks, and time limits. Change a
+// number here, rebuild, and `rescue-motion docs tasks` / docs/tasks.md show it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace rescue::app::config {
+
+// --- Tasks (design brief section 3, paper Table I, on a 4-hardware-thread motion PC) -------------
+// SCHED_FIFO priorities: 1 (lowest) .. 99. Only the order matters to the paper; these leave room
+// above the handler for the kernel's own threads (PREEMPT_RT's IRQ threads run at 50 by default:
+// the NIC's IRQ thread should be raised above the handler's, see docs/tasks.md).
+constexpr int kEthercatHandlerPriority = 80;  // highest
+constexpr int kJointManagerPriority = 70;     // high
+constexpr int kRcTaskPriority = 65;           // high, below the joint manager
+constexpr int kSocketHandlerPriority = 20;    // low
+constexpr int kMessageParserPriority = 20;    // low
+constexpr int kBasicSoftwarePriority = 0;     // SCHED_OTHER: the operating system, the logger
+
+constexpr int kEthercatHandlerCpu = 3;
+constexpr int kJointManagerCpu = 2;
+constexpr int kRcTaskCpu = 2;
+constexpr int kSocketHandlerCpu = 1;
+constexpr int kMessageParserCpu = 1;
+constexpr int kBasicSoftwareCpu = 0;
+
+constexpr std::int64_t kEthercatHandlerPeriodNs = 1'000'000;  // 1 kHz: the network's period
+constexpr std::int64_t kJointManagerPeriodNs = 1'000'000;
+constexpr std::int64_t kRcTaskPeriodNs = 1'000'000;
+constexpr std::int64_t kLoggerPeriodNs = 5'000'000;           // drains events and capture frames
+
+// The stack each real-time thread prefaults at start-up is hal::kTaskStackPrefaultBytes
+// (hal/rt/rt_setup.hpp), where toolchain/rt_verify.py reads it to check the deepest stack path.
+
+// --- Queues between the tasks (core/app/links/task_links.hpp) -------------------------------------
+constexpr std::size_t kLostReportQueueDepth = 16;  // handler -> joint manager (reconfiguration step 1)
+constexpr std::size_t kNoticeQueueDepth = 16;      // joint manager -> handler (step 4, clears)
+constexpr std::size_t kJointCommandQueueDepth = 64;  // message parser -> joint manager (joint handle queue)
+
+// --- Time limits ----------------------------------------------------------------------------------
+constexpr std::int64_t kDisableTimeoutNs = 500'000'000;  // stop: drives disabled within this, or give up
+constexpr std::int64_t kScenarioRunOnNs = 1'000'000'000; // a scenario without --duration runs on this long
+
+}  // namespace rescue::app::config

@@ -1,0 +1,59 @@
+#include "core/app/runtime/task_table.hpp"
+
+#include <cinttypes>
+
+#include "core/app/config/firmware_config.hpp"
+
+namespace rescue::app {
+namespace {
+
+// clang-format off
+constexpr TaskSpec kTasks[] = {
+  {TaskId::basic_software, "basic software", config::kBasicSoftwarePriority, config::kBasicSoftwareCpu, config::kLoggerPeriodNs,
+   "no", "the operating system; the firmware's logger (events, capture file)", "runtime/firmware.cpp (logger)"},
+  {TaskId::socket_handler, "socket handler", config::kSocketHandlerPriority, config::kSocketHandlerCpu, 0,
+   "partly (sensor data)", "UDP from the operator and the other two computers; every datagram validated", "not built yet (issue: the running robot)"},
+  {TaskId::message_parser, "message parser", config::kMessageParserPriority, config::kMessageParserCpu, 0,
+   "no (queues)", "operator messages to the joint handle queue and the RC tasks' inputs", "control/predefined_messages.cpp (at start-up)"},
+  {TaskId::joint_manager, "joint manager", config::kJointManagerPriority, config::kJointManagerCpu, config::kJointManagerPeriodNs,
+   "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp"},
+  {TaskId::rc_tasks, "RC tasks", config::kRcTaskPriority, config::kRcTaskCpu, config::kRcTaskPeriodNs,
+   "yes (own reference space)", "kinematics: next joint references every period", "not built yet (issue: RC tasks)"},
+  {TaskId::ethercat_handler, "EtherCAT handler", config::kEthercatHandlerPriority, config::kEthercatHandlerCpu, config::kEthercatHandlerPeriodNs,
+   "yes", "one frame with every slave per period; joint state, references, limits, safe stop", "tasks/ethercat_handler.cpp"},
+};
+// clang-format on
+
+}  // namespace
+
+Span<const TaskSpec> task_table() noexcept { return Span<const TaskSpec>(kTasks); }
+
+const TaskSpec& task_spec(TaskId id) noexcept {
+  for (const TaskSpec& t : kTasks) {
+    if (t.id == id) return t;
+  }
+  return kTasks[0];  // unreachable: every TaskId has a row (test_task_table_covers_every_task)
+}
+
+void write_task_table_markdown(std::FILE* out) noexcept {
+  (void)std::fprintf(out, "| task | scheduling | CPU | period | shared memory | role | code (core/app/) |\n");
+  (void)std::fprintf(out, "|---|---|---|---|---|---|---|\n");
+  for (const TaskSpec& t : kTasks) {
+    char sched[32];
+    if (t.priority > 0) {
+      (void)std::snprintf(sched, sizeof sched, "SCHED_FIFO %d", t.priority);
+    } else {
+      (void)std::snprintf(sched, sizeof sched, "SCHED_OTHER");
+    }
+    char period[32];
+    if (t.period_ns > 0) {
+      (void)std::snprintf(period, sizeof period, "%" PRId64 " us", t.period_ns / 1000);
+    } else {
+      (void)std::snprintf(period, sizeof period, "on input");
+    }
+    (void)std::fprintf(out, "| %s | %s | %d | %s | %s | %s | %s |\n", t.name, sched, t.cpu, period, t.shared_memory, t.role,
+                       t.built);
+  }
+}
+
+}  // namespace rescue::app

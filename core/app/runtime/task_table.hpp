@@ -1,0 +1,40 @@
+// The firmware's tasks (design brief section 3, paper Table I) as one table: name, scheduling, CPU,
+// period, what it shares and what happens when it dies. The runner takes each task's priority and CPU
+// from here; `rescue-motion docs tasks` prints it and docs/tasks.md holds that output (a test keeps
+// them equal). The numbers live in core/app/config/firmware_config.hpp.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+
+#include "core/base/span.hpp"
+
+namespace rescue::app {
+
+enum class TaskId : std::uint8_t {
+  basic_software,
+  socket_handler,
+  message_parser,
+  joint_manager,
+  rc_tasks,
+  ethercat_handler,
+};
+
+struct TaskSpec {
+  TaskId id;
+  const char* name;
+  int priority;            // SCHED_FIFO priority; 0 = SCHED_OTHER (not real-time)
+  int cpu;                 // CPU (hardware thread) on the 4-thread motion PC
+  std::int64_t period_ns;  // 0 = event driven
+  const char* shared_memory;  // what it reads/writes of the shared records
+  const char* role;
+  const char* built;          // where the code is, or what is not built yet
+};
+
+Span<const TaskSpec> task_table() noexcept;
+const TaskSpec& task_spec(TaskId id) noexcept;
+
+// The task table as a Markdown table (docs/tasks.md).
+void write_task_table_markdown(std::FILE* out) noexcept;
+
+}  // namespace rescue::app

@@ -1,0 +1,223 @@
+#include "core/kinematics/task_priority_ik.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "core/kinematics/centre_of_mass.hpp"
+#include "core/kinematics/jacobian.hpp"
+
+namespace rescue::kin {
+namespace {
+
+// Scales a 3-vector down to `limit` (keeps its direction).
+template <typename Segment>
+void clamp_norm(Segment&& v, double limit) noexcept {
+  const double n = v.norm();
+  if (n > limit) v *= limit / n;
+}
+
+bool finite(const Pose& pose) noexcept { return pose.R.allFinite() && pose.p.allFinite(); }
+
+// Row of d(a_z)/dq for a forearm whose axis is a = R.col(2): (w x a)_z = w_x a_y - w_y a_x.
+using IkRow = Eigen::Matrix<double, 1, kIkDof>;
+IkRow forearm_level_row(const LinkPoses& poses, std::size_t forearm, double& tilt) noexcept {
+  IkRow row;
+  const Vector3 a = poses[forearm].R.col(2);
+  tilt = a.z();
+  for (std::size_t c = 0; c < kIkLink.size(); ++c) {
+    const std::size_t link = kIkLink[c];
+    const auto col = static_cast<Eigen::Index>(c);
+    if (!is_ancestor_or_self(link, forearm)) {
+      row(col) = 0.0;
+      continue;
+    }
+    const Vector3 w = joint_axis(poses[link], link);
+    row(col) = w.x() * a.y() - w.y() * a.x();
+  }
+  return row;
+}
+
+}  // namespace
+
+TaskPriorityIk::TaskPriorityIk(const IkSettings& settings) noexcept
+    : settings_(settings), singular_vector_(Vector12::Constant(1.0 / std::sqrt(12.0))) {}
+
+Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets& targets, JointMask out_of_service,
+                                          JointVector& q_next) noexcept {
+  if (!q.allFinite()) return make_error(Errc::invalid_argument, "joint positions are not finite");
+  if (!finite(targets.left) || !finite(targets.right) || !std::isfinite(targets.payload_kg) ||
+      targets.payload_kg < 0.0) {
+    return make_error(Errc::invalid_argument, "targets are not finite");
+  }
+  const IkSettings& s = settings_;
+  IkStepReport report;
+  forward_kinematics(q, poses_);
+
+  // ---- main task: both palms ----
+  Jacobian12 j1;
+  IkJacobian6 jframe;
+  frame_jacobian(poses_, kLeftEe, jframe);
+  j1.topRows<6>() = jframe;
+  frame_jacobian(poses_, kRightEe, jframe);
+  j1.bottomRows<6>() = jframe;
+  Vector12 e1;
+  e1.head<6>() = pose_error(targets.left, poses_[kLeftEe]);
+  e1.tail<6>() = pose_error(targets.right, poses_[kRightEe]);
+  for (int arm = 0; arm < 2; ++arm) {
+    report.position_residual_m[arm] = e1.segment<3>(6 * arm).norm();
+    report.rotation_residual_rad[arm] = e1.segment<3>(6 * arm + 3).norm();
+    clamp_norm(e1.segment<3>(6 * arm), s.max_linear_step_m);
+    clamp_norm(e1.segment<3>(6 * arm + 3), s.max_angular_step_rad);
+  }
+
+  // ---- sub-tasks: forearms level, COM over the support centre ----
+  Jacobian4 j2 = Jacobian4::Zero();
+  Eigen::Vector4d e2 = Eigen::Vector4d::Zero();
+  j2.row(0) = forearm_level_row(poses_, kLeftForearm, report.forearm_tilt[0]);
+  j2.row(1) = forearm_level_row(poses_, kRightForearm, report.forearm_tilt[1]);
+  if (s.forearm_task) {
+    e2(0) = -s.forearm_gain * report.forearm_tilt[0];
+    e2(1) = -s.forearm_gain * report.forearm_tilt[1];
+  } else {
+    j2.topRows<2>().setZero();
+  }
+  const CentreOfMass com = centre_of_mass(poses_, targets.payload_kg);
+  report.com = com.position;
+  report.support_margin_m = support_margin(com.position);
+  if (s.com_task) {
+    IkJacobian3 jcom;
+    centre_of_mass_jacobian(poses_, targets.payload_kg, jcom);
+    j2.bottomRows<2>() = jcom.topRows<2>();
+    e2.tail<2>() = s.com_gain * (support_centre() - com.position.head<2>());
+  }
+
+  // ---- locked columns: out of service, then joints held at a position limit ----
+  IkVector dq_fixed = IkVector::Zero();
+  std::array<bool, kIkDof> locked{};
+  for (std::size_t c = 0; c < kIkJoints.size(); ++c) locked[c] = (out_of_service & joint_bit(kIkJoints[c])) != 0;
+
+  IkVector dq = IkVector::Zero();
+  const double floor2 = s.floor_damping * s.floor_damping;
+  for (int pass = 0; pass < 3; ++pass) {
+    report.passes = pass + 1;
+    Jacobian12 j1m = j1;
+    Jacobian4 j2m = j2;
+    for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+      if (!locked[c]) continue;
+      j1m.col(static_cast<Eigen::Index>(c)).setZero();
+      j2m.col(static_cast<Eigen::Index>(c)).setZero();
+    }
+    const Vector12 e1r = e1 - j1 * dq_fixed;
+    const Matrix12 jjt = j1m * j1m.transpose();
+
+    // Smallest singular value of J1 by two steps of inverse iteration on J J^T + floor^2 I.
+    Eigen::LLT<Matrix12> llt(jjt + floor2 * Matrix12::Identity());
+    Vector12 v = singular_vector_;
+    double inverse_eigen = 0.0;
+    for (int i = 0; i < 2; ++i) {
+      const Vector12 w = llt.solve(v);
+      inverse_eigen = w.norm();
+      v = w / inverse_eigen;
+    }
+    if (v.allFinite()) singular_vector_ = v;
+    const double sigma2 = std::max(0.0, 1.0 / inverse_eigen - floor2);
+    report.sigma_min = std::sqrt(sigma2);
+    double lambda2 = floor2;
+    if (report.sigma_min < s.singular_threshold) {
+      const double ratio = report.sigma_min / s.singular_threshold;
+      lambda2 += (1.0 - ratio * ratio) * s.max_damping * s.max_damping;
+      llt.compute(jjt + lambda2 * Matrix12::Identity());
+    }
+    report.damping = std::sqrt(lambda2);
+
+    // X = (J J^T + lambda^2 I)^-1 J, so J# = X^T and N1 = I - X^T J.
+    const Jacobian12 x = llt.solve(j1m);
+    const IkVector dq1 = x.transpose() * e1r;
+    const Matrix13 n1 = Matrix13::Identity() - x.transpose() * j1m;
+    const Jacobian4 j2n = j2m * n1;
+    const Eigen::Vector4d e2r = e2 - j2 * (dq_fixed + dq1);
+    const Eigen::Matrix4d b =
+        j2n * j2n.transpose() + s.subtask_damping * s.subtask_damping * Eigen::Matrix4d::Identity();
+    const IkVector dq2 = j2n.transpose() * b.llt().solve(e2r);
+    // The sub-tasks may only use what the velocity limits leave over from the main task.
+    const IkVector main = dq_fixed + dq1;
+    double sub_scale = 1.0;
+    for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+      const auto col = static_cast<Eigen::Index>(c);
+      const double reach = kJoints[kIkJoints[c]].limits.velocity_max_rad_s * s.dt_s;
+      if (std::fabs(main(col)) >= reach) {
+        sub_scale = 0.0;
+      } else if (dq2(col) != 0.0) {
+        const double room = (dq2(col) > 0.0 ? reach - main(col) : -reach - main(col)) / dq2(col);
+        sub_scale = std::min(sub_scale, room);
+      }
+    }
+    dq = main + std::max(0.0, sub_scale) * dq2;
+
+    // Position limits: lock the joints that would cross one and solve again.
+    bool clamped = false;
+    for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+      if (locked[c]) continue;
+      const std::size_t j = kIkJoints[c];
+      const auto col = static_cast<Eigen::Index>(c);
+      const JointLimits& lim = kJoints[j].limits;
+      const double qj = q(static_cast<Eigen::Index>(j));
+      const double lo = lim.position_min_rad + s.limit_margin_rad;
+      const double hi = lim.position_max_rad - s.limit_margin_rad;
+      const double next = qj + dq(col);
+      if (next <= hi && next >= lo) continue;
+      const double bound = next > hi ? hi : lo;
+      const double reach = lim.velocity_max_rad_s * s.dt_s;
+      dq_fixed(col) = std::clamp(bound - qj, -reach, reach);
+      locked[c] = true;
+      report.at_limit |= joint_bit(j);
+      clamped = true;
+    }
+    if (!clamped) break;
+  }
+  // Joints locked in the last pass move only to their limit.
+  for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+    if (locked[c]) dq(static_cast<Eigen::Index>(c)) = dq_fixed(static_cast<Eigen::Index>(c));
+  }
+
+  // Velocity limits: one common scale keeps the step's direction.
+  double scale = 1.0;
+  for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+    const double reach = kJoints[kIkJoints[c]].limits.velocity_max_rad_s * s.dt_s;
+    const double step = std::fabs(dq(static_cast<Eigen::Index>(c)));
+    if (step > reach) scale = std::min(scale, reach / step);
+  }
+  report.velocity_scale = scale;
+
+  q_next = q;
+  for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+    const std::size_t j = kIkJoints[c];
+    if ((out_of_service & joint_bit(j)) != 0) continue;
+    const auto row = static_cast<Eigen::Index>(j);
+    const JointLimits& lim = kJoints[j].limits;
+    q_next(row) = std::clamp(q(row) + scale * dq(static_cast<Eigen::Index>(c)), lim.position_min_rad,
+                             lim.position_max_rad);
+  }
+  return report;
+}
+
+Result<IkStepReport> TaskPriorityIk::solve(JointVector& q, const IkTargets& targets, JointMask out_of_service,
+                                           int max_steps, double position_tolerance_m,
+                                           double rotation_tolerance_rad) noexcept {
+  IkStepReport report;
+  JointVector next = q;
+  for (int i = 0; i < max_steps; ++i) {
+    const Result<IkStepReport> r = step(q, targets, out_of_service, next);
+    if (!r.ok()) return r;
+    report = r.value();
+    if (std::max(report.position_residual_m[0], report.position_residual_m[1]) <= position_tolerance_m &&
+        std::max(report.rotation_residual_rad[0], report.rotation_residual_rad[1]) <= rotation_tolerance_rad) {
+      return report;
+    }
+    q = next;
+  }
+  return report;
+}
+
+}  // namespace rescue::kin
