@@ -4,7 +4,8 @@
 
 namespace rescue::kin {
 
-JointSpaceTeleop::JointSpaceTeleop(const JointVector& q_start, double dt_s) noexcept
+// Eigen's fixed-size objects are passed by const reference (Eigen's own rule), not by value.
+JointSpaceTeleop::JointSpaceTeleop(const JointVector& q_start, double dt_s) noexcept  // NOLINT(modernize-pass-by-value)
     : references_(q_start), dt_s_(dt_s) {}
 
 Status JointSpaceTeleop::step(const JointVector& velocity_command, JointMask out_of_service) noexcept {

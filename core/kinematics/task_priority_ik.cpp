@@ -64,7 +64,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   Vector12 e1;
   e1.head<6>() = pose_error(targets.left, poses_[kLeftEe]);
   e1.tail<6>() = pose_error(targets.right, poses_[kRightEe]);
-  for (int arm = 0; arm < 2; ++arm) {
+  for (Eigen::Index arm = 0; arm < 2; ++arm) {
     report.position_residual_m[arm] = e1.segment<3>(6 * arm).norm();
     report.rotation_residual_rad[arm] = e1.segment<3>(6 * arm + 3).norm();
     clamp_norm(e1.segment<3>(6 * arm), s.max_linear_step_m);
@@ -211,7 +211,7 @@ Result<IkStepReport> TaskPriorityIk::solve(JointVector& q, const IkTargets& targ
   IkStepReport report;
   JointVector next = q;
   for (int i = 0; i < max_steps; ++i) {
-    const Result<IkStepReport> r = step(q, targets, out_of_service, next);
+    Result<IkStepReport> r = step(q, targets, out_of_service, next);
     if (!r.ok()) return r;
     report = r.value();
     if (std::max(report.position_residual_m[0], report.position_residual_m[1]) <= position_tolerance_m &&
