@@ -188,8 +188,8 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   double scale = 1.0;
   for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
     const double reach = kJoints[kIkJoints[c]].limits.velocity_max_rad_s * s.dt_s;
-    const double step = std::fabs(dq(static_cast<Eigen::Index>(c)));
-    if (step > reach) scale = std::min(scale, reach / step);
+    const double joint_step = std::fabs(dq(static_cast<Eigen::Index>(c)));
+    if (joint_step > reach) scale = std::min(scale, reach / joint_step);
   }
   report.velocity_scale = scale;
 
