@@ -42,23 +42,17 @@ void LatencyHistogram::record(std::uint64_t value) noexcept {
   ++count_;
   if (value < min_) min_ = value;
   if (value > max_) max_ = value;
-  // Welford: numerically stable running mean and squared deviations.
-  const auto x = static_cast<double>(value);
-  const double delta = x - mean_;
-  mean_ += delta / static_cast<double>(count_);
-  m2_ += delta * (x - mean_);
+  const std::uint64_t clamped = value > kMaxValue ? kMaxValue : value;
+  sum_ += clamped;
+  const auto x = static_cast<double>(clamped);
+  sum_squares_ += x * x;
 }
 
 void LatencyHistogram::merge(const LatencyHistogram& other) noexcept {
   if (other.count_ == 0) return;
   for (std::size_t i = 0; i < kBucketCount; ++i) buckets_[i] += other.buckets_[i];
-  // Chan et al.: combine two (count, mean, M2) triples exactly.
-  const auto na = static_cast<double>(count_);
-  const auto nb = static_cast<double>(other.count_);
-  const double n = na + nb;
-  const double delta = other.mean_ - mean_;
-  mean_ += delta * nb / n;
-  m2_ += other.m2_ + delta * delta * na * nb / n;
+  sum_ += other.sum_;
+  sum_squares_ += other.sum_squares_;
   count_ += other.count_;
   saturated_ += other.saturated_;
   if (other.min_ < min_) min_ = other.min_;
@@ -66,7 +60,10 @@ void LatencyHistogram::merge(const LatencyHistogram& other) noexcept {
 }
 
 double LatencyHistogram::stddev() const noexcept {
-  return count_ == 0 ? 0.0 : std::sqrt(m2_ / static_cast<double>(count_));
+  if (count_ == 0) return 0.0;
+  const double mean_value = mean();
+  const double variance = sum_squares_ / static_cast<double>(count_) - mean_value * mean_value;
+  return variance > 0.0 ? std::sqrt(variance) : 0.0;  // rounding may leave a tiny negative
 }
 
 std::uint64_t LatencyHistogram::percentile(double percent) const noexcept {
@@ -93,7 +90,7 @@ HistogramSummary LatencyHistogram::summary() const noexcept {
   s.count = count_;
   s.min = min();
   s.max = max_;
-  s.mean = mean_;
+  s.mean = mean();
   s.stddev = stddev();
   s.p50 = percentile(50.0);
   s.p90 = percentile(90.0);

@@ -1,6 +1,7 @@
 // LatencyHistogram: records durations (or any non-negative integer: ns, TSC ticks) into a fixed set
 // of log-linear buckets, in place, without heap. Reports count, exact min and max, mean and standard
-// deviation (Welford, exact up to double rounding) and percentiles p50/p90/p99/p99.9 to within one
+// deviation (from the exact integer sum and a double sum of squares: no division per record, so a
+// real-time task can record every period cheaply) and percentiles p50/p90/p99/p99.9 to within one
 // bucket. Two histograms merge (per-thread recording, one report).
 //
 // Buckets (the HdrHistogram layout): values 0..127 have one bucket each; above, every power-of-two
@@ -48,7 +49,7 @@ class LatencyHistogram {
   std::uint64_t count() const noexcept { return count_; }
   std::uint64_t min() const noexcept { return count_ == 0 ? 0 : min_; }
   std::uint64_t max() const noexcept { return max_; }
-  double mean() const noexcept { return mean_; }
+  double mean() const noexcept { return count_ == 0 ? 0.0 : static_cast<double>(sum_) / static_cast<double>(count_); }
   double stddev() const noexcept;
   std::uint64_t saturated() const noexcept { return saturated_; }
   // Smallest bucket bound v such that at least `percent` % of the samples are <= v, clamped to
@@ -73,8 +74,8 @@ class LatencyHistogram {
   std::uint64_t min_{UINT64_MAX};
   std::uint64_t max_{0};
   std::uint64_t saturated_{0};
-  double mean_{0.0};
-  double m2_{0.0};  // sum of squared deviations from the mean (Welford)
+  std::uint64_t sum_{0};  // of the recorded values (clamped to kMaxValue: 2^24 samples of the largest fit)
+  double sum_squares_{0.0};
 };
 
 }  // namespace rescue

@@ -9,6 +9,7 @@
 #include "core/app/bench/bench_header.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
+#include "core/timing/period_recorder.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
 #include "hal/time/clock.hpp"
@@ -38,6 +39,8 @@ LatencyHistogram g_timer_ticks;
 LatencyHistogram g_clock_ns;
 LatencyHistogram g_round_trip_ns;
 LatencyHistogram g_record_probe;
+PeriodRecorder g_period_probe;
+LatencyHistogram g_period_ns;
 SpscQueue<Message, 1024> g_ping;
 SpscQueue<Message, 1024> g_pong;
 Seqlock<Snapshot> g_snapshot;
@@ -81,6 +84,9 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   g_clock_ns.reset();
   g_round_trip_ns.reset();
   g_record_probe.reset();
+  g_period_probe.configure("probe", 1.0 / timer.ticks_per_ns());
+  g_period_probe.reset();
+  g_period_ns.reset();
   std::thread second(partner);
   (void)std::fflush(stdout);
   const hal::PageFaults faults_at_init = hal::page_faults_of_process();
@@ -139,6 +145,20 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   for (std::uint64_t i = 0; i < kSeqlockOps; ++i) g_record_probe.record(i & 0xFFFFU);
   const std::uint64_t record_ticks = timer.stop() - record_start;
 
+  // What the firmware's task loops add per period (firmware.cpp, task_timing.hpp): the timer read
+  // before and after the work, and the recorder's two histogram records (the loops' clock reads
+  // were there before).
+  // Batches of kClockBatch, each timed as a whole: the median batch is not hit by preemption.
+  for (std::uint64_t b = 0; b < kClockBatches; ++b) {
+    const std::uint64_t batch_start = timer.start();
+    for (std::uint64_t i = 0; i < kClockBatch; ++i) {
+      const std::uint64_t work_start = timer.start();
+      const std::uint64_t work_end = timer.stop();
+      g_period_probe.record(static_cast<std::int64_t>(i), work_start, work_end);
+    }
+    g_period_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - batch_start)) / kClockBatch);
+  }
+
   const HeapGuardCounters heap = heap_guard_counters();
   const hal::PageFaults faults_after = hal::page_faults_of_process();
   g_phase.store(Phase::stop, std::memory_order_release);
@@ -158,6 +178,8 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   (void)std::printf("seqlock_read: %.1f ns\n", per_op_ns(timer, read_ticks, kSeqlockOps));
   (void)std::printf("seqlock_read_failures: %" PRIu64 " reads\n", read_failures);
   (void)std::printf("histogram_record: %.1f ns\n", per_op_ns(timer, record_ticks, kSeqlockOps));
+  (void)std::printf("period_recording_p50: %" PRIu64 " ns\n", g_period_ns.percentile(50.0));
+  (void)std::printf("period_recording_p90: %" PRIu64 " ns\n", g_period_ns.percentile(90.0));
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   (void)std::printf("page_faults_after_init: %" PRIu64 " faults\n",

@@ -3,7 +3,9 @@
 
 #include "core/app/bench/bench_codec.hpp"
 #include "core/app/bench/bench_core.hpp"
+#include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
+#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_nic.hpp"
 #include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
@@ -16,8 +18,9 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
-    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000)"},
-    {"seed", "S", "master, sim: seed of the simulated robot's clocks and delays (default 1)"},
+    {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000); periods: measured periods (default 1000)"},
+    {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
+    {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
     {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000)"},
 };
@@ -34,6 +37,8 @@ const Bench kBenches[] = {
     {"master", bench_master},
     {"sim", bench_sim},
     {"rc", bench_rc},
+    {"latency", bench_latency},
+    {"periods", bench_periods},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -48,15 +53,17 @@ int bench_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kBenchCommand{
-    "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
-    "  core   TSC timer, clock, SPSC queue, seqlock, histogram costs; heap allocations and page faults after init\n"
+    "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
     "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
     "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
-    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl",
+    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl\n"
+    "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
+    "  periods the handler's cycle and the joint manager's step on the simulated robot in virtual time (toolchain/instructions.sh)",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app

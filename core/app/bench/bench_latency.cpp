@@ -1,0 +1,215 @@
+#include "core/app/bench/bench_latency.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+
+#include "core/app/bench/bench_header.hpp"
+#include "core/app/config/firmware_config.hpp"
+#include "core/timing/latency_histogram.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/clock.hpp"
+
+extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spawn passes it on
+
+namespace rescue::app {
+namespace {
+
+// The EtherCAT handler's settings (the task table: config/firmware_config.hpp).
+constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
+constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
+constexpr hal::Nanoseconds kPeriod = config::kEthercatHandlerPeriodNs;
+constexpr double kDefaultPeriods = 10000;
+constexpr std::size_t kCyclictestBuckets = 2000;  // us; beyond: overflow (counted in max only)
+
+LatencyHistogram g_ours;
+
+struct Figures {
+  double p50_ns{0};
+  double p99_ns{0};
+  double max_ns{0};
+  double min_ns{0};
+  double mean_ns{0};
+  std::uint64_t count{0};
+};
+
+int cpu_for(int wanted) noexcept {
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  if (online <= 0 || wanted < online) return wanted;
+  return static_cast<int>(online - 1);
+}
+
+bool preempt_rt() noexcept {
+  std::FILE* f = std::fopen("/sys/kernel/realtime", "r");
+  if (f == nullptr) return false;
+  const int c = std::fgetc(f);
+  (void)std::fclose(f);
+  return c == '1';
+}
+
+void our_loop(std::uint64_t periods, int cpu, hal::RtReport* report) noexcept {
+  hal::RtConfig config;
+  config.lock_memory = false;  // once for the process
+  config.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
+  config.fifo_priority = kHandlerPriority;
+  config.cpu = cpu;
+  *report = hal::apply_rt_config(config);
+  hal::MonotonicClock clock;
+  hal::Nanoseconds next = clock.now() + kPeriod;
+  for (std::uint64_t i = 0; i < periods; ++i) {
+    clock.sleep_until(next);
+    const hal::Nanoseconds woke = clock.now();
+    g_ours.record(woke > next ? static_cast<std::uint64_t>(woke - next) : 0);
+    next += kPeriod;
+  }
+}
+
+// Runs cyclictest and reads its histogram (one line per us, "# Max Latencies:" ...) from a pipe.
+bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std::size_t why_size) noexcept {
+  char prio[16];
+  char affinity[16];
+  char interval[24];
+  char loops[24];
+  char histogram[16];
+  (void)std::snprintf(prio, sizeof prio, "-p%d", kHandlerPriority);
+  (void)std::snprintf(affinity, sizeof affinity, "-a%d", cpu);
+  (void)std::snprintf(interval, sizeof interval, "-i%" PRId64, kPeriod / 1000);
+  (void)std::snprintf(loops, sizeof loops, "-l%" PRIu64, periods);
+  (void)std::snprintf(histogram, sizeof histogram, "-h%zu", kCyclictestBuckets);
+  char name[] = "cyclictest";
+  char m[] = "-m";
+  char q[] = "-q";
+  char t1[] = "-t1";
+  char* argv[] = {name, m, q, t1, prio, affinity, interval, loops, histogram, nullptr};
+  (void)std::fflush(stdout);
+  int pipe_fds[2];
+  if (pipe(pipe_fds) != 0) {
+    (void)std::snprintf(why, why_size, "pipe failed");
+    return false;
+  }
+  posix_spawn_file_actions_t actions;
+  (void)posix_spawn_file_actions_init(&actions);
+  (void)posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  (void)posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, "cyclictest", &actions, nullptr, argv, environ);
+  (void)posix_spawn_file_actions_destroy(&actions);
+  (void)close(pipe_fds[1]);
+  if (spawned != 0) {
+    (void)close(pipe_fds[0]);
+    (void)std::snprintf(why, why_size, "cyclictest not found (Debian package rt-tests, toolchain/setup.sh)");
+    return false;
+  }
+  std::FILE* in = fdopen(pipe_fds[0], "r");
+  if (in == nullptr) {
+    (void)close(pipe_fds[0]);
+    (void)std::snprintf(why, why_size, "fdopen failed");
+    return false;
+  }
+  static std::uint64_t counts[kCyclictestBuckets];
+  std::memset(counts, 0, sizeof counts);
+  char line[512];
+  while (std::fgets(line, sizeof line, in) != nullptr) {
+    unsigned long long us = 0;
+    unsigned long long count = 0;
+    if (line[0] != '#' && std::sscanf(line, "%llu %llu", &us, &count) == 2 && us < kCyclictestBuckets) {
+      counts[us] = count;
+      out.count += count;
+    } else if (std::sscanf(line, "# Max Latencies: %llu", &us) == 1) {
+      out.max_ns = static_cast<double>(us) * 1000.0;
+    } else if (std::sscanf(line, "# Min Latencies: %llu", &us) == 1) {
+      out.min_ns = static_cast<double>(us) * 1000.0;
+    } else if (std::sscanf(line, "# Avg Latencies: %llu", &us) == 1) {
+      out.mean_ns = static_cast<double>(us) * 1000.0;
+    }
+  }
+  (void)std::fclose(in);
+  int status = 0;
+  (void)waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || out.count == 0) {
+    (void)std::snprintf(why, why_size, "cyclictest failed (exit status %d, %" PRIu64 " samples)",
+                        WIFEXITED(status) ? WEXITSTATUS(status) : -1, out.count);
+    return false;
+  }
+  // Percentiles from the per-us histogram: the us of the rank's sample (cyclictest's resolution).
+  std::uint64_t seen = 0;
+  const double ranks[] = {0.50, 0.99};
+  double* targets[] = {&out.p50_ns, &out.p99_ns};
+  for (std::size_t r = 0; r < 2; ++r) {
+    seen = 0;
+    const auto rank = static_cast<std::uint64_t>(static_cast<double>(out.count) * ranks[r] + 0.999999);
+    for (std::size_t us = 0; us < kCyclictestBuckets; ++us) {
+      seen += counts[us];
+      if (seen >= rank) {
+        *targets[r] = static_cast<double>(us) * 1000.0;
+        break;
+      }
+    }
+  }
+  return true;
+}
+
+void print_figures(const char* who, const Figures& f) noexcept {
+  (void)std::printf("%s_periods: %" PRIu64 " periods\n", who, f.count);
+  (void)std::printf("%s_latency_min: %.0f ns\n", who, f.min_ns);
+  (void)std::printf("%s_latency_mean: %.0f ns\n", who, f.mean_ns);
+  (void)std::printf("%s_latency_p50: %.0f ns\n", who, f.p50_ns);
+  (void)std::printf("%s_latency_p99: %.0f ns\n", who, f.p99_ns);
+  (void)std::printf("%s_latency_max: %.0f ns\n", who, f.max_ns);
+}
+
+double ratio(double ours, double floor) noexcept { return floor > 0.0 ? ours / floor : 0.0; }
+
+}  // namespace
+
+int bench_latency(const ParsedArgs& args) noexcept {
+  const Result<double> periods_arg = args.number("periods", kDefaultPeriods, 100.0, 1e9);
+  if (!periods_arg.ok()) return fail("bench", "--periods N", periods_arg.error());
+  const auto periods = static_cast<std::uint64_t>(periods_arg.value());
+  print_bench_header(stdout, "latency");
+  const int cpu = cpu_for(kHandlerCpu);
+  (void)std::printf("preempt_rt: %s\n", preempt_rt() ? "yes (/sys/kernel/realtime = 1)" : "no (stock kernel)");
+  (void)std::printf("period: %" PRId64 " ns\n", kPeriod);
+  (void)std::printf("priority: SCHED_FIFO %d (the EtherCAT handler's)\n", kHandlerPriority);
+  (void)std::printf("task_cpu: %d (the handler's CPU %d, or the last one on fewer CPUs)\n", cpu, kHandlerCpu);
+  hal::RtConfig process;
+  process.lock_memory = true;
+  process.prefault_stack_bytes = 0;
+  const hal::RtReport locked = hal::apply_rt_config(process);
+  locked.print(stdout);
+  g_ours.reset();
+  hal::RtReport report;
+  std::thread loop(our_loop, periods, cpu, &report);
+  loop.join();
+  report.print(stdout);
+
+  Figures ours;
+  ours.count = g_ours.count();
+  ours.min_ns = static_cast<double>(g_ours.min());
+  ours.mean_ns = g_ours.mean();
+  ours.p50_ns = static_cast<double>(g_ours.percentile(50.0));
+  ours.p99_ns = static_cast<double>(g_ours.percentile(99.0));
+  ours.max_ns = static_cast<double>(g_ours.max());
+  print_figures("ours", ours);
+
+  Figures floor;
+  char why[160] = "";
+  if (!run_cyclictest(periods, cpu, floor, why, sizeof why)) {
+    (void)std::printf("cyclictest: not measured: %s\n", why);
+    return fail("bench", "cyclictest did not run: no ratio");
+  }
+  print_figures("cyclictest", floor);
+  (void)std::printf("cyclictest_resolution: 1000 ns (its histogram's bucket)\n");
+  (void)std::printf("ratio_p50: %.2f ours/cyclictest\n", ratio(ours.p50_ns, floor.p50_ns));
+  (void)std::printf("ratio_p99: %.2f ours/cyclictest\n", ratio(ours.p99_ns, floor.p99_ns));
+  (void)std::printf("ratio_max: %.2f ours/cyclictest\n", ratio(ours.max_ns, floor.max_ns));
+  return 0;
+}
+
+}  // namespace rescue::app
