@@ -4,8 +4,10 @@
 
 namespace rescue::kin {
 
-// Eigen's fixed-size objects are passed by const reference (Eigen's own rule), not by value.
-JointSpaceTeleop::JointSpaceTeleop(const JointVector& q_start, double dt_s) noexcept  // NOLINT(modernize-pass-by-value)
+// Fixed-size Eigen vectors are passed by reference (Eigen's own rule: no by-value alignment issues), so
+// modernize-pass-by-value does not apply.
+// NOLINTNEXTLINE(modernize-pass-by-value)
+JointSpaceTeleop::JointSpaceTeleop(const JointVector& q_start, double dt_s) noexcept
     : references_(q_start), dt_s_(dt_s) {}
 
 Status JointSpaceTeleop::step(const JointVector& velocity_command, JointMask out_of_service) noexcept {

@@ -6,6 +6,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <thread>
@@ -20,6 +21,27 @@ extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spaw
 
 namespace rescue::app {
 namespace {
+
+// One unsigned decimal number after optional blanks; advances `at` past it. False: none, or too large.
+bool parse_decimal(const char*& at, std::uint64_t& value) noexcept {
+  while (*at == ' ' || *at == '\t') ++at;
+  if (*at < '0' || *at > '9') return false;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(at, &end, 10);
+  if (errno != 0) return false;
+  value = v;
+  at = end;
+  return true;
+}
+
+// cyclictest's summary line "<label> <value> ...": the first task's value.
+bool summary_value(const char* line, const char* label, std::uint64_t& value) noexcept {
+  const std::size_t n = std::strlen(label);
+  if (std::strncmp(line, label, n) != 0) return false;
+  const char* at = line + n;
+  return parse_decimal(at, value);
+}
 
 // The EtherCAT handler's settings (the task table: config/firmware_config.hpp).
 constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
@@ -116,16 +138,17 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
   std::memset(counts, 0, sizeof counts);
   char line[512];
   while (std::fgets(line, sizeof line, in) != nullptr) {
-    unsigned long long us = 0;
-    unsigned long long count = 0;
-    if (line[0] != '#' && std::sscanf(line, "%llu %llu", &us, &count) == 2 && us < kCyclictestBuckets) {
+    std::uint64_t us = 0;
+    std::uint64_t count = 0;
+    const char* rest = line;
+    if (line[0] != '#' && parse_decimal(rest, us) && parse_decimal(rest, count) && us < kCyclictestBuckets) {
       counts[us] = count;
       out.count += count;
-    } else if (std::sscanf(line, "# Max Latencies: %llu", &us) == 1) {
+    } else if (summary_value(line, "# Max Latencies:", us)) {
       out.max_ns = static_cast<double>(us) * 1000.0;
-    } else if (std::sscanf(line, "# Min Latencies: %llu", &us) == 1) {
+    } else if (summary_value(line, "# Min Latencies:", us)) {
       out.min_ns = static_cast<double>(us) * 1000.0;
-    } else if (std::sscanf(line, "# Avg Latencies: %llu", &us) == 1) {
+    } else if (summary_value(line, "# Avg Latencies:", us)) {
       out.mean_ns = static_cast<double>(us) * 1000.0;
     }
   }
@@ -138,11 +161,10 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
     return false;
   }
   // Percentiles from the per-us histogram: the us of the rank's sample (cyclictest's resolution).
-  std::uint64_t seen = 0;
   const double ranks[] = {0.50, 0.99};
   double* targets[] = {&out.p50_ns, &out.p99_ns};
   for (std::size_t r = 0; r < 2; ++r) {
-    seen = 0;
+    std::uint64_t seen = 0;
     const auto rank = static_cast<std::uint64_t>(static_cast<double>(out.count) * ranks[r] + 0.999999);
     for (std::size_t us = 0; us < kCyclictestBuckets; ++us) {
       seen += counts[us];
