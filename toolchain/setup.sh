@@ -19,6 +19,7 @@ packages=(
   binutils                                           # readelf: vtables for toolchain/rt_verify.py
   rt-tests                                           # cyclictest: the OS latency floor (bench latency)
   valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)
+  libsodium-dev                                      # UDP protocol authentication (crypto_auth), keys
 )
 
 missing=()

@@ -153,7 +153,10 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
         sub_scale = std::min(sub_scale, room);
       }
     }
-    dq = main + std::max(0.0, sub_scale) * dq2;
+    // Damping makes N1 an imperfect projector: the sub-tasks fade out as the damping grows, so
+    // near a singularity they cannot leak into (and oscillate against) the main task.
+    const double fade = 1.0 - (lambda2 - floor2) / (s.max_damping * s.max_damping);
+    dq = main + std::max(0.0, sub_scale) * fade * dq2;
 
     // Position limits: lock the joints that would cross one and solve again.
     bool clamped = false;

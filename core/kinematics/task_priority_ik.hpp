@@ -7,7 +7,8 @@
 //   dq = J1# e1 + (J2 N1)# (e2 - J2 J1# e1),   N1 = I - J1# J1,   J# = J^T (J J^T + lambda^2 I)^-1
 //
 // lambda grows smoothly from a tiny floor to lambda_max as the smallest singular value of J1 (an
-// inverse-iteration estimate, warm-started every period) falls below a threshold. Joints out of
+// inverse-iteration estimate, warm-started every period) falls below a threshold; the sub-tasks
+// fade out as lambda grows (a damped N1 is no exact projector, they would leak into the main task). Joints out of
 // service are locked: their columns are removed, their positions held. A joint that would cross a
 // position limit is locked at the limit and the step solved again (at most three passes). The
 // sub-task step is scaled down to what the velocity limits leave over from the main task; if the

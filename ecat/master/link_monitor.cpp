@@ -41,7 +41,8 @@ void LinkMonitor::start(SlaveMask in_exchange) noexcept {
   present_ = in_exchange;
   out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = 0;
   pending_lost_ = pending_restored_ = 0;
-  frames_lost_in_row_ = 0;
+  silent_frames_.fill(0);
+  frames_missing_in_row_ = 0;
 }
 
 std::uint16_t LinkMonitor::expected_wkc(std::size_t branch) const noexcept {
@@ -73,46 +74,54 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
   valid_ = 0;
   pending_lost_ = pending_restored_ = 0;
   pending_detected_ = cycle;
-  if (frame_received) {
-    frames_lost_in_row_ = 0;
-    const SlaveMask out_before = out_;
-    const bool probed_suspects = (suspect_ & present_) != 0;
-    for (const ProbeResult& probe : probes) observe_probe(probe);  // first: they change the expectation
-    if (probed_suspects && out_ == out_before) ++glitches_;       // a shortfall nobody explains
-    observe_branches(branch_wkc);
-  } else if (++frames_lost_in_row_ == kLostFrameLimit && present_ != 0) {
-    pending_detected_ = cycle + 1 - kLostFrameLimit;
-    pending_lost_ = present_;
-    out_ |= present_;
-    lost_ |= present_;
-    present_ = 0;
-    suspect_ = 0;
+  if (!frame_received) {
+    // Late or missing: no evidence. Suspects stay suspects and are probed again next frame.
+    ++frames_missing_;
+    ++frames_missing_in_row_;
+    return;
   }
+  frames_missing_in_row_ = 0;
+  const SlaveMask out_before = out_;
+  const bool probed_suspects = (suspect_ & present_) != 0;
+  bool silent_seen = false;
+  for (const ProbeResult& probe : probes) silent_seen = observe_probe(probe) || silent_seen;  // first: they change the expectation
+  if (probed_suspects && out_ == out_before && !silent_seen) ++glitches_;  // a shortfall nobody explains
+  observe_branches(branch_wkc);
   if (pending_lost_ != 0) report(LinkEventKind::lost, pending_lost_, pending_detected_);
   if (pending_restored_ != 0) report(LinkEventKind::restored, pending_restored_, cycle);
 }
 
-void LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
-  if (probe.position >= kMaxSlaves) return;
+bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
+  if (probe.position >= kMaxSlaves) return false;
   const SlaveMask bit = slave_bit(probe.position);
   if ((present_ & bit) != 0) {
-    if ((suspect_ & bit) == 0) return;  // only suspects are probed while in the exchange
-    suspect_ &= ~bit;
+    if ((suspect_ & bit) == 0) return false;  // only suspects are probed while in the exchange
+    std::uint8_t& silent = silent_frames_[probe.position];
     if (probe.status_wkc == 0) {
+      // Silent once more. The counter that raised the suspicion was the first such frame.
+      if (silent == 0) silent = 1;
+      if (++silent < kLossConfirmFrames) return true;  // stays a suspect: probed again next frame
+      silent = 0;
+      suspect_ &= ~bit;
       present_ &= ~bit;
       out_ |= bit;
       lost_ |= bit;
       pending_lost_ |= bit;
       if (suspect_since_[probe.position] < pending_detected_) pending_detected_ = suspect_since_[probe.position];
-    } else if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::op)) {
+      return true;
+    }
+    // It answered: whatever the counter said, the link to it is there.
+    silent = 0;
+    suspect_ &= ~bit;
+    if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::op)) {
       present_ &= ~bit;
       out_ |= bit;
       report(LinkEventKind::not_operational, bit, suspect_since_[probe.position], probe.al_status,
              probe.al_status_code);
     }
-    return;  // reachable and in OP: the shortfall was elsewhere on the branch, or transient
+    return false;  // reachable and in OP: the shortfall was elsewhere on the branch, or transient
   }
-  if ((out_ & bit) == 0) return;
+  if ((out_ & bit) == 0) return false;
   if (probe.had_clear && probe.clear_wkc != 0) fmmus_cleared_ |= bit;
   if (probe.status_wkc != 0 && (lost_ & bit) != 0) {
     lost_ &= ~bit;
@@ -125,6 +134,7 @@ void LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
     lost_ |= bit;
     fmmus_cleared_ &= ~bit;
   }
+  return false;
 }
 
 void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept {
@@ -134,7 +144,9 @@ void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>
     const std::uint16_t wkc = branch_wkc[b];
     if (wkc >= expected_wkc(b)) {
       // A counter above the expectation is a slave out of the exchange still mapped for a cycle.
+      // A full counter is evidence against a cut: the silent count of the branch starts again.
       valid_ |= present;
+      for (std::size_t i = 0; i < branch.slave_count; ++i) silent_frames_[branch.slaves[i]] = 0;
       continue;
     }
     // Short: probe every present slave of the branch. Only whole multiples of 3 say how many

@@ -9,15 +9,21 @@
 //    only 1) cannot be placed: nothing on that branch is valid this cycle. Either way every
 //    present slave of a short branch becomes a suspect. Healthy branches are untouched.
 // 2. Next cycle, each suspect is probed with an FPRD of its AL status (0x0130..0x0135): working
-//    counter 0 means unreachable -> reported lost; reachable but not in OP -> reported not
-//    operational (with its AL status code); reachable in OP -> a glitch, counted, nothing reported.
+//    counter 0 means unreachable; reachable but not in OP -> reported not operational (with its AL
+//    status code); reachable in OP -> a glitch, counted, nothing reported. An unreachable suspect
+//    is reported lost only when kLossConfirmFrames returned frames in a row said so: the one whose
+//    working counter raised the suspicion, then kLossConfirmFrames - 1 whose probe found it silent
+//    (docs/master.md gives the reasoning). A frame that did not come back (late, bunched, dropped)
+//    is no evidence either way: it neither confirms nor clears anything.
 // 3. A slave taken out of the exchange (lost or not operational) no longer counts in the expected
 //    working counter. The master clears its FMMU activation (FPWR 0x060C, 17 zero bytes: FMMU0 and
 //    FMMU1 off), so it adds nothing to the LRW even if it answers again. That write is repeated
 //    each cycle for lost slaves and doubles as the restoration probe: its first working counter of
 //    1 means the link is back -> reported restored. A restored slave stays out of the exchange
 //    until the owner re-integrates it explicitly.
-// 4. No frame back for kLostFrameLimit cycles in a row: every present slave is reported lost.
+// 4. No frame back at all is "late or missing": counted (frames_missing()), never a loss by itself.
+//    Only frames that come back are evidence; replies are matched to their request by the frame's
+//    index (DatagramLink), so a late reply of an earlier period is never read as the current one.
 #pragma once
 
 #include <array>
@@ -67,7 +73,10 @@ struct ProbeResult {
 
 class LinkMonitor {
  public:
-  static constexpr std::uint32_t kLostFrameLimit = 3;
+  // Returned frames in a row that must show a slave unreachable before it is reported lost: the
+  // short working counter, then this many minus one silent probes. Detection time: a cut in cycle
+  // N is reported in cycle N + kLossConfirmFrames - 1 when every frame comes back.
+  static constexpr std::uint32_t kLossConfirmFrames = 3;
   static constexpr std::size_t kReportCapacity = 32;
 
   LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
@@ -103,9 +112,13 @@ class LinkMonitor {
   // Probe rounds that found every suspect reachable and in OP (a transient shortfall).
   std::uint64_t glitches() const noexcept { return glitches_; }
   std::uint64_t reports_dropped() const noexcept { return reports_dropped_; }
+  // Cycles whose frame did not come back by its deadline (late or missing), and the current run.
+  std::uint64_t frames_missing() const noexcept { return frames_missing_; }
+  std::uint32_t frames_missing_in_row() const noexcept { return frames_missing_in_row_; }
 
  private:
-  void observe_probe(const ProbeResult& probe) noexcept;
+  // True when the probe found a suspect silent (evidence of a loss, not yet confirmed).
+  bool observe_probe(const ProbeResult& probe) noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
   void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
               std::uint16_t al_code = 0) noexcept;
@@ -120,7 +133,10 @@ class LinkMonitor {
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
   std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
-  std::uint32_t frames_lost_in_row_{0};
+  // Returned frames in a row that showed the slave unreachable (counter, then silent probes).
+  std::array<std::uint8_t, kMaxSlaves> silent_frames_{};
+  std::uint64_t frames_missing_{0};
+  std::uint32_t frames_missing_in_row_{0};
   std::uint64_t cycle_{0};
   hal::Nanoseconds time_{0};
   std::size_t rotate_{0};

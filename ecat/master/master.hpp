@@ -46,7 +46,11 @@ constexpr std::size_t kCycleFrameReserve = 400;
 struct MasterOptions {
   hal::Nanoseconds cycle_time{hal::kNsPerMs};
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
-  hal::Nanoseconds cycle_receive_timeout{400 * hal::kNsPerUs};  // cyclic frame's deadline after sending
+  // First contact: the count BRD is sent again every frame_timeout until a frame comes back or this
+  // much time has passed (a segment just powered, a simulator just started or long idle, a link
+  // still negotiating). Only then does bring-up fail, saying that nothing answered.
+  hal::Nanoseconds first_contact_timeout{5 * hal::kNsPerSec};
+  hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
   unsigned drift_compensation_frames{15000};  // static drift compensation before cycling
@@ -60,6 +64,9 @@ struct MasterOptions {
   // SDO downloads done in PRE-OP, before SAFE-OP (IgH's slave-config SDOs): e.g. joint limits.
   // Requests to slaves that are not operated are skipped. Any refusal fails the bring-up.
   Span<const SdoRequest> startup_sdos{};
+  // Polled between the bring-up's steps and inside its long loops: true stops the bring-up at once
+  // (failed step "stopped", Errc::refused), slaves left in their current (not operational) state.
+  bool (*stop_requested)() noexcept {nullptr};
   hal::Nanoseconds startup_sdo_timeout{5 * hal::kNsPerSec};
 };
 
@@ -83,6 +90,7 @@ struct BringUpReport {
   const char* failed_step{nullptr};  // nullptr when bring-up succeeded
   Error error{};
   std::uint16_t slaves_counted{0};
+  std::uint32_t first_contact_frames{0};  // count BRDs sent until one came back
   FixedVector<FoundSlave, kMaxFoundSlaves> found{};
   NetworkMatch match{};
   AlFailure al_failure{};
@@ -179,6 +187,8 @@ class Master {
   Status configure_process_data() noexcept;
   Status run_startup_sdos() noexcept;
   Status fail(const char* step, const Error& error) noexcept;
+  // The owner asked to stop (MasterOptions::stop_requested): fails the bring-up before `step`.
+  Status check_stop(const char* step) noexcept;
   // Distributed clocks (master_dc.cpp).
   Status configure_dc() noexcept;
   Status compensate_static_drift() noexcept;

@@ -95,23 +95,35 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
     return fail("plan", make_error(Errc::capacity_exceeded, "process image does not fit one frame", u32(cyclic_bytes)));
   }
 
-  Status st = count_and_reset();
+  Status st = check_stop("count");
+  if (st.ok()) st = count_and_reset();
+  if (st.ok()) st = check_stop("identify");
   if (st.ok()) st = identify();
+  if (st.ok()) st = check_stop("address");
   if (st.ok()) st = assign_addresses();
+  if (st.ok()) st = check_stop("INIT");
   if (st.ok()) {
     const Status init = request_al_state(link_, plan_, operated(), reg::AlState::init, options_.al, report_.al_failure);
     if (!init.ok()) st = fail("INIT", init.error());
   }
+  if (st.ok()) st = check_stop("mailbox");
   if (st.ok()) st = configure_mailboxes();
+  if (st.ok()) st = check_stop("PRE-OP");
   if (st.ok()) {
     const Status pre_op = request_al_state(link_, plan_, operated(), reg::AlState::pre_op, options_.al, report_.al_failure);
     if (!pre_op.ok()) st = fail("PRE-OP", pre_op.error());
   }
+  if (st.ok()) st = check_stop("PRE-OP SDO");
   if (st.ok()) st = run_startup_sdos();
+  if (st.ok()) st = check_stop("process data");
   if (st.ok()) st = configure_process_data();
+  if (st.ok()) st = check_stop("DC");
   if (st.ok()) st = configure_dc();
+  if (st.ok()) st = check_stop("DC drift");
   if (st.ok()) st = compensate_static_drift();
+  if (st.ok()) st = check_stop("SYNC0");
   if (st.ok()) st = start_sync0();
+  if (st.ok()) st = check_stop("SAFE-OP");
   if (st.ok()) {
     const Status safe_op = request_al_state(link_, plan_, operated(), reg::AlState::safe_op, options_.al, report_.al_failure);
     if (!safe_op.ok()) st = fail("SAFE-OP", safe_op.error());
@@ -131,10 +143,31 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   return Status::success();
 }
 
+Status Master::check_stop(const char* step) noexcept {
+  if (options_.stop_requested == nullptr || !options_.stop_requested()) return Status::success();
+  return fail(step, make_error(Errc::refused, "stopped on request"));
+}
+
 Status Master::count_and_reset() noexcept {
+  // First contact, patiently: one BRD per frame_timeout until a frame comes back or
+  // first_contact_timeout has passed. At least kBringUpAttempts are sent whatever the times.
   std::array<std::uint8_t, 2> type{};
-  const Result<std::uint16_t> counted =
-      link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout);
+  const hal::Nanoseconds give_up_at = link_.clock().now() + options_.first_contact_timeout;
+  Result<std::uint16_t> counted = make_error(Errc::timeout, "no frame came back");
+  report_.first_contact_frames = 0;
+  for (;;) {
+    ++report_.first_contact_frames;
+    counted = link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout, 1);
+    if (counted.ok() || counted.error().code != Errc::timeout) break;
+    if (report_.first_contact_frames >= kBringUpAttempts && link_.clock().now() >= give_up_at) break;
+  }
+  if (!counted.ok() && counted.error().code == Errc::timeout) {
+    const auto waited_ms = static_cast<std::uint32_t>(options_.first_contact_timeout / hal::kNsPerMs);
+    return fail("count", make_error(Errc::timeout,
+                                    "no EtherCAT frame came back (BRDs sent, ms waited): is the segment cabled to "
+                                    "this interface and powered, or `rescue-motion sim --iface` running at its end?",
+                                    report_.first_contact_frames, waited_ms));
+  }
   if (!counted.ok()) return fail("count", counted.error());
   report_.slaves_counted = counted.value();
   if (counted.value() == 0) return fail("count", make_error(Errc::not_found, "no slave answers"));

@@ -97,6 +97,9 @@ Status Master::compensate_static_drift() noexcept {
   std::array<std::uint8_t, 8> time{};
   std::uint32_t lost = 0;
   for (unsigned i = 0; i < options_.drift_compensation_frames; ++i) {
+    if (i % 256 == 0 && options_.stop_requested != nullptr && options_.stop_requested()) {
+      return fail("DC drift", make_error(Errc::refused, "stopped on request"));
+    }
     const Result<std::uint16_t> wkc = link_.transfer(Command::FRMW, make_address(reference_station_, reg::kDcSystemTime),
                                                      ByteSpan(time), options_.frame_timeout, 1);
     if (!wkc.ok()) {

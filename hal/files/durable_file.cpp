@@ -55,7 +55,14 @@ Result<PathBuffer> join_path(const char* dir, const char* name) noexcept {
 Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept {
   // O_NONBLOCK: opening a FIFO someone left in place of the file must not hang start-up.
   const int fd = ::open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
-  if (fd < 0) return os_error("open file");
+  if (fd < 0) {
+    const Error err = os_error("open file");
+    struct stat link {};
+    if (err.code == Errc::not_found && ::lstat(path, &link) == 0 && S_ISLNK(link.st_mode)) {
+      return make_error(Errc::malformed, "symbolic link whose target does not exist");
+    }
+    return err;
+  }
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
     const Error err = os_error("stat file");
@@ -130,6 +137,33 @@ Status rename_durably(const char* dir, const char* from, const char* to) noexcep
   if (!b.ok()) return b.error();
   if (::rename(a.value().c_str(), b.value().c_str()) != 0) return os_error("rename");
   return fsync_directory(dir);
+}
+
+Result<std::uint32_t> set_aside_durably(const char* dir, const char* from, const char* base, std::uint32_t max_suffix) noexcept {
+  auto source = join_path(dir, from);
+  if (!source.ok()) return source.error();
+  for (std::uint32_t suffix = 0; suffix <= max_suffix; ++suffix) {
+    PathBuffer name;
+    const int n = suffix == 0 ? std::snprintf(name.text.data(), name.text.size(), "%s", base)
+                              : std::snprintf(name.text.data(), name.text.size(), "%s.%u", base, suffix);
+    if (n < 0 || static_cast<std::size_t>(n) >= name.text.size()) return make_error(Errc::out_of_range, "path too long");
+    auto target = join_path(dir, name.c_str());
+    if (!target.ok()) return target.error();
+    // No replace: rename with RENAME_NOREPLACE, or link + unlink where the filesystem lacks it.
+    if (::renameat2(AT_FDCWD, source.value().c_str(), AT_FDCWD, target.value().c_str(), RENAME_NOREPLACE) != 0) {
+      if (errno == EEXIST) continue;
+      if (errno != EINVAL && errno != ENOSYS) return os_error("rename aside");
+      if (::link(source.value().c_str(), target.value().c_str()) != 0) {
+        if (errno == EEXIST) continue;
+        return os_error("link aside");
+      }
+      if (::unlink(source.value().c_str()) != 0) return os_error("unlink after link aside");
+    }
+    const Status synced = fsync_directory(dir);
+    if (!synced.ok()) return synced.error();
+    return suffix;
+  }
+  return make_error(Errc::capacity_exceeded, "every set-aside name is taken", max_suffix);
 }
 
 Status make_directories(const char* path, unsigned mode) noexcept {

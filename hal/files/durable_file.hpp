@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
@@ -24,8 +25,9 @@ struct PathBuffer {
 // "dir/name"; out_of_range when it does not fit.
 Result<PathBuffer> join_path(const char* dir, const char* name) noexcept;
 
-// Reads the whole regular file at `path` into `buffer` and returns its size. Errors: not_found, a file
-// that is not a regular file (malformed: a FIFO or device would block or never end), capacity_exceeded
+// Reads the whole regular file at `path` into `buffer` and returns its size. Errors: not_found (nothing
+// at `path`), malformed for a symbolic link whose target does not exist (it is reported, never taken for
+// "no file") and for a file that is not a regular file (a FIFO or device would block or never end), capacity_exceeded
 // when the file is larger than the buffer (detail0 = its size, saturated; nothing beyond the buffer is
 // read), io_error (detail0 = errno).
 Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept;
@@ -38,6 +40,11 @@ Status write_file_atomically(const char* dir, const char* name, ConstByteSpan co
 // Renames dir/from to dir/to (replacing it) and fsyncs the directory: keeps a file aside for
 // post-mortem before a new one takes its name.
 Status rename_durably(const char* dir, const char* from, const char* to) noexcept;
+
+// Renames dir/from to the first free name of dir/base, dir/base.1, ... dir/base.<max_suffix>, never
+// replacing a file already there (each set-aside keeps its own name), and fsyncs the directory.
+// Returns the suffix used (0: `base` itself); capacity_exceeded when every name is taken.
+Result<std::uint32_t> set_aside_durably(const char* dir, const char* from, const char* base, std::uint32_t max_suffix) noexcept;
 
 // mkdir -p with `mode` for the directories it creates; success if `path` already is a directory.
 Status make_directories(const char* path, unsigned mode) noexcept;

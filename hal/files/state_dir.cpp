@@ -1,7 +1,9 @@
 #include "hal/files/state_dir.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -46,6 +48,11 @@ Result<StateDir> resolve_state_dir(const char* option) noexcept {
   const Status made = make_directories(dir.value().path.c_str(), per_user ? 0700U : 0755U);
   if (!made.ok()) return made.error();
   return dir;
+}
+
+Status check_writable(const char* dir) noexcept {
+  if (::faccessat(AT_FDCWD, dir, W_OK | X_OK, AT_EACCESS) == 0) return Status::success();
+  return make_error(Errc::permission_denied, "state directory not writable", static_cast<std::uint32_t>(errno));
 }
 
 }  // namespace rescue::hal

@@ -25,4 +25,8 @@ Result<StateDir> choose_state_dir(const char* option, bool privileged, const cha
 // for the system default, 0700 for per-user ones).
 Result<StateDir> resolve_state_dir(const char* option) noexcept;
 
+// Whether this process may create files in `dir` (access W_OK with the effective ids; a read-only
+// mount says so too). permission_denied (detail0 = errno) when it may not: a loss could not be recorded.
+Status check_writable(const char* dir) noexcept;
+
 }  // namespace rescue::hal

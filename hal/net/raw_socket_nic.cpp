@@ -132,6 +132,7 @@ Status RawSocketNic::open(const char* interface_name, const RawSocketSettings& s
     close();
     return status;
   }
+  set_receive_spin(settings.receive_spin);
   std::memcpy(name_.data(), "raw:", 4);
   std::memcpy(name_.data() + 4, interface_name, length + 1);
   return Status::success();
@@ -265,6 +266,7 @@ Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
 
 Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline) noexcept {
   if (fd_ < 0) return make_error(Errc::invalid_argument, "raw socket NIC not open");
+  Nanoseconds spin_until = -1;  // set on the first empty read
   for (;;) {
     // Read first: a frame already queued is returned even when the deadline has passed.
     const Result<std::size_t> got = read_one(buffer);
@@ -275,6 +277,8 @@ Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline)
     if (got.error().code != Errc::busy) return got.error();
 
     const Nanoseconds now = clock_.now();
+    if (spin_until < 0) spin_until = now + receive_spin_;
+    if (now < spin_until && now < deadline) continue;  // spinning: read again without sleeping
     if (now >= deadline) {
       ++stats_.receive_timeouts;
       return make_error(Errc::timeout, "no EtherCAT frame before the deadline");

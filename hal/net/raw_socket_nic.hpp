@@ -4,7 +4,9 @@
 //     behind an 802.1Q tag, which PACKET_AUXDATA lets us put back where it was on the wire;
 //   - promiscuous (PACKET_MR_PROMISC): returning frames carry whatever destination the master used;
 //   - PACKET_QDISC_BYPASS: frames go straight to the driver, no queueing discipline in the way;
-//   - non-blocking, with receive waiting in ppoll() at most until the caller's deadline;
+//   - non-blocking; receive polls the socket for a short while (the receive spin: a reply that
+//     comes back within it is seen at once, without the wake-up of a sleeping thread) and then
+//     waits in ppoll() at most until the caller's deadline;
 //   - our own outgoing frames ignored (PACKET_IGNORE_OUTGOING where the kernel has it, and the
 //     packet type checked on every frame), other EtherTypes dropped and counted;
 //   - SO_RCVBUF sized for a burst of returning frames.
@@ -40,6 +42,11 @@ struct RawSocketSettings {
   // Requested receive buffer (the kernel doubles it for bookkeeping and caps it at rmem_max unless
   // the process has CAP_NET_ADMIN). 256 KiB holds ~170 full-size frames.
   int receive_buffer_bytes{256 * 1024};
+  // How long receive() keeps reading the socket without sleeping before it waits in ppoll(). A
+  // frame's round trip on a segment is tens of microseconds; a thread that sleeps through it
+  // is woken by the kernel on another CPU, which on an idle or virtualised CPU costs tens of
+  // microseconds more (docs/hal.md has the measurements). 0: sleep at once (the simulator's side).
+  Nanoseconds receive_spin{0};
 };
 
 // What open() obtained from the kernel, for logs and benchmark headers.
@@ -81,6 +88,9 @@ class RawSocketNic final : public Nic {
   NicStats stats() const noexcept override { return stats_; }
 
   const RawSocketFeatures& features() const noexcept { return features_; }
+  // Changes the receive spin (RawSocketSettings::receive_spin) of an open socket.
+  void set_receive_spin(Nanoseconds spin) noexcept { receive_spin_ = spin < 0 ? 0 : spin; }
+  Nanoseconds receive_spin() const noexcept { return receive_spin_; }
   // Our own outgoing frames the kernel still showed us (only without PACKET_IGNORE_OUTGOING).
   std::uint64_t outgoing_frames_ignored() const noexcept { return outgoing_ignored_; }
 
@@ -96,6 +106,7 @@ class RawSocketNic final : public Nic {
   RawSocketFeatures features_{};
   NicStats stats_{};
   std::uint64_t outgoing_ignored_{0};
+  Nanoseconds receive_spin_{0};
 };
 
 // True for an Ethernet frame of EtherType 0x88A4, directly or behind one 802.1Q tag.

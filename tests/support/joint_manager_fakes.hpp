@@ -102,7 +102,7 @@ class FlakyStorage final : public ErrorJointsStorage {
     if (fail_saves) return make_error(Errc::io_error, "write temporary file", 28 /* ENOSPC */);
     return inner_.save(c);
   }
-  Status set_aside() noexcept override { return inner_.set_aside(); }
+  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
   bool fail_saves{false};
   int saves{0};
 

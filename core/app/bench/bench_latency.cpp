@@ -70,6 +70,27 @@ void our_loop(std::uint64_t periods, int cpu, hal::RtReport* report) noexcept {
   }
 }
 
+// "NNNNNN MMMMMM": cyclictest's histogram line (bucket in us, count of its one thread).
+bool two_numbers(const char* line, std::uint64_t& first, std::uint64_t& second) noexcept {
+  char* end = nullptr;
+  first = std::strtoull(line, &end, 10);
+  if (end == line) return false;
+  const char* rest = end;
+  second = std::strtoull(rest, &end, 10);
+  return end != rest;
+}
+
+// "# Max Latencies: 00012": the value of a summary line with `prefix`, in ns.
+bool summary_value(const char* line, const char* prefix, double& ns) noexcept {
+  const std::size_t length = std::strlen(prefix);
+  if (std::strncmp(line, prefix, length) != 0) return false;
+  char* end = nullptr;
+  const std::uint64_t us = std::strtoull(line + length, &end, 10);
+  if (end == line + length) return false;
+  ns = static_cast<double>(us) * 1000.0;
+  return true;
+}
+
 // Runs cyclictest and reads its histogram (one line per us, "# Max Latencies:" ...) from a pipe.
 bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std::size_t why_size) noexcept {
   char prio[16];
@@ -116,18 +137,18 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
   std::memset(counts, 0, sizeof counts);
   char line[512];
   while (std::fgets(line, sizeof line, in) != nullptr) {
-    unsigned long long us = 0;
-    unsigned long long count = 0;
-    if (line[0] != '#' && std::sscanf(line, "%llu %llu", &us, &count) == 2 && us < kCyclictestBuckets) {
-      counts[us] = count;
-      out.count += count;
-    } else if (std::sscanf(line, "# Max Latencies: %llu", &us) == 1) {
-      out.max_ns = static_cast<double>(us) * 1000.0;
-    } else if (std::sscanf(line, "# Min Latencies: %llu", &us) == 1) {
-      out.min_ns = static_cast<double>(us) * 1000.0;
-    } else if (std::sscanf(line, "# Avg Latencies: %llu", &us) == 1) {
-      out.mean_ns = static_cast<double>(us) * 1000.0;
+    if (line[0] != '#') {
+      std::uint64_t us = 0;
+      std::uint64_t count = 0;
+      if (two_numbers(line, us, count) && us < kCyclictestBuckets) {
+        counts[us] = count;
+        out.count += count;
+      }
+      continue;
     }
+    (void)summary_value(line, "# Max Latencies:", out.max_ns);
+    (void)summary_value(line, "# Min Latencies:", out.min_ns);
+    (void)summary_value(line, "# Avg Latencies:", out.mean_ns);
   }
   (void)std::fclose(in);
   int status = 0;
@@ -138,11 +159,10 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
     return false;
   }
   // Percentiles from the per-us histogram: the us of the rank's sample (cyclictest's resolution).
-  std::uint64_t seen = 0;
   const double ranks[] = {0.50, 0.99};
   double* targets[] = {&out.p50_ns, &out.p99_ns};
   for (std::size_t r = 0; r < 2; ++r) {
-    seen = 0;
+    std::uint64_t seen = 0;
     const auto rank = static_cast<std::uint64_t>(static_cast<double>(out.count) * ranks[r] + 0.999999);
     for (std::size_t us = 0; us < kCyclictestBuckets; ++us) {
       seen += counts[us];

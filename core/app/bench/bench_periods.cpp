@@ -1,5 +1,6 @@
 #include "core/app/bench/bench_periods.hpp"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -106,12 +107,14 @@ int bench_periods(const ParsedArgs& args) noexcept {
   int to_op = 0;
   while (to_op < kMaxCyclesToOp && period(false).state != ecat::MasterState::op) ++to_op;
   if (to_op == kMaxCyclesToOp) return fail("bench", "the network did not reach OP");
-  for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
-    if (!parser.try_send(c)) return fail("bench", "joint handle queue full");
+  const auto initialize = initialize_robot_commands(kAllJoints);
+  if (!std::all_of(initialize.begin(), initialize.end(), [](const JointCommand& c) { return parser.try_send(c); })) {
+    return fail("bench", "joint handle queue full");
   }
   for (int i = 0; i < kSettleCycles; ++i) (void)period(false);
-  std::size_t enabled = 0;
-  for (const JointStatus& s : manager.statuses()) enabled += s.state == fsm::JointState::enabled ? 1 : 0;
+  const auto enabled = static_cast<std::size_t>(std::count_if(
+      manager.statuses().begin(), manager.statuses().end(),
+      [](const JointStatus& s) { return s.state == fsm::JointState::enabled; }));
 
   // Measured: every joint Enabled, following its reference; nothing may allocate.
   declare_init_complete(HeapGuardMode::count);

@@ -29,6 +29,19 @@ bool ParsedArgs::has(const char* name) const noexcept {
   return std::any_of(options_.begin(), options_.end(), [name](const Entry& e) { return std::strcmp(e.name, name) == 0; });
 }
 
+namespace {
+
+// The range goes in the details when it is whole and fits (fail() prints it); detail1 = max + 1 so
+// that 0 means "no range known".
+Error range_error(const char* what, double min, double max) noexcept {
+  const bool fits = min >= 0.0 && max < 4294967295.0 && min == static_cast<double>(static_cast<std::uint32_t>(min)) &&
+                    max == static_cast<double>(static_cast<std::uint32_t>(max));
+  if (!fits) return make_error(Errc::out_of_range, what);
+  return make_error(Errc::out_of_range, what, static_cast<std::uint32_t>(min), static_cast<std::uint32_t>(max) + 1U);
+}
+
+}  // namespace
+
 Result<std::int64_t> ParsedArgs::integer(const char* name, std::int64_t fallback, std::int64_t min,
                                          std::int64_t max) const noexcept {
   const char* text = value(name);
@@ -37,18 +50,22 @@ Result<std::int64_t> ParsedArgs::integer(const char* name, std::int64_t fallback
   errno = 0;
   const long long v = std::strtoll(text, &end, 0);
   if (errno != 0 || end == text || *end != '\0') return make_error(Errc::invalid_argument, "not an integer");
-  if (v < min || v > max) return make_error(Errc::out_of_range, "integer out of range");
+  if (v < min || v > max) return range_error("integer out of range", static_cast<double>(min), static_cast<double>(max));
   return static_cast<std::int64_t>(v);
 }
 
 Result<double> ParsedArgs::number(const char* name, double fallback, double min, double max) const noexcept {
   const char* text = value(name);
   if (text == nullptr) return fallback;
+  // Decimal only: strtod would also take hexadecimal ("0x10" = 16), "inf" and "nan".
+  for (const char* c = text; *c != '\0'; ++c) {
+    if (std::strchr("0123456789.+-eE", *c) == nullptr) return make_error(Errc::invalid_argument, "not a decimal number");
+  }
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(text, &end);
-  if (errno != 0 || end == text || *end != '\0') return make_error(Errc::invalid_argument, "not a number");
-  if (!(v >= min && v <= max)) return make_error(Errc::out_of_range, "number out of range");
+  if (errno != 0 || end == text || *end != '\0') return make_error(Errc::invalid_argument, "not a decimal number");
+  if (!(v >= min && v <= max)) return range_error("number out of range", min, max);
   return v;
 }
 
@@ -120,6 +137,11 @@ void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept {
 }
 
 int fail(const char* command, const char* what, const Error& error) noexcept {
+  if (error.code == Errc::out_of_range && error.detail1 != 0) {
+    std::fprintf(stderr, "rescue-motion %s: %s: %s: allowed %u to %u\n", command, what, error.what, error.detail0,
+                 error.detail1 - 1U);
+    return 1;
+  }
   std::fprintf(stderr, "rescue-motion %s: %s: %s (%s)\n", command, what, error.what, to_string(error.code));
   return 1;
 }

@@ -7,6 +7,7 @@
 #include "core/app/bench/bench_master.hpp"
 #include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/nic_option.hpp"
@@ -21,6 +22,7 @@ const OptionSpec kOptions[] = {
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
     {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
+    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000)"},
 };
 
 struct Bench {
@@ -34,6 +36,7 @@ const Bench kBenches[] = {
     {"codec", bench_codec},
     {"master", bench_master},
     {"sim", bench_sim},
+    {"rc", bench_rc},
     {"latency", bench_latency},
     {"periods", bench_periods},
 };
@@ -50,13 +53,15 @@ int bench_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kBenchCommand{
-    "bench", "bench NAME [OPTIONS]", "run a measuring command (codec, master, rc, fig4, ...)",
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
     "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
     "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
     "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
+    "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
+    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl\n"
     "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
     "  periods the handler's cycle and the joint manager's step on the simulated robot in virtual time (toolchain/instructions.sh)",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};

@@ -1,20 +1,383 @@
-// rescue-motion ctl: the operator client (sends control messages over UDP).
+// rescue-motion ctl: the operator client (docs/operator.md). Modelled on IgH's `ethercat` tool and
+// ros2_control's CLI: short verbs, readable tables, --json for scripts; exit status 0 only when the
+// robot accepted the command (or answered the query).
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
 #include "core/app/cli/commands.hpp"
+#include "core/app/control/ctl_client.hpp"
+#include "core/app/control/protocol_auth.hpp"
+#include "core/app/control/protocol_codec.hpp"
+#include "core/robot/joint_fault.hpp"
+#include "ecat/master/master.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/net/udp_socket.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 namespace {
 
+using protocol::Message;
+using protocol::MessageType;
+
 const OptionSpec kOptions[] = {
-    {"host", "ADDR", "address of the motion PC (default 127.0.0.1)"},
-    {"port", "PORT", "control UDP port of the motion PC"},
+    {"host", "ADDR", "IPv4 address of the motion PC (default 127.0.0.1)"},
+    {"port", "PORT", "control UDP port of the motion PC (default 47010)"},
+    {"key", "FILE", "pre-shared key file (default <state dir>/operator.key)"},
+    {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
+    {"task", "N", "RC task for move, hand (default 0)"},
+    {"json", nullptr, "print the answer as one JSON object"},
+    {"timeout", "SECONDS", "how long to wait for the robot's answer (default 2)"},
+    {"count", "N", "watch: refresh this many times, then exit (default: until interrupted)"},
+    {"interval", "SECONDS", "watch: refresh period (default 0.5)"},
 };
 
-int ctl_main(const ParsedArgs& /*args*/) { return fail("ctl", "not implemented yet"); }
+const char* state_name(std::uint8_t s) noexcept {
+  return s <= 4 ? fsm::to_string(static_cast<fsm::JointState>(s)) : "?";
+}
+const char* mode_name(std::int8_t m) noexcept {
+  switch (m) {
+    case 8: return "CSP";
+    case 9: return "CSV";
+    case 10: return "CST";
+    default: return "-";
+  }
+}
+const char* al_name(std::uint8_t s) noexcept {
+  switch (s) {
+    case 1: return "INIT";
+    case 2: return "PREOP";
+    case 3: return "BOOT";
+    case 4: return "SAFEOP";
+    case 8: return "OP";
+    default: return "-";
+  }
+}
+const char* master_state_name(std::uint8_t s) noexcept {
+  return s <= 4 ? ecat::to_string(static_cast<ecat::MasterState>(s)) : "?";
+}
+
+void print_status(const Message& m, bool json) noexcept {
+  if (json) {
+    (void)std::printf("{\"cycle\":%" PRIu64 ",\"joints\":[", m.status.cycle);
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const protocol::JointStatusRecord& r = m.status.joints[j];
+      (void)std::printf("%s{\"name\":\"%s\",\"state\":\"%s\",\"mode\":\"%s\",\"reachable\":%s,\"lost\":%s,"
+                        "\"position_rad\":%.6f,\"velocity_rad_s\":%.6f,\"torque_nm\":%.6f,\"fault\":\"%s\",\"owner\":%s}",
+                        j == 0 ? "" : ",", kJoints[j].name, state_name(r.state), mode_name(r.mode),
+                        (r.flags & protocol::kFlagReachable) != 0 ? "true" : "false",
+                        (r.flags & protocol::kFlagLost) != 0 ? "true" : "false", r.position_rad, r.velocity_rad_s,
+                        r.torque_nm, to_string(static_cast<FaultReason>(r.fault)),
+                        r.owner == protocol::kNoOwner ? "null" : (r.owner == 0 ? "0" : r.owner == 1 ? "1" : r.owner == 2 ? "2" : "3"));
+    }
+    (void)std::printf("]}\n");
+    return;
+  }
+  (void)std::printf("cycle %" PRIu64 "\n", m.status.cycle);
+  (void)std::printf("%-2s %-16s %-10s %-4s %12s %12s %10s  %-24s %s\n", "#", "JOINT", "STATE", "MODE", "POS(rad)",
+                    "VEL(rad/s)", "TORQUE(Nm)", "FAULT", "OWNER");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const protocol::JointStatusRecord& r = m.status.joints[j];
+    char state[24];
+    (void)std::snprintf(state, sizeof state, "%s%s", state_name(r.state),
+                        (r.flags & protocol::kFlagLost) != 0                ? " lost"
+                        : (r.flags & protocol::kFlagReachable) == 0         ? " unreach"
+                                                                            : "");
+    char owner[8];
+    (void)std::snprintf(owner, sizeof owner, "%s", r.owner == protocol::kNoOwner ? "-" : "rc");
+    if (r.owner != protocol::kNoOwner) (void)std::snprintf(owner, sizeof owner, "rc%u", static_cast<unsigned>(r.owner));
+    (void)std::printf("%-2zu %-16s %-10s %-4s %12.4f %12.4f %10.3f  %-24s %s\n", j, kJoints[j].name, state,
+                      mode_name(r.mode), r.position_rad, r.velocity_rad_s, r.torque_nm,
+                      r.fault == 0 ? "-" : to_string(static_cast<FaultReason>(r.fault)), owner);
+  }
+}
+
+void print_slaves(const Message& m, bool json) noexcept {
+  if (json) (void)std::printf("{\"slaves\":[");
+  if (!json) (void)std::printf("%-3s %-7s %-6s %-16s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE");
+  for (std::size_t i = 0; i < m.slaves.count; ++i) {
+    const protocol::SlaveRecord& s = m.slaves.slaves[i];
+    const char* service = (s.flags & protocol::kSlaveLost) != 0            ? "lost"
+                          : (s.flags & protocol::kSlaveOutOfService) != 0  ? "out of service"
+                          : (s.flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
+                                                                           : "not in exchange";
+    if (json) {
+      (void)std::printf("%s{\"position\":%u,\"station\":%u,\"al_state\":\"%s\",\"name\":\"%s\",\"service\":\"%s\"}",
+                        i == 0 ? "" : ",", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
+                        al_name(s.al_state), s.name.data(), service);
+    } else {
+      (void)std::printf("%-3u 0x%04x  %-6s %-16s %s\n", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
+                        al_name(s.al_state), s.name.data(), service);
+    }
+  }
+  if (json) (void)std::printf("]}\n");
+}
+
+void print_master(const Message& m, bool json) noexcept {
+  const protocol::MasterPayload& p = m.master;
+  if (json) {
+    (void)std::printf("{\"state\":\"%s\",\"cycles\":%" PRIu64 ",\"frames_sent\":%" PRIu64 ",\"frames_lost\":%" PRIu64
+                      ",\"late_periods\":%" PRIu64 ",\"dc_deviation_ns\":%" PRId64 ",\"dc_max_deviation_ns\":%" PRId64
+                      ",\"datagrams_accepted\":%" PRIu64 ",\"rejected\":{",
+                      master_state_name(p.state), p.cycles, p.frames_sent, p.frames_lost, p.late_periods,
+                      p.dc_deviation_ns, p.dc_max_deviation_ns, p.datagrams_accepted);
+    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+      (void)std::printf("%s\"%s\":%" PRIu64, i == 0 ? "" : ",", protocol::to_string(static_cast<protocol::Rejection>(i)),
+                        p.rejected[i]);
+    }
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("state: %s\ncycles: %" PRIu64 "\nframes sent: %" PRIu64 "\nframes late or lost: %" PRIu64
+                    "\nlate periods: %" PRIu64 "\nDC deviation: %" PRId64 " ns (max %" PRId64 " ns)\n"
+                    "datagrams accepted: %" PRIu64 "\n",
+                    master_state_name(p.state), p.cycles, p.frames_sent, p.frames_lost, p.late_periods,
+                    p.dc_deviation_ns, p.dc_max_deviation_ns, p.datagrams_accepted);
+  for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+    (void)std::printf("datagrams rejected %s: %" PRIu64 "\n", protocol::to_string(static_cast<protocol::Rejection>(i)),
+                      p.rejected[i]);
+  }
+}
+
+void print_tasks(const Message& m, bool json) noexcept {
+  if (json) (void)std::printf("{\"tasks\":[");
+  if (!json) (void)std::printf("%-16s %7s %3s %4s %10s %7s %12s\n", "TASK", "PID", "CPU", "PRIO", "PERIODS", "MISSED", "MAX EXEC(us)");
+  for (std::size_t i = 0; i < m.tasks.count; ++i) {
+    const protocol::TaskRecord& t = m.tasks.tasks[i];
+    if (json) {
+      (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"cpu\":%d,\"priority\":%d,\"periods\":%" PRIu64
+                        ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64 "}",
+                        i == 0 ? "" : ",", t.name.data(), t.pid, t.cpu, t.priority, t.periods, t.missed, t.max_execution_ns);
+    } else {
+      (void)std::printf("%-16s %7d %3d %4d %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid, t.cpu, t.priority,
+                        t.periods, t.missed, static_cast<double>(t.max_execution_ns) / 1000.0);
+    }
+  }
+  if (json) (void)std::printf("]}\n");
+}
+
+int print_reply(const char* verb, const Message& m, bool json) noexcept {
+  const protocol::ReplyPayload& r = m.reply;
+  const bool accepted = r.outcome == protocol::Outcome::accepted;
+  if (json) {
+    char names[kJointNamesCapacity];
+    format_joint_names(r.refused_joints, names, sizeof names);
+    (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"}\n", verb,
+                      accepted ? "true" : "false", protocol::to_string(r.reason), names, r.text.data());
+  } else if (accepted) {
+    (void)std::printf("%s: accepted%s%s\n", verb, r.text[0] != '\0' ? " (" : "", r.text.data());
+    if (r.text[0] != '\0') (void)std::printf(")\n");
+  } else {
+    (void)std::printf("%s: refused: %s: %s\n", verb, protocol::to_string(r.reason), r.text.data());
+  }
+  return accepted ? 0 : 1;
+}
+
+Result<JointMask> joints_argument(const ParsedArgs& args, std::size_t index) noexcept {
+  if (args.positional_count() <= index || std::strcmp(args.positional(index), "all") == 0) return kAllJoints;
+  return parse_joint_names(args.positional(index));
+}
+
+Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
+  CtlTarget t;
+  const Result<std::uint32_t> address = hal::parse_ipv4(args.value("host") != nullptr ? args.value("host") : "127.0.0.1");
+  if (!address.ok()) return make_error(Errc::invalid_argument, "--host must be an IPv4 address");
+  t.address = address.value();
+  const Result<std::int64_t> port = args.integer("port", 47010, 1, 65535);
+  if (!port.ok()) return make_error(Errc::invalid_argument, "--port must be 1..65535");
+  t.port = static_cast<std::uint16_t>(port.value());
+  const Result<std::int64_t> sender = args.integer("sender", 1, 1, 0xFFFFFFFFLL);
+  if (!sender.ok()) return make_error(Errc::invalid_argument, "--sender must be 1..4294967295");
+  t.sender = static_cast<std::uint32_t>(sender.value());
+  const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
+  if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
+  t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
+  hal::PathBuffer path;
+  if (args.value("key") != nullptr) {
+    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
+  } else {
+    const Result<hal::PathBuffer> p = protocol::default_key_path();
+    if (!p.ok()) return p.error();
+    path = p.value();
+  }
+  const Result<protocol::Key> key = protocol::load_key_file(path.c_str());
+  if (!key.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion ctl: key file %s: %s\n", path.c_str(), key.error().what);
+    return make_error(key.error().code, "the key file cannot be used");
+  }
+  t.key = key.value();
+  return t;
+}
+
+int keygen(const ParsedArgs& args) noexcept {
+  hal::PathBuffer path;
+  if (args.value("key") != nullptr) {
+    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
+  } else {
+    const Result<hal::PathBuffer> p = protocol::default_key_path();
+    if (!p.ok()) return fail("ctl", "no default key path", p.error());
+    path = p.value();
+  }
+  const Status made = protocol::create_key_file(path.c_str());
+  if (!made.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion ctl: keygen %s: %s\n", path.c_str(), made.error().what);
+    return 1;
+  }
+  (void)std::printf("keygen: wrote a new 32-byte key to %s (mode 0600); copy it to the motion PC and every operator station\n",
+                    path.c_str());
+  return 0;
+}
+
+int exchange_and_print(const char* verb, const CtlTarget& target, const Message& request, bool json) noexcept {
+  const Result<Message> answer = ctl_exchange(target, request);
+  if (!answer.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+    return 1;
+  }
+  const Message& m = answer.value();
+  switch (m.header.type) {
+    case MessageType::status: print_status(m, json); return 0;
+    case MessageType::slaves: print_slaves(m, json); return 0;
+    case MessageType::master: print_master(m, json); return 0;
+    case MessageType::tasks: print_tasks(m, json); return 0;
+    case MessageType::reply: return print_reply(verb, m, json);
+    default: return fail("ctl", "unexpected answer type");
+  }
+}
+
+Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept {
+  Message m;
+  const std::size_t n = args.positional_count();
+  struct Simple {
+    const char* verb;
+    MessageType type;
+  };
+  static constexpr Simple kQueries[] = {{"status", MessageType::get_status}, {"slaves", MessageType::get_slaves},
+                                        {"master", MessageType::get_master}, {"tasks", MessageType::get_tasks}};
+  for (const Simple& q : kQueries) {
+    if (std::strcmp(verb, q.verb) == 0) {
+      m.header.type = q.type;
+      return m;
+    }
+  }
+  static constexpr Simple kJointVerbs[] = {{"init", MessageType::initialize}, {"enable", MessageType::enable},
+                                           {"disable", MessageType::disable}, {"hold", MessageType::hold},
+                                           {"clear", MessageType::clear_joints}};
+  for (const Simple& q : kJointVerbs) {
+    if (std::strcmp(verb, q.verb) != 0) continue;
+    if (q.type == MessageType::clear_joints && n < 2) return make_error(Errc::invalid_argument, "clear JOINTS: name the repaired joints");
+    const Result<JointMask> joints = joints_argument(args, 1);
+    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINTS: comma-separated joint names, or all");
+    m.header.type = q.type;
+    m.joints.joints = joints.value();
+    return m;
+  }
+  const Result<std::int64_t> task = args.integer("task", 0, 0, static_cast<std::int64_t>(protocol::kMaxRcTasks) - 1);
+  if (!task.ok()) return make_error(Errc::invalid_argument, "--task must be 0..3");
+  if (std::strcmp(verb, "mode") == 0) {
+    if (n != 3) return make_error(Errc::invalid_argument, "mode JOINT MODE (MODE: csp, csv or cst)");
+    const Result<JointMask> joints = parse_joint_names(args.positional(1));
+    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINT: a joint name (or comma-separated names)");
+    const char* mode = args.positional(2);
+    m.header.type = MessageType::select_mode;
+    m.joints.joints = joints.value();
+    if (std::strcmp(mode, "csp") == 0) m.joints.mode = ControlMode::cyclic_position;
+    else if (std::strcmp(mode, "csv") == 0) m.joints.mode = ControlMode::cyclic_velocity;
+    else if (std::strcmp(mode, "cst") == 0) m.joints.mode = ControlMode::cyclic_torque;
+    else return make_error(Errc::invalid_argument, "MODE must be csp, csv or cst");
+    return m;
+  }
+  if (std::strcmp(verb, "move") == 0) {
+    if (n != 3) return make_error(Errc::invalid_argument, "move EFFECTOR POSE (EFFECTOR: left or right; POSE: x,y,z,roll,pitch,yaw in m and rad)");
+    m.header.type = MessageType::move_effector;
+    m.move.task = static_cast<std::uint8_t>(task.value());
+    if (std::strcmp(args.positional(1), "left") == 0) m.move.effector = protocol::Effector::left_hand;
+    else if (std::strcmp(args.positional(1), "right") == 0) m.move.effector = protocol::Effector::right_hand;
+    else return make_error(Errc::invalid_argument, "EFFECTOR must be left or right");
+    double v[6] = {};
+    int used = 0;
+    if (std::sscanf(args.positional(2), "%lf,%lf,%lf,%lf,%lf,%lf%n", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &used) != 6 ||
+        args.positional(2)[used] != '\0') {
+      return make_error(Errc::invalid_argument, "POSE must be x,y,z,roll,pitch,yaw");
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      m.move.position_m[i] = v[i];
+      m.move.rpy_rad[i] = v[i + 3];
+    }
+    return m;
+  }
+  if (std::strcmp(verb, "hand") == 0) {
+    if (n != 3) return make_error(Errc::invalid_argument, "hand left|right open|close");
+    m.header.type = MessageType::hand;
+    m.hand.task = static_cast<std::uint8_t>(task.value());
+    if (std::strcmp(args.positional(1), "left") == 0) m.hand.hand = protocol::Effector::left_hand;
+    else if (std::strcmp(args.positional(1), "right") == 0) m.hand.hand = protocol::Effector::right_hand;
+    else return make_error(Errc::invalid_argument, "hand: left or right");
+    if (std::strcmp(args.positional(2), "open") == 0) m.hand.action = protocol::HandAction::open;
+    else if (std::strcmp(args.positional(2), "close") == 0) m.hand.action = protocol::HandAction::close;
+    else return make_error(Errc::invalid_argument, "hand: open or close");
+    return m;
+  }
+  if (std::strcmp(verb, "owner") == 0) {
+    if (n != 2) return make_error(Errc::invalid_argument, "owner TASK (0..3)");
+    char* end = nullptr;
+    const long t = std::strtol(args.positional(1), &end, 10);
+    if (end == args.positional(1) || *end != '\0' || t < 0 || t >= static_cast<long>(protocol::kMaxRcTasks)) {
+      return make_error(Errc::invalid_argument, "owner TASK: 0..3");
+    }
+    m.header.type = MessageType::take_owner;
+    m.owner.task = static_cast<std::uint8_t>(t);
+    return m;
+  }
+  return make_error(Errc::invalid_argument, "unknown verb (see rescue-motion ctl --help)");
+}
+
+int ctl_main(const ParsedArgs& args) {
+  const char* verb = args.positional(0);
+  if (!protocol::init_crypto().ok()) return fail("ctl", "libsodium could not be initialised");
+  if (std::strcmp(verb, "keygen") == 0) return keygen(args);
+  const bool watch = std::strcmp(verb, "watch") == 0;
+  const Result<Message> request = build_request(watch ? "status" : verb, args);
+  if (!request.ok()) return fail("ctl", request.error().what);
+  const Result<CtlTarget> target = target_of(args);
+  if (!target.ok()) return fail("ctl", target.error().what);
+  const bool json = args.has("json");
+  if (!watch) return exchange_and_print(verb, target.value(), request.value(), json);
+  const Result<std::int64_t> count = args.integer("count", 0, 0, 1'000'000'000);
+  const Result<double> interval = args.number("interval", 0.5, 0.05, 3600.0);
+  if (!count.ok() || !interval.ok()) return fail("ctl", "watch: --count N and --interval SECONDS");
+  hal::MonotonicClock clock;
+  hal::Nanoseconds next = clock.now();
+  for (std::int64_t i = 0; count.value() == 0 || i < count.value(); ++i) {
+    if (!json) (void)std::printf("\033[H\033[2J");  // refreshed in place
+    const int status = exchange_and_print("watch", target.value(), request.value(), json);
+    (void)std::fflush(stdout);
+    if (status != 0) return status;
+    next += static_cast<hal::Nanoseconds>(interval.value() * 1e9);
+    clock.sleep_until(next);
+  }
+  return 0;
+}
 
 }  // namespace
 
 const CommandSpec kCtlCommand{
-    "ctl", "ctl [OPTIONS] MESSAGE...", "operator client: send control messages to a running firmware", "",
-    Span<const OptionSpec>(kOptions), 0, 8, ctl_main};
+    "ctl", "ctl [OPTIONS] VERB [ARGS]", "operator client: query and command a running firmware (docs/operator.md)",
+    "Verbs:\n"
+    "  status | slaves | master | tasks     the robot's joints, EtherCAT slaves, master counters, tasks\n"
+    "  watch                                status, refreshed in place (--interval, --count)\n"
+    "  init [JOINTS]                        'initialize robot': mode, reference := position, enable\n"
+    "  enable [JOINTS] | disable [JOINTS]   DFA enable / disable (JOINTS: comma-separated names or all)\n"
+    "  hold [JOINTS]                        Enabled joints stop and hold where they stand\n"
+    "  mode JOINT MODE                      select csp, csv or cst\n"
+    "  clear JOINTS                         clear joints after repair (error-joints file), then reset\n"
+    "  move EFFECTOR POSE                   left|right x,y,z,roll,pitch,yaw to RC task --task\n"
+    "  hand left|right open|close           to RC task --task\n"
+    "  owner TASK                           RC task TASK takes the motion\n"
+    "  keygen                               create a new key file (--key FILE), mode 0600\n"
+    "Exit status 0 only when the robot accepted the command or answered the query.",
+    Span<const OptionSpec>(kOptions), 1, 3, ctl_main};
 
 }  // namespace rescue::app

@@ -3,7 +3,8 @@
 // master goes through the simulated segment and back out of the same interface, with the source
 // MAC marked as real slave controllers mark it (core/app/sim/frame_server.hpp). docs/hal.md has recipes.
 // Fault commands (drivers/sim/segment/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
-// can be typed on standard input while it serves; docs/simulator.md lists them.
+// can be typed on standard input while it serves; docs/simulator.md lists them. One more, of the host
+// rather than the segment: "stall MS" holds every reply back for MS ms and sends them together.
 #include <poll.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/sim/frame_server.hpp"
@@ -24,8 +26,12 @@
 namespace rescue::app {
 namespace {
 
-// Longest time a stop signal waits to be seen: each receive wait ends by then.
-constexpr hal::Nanoseconds kStopLatency = 100 * hal::kNsPerMs;
+// Longest wait for a frame before the simulated slaves catch up with the time on their own. They
+// run SYNC0 pulses and drive models as hardware does; without these steps the first frame after an
+// idle spell made them simulate the whole spell first (8.8 ms of work after 5 s idle with SYNC0 at
+// 1 ms, 127 ms after 60 s: the master's first frames timed out). With them, at most 2 ms are left
+// to simulate. A stop signal is seen at the end of each wait too.
+constexpr hal::Nanoseconds kIdleStep = 2 * hal::kNsPerMs;
 // The simulator stands for hardware, which answers within microseconds whatever else the host
 // runs: served at a real-time priority above the master's EtherCAT task (80), a busy host cannot
 // hold a frame back for milliseconds. Masters do not retry every read: SOEM's ec_configdc takes a
@@ -45,7 +51,7 @@ void print_counters(const FrameServerCounters& served, const hal::NicStats& nic)
 class FaultConsole {
  public:
   // Reads what is available without waiting; applies every complete line.
-  void poll_once(drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+  void poll_once(drivers::SimulatedSegment& segment, FrameServer& server, hal::Nanoseconds now) noexcept {
     if (closed_) return;
     pollfd p{STDIN_FILENO, POLLIN, 0};
     if (::poll(&p, 1, 0) <= 0) return;
@@ -58,7 +64,7 @@ class FaultConsole {
     std::size_t start = 0;
     for (std::size_t i = 0; i < length_; ++i) {
       if (line_[i] != '\n') continue;
-      apply(line_.data() + start, i - start, segment, now);
+      apply(line_.data() + start, i - start, segment, server, now);
       start = i + 1;
     }
     if (start == 0 && length_ == line_.size()) start = length_;  // an endless line: dropped
@@ -67,7 +73,22 @@ class FaultConsole {
   }
 
  private:
-  static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+  static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, FrameServer& server,
+                    hal::Nanoseconds now) noexcept {
+    // "stall MS" (1..1000): the host's part, not the segment's: replies held back MS ms, then bunched.
+    if (length > 6 && std::strncmp(text, "stall ", 6) == 0) {
+      unsigned ms = 0;
+      std::size_t i = 6;
+      for (; i < length && text[i] >= '0' && text[i] <= '9' && ms <= 1000; ++i) ms = ms * 10 + static_cast<unsigned>(text[i] - '0');
+      if (i == length && ms >= 1 && ms <= 1000) {
+        server.stall_until(now + static_cast<hal::Nanoseconds>(ms) * hal::kNsPerMs);
+        (void)std::printf("fault: ok %.*s\n", static_cast<int>(length), text);
+      } else {
+        (void)std::printf("fault: refused %.*s: stall takes 1..1000 (ms)\n", static_cast<int>(length), text);
+      }
+      (void)std::fflush(stdout);
+      return;
+    }
     const Result<drivers::FaultCommand> command = drivers::parse_fault_command(text, length, segment);
     Status applied = command.ok() ? drivers::apply_fault_command(command.value(), segment, now) : Status(command.error());
     if (applied.ok()) {
@@ -86,6 +107,7 @@ class FaultConsole {
 const OptionSpec kOptions[] = {
     {"iface", "IFACE", "network interface to serve the segment on (required)"},
     {"priority", "N", "SCHED_FIFO priority 1..99 while serving, 0 for normal scheduling (default 90)"},
+    {"through-qdisc", nullptr, "send replies through the interface's queueing discipline (e.g. `tc qdisc ... netem` delay and reordering); default: bypass it, as hardware has none"},
 };
 
 int sim_main(const ParsedArgs& args) {
@@ -94,12 +116,14 @@ int sim_main(const ParsedArgs& args) {
   const Result<std::int64_t> priority = args.integer("priority", kDefaultPriority, 0, 99);
   if (!priority.ok()) return fail("sim", "--priority must be 0..99", priority.error());
 
-  hal::RawSocketNic nic;
-  const Status opened = nic.open(iface);
+  static hal::RawSocketNic nic;  // static, like the server that refers to it
+  hal::RawSocketSettings settings;
+  settings.qdisc_bypass = !args.has("through-qdisc");
+  const Status opened = nic.open(iface, settings);
   if (!opened.ok()) return fail_nic("sim", iface, opened.error());
   drivers::SimulatedRobot& robot = simulated_robot(nic.clock().now());
   if (!robot.status().ok()) return fail("sim", "cannot build the simulated robot", robot.status().error());
-  SegmentFrameProcessor segment(robot.segment());
+  static SegmentFrameProcessor segment(robot.segment());
   if (!install_stop_handlers()) return fail("sim", "cannot install SIGINT/SIGTERM handlers");
   // Best effort, each item reported: without privilege the simulator still serves, only slower
   // to answer on a loaded host.
@@ -111,12 +135,12 @@ int sim_main(const ParsedArgs& args) {
   (void)std::printf("serving %zu slaves on %s\n", segment.slave_count(), iface);
   (void)std::fflush(stdout);  // scripts and tests wait for this line
 
-  FrameServer server(nic, segment);
+  static FrameServer server(nic, segment);  // static: it holds the frames of a stall (25 KiB)
   FaultConsole faults;
   int exit_status = 0;
   while (stop_signal() == 0) {
-    faults.poll_once(robot.segment(), nic.clock().now());
-    const Status served = server.serve_one(nic.clock().now() + kStopLatency);
+    faults.poll_once(robot.segment(), server, nic.clock().now());
+    const Status served = server.serve_one(nic.clock().now() + kIdleStep);
     if (!served.ok() && served.error().code != Errc::timeout) {
       exit_status = fail("sim", "serving stopped", served.error());
       break;
@@ -130,7 +154,7 @@ int sim_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kSimCommand{
-    "sim", "sim --iface IFACE [--priority N]", "serve the simulated robot's EtherCAT segment on a network interface",
+    "sim", "sim --iface IFACE [--priority N] [--through-qdisc]", "serve the simulated robot's EtherCAT segment on a network interface",
     "A master on the other end of the wire (or of a veth pair) sees the 23 slaves of the robot.\n"
     "Needs CAP_NET_RAW (root, or `setcap cap_net_raw+ep rescue-motion`). It serves at SCHED_FIFO\n"
     "priority 90 with its memory locked when allowed (each item is reported), so that it answers as\n"

@@ -2,9 +2,12 @@
 // sections 3 and 6). Plain fixed-size records, copied through bounded queues (core/concurrency/message_port.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <type_traits>
 
 #include "core/base/result.hpp"
+#include "core/robot/joint_fault.hpp"
 #include "core/robot/robot.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/time/clock.hpp"
@@ -43,6 +46,65 @@ struct JointCommand {
   fsm::JointInput input{fsm::JointInput::disable};
   ControlMode mode{ControlMode::none};  // the mode for select_mode
   JointCommandKind kind{JointCommandKind::dfa_input};
+  std::uint32_t request{0};             // the parser's request id; 0: nobody waits for the outcome
 };
+
+// Why the joint manager did not apply a command to a joint.
+enum class CommandRefusal : std::uint8_t {
+  none,
+  state_machine,  // the DFA has no transition for this input in the joint's state (or its guard said no)
+  unreachable,    // the joint does not answer (only disable and reset are taken)
+  bad_mode,       // select_mode without CSP, CSV or CST
+  clear_refused,  // clear_lost refused (still unreachable, not recorded lost, or file not written)
+};
+
+// Joint manager -> message parser: what became of a command that carried a request id.
+struct JointCommandOutcome {
+  std::uint32_t request{0};
+  JointMask applied{0};
+  JointMask refused{0};
+  CommandRefusal first_reason{CommandRefusal::none};  // of the lowest refused joint
+  std::uint8_t first_joint{0};
+  fsm::JointState first_state{fsm::JointState::idle};
+  fsm::JointInput input{fsm::JointInput::disable};
+  JointCommandKind kind{JointCommandKind::dfa_input};
+};
+
+// What the joint manager publishes about one joint (shared memory, read by the handler, the RC
+// tasks, and the socket handler for the operator's status).
+struct JointStatus {
+  fsm::JointState state{fsm::JointState::idle};
+  ControlMode mode{ControlMode::none};
+  bool drive_enabled{false};
+  bool lost{false};                         // recorded lost: RC tasks plan without it
+  double reference_position_rad{0.0};
+  double held_position_rad{0.0};            // where a lost joint's worm gear holds it
+  JointFault fault{};                       // why it is (or was last) in Error
+};
+
+// JointStatus as published through the seqlock (trivial: copied as bytes between tasks/processes).
+struct PublishedJointStatus {
+  fsm::JointState state;
+  ControlMode mode;
+  bool drive_enabled;
+  bool lost;
+  FaultReason fault;  // why it is (or was last) in Error
+  double reference_position_rad;
+  double held_position_rad;
+  double fault_value;
+  double fault_limit;
+};
+static_assert(std::is_trivial_v<PublishedJointStatus>, "published through the seqlock as bytes");
+using RobotJointStatus = std::array<PublishedJointStatus, kJointCount>;
+
+inline RobotJointStatus published_status(const std::array<JointStatus, kJointCount>& statuses) noexcept {
+  RobotJointStatus out{};
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointStatus& s = statuses[j];
+    out[j] = PublishedJointStatus{s.state, s.mode, s.drive_enabled, s.lost, s.fault.reason,
+                                  s.reference_position_rad, s.held_position_rad, s.fault.value, s.fault.limit};
+  }
+  return out;
+}
 
 }  // namespace rescue::app

@@ -6,10 +6,12 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <type_traits>
 
 #include "core/app/config/firmware_config.hpp"
+#include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
@@ -19,18 +21,41 @@
 
 namespace rescue::app {
 
+// The tasks that publish their timing (TaskLinks::task_stats), in this order.
+enum class StatTask : std::uint8_t { ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3 };
+constexpr std::size_t kTaskStatSlots = 4;
+
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 1;
+  static constexpr std::uint32_t kLayoutVersion = 2;
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
+  static constexpr std::size_t kRequestQueueDepth = 16;
+  static constexpr std::size_t kReplyQueueDepth = 16;
+  static constexpr std::size_t kOutcomeQueueDepth = 64;
+  static constexpr std::size_t kRcInputQueueDepth = 8;
 
   std::uint32_t layout_version{kLayoutVersion};
   Seqlock<RobotSample> samples;                                   // handler -> joint manager, RC tasks
   Seqlock<RobotDemand> demand;                                    // joint manager -> handler
   SpscQueue<LostJointsReport, kReportQueueDepth> lost_reports;    // handler -> joint manager (step 1)
   SpscQueue<JointManagerNotice, kNoticeQueueDepth> notices;       // joint manager -> handler (step 4)
-  SpscQueue<JointCommand, kCommandQueueDepth> joint_commands;     // message parser -> joint manager
+  SpscQueue<JointCommand, kCommandQueueDepth> joint_commands;     // message parser -> joint manager (its only producer)
+  // The operator's path in (docs/protocol.md, docs/operator.md).
+  Seqlock<RobotJointStatus> joint_status;                         // joint manager -> socket handler (status), parser
+  Seqlock<MasterStatus> master_status;                            // EtherCAT handler's loop -> socket handler
+  Seqlock<SensorData> sensors;                                    // socket handler -> RC tasks (IMU, GPS)
+  Seqlock<SocketCounters> socket_counters;                        // socket handler -> status, run summary
+  std::array<Seqlock<TaskStat>, kTaskStatSlots> task_stats;       // each task its own slot (StatTask)
+  SpscQueue<ControlRequest, kRequestQueueDepth> control_requests; // socket handler -> message parser
+  SpscQueue<ControlReply, kReplyQueueDepth> control_replies;      // message parser -> socket handler
+  SpscQueue<ControlRequest, kRequestQueueDepth> local_requests;   // runtime (start-up, exit) -> message parser
+  SpscQueue<ControlReply, kReplyQueueDepth> local_replies;        // message parser -> runtime
+  SpscQueue<JointCommandOutcome, kOutcomeQueueDepth> command_outcomes;  // joint manager -> message parser
+  // Per RC task: its input queue (parser -> task k) and its heartbeat, the monotonic time (ns) of
+  // its latest period, 0 before its first. The RC tasks come later: today every heartbeat stays 0.
+  std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs;
+  std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks> rc_heartbeat_ns{};
 };
 static_assert(std::is_standard_layout_v<TaskLinks>, "shared between processes: standard layout only");
 

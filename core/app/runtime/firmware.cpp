@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cinttypes>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 
 #include "core/app/cli/cli.hpp"
@@ -15,7 +16,11 @@
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/runtime/nic_factory.hpp"
+#include "core/app/control/message_parser.hpp"
 #include "core/app/control/predefined_messages.hpp"
+#include "core/app/control/protocol_auth.hpp"
+#include "core/app/control/replay_window.hpp"
+#include "core/app/control/socket_handler.hpp"
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -28,6 +33,7 @@
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/rt/rt_setup.hpp"
+#include "hal/files/instance_lock.hpp"
 #include "hal/files/state_dir.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -42,11 +48,16 @@ constexpr int kJointManagerCpu = config::kJointManagerCpu;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
+constexpr int kOperatorCpu = config::kSocketHandlerCpu;  // socket handler and message parser
+constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
+constexpr int kSocketWaitMs = 5;
+constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
 // A scenario without --duration runs this long after it acted, then stops.
 constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
 // Everything the tasks use, in static storage: taken once at start-up, never from the heap.
 TaskLinks g_links;
+
 ecat::CaptureWriter g_capture;
 // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
 // may block, the 1 ms cycle must not).
@@ -89,6 +100,34 @@ struct RunState {
   std::atomic<std::int64_t> op_at{0};
   std::atomic<std::uint64_t> cycles{0};
   std::atomic<int> tasks_started{0};  // tasks past their real-time set-up
+  std::atomic<bool> operator_stop{false};  // socket handler and message parser
+};
+
+// One task's period count, misses and worst execution time, published in its TaskLinks::task_stats
+// slot for `ctl tasks` (the histograms of `run --timing-out` are runtime/task_timing.hpp's).
+class TaskStatsPublisher {
+ public:
+  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]) {
+    stat_ = TaskStat{};
+    protocol::set_text(stat_.name, name);
+    stat_.pid = static_cast<std::int32_t>(::getpid());
+    stat_.cpu = static_cast<std::int16_t>(cpu);
+    stat_.priority = static_cast<std::int16_t>(priority);
+  }
+  // A period that started at `start`, due at `due`, ended at `end`.
+  void period(hal::Nanoseconds due, hal::Nanoseconds start, hal::Nanoseconds end, hal::Nanoseconds late_after) noexcept {
+    ++stat_.periods;
+    if (start - due > late_after) ++stat_.missed;
+    const auto exec = static_cast<std::uint64_t>(end > start ? end - start : 0);
+    if (exec > stat_.max_execution_ns) stat_.max_execution_ns = exec;
+    if (stat_.periods % kStatsEvery == 1) slot_->write(stat_);
+  }
+  void publish() noexcept { slot_->write(stat_); }
+  std::uint64_t missed() const noexcept { return stat_.missed; }
+
+ private:
+  Seqlock<TaskStat>* slot_;
+  TaskStat stat_;
 };
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
@@ -124,21 +163,35 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
                   RunState& state) noexcept {
   apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
+  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
-  const drivers::JointBus& bus = handler.bus();
+  drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
   hal::Nanoseconds stopping_since = -1;
   TaskTiming& timing = task_timing();
+  MasterStatus master{};
   for (;;) {
-    const hal::Nanoseconds release = bus.next_wakeup();
-    clock.sleep_until(release);
+    const hal::Nanoseconds due = bus.next_wakeup();
+    clock.sleep_until(due);
+    const hal::Nanoseconds woke = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     const drivers::JointCycleResult r = handler.cycle();
-    const std::uint64_t work_end = timing.timer.stop();
+    timing.handler.record(woke - due, work_start, timing.timer.stop());
     const hal::Nanoseconds now = clock.now();
-    // Woke at now - the work's duration: no extra clock read.
-    timing.handler.record(now - timing.timer.to_ns(work_end - work_start) - release, work_start, work_end);
+    stats.period(due, woke, now, hal::kNsPerMs / 2);
+    master.state = static_cast<std::uint8_t>(r.state);
+    master.cycles = r.cycle;
+    master.frames_sent = r.cycle;
+    master.frames_lost = handler.frames_missing();
+    master.late_periods = stats.missed();
+    const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
+    master.dc_deviation_ns = dc_error;
+    const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
+    if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
+    master.in_exchange = bus.master().monitor().in_exchange();
+    master.lost = bus.master().monitor().lost();
+    g_links.master_status.write(master);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
@@ -155,23 +208,77 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     }
     if (stopping_since >= 0 && (handler.drives_disabled() || now - stopping_since >= kDisableTimeout)) break;
   }
+  stats.publish();
   state.handler_done.store(true, std::memory_order_release);
 }
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
   apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
+  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
   while (!state.manager_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds woke = clock.now();
+    const hal::Nanoseconds start = clock.now();
     const std::uint64_t work_start = timing.timer.start();
-    manager.step(woke);
-    timing.manager.record(woke - next, work_start, timing.timer.stop());
+    manager.step(start);
+    timing.manager.record(start - next, work_start, timing.timer.stop());
+    g_links.joint_status.write(published_status(manager.statuses()));
+    stats.period(next, start, clock.now(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
   manager.step(clock.now());  // the last answers and marks
+  g_links.joint_status.write(published_status(manager.statuses()));
+  stats.publish();
+}
+
+// The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
+void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
+  apply_thread_rt("message-parser", 0, kOperatorCpu);
+  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
+  state.tasks_started.fetch_add(1, std::memory_order_release);
+  hal::Nanoseconds next = clock.now();
+  while (!state.operator_stop.load(std::memory_order_acquire)) {
+    const hal::Nanoseconds start = clock.now();
+    parser.step(start);
+    stats.period(next, start, clock.now(), 10 * kParserPeriod);
+    next += kParserPeriod;
+    clock.sleep_until(next);
+  }
+  stats.publish();
+}
+
+// The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
+void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
+  apply_thread_rt("socket-handler", 0, kOperatorCpu);
+  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
+  state.tasks_started.fetch_add(1, std::memory_order_release);
+  while (!state.operator_stop.load(std::memory_order_acquire)) {
+    socket.wait(kSocketWaitMs);
+    const hal::Nanoseconds start = clock.now();
+    socket.step(start);
+    stats.period(start, start, clock.now(), hal::kNsPerSec);
+  }
+  stats.publish();
+}
+
+void print_local_replies(hal::Nanoseconds at) noexcept {
+  ControlReply reply;
+  while (g_links.local_replies.try_pop(reply)) {
+    (void)std::printf("[%8.3f s] operator: %s: %s%s%s\n", seconds(at), protocol::to_string(reply.request_type),
+                      reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
+                      reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "", reply.text.data());
+  }
+}
+
+bool send_local(protocol::MessageType type, JointMask joints) noexcept {
+  ControlRequest request;
+  request.type = type;
+  request.joints = joints;
+  if (g_links.local_requests.try_push(request)) return true;
+  (void)std::printf("operator: request queue full, %s dropped\n", protocol::to_string(type));
+  return false;
 }
 
 // Whether the handler's latest published values show every joint of `joints` reachable.
@@ -182,6 +289,45 @@ bool all_reachable(JointMask joints) noexcept {
     if ((joints & joint_bit(j)) != 0 && !sample[j].reachable) return false;
   }
   return true;
+}
+
+// A resource another instance holds: name it and the holder's pid; the run does not start.
+int fail_locked(const char* what, const char* name, const Error& error) noexcept {
+  if (error.code == Errc::busy) {
+    if (error.detail0 != 0) {
+      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid %u); not starting\n",
+                         what, name, error.detail0);
+    } else {
+      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid unknown); not starting\n",
+                         what, name);
+    }
+    return 1;
+  }
+  (void)std::fprintf(stderr, "rescue-motion run: cannot lock %s %s: %s (%s, errno %u); not starting\n", what, name,
+                     error.what, to_string(error.code), error.detail0);
+  return 1;
+}
+
+// One instance per state directory and per raw NIC; 0 when taken, else the exit status. A read-only
+// state directory is warned about (a loss could not be recorded) and takes no lock.
+int take_instance_locks(const FirmwareOptions& options, const char* dir) noexcept {
+  // One instance per state directory and per raw NIC (a second one would erase the first's losses).
+  const Status writable = hal::check_writable(dir);
+  if (!writable.ok()) {
+    (void)std::fprintf(stderr,
+                       "rescue-motion run: WARNING: state directory %s is not writable (errno %u): a joint lost in this run "
+                       "cannot be recorded, and no other instance is kept out; fix its permissions or use "
+                       "--state-dir\n",
+                       dir, writable.error().detail0);
+  } else {
+    const Status locked = hal::lock_state_directory(dir);
+    if (!locked.ok()) return fail_locked("state directory", dir, locked.error());
+  }
+  if (options.nic.kind == NicKind::raw) {
+    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
+    if (!locked.ok()) return fail_locked("interface", options.nic.interface_name.data(), locked.error());
+  }
+  return 0;
 }
 
 int report_bring_up_failure(drivers::JointBus& bus) noexcept {
@@ -201,6 +347,72 @@ Status finish_capture(const char* path) noexcept {
                     " dropped (queue full)\n",
                     path, g_capture.stats().frames_written, g_capture.stats().write_errors, queued.frames_dropped);
   return g_capture.close();
+}
+
+void print_restored(JointMask restored) noexcept {
+  if (restored == 0) return;
+  char names[kJointNamesCapacity];
+  format_joint_names(restored, names, sizeof names);
+  (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
+                    "they stay out of the exchange until an operator clears them\n",
+                    names);
+}
+
+// What start-up did with a damaged error-joints file or an interrupted write: exactly what was salvaged,
+// dropped and added, where the original is kept, and what the operator can do.
+void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
+  char kept[64];
+  set_aside_name(r.set_aside_suffix, kept, sizeof kept);
+  char names[kJointNamesCapacity];
+  if (r.newer_temporary) {
+    format_joint_names(r.from_temporary, names, sizeof names);
+    (void)std::printf("rescue-motion run: %s/%s is complete and newer (sequence %" PRIu64 ") than the error-joints "
+                      "file: a write was interrupted before its rename; its joints are kept recorded lost%s%s\n",
+                      dir, ErrorJointsFileStorage::kTemporaryName, r.temporary_sequence,
+                      r.from_temporary != 0 ? "; it adds " : "", r.from_temporary != 0 ? names : "");
+  }
+  if (!r.damaged()) return;
+  const Error& why = r.file_status.error();
+  if (r.salvaged == 0) {
+    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); %u record(s) dropped; starting safely\n",
+                      why.what, to_string(why.code), r.records_dropped);
+    if (r.set_aside) (void)std::printf("rescue-motion run:   the original is kept as %s/%s\n", dir, kept);
+    return;
+  }
+  format_joint_names(r.salvaged, names, sizeof names);
+  (void)std::printf("rescue-motion run: error-joints file damaged: %s (%s); salvaged %s from the records that passed "
+                    "their checks; dropped %u record(s) that did not\n",
+                    why.what, to_string(why.code), names, r.records_dropped);
+  if (r.added_behind != 0) {
+    format_joint_names(r.added_behind, names, sizeof names);
+    (void)std::printf("rescue-motion run:   also recorded lost: %s, behind a salvaged lost joint on its branch and "
+                      "so unreachable too (held position unknown)\n",
+                      names);
+  }
+  if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
+  format_joint_names(r.restored, names, sizeof names);
+  (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
+                    "they are repaired and checked, clear them with --clear-joint %s\n",
+                    names, names);
+}
+
+// A signal stopped the bring-up: nothing reached OP, no drive was enabled; exit 0.
+int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) noexcept {
+  const ecat::BringUpReport& report = bus.master().report();
+  (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
+                    "(no slave reached OP); error-joints file unchanged\n",
+                    stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
+  if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
+  return 0;
+}
+
+// The one line saying where a signal stopped the run.
+void print_stop_line(const RunState& state, bool drives_disabled, bool file_dirty) noexcept {
+  (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
+                    "file %s\n",
+                    stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
+                    drives_disabled ? "disabled" : "told to disable (not all confirmed)",
+                    file_dirty ? "NOT written" : "up to date");
 }
 
 // Prints what the operator's --clear-joint request will do; false when it is refused.
@@ -231,24 +443,123 @@ bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
 
 }  // namespace
 
+int exit_status_for(fsm::RobotCondition condition) noexcept {
+  return condition == fsm::RobotCondition::error ? kExitRobotError : 0;
+}
+
+namespace {
+// The exit status of a run that stopped in order, said on stderr when it is not 0.
+int robot_exit(fsm::RobotCondition condition) noexcept {
+  const int status = exit_status_for(condition);
+  if (status != 0) {
+    (void)std::fprintf(stderr, "rescue-motion run: the robot ended in error (every joint in Error): exit status %d\n",
+                       status);
+  }
+  return status;
+}
+}  // namespace
+
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");
   static RunState state;
+
+  // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
+  // cleanly, with one line saying where.
+  if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
 
   // 1. The error-joints file, before the network (design brief section 6).
   const Result<hal::StateDir> dir = hal::resolve_state_dir(options.state_dir);
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
+  const int lock_status = take_instance_locks(options, dir.value().path.c_str());
+  if (lock_status != 0) return lock_status;
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
   static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
   static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
   static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
   static SeqlockSampleSource samples(g_links.samples);
   static SeqlockDemandSink demand_sink(g_links.demand);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events, &demand_sink});
+  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(g_links.command_outcomes);
+  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
+                                                &demand_sink, &outcomes});
+
+  // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
+  // key, the socket handler. They see only queues and seqlocks of g_links.
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(g_links.control_requests);
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(g_links.local_requests);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(g_links.control_replies);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(g_links.local_replies);
   static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(g_links.joint_commands);
+  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(g_links.command_outcomes);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(g_links.rc_inputs[0]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(g_links.rc_inputs[1]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(g_links.rc_inputs[2]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(g_links.rc_inputs[3]);
+  MessageParserPorts parser_ports;
+  parser_ports.network = &parser_network;
+  parser_ports.local = &parser_local;
+  parser_ports.network_replies = &parser_replies;
+  parser_ports.local_replies = &parser_local_replies;
+  parser_ports.joint_commands = &parser_out;
+  parser_ports.outcomes = &parser_outcomes;
+  parser_ports.samples = &g_links.samples;
+  parser_ports.joint_status = &g_links.joint_status;
+  parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
+  parser_ports.rc_heartbeat_ns = &g_links.rc_heartbeat_ns;
+  static MessageParser parser(parser_ports);
+
+  if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
+  hal::PathBuffer key_path;
+  if (options.key_path != nullptr) {
+    (void)std::snprintf(key_path.text.data(), key_path.text.size(), "%s", options.key_path);
+  } else {
+    const Result<hal::PathBuffer> joined = hal::join_path(dir.value().path.c_str(), "operator.key");
+    if (!joined.ok()) return fail("run", "key file path", joined.error());
+    key_path = joined.value();
+  }
+  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str());
+  const bool operator_port = key.ok();
+  if (!key.ok()) {
+    if (options.key_path != nullptr || key.error().code != Errc::not_found) {
+      (void)std::fprintf(stderr, "rescue-motion run: key file %s: %s\n", key_path.c_str(), key.error().what);
+      return 1;
+    }
+    (void)std::printf("rescue-motion run: no key file %s: operator and sensor ports closed "
+                      "(create one with: rescue-motion ctl keygen --key %s)\n",
+                      key_path.c_str(), key_path.c_str());
+  }
+  static protocol::FileReplayStore replay_store(dir.value().path.c_str());
+  static protocol::ReplayWindow replay(replay_store);
+  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(g_links.control_requests);
+  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(g_links.control_replies);
+  SocketHandlerPorts socket_ports;
+  socket_ports.requests = &socket_requests;
+  socket_ports.replies = &socket_replies;
+  socket_ports.sensors = &g_links.sensors;
+  socket_ports.counters = &g_links.socket_counters;
+  socket_ports.samples = &g_links.samples;
+  socket_ports.joint_status = &g_links.joint_status;
+  socket_ports.master = &g_links.master_status;
+  socket_ports.tasks = &g_links.task_stats;
+  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
+  if (operator_port) {
+    const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
+    if (!window.file_status.ok() && window.file_status.error().code != Errc::not_found) {
+      (void)std::printf("rescue-motion run: replay-window file not used: %s; every sender starts at the robot's clock\n",
+                        window.file_status.error().what);
+    }
+    SocketHandlerOptions socket_options;
+    socket_options.listen = options.listen;
+    socket_options.control_port = options.control_port;
+    socket_options.sensor_port = options.sensor_port;
+    const Status opened_ports = socket.open(socket_options);
+    if (!opened_ports.ok()) return fail("run", "cannot open the UDP ports", opened_ports.error());
+    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s)\n", options.listen,
+                      static_cast<unsigned>(socket.control_port()), options.listen,
+                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str());
+  }
 
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
@@ -259,23 +570,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   events.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
-  if (restored.restored != 0) {
-    char names[kJointNamesCapacity];
-    format_joint_names(restored.restored, names, sizeof names);
-    (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
-                      "they stay out of the exchange until an operator clears them\n",
-                      names);
-  }
+  print_restored(restored.restored);
   // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
   // once they do (a clear that cannot be confirmed loses nothing).
   const RepairedJointsPlan repaired = plan_repaired_joints(options.clear_joints, restored.restored);
   if (!announce_repaired_joints(repaired)) return 1;
   const JointMask to_clear = repaired.to_clear;
   const JointMask out_of_service = repaired.out_of_service;
-  if (!restored.file_status.ok() && restored.file_present) {
-    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); starting safely\n",
-                      restored.file_status.error().what, to_string(restored.file_status.error().code));
-  }
+  print_restore_problems(restored, dir.value().path.c_str());
 
   // 2. The machine: memory locked and prefaulted once (each task sets its own priority and CPU).
   hal::RtConfig process_rt;
@@ -293,10 +595,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
+  master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
   const Status up = bus.bring_up(master_options, out_of_service);
+  if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
   if (!up.ok()) {
     if (to_clear != 0) {
       (void)std::fprintf(stderr, "rescue-motion run: the error-joints file is unchanged: the joints declared repaired "
@@ -315,15 +619,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
   static EthercatHandler handler(bus, g_links, restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
-  if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
   start_task_timing();
   (void)std::fflush(stdout);
   std::thread manager_thread(joint_manager_task, std::ref(manager), std::ref(clock), std::ref(state));
   std::thread handler_thread(handler_task, std::ref(handler), std::ref(scenario), std::cref(options), std::ref(clock),
                              std::ref(state));
-  // Init is complete once both tasks are past their set-up (thread start-up allocates).
+  static hal::MonotonicClock operator_clock;
+  std::thread parser_thread(parser_task, std::ref(parser), std::ref(operator_clock), std::ref(state));
+  std::thread socket_thread;
+  if (operator_port) socket_thread = std::thread(socket_task, std::ref(socket), std::ref(operator_clock), std::ref(state));
+  const int task_count = operator_port ? 4 : 3;
+  // Init is complete once every task is past its set-up (thread start-up allocates).
   hal::MonotonicClock logger_clock;
-  while (state.tasks_started.load(std::memory_order_acquire) < 2) {
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
     logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
   }
   declare_init_complete(HeapGuardMode::count);
@@ -361,18 +669,15 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       char names[kJointNamesCapacity];
       format_joint_names(to_clear, names, sizeof names);
       (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - start), names);
-      for (const JointCommand& command : clear_repaired_joints_commands(to_clear)) {
-        if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
-      }
+      (void)send_local(protocol::MessageType::clear_joints, to_clear);
     }
     if (op_announced && clear_sent && !initialized && all_reachable(kAllJoints & ~out_of_service)) {
       initialized = true;
       (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
                         seconds(clock.now() - start));
-      for (const JointCommand& command : initialize_robot_commands(kAllJoints & ~out_of_service)) {
-        if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
-      }
+      (void)send_local(protocol::MessageType::initialize, kAllJoints & ~out_of_service);
     }
+    print_local_replies(clock.now() - start);
     (void)std::fflush(stdout);
     if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
     if (done) break;
@@ -388,9 +693,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       if (demand[j].enable) enabled |= joint_bit(j);
     }
   }
-  for (const JointCommand& command : stop_robot_commands(enabled)) {
-    if (!parser_out.try_send(command)) (void)std::printf("operator: joint handle queue full, command dropped\n");
+  // Through the parser, the joint handle queue's only producer; its answer comes within its timeout.
+  if (enabled != 0 && send_local(protocol::MessageType::disable, enabled)) {
+    const hal::Nanoseconds give_up = logger_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
+    while (g_links.local_replies.empty_approx() && logger_clock.now() < give_up) {
+      logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
+    }
+    print_local_replies(clock.now() - start);
   }
+  state.operator_stop.store(true, std::memory_order_release);
+  parser_thread.join();
+  if (socket_thread.joinable()) socket_thread.join();
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   while (handler.pop_event(event)) print_handler_event(event, start);
@@ -401,7 +714,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const std::uint64_t healthy_missed = handler.missed_cycles(kAllJoints & ~lost);
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) (void)std::printf("rescue-motion run: stopped by signal %d\n", stop_signal());
+  if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
                     state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
@@ -411,6 +724,24 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  const SocketCounters& counted = socket.counters();
+  if (operator_port) {
+    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
+    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
+    }
+    (void)std::printf("\n");
+  }
+  if (options.report != nullptr) {
+    options.report->cycles = state.cycles.load();
+    options.report->healthy_missed = healthy_missed;
+    options.report->frames_missing = handler.frames_missing();
+    options.report->datagrams = counted.datagrams;
+    options.report->accepted = counted.accepted;
+    options.report->rejected = counted.rejected;
+    options.report->control_port = socket.control_port();
+    options.report->sensor_port = socket.sensor_port();
+  }
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
@@ -432,7 +763,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
-  return 0;
+  return robot_exit(manager.summary().condition);
 }
 
 }  // namespace rescue::app

@@ -4,6 +4,8 @@
 //   main thread       start-up, then the logger: prints what the tasks queue, the operator's
 //                     pre-defined "initialize robot" message once the network is in OP
 //   joint manager     CPU thread 2, SCHED_FIFO 70: DFA, limit monitoring, reconfiguration, file
+//   socket handler    CPU thread 1, normal priority: UDP control and sensor ports (docs/protocol.md)
+//   message parser    CPU thread 1, normal priority: requests -> joint handle queue, RC-task inputs
 //   EtherCAT handler  CPU thread 3, SCHED_FIFO 80: one frame per millisecond
 //
 // Start-up order (design brief section 6): the error-joints file is read before the network
@@ -12,11 +14,13 @@
 // joint manager clears them (one durable write, logged) and resets them to Idle.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/app/cli/nic_option.hpp"
 #include "core/app/sim/run_scenario.hpp"
 #include "core/robot/robot.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -31,7 +35,30 @@ struct FirmwareOptions {
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)
   bool initialize{false};            // send "initialize robot" once the network is in OP
   JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)
+  // The operator's path in (docs/protocol.md): UDP ports, and the pre-shared key file.
+  const char* listen{"0.0.0.0"};
+  std::uint16_t control_port{47010};
+  std::uint16_t sensor_port{47011};
+  const char* key_path{nullptr};     // nullptr: <state dir>/operator.key; absent there: no socket handler
+  struct Report* report{nullptr};    // filled at the end, for in-process tests (may be nullptr)
 };
+
+// What a run did, for tests that run the firmware in-process.
+struct Report {
+  std::uint64_t cycles{0};
+  std::uint64_t healthy_missed{0};   // cycles whose frame came back but missed a healthy joint
+  std::uint64_t frames_missing{0};   // frames late or lost (host jitter)
+  std::uint64_t datagrams{0};
+  std::uint64_t accepted{0};
+  std::array<std::uint64_t, 6> rejected{};
+  std::uint16_t control_port{0};
+  std::uint16_t sensor_port{0};
+};
+
+// Exit status of a run that stopped in order: 0, except kExitRobotError when the robot ended in
+// error (every joint in Error): a script or supervisor must never read that as success.
+constexpr int kExitRobotError = 3;
+int exit_status_for(fsm::RobotCondition condition) noexcept;
 
 // Runs until the duration, the scenario's end or a stop signal; returns the exit status.
 int run_firmware(const FirmwareOptions& options) noexcept;

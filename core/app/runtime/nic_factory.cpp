@@ -15,7 +15,9 @@ hal::MonotonicClock g_real_time;
 Status SelectedNic::open(const NicChoice& choice) noexcept {
   active_ = nullptr;
   if (choice.kind == NicKind::raw) {
-    RESCUE_TRY(raw_.open(choice.interface_name.data()));
+    hal::RawSocketSettings settings;
+    settings.receive_spin = kMasterReceiveSpin;
+    RESCUE_TRY(raw_.open(choice.interface_name.data(), settings));
     active_ = &raw_;
     return Status::success();
   }

@@ -12,6 +12,12 @@
 
 namespace rescue::app {
 
+// The master's raw socket reads for this long before it sleeps waiting for a frame
+// (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
+// is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
+// CPU per exchange.
+constexpr hal::Nanoseconds kMasterReceiveSpin = 150 * hal::kNsPerUs;
+
 class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).

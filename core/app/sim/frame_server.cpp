@@ -1,5 +1,7 @@
 #include "core/app/sim/frame_server.hpp"
 
+#include <algorithm>
+
 namespace rescue::app {
 namespace {
 
@@ -13,9 +15,29 @@ void mark_processed_by_esc(ByteSpan frame) noexcept {
   frame[kSourceMacOffset] = static_cast<std::uint8_t>(frame[kSourceMacOffset] | kLocallyAdministeredBit);
 }
 
+void FrameServer::release_held() noexcept {
+  for (std::size_t i = 0; i < held_count_; ++i) {
+    if (nic_.send(ConstByteSpan(held_[i].data(), held_length_[i])).ok()) {
+      ++counters_.frames_returned;
+    } else {
+      ++counters_.send_errors;
+    }
+  }
+  held_count_ = 0;
+}
+
 Status FrameServer::serve_one(hal::Nanoseconds deadline) noexcept {
+  const hal::Nanoseconds start = nic_.clock().now();
+  if (held_count_ > 0 && start >= stall_until_) release_held();
+  if (held_count_ > 0 && stall_until_ < deadline) deadline = stall_until_;
   const Result<std::size_t> got = nic_.receive(ByteSpan(buffer_), deadline);
-  if (!got.ok()) return got.error();
+  if (!got.ok()) {
+    if (got.error().code == Errc::timeout) {
+      processor_.idle(nic_.clock().now());
+      ++counters_.idle_steps;
+    }
+    return got.error();
+  }
   ++counters_.frames_received;
   const hal::Nanoseconds arrival = nic_.clock().now();
 
@@ -26,6 +48,16 @@ Status FrameServer::serve_one(hal::Nanoseconds deadline) noexcept {
   }
   const ByteSpan reply(buffer_.data(), processed.value());
   mark_processed_by_esc(reply);
+  if (arrival < stall_until_) {
+    if (held_count_ == held_.size()) {
+      ++counters_.frames_held_dropped;
+      return Status::success();
+    }
+    std::copy(reply.begin(), reply.end(), held_[held_count_].begin());
+    held_length_[held_count_++] = reply.size();
+    ++counters_.frames_held;
+    return Status::success();
+  }
   if (!nic_.send(reply).ok()) {
     ++counters_.send_errors;
     return Status::success();

@@ -34,6 +34,10 @@ class FrameProcessor {
   // the length of the frame that goes back to the master, or an error when none goes back (a frame
   // the segment cannot parse, or one it lost on purpose).
   virtual Result<std::size_t> process(ByteSpan frame, hal::Nanoseconds arrival) noexcept = 0;
+  // No frame came until `now`: bring the slaves' own time up to it (hardware runs while the wire is
+  // quiet), so the next frame finds only the last moments left to simulate, however long the
+  // segment was idle.
+  virtual void idle(hal::Nanoseconds now) noexcept { (void)now; }
 };
 
 struct FrameServerCounters {
@@ -41,6 +45,9 @@ struct FrameServerCounters {
   std::uint64_t frames_returned{0};
   std::uint64_t frames_not_returned{0};  // the processor kept them (malformed or lost on purpose)
   std::uint64_t send_errors{0};
+  std::uint64_t idle_steps{0};  // quiet waits after which the segment caught up with the time
+  std::uint64_t frames_held{0};  // replies held back by a stall, sent together when it ended
+  std::uint64_t frames_held_dropped{0};  // a stall held more than kHeldCapacity: the rest were lost
 };
 
 // What every ESC does to a frame passing its EtherCAT processing unit: it sets SOURCE_MAC[1], the
@@ -57,17 +64,30 @@ class FrameServer {
   FrameServer(hal::Nic& nic, FrameProcessor& processor) noexcept : nic_(nic), processor_(processor) {}
 
   // Waits until `deadline` (on the NIC's clock) for one frame and serves it. Errc::timeout when no
-  // frame came; other NIC errors are returned as they are. A frame the processor keeps, or one the
+  // frame came (the processor's idle() has then caught up with the deadline); other NIC errors
+  // are returned as they are. A frame the processor keeps, or one the
   // NIC cannot send, is counted, not an error: the master sees a lost frame, as on a real wire.
   Status serve_one(hal::Nanoseconds deadline) noexcept;
 
   const FrameServerCounters& counters() const noexcept { return counters_; }
 
+  // A stall of the host or of an interrupt-coalescing NIC, injected: until `until` (NIC clock)
+  // replies are processed at once but held back, then sent together, in order, bunched (what a
+  // capture of issue 11 showed). At most kHeldCapacity are held; the rest are lost and counted.
+  static constexpr std::size_t kHeldCapacity = 16;
+  void stall_until(hal::Nanoseconds until) noexcept { stall_until_ = until; }
+
  private:
+  void release_held() noexcept;
+
   hal::Nic& nic_;
   FrameProcessor& processor_;
   FrameServerCounters counters_{};
   std::array<std::uint8_t, kBufferSize> buffer_{};
+  hal::Nanoseconds stall_until_{0};
+  std::array<std::array<std::uint8_t, kBufferSize>, kHeldCapacity> held_{};
+  std::array<std::size_t, kHeldCapacity> held_length_{};
+  std::size_t held_count_{0};
 };
 
 }  // namespace rescue::app

@@ -21,6 +21,8 @@ class SegmentFrameProcessor final : public FrameProcessor {
   std::size_t slave_count() const noexcept override { return segment_.slave_count(); }
   // A frame the segment loses (cut cable, open port, fault) is an error: nothing goes back.
   Result<std::size_t> process(ByteSpan frame, hal::Nanoseconds arrival) noexcept override;
+  // The ESCs' clocks, SYNC0 pulses and devices run up to `now`.
+  void idle(hal::Nanoseconds now) noexcept override { segment_.advance_to(now); }
 
  private:
   drivers::SimulatedSegment& segment_;

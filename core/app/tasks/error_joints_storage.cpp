@@ -1,9 +1,29 @@
 #include "core/app/tasks/error_joints_storage.hpp"
 
 #include <array>
+#include <cstdio>
 #include <cstring>
 
 namespace rescue::app {
+
+namespace {
+
+// The temporary file of an interrupted write, when it is complete and newer than what `out` holds.
+void look_for_newer_temporary(const char* dir, ErrorJointsLoad& out) noexcept {
+  auto path = hal::join_path(dir, ErrorJointsFileStorage::kTemporaryName);
+  if (!path.ok()) return;
+  std::array<std::uint8_t, ErrorJointsFileStorage::kReadCap> buffer{};
+  auto size = hal::read_file_capped(path.value().c_str(), ByteSpan(buffer));
+  if (!size.ok()) return;
+  const ErrorJointsDecoded tmp = decode_error_joints(ConstByteSpan(buffer.data(), size.value()));
+  if (!tmp.status.ok()) return;  // an incomplete temporary file is what a crash before fsync leaves
+  const bool newer = !out.file_present || !out.decoded.status.ok() || tmp.contents.sequence > out.decoded.contents.sequence;
+  if (!newer) return;
+  out.newer_temporary = true;
+  out.temporary = tmp.contents;
+}
+
+}  // namespace
 
 ErrorJointsFileStorage::ErrorJointsFileStorage(const char* state_dir) noexcept {
   const std::size_t len = state_dir != nullptr ? std::strlen(state_dir) : 0;
@@ -27,11 +47,23 @@ ErrorJointsLoad ErrorJointsFileStorage::load() noexcept {
   if (!size.ok()) {
     out.file_present = size.error().code != Errc::not_found;
     out.decoded.status = size.error();
+    look_for_newer_temporary(dir_.c_str(), out);
     return out;
   }
   out.file_present = true;
   out.decoded = decode_error_joints(ConstByteSpan(buffer.data(), size.value()));
+  look_for_newer_temporary(dir_.c_str(), out);
   return out;
+}
+
+
+void set_aside_name(std::uint32_t suffix, char* out, std::size_t capacity) noexcept {
+  if (capacity == 0) return;
+  if (suffix == 0) {
+    (void)std::snprintf(out, capacity, "%s", ErrorJointsFileStorage::kSetAsideName);
+  } else {
+    (void)std::snprintf(out, capacity, "%s.%u", ErrorJointsFileStorage::kSetAsideName, suffix);
+  }
 }
 
 Status ErrorJointsFileStorage::save(const ErrorJointsContents& contents) noexcept {
@@ -42,9 +74,9 @@ Status ErrorJointsFileStorage::save(const ErrorJointsContents& contents) noexcep
   return hal::write_file_atomically(dir_.c_str(), kFileName, ConstByteSpan(image.data(), size.value()));
 }
 
-Status ErrorJointsFileStorage::set_aside() noexcept {
+Result<std::uint32_t> ErrorJointsFileStorage::set_aside() noexcept {
   if (!dir_fits_) return make_error(Errc::invalid_argument, "state directory path empty or too long");
-  return hal::rename_durably(dir_.c_str(), kFileName, kSetAsideName);
+  return hal::set_aside_durably(dir_.c_str(), kFileName, kSetAsideName, kMaxSetAside);
 }
 
 }  // namespace rescue::app

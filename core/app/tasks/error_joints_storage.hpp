@@ -11,6 +11,10 @@ namespace rescue::app {
 struct ErrorJointsLoad {
   bool file_present{false};     // false: no file (a clean robot); decoded.status says not_found
   ErrorJointsDecoded decoded;   // what could be read, and the first problem
+  // A complete temporary file newer than the file (or with no file): a write interrupted between the
+  // temporary file's fsync and its rename. Its joints were being recorded lost.
+  bool newer_temporary{false};
+  ErrorJointsContents temporary;
 };
 
 class ErrorJointsStorage {
@@ -25,14 +29,17 @@ class ErrorJointsStorage {
   virtual ErrorJointsLoad load() noexcept = 0;
   // Durable and atomic: on success the new contents survive a power cut; on failure the old ones stay.
   virtual Status save(const ErrorJointsContents& contents) noexcept = 0;
-  // Keeps an unusable file for post-mortem, under another name, before a new file replaces it.
-  virtual Status set_aside() noexcept = 0;
+  // Keeps an unusable file for post-mortem, under a name of its own (never replacing an earlier one),
+  // before a new file replaces it. Returns the set-aside suffix (set_aside_name()).
+  virtual Result<std::uint32_t> set_aside() noexcept = 0;
 };
 
 class ErrorJointsFileStorage final : public ErrorJointsStorage {
  public:
   static constexpr const char* kFileName = "error-joints.bin";
+  static constexpr const char* kTemporaryName = "error-joints.bin.tmp";  // hal::write_file_atomically's
   static constexpr const char* kSetAsideName = "error-joints.bin.unusable";
+  static constexpr std::uint32_t kMaxSetAside = 999;  // kSetAsideName, then kSetAsideName.1 ... .999
   // Larger than any valid file (kErrorJointsMaxFileSize), so "oversized" is told apart from "too long
   // for the format"; a bigger file is refused before it is read.
   static constexpr std::size_t kReadCap = 4096;
@@ -42,7 +49,7 @@ class ErrorJointsFileStorage final : public ErrorJointsStorage {
 
   ErrorJointsLoad load() noexcept override;
   Status save(const ErrorJointsContents& contents) noexcept override;
-  Status set_aside() noexcept override;
+  Result<std::uint32_t> set_aside() noexcept override;
 
   const char* directory() const noexcept { return dir_.c_str(); }
 
@@ -50,5 +57,8 @@ class ErrorJointsFileStorage final : public ErrorJointsStorage {
   hal::PathBuffer dir_;
   bool dir_fits_{false};
 };
+
+// "error-joints.bin.unusable" for suffix 0, else "error-joints.bin.unusable.<suffix>".
+void set_aside_name(std::uint32_t suffix, char* out, std::size_t capacity) noexcept;
 
 }  // namespace rescue::app

@@ -1,5 +1,7 @@
 #include "core/app/tasks/joint_events.hpp"
 
+#include "core/app/tasks/error_joints_storage.hpp"
+
 #include <cstdio>
 
 namespace rescue::app {
@@ -25,6 +27,8 @@ const char* to_string(JointEventKind kind) noexcept {
     case JointEventKind::file_restored: return "file_restored";
     case JointEventKind::file_unusable: return "file_unusable";
     case JointEventKind::file_set_aside: return "file_set_aside";
+    case JointEventKind::file_wiring_added: return "file_wiring_added";
+    case JointEventKind::file_newer_temporary: return "file_newer_temporary";
     case JointEventKind::reconfiguration_step: return "reconfiguration_step";
     case JointEventKind::file_written: return "file_written";
     case JointEventKind::file_write_failed: return "file_write_failed";
@@ -52,12 +56,26 @@ std::size_t format_event(const JointEvent& e, char* out, std::size_t capacity) n
                         : std::snprintf(out, capacity, "error-joints file: restored %s in Error with their held positions", names);
       break;
     case JointEventKind::file_unusable:
-      n = std::snprintf(out, capacity, "error-joints file not used%s: %s (%s; %llu record(s) dropped)",
-                        e.joints != 0 ? " in part" : "", e.error.what, to_string(e.error.code),
-                        static_cast<unsigned long long>(e.count));
+      n = e.joints != 0
+              ? std::snprintf(out, capacity, "error-joints file damaged: %s (%s); salvaged %s; %llu record(s) dropped",
+                              e.error.what, to_string(e.error.code), names, static_cast<unsigned long long>(e.count))
+              : std::snprintf(out, capacity, "error-joints file not used: %s (%s; %llu record(s) dropped)", e.error.what,
+                              to_string(e.error.code), static_cast<unsigned long long>(e.count));
       break;
-    case JointEventKind::file_set_aside:
-      n = std::snprintf(out, capacity, "error-joints file kept aside as error-joints.bin.unusable");
+    case JointEventKind::file_set_aside: {
+      char name[64];
+      set_aside_name(static_cast<std::uint32_t>(e.count), name, sizeof name);
+      n = std::snprintf(out, capacity, "error-joints file kept aside as %s", name);
+      break;
+    }
+    case JointEventKind::file_wiring_added:
+      n = std::snprintf(out, capacity, "error-joints file: %s recorded lost too: behind a salvaged lost joint on its "
+                        "branch, unreachable too (held position unknown)", names);
+      break;
+    case JointEventKind::file_newer_temporary:
+      n = std::snprintf(out, capacity, "error-joints file: complete newer error-joints.bin.tmp (sequence %llu) left by "
+                        "an interrupted write; its joints kept recorded lost%s%s",
+                        static_cast<unsigned long long>(e.count), e.joints != 0 ? ", adding " : "", e.joints != 0 ? names : "");
       break;
     case JointEventKind::reconfiguration_step:
       n = std::snprintf(out, capacity, "reconfiguration step %s: %s",

@@ -19,7 +19,9 @@ enum class JointEventKind : std::uint8_t {
   file_absent,           // start-up: no error-joints file, no joint recorded lost
   file_restored,         // start-up: `joints` restored from the file, in Error with their held positions
   file_unusable,         // start-up: the file (or part of it) was not used; `error` says why, `count` records dropped
-  file_set_aside,        // the unusable file was renamed for post-mortem (error-joints.bin.unusable)
+  file_set_aside,        // the unusable file was renamed for post-mortem (error-joints.bin.unusable[.count])
+  file_wiring_added,     // start-up, damaged file: `joints` behind a salvaged lost joint, unreachable too
+  file_newer_temporary,  // start-up: a complete newer error-joints.bin.tmp (sequence `count`); `joints` it adds
   reconfiguration_step,  // `step` 1..5 of the paper's procedure for `joints`
   file_written,          // the error-joints file now holds `joints` (sequence in `count`)
   file_write_failed,     // `error` says why; retried

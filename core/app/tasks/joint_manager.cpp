@@ -55,24 +55,78 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   report.file_status = decoded.status;
   report.records_dropped = decoded.records_rejected;
   recorded_ = decoded.contents;
+  const bool damaged = !decoded.status.ok();
+  if (damaged) report.salvaged = recorded_.joints();
+  bool rewrite = false;
+
+  // A complete newer temporary file: the last write reached the disk but not its name. Its joints were
+  // being recorded lost; holding them out is the safe reading (an operator clears them again).
+  if (load.newer_temporary) {
+    report.newer_temporary = true;
+    report.temporary_sequence = load.temporary.sequence;
+    for (const LostJointRecord& r : load.temporary.records) {
+      if (recorded_.find(r.joint) != nullptr) continue;
+      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+      report.from_temporary |= joint_bit(r.joint);
+    }
+    if (load.temporary.sequence > recorded_.sequence) recorded_.sequence = load.temporary.sequence;
+    rewrite = true;
+    JointEvent e = event(JointEventKind::file_newer_temporary, now);
+    e.joints = report.from_temporary;
+    e.count = load.temporary.sequence;
+    emit(e);
+  }
+
+  // A damaged file's salvage follows the wiring: a joint behind a salvaged lost joint on its branch
+  // could not be reached either (its own record is the damaged one), so it is recorded lost as well.
+  if (damaged) {
+    const JointMask salvaged = recorded_.joints();
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const LostJointRecord* found = recorded_.find(j);
+      if (found == nullptr || (salvaged & joint_bit(j)) == 0) continue;
+      const LostJointRecord upstream = *found;
+      const JointMask behind = joints_lost_by_link_failure_at(j) & ~recorded_.joints();
+      for (std::size_t k = 0; k < kJointCount; ++k) {
+        if ((behind & joint_bit(k)) == 0) continue;
+        LostJointRecord r = upstream;  // same loss: its time and cycle; the held position is unknown
+        r.joint = static_cast<std::uint8_t>(k);
+        r.last_position_counts = 0;
+        (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+        report.added_behind |= joint_bit(k);
+      }
+    }
+    if (report.added_behind != 0) {
+      JointEvent e = event(JointEventKind::file_wiring_added, now);
+      e.joints = report.added_behind;
+      emit(e);
+    }
+  }
+
   for (const LostJointRecord& r : recorded_.records) {
     latch_loss(r.joint, r.reason, drivers::counts_to_rad(r.last_position_counts), now);
     report.restored |= joint_bit(r.joint);
   }
-  if (!decoded.status.ok()) {
+  if (damaged) {
     JointEvent e = event(JointEventKind::file_unusable, now);
     e.error = decoded.status.error();
-    e.joints = report.restored;
+    e.joints = report.salvaged;
     e.count = decoded.records_rejected;
     emit(e);
     // Keep the damaged file for post-mortem rather than let the next write destroy it, then store the
     // part that could be trusted under the file's name again.
-    if (load.file_present && ports_.storage->set_aside().ok()) {
-      report.set_aside = true;
-      emit(event(JointEventKind::file_set_aside, now));
+    if (load.file_present) {
+      const Result<std::uint32_t> aside = ports_.storage->set_aside();
+      if (aside.ok()) {
+        report.set_aside = true;
+        report.set_aside_suffix = aside.value();
+        JointEvent kept = event(JointEventKind::file_set_aside, now);
+        kept.count = aside.value();
+        emit(kept);
+      }
     }
-    if (!recorded_.records.empty()) (void)persist(recorded_, now);
+    rewrite = true;
   }
+  if (rewrite && !recorded_.records.empty()) (void)persist(recorded_, now);
   if (report.restored != 0 || decoded.status.ok()) {
     JointEvent e = event(JointEventKind::file_restored, now);
     e.joints = report.restored;
@@ -158,22 +212,47 @@ void JointManager::latch_loss(std::size_t j, FaultReason reason, double position
 }
 
 void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  JointCommandOutcome outcome;
+  outcome.request = command.request;
+  outcome.input = command.input;
+  outcome.kind = command.kind;
+  const auto refuse = [&outcome, this](std::size_t j, CommandRefusal why) noexcept {
+    if (outcome.refused == 0) {
+      outcome.first_reason = why;
+      outcome.first_joint = static_cast<std::uint8_t>(j);
+      outcome.first_state = joints_[j].machine.state();
+    }
+    outcome.refused |= joint_bit(j);
+  };
   if (command.kind == JointCommandKind::clear_lost) {
-    if (!clear_lost_joints(command.joints & kAllJoints, now).ok()) ++refused_commands_;
+    const JointMask joints = command.joints & kAllJoints;
+    if (clear_lost_joints(joints, now).ok()) {
+      outcome.applied = joints;
+    } else {
+      ++refused_commands_;
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        if ((joints & joint_bit(j)) != 0) refuse(j, CommandRefusal::clear_refused);
+      }
+    }
+    report_outcome(outcome);
     return;
   }
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((command.joints & joint_bit(j)) == 0) continue;
     // Preconditions of the manager, before the table: a mode to select, and a joint to talk to.
     Error precondition{};
+    CommandRefusal why = CommandRefusal::none;
     if (command.input == JointInput::select_mode && !valid_mode(command.mode)) {
       precondition = make_error(Errc::invalid_argument, "select_mode needs CSP, CSV or CST",
                                 static_cast<std::uint32_t>(static_cast<std::uint8_t>(command.mode)));
+      why = CommandRefusal::bad_mode;
     } else if (!sample_[j].reachable && command.input != JointInput::disable && command.input != JointInput::reset) {
       precondition = make_error(Errc::refused, "joint not reachable");
+      why = CommandRefusal::unreachable;
     }
     if (precondition.code != Errc::ok) {
       ++refused_commands_;
+      refuse(j, why);
       JointEvent e = joint_event(JointEventKind::refused, j, now);
       e.from = joints_[j].machine.state();
       e.input = command.input;
@@ -183,8 +262,20 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     }
     joints_[j].context.requested_mode = command.mode;
     joints_[j].context.actual_position_rad = sample_[j].position_rad;
-    if (!dispatch(j, command.input, now).ok()) ++refused_commands_;
+    if (dispatch(j, command.input, now).ok()) {
+      outcome.applied |= joint_bit(j);
+    } else {  // a refused input leaves the state as it was
+      ++refused_commands_;
+      refuse(j, CommandRefusal::state_machine);
+    }
   }
+  report_outcome(outcome);
+}
+
+void JointManager::report_outcome(const JointCommandOutcome& outcome) noexcept {
+  if (outcome.request == 0 || ports_.outcomes == nullptr) return;
+  // The parser times a request out when an outcome never comes: a full queue loses nothing else.
+  if (!ports_.outcomes->try_send(outcome)) ++outcomes_dropped_;
 }
 
 Status JointManager::dispatch(std::size_t j, JointInput input, hal::Nanoseconds now) noexcept {

@@ -46,26 +46,25 @@ struct JointManagerPorts {
   ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
   hal::WallClock* wall_clock;                  // Unix time for the file's records
   JointEventSink* events;                      // what happened, for the log
-  JointDemandSink* demand;                     // its drive demand, after every step (nullptr: not published)
+  JointDemandSink* demand{nullptr};            // its drive demand, after every step (nullptr: not published)
+  MessageSink<JointCommandOutcome>* outcomes{nullptr};  // to the message parser (commands with a request id)
 };
 
-// What the joint manager publishes about one joint (shared memory, read by the handler and RC tasks).
-struct JointStatus {
-  fsm::JointState state{fsm::JointState::idle};
-  ControlMode mode{ControlMode::none};
-  bool drive_enabled{false};
-  bool lost{false};                         // recorded lost: RC tasks plan without it
-  double reference_position_rad{0.0};
-  double held_position_rad{0.0};            // where a lost joint's worm gear holds it
-  JointFault fault{};                       // why it is (or was last) in Error
-};
+// JointStatus, what it publishes per joint, is in core/app/links/joint_messages.hpp.
 
 struct RestoreReport {
-  JointMask restored{0};        // joints put in Error from the file
+  JointMask restored{0};        // joints put in Error from the file (all of the masks below)
   bool file_present{false};
   Status file_status;           // success, or why the file (or part of it) was not used
   std::uint32_t records_dropped{0};
-  bool set_aside{false};        // the unusable file was kept aside as error-joints.bin.unusable
+  JointMask salvaged{0};        // damaged file: the joints of the records that passed their checks
+  JointMask added_behind{0};    // damaged file: joints behind a salvaged one on its branch (unreachable too)
+  JointMask from_temporary{0};  // joints only a complete newer error-joints.bin.tmp lists
+  bool newer_temporary{false};  // such a temporary file was found (an interrupted write)
+  std::uint64_t temporary_sequence{0};
+  bool set_aside{false};        // the unusable file was kept aside (set_aside_name(set_aside_suffix))
+  std::uint32_t set_aside_suffix{0};
+  bool damaged() const noexcept { return file_present && !file_status.ok(); }
 };
 
 class JointManager {
@@ -79,8 +78,11 @@ class JointManager {
   explicit JointManager(const JointManagerPorts& ports) noexcept;
 
   // Start-up, before the network comes up: reads the error-joints file; its joints start in Error
-  // (loss latched, held position known). An unusable file is reported, kept aside, and whatever part
-  // of it can be trusted is restored and rewritten; the robot starts safely either way.
+  // (loss latched, held position known). An unusable file is reported, kept aside under a name of its
+  // own, and whatever part of it can be trusted is restored and rewritten; the salvage follows the
+  // wiring (a joint behind a salvaged lost joint on its branch was unreachable too, so it is recorded
+  // lost as well). A complete newer temporary file (a write interrupted before its rename) is
+  // reported and its joints kept lost. The robot starts safely either way.
   RestoreReport restore(hal::Nanoseconds now) noexcept;
 
   // One period (see the file comment).
@@ -104,6 +106,7 @@ class JointManager {
   std::uint32_t file_writes() const noexcept { return file_writes_; }
   std::uint32_t file_write_failures() const noexcept { return file_write_failures_; }
   bool file_dirty() const noexcept { return file_dirty_; }
+  std::uint32_t outcomes_dropped() const noexcept { return outcomes_dropped_; }
 
  private:
   struct Joint {
@@ -115,6 +118,7 @@ class JointManager {
 
   void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
   void apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
+  void report_outcome(const JointCommandOutcome& outcome) noexcept;
   void monitor(hal::Nanoseconds now) noexcept;
   void publish() noexcept;
   // Saves `next` as the file's new contents (sequence + 1). Success: recorded_ = next. Failure: the file
@@ -138,6 +142,7 @@ class JointManager {
   hal::Nanoseconds next_write_retry_{0};
   FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
   std::uint32_t refused_commands_{0};
+  std::uint32_t outcomes_dropped_{0};
   std::uint32_t file_writes_{0};
   std::uint32_t file_write_failures_{0};
 };

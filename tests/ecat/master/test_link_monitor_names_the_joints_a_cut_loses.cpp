@@ -119,7 +119,7 @@ TEST_P(LinkMonitorCut, ReportsExactlyTheLinkFailureSetAndKeepsTheRestValid) {
     EXPECT_EQ(r.kind, LinkEventKind::lost);
     EXPECT_EQ(drivers::joints_of_slaves(r.slaves), expected);
     EXPECT_EQ(r.detected_cycle, cut_cycle);  // the working counter of the cut's own cycle
-    EXPECT_EQ(r.cycle, cut_cycle + 1);       // confirmed by probing in the next
+    EXPECT_EQ(r.cycle, cut_cycle + LinkMonitor::kLossConfirmFrames - 1);  // confirmed by the probes of the next frames
     EXPECT_EQ(r.branch, static_cast<std::uint8_t>(kJoints[j].branch));
     EXPECT_EQ(t.monitor.lost(), expected_slaves);
     for (std::size_t b = 0; b < kMaxBranches; ++b) {
@@ -175,17 +175,50 @@ TEST_F(LinkMonitorTest, SlaveLeavingOpIsReportedWithItsAlStatusCode) {
   EXPECT_EQ(net.fmmu_active & slave_bit(neck), 0u);
 }
 
-TEST_F(LinkMonitorTest, NoFrameBackForThreeCyclesLosesEveryone) {
+TEST_F(LinkMonitorTest, FramesThatDoNotComeBackAreMissingNeverLost) {
   for (int i = 0; i < 3; ++i) (void)run_cycle();
   net.frames_pass = false;
-  (void)run_cycle();
-  (void)run_cycle();
-  EXPECT_TRUE(reports.empty()) << "one or two lost frames are not a lost network";
-  (void)run_cycle();
+  for (int i = 0; i < 500; ++i) EXPECT_EQ(run_cycle(), 0u) << "nothing is valid without a frame";
+  EXPECT_TRUE(reports.empty()) << "frames that did not come back are late or missing, not a lost network";
+  EXPECT_EQ(monitor.frames_missing(), 500u);
+  EXPECT_EQ(monitor.frames_missing_in_row(), 500u);
+  net.frames_pass = true;
+  EXPECT_EQ(run_cycle(), kAllSlaves & ~slave_bit(0) & ~slave_bit(1));
+  EXPECT_EQ(monitor.frames_missing_in_row(), 0u);
+  EXPECT_EQ(monitor.in_exchange(), kAllSlaves);
+}
+
+TEST_F(LinkMonitorTest, ACutIsConfirmedByReturnedFramesOnlyWhateverGoesMissingBetween) {
+  for (int i = 0; i < 3; ++i) (void)run_cycle();
+  const std::size_t elbow = slave_position_of_joint(joint_index_by_name("l_elbow"));
+  const SlaveMask lost = subtree_of(kRobotNetworkPlan, elbow);
+  net.cut_link_into(elbow);
+  const std::uint64_t cut_cycle = cycle + 1;
+  // Returned, missing, missing, returned, missing, returned: the third returned frame confirms.
+  const bool pattern[] = {true, false, false, true, false, true};
+  for (std::size_t i = 0; i < sizeof pattern; ++i) {
+    EXPECT_TRUE(reports.empty()) << "confirmed too early, before step " << i;
+    net.frames_pass = pattern[i];
+    (void)run_cycle();
+  }
   ASSERT_EQ(reports.size(), 1u);
   EXPECT_EQ(reports[0].kind, LinkEventKind::lost);
-  EXPECT_EQ(drivers::joints_of_slaves(reports[0].slaves), kAllJoints);
-  EXPECT_EQ(reports[0].branch, kNoBranch);
+  EXPECT_EQ(reports[0].slaves, lost);
+  EXPECT_EQ(reports[0].detected_cycle, cut_cycle);
+  EXPECT_EQ(reports[0].cycle, cut_cycle + 5);
+  EXPECT_EQ(monitor.frames_missing(), 3u);
+}
+
+TEST_F(LinkMonitorTest, TwoShortFramesThenAFullOneAreNotALoss) {
+  for (int i = 0; i < 3; ++i) (void)run_cycle();
+  const std::size_t elbow = slave_position_of_joint(joint_index_by_name("l_elbow"));
+  net.cut_link_into(elbow);
+  (void)run_cycle();  // short counter
+  (void)run_cycle();  // silent probe
+  net.restore_all();
+  for (int i = 0; i < 5; ++i) (void)run_cycle();
+  EXPECT_TRUE(reports.empty()) << "kLossConfirmFrames returned frames in a row are needed";
+  EXPECT_EQ(monitor.in_exchange(), kAllSlaves);
 }
 
 TEST_F(LinkMonitorTest, ATransientShortCounterIsAGlitchNotALoss) {

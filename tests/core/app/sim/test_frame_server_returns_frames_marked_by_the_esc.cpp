@@ -66,7 +66,9 @@ class EchoSegment final : public FrameProcessor {
     for (auto datagram : view.value()) datagram.set_wkc(static_cast<std::uint16_t>(datagram.wkc() + slaves_));
     return frame.size();
   }
+  void idle(hal::Nanoseconds now) noexcept override { idle_calls.push_back(now); }
   hal::Nanoseconds last_arrival{-1};
+  std::vector<hal::Nanoseconds> idle_calls;
 
  private:
   std::uint16_t slaves_;
@@ -142,6 +144,25 @@ TEST(FrameServer, QuietNicIsATimeoutAtTheDeadline) {
   EXPECT_EQ(status.error().code, Errc::timeout);
   EXPECT_EQ(nic.clock().now(), deadline);
   EXPECT_EQ(server.counters().frames_received, 0U);
+}
+
+// Issue 11 item 4: the slaves' time runs while the wire is quiet, so the first frame after a long
+// idle spell is not held back by the simulation of the whole spell.
+TEST(FrameServer, AQuietWaitLetsTheSegmentCatchUpWithTheTime) {
+  FakeNic nic;
+  EchoSegment segment(1);
+  FrameServer server(nic, segment);
+  hal::Nanoseconds deadline = 0;
+  for (int i = 0; i < 3; ++i) {
+    deadline = nic.clock().now() + 2 * hal::kNsPerMs;
+    EXPECT_EQ(server.serve_one(deadline).error().code, Errc::timeout);
+  }
+  ASSERT_EQ(segment.idle_calls.size(), 3U);
+  EXPECT_EQ(segment.idle_calls.back(), deadline) << "caught up with the end of the wait";
+  EXPECT_EQ(server.counters().idle_steps, 3U);
+  nic.inbox.push_back(rescue::testing::make_brd_frame(kMasterMac, 1));
+  ASSERT_TRUE(server.serve_one(nic.clock().now() + 2 * hal::kNsPerMs).ok());
+  EXPECT_EQ(segment.idle_calls.size(), 3U) << "a frame is served, not an idle step";
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ class StuckDisk final : public ErrorJointsStorage {
     released_.wait(lock, [this] { return release_; });
     return inner_.save(c);
   }
-  Status set_aside() noexcept override { return inner_.set_aside(); }
+  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
   void release() {
     std::lock_guard<std::mutex> lock(mutex_);
     release_ = true;

@@ -1,0 +1,107 @@
+// Records between the socket handler, the message parser, the joint manager, the RC tasks and the
+// runtime (design brief section 3): fixed-size, trivially copyable, pointer-free, so they travel
+// through the SPSC queues and seqlocks of TaskLinks whether the tasks are threads or processes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <type_traits>
+
+#include "core/app/control/protocol_messages.hpp"
+#include "core/robot/robot.hpp"
+
+namespace rescue::app {
+
+// An authentic, decoded operator request (socket handler or runtime -> message parser).
+struct ControlRequest {
+  protocol::MessageType type{protocol::MessageType::get_status};
+  std::uint32_t sender{0};
+  std::uint64_t sequence{0};
+  JointMask joints{0};
+  ControlMode mode{ControlMode::none};
+  std::uint8_t task{0};      // RC task index (move, hand, owner)
+  std::uint8_t effector{0};  // protocol::Effector (move: effector; hand: which hand)
+  std::uint8_t action{0};    // protocol::HandAction
+  std::array<double, 6> pose{};  // move: x, y, z (m), roll, pitch, yaw (rad)
+  std::uint32_t reply_address{0};  // IPv4, network byte order (0: a local request)
+  std::uint16_t reply_port{0};     // host byte order
+};
+static_assert(std::is_trivially_copyable_v<ControlRequest>, "queued as bytes");
+
+// The parser's answer (message parser -> socket handler, or -> runtime for local requests).
+struct ControlReply {
+  std::uint32_t reply_address{0};
+  std::uint16_t reply_port{0};
+  std::uint32_t sender{0};
+  std::uint64_t request_sequence{0};
+  protocol::MessageType request_type{protocol::MessageType::get_status};
+  protocol::Outcome outcome{protocol::Outcome::accepted};
+  protocol::RefusalReason reason{protocol::RefusalReason::none};
+  JointMask refused_joints{0};
+  std::array<char, protocol::kReplyTextSize> text{};
+};
+static_assert(std::is_trivially_copyable_v<ControlReply>, "queued as bytes");
+
+enum class RcInputKind : std::uint8_t { end_effector_target, hand, take_ownership };
+
+// Message parser -> one RC task's input queue.
+struct RcTaskInput {
+  RcInputKind kind{RcInputKind::end_effector_target};
+  std::uint8_t effector{0};        // protocol::Effector
+  std::uint8_t action{0};          // protocol::HandAction
+  std::array<double, 6> pose{};    // x, y, z (m), roll, pitch, yaw (rad), robot base frame
+  std::uint64_t sequence{0};       // the operator's request
+};
+static_assert(std::is_trivially_copyable_v<RcTaskInput>, "queued as bytes");
+
+// Seqlock records are trivial (no member initialisers): value-initialise them.
+// Sensor data from the two other robot computers (socket handler -> RC tasks), SI units.
+struct SensorData {
+  protocol::ImuRecord imu;
+  std::int64_t imu_received_ns;  // monotonic time the socket handler took it; 0: none yet
+  std::uint64_t imu_records;
+  protocol::GpsRecord gps;
+  std::int64_t gps_received_ns;
+  std::uint64_t gps_records;
+};
+static_assert(std::is_trivial_v<SensorData>, "published through a seqlock");
+
+// The socket handler's counters (published for ctl master and the run's summary).
+struct SocketCounters {
+  std::uint64_t datagrams;   // received, before any check
+  std::uint64_t accepted;
+  std::array<std::uint64_t, protocol::kRejectionCount> rejected;
+  std::uint64_t replies_sent;
+  std::uint64_t wakeups;
+  std::uint64_t budget_exhausted;  // wake-ups that stopped at the per-wake-up budget
+  std::uint64_t forwarded_dropped; // control requests the parser's full queue could not take
+};
+static_assert(std::is_trivial_v<SocketCounters>, "published through a seqlock");
+
+// The EtherCAT handler's counters (for ctl master).
+struct MasterStatus {
+  std::uint8_t state;  // ecat::MasterState
+  std::uint64_t cycles;
+  std::uint64_t frames_sent;
+  std::uint64_t frames_lost;
+  std::uint64_t late_periods;
+  std::int64_t dc_deviation_ns;
+  std::int64_t dc_max_deviation_ns;
+  std::uint64_t in_exchange;  // slave mask
+  std::uint64_t lost;         // slave mask
+};
+static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
+
+// One task's timing (each task writes its own).
+struct TaskStat {
+  std::array<char, protocol::kNameSize> name;
+  std::int32_t pid;
+  std::int16_t cpu;
+  std::int16_t priority;
+  std::uint64_t periods;
+  std::uint64_t missed;
+  std::uint64_t max_execution_ns;
+};
+static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
+
+}  // namespace rescue::app

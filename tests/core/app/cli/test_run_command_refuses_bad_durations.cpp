@@ -1,0 +1,45 @@
+// Issue 11 item 7: `--duration` takes a decimal number of seconds above 0: 0 is refused (leaving the
+// option out is how to run until a signal), hexadecimal is refused, and an out-of-range value names
+// the range. Before the fix: 0 ran forever, 0x10 ran 16 s, and "number out of range" gave no range.
+// `bench --help` lists only benchmarks that exist.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/support/run_command.hpp"
+
+namespace rescue::app {
+namespace {
+
+const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
+
+test::CommandOutput run(const std::string& arguments) { return test::run_command(kBinary + " " + arguments + " 2>&1"); }
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(RunDuration, ZeroIsRefusedAndSaysHowToRunForever) {
+  const test::CommandOutput out = run("run --duration 0");
+  EXPECT_EQ(out.exit_status, 1) << out.out;
+  EXPECT_TRUE(contains(out.out, "must be above 0 (leave it out to run until SIGINT/SIGTERM)")) << out.out;
+}
+
+TEST(RunDuration, HexadecimalIsRefused) {
+  const test::CommandOutput out = run("run --duration 0x10");
+  EXPECT_EQ(out.exit_status, 1) << out.out;
+  EXPECT_TRUE(contains(out.out, "not a decimal number")) << out.out;
+  EXPECT_FALSE(contains(out.out, "bringing the EtherCAT network up")) << out.out;
+}
+
+TEST(RunDuration, OutOfRangeNamesTheRange) {
+  const test::CommandOutput out = run("run --duration 1e9");
+  EXPECT_EQ(out.exit_status, 1) << out.out;
+  EXPECT_TRUE(contains(out.out, "number out of range: allowed 0 to 604800")) << out.out;
+}
+
+TEST(BenchHelp, ListsOnlyBenchmarksThatExist) {
+  const test::CommandOutput out = run("bench --help");
+  EXPECT_FALSE(contains(out.out, "fig4")) << out.out;
+  EXPECT_FALSE(contains(out.out, "rc,")) << out.out;
+}
+
+}  // namespace
+}  // namespace rescue::app

@@ -1,0 +1,145 @@
+// The task-priority IK reaches reachable pairs of palm poses, settles at the closest pose with a
+// reported residual on unreachable ones (never an error, never outside the limits), stays bounded
+// near singularities by damping more, and refuses non-finite input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "core/kinematics/rescue_motion.hpp"
+#include "core/kinematics/task_priority_ik.hpp"
+#include "tests/core/kinematics/random_configurations.hpp"
+
+namespace rescue::kin {
+namespace {
+
+IkTargets targets_at(const JointVector& q) {
+  LinkPoses poses;
+  forward_kinematics(q, poses);
+  return IkTargets{poses[kLeftEe], poses[kRightEe], 0.0};
+}
+
+bool within_limits(const JointVector& q) {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointLimits& lim = kJoints[j].limits;
+    const double v = q(static_cast<Eigen::Index>(j));
+    if (!kJoints[j].continuous && (v < lim.position_min_rad || v > lim.position_max_rad)) return false;
+  }
+  return true;
+}
+
+TEST(TaskPriorityIk, ReachesReachableTargetsFromNearbyStarts) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.15);
+  int reached = 0;
+  constexpr int kTrials = 30;
+  for (int n = 0; n < kTrials; ++n) {
+    // A goal configuration around the ready posture, a start perturbed from it.
+    JointVector goal = ready_posture();
+    for (const std::size_t j : kIkJoints) goal(static_cast<Eigen::Index>(j)) += noise(rng);
+    goal = goal.cwiseMax(JointVector::Constant(-2.5)).cwiseMin(JointVector::Constant(2.5));
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const JointLimits& lim = kJoints[j].limits;
+      if (!kJoints[j].continuous) {
+        goal(static_cast<Eigen::Index>(j)) =
+            std::clamp(goal(static_cast<Eigen::Index>(j)), lim.position_min_rad + 0.05, lim.position_max_rad - 0.05);
+      }
+    }
+    JointVector q = ready_posture();
+    TaskPriorityIk ik;
+    const Result<IkStepReport> r = ik.solve(q, targets_at(goal), 0, 20000, 1e-4, 1e-3);
+    ASSERT_TRUE(r.ok());
+    if (r.value().position_residual_m[0] <= 1e-4 && r.value().position_residual_m[1] <= 1e-4 &&
+        r.value().rotation_residual_rad[0] <= 1e-3 && r.value().rotation_residual_rad[1] <= 1e-3) {
+      ++reached;
+    }
+    EXPECT_TRUE(within_limits(q));
+  }
+  EXPECT_GE(reached, kTrials * 9 / 10) << "reached " << reached << " of " << kTrials;
+}
+
+TEST(TaskPriorityIk, UnreachableTargetSettlesAtTheClosestPoseWithItsResidual) {
+  JointVector q = ready_posture();
+  IkTargets targets = targets_at(q);
+  targets.left.p += Vector3(2.0, 0.5, 0.0);  // two metres in front: beyond the arm's reach
+  TaskPriorityIk ik;
+  IkStepReport first;
+  IkStepReport last;
+  JointVector next;
+  for (int k = 0; k < 6000; ++k) {
+    const Result<IkStepReport> r = ik.step(q, targets, 0, next);
+    ASSERT_TRUE(r.ok()) << "an unreachable target is not an error";
+    last = r.value();
+    if (k == 0) first = last;
+    ASSERT_TRUE(within_limits(next));
+    q = next;
+  }
+  EXPECT_LT(last.position_residual_m[0], first.position_residual_m[0] - 0.2) << "moved towards the target";
+  // The waist turns to help the stretched arm; damping trades a little of the other palm's pose.
+  EXPECT_LT(last.position_residual_m[1], 0.005) << "the other palm stays near its pose";
+  // The palm stretched towards the target: the residual is the target's distance beyond the reach.
+  LinkPoses poses;
+  forward_kinematics(q, poses);
+  const Vector3 shoulder = poses[link_index("l_shoulder_roll_link")].p;
+  const double reach = (poses[kLeftEe].p - shoulder).norm();
+  EXPECT_GT(last.position_residual_m[0], 1.0);
+  EXPECT_NEAR(last.position_residual_m[0], (targets.left.p - poses[kLeftEe].p).norm(), 1e-6);  // settled
+  EXPECT_GT(reach, 0.8) << "the arm reaches out";
+  EXPECT_GT(last.damping, 1e-3) << "stretched arm: singular, damped";
+  // Converged: another step changes nothing noticeable.
+  const Result<IkStepReport> again = ik.step(q, targets, 0, next);
+  ASSERT_TRUE(again.ok());
+  EXPECT_LT((next - q).cwiseAbs().maxCoeff(), 1e-4);
+}
+
+TEST(TaskPriorityIk, StepsStayBoundedAtASingularity) {
+  JointVector q = JointVector::Zero();  // arms straight down: elbow and wrist singular
+  IkTargets targets = targets_at(q);
+  targets.left.p += Vector3(0.0, 0.0, 0.05);  // along the stretched arm
+  targets.right.p += Vector3(0.0, 0.0, 0.05);
+  TaskPriorityIk ik;
+  JointVector next;
+  const Result<IkStepReport> r = ik.step(q, targets, 0, next);
+  ASSERT_TRUE(r.ok());
+  EXPECT_LT(r.value().sigma_min, ik.settings().singular_threshold);
+  EXPECT_GT(r.value().damping, 0.5 * ik.settings().max_damping);
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    EXPECT_LE(std::fabs(next(static_cast<Eigen::Index>(j)) - q(static_cast<Eigen::Index>(j))),
+              kJoints[j].limits.velocity_max_rad_s * 0.001 + 1e-12);
+  }
+}
+
+TEST(TaskPriorityIk, PositionLimitsLockTheJointAtItsLimit) {
+  JointVector q = ready_posture();
+  const auto elbow = static_cast<Eigen::Index>(joint_index("l_elbow"));
+  q(elbow) = kJoints[static_cast<std::size_t>(elbow)].limits.position_max_rad - 1e-3;
+  IkTargets targets = targets_at(q);
+  targets.left.p += Vector3(-0.05, 0.0, 0.05);  // pull the palm in: needs more elbow
+  TaskPriorityIk ik;
+  for (int k = 0; k < 2000; ++k) {
+    JointVector next;
+    const Result<IkStepReport> r = ik.step(q, targets, 0, next);
+    ASSERT_TRUE(r.ok());
+    ASSERT_TRUE(within_limits(next));
+    q = next;
+  }
+  EXPECT_LE(q(elbow), kJoints[static_cast<std::size_t>(elbow)].limits.position_max_rad);
+}
+
+TEST(TaskPriorityIk, RefusesNonFiniteInputAndLeavesReferencesAlone) {
+  TaskPriorityIk ik;
+  JointVector q = ready_posture();
+  JointVector next = JointVector::Constant(7.0);
+  IkTargets targets = targets_at(q);
+  targets.right.p.x() = std::numeric_limits<double>::quiet_NaN();
+  const Result<IkStepReport> r = ik.step(q, targets, 0, next);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, Errc::invalid_argument);
+  EXPECT_EQ(next, JointVector::Constant(7.0));
+  q(0) = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(ik.step(q, targets_at(ready_posture()), 0, next).ok());
+}
+
+}  // namespace
+}  // namespace rescue::kin
