@@ -172,14 +172,16 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   TaskTiming& timing = task_timing();
   MasterStatus master{};
   for (;;) {
-    const hal::Nanoseconds due = bus.next_wakeup();
-    clock.sleep_until(due);
-    const hal::Nanoseconds woke = clock.now();
+    const hal::Nanoseconds release = bus.next_wakeup();
+    clock.sleep_until(release);
     const std::uint64_t work_start = timing.timer.start();
     const drivers::JointCycleResult r = handler.cycle();
-    timing.handler.record(woke - due, work_start, timing.timer.stop());
+    const std::uint64_t work_end = timing.timer.stop();
     const hal::Nanoseconds now = clock.now();
-    stats.period(due, woke, now, hal::kNsPerMs / 2);
+    // Woke at now - the work's duration: no extra clock read.
+    const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
+    timing.handler.record(woke - release, work_start, work_end);
+    stats.period(release, woke, now, hal::kNsPerMs / 2);
     master.state = static_cast<std::uint8_t>(r.state);
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
