@@ -24,11 +24,15 @@ echo "clang-tidy: ${#units[@]} units"
 # The compile database is GCC's: clang does not know -Wduplicated-cond / -Wlogical-op, which is not
 # a finding in our code (-Wno-unknown-warning-option).
 jobs=$(nproc)
-if ! printf '%s\n' "${units[@]}" | (cd "$src" && xargs -P "$jobs" -n 4 "$tidy" -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option --warnings-as-errors='*' 2>/dev/null) > "$build/clang-tidy.log"; then
-  status=1
-fi
-grep -E 'warning:|error:' "$build/clang-tidy.log" && status=1 || true
-echo "clang-tidy: $(grep -cE 'warning:|error:' "$build/clang-tidy.log" || true) findings"
+# clang-tidy's own exit status is not used: a unit's findings are in the log, where one finding is
+# accepted by name below; any other finding fails the stage.
+printf '%s\n' "${units[@]}" | (cd "$src" && xargs -P "$jobs" -n 4 "$tidy" -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option --warnings-as-errors='*' 2>/dev/null) > "$build/clang-tidy.log" || true
+# Accepted: Eigen's throw_std_bad_alloc() under -fno-exceptions calls ::operator new(huge) on purpose
+# (to raise bad_alloc), which the analyzer reports as a leak inside Eigen's header. It is Eigen's code,
+# on a path fixed-size types never take (they never allocate; the kinematics no-heap test proves it).
+accepted='/usr/include/eigen3/Eigen/src/Core/util/Memory.h:[0-9]+:[0-9]+: error: Potential leak of memory pointed to by .unused. \[clang-analyzer-cplusplus.NewDeleteLeaks'
+grep -E 'warning:|error:' "$build/clang-tidy.log" | grep -vE "$accepted" && status=1 || true
+echo "clang-tidy: $(grep -E 'warning:|error:' "$build/clang-tidy.log" | grep -cvE "$accepted" || true) findings"
 
 echo "cppcheck: ${#units[@]} units"
 # The compile database gives cppcheck the include paths and defines of each unit.

@@ -6,6 +6,8 @@ void frame_jacobian(const LinkPoses& poses, std::size_t frame, IkJacobian6& jaco
   for (std::size_t c = 0; c < kIkLink.size(); ++c) {
     const std::size_t link = kIkLink[c];
     const auto col = static_cast<Eigen::Index>(c);
+    // The joint's link is the ancestor asked about (not swapped).
+    // NOLINTNEXTLINE(readability-suspicious-call-argument)
     if (!is_ancestor_or_self(link, frame)) {
       jacobian.col(col).setZero();
       continue;

@@ -4,6 +4,9 @@
 
 namespace rescue::kin {
 
+// Fixed-size Eigen vectors are passed by reference (Eigen's own rule: no by-value alignment issues), so
+// modernize-pass-by-value does not apply.
+// NOLINTNEXTLINE(modernize-pass-by-value)
 JointSpaceTeleop::JointSpaceTeleop(const JointVector& q_start, double dt_s) noexcept
     : references_(q_start), dt_s_(dt_s) {}
 

@@ -153,6 +153,8 @@ constexpr std::array<std::size_t, kIkDof> kIkLink = make_ik_links();
 
 constexpr double total_robot_mass() {
   double mass = 0.0;
+  // std::accumulate is constexpr only from C++20.
+  // cppcheck-suppress useStlAlgorithm
   for (const desc::Link& link : desc::kLinks) mass += link.mass;
   return mass;
 }

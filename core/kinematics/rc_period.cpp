@@ -13,10 +13,10 @@ Result<IkStepReport> RcPeriod::run(double t_s, JointMask out_of_service, const J
   }
   sample_ = motion_.sample(t_s);
   const IkTargets targets{sample_.left, sample_.right, sample_.payload_kg};
-  const Result<IkStepReport> report = ik_.step(references_, targets, out_of_service, next_);
+  Result<IkStepReport> report = ik_.step(references_, targets, out_of_service, next_);
   if (report.ok()) references_ = next_;
-  const Status teleop = teleop_.step(teleop_velocity, out_of_service);
-  if (!teleop.ok()) return teleop.error();
+  const Status teleop_status = teleop_.step(teleop_velocity, out_of_service);
+  if (!teleop_status.ok()) return teleop_status.error();
   return report;
 }
 

@@ -14,7 +14,7 @@ namespace rescue::kin {
 
 class RcPeriod {
  public:
-  RcPeriod(const JointVector& q_start, const IkSettings& ik = IkSettings{},
+  explicit RcPeriod(const JointVector& q_start, const IkSettings& ik = IkSettings{},
            const RescueMotionConfig& motion = RescueMotionConfig{}) noexcept;
 
   // Period at time t_s of the motion; `teleop_velocity` is the operator's joint-space command.

@@ -28,6 +28,8 @@ IkRow forearm_level_row(const LinkPoses& poses, std::size_t forearm, double& til
   for (std::size_t c = 0; c < kIkLink.size(); ++c) {
     const std::size_t link = kIkLink[c];
     const auto col = static_cast<Eigen::Index>(c);
+    // The joint's link is the ancestor asked about (not swapped).
+    // NOLINTNEXTLINE(readability-suspicious-call-argument)
     if (!is_ancestor_or_self(link, forearm)) {
       row(col) = 0.0;
       continue;
@@ -65,10 +67,11 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   e1.head<6>() = pose_error(targets.left, poses_[kLeftEe]);
   e1.tail<6>() = pose_error(targets.right, poses_[kRightEe]);
   for (int arm = 0; arm < 2; ++arm) {
-    report.position_residual_m[arm] = e1.segment<3>(6 * arm).norm();
-    report.rotation_residual_rad[arm] = e1.segment<3>(6 * arm + 3).norm();
-    clamp_norm(e1.segment<3>(6 * arm), s.max_linear_step_m);
-    clamp_norm(e1.segment<3>(6 * arm + 3), s.max_angular_step_rad);
+    const Eigen::Index at = Eigen::Index{6} * arm;
+    report.position_residual_m[arm] = e1.segment<3>(at).norm();
+    report.rotation_residual_rad[arm] = e1.segment<3>(at + 3).norm();
+    clamp_norm(e1.segment<3>(at), s.max_linear_step_m);
+    clamp_norm(e1.segment<3>(at + 3), s.max_angular_step_rad);
   }
 
   // ---- sub-tasks: forearms level, COM over the support centre ----
@@ -188,8 +191,8 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   double scale = 1.0;
   for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
     const double reach = kJoints[kIkJoints[c]].limits.velocity_max_rad_s * s.dt_s;
-    const double step = std::fabs(dq(static_cast<Eigen::Index>(c)));
-    if (step > reach) scale = std::min(scale, reach / step);
+    const double step_rad = std::fabs(dq(static_cast<Eigen::Index>(c)));
+    if (step_rad > reach) scale = std::min(scale, reach / step_rad);
   }
   report.velocity_scale = scale;
 
@@ -211,7 +214,7 @@ Result<IkStepReport> TaskPriorityIk::solve(JointVector& q, const IkTargets& targ
   IkStepReport report;
   JointVector next = q;
   for (int i = 0; i < max_steps; ++i) {
-    const Result<IkStepReport> r = step(q, targets, out_of_service, next);
+    Result<IkStepReport> r = step(q, targets, out_of_service, next);
     if (!r.ok()) return r;
     report = r.value();
     if (std::max(report.position_residual_m[0], report.position_residual_m[1]) <= position_tolerance_m &&

@@ -56,8 +56,7 @@ class PeriodRecorder {
   // cyclictest --histogram layout for the wake-up latency: one line per microsecond
   // "%06u" then one count per task, up to `max_us`, then "# Total:", "# Min Latencies:",
   // "# Avg Latencies:", "# Max Latencies:", "# Histogram Overflows:" (values in us). A histogram
-  // bucket wider than 1 us (above 65 us) counts in the microsecond of its lower bound. At most 16
-  // recorders (false beyond).
+  // bucket wider than 1 us (above 65 us) counts in the microsecond of its lower bound.
   static bool write_cyclictest_histogram(std::FILE* out, Span<const PeriodRecorder* const> recorders,
                                          std::uint32_t max_us) noexcept;
 

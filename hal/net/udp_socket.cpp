@@ -6,6 +6,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 
 namespace rescue::hal {
@@ -32,18 +33,18 @@ Status UdpSocket::open(const char* address, std::uint16_t port) noexcept {
   close();
   const Result<std::uint32_t> ip = parse_ipv4(address);
   if (!ip.ok()) return ip.error();
-  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (fd < 0) return make_error(Errc::io_error, "cannot create a UDP socket", static_cast<std::uint32_t>(errno));
+  const int sock = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (sock < 0) return make_error(Errc::io_error, "cannot create a UDP socket", static_cast<std::uint32_t>(errno));
   sockaddr_in sa{};
   sa.sin_family = AF_INET;
   sa.sin_port = htons(port);
   sa.sin_addr.s_addr = ip.value();
-  if (::bind(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
+  if (::bind(sock, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
     const int e = errno;
-    (void)::close(fd);
+    (void)::close(sock);
     return make_error(e == EADDRINUSE ? Errc::busy : Errc::io_error, "cannot bind the UDP port", static_cast<std::uint32_t>(e), port);
   }
-  fd_ = fd;
+  fd_ = sock;
   return Status::success();
 }
 
@@ -54,9 +55,11 @@ std::uint16_t UdpSocket::local_port() const noexcept {
   return ntohs(sa.sin_port);
 }
 
+// Not const: receiving consumes the socket's queue (the object stands for the socket).
+// NOLINTNEXTLINE(readability-make-member-function-const)
 std::size_t UdpSocket::receive_batch(Span<UdpDatagram> out) noexcept {
   if (fd_ < 0 || out.size() == 0) return 0;
-  const std::size_t n = out.size() < kMaxBatch ? out.size() : kMaxBatch;
+  const std::size_t n = std::min(out.size(), kMaxBatch);
   std::array<mmsghdr, kMaxBatch> headers{};
   std::array<iovec, kMaxBatch> iov{};
   std::array<sockaddr_in, kMaxBatch> from{};
@@ -84,6 +87,8 @@ bool UdpSocket::wait_readable(int timeout_ms) const noexcept {
   return fd_ >= 0 && ::poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN) != 0;
 }
 
+// Not const: sending changes the socket's state (its queue, its errors).
+// NOLINTNEXTLINE(readability-make-member-function-const)
 Status UdpSocket::send_to(std::uint32_t address, std::uint16_t port, ConstByteSpan bytes) noexcept {
   sockaddr_in sa{};
   sa.sin_family = AF_INET;

@@ -6,6 +6,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <thread>
@@ -20,6 +21,27 @@ extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spaw
 
 namespace rescue::app {
 namespace {
+
+// One unsigned decimal number after optional blanks; advances `at` past it. False: none, or too large.
+bool parse_decimal(const char*& at, std::uint64_t& value) noexcept {
+  while (*at == ' ' || *at == '\t') ++at;
+  if (*at < '0' || *at > '9') return false;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(at, &end, 10);
+  if (errno != 0) return false;
+  value = v;
+  at = end;
+  return true;
+}
+
+// cyclictest's summary line "<label> <value> ...": the first task's value.
+bool summary_value(const char* line, const char* label, std::uint64_t& value) noexcept {
+  const std::size_t n = std::strlen(label);
+  if (std::strncmp(line, label, n) != 0) return false;
+  const char* at = line + n;
+  return parse_decimal(at, value);
+}
 
 // The EtherCAT handler's settings (the task table: config/firmware_config.hpp).
 constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
@@ -70,27 +92,6 @@ void our_loop(std::uint64_t periods, int cpu, hal::RtReport* report) noexcept {
   }
 }
 
-// "NNNNNN MMMMMM": cyclictest's histogram line (bucket in us, count of its one thread).
-bool two_numbers(const char* line, std::uint64_t& first, std::uint64_t& second) noexcept {
-  char* end = nullptr;
-  first = std::strtoull(line, &end, 10);
-  if (end == line) return false;
-  const char* rest = end;
-  second = std::strtoull(rest, &end, 10);
-  return end != rest;
-}
-
-// "# Max Latencies: 00012": the value of a summary line with `prefix`, in ns.
-bool summary_value(const char* line, const char* prefix, double& ns) noexcept {
-  const std::size_t length = std::strlen(prefix);
-  if (std::strncmp(line, prefix, length) != 0) return false;
-  char* end = nullptr;
-  const std::uint64_t us = std::strtoull(line + length, &end, 10);
-  if (end == line + length) return false;
-  ns = static_cast<double>(us) * 1000.0;
-  return true;
-}
-
 // Runs cyclictest and reads its histogram (one line per us, "# Max Latencies:" ...) from a pipe.
 bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std::size_t why_size) noexcept {
   char prio[16];
@@ -137,18 +138,19 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
   std::memset(counts, 0, sizeof counts);
   char line[512];
   while (std::fgets(line, sizeof line, in) != nullptr) {
-    if (line[0] != '#') {
-      std::uint64_t us = 0;
-      std::uint64_t count = 0;
-      if (two_numbers(line, us, count) && us < kCyclictestBuckets) {
-        counts[us] = count;
-        out.count += count;
-      }
-      continue;
+    std::uint64_t us = 0;
+    std::uint64_t count = 0;
+    const char* rest = line;
+    if (line[0] != '#' && parse_decimal(rest, us) && parse_decimal(rest, count) && us < kCyclictestBuckets) {
+      counts[us] = count;
+      out.count += count;
+    } else if (summary_value(line, "# Max Latencies:", us)) {
+      out.max_ns = static_cast<double>(us) * 1000.0;
+    } else if (summary_value(line, "# Min Latencies:", us)) {
+      out.min_ns = static_cast<double>(us) * 1000.0;
+    } else if (summary_value(line, "# Avg Latencies:", us)) {
+      out.mean_ns = static_cast<double>(us) * 1000.0;
     }
-    (void)summary_value(line, "# Max Latencies:", out.max_ns);
-    (void)summary_value(line, "# Min Latencies:", out.min_ns);
-    (void)summary_value(line, "# Avg Latencies:", out.mean_ns);
   }
   (void)std::fclose(in);
   int status = 0;

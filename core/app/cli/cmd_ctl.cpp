@@ -2,6 +2,7 @@
 // ros2_control's CLI: short verbs, readable tables, --json for scripts; exit status 0 only when the
 // robot accepted the command (or answered the query).
 #include <cinttypes>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -104,7 +105,7 @@ void print_slaves(const Message& m, bool json) noexcept {
                           : (s.flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
                                                                            : "not in exchange";
     if (json) {
-      (void)std::printf("%s{\"position\":%u,\"station\":%u,\"al_state\":\"%s\",\"name\":\"%s\",\"service\":\"%s\"}",
+      (void)std::printf(R"(%s{"position":%u,"station":%u,"al_state":"%s","name":"%s","service":"%s"})",
                         i == 0 ? "" : ",", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
                         al_name(s.al_state), s.name.data(), service);
     } else {
@@ -297,10 +298,16 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     else if (std::strcmp(args.positional(1), "right") == 0) m.move.effector = protocol::Effector::right_hand;
     else return make_error(Errc::invalid_argument, "EFFECTOR must be left or right");
     double v[6] = {};
-    int used = 0;
-    if (std::sscanf(args.positional(2), "%lf,%lf,%lf,%lf,%lf,%lf%n", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &used) != 6 ||
-        args.positional(2)[used] != '\0') {
-      return make_error(Errc::invalid_argument, "POSE must be x,y,z,roll,pitch,yaw");
+    const char* at = args.positional(2);
+    for (std::size_t i = 0; i < 6; ++i) {  // six decimal numbers separated by commas, nothing else
+      char* end = nullptr;
+      errno = 0;
+      v[i] = std::strtod(at, &end);
+      const char expected = i < 5 ? ',' : '\0';
+      if (end == at || errno != 0 || *end != expected) {
+        return make_error(Errc::invalid_argument, "POSE must be x,y,z,roll,pitch,yaw");
+      }
+      at = end + 1;
     }
     for (std::size_t i = 0; i < 3; ++i) {
       m.move.position_m[i] = v[i];

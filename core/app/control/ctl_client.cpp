@@ -1,6 +1,6 @@
 #include "core/app/control/ctl_client.hpp"
 
-#include <time.h>
+#include <ctime>
 
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"

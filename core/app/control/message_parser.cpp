@@ -182,13 +182,10 @@ void MessageParser::step(hal::Nanoseconds now) noexcept {
   if (pending_.active && (pending_.outcomes >= pending_.steps || now >= pending_.deadline)) finish();
   for (std::size_t n = 0; n < kMaxRequestsPerStep && !pending_.active; ++n) {
     ControlRequest request;
-    if (ports_.local != nullptr && ports_.local->try_receive(request)) {
-      start(request, now);
-    } else if (ports_.network != nullptr && ports_.network->try_receive(request)) {
-      start(request, now);
-    } else {
-      break;
-    }
+    // The operator on this machine first (start-up initialize, clears, the disable at exit), then the network.
+    const bool local = ports_.local != nullptr && ports_.local->try_receive(request);
+    if (!local && !(ports_.network != nullptr && ports_.network->try_receive(request))) break;
+    start(request, now);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "core/app/control/replay_window.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/base/crc32.hpp"
@@ -52,8 +53,8 @@ Result<PersistedLimits> decode_replay_file(ConstByteSpan bytes) noexcept {
     const std::uint8_t* r = p + kReplayFileHeaderSize + i * kReplayFileRecordSize;
     if (load_le32(r + 4) != 0) return make_error(Errc::malformed, "reserved bytes not zero");
     const PersistedLimit limit{load_le32(r), load_le64(r + 8)};
-    for (const PersistedLimit& other : limits) {
-      if (other.sender == limit.sender) return make_error(Errc::malformed, "sender listed twice", limit.sender);
+    if (std::any_of(limits.begin(), limits.end(), [&](const PersistedLimit& other) { return other.sender == limit.sender; })) {
+      return make_error(Errc::malformed, "sender listed twice", limit.sender);
     }
     (void)limits.push_back(limit);  // count <= kMaxSenders
   }

@@ -83,7 +83,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_slaves:
       m.header.type = MessageType::slaves;
       m.slaves.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
-      for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size() && p < protocol::kMaxSlaves; ++p) {
+      static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one slaves message");
+      for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
         protocol::SlaveRecord& s = m.slaves.slaves[p];
         const ecat::SlavePlan& plan = drivers::kRobotNetworkPlan[p];
         s.position = static_cast<std::uint16_t>(p);

@@ -107,8 +107,8 @@ struct RunState {
 // slot for `ctl tasks` (the histograms of `run --timing-out` are runtime/task_timing.hpp's).
 class TaskStatsPublisher {
  public:
-  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]) {
-    stat_ = TaskStat{};
+  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept
+      : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]), stat_{} {
     protocol::set_text(stat_.name, name);
     stat_.pid = static_cast<std::int32_t>(::getpid());
     stat_.cpu = static_cast<std::int16_t>(cpu);
@@ -461,6 +461,9 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 }
 }  // namespace
 
+// The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
+// pieces are already helpers, and what remains is the wiring of the tasks' static objects.
+// NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");

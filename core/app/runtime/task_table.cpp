@@ -1,6 +1,8 @@
 #include "core/app/runtime/task_table.hpp"
 
+#include <algorithm>
 #include <cinttypes>
+#include <iterator>
 
 #include "core/app/config/firmware_config.hpp"
 
@@ -26,13 +28,11 @@ constexpr TaskSpec kTasks[] = {
 
 }  // namespace
 
-Span<const TaskSpec> task_table() noexcept { return Span<const TaskSpec>(kTasks); }
+Span<const TaskSpec> task_table() noexcept { return {kTasks}; }
 
 const TaskSpec& task_spec(TaskId id) noexcept {
-  for (const TaskSpec& t : kTasks) {
-    if (t.id == id) return t;
-  }
-  return kTasks[0];  // unreachable: every TaskId has a row (test_task_table_covers_every_task)
+  const TaskSpec* found = std::find_if(std::begin(kTasks), std::end(kTasks), [id](const TaskSpec& t) { return t.id == id; });
+  return found != std::end(kTasks) ? *found : kTasks[0];  // unreachable: every TaskId has a row (test_task_table_covers_every_task)
 }
 
 void write_task_table_markdown(std::FILE* out) noexcept {
