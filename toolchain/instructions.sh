@@ -48,4 +48,4 @@ echo "ethercat_handler_instructions_per_period: $((handler / periods)) instructi
 echo "ethercat_handler_with_simulated_robot_instructions_per_period: $((handler_with_sim / periods)) instructions"
 echo "joint_manager_instructions_per_period: $((manager / periods)) instructions"
 # The RC tasks add their line here when they land (their period function in bench periods).
-echo "rc_instructions_per_period: not yet measured (the RC tasks have not landed)"
+echo "rc_instructions_per_period: not yet measured (the RC task is not in run yet: docs/timing.md)"

@@ -1,8 +1,9 @@
 #include "core/kinematics/damped_least_squares.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+
+#include "core/kinematics/cholesky.hpp"
 
 namespace rescue::kin {
 
@@ -14,7 +15,8 @@ DlsResult arm_velocity_ik(const Chain& chain, const ArmVector& q, const Vector6&
   chain_jacobian(chain, q, j, tip);
   const Matrix6 jjt = j * j.transpose();
   const double floor2 = settings.floor_damping * settings.floor_damping;
-  Eigen::LLT<Matrix6> llt(jjt + floor2 * Matrix6::Identity());
+  SmallCholesky<6> llt;
+  (void)llt.compute(jjt + floor2 * Matrix6::Identity());  // positive definite: floor^2 > 0
   // Smallest singular value: three steps of inverse iteration (the RC task warm-starts instead).
   Vector6 v = Vector6::Constant(1.0 / std::sqrt(6.0));
   double inverse_eigen = 1.0;
@@ -29,7 +31,7 @@ DlsResult arm_velocity_ik(const Chain& chain, const ArmVector& q, const Vector6&
   if (result.sigma_min < settings.singular_threshold) {
     const double ratio = result.sigma_min / settings.singular_threshold;
     lambda2 += (1.0 - ratio * ratio) * settings.max_damping * settings.max_damping;
-    llt.compute(jjt + lambda2 * Matrix6::Identity());
+    (void)llt.compute(jjt + lambda2 * Matrix6::Identity());
   }
   result.damping = std::sqrt(lambda2);
   qdot = j.transpose() * llt.solve(twist);

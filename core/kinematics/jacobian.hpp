@@ -9,11 +9,12 @@
 
 namespace rescue::kin {
 
-// True when `ancestor` is `link` or lies on the path from base_link to it.
-constexpr bool is_ancestor_or_self(std::size_t ancestor, std::size_t link) {
-  while (link != kNoIndex) {
-    if (link == ancestor) return true;
-    link = desc::kLinks[link].parent < 0 ? kNoIndex : static_cast<std::size_t>(desc::kLinks[link].parent);
+// True when `ancestor` is `descendant` or lies on the path from base_link to it.
+constexpr bool is_ancestor_or_self(std::size_t ancestor, std::size_t descendant) {
+  while (descendant != kNoIndex) {
+    if (descendant == ancestor) return true;
+    const int parent = desc::kLinks[descendant].parent;
+    descendant = parent < 0 ? kNoIndex : static_cast<std::size_t>(parent);
   }
   return false;
 }
