@@ -108,8 +108,8 @@ int bench_periods(const ParsedArgs& args) noexcept {
   while (to_op < kMaxCyclesToOp && period(false).state != ecat::MasterState::op) ++to_op;
   if (to_op == kMaxCyclesToOp) return fail("bench", "the network did not reach OP");
   // Sends in order and stops at the first refusal (a side effect per element, not a search).
-  // cppcheck-suppress useStlAlgorithm
   for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
+    // cppcheck-suppress useStlAlgorithm
     if (!parser.try_send(c)) return fail("bench", "joint handle queue full");
   }
   for (int i = 0; i < kSettleCycles; ++i) (void)period(false);

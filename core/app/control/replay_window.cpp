@@ -71,7 +71,7 @@ Result<std::size_t> FileReplayStore::load(ByteSpan out) noexcept {
   return hal::read_file_capped(path.value().c_str(), out);
 }
 
-Status FileReplayStore::save(ConstByteSpan bytes) noexcept { return hal::write_file_atomically(dir_.data(), kFileName, bytes); }
+Status FileReplayStore::write_limits(ConstByteSpan bytes) noexcept { return hal::write_file_atomically(dir_.data(), kFileName, bytes); }
 
 RestoreOutcome ReplayWindow::restore(std::uint64_t wall_clock_unix_ns) noexcept {
   RestoreOutcome outcome;
@@ -106,7 +106,7 @@ Status ReplayWindow::persist(std::size_t changed, std::uint64_t limit) noexcept 
   std::array<std::uint8_t, kReplayFileMaxSize> buffer{};
   const Result<std::size_t> size = encode_replay_file(limits, ByteSpan(buffer));
   if (!size.ok()) return size.error();
-  const Status saved = store_->save(ConstByteSpan(buffer.data(), size.value()));
+  const Status saved = store_->write_limits(ConstByteSpan(buffer.data(), size.value()));
   if (!saved.ok()) return saved;
   ++persist_writes_;
   windows_[changed].persisted = limit;

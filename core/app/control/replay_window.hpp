@@ -56,7 +56,7 @@ class ReplayStore {
   // The file's bytes into `out`; not_found when there is none.
   virtual Result<std::size_t> load(ByteSpan out) noexcept = 0;
   // Durable replace; success means on disk.
-  virtual Status save(ConstByteSpan bytes) noexcept = 0;
+  virtual Status write_limits(ConstByteSpan bytes) noexcept = 0;
 };
 
 // <dir>/replay-window.bin through hal::write_file_atomically / read_file_capped.
@@ -65,7 +65,7 @@ class FileReplayStore final : public ReplayStore {
   static constexpr const char* kFileName = "replay-window.bin";
   explicit FileReplayStore(const char* dir) noexcept;
   Result<std::size_t> load(ByteSpan out) noexcept override;
-  Status save(ConstByteSpan bytes) noexcept override;
+  Status write_limits(ConstByteSpan bytes) noexcept override;
 
  private:
   std::array<char, 512> dir_{};

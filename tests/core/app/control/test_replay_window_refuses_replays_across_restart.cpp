@@ -18,7 +18,7 @@ class MemoryStore final : public ReplayStore {
     std::memcpy(out.data(), bytes.data(), size);
     return size;
   }
-  Status save(ConstByteSpan in) noexcept override {
+  Status write_limits(ConstByteSpan in) noexcept override {
     if (fail) return make_error(Errc::io_error, "disk full");
     std::memcpy(bytes.data(), in.data(), in.size());
     size = in.size();
