@@ -45,4 +45,12 @@ void print_bench_header(std::FILE* out, const char* name) noexcept {
                      ::geteuid() == 0 ? " (root)" : " (unprivileged)");
 }
 
+bool kernel_is_preempt_rt() noexcept {
+  std::FILE* f = std::fopen("/sys/kernel/realtime", "r");
+  if (f == nullptr) return false;
+  const int c = std::fgetc(f);
+  (void)std::fclose(f);
+  return c == '1';
+}
+
 }  // namespace rescue::app

@@ -24,6 +24,7 @@
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -65,11 +66,7 @@ ecat::CaptureQueue g_capture_queue;
 constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
-int cpu_for(int wanted) noexcept {
-  const long online = sysconf(_SC_NPROCESSORS_ONLN);
-  if (online <= 0 || wanted < online) return wanted;
-  return static_cast<int>(online - 1);
-}
+int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
