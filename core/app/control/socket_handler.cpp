@@ -128,6 +128,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.periods = t.periods;
           r.missed = t.missed;
           r.max_execution_ns = t.max_execution_ns;
+          r.execution = t.execution;
+          r.latency = t.latency;
         }
       }
       break;

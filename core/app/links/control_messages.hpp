@@ -101,6 +101,8 @@ struct TaskStat {
   std::uint64_t periods;
   std::uint64_t missed;
   std::uint64_t max_execution_ns;
+  TimingFigures execution;  // the task's PeriodRecorder, published every few periods
+  TimingFigures latency;
 };
 static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
 

@@ -52,7 +52,6 @@ constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 constexpr int kOperatorCpu = config::kSocketHandlerCpu;  // socket handler and message parser
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
-constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
 // A scenario without --duration runs this long after it acted, then stops.
 constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
@@ -100,32 +99,13 @@ struct RunState {
   std::atomic<bool> operator_stop{false};  // socket handler and message parser
 };
 
-// One task's period count, misses and worst execution time, published in its TaskLinks::task_stats
-// slot for `ctl tasks` (the histograms of `run --timing-out` are runtime/task_timing.hpp's).
-class TaskStatsPublisher {
- public:
-  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept
-      : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]), stat_{} {
-    protocol::set_text(stat_.name, name);
-    stat_.pid = static_cast<std::int32_t>(::getpid());
-    stat_.cpu = static_cast<std::int16_t>(cpu);
-    stat_.priority = static_cast<std::int16_t>(priority);
-  }
-  // A period that started at `start`, due at `due`, ended at `end`.
-  void period(hal::Nanoseconds due, hal::Nanoseconds start, hal::Nanoseconds end, hal::Nanoseconds late_after) noexcept {
-    ++stat_.periods;
-    if (start - due > late_after) ++stat_.missed;
-    const auto exec = static_cast<std::uint64_t>(end > start ? end - start : 0);
-    if (exec > stat_.max_execution_ns) stat_.max_execution_ns = exec;
-    if (stat_.periods % kStatsEvery == 1) slot_->write(stat_);
-  }
-  void publish() noexcept { slot_->write(stat_); }
-  std::uint64_t missed() const noexcept { return stat_.missed; }
-
- private:
-  Seqlock<TaskStat>* slot_;
-  TaskStat stat_;
-};
+// A task's recorder (runtime/task_timing.hpp): histograms, late periods, live figures for `ctl tasks`.
+TaskRecorder& start_recorder(StatTask id, const char* name, int cpu, int priority) noexcept {
+  TaskTiming& timing = task_timing();
+  TaskRecorder& recorder = timing[id];
+  recorder.start(g_links.task_stats[static_cast<std::size_t>(id)], name, cpu, priority, timing.ns_per_tick());
+  return recorder;
+}
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
   char names[kJointNamesCapacity];
@@ -160,7 +140,7 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
                   RunState& state) noexcept {
   apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
-  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
+  TaskRecorder& stats = start_recorder(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
@@ -177,8 +157,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     const hal::Nanoseconds now = clock.now();
     // Woke at now - the work's duration: no extra clock read.
     const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
-    timing.handler.record(woke - release, work_start, work_end);
-    stats.period(release, woke, now, hal::kNsPerMs / 2);
+    stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
     master.state = static_cast<std::uint8_t>(r.state);
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
@@ -213,7 +192,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
   apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
-  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
+  TaskRecorder& stats = start_recorder(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
@@ -221,9 +200,8 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
     const hal::Nanoseconds start = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     manager.step(start);
-    timing.manager.record(start - next, work_start, timing.timer.stop());
     g_links.joint_status.write(published_status(manager.statuses()));
-    stats.period(next, start, clock.now(), kJointManagerPeriod / 2);
+    stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
@@ -235,13 +213,15 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
   apply_thread_rt("message-parser", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
+  TaskRecorder& stats = start_recorder(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     parser.step(start);
-    stats.period(next, start, clock.now(), 10 * kParserPeriod);
+    stats.period(next, start, work_start, timer.stop(), 10 * kParserPeriod);
     next += kParserPeriod;
     clock.sleep_until(next);
   }
@@ -251,13 +231,15 @@ void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noex
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
 void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
   apply_thread_rt("socket-handler", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
+  TaskRecorder& stats = start_recorder(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     socket.step(start);
-    stats.period(start, start, clock.now(), hal::kNsPerSec);
+    stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
   }
   stats.publish();
 }
