@@ -13,6 +13,7 @@
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/runtime/nic_factory.hpp"
@@ -244,6 +245,20 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noex
   stats.publish();
 }
 
+// The logger's side of the joint manager's events: prints what is queued, and how many a full queue
+// dropped since the last pass.
+void print_joint_events(JointEventQueue& events, JointEventPrinter& printer) noexcept {
+  static std::uint64_t dropped_reported = 0;
+  JointEvent e{};
+  while (events.pop(e)) printer.print(e);
+  const std::uint64_t dropped = events.dropped();
+  if (dropped != dropped_reported) {
+    (void)std::printf("joint-manager: event queue full: %" PRIu64 " event(s) not printed (%" PRIu64 " in all)\n",
+                      dropped - dropped_reported, dropped);
+    dropped_reported = dropped;
+  }
+}
+
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
   while (g_links.local_replies.try_pop(reply)) {
@@ -445,7 +460,8 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 // NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
-  static JointEventPrinter events(stdout, "joint-manager: ");
+  static JointEventQueue events;  // the joint manager's sink; the logger prints (never its thread)
+  static JointEventPrinter event_printer(stdout, "joint-manager: ");
   static RunState state;
 
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
@@ -551,9 +567,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   hal::Nic& nic = *selected.nic();
   hal::Clock& clock = nic.clock();
   const hal::Nanoseconds start = clock.now();
-  events.set_origin(start);
+  event_printer.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
+  print_joint_events(events, event_printer);
   print_restored(restored.restored);
   // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
   // once they do (a clear that cannot be confirmed loses nothing).
@@ -641,6 +658,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       }
     }
     while (handler.pop_event(event)) print_handler_event(event, start);
+    print_joint_events(events, event_printer);
     if (!op_announced && state.op.load(std::memory_order_acquire)) {
       op_announced = true;
       (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
@@ -691,6 +709,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   while (handler.pop_event(event)) print_handler_event(event, start);
+  print_joint_events(events, event_printer);
 
   // 6. What happened.
   const HeapGuardCounters heap = heap_guard_counters();
