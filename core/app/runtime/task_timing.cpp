@@ -18,6 +18,7 @@ void TaskRecorder::start(Seqlock<TaskStat>& slot, const char* name, int cpu, int
   stat_.priority = static_cast<std::int16_t>(priority);
   recorder_.configure(name, ns_per_tick);
   recorder_.reset();
+  until_publish_ = 1;
   publish();
 }
 

@@ -31,9 +31,9 @@ TEST(TaskRecorder, PublishesEveryFigureLiveWithoutHeap) {
     const hal::Nanoseconds woke = release + (i == 7000 || i == 8000 ? 600'000 : 10'000);
     const auto t0 = static_cast<std::uint64_t>(woke);
     recorder.period(release, woke, t0, t0 + 1000 + static_cast<std::uint64_t>(i % 100), kLateAfter);
-    if (i == 150) {  // mid-run: the slot already holds published figures (every 100 periods)
+    if (i == static_cast<std::int64_t>(TaskRecorder::kPublishEvery) + 50) {  // mid-run: published after the first period, then every kPublishEvery
       ASSERT_TRUE(slot.try_read(seen));
-      EXPECT_EQ(seen.periods, 101U);
+      EXPECT_EQ(seen.periods, TaskRecorder::kPublishEvery + 1U);
       EXPECT_EQ(seen.execution.min, 1000U);
       EXPECT_EQ(seen.latency.max, 10'000U);
     }
