@@ -1,5 +1,6 @@
 #include "core/app/bench/bench_fig4.hpp"
 
+#include <dirent.h>
 #include <pthread.h>
 #include <sched.h>
 #include <signal.h>
@@ -13,6 +14,7 @@
 #include <atomic>
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <thread>
@@ -330,6 +332,64 @@ void print_figures(const char* key, const LatencyHistogram& h) noexcept {
   (void)std::printf("%s_p99.9: %" PRIu64 " ns\n", key, f.summary.p999);
 }
 
+// Other processes' real-time threads (SCHED_FIFO/RR, not kernel threads), by the CPU they last ran
+// on: on a shared machine they compete with the pinned tasks (/proc/PID/task/TID/stat fields 39
+// processor, 40 rt_priority, 41 policy; 4 ppid: kernel threads are children of kthreadd, pid 2).
+void print_other_rt_threads(const char* when) noexcept {
+  constexpr int kCpus = 64;
+  int count[kCpus] = {};
+  int top[kCpus] = {};
+  const long self = ::getpid();
+  DIR* proc = ::opendir("/proc");
+  if (proc == nullptr) return;
+  while (const dirent* p = ::readdir(proc)) {
+    char* end = nullptr;
+    const long pid = std::strtol(p->d_name, &end, 10);
+    if (end == p->d_name || *end != '\0' || pid == self || pid == 2) continue;
+    char tasks_path[64];
+    (void)std::snprintf(tasks_path, sizeof tasks_path, "/proc/%ld/task", pid);
+    DIR* tasks = ::opendir(tasks_path);
+    if (tasks == nullptr) continue;
+    while (const dirent* t = ::readdir(tasks)) {
+      if (t->d_name[0] == '.') continue;
+      char stat_path[320];
+      (void)std::snprintf(stat_path, sizeof stat_path, "/proc/%ld/task/%s/stat", pid, t->d_name);
+      std::FILE* f = std::fopen(stat_path, "r");
+      if (f == nullptr) continue;
+      char line[1024];
+      const bool read = std::fgets(line, sizeof line, f) != nullptr;
+      (void)std::fclose(f);
+      const char* after = read ? std::strrchr(line, ')') : nullptr;
+      if (after == nullptr) continue;
+      // Fields from 3 on, after "pid (comm)".
+      long field[42] = {};
+      int n = 3;
+      const char* at = after + 2;
+      while (n < 42 && *at != '\0') {
+        if (n != 3) field[n] = std::strtol(at, &end, 10);
+        const char* space = std::strchr(at, ' ');
+        if (space == nullptr) break;
+        at = space + 1;
+        ++n;
+      }
+      if (n < 41 || field[4] == 2) continue;  // short line, or a kernel thread
+      const long policy = field[41];
+      const long cpu = field[39];
+      if ((policy == 1 || policy == 2) && cpu >= 0 && cpu < kCpus) {
+        ++count[cpu];
+        if (field[40] > top[cpu]) top[cpu] = static_cast<int>(field[40]);
+      }
+    }
+    (void)::closedir(tasks);
+  }
+  (void)::closedir(proc);
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  for (long c = 0; c < online && c < kCpus; ++c) {
+    (void)std::printf("other_rt_threads_%s_cpu%ld: %d threads (highest SCHED_FIFO/RR priority %d)\n", when, c, count[c],
+                      top[c]);
+  }
+}
+
 void print_machine() noexcept {
   const long online = sysconf(_SC_NPROCESSORS_ONLN);
   (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no (stock kernel)");
@@ -436,6 +496,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     (void)std::printf("load_udp: %d datagrams/s to the socket handler (3 of 4 authenticated status queries, 1 garbage)\n",
                       kUdpPerSecond);
   }
+  print_other_rt_threads("before");
   (void)std::fflush(stdout);
 
   std::thread handler_task(handler_thread, std::ref(handler), std::ref(selected.nic()->clock()));
@@ -462,6 +523,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     (void)nanosleep(&ms, nullptr);
   }
   const HeapGuardCounters heap = heap_guard_counters();
+  print_other_rt_threads("after");
   g_shared.stop.store(true, std::memory_order_release);
   handler_task.join();
   if (socket_task.joinable()) socket_task.join();

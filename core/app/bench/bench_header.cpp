@@ -46,6 +46,8 @@ void print_bench_header(std::FILE* out, const char* name) noexcept {
 }
 
 bool kernel_is_preempt_rt() noexcept {
+  utsname system{};
+  if (::uname(&system) == 0 && std::strstr(system.version, "PREEMPT_RT") != nullptr) return true;
   std::FILE* f = std::fopen("/sys/kernel/realtime", "r");
   if (f == nullptr) return false;
   const int c = std::fgetc(f);
