@@ -1,6 +1,7 @@
 #include "core/timing/period_recorder.hpp"
 
 #include <cinttypes>
+#include <cmath>
 
 namespace rescue {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 
 std::uint32_t saturate(double v) noexcept {
   if (!(v > 0.0)) return 0;
-  return v >= 4294967295.0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(v + 0.5);
+  return v >= 4294967295.0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::llround(v));
 }
 
 }  // namespace

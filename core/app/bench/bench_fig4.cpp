@@ -3,13 +3,13 @@
 #include <dirent.h>
 #include <pthread.h>
 #include <sched.h>
-#include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <csignal>
 #include <cerrno>
 #include <atomic>
 #include <cinttypes>
@@ -342,7 +342,8 @@ void print_other_rt_threads(const char* when) noexcept {
   const long self = ::getpid();
   DIR* proc = ::opendir("/proc");
   if (proc == nullptr) return;
-  while (const dirent* p = ::readdir(proc)) {
+  // readdir is unsafe only on a stream shared between threads; these two are this function's own.
+  while (const dirent* p = ::readdir(proc)) {  // NOLINT(concurrency-mt-unsafe)
     char* end = nullptr;
     const long pid = std::strtol(p->d_name, &end, 10);
     if (end == p->d_name || *end != '\0' || pid == self || pid == 2) continue;
@@ -350,7 +351,7 @@ void print_other_rt_threads(const char* when) noexcept {
     (void)std::snprintf(tasks_path, sizeof tasks_path, "/proc/%ld/task", pid);
     DIR* tasks = ::opendir(tasks_path);
     if (tasks == nullptr) continue;
-    while (const dirent* t = ::readdir(tasks)) {
+    while (const dirent* t = ::readdir(tasks)) {  // NOLINT(concurrency-mt-unsafe): see above
       if (t->d_name[0] == '.') continue;
       char stat_path[320];
       (void)std::snprintf(stat_path, sizeof stat_path, "/proc/%ld/task/%s/stat", pid, t->d_name);

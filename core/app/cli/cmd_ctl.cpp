@@ -143,7 +143,7 @@ void print_master(const Message& m, bool json) noexcept {
 }
 
 void print_figures_json(const char* key, const protocol::TimingFigures& f) noexcept {
-  (void)std::printf(",\"%s\":{\"min\":%u,\"mean\":%u,\"std\":%u,\"max\":%u,\"p99\":%u,\"p99.9\":%u,\"p99.99\":%u}", key,
+  (void)std::printf(R"(,"%s":{"min":%u,"mean":%u,"std":%u,"max":%u,"p99":%u,"p99.9":%u,"p99.99":%u})", key,
                     f.min, f.mean, f.stddev, f.max, f.p99, f.p999, f.p9999);
 }
 

@@ -33,13 +33,13 @@ class TaskRecorder {
   // Before the task's first period (from the task's thread or before it starts): names the task,
   // resets the histograms and publishes an empty record.
   void start(Seqlock<TaskStat>& slot, const char* name, int cpu, int priority, double ns_per_tick) noexcept;
-  // One period: due at `release`, started at `woke` (the task's clock, ns), its work between the
-  // timer readings `start_ticks` and `end_ticks`; late when woke - release > late_after.
-  void period(hal::Nanoseconds release, hal::Nanoseconds woke, std::uint64_t start_ticks, std::uint64_t end_ticks,
+  // One period: due at `due_ns`, begun at `woke_ns` (the task's clock), its work between the timer
+  // readings `tsc_before` and `tsc_after`; late when woke_ns - due_ns > late_after.
+  void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
               hal::Nanoseconds late_after) noexcept {
-    recorder_.record(woke - release, start_ticks, end_ticks);
+    recorder_.record(woke_ns - due_ns, tsc_before, tsc_after);
     ++stat_.periods;
-    if (woke - release > late_after) ++stat_.missed;
+    if (woke_ns - due_ns > late_after) ++stat_.missed;
     if (--until_publish_ == 0) {
       until_publish_ = kPublishEvery;
       publish();
