@@ -69,7 +69,7 @@ const CommandSpec kBenchCommand{
     "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
     "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl\n"
     "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
-    "  periods the handler's cycle and the joint manager's step on the simulated robot in virtual time (toolchain/instructions.sh)\n"
+    "  periods the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time (toolchain/instructions.sh)\n"
     "  fig4   the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
