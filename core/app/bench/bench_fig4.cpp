@@ -109,7 +109,7 @@ void apply_task_rt(int task, TaskId id, int which_case) noexcept {
   rt.prefault_stack_bytes = which_case == 0 ? hal::kTaskStackPrefaultBytes : 0;
   rt.fifo_priority = task_spec(id).priority;
   rt.cpu = case_cpu(which_case, id);
-  if (rt.cpu < 0) (void)set_affinity(-1);  // every CPU: undo nothing, allow all
+  if (rt.cpu < 0) (void)set_affinity(-1);  // no pinning: every online CPU
   g_shared.rt[task][which_case] = hal::apply_rt_config(rt);
 }
 
