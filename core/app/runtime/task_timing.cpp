@@ -82,9 +82,9 @@ void print_summary(const PeriodRecorder& r) noexcept {
 }  // namespace
 
 Status write_task_timing(const char* dir) noexcept {
-  const PeriodRecorder* ran[kMaxRecorders] = {};
-  const std::size_t count = recorders_that_ran(ran);
-  for (std::size_t i = 0; i < count; ++i) print_summary(*ran[i]);
+  for (const TaskRecorder& t : task_timing().tasks) {
+    if (t.started()) print_summary(t.recorder());
+  }
   RESCUE_TRY(write_file(dir, "timing.csv", PeriodRecorder::write_csv));
   return write_file(dir, "timing-histogram.txt", write_histogram);
 }
