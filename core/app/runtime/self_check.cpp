@@ -5,6 +5,7 @@
 #include "drivers/cia402/cia402.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/master/al_control.hpp"
+#include "hal/files/instance_lock.hpp"
 
 namespace rescue::app {
 namespace {
@@ -24,6 +25,16 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   SelfCheckReport local{};
   SelfCheckReport& r = report != nullptr ? *report : local;
   r = SelfCheckReport{};
+  // A raw NIC another rescue-motion drives (the service) is never touched: INIT would stop its robot.
+  if (options.nic.kind == NicKind::raw) {
+    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
+    if (!locked.ok()) {
+      return failed(out,
+                    locked.error().code == Errc::busy ? "the interface is in use by another rescue-motion (stop the service first)"
+                                                      : "cannot lock the interface",
+                    locked.error().what);
+    }
+  }
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
