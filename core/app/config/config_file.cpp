@@ -108,7 +108,7 @@ class Parser {
     const Text name = trim(Text{t.data + 1, t.size - 2});
     for (const TaskSection& s : kSections) {
       if (!name.equals(s.name)) continue;
-      const std::size_t index = static_cast<std::size_t>(s.id);
+      const auto index = static_cast<std::size_t>(s.id);
       if (seen_section_[index]) return fail(name, "section given twice", "each section once");
       seen_section_[index] = true;
       section_ = &s;
@@ -353,7 +353,11 @@ std::size_t format_config_error(const char* file, const ConfigError& e, char* ou
   char key[80] = "";
   if (e.key[0] != '\0') (void)std::snprintf(key, sizeof key, " key '%s':", e.key.data());
   char os[64] = "";
-  if (e.os_errno != 0) (void)std::snprintf(os, sizeof os, " (%s)", std::strerror(static_cast<int>(e.os_errno)));
+  if (e.os_errno != 0) {
+    char reason[48];
+    // GNU strerror_r (thread-safe): returns the text, in `reason` or a static string.
+    (void)std::snprintf(os, sizeof os, " (%s)", strerror_r(static_cast<int>(e.os_errno), reason, sizeof reason));
+  }
   const int n = std::snprintf(out, size, "%s%s:%s %s%s (allowed: %s)", file, where, key, e.what, os, e.allowed);
   if (n < 0) return 0;
   return static_cast<std::size_t>(n) < size ? static_cast<std::size_t>(n) : size - 1;

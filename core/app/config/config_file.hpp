@@ -15,7 +15,7 @@
 
 namespace rescue::app {
 
-constexpr std::size_t kConfigMaxBytes = 64 * 1024;  // a larger file is refused, not truncated
+constexpr std::size_t kConfigMaxBytes = 65536;  // a larger file is refused, not truncated
 constexpr std::size_t kConfigMaxLine = 512;         // bytes per line, without its newline
 constexpr std::size_t kConfigTextCapacity = 256;    // a path or address value, with its terminator
 constexpr std::size_t kConfigTaskCount = 6;         // TaskId values
