@@ -2,10 +2,14 @@
 // named with what it costs; a process that has them all gets one line saying so.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <string>
 
 #include "hal/rt/privileges.hpp"
+#include "tests/support/forked_child.hpp"
 
 namespace rescue::hal {
 namespace {
@@ -24,8 +28,35 @@ std::string describe(const Privileges& have, const PrivilegeNeeds& needs, std::s
 TEST(Privileges, QueryReadsThisProcess) {
   const Result<Privileges> p = query_privileges();
   ASSERT_TRUE(p.ok());
-  // Whatever the test runs as, the limits were read (0 is a valid soft limit).
-  EXPECT_TRUE(p.value().root || !p.value().root);
+  EXPECT_EQ(p.value().root, geteuid() == 0);
+  rlimit memlock{};
+  ASSERT_EQ(getrlimit(RLIMIT_MEMLOCK, &memlock), 0);
+  EXPECT_EQ(p.value().memlock_limit,
+            memlock.rlim_cur == RLIM_INFINITY ? Privileges::kUnlimited : static_cast<std::uint64_t>(memlock.rlim_cur));
+}
+
+// A real non-root process (user nobody, limits at 0, in a forked child): the kernel's answer has none
+// of the three capabilities and both limits at 0.
+TEST(Privileges, QueryOfANonRootProcessSeesNothingHeld) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to become user nobody";
+  const int status = test::run_in_child([] {
+    const rlimit zero{0, 0};
+    if (setrlimit(RLIMIT_RTPRIO, &zero) != 0 || setrlimit(RLIMIT_MEMLOCK, &zero) != 0) return 2;
+    if (setresgid(65534, 65534, 65534) != 0 || setresuid(65534, 65534, 65534) != 0) return 3;
+    const Result<Privileges> p = query_privileges();
+    if (!p.ok()) return 4;
+    const Privileges& h = p.value();
+    if (h.root || h.net_raw || h.sys_nice || h.ipc_lock) return 5;
+    if (h.rtprio_limit != 0 || h.memlock_limit != 0) return 6;
+    PrivilegeNeeds needs;
+    needs.max_priority = 80;
+    needs.raw_socket = true;
+    std::FILE* out = std::fopen("/dev/null", "w");
+    const std::size_t missing = describe_privileges(h, needs, "", out);
+    (void)std::fclose(out);
+    return missing == 3 ? 0 : 7;
+  });
+  EXPECT_EQ(status, 0) << "1: fork; 2: setrlimit; 3: setresuid; 4: query; 5: a capability seen; 6: a limit; 7: count";
 }
 
 TEST(Privileges, UnprivilegedUserIsToldEachMissingItemAndItsCost) {
