@@ -33,8 +33,12 @@ field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Architecture)" = "$(dpkg --print-architecture)" ] || fail "Architecture field"
 version=$(field Version)
 [[ "$version" =~ ^[0-9][0-9A-Za-z.+~]*$ ]] || fail "Version '$version' is not a Debian version"
-git_hash=$(git rev-parse --short=10 HEAD)
-[[ "$version" == *"$git_hash"* ]] || [[ "$version" == *"+"* ]] || fail "Version '$version' does not name HEAD ($git_hash)"
+# From git describe: it names HEAD's hash (a tagged build: X.Y.Z+N.gHASH). Outside a git checkout the
+# project's version alone.
+git_hash=$(git rev-parse --short=10 HEAD 2>/dev/null || true)
+if [ -n "$git_hash" ]; then
+  [[ "$version" == *"$git_hash"* ]] || [[ "$version" == *"+"*".g"* ]] || fail "Version '$version' does not name HEAD ($git_hash)"
+fi
 depends=$(field Depends)
 for d in adduser libc6 libsodium23 libstdc++6; do
   [[ "$depends" == *"$d"* ]] || fail "Depends lacks $d (dpkg-shlibdeps): $depends"
