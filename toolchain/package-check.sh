@@ -3,12 +3,14 @@
 #   1. builds it: cmake --build --preset motion-pc --target package (release-type, tests off)
 #   2. checks its metadata (dpkg-deb -I) and contents (dpkg-deb -c)
 #   3. lintian: no error, no warning (the info tags left are justified in docs/deploy.md)
-#   4. installs it into a throw-away root (dpkg-deb -x: CI is root without a booted systemd), does
-#      there what postinst does (service user, state directory, key 0600), and runs the installed
-#      binary AS THE SERVICE USER with only CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK (setpriv) against
-#      the in-process simulated robot: `run --check` (OP and back), then a run with the link-cut
-#      scenario that must reach OP and leave the error-joints file in the packaged state directory
+#   4. installs it with dpkg -i into a throw-away root: overlays of this machine's /etc, /usr, /var in
+#      a private mount namespace (CI is root without a booted systemd; this machine never changes), so
+#      postinst really runs (service user, state directory, key 0600); runs the installed binary AS
+#      THE SERVICE USER with only CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK (setpriv) against the
+#      in-process simulated robot: `run --check` (OP and back), then the packaged configuration with
+#      the link-cut scenario, which must reach OP and leave the error-joints file in the state directory
 #   5. the unit: systemd-analyze verify, and systemd-analyze security --offline=true (exposure score)
+#   6. dpkg --purge: the state directory, the key and the user go
 # Usage: toolchain/package-check.sh [JOBS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -70,66 +72,83 @@ unjustified=$(echo "$lint" | grep -E '^(I|P):' | grep -vE "$allowed" || true)
 [ -z "$unjustified" ] || fail "lintian tags not justified in docs/deploy.md: $unjustified"
 echo "lintian verdict: no errors, no warnings; $(echo "$lint" | grep -cE '^(I|P):' || true) info/pedantic tag(s), justified"
 
-step "install into a throw-away root"
+step "install with dpkg -i into a throw-away root (overlays of this machine in a private mount namespace)"
+# The namespace sees /etc, /usr and /var as overlays whose upper layers are in a temporary directory:
+# dpkg -i runs for real there (dependencies checked against this machine's dpkg database, files
+# unpacked, the conffile registered, postinst run: adduser, the state directory, the key), and every
+# write lands in the temporary layers; this machine's own files never change. /run is an empty tmpfs
+# (no booted systemd). shadow and gshadow start empty in the upper layer, so no password hash of this
+# machine is ever copied. CI is root: unshare and overlayfs need CAP_SYS_ADMIN.
 root=$(mktemp -d /tmp/rescue-motion-root.XXXXXX)
 trap 'rm -rf "$root"' EXIT
-dpkg-deb -x "$deb" "$root"
-chmod 0755 "$root"
-# What postinst does on the robot (adduser --system, install -d, keygen, chmod 0600), in the root:
-# a numeric service uid that exists nowhere on this machine, written into the root's own passwd.
-uid=61874
-while getent passwd "$uid" >/dev/null || getent group "$uid" >/dev/null; do uid=$((uid + 1)); done
-mkdir -p "$root/etc"
-echo "rescue-motion:x:$uid:$uid:rescue-motion firmware service:/var/lib/rescue-motion:/usr/sbin/nologin" >"$root/etc/passwd"
-echo "rescue-motion:x:$uid:" >"$root/etc/group"
-install -d -o "$uid" -g "$uid" -m 0750 "$root/var/lib/rescue-motion"
-"$root/usr/bin/rescue-motion" ctl keygen --key "$root/etc/rescue-motion/operator.key" >/dev/null
-chown "$uid:$uid" "$root/etc/rescue-motion/operator.key"
-chmod 0600 "$root/etc/rescue-motion/operator.key"
-echo "root $root; service user rescue-motion = uid $uid; key $(stat -c '%a %u' "$root/etc/rescue-motion/operator.key")"
+for d in etc usr var; do mkdir -p "$root/up/$d" "$root/work/$d"; done
+: >"$root/up/etc/shadow"; : >"$root/up/etc/gshadow"
+chmod 0640 "$root/up/etc/shadow" "$root/up/etc/gshadow"; chgrp shadow "$root/up/etc/shadow" "$root/up/etc/gshadow"
+cp "$deb" "$root/rescue-motion.deb"
+port=$((20000 + RANDOM % 20000))  # free UDP ports on loopback (other runs may share this machine)
+cat >"$root/inside.sh" <<'INSIDE'
+set -euo pipefail
+root=$1 port=$2
+for d in etc usr var; do
+  mount -t overlay overlay -o "lowerdir=/$d,upperdir=$root/up/$d,workdir=$root/work/$d" "/$d"
+done
+mount -t tmpfs tmpfs /run
+fail() { echo "package-check: FAILED: $*" >&2; exit 1; }
 
-# The service's privileges: its uid, no groups, exactly the unit's three ambient capabilities.
+echo "dpkg -i:"
+dpkg -i "$root/rescue-motion.deb" 2>&1 | sed 's/^/  /'
+dpkg-query -W -f='  installed: ${Package} ${Version} ${db:Status-Abbrev}\n' rescue-motion
+dpkg-query -W -f='${Conffiles}\n' rescue-motion | grep -q /etc/rescue-motion/rescue-motion.conf || fail "conffile not registered"
+id rescue-motion >/dev/null || fail "postinst made no service user"
+user_line=$(getent passwd rescue-motion)
+echo "  service user: $user_line"
+[[ "$user_line" == *":/var/lib/rescue-motion:/usr/sbin/nologin" ]] || fail "service user's home or shell"
+[ "$(stat -c '%U %a' /var/lib/rescue-motion)" = "rescue-motion 750" ] || fail "state directory owner/mode: $(stat -c '%U %a' /var/lib/rescue-motion)"
+[ "$(stat -c '%U %a' /etc/rescue-motion/operator.key)" = "rescue-motion 600" ] || fail "key owner/mode"
+echo "  state directory $(stat -c '%U:%G %a' /var/lib/rescue-motion), key $(stat -c '%U:%G %a' /etc/rescue-motion/operator.key)"
+
+# The service's privileges: its user, no other group, exactly the unit's three ambient capabilities.
 as_service() {
-  setpriv --reuid="$uid" --regid="$uid" --clear-groups --no-new-privs \
+  setpriv --reuid=rescue-motion --regid=rescue-motion --clear-groups --no-new-privs \
     --inh-caps=-all,+net_raw,+sys_nice,+ipc_lock --ambient-caps=-all,+net_raw,+sys_nice,+ipc_lock \
     --bounding-set=-all,+net_raw,+sys_nice,+ipc_lock "$@"
 }
-# The packaged configuration, with the paths of the throw-away root given on the command line (which
-# overrides the file) and free UDP ports on loopback (other runs may share this machine).
-port=$((20000 + RANDOM % 20000))
-run_args=(--config "$root/etc/rescue-motion/rescue-motion.conf" --state-dir "$root/var/lib/rescue-motion"
-          --key "$root/etc/rescue-motion/operator.key" --listen 127.0.0.1 --control-port "$port" --sensor-port "$((port + 1))")
-
-step "installed binary as the service user: run --check"
-check=$(as_service "$root/usr/bin/rescue-motion" run --config "$root/etc/rescue-motion/rescue-motion.conf" --check) ||
-  fail "run --check: $check"
-echo "$check"
-
-step "installed binary as the service user: run --scenario link-cut"
-out=$(as_service "$root/usr/bin/rescue-motion" run "${run_args[@]}" --scenario link-cut 2>&1) || {
-  echo "$out"
-  fail "the run as the service user"
-}
-echo "$out" | grep -E "privileges:|network in OP|scenario link-cut passed|heap allocations" || true
+echo "installed binary as the service user: run --check"
+check=$(as_service rescue-motion run --config /etc/rescue-motion/rescue-motion.conf --check) || fail "run --check: $check"
+echo "  $check"
+echo "installed binary as the service user: the packaged configuration, run --scenario link-cut"
+out=$(as_service /usr/bin/rescue-motion run --config /etc/rescue-motion/rescue-motion.conf --listen 127.0.0.1 \
+        --control-port "$port" --sensor-port "$((port + 1))" --scenario link-cut 2>&1) || { echo "$out"; fail "the run"; }
+echo "$out" | grep -E "privileges:|state directory|operator control port|network in OP|scenario link-cut passed" | sed 's/^/  /'
 echo "$out" | grep -q "network in OP" || fail "the installed binary did not reach OP"
 echo "$out" | grep -q "privileges: not root; CAP_NET_RAW held, CAP_SYS_NICE held, CAP_IPC_LOCK held" ||
   fail "the service user's privileges are not what the unit grants"
-file="$root/var/lib/rescue-motion/error-joints.bin"
+echo "$out" | grep -q "state directory /var/lib/rescue-motion" || fail "not the packaged state directory"
+file=/var/lib/rescue-motion/error-joints.bin
 [ -s "$file" ] || fail "no error-joints file in the packaged state directory"
-[ "$(stat -c %u "$file")" = "$uid" ] || fail "error-joints file not owned by the service user"
-echo "error-joints file: $file ($(stat -c '%s bytes, mode %a, uid %u' "$file"))"
+[ "$(stat -c %U "$file")" = rescue-motion ] || fail "error-joints file not owned by the service user"
+echo "  error-joints file: $file ($(stat -c '%s bytes, %U:%G %a' "$file"))"
 
-step "the unit: systemd-analyze verify and security --offline=true"
-unit=$root/lib/systemd/system/rescue-motion.service
-# verify resolves ExecStart= on this machine: a copy that runs the root's binary.
-mkdir -p "$root/verify"
-sed "s#/usr/bin/rescue-motion#$root/usr/bin/rescue-motion#" "$unit" >"$root/verify/rescue-motion.service"
-systemd-analyze verify --man=no "$root/verify/rescue-motion.service" || fail "systemd-analyze verify"
-echo "systemd-analyze verify: clean"
-security=$(systemd-analyze security --offline=true --no-pager --root="$root" rescue-motion.service 2>&1) ||
-  { echo "$security"; fail "systemd-analyze security"; }
+echo "the unit: systemd-analyze verify and security --offline=true"
+unit=/lib/systemd/system/rescue-motion.service
+systemd-analyze verify --man=no "$unit" || fail "systemd-analyze verify"
+echo "  systemd-analyze verify $unit: clean"
+security=$(systemd-analyze security --offline=true --no-pager "$unit" 2>&1) || { echo "$security"; fail "systemd-analyze security"; }
 score=$(echo "$security" | grep -o "Overall exposure level for rescue-motion.service: [0-9.]* [A-Z]*")
-echo "$score"
+echo "  $score"
 awk -v s="$(echo "$score" | awk '{print $(NF-1)}')" 'BEGIN { exit !(s <= 3.0) }' || fail "exposure above 3.0: $score"
-grep -E '^(AmbientCapabilities|CapabilityBoundingSet|LimitRTPRIO|LimitMEMLOCK|CPUAffinity|Restart|ProtectSystem|ReadWritePaths|NoNewPrivileges)=' "$unit"
+grep -E '^(AmbientCapabilities|CapabilityBoundingSet|LimitRTPRIO|LimitMEMLOCK|CPUAffinity|Restart|ProtectSystem|ReadWritePaths|NoNewPrivileges)=' "$unit" | sed 's/^/  /'
+
+echo "dpkg --purge:"
+dpkg --purge rescue-motion 2>&1 | sed 's/^/  /'
+[ ! -e /var/lib/rescue-motion ] && [ ! -e /etc/rescue-motion/operator.key ] && ! getent passwd rescue-motion >/dev/null ||
+  fail "purge left the state directory, the key or the user"
+echo "  purged: state directory, key and service user gone"
+INSIDE
+machine() { getent passwd rescue-motion || true; ls -ld /usr/bin/rescue-motion /var/lib/rescue-motion 2>/dev/null || true
+            dpkg-query -W rescue-motion 2>/dev/null || true; md5sum /etc/passwd /etc/group /var/lib/dpkg/status; }
+before=$(machine)
+unshare --mount --propagation private bash "$root/inside.sh" "$root" "$port"
+[ "$(machine)" = "$before" ] || fail "this machine changed (user, files or dpkg database)"
+echo "this machine: unchanged (passwd, group, dpkg database, /usr/bin, /var/lib)"
 echo "package-check: passed"
