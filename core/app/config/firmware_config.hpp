@@ -50,6 +50,6 @@ constexpr std::int64_t kOwnerReferenceDeadlineNs = 2'000'000;
 // An owner whose heartbeat is older than this many RC periods is dead: the handler releases the
 // motion in the period it notices (so within kOwnerDeadAfterPeriods + 1 handler periods of the
 // owner's last period), holding position from its first missed deadline on.
-constexpr std::int64_t kOwnerDeadAfterPeriods = 20;
+constexpr std::int64_t kOwnerDeadAfterPeriods = 50;
 
 }  // namespace rescue::app::config

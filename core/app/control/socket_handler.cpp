@@ -57,6 +57,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
   const bool have_sample = ports_.samples != nullptr && ports_.samples->try_read(sample);
   const bool have_status = ports_.joint_status != nullptr && ports_.joint_status->try_read(status);
   const bool have_master = ports_.master != nullptr && ports_.master->try_read(master);
+  const std::uint8_t owner = ports_.owner != nullptr ? ports_.owner->task() : protocol::kNoOwner;
   switch (request.header.type) {
     case MessageType::get_status:
       m.header.type = MessageType::status;
@@ -77,7 +78,9 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.velocity_rad_s = sample[j].velocity_rad_s;
           r.torque_nm = sample[j].torque_nm;
         }
-        r.owner = protocol::kNoOwner;  // no Motion owner yet: every enabled joint holds its reference
+        // The Motion owner drives the enabled position-mode joints it commands; with none, every
+        // enabled joint holds its reference.
+        r.owner = owner;
       }
       break;
     case MessageType::get_slaves:

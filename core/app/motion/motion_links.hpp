@@ -12,6 +12,7 @@
 #include "core/app/control/protocol_messages.hpp"
 #include "core/app/motion/motion_owner.hpp"
 #include "core/app/motion/reference_space.hpp"
+#include "core/concurrency/seqlock.hpp"
 
 namespace rescue::app {
 
@@ -19,9 +20,23 @@ namespace rescue::app {
 enum class RcTaskId : std::uint8_t { rescue = 0, teleop = 1 };
 constexpr std::size_t kRcTasksRun = 2;
 
+// What an RC task shows of itself each period (for the log, `ctl status` and tests). Trivial:
+// published through a seqlock as bytes; value-initialise it.
+struct RcTaskState {
+  std::uint8_t mode;            // RcMode (tasks/rc_task.hpp)
+  std::uint8_t phase;           // kin::RescuePhase of the rescue motion
+  bool owns;                    // it held the Motion owner word this period
+  JointMask out_of_service;     // joints it locked (lost, in Error, unreachable)
+  std::uint64_t periods;
+  std::uint64_t kinematics_errors;
+  double position_residual_m[2];  // IK: left, right palm (rescue task)
+};
+static_assert(std::is_trivial_v<RcTaskState>, "published through a seqlock");
+
 struct MotionLinks {
   std::array<ReferenceSpace, protocol::kMaxRcTasks> references;  // RC task k writes references[k] only
   MotionOwner owner;                                            // compare-exchange only
+  std::array<Seqlock<RcTaskState>, protocol::kMaxRcTasks> task_state;  // RC task k writes task_state[k]
   // The EtherCAT handler's intake counters, for `ctl status` and the run's summary.
   std::atomic<std::uint64_t> owner_misses{0};    // handler periods the owner's references were late or incomplete
   std::atomic<std::uint64_t> owner_releases{0};  // dead owners released
