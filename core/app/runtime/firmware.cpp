@@ -611,6 +611,11 @@ void print_run_summary(const RunSummary& s) noexcept {
   (void)std::printf("owner_misses: %" PRIu64 "\n", s.intake.misses);
   (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
   (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
+  RcTaskState rescue{};
+  if (g_links.motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+    (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
+    (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
+  }
 }
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
