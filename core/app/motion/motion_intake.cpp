@@ -43,12 +43,19 @@ bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t wor
     const double limited = std::clamp(target, held_[j] - step, held_[j] + step);
     if (limited != snapshot_.position_rad[j]) ++counters_.clamped;
     held_[j] = limited;
+    driven_by_owner_ |= joint_bit(j);
   }
   return true;
 }
 
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,
                                                             JointMask driven) noexcept {
+  decide(now, demand, driven);
+  links_.owner_joints.store(driven_by_owner_, std::memory_order_relaxed);
+  return held_;
+}
+
+void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept {
   ++counters_.periods;
   // The joint manager stays the authority: a joint it does not drive, or gives a new reference,
   // takes its reference (a drive enabled later starts where the joint manager set it).
@@ -60,11 +67,12 @@ const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now
     driven_before_[j] = drives;
   }
   driving_ = kNoOwnerTask;
+  driven_by_owner_ = 0;
   const std::uint64_t word = links_.owner.word();
   const std::uint8_t task = MotionOwner::task_of(word);
   if (task == kNoOwnerTask || task >= protocol::kMaxRcTasks) {
     consecutive_misses_ = 0;
-    return held_;
+    return;
   }
   ++counters_.owned_periods;
   const std::int64_t beat = heartbeats_[task].load(std::memory_order_acquire);
@@ -77,18 +85,17 @@ const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now
       ++counters_.releases;
       links_.owner_releases.fetch_add(1, std::memory_order_relaxed);
     }
-    return held_;
+    return;
   }
   if (!take_owner_references(now, word, driven)) {
     ++counters_.misses;
     ++consecutive_misses_;
     links_.owner_misses.fetch_add(1, std::memory_order_relaxed);
-    return held_;
+    return;
   }
   ++counters_.used_periods;
   consecutive_misses_ = 0;
   driving_ = task;
-  return held_;
 }
 
 }  // namespace rescue::app

@@ -56,8 +56,11 @@ class MotionIntake {
   // The owner task whose references drove the joints last period (kNoOwnerTask: none, or held).
   std::uint8_t driving_task() const noexcept { return driving_; }
   std::uint64_t consecutive_misses() const noexcept { return consecutive_misses_; }
+  // The joints the owner's references drove last period (also published: MotionLinks::owner_joints).
+  JointMask owner_joints() const noexcept { return driven_by_owner_; }
 
  private:
+  void decide(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept;
   bool take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept;
 
   MotionLinks& links_;
@@ -69,6 +72,7 @@ class MotionIntake {
   ReferenceSnapshot snapshot_{};
   MotionIntakeCounters counters_{};
   std::uint64_t consecutive_misses_{0};
+  JointMask driven_by_owner_{0};
   std::uint8_t driving_{kNoOwnerTask};
 };
 

@@ -40,6 +40,7 @@ struct MotionLinks {
   // The EtherCAT handler's intake counters, for `ctl status` and the run's summary.
   std::atomic<std::uint64_t> owner_misses{0};    // handler periods the owner's references were late or incomplete
   std::atomic<std::uint64_t> owner_releases{0};  // dead owners released
+  std::atomic<JointMask> owner_joints{0};        // joints the owner's references drove in the handler's last period
 };
 static_assert(std::is_standard_layout_v<MotionLinks>, "shared between processes: standard layout only");
 static_assert(protocol::kNoOwner == kNoOwnerTask, "the wire's 'no owner' is the owner word's");

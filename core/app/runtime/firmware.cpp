@@ -344,9 +344,8 @@ void print_motion_changes(MotionLog& log, hal::Nanoseconds at) noexcept {
     if (log.seen[k] && now.owns && now.out_of_service != before.out_of_service) {
       char names[kJointNamesCapacity];
       format_joint_names(now.out_of_service, names, sizeof names);
-      (void)std::printf("[%8.3f s] %s: joints out of service: %s; locked, the motion goes on with the others "
-                        "(palm residuals %.3f m, %.3f m)\n",
-                        seconds(at), rc_task_name(k), names, now.position_residual_m[0], now.position_residual_m[1]);
+      (void)std::printf("[%8.3f s] %s: joints out of service: %s; locked, the motion goes on with the others\n",
+                        seconds(at), rc_task_name(k), names);
     }
     log.last[k] = now;
     log.seen[k] = true;
@@ -705,7 +704,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.joint_status = &g_links.joint_status;
   socket_ports.master = &g_links.master_status;
   socket_ports.tasks = &g_links.task_stats;
-  socket_ports.owner = &g_links.motion.owner;
+  socket_ports.motion = &g_links.motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
