@@ -1,6 +1,7 @@
 #include "core/app/motion/motion_intake.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/app/config/firmware_config.hpp"
 
@@ -37,7 +38,7 @@ bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t wor
     if ((joints & joint_bit(j)) == 0) continue;
     const JointLimits& lim = kJoints[j].limits;
     double target = snapshot_.position_rad[j];
-    if (!(target == target)) continue;  // NaN: this joint holds
+    if (!std::isfinite(target)) continue;  // this joint holds
     if (!kJoints[j].continuous) target = std::clamp(target, lim.position_min_rad, lim.position_max_rad);
     const double step = lim.velocity_max_rad_s * seconds;
     const double limited = std::clamp(target, held_[j] - step, held_[j] + step);
@@ -70,7 +71,7 @@ void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, Joint
   driven_by_owner_ = 0;
   const std::uint64_t word = links_.owner.word();
   const std::uint8_t task = MotionOwner::task_of(word);
-  if (task == kNoOwnerTask || task >= protocol::kMaxRcTasks) {
+  if (task >= protocol::kMaxRcTasks) {  // kNoOwnerTask (0xFF) included: nobody owns the motion
     consecutive_misses_ = 0;
     return;
   }

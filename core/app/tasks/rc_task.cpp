@@ -19,6 +19,8 @@ kin::IkSettings ik_settings(hal::Nanoseconds period_ns) noexcept {
 
 constexpr JointMask ik_joints() noexcept {
   JointMask mask = 0;
+  // std::accumulate is constexpr only from C++20.
+  // cppcheck-suppress useStlAlgorithm
   for (const std::size_t j : kin::kIkJoints) mask |= joint_bit(j);
   return mask;
 }
@@ -240,15 +242,15 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
   if (holder == kNoOwnerTask && chosen_ && links_.motion.owner.take_if_free(static_cast<std::uint8_t>(index()), word)) {
     ++counters_.retakes;
   }
-  const bool owns = MotionOwner::task_of(word) == index();
-  if (owns_ && !owns) {
+  const bool owning = MotionOwner::task_of(word) == index();
+  if (owns_ && !owning) {
     ++counters_.ownership_lost;
     if (!chosen_) {
       if (settings_.id == RcTaskId::rescue) mode_ = RcMode::idle;
       teleop_.release_ownership();
     }
   }
-  owns_ = owns;
+  owns_ = owning;
   if (owns_) ++counters_.owned_periods;
   if (have_joints_) {
     compute(now);

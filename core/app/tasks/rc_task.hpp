@@ -101,7 +101,6 @@ class RcTask {
   RobotJointStatus status_{};
   RcTaskCounters counters_{};
   hal::Nanoseconds mode_since_{0};
-  std::uint64_t word_{0};
   JointMask out_of_service_{0};
   RcMode mode_{RcMode::idle};
   kin::RescuePhase phase_{kin::RescuePhase::lowering};
