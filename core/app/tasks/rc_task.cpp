@@ -127,7 +127,7 @@ void RcTask::start_target(const RcTaskInput& input) noexcept {
   mode_ = RcMode::target;
 }
 
-void RcTask::take_inputs(hal::Nanoseconds now) noexcept {
+void RcTask::take_inputs() noexcept {
   RcTaskInput input;
   // Bounded: at most the queue's depth per period.
   for (std::size_t n = 0; n < TaskLinks::kRcInputQueueDepth && links_.rc_inputs[index()].try_pop(input); ++n) {
@@ -136,7 +136,7 @@ void RcTask::take_inputs(hal::Nanoseconds now) noexcept {
       case RcInputKind::take_ownership:
         (void)links_.motion.owner.take(static_cast<std::uint8_t>(index()));
         chosen_ = true;
-        if (have_joints_) on_take(now);
+        take_pending_ = true;  // started once the handler has published the joints
         break;
       case RcInputKind::end_effector_target:
         if (settings_.id == RcTaskId::rescue && have_joints_) {
@@ -233,7 +233,11 @@ void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
 void RcTask::period(hal::Nanoseconds now) noexcept {
   ++counters_.periods;
   read_joints();
-  take_inputs(now);
+  take_inputs();
+  if (take_pending_ && have_joints_) {
+    take_pending_ = false;
+    on_take(now);
+  }
   std::uint64_t word = links_.motion.owner.word();
   const std::uint8_t holder = MotionOwner::task_of(word);
   if (holder != index() && holder != kNoOwnerTask) chosen_ = false;  // the operator gave it to another task

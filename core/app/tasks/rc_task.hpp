@@ -77,7 +77,7 @@ class RcTask {
 
  private:
   void read_joints() noexcept;
-  void take_inputs(hal::Nanoseconds now) noexcept;
+  void take_inputs() noexcept;
   void on_take(hal::Nanoseconds now) noexcept;
   void start_target(const RcTaskInput& input) noexcept;
   void compute(hal::Nanoseconds now) noexcept;
@@ -106,7 +106,8 @@ class RcTask {
   kin::RescuePhase phase_{kin::RescuePhase::lowering};
   bool owns_{false};
   bool have_joints_{false};
-  bool chosen_{false};  // the operator gave this task the motion (this process's life), nobody else since
+  bool chosen_{false};
+  bool take_pending_{false};  // the operator gave this task the motion (this process's life), nobody else since
 };
 
 }  // namespace rescue::app
