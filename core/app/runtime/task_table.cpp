@@ -23,7 +23,7 @@ TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variab
   {TaskId::joint_manager, "joint manager", config::kJointManagerPriority, config::kJointManagerCpu, config::kJointManagerPeriodNs,
    "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp"},
   {TaskId::rc_tasks, "RC tasks", config::kRcTaskPriority, config::kRcTaskCpu, config::kRcTaskPeriodNs,
-   "yes (own reference space)", "kinematics: next joint references every period", "not built yet (issue: RC tasks)"},
+   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rc_task.cpp, motion/"},
   {TaskId::ethercat_handler, "EtherCAT handler", config::kEthercatHandlerPriority, config::kEthercatHandlerCpu, config::kEthercatHandlerPeriodNs,
    "yes", "one frame with every slave per period; joint state, references, limits, safe stop", "tasks/ethercat_handler.cpp"},
 };
