@@ -36,8 +36,25 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
   }
   if (ether_type != kEtherTypeEtherCAT) return make_error(Errc::unsupported, "not EtherCAT", kFrameLevel, u32(offset));
   offset += 2;
+  auto ecat = parse_ecat(frame, offset);
+  if (!ecat.ok()) return ecat.error();
+  ecat.value().header_.destination = h.destination;
+  ecat.value().header_.source = h.source;
+  ecat.value().header_.vlan_tagged = h.vlan_tagged;
+  ecat.value().header_.vlan_tci = h.vlan_tci;
+  return ecat;
+}
 
-  if (size < offset + kEcatHeaderSize) return make_error(Errc::truncated, "ecat header", kFrameLevel, u32(offset));
+template <typename B>
+Result<BasicFrameView<B>> BasicFrameView<B>::parse_ecat(Span<B> frame, std::size_t ecat_offset) noexcept {
+  BasicFrameView view;
+  view.frame_ = frame;
+  FrameHeader& h = view.header_;
+  const std::size_t size = frame.size();
+  const std::uint8_t* p = frame.data();
+  std::size_t offset = ecat_offset;
+
+  if (offset > size || size - offset < kEcatHeaderSize) return make_error(Errc::truncated, "ecat header", kFrameLevel, u32(offset));
   const std::uint16_t ecat_word = load_le16(p + offset);
   h.ecat_offset = offset;
   h.ecat_length = static_cast<std::uint16_t>(ecat_word & kEcatLengthMask);
@@ -63,7 +80,12 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
     offset += kDatagramOverhead + data_length;
     ++index;
   }
-  if (offset != payload_end) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
+  // Padding: fewer bytes than a datagram needs, all zero. Anything else is garbage.
+  const std::size_t trailing = payload_end - offset;
+  bool padding = trailing < kDatagramOverhead;
+  for (std::size_t i = offset; padding && i < payload_end; ++i) padding = p[i] == 0;
+  if (!padding) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
+  h.padding = static_cast<std::uint16_t>(trailing);
   h.datagram_count = index;
   return view;
 }
