@@ -1,7 +1,6 @@
 #include "ecat/capture/captured_link.hpp"
 
 #include "core/base/endian.hpp"
-#include "ecat/capture/capture_format.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -26,6 +26,7 @@
 
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
+#include "ecat/capture/capture_format.hpp"
 #include "ecat/codec/frame.hpp"
 
 namespace rescue::ecat {
