@@ -200,7 +200,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   std::int64_t all_valid = 0;
   std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
-  std::array<std::uint32_t, 5> reports_by_kind{};
+  std::array<std::uint32_t, ecat::kLinkEventKindCount> reports_by_kind{};
   ecat::LinkReport report;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
@@ -297,8 +297,10 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
   (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
   (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
-  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored\n",
-                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2]);
+  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored, %" PRIu32
+                    " silent\n",
+                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2],
+                    reports_by_kind[static_cast<std::size_t>(ecat::LinkEventKind::silent)]);
   const HistogramSummary master = g_master_ns.summary();
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));
