@@ -14,23 +14,20 @@ std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v)
 
 template <typename B>
 Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
-  BasicFrameView view;
-  view.frame_ = frame;
-  FrameHeader& h = view.header_;
   const std::size_t size = frame.size();
   const std::uint8_t* p = frame.data();
 
   if (size < kEthernetHeaderSize) return make_error(Errc::truncated, "ethernet header", kFrameLevel, 0);
   // A capture may keep the 4-byte FCS after the payload; more than that is not Ethernet.
   if (size > kMaxFrameSize + kVlanTagSize + 4) return make_error(Errc::malformed, "frame too long", kFrameLevel, u32(size));
-  std::memcpy(h.destination.data(), p, 6);
-  std::memcpy(h.source.data(), p + 6, 6);
   std::size_t offset = 12;
   std::uint16_t ether_type = load_be16(p + offset);
+  bool vlan_tagged = false;
+  std::uint16_t vlan_tci = 0;
   if (ether_type == kEtherTypeVlan) {
     if (size < offset + kVlanTagSize + 2) return make_error(Errc::truncated, "vlan tag", kFrameLevel, u32(offset));
-    h.vlan_tagged = true;
-    h.vlan_tci = load_be16(p + offset + 2);
+    vlan_tagged = true;
+    vlan_tci = load_be16(p + offset + 2);
     offset += kVlanTagSize;
     ether_type = load_be16(p + offset);
   }
@@ -38,10 +35,11 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
   offset += 2;
   auto ecat = parse_ecat(frame, offset);
   if (!ecat.ok()) return ecat.error();
-  ecat.value().header_.destination = h.destination;
-  ecat.value().header_.source = h.source;
-  ecat.value().header_.vlan_tagged = h.vlan_tagged;
-  ecat.value().header_.vlan_tci = h.vlan_tci;
+  FrameHeader& h = ecat.value().header_;
+  std::memcpy(h.destination.data(), p, 6);
+  std::memcpy(h.source.data(), p + 6, 6);
+  h.vlan_tagged = vlan_tagged;
+  h.vlan_tci = vlan_tci;
   return ecat;
 }
 

@@ -126,7 +126,7 @@ class LinkMonitor {
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
   std::uint32_t frames_missing_in_row() const noexcept { return frames_missing_in_row_; }
   // The link-silence alarm is raised (no frame back for kSilenceAlarm, none since), and how often it was.
-  bool silent() const noexcept { return silence_reported_; }
+  bool silence_alarm() const noexcept { return silence_reported_; }
   std::uint64_t silences() const noexcept { return silences_; }
 
  private:

@@ -47,7 +47,7 @@ TEST_F(SilenceAlarm, JitterBurstsNeverRaiseIt) {
   cycles(1, true);
   EXPECT_TRUE(reports.empty());
   EXPECT_EQ(monitor.silences(), 0U);
-  EXPECT_FALSE(monitor.silent());
+  EXPECT_FALSE(monitor.silence_alarm());
 }
 
 TEST_F(SilenceAlarm, RaisedOnceAfter100MsAndEndedByTheNextFrame) {
@@ -62,7 +62,7 @@ TEST_F(SilenceAlarm, RaisedOnceAfter100MsAndEndedByTheNextFrame) {
   EXPECT_EQ(reports[0].slaves, monitor.in_exchange());
   EXPECT_EQ(reports[0].detected_cycle, first_missing);
   EXPECT_EQ(reports[0].cycle, first_missing + static_cast<std::uint64_t>(alarm_cycles));
-  EXPECT_TRUE(monitor.silent());
+  EXPECT_TRUE(monitor.silence_alarm());
 
   cycles(5000, false);  // five more seconds of silence: one alarm, not one per cycle
   EXPECT_EQ(reports.size(), 1U);
@@ -70,7 +70,7 @@ TEST_F(SilenceAlarm, RaisedOnceAfter100MsAndEndedByTheNextFrame) {
   cycle(true);
   ASSERT_EQ(reports.size(), 2U);
   EXPECT_EQ(reports[1].kind, LinkEventKind::heard_again);
-  EXPECT_FALSE(monitor.silent());
+  EXPECT_FALSE(monitor.silence_alarm());
   EXPECT_EQ(monitor.silences(), 1U);
   EXPECT_EQ(monitor.lost(), 0U) << "silence is no evidence against single slaves";
   EXPECT_EQ(monitor.in_exchange(), kAllSlaves);
