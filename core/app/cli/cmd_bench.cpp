@@ -23,6 +23,7 @@ const OptionSpec kOptions[] = {
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
     {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
+    {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the 150 us receive spin (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},
     {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000)"},
     {"load", "LIST", "fig4: background load: stress,udp (default), stress, udp or none"},
     {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4)"},

@@ -99,6 +99,7 @@ struct RunState {
   std::atomic<bool> scenario_acted{false};
   std::atomic<std::int64_t> op_at{0};
   std::atomic<std::uint64_t> cycles{0};
+  std::atomic<std::uint64_t> late_periods{0};  // as `ctl master` shows them
   std::atomic<int> tasks_started{0};  // tasks past their real-time set-up
   std::atomic<bool> operator_stop{false};  // socket handler and message parser
   std::atomic<bool> rc_stop{false};        // RC tasks
@@ -193,7 +194,9 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
     master.frames_lost = handler.frames_missing();
-    master.late_periods = stats.missed();
+    // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
+    // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
+    master.late_periods = stats.missed() + bus.master().skipped_periods();
     const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
     master.dc_deviation_ns = dc_error;
     const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
@@ -202,6 +205,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.lost = bus.master().monitor().lost();
     g_links.master_status.write(master);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
+    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
       state.op_at.store(now, std::memory_order_relaxed);
@@ -911,10 +915,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
   if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
+  const std::uint64_t skipped = handler.bus().master().skipped_periods();
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
-                    " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
-                    fsm::to_string(manager.summary().condition));
+                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
+                    " not run); lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, handler.frames_missing(), state.late_periods.load(), skipped,
+                    lost_names, fsm::to_string(manager.summary().condition));
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::uint64_t m = handler.missed_cycles(joint_bit(j) & ~lost);
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
