@@ -739,6 +739,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
     }
     (void)std::printf("\n");
+    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
+                      ", most datagrams in one wake-up %" PRIu64 " (budget %zu)\n",
+                      counted.wakeups, counted.budget_exhausted, counted.max_per_wakeup, SocketHandler::kBudget);
   }
   if (options.report != nullptr) {
     options.report->cycles = state.cycles.load();
