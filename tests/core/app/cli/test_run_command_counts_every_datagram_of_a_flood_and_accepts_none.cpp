@@ -100,50 +100,74 @@ struct Sent {
   std::uint64_t total() const { return malformed + oversized + unauthenticated + replayed; }
 };
 
+// The flood's sender and what it needs: the key, a socket, one authentic datagram accepted once.
+struct Flooder {
+  explicit Flooder(const OperatorRun& run_in) : run(run_in) {
+    const Result<protocol::Key> loaded = protocol::load_key_file(run.key.c_str());
+    if (loaded.ok()) key = loaded.value();
+    other = key;
+    other[0] ^= 0xFF;
+    opened = socket.open("127.0.0.1", 0).ok();
+    loopback = hal::parse_ipv4("127.0.0.1").value();
+  }
+  // Sends the datagram to replay later; true when the robot answered it (accepted once).
+  bool record() {
+    recorded_size = seal_status_request(key, 9, unix_ns(), recorded);
+    return opened && recorded_size > 0 &&
+           socket.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok() &&
+           socket.wait_readable(5000);
+  }
+  // `per_kind` datagrams of each kind; `paced`: the robot's receive queues kept under kQueueLimit.
+  Sent flood(std::size_t per_kind, bool paced) {
+    Sent sent;
+    const std::array<std::uint8_t, 16> junk{'n', 'o', 't', ' ', 'R', 'M', 'C', 'P', 1, 2, 3, 4, 5, 6, 7, 8};
+    std::array<std::uint8_t, 1400> big{};
+    std::memcpy(big.data(), recorded.data(), recorded_size);  // a good header, 1400 bytes long
+    std::array<std::uint8_t, protocol::kMaxDatagram> forged{};
+    std::uint64_t sequence = unix_ns();
+    for (std::size_t i = 0; i < per_kind; ++i) {
+      if (paced && i % 8 == 0) {
+        while (kernel_queue(run.control_port).rx_queue > kQueueLimit || kernel_queue(run.sensor_port).rx_queue > kQueueLimit) {
+          std::this_thread::yield();
+        }
+      }
+      if (socket.send_to(loopback, run.control_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
+      if (socket.send_to(loopback, run.sensor_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
+      if (socket.send_to(loopback, run.control_port, ConstByteSpan(big)).ok()) ++sent.oversized;
+      const std::size_t n = seal_status_request(other, 9, ++sequence, forged);
+      if (socket.send_to(loopback, run.control_port, ConstByteSpan(forged.data(), n)).ok()) ++sent.unauthenticated;
+      if (socket.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok()) ++sent.replayed;
+    }
+    return sent;
+  }
+  std::uint64_t kernel_drops() const {
+    return kernel_queue(run.control_port).drops + kernel_queue(run.sensor_port).drops;
+  }
+
+  const OperatorRun& run;
+  protocol::Key key{};
+  protocol::Key other{};
+  hal::UdpSocket socket;
+  bool opened{false};
+  std::uint32_t loopback{0};
+  std::array<std::uint8_t, protocol::kMaxDatagram> recorded{};
+  std::size_t recorded_size{0};
+};
+
 TEST(RunCommandFlood, EveryBadDatagramIsCountedNoneAcceptedValidCommandsAnswered) {
   OperatorRun run;
   ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
   const CommandResult init = run.ctl({"init"});
   ASSERT_EQ(init.status, 0) << init.out;
   std::uint64_t valid = 1;  // init
-
-  const Result<protocol::Key> key = protocol::load_key_file(run.key.c_str());
-  ASSERT_TRUE(key.ok());
-  protocol::Key other = key.value();
-  other[0] ^= 0xFF;
-  hal::UdpSocket flood;
-  ASSERT_TRUE(flood.open("127.0.0.1", 0).ok());
-  const std::uint32_t loopback = hal::parse_ipv4("127.0.0.1").value();
-
-  // The datagram to replay: accepted once (answered), then sent again and again.
-  std::array<std::uint8_t, protocol::kMaxDatagram> recorded{};
-  const std::size_t recorded_size = seal_status_request(key.value(), 9, unix_ns(), recorded);
-  ASSERT_GT(recorded_size, 0U);
-  ASSERT_TRUE(flood.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok());
-  ASSERT_TRUE(flood.wait_readable(5000)) << "the original of the replayed datagram was not answered";
+  Flooder flooder(run);
+  ASSERT_TRUE(flooder.record()) << "the original of the replayed datagram was not answered";
   ++valid;
 
   Sent sent;
   std::atomic<bool> done{false};
   std::thread sender([&] {
-    const std::array<std::uint8_t, 16> junk{'n', 'o', 't', ' ', 'R', 'M', 'C', 'P', 1, 2, 3, 4, 5, 6, 7, 8};
-    std::array<std::uint8_t, 1400> big{};
-    std::memcpy(big.data(), recorded.data(), recorded_size);  // a good header, 1400 bytes long
-    std::array<std::uint8_t, protocol::kMaxDatagram> forged{};
-    std::uint64_t sequence = unix_ns();
-    for (std::size_t i = 0; i < kPerKind; ++i) {
-      if (i % 8 == 0) {  // keep the robot's queues under the limit: the kernel drops nothing
-        while (kernel_queue(run.control_port).rx_queue > kQueueLimit || kernel_queue(run.sensor_port).rx_queue > kQueueLimit) {
-          std::this_thread::yield();
-        }
-      }
-      if (flood.send_to(loopback, run.control_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
-      if (flood.send_to(loopback, run.sensor_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
-      if (flood.send_to(loopback, run.control_port, ConstByteSpan(big)).ok()) ++sent.oversized;
-      const std::size_t n = seal_status_request(other, 9, ++sequence, forged);
-      if (flood.send_to(loopback, run.control_port, ConstByteSpan(forged.data(), n)).ok()) ++sent.unauthenticated;
-      if (flood.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok()) ++sent.replayed;
-    }
+    sent = flooder.flood(kPerKind, true);
     done.store(true);
   });
   // Valid commands from other processes while the flood lasts: each answered, each accepted.
@@ -171,7 +195,7 @@ TEST(RunCommandFlood, EveryBadDatagramIsCountedNoneAcceptedValidCommandsAnswered
   EXPECT_EQ(master.status, 0) << master.out;
   const CommandResult tasks = run.ctl({"tasks"});
   ++valid;
-  const std::uint64_t drops = kernel_queue(run.control_port).drops + kernel_queue(run.sensor_port).drops;
+  const std::uint64_t drops = flooder.kernel_drops();
   ASSERT_EQ(run.stop(), 0) << run.output();
   const std::string out = run.output();
 
@@ -199,6 +223,32 @@ TEST(RunCommandFlood, EveryBadDatagramIsCountedNoneAcceptedValidCommandsAnswered
               " (budget %zu)\n", datagrams, accepted, most, SocketHandler::kBudget);
   std::printf("flood: %s\n", line_with(out, " cycles; healthy joints missed ").c_str());
   std::printf("flood: ctl master:\n%s\nflood: ctl tasks:\n%s", master.out.c_str(), tasks.out.c_str());
+}
+
+
+// The same flood unpaced, as fast as the sender thread can: the kernel may drop some (its counter,
+// not the firmware's); still none accepted, every datagram accounted for, the budget kept, and the
+// robot answers the operator once the flood is over.
+TEST(RunCommandFlood, UnpacedFloodIsAccountedForAndNoneAccepted) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  ASSERT_EQ(run.ctl({"init"}).status, 0);
+  Flooder flooder(run);
+  ASSERT_TRUE(flooder.record());
+  const Sent sent = flooder.flood(kPerKind, false);
+  const CommandResult status = run.ctl({"status"});
+  EXPECT_EQ(status.status, 0) << status.out;
+  EXPECT_EQ(status.out.find(" Ready "), std::string::npos) << status.out;
+  const std::uint64_t drops = flooder.kernel_drops();
+  ASSERT_EQ(run.stop(), 0) << run.output();
+  const std::string out = run.output();
+  const std::uint64_t valid = 3;  // init, the recorded original, status
+  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + valid) << out;
+  EXPECT_EQ(number_after(out, ", accepted "), valid) << out;
+  EXPECT_LE(number_after(out, "most datagrams in one wake-up "), SocketHandler::kBudget) << out;
+  std::printf("flood (unpaced): sent %" PRIu64 ", kernel drops %" PRIu64 "\nflood (unpaced): %s\nflood (unpaced): %s\n",
+              sent.total(), drops, line_with(out, "rescue-motion run: datagrams ").c_str(),
+              line_with(out, "socket handler wake-ups").c_str());
 }
 
 }  // namespace
