@@ -70,6 +70,8 @@ class SocketHandler {
   void step(hal::Nanoseconds now) noexcept;
 
   const SocketCounters& counters() const noexcept { return counters_; }
+  // The most datagrams handled in one wake-up so far (never above kBudget).
+  std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
 
  private:
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
@@ -88,6 +90,7 @@ class SocketHandler {
   SocketCounters counters_{};
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
+  std::size_t max_per_wakeup_{0};
 };
 
 }  // namespace rescue::app

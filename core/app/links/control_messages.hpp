@@ -74,7 +74,6 @@ struct SocketCounters {
   std::uint64_t replies_sent;
   std::uint64_t wakeups;
   std::uint64_t budget_exhausted;  // wake-ups that stopped at the per-wake-up budget
-  std::uint64_t max_per_wakeup;    // most datagrams handled in one wake-up (<= SocketHandler::kBudget)
   std::uint64_t forwarded_dropped; // control requests the parser's full queue could not take
 };
 static_assert(std::is_trivial_v<SocketCounters>, "published through a seqlock");

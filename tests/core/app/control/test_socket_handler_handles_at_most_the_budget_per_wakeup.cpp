@@ -68,12 +68,12 @@ TEST(SocketHandlerBudget, OneWakeupHandlesAtMostTheBudgetBothPortsTogether) {
   b.handler.step(0);
   EXPECT_EQ(b.handler.counters().datagrams, SocketHandler::kBudget);
   EXPECT_EQ(b.handler.counters().budget_exhausted, 1U);
-  EXPECT_EQ(b.handler.counters().max_per_wakeup, SocketHandler::kBudget);
+  EXPECT_EQ(b.handler.max_per_wakeup(), SocketHandler::kBudget);
 
   b.handler.step(0);
   EXPECT_EQ(b.handler.counters().datagrams, 2 * kEach);
   EXPECT_EQ(b.handler.counters().budget_exhausted, 1U);
-  EXPECT_EQ(b.handler.counters().max_per_wakeup, SocketHandler::kBudget);
+  EXPECT_EQ(b.handler.max_per_wakeup(), SocketHandler::kBudget);
   EXPECT_EQ(b.handler.counters().wakeups, 2U);
   // Every one counted, under its reason; none accepted.
   EXPECT_EQ(b.handler.counters().accepted, 0U);
@@ -99,7 +99,7 @@ TEST(SocketHandlerBudget, AnAuthenticRequestBehindAFloodIsAnsweredOnceItDrains) 
   while (b.handler.counters().accepted == 0 && wakeups < 10) {
     b.handler.step(0);
     ++wakeups;
-    EXPECT_LE(b.handler.counters().max_per_wakeup, SocketHandler::kBudget);
+    EXPECT_LE(b.handler.max_per_wakeup(), SocketHandler::kBudget);
   }
   EXPECT_EQ(wakeups, kFlood / SocketHandler::kBudget + 1);  // ceil((kFlood + 1) / kBudget)
   EXPECT_EQ(b.handler.counters().accepted, 1U);
