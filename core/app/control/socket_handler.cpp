@@ -228,6 +228,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
     }
   }
   if (handled >= kBudget) ++counters_.budget_exhausted;
+  if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
   ControlReply reply;
   for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
     Message m;

@@ -933,6 +933,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
     }
     (void)std::printf("\n");
+    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
+                      ", most datagrams in one wake-up %zu (budget %zu)\n",
+                      counted.wakeups, counted.budget_exhausted, socket.max_per_wakeup(), SocketHandler::kBudget);
   }
   if (options.report != nullptr) {
     options.report->cycles = state.cycles.load();
