@@ -42,6 +42,9 @@ enum class LinkEventKind : std::uint8_t {
   restored,         // a lost slave answers again (not re-used until re-integrated)
   reintegrated,     // back in the exchange after an explicit re-integration
   reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
+  recovered,        // online recovery brought it back to OP and into the exchange ("available")
+  recovery_refused, // online recovery found another device in its place (identity in the report)
+  recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
 };
 const char* to_string(LinkEventKind kind) noexcept;
 
@@ -55,6 +58,9 @@ struct LinkReport {
   std::uint64_t cycle{0};           // cycle in which it was established
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
   hal::Nanoseconds time{0};
+  // recovery_refused: the SII identity found (vendor, product, revision, serial);
+  // recovery_failed: found[0] = the recovery state that timed out.
+  std::array<std::uint32_t, 4> found{};
 };
 
 struct ProbeRequest {
@@ -99,6 +105,13 @@ class LinkMonitor {
   void reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
                             std::uint16_t al_code) noexcept;
 
+  // Online recovery: slaves it works on are left out of the restoration probes (it talks to them);
+  // recovered() puts slaves back in the exchange (from lost, restored or not operational).
+  void set_recovering(SlaveMask slaves) noexcept { recovering_ = slaves; }
+  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
+  void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                      const std::array<std::uint32_t, 4>& found) noexcept;
+
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
 
   SlaveMask in_exchange() const noexcept { return present_; }
@@ -121,7 +134,7 @@ class LinkMonitor {
   bool observe_probe(const ProbeResult& probe) noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
   void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
-              std::uint16_t al_code = 0) noexcept;
+              std::uint16_t al_code = 0, const std::array<std::uint32_t, 4>& found = {}) noexcept;
 
   const NetworkPlan& plan_;
   const ProcessImageLayout& layout_;
@@ -132,6 +145,7 @@ class LinkMonitor {
   SlaveMask fmmus_cleared_{0}; // out slaves whose FMMU activation is confirmed off
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
+  SlaveMask recovering_{0};    // online recovery works on them: no restoration probes
   std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
   // Returned frames in a row that showed the slave unreachable (counter, then silent probes).
   std::array<std::uint8_t, kMaxSlaves> silent_frames_{};

@@ -63,6 +63,7 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
     }
     probe_count_ = kept;  // the rest are asked for again next cycle
     add_reintegration_datagrams(frame);
+    add_recovery_datagrams(frame);
   } else if (state_ == MasterState::going_op) {
     std::array<std::uint8_t, 2> value{};
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
@@ -92,6 +93,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
     switch (what.role) {
       case Role::reference_time:
         if (d.wkc() != 0) result.reference_time = load_le64(data);
+        frame_reference_time_ = result.reference_time;
         break;
       case Role::branch: {
         const BranchLayout& branch = layout_.branches[what.param];
@@ -136,6 +138,12 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
       case Role::reintegration:
         on_reintegration_datagram(what.param, d);
         break;
+      case Role::recovery:
+        on_recovery_datagram(what.param, d);
+        break;
+      case Role::search:
+        on_search_datagram(what.param, d);
+        break;
     }
   }
 }
@@ -167,6 +175,7 @@ CycleResult Master::cycle() noexcept {
   if (state_ != MasterState::going_op && state_ != MasterState::op && state_ != MasterState::safe_op) return result;
 
   silence_outputs_of_out_slaves();
+  frame_reference_time_ = 0;
   FrameBuilder& frame = link_.begin();
   build_cycle_frame(frame);
   result.sent_at = link_.clock().now();
@@ -183,6 +192,7 @@ CycleResult Master::cycle() noexcept {
                      Span<const ProbeResult>(probe_results_.data(), probe_count_));
     result.valid = monitor_.valid();
     finish_reintegration_step();
+    step_recovery();
   } else if (state_ == MasterState::going_op) {
     step_op_transition(result);
   }
