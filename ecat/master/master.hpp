@@ -305,7 +305,8 @@ class Master {
   std::size_t recovery_rotate_{0};
   std::size_t search_rotate_{0};
   std::uint32_t recovery_datagrams_this_cycle_{0};
-  std::uint64_t frame_reference_time_{0};  // this cycle's reference read (0: none yet)
+  std::uint64_t frame_reference_time_{0};   // this cycle's reference read (0: none yet)
+  std::uint64_t latest_reference_time_{0};  // the last one read (building a frame: the previous cycle's)
   std::uint64_t overruns_{0};
   // Last reference time read (bring-up), to place the first wake-up.
   std::uint64_t last_reference_time_{0};

@@ -94,6 +94,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
       case Role::reference_time:
         if (d.wkc() != 0) result.reference_time = load_le64(data);
         frame_reference_time_ = result.reference_time;
+        if (result.reference_time != 0) latest_reference_time_ = result.reference_time;
         break;
       case Role::branch: {
         const BranchLayout& branch = layout_.branches[what.param];

@@ -257,7 +257,7 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
           write(reg::kDcSync0CycleTime, 4);
         } else if (r.sub == 2) {
           // In phase with every other slave's SYNC0: the bring-up's start plus whole periods.
-          const std::uint64_t earliest = frame_reference_time_ + kSync0MarginPeriods * period;
+          const std::uint64_t earliest = latest_reference_time_ + kSync0MarginPeriods * period;
           const std::uint64_t base = report_.sync0_start;
           const std::uint64_t start = earliest <= base ? base : base + ((earliest - base) / period + 1) * period;
           store_le64(bytes.data(), start);
