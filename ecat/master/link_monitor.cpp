@@ -33,6 +33,7 @@ const char* to_string(LinkEventKind kind) noexcept {
     case LinkEventKind::recovered: return "recovered";
     case LinkEventKind::recovery_refused: return "recovery refused";
     case LinkEventKind::recovery_failed: return "recovery failed";
+    case LinkEventKind::port_errors: return "port errors";
   }
   return "?";
 }

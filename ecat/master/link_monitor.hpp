@@ -45,6 +45,7 @@ enum class LinkEventKind : std::uint8_t {
   recovered,        // online recovery brought it back to OP and into the exchange ("available")
   recovery_refused, // online recovery found another device in its place (identity in the report)
   recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
+  port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
 };
 const char* to_string(LinkEventKind kind) noexcept;
 

@@ -32,6 +32,7 @@
 #include "ecat/master/datagram_link.hpp"
 #include "ecat/dc/dc_cycle_sync.hpp"
 #include "ecat/dc/dc_delay.hpp"
+#include "ecat/master/link_diagnostics.hpp"
 #include "ecat/master/link_monitor.hpp"
 #include "ecat/mailbox/mailbox_client.hpp"
 #include "ecat/master/network_match.hpp"
@@ -77,6 +78,10 @@ struct MasterOptions {
   unsigned recovery_datagrams_per_cycle{2};
   hal::Nanoseconds recovery_step_timeout{hal::kNsPerSec};  // per state
   hal::Nanoseconds recovery_hold_off{hal::kNsPerSec};      // after a failure, before searching again
+  // Link diagnostics (ecat/master/link_diagnostics.hpp): one slave's error counters read (and
+  // cleared) by one datagram in every this many cycles, round robin over the slaves in the
+  // exchange; 0 = off. 10 at 1 ms: each of 23 slaves every 230 ms.
+  unsigned diag_interval_cycles{10};
 };
 
 enum class MasterState : std::uint8_t { idle, failed, safe_op, going_op, op };
@@ -182,6 +187,10 @@ class Master {
   SlaveMask recovering() const noexcept;
   const RecoveryStats& recovery_stats() const noexcept { return recovery_stats_; }
 
+  // Link diagnostics: error counters per slave and port (accumulated since bring-up). A rising
+  // port is reported as a `port_errors` link report (found = port, peer slave, errors).
+  const LinkDiagnostics& diagnostics() const noexcept { return diagnostics_; }
+
   // Lost / restored / not operational reports, oldest first.
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept { return monitor_.pop_report(out); }
   const LinkMonitor& monitor() const noexcept { return monitor_; }
@@ -243,7 +252,19 @@ class Master {
   void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
   void finish_reintegration_step() noexcept;
 
-  enum class Role : std::uint8_t { reference_time, branch, probe_status, probe_clear, al_control, al_status, mailbox, reintegration, recovery, search };
+  enum class Role : std::uint8_t {
+    reference_time,
+    branch,
+    probe_status,
+    probe_clear,
+    al_control,
+    al_status,
+    mailbox,
+    reintegration,
+    recovery,
+    search,
+    diagnostics,
+  };
   struct Planned {
     Role role;
     std::uint8_t param;  // branch or slave position
@@ -260,6 +281,7 @@ class Master {
   std::array<SlaveSetup, kMaxSlaves> setup_{};
   std::array<SiiImage, kMaxFoundSlaves> sii_{};  // bring-up scratch
   LinkMonitor monitor_;
+  LinkDiagnostics diagnostics_;
   MailboxClient mailbox_;
   DcCycleSync dc_sync_{};
 

@@ -62,7 +62,7 @@ const char* to_string(MasterState state) noexcept {
 }
 
 Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept
-    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), mailbox_(plan) {}
+    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), diagnostics_(plan), mailbox_(plan) {}
 
 Status Master::fail(const char* step, const Error& error) noexcept {
   report_.failed_step = step;
@@ -84,6 +84,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   reintegrating_ = 0;
   recovery_.fill(Recovery{});
   recovery_stats_ = RecoveryStats{};
+  diagnostics_.reset();
   setup_.fill(SlaveSetup{});
   if (image_.size() < layout_.total_bytes) {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));

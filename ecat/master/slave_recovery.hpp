@@ -74,7 +74,7 @@ struct SlaveRecoveryTable {
   // clang-format off
   static constexpr std::array<RecoveryStateSpec, kRecoveryStateCount> kStates{{
     {S::idle,         "Idle",         "in the exchange, or not planned to run"},
-    {S::searching,    "Searching",    "out of the exchange; APRD 0x0010 at its auto-increment position looks for a device there (lowest such slave first, one search per period)"},
+    {S::searching,    "Searching",    "out of the exchange; APRD 0x0010 at its auto-increment position looks for a device there (one search per period, rotating among the slaves searched for)"},
     {S::addressing,   "Addressing",   "APWR 0x0010 by position: its station address (no other slave is written)"},
     {S::resetting,    "Resetting",    "FPWR 0x0120 = INIT + acknowledge, FPRD 0x0130 until INIT"},
     {S::identifying,  "Identifying",  "SII to ECAT (0x0500), then SII words 0x08..0x0F (vendor, product, revision, serial) through 0x0502..0x050F"},
@@ -90,7 +90,7 @@ struct SlaveRecoveryTable {
     {S::failed,       "Failed",       "a step timed out; waits the hold-off, then searches again"},
   }};
   static constexpr std::array<RecoveryInputSpec, kRecoveryInputCount> kInputs{{
-    {I::lost,                 "lost",                 "the link monitor took it out of the exchange (lost, restored or answering in INIT)"},
+    {I::lost,                 "lost",                 "the link monitor has it out of the exchange (lost, restored, or not operational e.g. answering in INIT)"},
     {I::answered_unaddressed, "answered_unaddressed", "a device with station address 0 answers at its position"},
     {I::answered_addressed,   "answered_addressed",   "it answers at its position with its own station address (configuration kept)"},
     {I::step_done,            "step_done",            "the state's writes were taken and its state confirmed"},

@@ -25,15 +25,7 @@ ecat::MasterOptions recovery_options() {
   return options;
 }
 
-std::unique_ptr<SimulatedRobotRig> robot_in_op() {
-  auto rig = std::make_unique<SimulatedRobotRig>();
-  EXPECT_TRUE(rig->bus.bring_up(recovery_options()).ok()) << testing::describe_master_failure(rig->bus.master());
-  drivers::JointReferences refs{};
-  drivers::JointFeedback fb{};
-  for (int i = 0; i < 200 && rig->bus.master().state() != MasterState::op; ++i) (void)rig->cycle(refs, fb);
-  EXPECT_EQ(rig->bus.master().state(), MasterState::op);
-  return rig;
-}
+std::unique_ptr<SimulatedRobotRig> robot_in_op() { return testing::simulated_robot_in_op(recovery_options()); }
 
 // Joints on the branches of `joints`.
 JointMask branches_of(JointMask joints) {
