@@ -100,7 +100,7 @@ struct SlaveRecoveryTable {
     {I::timeout,              "timeout",              "the state's deadline passed"},
     {I::retry,                "retry",                "the hold-off after a failure is over"},
   }};
-  static constexpr std::array<RecoveryRow, 38> kRows{{
+  static constexpr std::array<RecoveryRow, 39> kRows{{
     {S::idle,         I::lost,                 S::searching,    "", "watch its position"},
     {S::searching,    I::answered_unaddressed, S::addressing,   "", ""},
     {S::searching,    I::answered_addressed,   S::resetting,    "", ""},
@@ -129,6 +129,7 @@ struct SlaveRecoveryTable {
     {S::clock,        I::timeout,              S::failed,       "", "report recovery_failed"},
     {S::sync0,        I::step_done,            S::safe_op,      "", ""},
     {S::sync0,        I::gone,                 S::searching,    "", ""},
+    {S::sync0,        I::timeout,              S::failed,       "", "report recovery_failed"},
     {S::safe_op,      I::step_done,            S::op,           "", ""},
     {S::safe_op,      I::gone,                 S::searching,    "", ""},
     {S::safe_op,      I::timeout,              S::failed,       "", "report recovery_failed"},

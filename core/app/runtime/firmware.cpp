@@ -601,6 +601,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
+  master_options.online_recovery = true;  // returning slaves back to OP while cycling (docs/master.md)
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
