@@ -37,6 +37,9 @@ struct JointManagerNotice {
 enum class JointCommandKind : std::uint8_t {
   dfa_input,    // `input` for each joint of `joints`
   clear_lost,   // operator: `joints` were repaired; unlatch their loss and drop them from the error file
+  // The same, and the operator confirms that a joint whose position differs from the held position
+  // recorded in the file may return to service (clear_lost refuses it).
+  clear_lost_moved,
 };
 
 // Message parser -> joint manager (the paper's "joint handle queue"): one DFA input for a set of

@@ -138,6 +138,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
 
 void JointManager::step(hal::Nanoseconds now) noexcept {
   (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
+  note_returned_joints(now);
   LostJointsReport report;
   for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
     handle_report(report, now);
@@ -150,6 +151,33 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
   }
   monitor(now);
   publish();
+}
+
+double JointManager::offset_from_held(std::size_t j) const noexcept {
+  for (const LostJointRecord& r : recorded_.records) {
+    if (r.joint == j) return sample_[j].position_rad - drivers::counts_to_rad(r.last_position_counts);
+  }
+  return 0.0;  // no held position recorded: nothing to compare
+}
+
+void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
+  // A lost joint that answers again (its slave was brought back, e.g. by the master's online
+  // recovery) is reported once per return, with whether it still stands at its held position.
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointMask bit = joint_bit(j);
+    if ((lost_ & bit) == 0 || !sample_[j].reachable) {
+      returned_ &= ~bit;
+      continue;
+    }
+    if ((returned_ & bit) != 0) continue;
+    returned_ |= bit;
+    const double offset = offset_from_held(j);
+    const bool moved = offset > kHeldPositionToleranceRad || offset < -kHeldPositionToleranceRad;
+    JointEvent e = joint_event(moved ? JointEventKind::lost_joint_moved : JointEventKind::lost_joint_returned, j, now);
+    e.fault.value = offset;
+    e.fault.limit = kHeldPositionToleranceRad;
+    emit(e);
+  }
 }
 
 // Paper section IV-C, steps 1-5; the handler does step 6 when it reads the answer.
@@ -224,9 +252,10 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     }
     outcome.refused |= joint_bit(j);
   };
-  if (command.kind == JointCommandKind::clear_lost) {
+  if (command.kind == JointCommandKind::clear_lost || command.kind == JointCommandKind::clear_lost_moved) {
     const JointMask joints = command.joints & kAllJoints;
-    if (clear_lost_joints(joints, now).ok()) {
+    const JointMask confirmed = command.kind == JointCommandKind::clear_lost_moved ? joints : 0;
+    if (clear_lost_joints(joints, now, confirmed).ok()) {
       outcome.applied = joints;
     } else {
       ++refused_commands_;
@@ -331,7 +360,7 @@ Status JointManager::clear_lost_joint(std::size_t joint, hal::Nanoseconds now) n
   return clear_lost_joints(joint_bit(joint), now);
 }
 
-Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept {
+Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved) noexcept {
   // Each joint is judged on its own; the ones that may be cleared leave the file in one durable write.
   Error first_refusal{};
   JointMask accepted = 0;
@@ -342,6 +371,10 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) n
       refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
     } else if (!sample_[j].reachable) {
       refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
+    } else if ((confirmed_moved & joint_bit(j)) == 0 &&
+               (offset_from_held(j) > kHeldPositionToleranceRad || offset_from_held(j) < -kHeldPositionToleranceRad)) {
+      refusal = make_error(Errc::refused, "position differs from the held position in the file: confirm the clear",
+                           static_cast<std::uint32_t>(j));
     }
     if (refusal.code == Errc::ok) {
       accepted |= joint_bit(j);
