@@ -655,8 +655,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       char names[kJointNamesCapacity];
       format_joint_names(options.scenario.expected_lost, names, sizeof names);
       if (scenario.action_status().ok()) {
-        (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
-                          seconds(scenario.acted_at() - start), options.scenario.name,
+        (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n", seconds(scenario.acted_at() - start),
+                          options.scenario.name,
+                          options.scenario.kind == ScenarioKind::power_cycle ? "power-cycle the drive of" : "cut the link into",
                           kJoints[options.scenario.cut_joint].name, names);
       } else {
         (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);

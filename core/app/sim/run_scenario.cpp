@@ -15,7 +15,15 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut)");
+  if (std::strcmp(name, "power-cycle") == 0) {
+    scenario.kind = ScenarioKind::power_cycle;
+    scenario.name = "power-cycle";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = hal::kNsPerSec;
+    scenario.expected_lost = joint_bit(scenario.cut_joint);
+    return scenario;
+  }
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, power-cycle)");
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
@@ -31,7 +39,8 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
     action_status_ = make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
     return true;
   }
-  action_status_ = segment_->cut_link(slave_position_of_joint(scenario_.cut_joint));
+  const std::size_t position = slave_position_of_joint(scenario_.cut_joint);
+  action_status_ = scenario_.kind == ScenarioKind::power_cycle ? segment_->power_cycle(position, now) : segment_->cut_link(position);
   return true;
 }
 

@@ -3,6 +3,8 @@
 //
 //   link-cut  one second after the network reached OP, the cable into l_elbow is cut: l_elbow,
 //             l_wrist_yaw, l_wrist_pitch and l_hand become unreachable (design brief section 6)
+//   power-cycle  one second after OP, l_elbow's drive is power-cycled (its ESC loses its registers and
+//             station address): l_elbow is lost, and the master's online recovery brings it back
 //
 // The scenario acts from the EtherCAT handler's thread, between two cycles (the simulated segment
 // is driven by that thread's frames), and only on the simulated NIC.
@@ -17,12 +19,12 @@
 
 namespace rescue::app {
 
-enum class ScenarioKind : std::uint8_t { none, link_cut };
+enum class ScenarioKind : std::uint8_t { none, link_cut, power_cycle };
 
 struct Scenario {
   ScenarioKind kind{ScenarioKind::none};
   const char* name{"none"};
-  std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut
+  std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
 };
