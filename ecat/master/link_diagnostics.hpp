@@ -30,7 +30,6 @@
 
 namespace rescue::ecat {
 
-constexpr std::uint8_t kMasterEnd = 0xFE;  // the cable's other end is the master
 
 struct PortCounters {
   std::uint32_t invalid_frames{0};

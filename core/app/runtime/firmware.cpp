@@ -136,6 +136,15 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
   const double t = seconds(e.time - start);
   switch (e.kind) {
     case HandlerEventKind::link_report:
+      if (e.link.kind == ecat::LinkEventKind::port_errors) {
+        // found: port, the slave at the cable's other end, errors so far (ecat/master/link_diagnostics.hpp).
+        const std::uint8_t slave = drivers::first_slave(e.link.slaves);
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": receive errors rising on %s port %" PRIu32
+                          " (%" PRIu32 " so far): check the cable between %s and %s\n",
+                          t, e.cycle, drivers::slave_end_name(slave), e.link.found[0], e.link.found[2],
+                          drivers::slave_end_name(static_cast<std::uint8_t>(e.link.found[1])), drivers::slave_end_name(slave));
+        break;
+      }
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;
@@ -657,7 +666,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       if (scenario.action_status().ok()) {
         (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n", seconds(scenario.acted_at() - start),
                           options.scenario.name,
-                          options.scenario.kind == ScenarioKind::power_cycle ? "power-cycle the drive of" : "cut the link into",
+                          options.scenario.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
+                          : options.scenario.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
+                                                                                : "cut the link into",
                           kJoints[options.scenario.cut_joint].name, names);
       } else {
         (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);

@@ -3,6 +3,11 @@
 #include <cstring>
 
 namespace rescue::app {
+namespace {
+
+constexpr std::uint32_t kDamagedFrames = 5;  // cable-damage: frames damaged on the cable
+
+}  // namespace
 
 Result<Scenario> parse_scenario(const char* name) noexcept {
   Scenario scenario{};
@@ -23,7 +28,14 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.expected_lost = joint_bit(scenario.cut_joint);
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, power-cycle)");
+  if (std::strcmp(name, "cable-damage") == 0) {
+    scenario.kind = ScenarioKind::cable_damage;
+    scenario.name = "cable-damage";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = hal::kNsPerSec;
+    return scenario;
+  }
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, power-cycle, cable-damage)");
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
@@ -40,7 +52,11 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
     return true;
   }
   const std::size_t position = slave_position_of_joint(scenario_.cut_joint);
-  action_status_ = scenario_.kind == ScenarioKind::power_cycle ? segment_->power_cycle(position, now) : segment_->cut_link(position);
+  switch (scenario_.kind) {
+    case ScenarioKind::power_cycle: action_status_ = segment_->power_cycle(position, now); break;
+    case ScenarioKind::cable_damage: action_status_ = segment_->corrupt_port(position, 0, kDamagedFrames); break;
+    default: action_status_ = segment_->cut_link(position); break;
+  }
   return true;
 }
 

@@ -5,6 +5,8 @@
 //             l_wrist_yaw, l_wrist_pitch and l_hand become unreachable (design brief section 6)
 //   power-cycle  one second after OP, l_elbow's drive is power-cycled (its ESC loses its registers and
 //             station address): l_elbow is lost, and the master's online recovery brings it back
+//   cable-damage  one second after OP, 5 frames are damaged on the cable into l_elbow's port 0: the
+//             link diagnostics count them and warn, naming the cable; no joint is lost
 //
 // The scenario acts from the EtherCAT handler's thread, between two cycles (the simulated segment
 // is driven by that thread's frames), and only on the simulated NIC.
@@ -19,7 +21,7 @@
 
 namespace rescue::app {
 
-enum class ScenarioKind : std::uint8_t { none, link_cut, power_cycle };
+enum class ScenarioKind : std::uint8_t { none, link_cut, power_cycle, cable_damage };
 
 struct Scenario {
   ScenarioKind kind{ScenarioKind::none};
