@@ -59,10 +59,14 @@ struct LinkReport {
   std::uint64_t cycle{0};           // cycle in which it was established
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
   hal::Nanoseconds time{0};
+  // recovered: found[0] = kRecoveredAfterPowerLoss when the slave had lost its station address (its
+  // power was cycled), 0 when it kept its configuration (a cable: link lost and back);
   // recovery_refused: the SII identity found (vendor, product, revision, serial);
   // recovery_failed: found[0] = the recovery state that timed out.
   std::array<std::uint32_t, 4> found{};
 };
+
+constexpr std::uint32_t kRecoveredAfterPowerLoss = 1;
 
 struct ProbeRequest {
   std::uint8_t position{0};
@@ -109,7 +113,7 @@ class LinkMonitor {
   // Online recovery: slaves it works on are left out of the restoration probes (it talks to them);
   // recovered() puts slaves back in the exchange (from lost, restored or not operational).
   void set_recovering(SlaveMask slaves) noexcept { recovering_ = slaves; }
-  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
+  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept;
   void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
                       const std::array<std::uint32_t, 4>& found) noexcept;
 

@@ -314,6 +314,7 @@ class Master {
     bool acknowledge{false};         // next AL control write acknowledges an error
     bool withdraw{false};            // searching: first write its station address back to 0
     bool failure_reported{false};
+    bool lost_address{false};        // found with station address 0: its power was cycled
     std::uint16_t adp{0};            // auto-increment address it was found at
     std::uint8_t sdos_pending{0};
     bool sdo_refused{false};

@@ -133,7 +133,7 @@ void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
     case RecoveryState::idle:
       ++recovery_stats_.recovered;
       r.failure_reported = false;
-      monitor_.recovered(bit, cycle_, now);
+      monitor_.recovered(bit, cycle_, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
       break;
     default:
       break;
@@ -178,8 +178,10 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
   }
   if (d.wkc() != 1) return;
   if (station == 0) {
+    r.lost_address = true;
     recovery_input(p, RecoveryInput::answered_unaddressed);
   } else if (station == plan_[p].station_address) {
+    r.lost_address = false;
     recovery_input(p, RecoveryInput::answered_addressed);
   }
   // Any other address: another slave sits at that position (this one is still absent).

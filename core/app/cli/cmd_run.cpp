@@ -17,6 +17,7 @@ const OptionSpec kOptions[] = {
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
+    {"auto-clear-power-cycled", nullptr, "a joint whose drive was power-cycled and brought back online returns to Idle without the operator's clear (unless it moved)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
     {"listen", "ADDR", "IPv4 address the UDP ports bind (default 0.0.0.0)"},
     {"control-port", "PORT", "operator control UDP port (default 47010)"},
@@ -47,6 +48,7 @@ int run_main(const ParsedArgs& args) {
   options.timing_out = args.value("timing-out");
   options.state_dir = args.value("state-dir");
   options.initialize = args.has("initialize");
+  options.auto_clear_power_cycled = args.has("auto-clear-power-cycled");
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
     if (!clear.ok()) {

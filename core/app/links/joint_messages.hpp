@@ -19,6 +19,9 @@ struct LostJointsReport {
   JointMask lost{0};               // every joint found unreachable (may repeat joints already reported)
   std::uint64_t cycle{0};          // the handler cycle that confirmed the loss
   hal::Nanoseconds detected_at{0}; // monotonic time of that cycle
+  // Joints whose drive the master brought back after a power cycle (it had lost its station
+  // address), with `lost` 0: the joint manager may clear them automatically (auto_clear_power_cycled).
+  JointMask back_after_power_cycle{0};
 };
 
 enum class NoticeKind : std::uint8_t {

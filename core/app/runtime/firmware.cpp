@@ -498,6 +498,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(g_links.command_outcomes);
   static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
                                                 &demand_sink, &outcomes});
+  manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
   // key, the socket handler. They see only queues and seqlocks of g_links.

@@ -139,6 +139,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
 void JointManager::step(hal::Nanoseconds now) noexcept {
   (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
   note_returned_joints(now);
+  auto_clear_returned(now);
   LostJointsReport report;
   for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
     handle_report(report, now);
@@ -158,6 +159,20 @@ double JointManager::offset_from_held(std::size_t j) const noexcept {
     if (r.joint == j) return sample_[j].position_rad - drivers::counts_to_rad(r.last_position_counts);
   }
   return 0.0;  // no held position recorded: nothing to compare
+}
+
+void JointManager::auto_clear_returned(hal::Nanoseconds now) noexcept {
+  auto_clear_pending_ &= lost_;
+  JointMask ready = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((auto_clear_pending_ & joint_bit(j)) != 0 && sample_[j].reachable) ready |= joint_bit(j);
+  }
+  if (ready == 0) return;
+  auto_clear_pending_ &= ~ready;
+  (void)clear_lost_joints(ready, now, 0, true);  // refusals (e.g. moved from the held position) are logged
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((ready & joint_bit(j)) != 0 && (lost_ & joint_bit(j)) == 0) (void)dispatch(j, JointInput::reset, now);
+  }
 }
 
 void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
@@ -182,6 +197,12 @@ void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
 
 // Paper section IV-C, steps 1-5; the handler does step 6 when it reads the answer.
 void JointManager::handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept {
+  if (report.lost == 0) {
+    // A drive back after a power cycle: cleared and reset (once it is seen reachable) only when
+    // the configuration says so.
+    if (auto_clear_power_cycled_) auto_clear_pending_ |= report.back_after_power_cycle & lost_;
+    return;
+  }
   const JointMask reported = report.lost & kAllJoints;
   const JointMask fresh = reported & ~lost_;
   emit_step(1, reported, now);
@@ -360,7 +381,8 @@ Status JointManager::clear_lost_joint(std::size_t joint, hal::Nanoseconds now) n
   return clear_lost_joints(joint_bit(joint), now);
 }
 
-Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved) noexcept {
+Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved,
+                                       bool automatic) noexcept {
   // Each joint is judged on its own; the ones that may be cleared leave the file in one durable write.
   Error first_refusal{};
   JointMask accepted = 0;
@@ -409,7 +431,7 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, J
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((accepted & joint_bit(j)) == 0) continue;
     joints_[j].context.loss_latched = false;
-    emit(joint_event(JointEventKind::operator_cleared, j, now));
+    emit(joint_event(automatic ? JointEventKind::auto_cleared : JointEventKind::operator_cleared, j, now));
   }
   JointManagerNotice notice;
   notice.kind = NoticeKind::joints_cleared;

@@ -3,7 +3,8 @@
 // file, the master brings it back to OP by itself and the joint is reachable again ("available"),
 // but it stays in Error, out of service, and the file keeps it, until the operator's clear: then
 // the file drops it durably, the joint goes to Idle and can be enabled again. The other joints keep
-// every period throughout.
+// every period throughout. When the configuration says so, a joint whose drive was power-cycled is
+// cleared and reset automatically; joints lost through a cable are not.
 #include <gtest/gtest.h>
 
 #include "core/app/control/predefined_messages.hpp"
@@ -63,6 +64,38 @@ TEST(RecoveredJoint, ReturnsToServiceOnlyThroughTheOperatorsClear) {
   for (int i = 0; i < 200; ++i) fw.period();
   EXPECT_EQ(fw.manager.statuses()[elbow].state, fsm::JointState::enabled);
   EXPECT_TRUE(drivers::is_enabled(fw.rig->drive(elbow).drive().inputs().statusword));
+}
+
+TEST(RecoveredJoint, APowerCycledDriveIsClearedAutomaticallyWhenConfiguredButACableLossIsNot) {
+  testing::TempStateDir dir;
+  SimulatedFirmware fw(dir.path);
+  fw.manager.set_auto_clear_power_cycled(true);
+  ecat::MasterOptions options;
+  options.online_recovery = true;
+  ASSERT_TRUE(fw.bring_up(options));
+  fw.run_until_op();
+  fw.initialize_robot();
+  for (int i = 0; i < 100; ++i) fw.period();
+  const std::size_t neck = joint_index_by_name("neck_pan");
+  ASSERT_TRUE(fw.rig->segment.power_cycle(slave_position_of_joint(neck), fw.rig->clock.now()).ok());
+  for (int i = 0; i < 10; ++i) fw.period();
+  EXPECT_EQ(recorded_in_file(fw.storage), joint_bit(neck));
+  for (int i = 0; i < 400 && fw.manager.lost_joints() != 0; ++i) fw.period();
+  EXPECT_EQ(fw.manager.lost_joints(), 0u);
+  EXPECT_EQ(recorded_in_file(fw.storage), 0u);
+  EXPECT_EQ(fw.manager.statuses()[neck].state, fsm::JointState::idle);
+
+  // A cable cut and restored: the drives kept their power, so the operator must clear them.
+  const std::size_t wrist = joint_index_by_name("r_wrist_yaw");
+  const JointMask tail = joints_lost_by_link_failure_at(wrist);
+  ASSERT_TRUE(fw.rig->segment.cut_link(slave_position_of_joint(wrist)).ok());
+  for (int i = 0; i < 300; ++i) fw.period();
+  ASSERT_EQ(fw.manager.lost_joints(), tail);
+  ASSERT_TRUE(fw.rig->segment.restore_link(slave_position_of_joint(wrist)).ok());
+  for (int i = 0; i < 600; ++i) fw.period();
+  EXPECT_EQ(fw.rig->bus.master().recovering(), 0u) << "back in OP";
+  EXPECT_EQ(fw.manager.lost_joints(), tail);
+  EXPECT_EQ(recorded_in_file(fw.storage), tail);
 }
 
 }  // namespace
