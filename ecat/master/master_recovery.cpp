@@ -191,7 +191,7 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
   Recovery& r = recovery_[p];
   const std::uint8_t index = link_.index();
   const std::uint16_t station = plan_[p].station_address;
-  std::array<std::uint8_t, 2 * reg::kFmmuSize> bytes{};
+  std::array<std::uint8_t, std::size_t{2} * reg::kFmmuSize> bytes{};
   Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
   const auto write = [&](std::uint16_t ado, std::size_t length) {
     added = frame.add(Command::FPWR, index, make_address(station, ado), static_cast<std::uint16_t>(length),
@@ -227,15 +227,15 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
         break;
       case RecoveryState::mailbox:
         fill_mailbox_sms(p, bytes.data());
-        write(reg::sync_manager(0), 2 * reg::kSyncManagerSize);
+        write(reg::sync_manager(0), std::size_t{2} * reg::kSyncManagerSize);
         break;
       case RecoveryState::process_data:
         if (r.sub == 0) {
           fill_process_data_sms(p, bytes.data());
-          write(reg::sync_manager(2), 2 * reg::kSyncManagerSize);
+          write(reg::sync_manager(2), std::size_t{2} * reg::kSyncManagerSize);
         } else {
           fill_fmmus(p, bytes.data());
-          write(reg::fmmu(kFmmuOutputs), 2 * reg::kFmmuSize);
+          write(reg::fmmu(kFmmuOutputs), std::size_t{2} * reg::kFmmuSize);
         }
         break;
       case RecoveryState::clock:
@@ -296,7 +296,6 @@ void Master::add_recovery_datagrams(FrameBuilder& frame) noexcept {
         s == RecoveryState::startup_sdos) {
       continue;
     }
-    if (frame.remaining_data_capacity() < std::size_t{2} * kDatagramOverhead + 2 * reg::kFmmuSize + 300) break;
     if (add_recovery_step(frame, p)) ++recovery_datagrams_this_cycle_;
   }
   recovery_rotate_ = (recovery_rotate_ + 1) % kMaxSlaves;
@@ -434,7 +433,7 @@ void Master::step_recovery() noexcept {
   }
   const SlaveMask out = monitor_.out_of_exchange() & operated() & ~reintegrating_;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    Recovery& r = recovery_[p];
+    const Recovery& r = recovery_[p];
     const SlaveMask bit = slave_bit(p);
     if (r.state == RecoveryState::idle) {
       if ((out & bit) != 0) recovery_input(p, RecoveryInput::lost);

@@ -146,6 +146,7 @@ struct SlaveRecoveryTable {
   // The row for (from, input), or nullptr: refused.
   static constexpr const RecoveryRow* find(RecoveryState from, RecoveryInput input) noexcept {
     for (const RecoveryRow& row : kRows) {
+      // cppcheck-suppress useStlAlgorithm ; constexpr: std::find_if is constexpr only from C++20
       if (row.from == from && row.input == input) return &row;
     }
     return nullptr;

@@ -1,5 +1,6 @@
 #include "core/app/tasks/joint_manager.hpp"
 
+#include <algorithm>
 #include <cassert>
 
 #include "drivers/joint/joint_units.hpp"
@@ -155,10 +156,10 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
 }
 
 double JointManager::offset_from_held(std::size_t j) const noexcept {
-  for (const LostJointRecord& r : recorded_.records) {
-    if (r.joint == j) return sample_[j].position_rad - drivers::counts_to_rad(r.last_position_counts);
-  }
-  return 0.0;  // no held position recorded: nothing to compare
+  const auto it = std::find_if(recorded_.records.begin(), recorded_.records.end(),
+                               [j](const LostJointRecord& r) { return r.joint == j; });
+  if (it == recorded_.records.end()) return 0.0;  // no held position recorded: nothing to compare
+  return sample_[j].position_rad - drivers::counts_to_rad(it->last_position_counts);
 }
 
 void JointManager::auto_clear_returned(hal::Nanoseconds now) noexcept {
