@@ -156,7 +156,7 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
 }
 
 double JointManager::offset_from_held(std::size_t j) const noexcept {
-  const auto it = std::find_if(recorded_.records.begin(), recorded_.records.end(),
+  const auto* const it = std::find_if(recorded_.records.begin(), recorded_.records.end(),
                                [j](const LostJointRecord& r) { return r.joint == j; });
   if (it == recorded_.records.end()) return 0.0;  // no held position recorded: nothing to compare
   return sample_[j].position_rad - drivers::counts_to_rad(it->last_position_counts);
