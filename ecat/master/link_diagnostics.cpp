@@ -40,8 +40,9 @@ void LinkDiagnostics::observe(std::size_t p, const std::uint8_t* data, std::uint
   ++c.reads;
   for (unsigned n = 0; n < kEscPorts; ++n) {
     PortCounters& port = c.ports[n];
-    const std::uint32_t invalid = data[std::size_t{2} * n];
-    const std::uint32_t rx = data[std::size_t{2} * n + 1];
+    const std::size_t pair = std::size_t{2} * n;  // 0x0300 + 2n: invalid frames, then RX errors
+    const std::uint32_t invalid = data[pair];
+    const std::uint32_t rx = data[pair + 1];
     port.invalid_frames += invalid;
     port.rx_errors += rx;
     port.forwarded_errors += data[reg::kForwardedRxErrorCounter - reg::kRxErrorCounter + n];
