@@ -24,6 +24,7 @@
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -41,14 +42,14 @@ namespace rescue::app {
 namespace {
 
 // Priorities, CPUs and periods: the task table (runtime/task_table.hpp, config/firmware_config.hpp).
-constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
-constexpr int kJointManagerPriority = config::kJointManagerPriority;
-constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
-constexpr int kJointManagerCpu = config::kJointManagerCpu;
+// A configuration file (config/config_file.hpp) may have moved them before the run started.
+int handler_priority() noexcept { return runner_priority(TaskId::ethercat_handler); }
+int manager_priority() noexcept { return runner_priority(TaskId::joint_manager); }
+int handler_cpu() noexcept { return task_spec(TaskId::ethercat_handler).cpu; }
+int manager_cpu() noexcept { return task_spec(TaskId::joint_manager).cpu; }
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
-constexpr int kOperatorCpu = config::kSocketHandlerCpu;  // socket handler and message parser
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
 constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
@@ -171,8 +172,8 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
                   RunState& state) noexcept {
-  apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
-  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
+  apply_thread_rt("ethercat", handler_priority(), handler_cpu());
+  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(handler_cpu()), handler_priority());
   state.tasks_started.fetch_add(1, std::memory_order_release);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
@@ -224,8 +225,8 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 }
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
-  apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
-  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
+  apply_thread_rt("joint-manager", manager_priority(), manager_cpu());
+  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(manager_cpu()), manager_priority());
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
@@ -246,8 +247,9 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
-  apply_thread_rt("message-parser", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
+  const TaskSpec& task = task_spec(TaskId::message_parser);
+  apply_thread_rt("message-parser", runner_priority(task.id), task.cpu);
+  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(task.cpu), runner_priority(task.id));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
@@ -262,8 +264,9 @@ void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noex
 
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
 void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
-  apply_thread_rt("socket-handler", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
+  const TaskSpec& task = task_spec(TaskId::socket_handler);
+  apply_thread_rt("socket-handler", runner_priority(task.id), task.cpu);
+  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(task.cpu), runner_priority(task.id));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
