@@ -30,6 +30,8 @@ const char* to_string(LinkEventKind kind) noexcept {
     case LinkEventKind::restored: return "restored";
     case LinkEventKind::reintegrated: return "reintegrated";
     case LinkEventKind::reintegration_failed: return "reintegration failed";
+    case LinkEventKind::silent: return "silent (no frame came back)";
+    case LinkEventKind::heard_again: return "heard again";
     case LinkEventKind::recovered: return "recovered";
     case LinkEventKind::recovery_refused: return "recovery refused";
     case LinkEventKind::recovery_failed: return "recovery failed";
@@ -47,6 +49,7 @@ void LinkMonitor::start(SlaveMask in_exchange) noexcept {
   pending_lost_ = pending_restored_ = 0;
   silent_frames_.fill(0);
   frames_missing_in_row_ = 0;
+  silence_reported_ = false;
 }
 
 std::uint16_t LinkMonitor::expected_wkc(std::size_t branch) const noexcept {
@@ -81,10 +84,22 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
   if (!frame_received) {
     // Late or missing: no evidence. Suspects stay suspects and are probed again next frame.
     ++frames_missing_;
-    ++frames_missing_in_row_;
+    if (frames_missing_in_row_++ == 0) {
+      silent_since_ = time;
+      silent_since_cycle_ = cycle;
+    }
+    if (!silence_reported_ && time - silent_since_ >= kSilenceAlarm) {
+      silence_reported_ = true;
+      ++silences_;
+      report(LinkEventKind::silent, present_, silent_since_cycle_);
+    }
     return;
   }
   frames_missing_in_row_ = 0;
+  if (silence_reported_) {
+    silence_reported_ = false;
+    report(LinkEventKind::heard_again, present_, cycle);
+  }
   const SlaveMask out_before = out_;
   const bool probed_suspects = (suspect_ & present_) != 0;
   bool silent_seen = false;

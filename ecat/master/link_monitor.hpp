@@ -42,11 +42,15 @@ enum class LinkEventKind : std::uint8_t {
   restored,         // a lost slave answers again (not re-used until re-integrated)
   reintegrated,     // back in the exchange after an explicit re-integration
   reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
+  silent,           // alarm: no frame came back for LinkMonitor::kSilenceAlarm (slaves: those in the exchange)
+  heard_again,      // a frame came back after a `silent` alarm (the probes then say what is lost)
   recovered,        // online recovery brought it back to OP and into the exchange ("available")
   recovery_refused, // online recovery found another device in its place (identity in the report)
   recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
   port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
 };
+constexpr std::size_t kLinkEventKindCount = 11;
+static_assert(static_cast<std::size_t>(LinkEventKind::port_errors) + 1 == kLinkEventKindCount, "every kind counted");
 const char* to_string(LinkEventKind kind) noexcept;
 
 // One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
@@ -89,6 +93,12 @@ class LinkMonitor {
   // N is reported in cycle N + kLossConfirmFrames - 1 when every frame comes back.
   static constexpr std::uint32_t kLossConfirmFrames = 3;
   static constexpr std::size_t kReportCapacity = 32;
+  // No frame back for this long (from the first one that did not come back) raises the link-silence
+  // alarm, once, and a returned frame ends it. Far above host jitter (frames bunched 3 ms late in
+  // issue 11, injected stalls of 3-7 ms), and the default SyncManager watchdog of the drives
+  // (100 ms), which by then has stopped them: the alarm says why. It is not evidence against single
+  // slaves: nothing is reported lost for it (docs/master.md, "A link that returns nothing").
+  static constexpr hal::Nanoseconds kSilenceAlarm = 100 * hal::kNsPerMs;
 
   LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
 
@@ -133,6 +143,9 @@ class LinkMonitor {
   // Cycles whose frame did not come back by its deadline (late or missing), and the current run.
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
   std::uint32_t frames_missing_in_row() const noexcept { return frames_missing_in_row_; }
+  // The link-silence alarm is raised (no frame back for kSilenceAlarm, none since), and how often it was.
+  bool silence_alarm() const noexcept { return silence_reported_; }
+  std::uint64_t silences() const noexcept { return silences_; }
 
  private:
   // True when the probe found a suspect silent (evidence of a loss, not yet confirmed).
@@ -156,6 +169,10 @@ class LinkMonitor {
   std::array<std::uint8_t, kMaxSlaves> silent_frames_{};
   std::uint64_t frames_missing_{0};
   std::uint32_t frames_missing_in_row_{0};
+  hal::Nanoseconds silent_since_{0};        // time of the first frame of the current missing run
+  std::uint64_t silent_since_cycle_{0};
+  bool silence_reported_{false};
+  std::uint64_t silences_{0};
   std::uint64_t cycle_{0};
   hal::Nanoseconds time_{0};
   std::size_t rotate_{0};

@@ -175,6 +175,10 @@ class Master {
   hal::Nanoseconds next_wakeup() const noexcept { return next_wakeup_; }
   MasterState state() const noexcept { return state_; }
   std::uint64_t cycles() const noexcept { return cycle_; }
+  // Periods that had no cycle: a cycle that ended (or a wake-up that came) after the next period's
+  // start skips whole periods to keep the phase. cycles() + skipped_periods() is the number of
+  // periods since the first cycle, so a 2 s run at 1 ms that made 1964 cycles shows 36 here.
+  std::uint64_t skipped_periods() const noexcept { return overruns_; }
 
   // Re-integration of restored slaves (the explicit action after a `restored` report): their
   // FMMUs are written again, an AL error is acknowledged and OP requested, one step per cycle;

@@ -13,6 +13,7 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
+#include "core/app/motion/motion_links.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
@@ -22,11 +23,13 @@
 namespace rescue::app {
 
 // The tasks that publish their timing (TaskLinks::task_stats), in this order.
-enum class StatTask : std::uint8_t { ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3 };
-constexpr std::size_t kTaskStatSlots = 4;
+enum class StatTask : std::uint8_t {
+  ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3, rc_rescue = 4, rc_teleop = 5
+};
+constexpr std::size_t kTaskStatSlots = 6;
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 2;
+  static constexpr std::uint32_t kLayoutVersion = 3;
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
@@ -53,9 +56,12 @@ struct TaskLinks {
   SpscQueue<ControlReply, kReplyQueueDepth> local_replies;        // message parser -> runtime
   SpscQueue<JointCommandOutcome, kOutcomeQueueDepth> command_outcomes;  // joint manager -> message parser
   // Per RC task: its input queue (parser -> task k) and its heartbeat, the monotonic time (ns) of
-  // its latest period, 0 before its first. The RC tasks come later: today every heartbeat stays 0.
+  // its latest period, 0 before its first (tasks/rc_task.hpp writes it; the parser and the
+  // handler's motion intake read it).
   std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs;
   std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks> rc_heartbeat_ns{};
+  // The RC tasks' reference spaces and the Motion owner (core/app/motion/, docs/motion-owner.md).
+  MotionLinks motion;
 };
 static_assert(std::is_standard_layout_v<TaskLinks>, "shared between processes: standard layout only");
 

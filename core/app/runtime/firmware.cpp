@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cinttypes>
 #include <cstdio>
@@ -13,7 +14,9 @@
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/rc_task.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/control/message_parser.hpp"
@@ -47,14 +50,14 @@ int handler_priority() noexcept { return runner_priority(TaskId::ethercat_handle
 int manager_priority() noexcept { return runner_priority(TaskId::joint_manager); }
 int handler_cpu() noexcept { return task_spec(TaskId::ethercat_handler).cpu; }
 int manager_cpu() noexcept { return task_spec(TaskId::joint_manager).cpu; }
+int rc_task_priority() noexcept { return runner_priority(TaskId::rc_tasks); }
+int rc_task_cpu() noexcept { return task_spec(TaskId::rc_tasks).cpu; }
+constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
-constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
-// A scenario without --duration runs this long after it acted, then stops.
-constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
 // Everything the tasks use, in static storage: taken once at start-up, never from the heap.
 TaskLinks g_links;
@@ -66,11 +69,7 @@ ecat::CaptureQueue g_capture_queue;
 constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
-int cpu_for(int wanted) noexcept {
-  const long online = sysconf(_SC_NPROCESSORS_ONLN);
-  if (online <= 0 || wanted < online) return wanted;
-  return static_cast<int>(online - 1);
-}
+int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
@@ -100,35 +99,44 @@ struct RunState {
   std::atomic<bool> scenario_acted{false};
   std::atomic<std::int64_t> op_at{0};
   std::atomic<std::uint64_t> cycles{0};
+  std::atomic<std::uint64_t> late_periods{0};  // as `ctl master` shows them
   std::atomic<int> tasks_started{0};  // tasks past their real-time set-up
   std::atomic<bool> operator_stop{false};  // socket handler and message parser
+  std::atomic<bool> rc_stop{false};        // RC tasks
 };
 
-// One task's period count, misses and worst execution time, published in its TaskLinks::task_stats
-// slot for `ctl tasks` (the histograms of `run --timing-out` are runtime/task_timing.hpp's).
-class TaskStatsPublisher {
+// Each task's page faults during its periods (hal::page_faults_of_thread), written by its thread
+// when it ends, read by the main thread after joining it.
+std::array<hal::PageFaults, kTaskStatSlots> g_task_page_faults{};
+
+// A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
+// for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
+class TaskStats {
  public:
-  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept
-      : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]), stat_{} {
-    protocol::set_text(stat_.name, name);
-    stat_.pid = static_cast<std::int32_t>(::getpid());
-    stat_.cpu = static_cast<std::int16_t>(cpu);
-    stat_.priority = static_cast<std::int16_t>(priority);
+  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept
+      : recorder_(&task_timing()[id]),
+        faults_(&g_task_page_faults[static_cast<std::size_t>(id)]),
+        faults_at_start_(hal::page_faults_of_thread()) {
+    recorder_->start(g_links.task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
   }
-  // A period that started at `start`, due at `due`, ended at `end`.
-  void period(hal::Nanoseconds due, hal::Nanoseconds start, hal::Nanoseconds end, hal::Nanoseconds late_after) noexcept {
-    ++stat_.periods;
-    if (start - due > late_after) ++stat_.missed;
-    const auto exec = static_cast<std::uint64_t>(end > start ? end - start : 0);
-    if (exec > stat_.max_execution_ns) stat_.max_execution_ns = exec;
-    if (stat_.periods % kStatsEvery == 1) slot_->write(stat_);
+  // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
+  void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
+              hal::Nanoseconds late_after) noexcept {
+    recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
   }
-  void publish() noexcept { slot_->write(stat_); }
-  std::uint64_t missed() const noexcept { return stat_.missed; }
+  // The last publication, when the task ends (its page faults since its set-up recorded too).
+  void publish() noexcept {
+    recorder_->publish();
+    const hal::PageFaults now = hal::page_faults_of_thread();
+    faults_->minor = now.minor - faults_at_start_.minor;
+    faults_->major = now.major - faults_at_start_.major;
+  }
+  std::uint64_t missed() const noexcept { return recorder_->missed(); }
 
  private:
-  Seqlock<TaskStat>* slot_;
-  TaskStat stat_;
+  TaskRecorder* recorder_;
+  hal::PageFaults* faults_;
+  hal::PageFaults faults_at_start_;
 };
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
@@ -173,7 +181,7 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
                   RunState& state) noexcept {
   apply_thread_rt("ethercat", handler_priority(), handler_cpu());
-  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(handler_cpu()), handler_priority());
+  TaskStats stats(StatTask::ethercat_handler, "ethercat", cpu_for(handler_cpu()), handler_priority());
   state.tasks_started.fetch_add(1, std::memory_order_release);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
@@ -190,13 +198,14 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     const hal::Nanoseconds now = clock.now();
     // Woke at now - the work's duration: no extra clock read.
     const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
-    timing.handler.record(woke - release, work_start, work_end);
-    stats.period(release, woke, now, hal::kNsPerMs / 2);
+    stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
     master.state = static_cast<std::uint8_t>(r.state);
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
     master.frames_lost = handler.frames_missing();
-    master.late_periods = stats.missed();
+    // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
+    // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
+    master.late_periods = stats.missed() + bus.master().skipped_periods();
     const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
     master.dc_deviation_ns = dc_error;
     const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
@@ -205,6 +214,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.lost = bus.master().monitor().lost();
     g_links.master_status.write(master);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
+    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
       state.op_at.store(now, std::memory_order_relaxed);
@@ -212,7 +222,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     }
     if (scenario.on_cycle(now, op)) {
       state.scenario_acted.store(true, std::memory_order_release);
-      if (options.duration == 0) stop_at = now + kScenarioRunOn;
+      if (options.duration == 0) stop_at = now + options.scenario.run_on;
     }
     if (stopping_since < 0 && (stop_signal() != 0 || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
@@ -226,7 +236,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
   apply_thread_rt("joint-manager", manager_priority(), manager_cpu());
-  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(manager_cpu()), manager_priority());
+  TaskStats stats(StatTask::joint_manager, "joint-manager", cpu_for(manager_cpu()), manager_priority());
   state.tasks_started.fetch_add(1, std::memory_order_release);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
@@ -234,9 +244,8 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
     const hal::Nanoseconds start = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     manager.step(start);
-    timing.manager.record(start - next, work_start, timing.timer.stop());
     g_links.joint_status.write(published_status(manager.statuses()));
-    stats.period(next, start, clock.now(), kJointManagerPeriod / 2);
+    stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
@@ -245,17 +254,40 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
   stats.publish();
 }
 
+// An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
+// heartbeats and reference times the handler's motion intake compares with its own).
+void rc_task_thread(RcTask& task, hal::Clock& clock, RunState& state) noexcept {
+  const bool rescue = task.id() == RcTaskId::rescue;
+  const char* name = rescue ? "rc-rescue" : "rc-teleop";
+  apply_thread_rt(name, rc_task_priority(), rc_task_cpu());
+  TaskStats stats(rescue ? StatTask::rc_rescue : StatTask::rc_teleop, name, cpu_for(rc_task_cpu()), rc_task_priority());
+  state.tasks_started.fetch_add(1, std::memory_order_release);
+  const hal::TscTimer& timer = task_timing().timer;
+  hal::Nanoseconds next = clock.now();
+  while (!state.rc_stop.load(std::memory_order_acquire)) {
+    const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
+    task.period(start);
+    stats.period(next, start, work_start, timer.stop(), kRcTaskPeriod / 2);
+    next += kRcTaskPeriod;
+    clock.sleep_until(next);
+  }
+  stats.publish();
+}
+
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
   const TaskSpec& task = task_spec(TaskId::message_parser);
   apply_thread_rt("message-parser", runner_priority(task.id), task.cpu);
-  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(task.cpu), runner_priority(task.id));
+  TaskStats stats(StatTask::message_parser, "message-parser", cpu_for(task.cpu), runner_priority(task.id));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     parser.step(start);
-    stats.period(next, start, clock.now(), 10 * kParserPeriod);
+    stats.period(next, start, work_start, timer.stop(), 10 * kParserPeriod);
     next += kParserPeriod;
     clock.sleep_until(next);
   }
@@ -266,15 +298,80 @@ void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noex
 void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
   const TaskSpec& task = task_spec(TaskId::socket_handler);
   apply_thread_rt("socket-handler", runner_priority(task.id), task.cpu);
-  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(task.cpu), runner_priority(task.id));
+  TaskStats stats(StatTask::socket_handler, "socket-handler", cpu_for(task.cpu), runner_priority(task.id));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     socket.step(start);
-    stats.period(start, start, clock.now(), hal::kNsPerSec);
+    stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
   }
   stats.publish();
+}
+
+// The logger's side of the joint manager's events: prints what is queued, and how many a full queue
+// dropped since the last pass.
+void print_joint_events(JointEventQueue& events, JointEventPrinter& printer) noexcept {
+  static std::uint64_t dropped_reported = 0;
+  JointEvent e{};
+  while (events.pop(e)) printer.print(e);
+  const std::uint64_t dropped = events.dropped();
+  if (dropped != dropped_reported) {
+    (void)std::printf("joint-manager: event queue full: %" PRIu64 " event(s) not printed (%" PRIu64 " in all)\n",
+                      dropped - dropped_reported, dropped);
+    dropped_reported = dropped;
+  }
+}
+
+// What the logger last printed of the motion (owner, RC task modes and phases).
+struct MotionLog {
+  std::uint64_t owner_word{MotionOwner::kNobody};
+  std::array<RcTaskState, kRcTasksRun> last{};
+  std::array<bool, kRcTasksRun> seen{};
+  std::uint8_t rescue_phase_reached{0};
+};
+
+const char* rc_task_name(std::size_t task) noexcept { return task == 0 ? "rc-rescue" : "rc-teleop"; }
+
+void print_motion_changes(MotionLog& log, hal::Nanoseconds at) noexcept {
+  const std::uint64_t word = g_links.motion.owner.word();
+  if (word != log.owner_word) {
+    log.owner_word = word;
+    const std::uint8_t task = MotionOwner::task_of(word);
+    if (task == kNoOwnerTask) {
+      (void)std::printf("[%8.3f s] motion: no owner (generation %" PRIu64 "): every enabled joint holds its reference\n",
+                        seconds(at), MotionOwner::generation_of(word));
+    } else {
+      (void)std::printf("[%8.3f s] motion: owned by %s (RC task %u, generation %" PRIu64 ")\n", seconds(at),
+                        task < kRcTasksRun ? rc_task_name(task) : "?", static_cast<unsigned>(task),
+                        MotionOwner::generation_of(word));
+    }
+  }
+  for (std::size_t k = 0; k < kRcTasksRun; ++k) {
+    RcTaskState now{};
+    if (!g_links.motion.task_state[k].try_read(now) || now.periods == 0) continue;
+    const RcTaskState& before = log.last[k];
+    const auto mode = static_cast<RcMode>(now.mode);
+    if (!log.seen[k] || now.mode != before.mode || (mode == RcMode::rescue_motion && now.phase != before.phase)) {
+      if (mode == RcMode::rescue_motion) {
+        (void)std::printf("[%8.3f s] %s: rescue motion: %s\n", seconds(at), rc_task_name(k),
+                          kin::to_string(static_cast<kin::RescuePhase>(now.phase)));
+        if (now.phase > log.rescue_phase_reached) log.rescue_phase_reached = now.phase;
+      } else {
+        (void)std::printf("[%8.3f s] %s: %s\n", seconds(at), rc_task_name(k), to_string(mode));
+      }
+    }
+    if (log.seen[k] && now.owns && now.out_of_service != before.out_of_service) {
+      char names[kJointNamesCapacity];
+      format_joint_names(now.out_of_service, names, sizeof names);
+      (void)std::printf("[%8.3f s] %s: joints out of service: %s; locked, the motion goes on with the others\n",
+                        seconds(at), rc_task_name(k), names);
+    }
+    log.last[k] = now;
+    log.seen[k] = true;
+  }
 }
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
@@ -473,12 +570,82 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 }
 }  // namespace
 
+// A scenario's checks once the run stopped: 0, or the exit status after saying what failed.
+int scenario_verdict(const Scenario& wanted, const ScenarioRunner& runner, JointMask lost, JointMask restored,
+                     std::uint64_t healthy_missed, bool file_dirty, const MotionLog& motion,
+                     const MotionIntakeCounters& intake) noexcept {
+  if (wanted.kind == ScenarioKind::none) return 0;
+  if (!runner.acted() || !runner.action_status().ok()) return fail("run", "the scenario's link cut did not happen");
+  if ((lost & wanted.expected_lost) != wanted.expected_lost || (lost & ~(wanted.expected_lost | restored)) != 0) {
+    return fail("run", "the joints marked lost differ from the joints behind the cut");
+  }
+  if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
+  if (file_dirty) return fail("run", "the error-joints file could not be written");
+  if (wanted.rescue_motion) {
+    if (intake.used_periods == 0) return fail("run", "the rescue RC task's references never drove the joints");
+    if (motion.rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
+      return fail("run", "the rescue motion did not reach its end before the stop");
+    }
+  }
+  return 0;
+}
+
+// The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
+struct RunSummary {
+  std::uint64_t cycles{0};
+  std::uint64_t heap_allocations{0};
+  JointMask lost{0};
+  const SocketCounters* socket{nullptr};
+  MotionIntakeCounters intake{};
+  std::uint8_t rescue_phase_reached{0};
+};
+
+void print_run_summary(const RunSummary& s) noexcept {
+  (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: threads of one process\n");
+  (void)std::printf("periods_run: %" PRIu64 "\n", s.cycles);
+  for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
+    TaskStat stat{};
+    if (!g_links.task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
+    char key[protocol::kNameSize + 1];
+    std::size_t n = 0;
+    for (; n < protocol::kNameSize && stat.name[n] != '\0'; ++n) key[n] = stat.name[n] == '-' ? '_' : stat.name[n];
+    key[n] = '\0';
+    const hal::PageFaults& faults = g_task_page_faults[k];
+    (void)std::printf("periods_run_%s: %" PRIu64 "\n", key, stat.periods);
+    (void)std::printf("periods_missed_%s: %" PRIu64 "\n", key, stat.missed);
+    (void)std::printf("max_execution_ns_%s: %" PRIu64 "\n", key, stat.max_execution_ns);
+    (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, faults.minor + faults.major);
+  }
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
+  char names[kJointNamesCapacity];
+  format_joint_names(s.lost, names, sizeof names);
+  std::size_t lost_count = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) lost_count += (s.lost & joint_bit(j)) != 0 ? 1U : 0U;
+  (void)std::printf("joints_lost: %zu\n", lost_count);
+  (void)std::printf("joints_lost_names: %s\n", names);
+  for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+    (void)std::printf("datagrams_rejected_%s: %" PRIu64 "\n", protocol::to_string(static_cast<protocol::Rejection>(i)),
+                      s.socket != nullptr ? s.socket->rejected[i] : 0U);
+  }
+  (void)std::printf("owner_periods: %" PRIu64 "\n", s.intake.owned_periods);
+  (void)std::printf("owner_references_used: %" PRIu64 "\n", s.intake.used_periods);
+  (void)std::printf("owner_misses: %" PRIu64 "\n", s.intake.misses);
+  (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
+  (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
+  RcTaskState rescue{};
+  if (g_links.motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+    (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
+    (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
+  }
+}
+
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
 // NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
-  static JointEventPrinter events(stdout, "joint-manager: ");
+  static JointEventQueue events;  // the joint manager's sink; the logger prints (never its thread)
+  static JointEventPrinter event_printer(stdout, "joint-manager: ");
   static RunState state;
 
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
@@ -561,6 +728,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.joint_status = &g_links.joint_status;
   socket_ports.master = &g_links.master_status;
   socket_ports.tasks = &g_links.task_stats;
+  socket_ports.motion = &g_links.motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
@@ -585,9 +753,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   hal::Nic& nic = *selected.nic();
   hal::Clock& clock = nic.clock();
   const hal::Nanoseconds start = clock.now();
-  events.set_origin(start);
+  event_printer.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
+  print_joint_events(events, event_printer);
   print_restored(restored.restored);
   // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
   // once they do (a clear that cannot be confirmed loses nothing).
@@ -647,7 +816,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   std::thread parser_thread(parser_task, std::ref(parser), std::ref(operator_clock), std::ref(state));
   std::thread socket_thread;
   if (operator_port) socket_thread = std::thread(socket_task, std::ref(socket), std::ref(operator_clock), std::ref(state));
-  const int task_count = operator_port ? 4 : 3;
+  // The two RC tasks compute every period; only the Motion owner's references reach the joints.
+  RcTaskSettings rescue_settings = default_rc_task_settings(RcTaskId::rescue);
+  if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
+  static RcTask rc_rescue(g_links, rescue_settings);
+  static RcTask rc_teleop(g_links, default_rc_task_settings(RcTaskId::teleop));
+  std::thread rescue_thread(rc_task_thread, std::ref(rc_rescue), std::ref(clock), std::ref(state));
+  std::thread teleop_thread(rc_task_thread, std::ref(rc_teleop), std::ref(clock), std::ref(state));
+  const int task_count = operator_port ? 6 : 5;
   // Init is complete once every task is past its set-up (thread start-up allocates).
   hal::MonotonicClock logger_clock;
   while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
@@ -660,6 +836,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   bool scenario_announced = false;
   bool initialized = !(options.initialize || options.scenario.kind != ScenarioKind::none);
   bool clear_sent = to_clear == 0;
+  MotionLog motion_log;
   HandlerEvent event{};
   for (;;) {
     const bool done = state.handler_done.load(std::memory_order_acquire);
@@ -679,6 +856,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       }
     }
     while (handler.pop_event(event)) print_handler_event(event, start);
+    print_joint_events(events, event_printer);
     if (!op_announced && state.op.load(std::memory_order_acquire)) {
       op_announced = true;
       (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
@@ -698,8 +876,18 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
                         seconds(clock.now() - start));
       (void)send_local(protocol::MessageType::initialize, kAllJoints & ~out_of_service);
+      if (options.scenario.rescue_motion) {
+        // After the initialize (the parser takes one request at a time): the rescue RC task takes the motion.
+        (void)std::printf("[%8.3f s] operator: owner %u (the rescue RC task takes the motion)\n",
+                          seconds(clock.now() - start), static_cast<unsigned>(RcTaskId::rescue));
+        ControlRequest take;
+        take.type = protocol::MessageType::take_owner;
+        take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
+        if (!g_links.local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
+      }
     }
     print_local_replies(clock.now() - start);
+    print_motion_changes(motion_log, clock.now() - start);
     (void)std::fflush(stdout);
     if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
     if (done) break;
@@ -726,9 +914,13 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   state.operator_stop.store(true, std::memory_order_release);
   parser_thread.join();
   if (socket_thread.joinable()) socket_thread.join();
+  state.rc_stop.store(true, std::memory_order_release);
+  rescue_thread.join();
+  teleop_thread.join();
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   while (handler.pop_event(event)) print_handler_event(event, start);
+  print_joint_events(events, event_printer);
 
   // 6. What happened.
   const HeapGuardCounters heap = heap_guard_counters();
@@ -737,10 +929,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
   if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
+  const std::uint64_t skipped = handler.bus().master().skipped_periods();
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
-                    " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
-                    fsm::to_string(manager.summary().condition));
+                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
+                    " not run); lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, handler.frames_missing(), state.late_periods.load(), skipped,
+                    lost_names, fsm::to_string(manager.summary().condition));
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::uint64_t m = handler.missed_cycles(joint_bit(j) & ~lost);
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
@@ -773,18 +967,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
   }
 
-  if (options.scenario.kind == ScenarioKind::link_cut) {
-    if (!scenario.acted() || !scenario.action_status().ok()) return fail("run", "the scenario's link cut did not happen");
-    if ((lost & options.scenario.expected_lost) != options.scenario.expected_lost ||
-        (lost & ~(options.scenario.expected_lost | restored.restored)) != 0) {
-      return fail("run", "the joints marked lost differ from the joints behind the cut");
-    }
-    if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
-    if (manager.file_dirty()) return fail("run", "the error-joints file could not be written");
+  const int verdict = scenario_verdict(options.scenario, scenario, lost, restored.restored, healthy_missed,
+                                       manager.file_dirty(), motion_log, handler.motion_intake().counters());
+  if (verdict == 0 && options.scenario.kind != ScenarioKind::none) {
     (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
+  RunSummary summary;
+  summary.cycles = state.cycles.load();
+  summary.heap_allocations = heap.allocations;
+  summary.lost = lost;
+  summary.socket = operator_port ? &counted : nullptr;
+  summary.intake = handler.motion_intake().counters();
+  summary.rescue_phase_reached = motion_log.rescue_phase_reached;
+  print_run_summary(summary);
+  if (verdict != 0) return verdict;
   return robot_exit(manager.summary().condition);
 }
 

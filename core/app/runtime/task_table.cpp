@@ -1,5 +1,7 @@
 #include "core/app/runtime/task_table.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cinttypes>
 #include <iterator>
@@ -21,7 +23,7 @@ TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variab
   {TaskId::joint_manager, "joint manager", config::kJointManagerPriority, config::kJointManagerCpu, config::kJointManagerPeriodNs,
    "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp"},
   {TaskId::rc_tasks, "RC tasks", config::kRcTaskPriority, config::kRcTaskCpu, config::kRcTaskPeriodNs,
-   "yes (own reference space)", "kinematics: next joint references every period", "not built yet (issue: RC tasks)"},
+   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rc_task.cpp, motion/"},
   {TaskId::ethercat_handler, "EtherCAT handler", config::kEthercatHandlerPriority, config::kEthercatHandlerCpu, config::kEthercatHandlerPeriodNs,
    "yes", "one frame with every slave per period; joint state, references, limits, safe stop", "tasks/ethercat_handler.cpp"},
 };
@@ -36,6 +38,12 @@ TaskSpec* find_task(TaskId id) noexcept {
 }  // namespace
 
 Span<const TaskSpec> task_table() noexcept { return {kTasks}; }
+
+int table_cpu_on_this_machine(int wanted) noexcept {
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  if (online <= 0 || wanted < online) return wanted;
+  return static_cast<int>(online - 1);
+}
 
 const TaskSpec& task_spec(TaskId id) noexcept {
   const TaskSpec* found = find_task(id);

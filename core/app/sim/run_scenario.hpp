@@ -7,11 +7,17 @@
 //             station address): l_elbow is lost, and the master's online recovery brings it back
 //   cable-damage  one second after OP, 5 frames are damaged on the cable into l_elbow's port 0: the
 //             link diagnostics count them and warn, naming the cable; no joint is lost
+//   rescue    the robot is initialized and the rescue RC task takes the motion (the runtime sends
+//             "initialize robot" and `owner 0`): the approach to the ready posture (1.6 s), then
+//             lowering, forwarding, backwarding (1 s each); 3 s after OP, in the forwarding phase,
+//             the cable into l_elbow is cut; the motion goes on with the remaining joints; the run
+//             stops cleanly 2.5 s after the cut (docs/motion-owner.md)
 //
 // The scenario acts from the EtherCAT handler's thread, between two cycles (the simulated segment
 // is driven by that thread's frames), and only on the simulated NIC.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/base/result.hpp"
@@ -21,7 +27,7 @@
 
 namespace rescue::app {
 
-enum class ScenarioKind : std::uint8_t { none, link_cut, power_cycle, cable_damage };
+enum class ScenarioKind : std::uint8_t { none, link_cut, rescue, power_cycle, cable_damage };
 
 struct Scenario {
   ScenarioKind kind{ScenarioKind::none};
@@ -29,6 +35,9 @@ struct Scenario {
   std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
+  hal::Nanoseconds run_on{0};           // after acting, the run goes on this long (without --duration)
+  bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
+  std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
 };
 
 // Parses --scenario (nullptr: none). Unknown names are an error naming the known ones.
