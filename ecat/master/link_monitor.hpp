@@ -44,9 +44,13 @@ enum class LinkEventKind : std::uint8_t {
   reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
   silent,           // alarm: no frame came back for LinkMonitor::kSilenceAlarm (slaves: those in the exchange)
   heard_again,      // a frame came back after a `silent` alarm (the probes then say what is lost)
+  recovered,        // online recovery brought it back to OP and into the exchange ("available")
+  recovery_refused, // online recovery found another device in its place (identity in the report)
+  recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
+  port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
 };
-constexpr std::size_t kLinkEventKindCount = 7;
-static_assert(static_cast<std::size_t>(LinkEventKind::heard_again) + 1 == kLinkEventKindCount, "every kind counted");
+constexpr std::size_t kLinkEventKindCount = 11;
+static_assert(static_cast<std::size_t>(LinkEventKind::port_errors) + 1 == kLinkEventKindCount, "every kind counted");
 const char* to_string(LinkEventKind kind) noexcept;
 
 // One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
@@ -59,7 +63,14 @@ struct LinkReport {
   std::uint64_t cycle{0};           // cycle in which it was established
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
   hal::Nanoseconds time{0};
+  // recovered: found[0] = kRecoveredAfterPowerLoss when the slave had lost its station address (its
+  // power was cycled), 0 when it kept its configuration (a cable: link lost and back);
+  // recovery_refused: the SII identity found (vendor, product, revision, serial);
+  // recovery_failed: found[0] = the recovery state that timed out.
+  std::array<std::uint32_t, 4> found{};
 };
+
+constexpr std::uint32_t kRecoveredAfterPowerLoss = 1;
 
 struct ProbeRequest {
   std::uint8_t position{0};
@@ -109,6 +120,13 @@ class LinkMonitor {
   void reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
                             std::uint16_t al_code) noexcept;
 
+  // Online recovery: slaves it works on are left out of the restoration probes (it talks to them);
+  // recovered() puts slaves back in the exchange (from lost, restored or not operational).
+  void set_recovering(SlaveMask slaves) noexcept { recovering_ = slaves; }
+  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept;
+  void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                      const std::array<std::uint32_t, 4>& found) noexcept;
+
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
 
   SlaveMask in_exchange() const noexcept { return present_; }
@@ -134,7 +152,7 @@ class LinkMonitor {
   bool observe_probe(const ProbeResult& probe) noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
   void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
-              std::uint16_t al_code = 0) noexcept;
+              std::uint16_t al_code = 0, const std::array<std::uint32_t, 4>& found = {}) noexcept;
 
   const NetworkPlan& plan_;
   const ProcessImageLayout& layout_;
@@ -145,6 +163,7 @@ class LinkMonitor {
   SlaveMask fmmus_cleared_{0}; // out slaves whose FMMU activation is confirmed off
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
+  SlaveMask recovering_{0};    // online recovery works on them: no restoration probes
   std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
   // Returned frames in a row that showed the slave unreachable (counter, then silent probes).
   std::array<std::uint8_t, kMaxSlaves> silent_frames_{};

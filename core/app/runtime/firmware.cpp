@@ -145,6 +145,15 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
   const double t = seconds(e.time - start);
   switch (e.kind) {
     case HandlerEventKind::link_report:
+      if (e.link.kind == ecat::LinkEventKind::port_errors) {
+        // found: port, the slave at the cable's other end, errors so far (ecat/master/link_diagnostics.hpp).
+        const std::uint8_t slave = drivers::first_slave(e.link.slaves);
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": receive errors rising on %s port %" PRIu32
+                          " (%" PRIu32 " so far): check the cable between %s and %s\n",
+                          t, e.cycle, drivers::slave_end_name(slave), e.link.found[0], e.link.found[2],
+                          drivers::slave_end_name(static_cast<std::uint8_t>(e.link.found[1])), drivers::slave_end_name(slave));
+        break;
+      }
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;
@@ -659,6 +668,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(g_links.command_outcomes);
   static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
                                                 &demand_sink, &outcomes});
+  manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
   // key, the socket handler. They see only queues and seqlocks of g_links.
@@ -773,6 +783,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
+  master_options.online_recovery = true;  // returning slaves back to OP while cycling (docs/master.md)
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
@@ -834,8 +845,11 @@ int run_firmware(const FirmwareOptions& options) noexcept {
       char names[kJointNamesCapacity];
       format_joint_names(options.scenario.expected_lost, names, sizeof names);
       if (scenario.action_status().ok()) {
-        (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
-                          seconds(scenario.acted_at() - start), options.scenario.name,
+        (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n", seconds(scenario.acted_at() - start),
+                          options.scenario.name,
+                          options.scenario.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
+                          : options.scenario.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
+                                                                                : "cut the link into",
                           kJoints[options.scenario.cut_joint].name, names);
       } else {
         (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);

@@ -35,6 +35,7 @@ struct FirmwareOptions {
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)
   bool initialize{false};            // send "initialize robot" once the network is in OP
   JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)
+  bool auto_clear_power_cycled{false};  // a joint whose drive was power-cycled and recovered is cleared automatically
   // The operator's path in (docs/protocol.md): UDP ports, and the pre-shared key file.
   const char* listen{"0.0.0.0"};
   std::uint16_t control_port{47010};
