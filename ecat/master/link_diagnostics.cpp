@@ -18,7 +18,9 @@ void LinkDiagnostics::reset() noexcept {
   counters_.fill(SlaveErrorCounters{});
   for (auto& s : score_) s.fill(0);
   for (auto& w : warned_) w.fill(false);
+  ever_warned_.fill(0);
   rotate_ = 0;
+  sweeps_ = 0;
   PortErrorWarning drop;
   while (warnings_.pop(drop)) {
   }
@@ -28,6 +30,7 @@ std::size_t LinkDiagnostics::next(SlaveMask candidates) noexcept {
   for (std::size_t i = 0; i < kMaxSlaves; ++i) {
     const std::size_t p = (rotate_ + i) % kMaxSlaves;
     if ((candidates & slave_bit(p)) == 0) continue;
+    if (p < rotate_) ++sweeps_;  // wrapped around: the previous sweep is complete
     rotate_ = p + 1;
     return p;
   }
@@ -51,6 +54,7 @@ void LinkDiagnostics::observe(std::size_t p, const std::uint8_t* data, std::uint
     score = score - score / 8 + kScorePerError * (invalid + rx);
     if (!warned_[p][n] && score >= kWarnScore) {
       warned_[p][n] = true;
+      ever_warned_[p] = static_cast<std::uint8_t>(ever_warned_[p] | (1U << n));
       PortErrorWarning w;
       w.slave = static_cast<std::uint8_t>(p);
       w.port = static_cast<std::uint8_t>(n);

@@ -75,6 +75,12 @@ class LinkDiagnostics {
   void observe(std::size_t position, const std::uint8_t* data, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
 
   const SlaveErrorCounters& counters(std::size_t position) const noexcept { return counters_[position]; }
+  // Whether `port` of `position` is in warning (raised, not yet re-armed).
+  bool warned(std::size_t position, unsigned port) const noexcept { return warned_[position][port]; }
+  // Whether `port` of `position` was ever warned about since the last reset (stays set once quiet).
+  bool ever_warned(std::size_t position, unsigned port) const noexcept { return ((ever_warned_[position] >> port) & 1U) != 0; }
+  // Completed round-robin sweeps (next() wrapped around): a low-rate moment to publish the table.
+  std::uint64_t sweeps() const noexcept { return sweeps_; }
   [[nodiscard]] bool pop_warning(PortErrorWarning& out) noexcept { return warnings_.pop(out); }
   std::uint64_t warnings_dropped() const noexcept { return warnings_dropped_; }
 
@@ -87,7 +93,9 @@ class LinkDiagnostics {
   std::array<SlaveErrorCounters, kMaxSlaves> counters_{};
   std::array<std::array<std::uint32_t, kEscPorts>, kMaxSlaves> score_{};
   std::array<std::array<bool, kEscPorts>, kMaxSlaves> warned_{};
+  std::array<std::uint8_t, kMaxSlaves> ever_warned_{};  // bit n: port n
   std::size_t rotate_{0};
+  std::uint64_t sweeps_{0};
   RingBuffer<PortErrorWarning, kWarningCapacity> warnings_{};
   std::uint64_t warnings_dropped_{0};
 };

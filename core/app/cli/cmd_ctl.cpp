@@ -12,6 +12,7 @@
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"
 #include "core/robot/joint_fault.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/net/udp_socket.hpp"
@@ -175,6 +176,77 @@ void print_tasks(const Message& m, bool json) noexcept {
   if (json) (void)std::printf("]}\n");
 }
 
+// The slave at the other end of the cable on `slave`'s `port` (ecat::cable_peer on the robot's plan).
+const char* cable_peer_name(std::size_t slave, unsigned port) noexcept {
+  return drivers::slave_end_name(ecat::cable_peer(drivers::kRobotNetworkPlan, slave, port));
+}
+
+// A port's warning: "rising" (errors rising now), "earlier" (warned since bring-up, quiet now), "none".
+const char* warning_state(const protocol::DiagSlaveRecord& s, unsigned port) noexcept {
+  if ((s.warned & (1U << port)) != 0) return "rising";
+  return (s.warned_before & (1U << port)) != 0 ? "earlier" : "none";
+}
+
+// Like IgH's `ethercat crc`: per slave and port invalid frames / RX errors / forwarded RX errors /
+// lost links, then the processing-unit and PDI errors; '!' marks a port in warning, whose cable is
+// named below the table ('*': warned earlier, quiet now).
+void print_diag(const Message& m, bool json) noexcept {
+  const protocol::DiagPayload& d = m.diag;
+  if (json) {
+    (void)std::printf("{\"cycle\":%" PRIu64 ",\"sweeps\":%" PRIu64 ",\"slaves\":[", d.cycle, d.sweeps);
+    for (std::size_t i = 0; i < d.count; ++i) {
+      const protocol::DiagSlaveRecord& s = d.slaves[i];
+      (void)std::printf(R"(%s{"position":%zu,"name":"%s","ports":[)", i == 0 ? "" : ",", i, drivers::slave_end_name(static_cast<std::uint8_t>(i)));
+      for (unsigned n = 0; n < protocol::kDiagPorts; ++n) {
+        const protocol::DiagPortRecord& p = s.ports[n];
+        (void)std::printf(R"(%s{"port":%u,"invalid_frames":%u,"rx_errors":%u,"forwarded_rx_errors":%u,"lost_links":%u,"warning":"%s","cable_to":"%s"})",
+                          n == 0 ? "" : ",", n, static_cast<unsigned>(p.invalid_frames), static_cast<unsigned>(p.rx_errors),
+                          static_cast<unsigned>(p.forwarded_errors), static_cast<unsigned>(p.lost_links),
+                          warning_state(s, n), cable_peer_name(i, n));
+      }
+      (void)std::printf(R"(],"processing_unit_errors":%u,"pdi_errors":%u,"reads":%u})",
+                        static_cast<unsigned>(s.processing_unit_errors), static_cast<unsigned>(s.pdi_errors),
+                        static_cast<unsigned>(s.reads));
+    }
+    (void)std::printf("]}\n");
+    return;
+  }
+  if (d.cycle == 0) {
+    (void)std::printf("no diagnostics sweep completed yet (the master reads them in OP)\n");
+    return;
+  }
+  (void)std::printf("cycle %" PRIu64 ", %" PRIu64 " sweeps; per port: invalid frames/RX errors/forwarded RX errors/lost links\n",
+                    d.cycle, d.sweeps);
+  (void)std::printf("%-3s %-16s", "POS", "SLAVE");
+  for (unsigned n = 0; n < protocol::kDiagPorts; ++n) (void)std::printf(" %-17s", n == 0 ? "PORT 0" : n == 1 ? "PORT 1" : n == 2 ? "PORT 2" : "PORT 3");
+  (void)std::printf(" %5s %5s %6s\n", "EPU", "PDI", "READS");
+  for (std::size_t i = 0; i < d.count; ++i) {
+    const protocol::DiagSlaveRecord& s = d.slaves[i];
+    (void)std::printf("%-3zu %-16s", i, drivers::slave_end_name(static_cast<std::uint8_t>(i)));
+    for (unsigned n = 0; n < protocol::kDiagPorts; ++n) {
+      const protocol::DiagPortRecord& p = s.ports[n];
+      char cell[24];
+      (void)std::snprintf(cell, sizeof cell, "%u/%u/%u/%u%s", static_cast<unsigned>(p.invalid_frames),
+                          static_cast<unsigned>(p.rx_errors), static_cast<unsigned>(p.forwarded_errors),
+                          static_cast<unsigned>(p.lost_links),
+                          (s.warned & (1U << n)) != 0 ? " !" : (s.warned_before & (1U << n)) != 0 ? " *" : "");
+      (void)std::printf(" %-17s", cell);
+    }
+    (void)std::printf(" %5u %5u %6u\n", static_cast<unsigned>(s.processing_unit_errors), static_cast<unsigned>(s.pdi_errors),
+                      static_cast<unsigned>(s.reads));
+  }
+  for (std::size_t i = 0; i < d.count; ++i) {
+    for (unsigned n = 0; n < protocol::kDiagPorts; ++n) {
+      const char* state = warning_state(d.slaves[i], n);
+      if (std::strcmp(state, "none") == 0) continue;
+      (void)std::printf("warning (%s): receive errors on %s port %u: check the cable between %s and %s\n",
+                        std::strcmp(state, "rising") == 0 ? "!, rising now" : "*, earlier, quiet now",
+                        drivers::slave_end_name(static_cast<std::uint8_t>(i)), n, cable_peer_name(i, n),
+                        drivers::slave_end_name(static_cast<std::uint8_t>(i)));
+    }
+  }
+}
+
 int print_reply(const char* verb, const Message& m, bool json) noexcept {
   const protocol::ReplyPayload& r = m.reply;
   const bool accepted = r.outcome == protocol::Outcome::accepted;
@@ -262,6 +334,7 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::slaves: print_slaves(m, json); return 0;
     case MessageType::master: print_master(m, json); return 0;
     case MessageType::tasks: print_tasks(m, json); return 0;
+    case MessageType::diag: print_diag(m, json); return 0;
     case MessageType::reply: return print_reply(verb, m, json);
     default: return fail("ctl", "unexpected answer type");
   }
@@ -275,7 +348,8 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     MessageType type;
   };
   static constexpr Simple kQueries[] = {{"status", MessageType::get_status}, {"slaves", MessageType::get_slaves},
-                                        {"master", MessageType::get_master}, {"tasks", MessageType::get_tasks}};
+                                        {"master", MessageType::get_master}, {"tasks", MessageType::get_tasks},
+                                        {"diag", MessageType::get_diag}};
   for (const Simple& q : kQueries) {
     if (std::strcmp(verb, q.verb) == 0) {
       m.header.type = q.type;
@@ -393,6 +467,7 @@ const CommandSpec kCtlCommand{
     "ctl", "ctl [OPTIONS] VERB [ARGS]", "operator client: query and command a running firmware (docs/operator.md)",
     "Verbs:\n"
     "  status | slaves | master | tasks     the robot's joints, EtherCAT slaves, master counters, tasks\n"
+    "  diag                                 link-quality counters per slave and port, warnings naming the cable\n"
     "  watch                                status, refreshed in place (--interval, --count)\n"
     "  init [JOINTS]                        'initialize robot': mode, reference := position, enable\n"
     "  enable [JOINTS] | disable [JOINTS]   DFA enable / disable (JOINTS: comma-separated names or all)\n"

@@ -25,8 +25,11 @@ constexpr std::size_t kSlaveRecordSize = 32;
 constexpr std::size_t kMasterSize = 112;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
+constexpr std::size_t kDiagHeadSize = 24;
+constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload,
+                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
+                  kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -347,6 +350,33 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
   return Status::success();
 }
 
+Status decode_diag(ConstByteSpan payload, Message& m) noexcept {
+  if (payload.size() < kDiagHeadSize) return malformed("payload shorter than its diag header", payload.size());
+  Reader r(payload);
+  m.diag.count = r.u8();
+  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  if (m.diag.count > kMaxSlaves) return out_of_range("slave count");
+  RESCUE_TRY(check_length(payload, kDiagHeadSize + m.diag.count * kDiagRecordSize));
+  m.diag.cycle = r.u64();
+  m.diag.sweeps = r.u64();
+  for (std::size_t i = 0; i < m.diag.count; ++i) {
+    DiagSlaveRecord& d = m.diag.slaves[i];
+    for (DiagPortRecord& p : d.ports) {
+      p.invalid_frames = r.u16();
+      p.rx_errors = r.u16();
+      p.forwarded_errors = r.u16();
+      p.lost_links = r.u16();
+    }
+    d.processing_unit_errors = r.u16();
+    d.pdi_errors = r.u16();
+    d.reads = r.u16();
+    d.warned = r.u8();
+    d.warned_before = r.u8();
+    if (((d.warned | d.warned_before) & ~kDiagWarnedMask) != 0) return out_of_range("warned ports");
+  }
+  return Status::success();
+}
+
 }  // namespace
 
 const char* to_string(MessageType type) noexcept {
@@ -355,6 +385,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::get_slaves: return "get_slaves";
     case MessageType::get_master: return "get_master";
     case MessageType::get_tasks: return "get_tasks";
+    case MessageType::get_diag: return "get_diag";
     case MessageType::initialize: return "initialize";
     case MessageType::enable: return "enable";
     case MessageType::disable: return "disable";
@@ -371,6 +402,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::slaves: return "slaves";
     case MessageType::master: return "master";
     case MessageType::tasks: return "tasks";
+    case MessageType::diag: return "diag";
   }
   return "?";
 }
@@ -381,6 +413,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::get_slaves:
     case MessageType::get_master:
     case MessageType::get_tasks:
+    case MessageType::get_diag:
     case MessageType::initialize:
     case MessageType::enable:
     case MessageType::disable:
@@ -397,6 +430,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::slaves:
     case MessageType::master:
     case MessageType::tasks:
+    case MessageType::diag:
       return true;
   }
   return false;
@@ -404,7 +438,7 @@ bool is_known(std::uint8_t type) noexcept {
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return t >= 0x01 && t <= 0x04;
+  return t >= 0x01 && t <= 0x05;
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
@@ -491,6 +525,7 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::get_slaves:
     case MessageType::get_master:
     case MessageType::get_tasks:
+    case MessageType::get_diag:
       s = check_length(payload, 0);
       break;
     case MessageType::initialize:
@@ -511,6 +546,7 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::slaves: s = decode_slaves(payload, m); break;
     case MessageType::master: s = decode_master(payload, m); break;
     case MessageType::tasks: s = decode_tasks(payload, m); break;
+    case MessageType::diag: s = decode_diag(payload, m); break;
   }
   if (!s.ok()) return s.error();
   return m;
@@ -537,6 +573,7 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::get_slaves:
     case MessageType::get_master:
     case MessageType::get_tasks:
+    case MessageType::get_diag:
       break;
     case MessageType::initialize:
     case MessageType::enable:
@@ -658,6 +695,28 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
           w.u32(f->p999);
           w.u32(f->p9999);
         }
+      }
+      break;
+    }
+    case MessageType::diag: {
+      const std::size_t count = m.diag.count <= kMaxSlaves ? m.diag.count : kMaxSlaves;
+      w.u8(static_cast<std::uint8_t>(count));
+      w.zeros(7);
+      w.u64(m.diag.cycle);
+      w.u64(m.diag.sweeps);
+      for (std::size_t i = 0; i < count; ++i) {
+        const DiagSlaveRecord& d = m.diag.slaves[i];
+        for (const DiagPortRecord& p : d.ports) {
+          w.u16(p.invalid_frames);
+          w.u16(p.rx_errors);
+          w.u16(p.forwarded_errors);
+          w.u16(p.lost_links);
+        }
+        w.u16(d.processing_unit_errors);
+        w.u16(d.pdi_errors);
+        w.u16(d.reads);
+        w.u8(d.warned);
+        w.u8(d.warned_before);
       }
       break;
     }

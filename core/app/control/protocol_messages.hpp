@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "core/robot/robot.hpp"
 #include "core/timing/period_recorder.hpp"
@@ -36,6 +37,7 @@ enum class MessageType : std::uint8_t {
   get_slaves = 0x02,
   get_master = 0x03,
   get_tasks = 0x04,
+  get_diag = 0x05,
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -54,6 +56,7 @@ enum class MessageType : std::uint8_t {
   slaves = 0x82,
   master = 0x83,
   tasks = 0x84,
+  diag = 0x85,
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -230,6 +233,33 @@ struct TasksPayload {
   std::array<TaskRecord, kMaxTasks> tasks{};
 };
 
+// Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each
+// slave, accumulated since bring-up, saturated at 65535 on the wire.
+constexpr std::size_t kDiagPorts = 4;
+constexpr std::uint8_t kDiagWarnedMask = 0x0F;  // one bit per port
+struct DiagPortRecord {
+  std::uint16_t invalid_frames;
+  std::uint16_t rx_errors;
+  std::uint16_t forwarded_errors;
+  std::uint16_t lost_links;
+};
+struct DiagSlaveRecord {
+  std::array<DiagPortRecord, kDiagPorts> ports;
+  std::uint16_t processing_unit_errors;
+  std::uint16_t pdi_errors;
+  std::uint16_t reads;     // answers taken
+  std::uint8_t warned;     // bit n: port n's receive errors are rising now (the master warned)
+  std::uint8_t warned_before;  // bit n: the master warned about port n since bring-up (sticky)
+};
+// Also the record the EtherCAT handler's loop publishes (TaskLinks::link_diag): trivial (copied
+// by a seqlock), pointer-free, fixed size: value-initialise these records.
+struct DiagPayload {
+  std::uint64_t cycle;    // the handler cycle of the snapshot, 0: none published yet
+  std::uint64_t sweeps;   // completed round-robin sweeps of the counters
+  std::uint8_t count;
+  std::array<DiagSlaveRecord, kMaxSlaves> slaves;
+};
+
 // One decoded message: the header and the payload of its type (only that member is meaningful).
 struct Message {
   Header header{};
@@ -244,6 +274,8 @@ struct Message {
   SlavesPayload slaves{};
   MasterPayload master{};
   TasksPayload tasks{};
+  DiagPayload diag{};
 };
+static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 
 }  // namespace rescue::app::protocol

@@ -137,6 +137,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         }
       }
       break;
+    case MessageType::get_diag:
+      m.header.type = MessageType::diag;
+      if (ports_.diag != nullptr && !ports_.diag->try_read(m.diag)) m.diag = protocol::DiagPayload{};
+      break;
     default:
       return;
   }

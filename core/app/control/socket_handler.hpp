@@ -46,6 +46,7 @@ struct SocketHandlerPorts {
   const Seqlock<RobotSample>* samples{nullptr};
   const Seqlock<RobotJointStatus>* joint_status{nullptr};
   const Seqlock<MasterStatus>* master{nullptr};
+  const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
 };

@@ -29,7 +29,7 @@ enum class StatTask : std::uint8_t {
 constexpr std::size_t kTaskStatSlots = 6;
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 3;
+  static constexpr std::uint32_t kLayoutVersion = 4;
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
@@ -47,6 +47,7 @@ struct TaskLinks {
   // The operator's path in (docs/protocol.md, docs/operator.md).
   Seqlock<RobotJointStatus> joint_status;                         // joint manager -> socket handler (status), parser
   Seqlock<MasterStatus> master_status;                            // EtherCAT handler's loop -> socket handler
+  Seqlock<protocol::DiagPayload> link_diag;                       // EtherCAT handler's loop -> socket handler (per sweep)
   Seqlock<SensorData> sensors;                                    // socket handler -> RC tasks (IMU, GPS)
   Seqlock<SocketCounters> socket_counters;                        // socket handler -> status, run summary
   std::array<Seqlock<TaskStat>, kTaskStatSlots> task_stats;       // each task its own slot (StatTask)

@@ -178,6 +178,37 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
   }
 }
 
+std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
+
+// The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
+// 23 reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB.
+void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps) noexcept {
+  if (d.sweeps() == published_sweeps) return;
+  published_sweeps = d.sweeps();
+  protocol::DiagPayload out{};
+  out.cycle = cycle;
+  out.sweeps = d.sweeps();
+  out.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+  static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one diag message");
+  static_assert(ecat::kEscPorts == protocol::kDiagPorts, "one record per ESC port");
+  for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
+    const ecat::SlaveErrorCounters& c = d.counters(p);
+    protocol::DiagSlaveRecord& s = out.slaves[p];
+    for (unsigned n = 0; n < ecat::kEscPorts; ++n) {
+      s.ports[n].invalid_frames = saturate16(c.ports[n].invalid_frames);
+      s.ports[n].rx_errors = saturate16(c.ports[n].rx_errors);
+      s.ports[n].forwarded_errors = saturate16(c.ports[n].forwarded_errors);
+      s.ports[n].lost_links = saturate16(c.ports[n].lost_links);
+      if (d.warned(p, n)) s.warned = static_cast<std::uint8_t>(s.warned | (1U << n));
+      if (d.ever_warned(p, n)) s.warned_before = static_cast<std::uint8_t>(s.warned_before | (1U << n));
+    }
+    s.processing_unit_errors = saturate16(c.processing_unit_errors);
+    s.pdi_errors = saturate16(c.pdi_errors);
+    s.reads = saturate16(c.reads);
+  }
+  g_links.link_diag.write(out);
+}
+
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
                   RunState& state) noexcept {
   apply_thread_rt("ethercat", handler_priority(), handler_cpu());
@@ -189,6 +220,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   hal::Nanoseconds stopping_since = -1;
   TaskTiming& timing = task_timing();
   MasterStatus master{};
+  std::uint64_t diag_sweeps = 0;
   for (;;) {
     const hal::Nanoseconds release = bus.next_wakeup();
     clock.sleep_until(release);
@@ -213,6 +245,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.in_exchange = bus.master().monitor().in_exchange();
     master.lost = bus.master().monitor().lost();
     g_links.master_status.write(master);
+    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     state.late_periods.store(master.late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
@@ -727,6 +760,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.samples = &g_links.samples;
   socket_ports.joint_status = &g_links.joint_status;
   socket_ports.master = &g_links.master_status;
+  socket_ports.diag = &g_links.link_diag;
   socket_ports.tasks = &g_links.task_stats;
   socket_ports.motion = &g_links.motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
