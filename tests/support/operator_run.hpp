@@ -73,10 +73,11 @@ inline CommandResult run_program(const std::vector<std::string>& args) {
 }
 
 // `rescue-motion run` on the simulator with the operator ports on 127.0.0.1, a fresh key made by
-// `ctl keygen` (its output kept in `keygen`), stopped by SIGTERM in stop() (or by its --duration).
+// `ctl keygen` (its output kept in `keygen`), stopped by SIGTERM in stop() (or by its --duration);
+// `scenario` (optional) is passed as --scenario NAME.
 class OperatorRun {
  public:
-  explicit OperatorRun(const char* duration = "60") {
+  explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr) {
     control_port = free_udp_port();
     sensor_port = free_udp_port();
     while (sensor_port == control_port) sensor_port = free_udp_port();
@@ -90,9 +91,12 @@ class OperatorRun {
       const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
       (void)::dup2(fd, 1);
       (void)::dup2(fd, 2);
-      ::execl(rescue_binary().c_str(), rescue_binary().c_str(), "run", "--state-dir", dir.path.c_str(), "--key",
-              key.c_str(), "--listen", "127.0.0.1", "--control-port", control.c_str(), "--sensor-port", sensor.c_str(),
-              "--duration", duration, nullptr);
+      std::vector<const char*> argv{rescue_binary().c_str(), "run", "--state-dir", dir.path.c_str(), "--key", key.c_str(),
+                                    "--listen", "127.0.0.1", "--control-port", control.c_str(), "--sensor-port",
+                                    sensor.c_str(), "--duration", duration};
+      if (scenario != nullptr) argv.insert(argv.end(), {"--scenario", scenario});
+      argv.push_back(nullptr);
+      ::execv(rescue_binary().c_str(), const_cast<char* const*>(argv.data()));
       ::_exit(127);
     }
   }

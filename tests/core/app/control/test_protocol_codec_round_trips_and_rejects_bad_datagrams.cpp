@@ -139,6 +139,83 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   EXPECT_EQ(back.tasks.count, kMaxTasks);
 }
 
+// ctl diag's answer (get_diag/diag): the largest answer (23 slaves) fits one datagram and every
+// field comes back; a wrong length, a count above 23, reserved bytes or warning bits outside the 4
+// ports are each rejected under their reason.
+TEST(ProtocolCodec, DiagRoundTripsAndMalformedDiagIsRejected) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(1);
+  Message m;
+  m.header.sender = 7;
+  m.header.type = MessageType::get_diag;
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.header.type, MessageType::get_diag);
+  EXPECT_TRUE(is_query(MessageType::get_diag));
+  EXPECT_TRUE(is_control_request(MessageType::get_diag));
+
+  m.header.type = MessageType::diag;
+  m.diag.cycle = 0x1122334455667788ULL;
+  m.diag.sweeps = 42;
+  m.diag.count = static_cast<std::uint8_t>(kMaxSlaves);
+  m.diag.slaves[19].ports[0] = DiagPortRecord{5, 1, 0, 2};
+  m.diag.slaves[22].ports[3] = DiagPortRecord{0xFFFF, 0xFFFE, 0xFFFD, 0xFFFC};
+  m.diag.slaves[19].warned = 0x01;
+  m.diag.slaves[19].warned_before = 0x09;
+  m.diag.slaves[22].processing_unit_errors = 3;
+  m.diag.slaves[22].pdi_errors = 4;
+  m.diag.slaves[22].reads = 65535;
+  const Sealed good = seal_ok(m, k);
+  EXPECT_EQ(good.size, kHeaderSize + 24 + kMaxSlaves * 40 + kTagSize);
+  ASSERT_EQ(judge(good, k, &back), -1);
+  EXPECT_EQ(back.diag.cycle, m.diag.cycle);
+  EXPECT_EQ(back.diag.sweeps, 42U);
+  EXPECT_EQ(back.diag.count, kMaxSlaves);
+  EXPECT_EQ(back.diag.slaves[19].ports[0].invalid_frames, 5U);
+  EXPECT_EQ(back.diag.slaves[19].ports[0].rx_errors, 1U);
+  EXPECT_EQ(back.diag.slaves[19].ports[0].lost_links, 2U);
+  EXPECT_EQ(back.diag.slaves[22].ports[3].invalid_frames, 0xFFFFU);
+  EXPECT_EQ(back.diag.slaves[22].ports[3].rx_errors, 0xFFFEU);
+  EXPECT_EQ(back.diag.slaves[22].ports[3].forwarded_errors, 0xFFFDU);
+  EXPECT_EQ(back.diag.slaves[22].ports[3].lost_links, 0xFFFCU);
+  EXPECT_EQ(back.diag.slaves[19].warned, 0x01);
+  EXPECT_EQ(back.diag.slaves[19].warned_before, 0x09);
+  EXPECT_EQ(back.diag.slaves[22].processing_unit_errors, 3U);
+  EXPECT_EQ(back.diag.slaves[22].pdi_errors, 4U);
+  EXPECT_EQ(back.diag.slaves[22].reads, 65535U);
+
+  // The payload alone, decoded with lengths and fields tampered (the tag is not the point here).
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  const Result<std::size_t> n = encode_payload(m, ByteSpan(payload));
+  ASSERT_TRUE(n.ok());
+  Header h;
+  h.type = MessageType::diag;
+  const auto decode = [&](std::size_t length) { return decode_payload(h, ConstByteSpan(payload.data(), length)); };
+  ASSERT_TRUE(decode(n.value()).ok());
+  for (const std::size_t length : {std::size_t{0}, std::size_t{23}, std::size_t{24}, n.value() - 1}) {
+    const Result<Message> bad = decode(length);
+    ASSERT_FALSE(bad.ok()) << length;
+    EXPECT_EQ(rejection_of(bad.error()), Rejection::malformed) << length;
+  }
+  payload[0] = static_cast<std::uint8_t>(kMaxSlaves + 1);  // more slaves than the protocol holds
+  ASSERT_FALSE(decode(n.value()).ok());
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::out_of_range);
+  payload[0] = static_cast<std::uint8_t>(kMaxSlaves);
+  payload[3] = 1;  // reserved
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::malformed);
+  payload[3] = 0;
+  payload[24 + 19 * 40 + 38] = 0x10;  // warned: a fifth port
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::out_of_range);
+  payload[24 + 19 * 40 + 38] = 0x01;
+  payload[24 + 19 * 40 + 39] = 0x80;  // warned_before: an eighth port
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::out_of_range);
+  payload[24 + 19 * 40 + 39] = 0x09;
+  EXPECT_TRUE(decode(n.value()).ok());
+  // A get_diag carries no payload.
+  h.type = MessageType::get_diag;
+  EXPECT_EQ(rejection_of(decode(1).error()), Rejection::malformed);
+}
+
 TEST(ProtocolCodec, EachRejectionReason) {
   ASSERT_TRUE(init_crypto().ok());
   const Key k = key_of(1);
