@@ -31,6 +31,7 @@ const OptionSpec kOptions[] = {
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
+    {"moved", nullptr, "clear: also confirm joints that returned away from their held position"},
     {"timeout", "SECONDS", "how long to wait for the robot's answer (default 2)"},
     {"count", "N", "watch: refresh this many times, then exit (default: until interrupted)"},
     {"interval", "SECONDS", "watch: refresh period (default 0.5)"},
@@ -365,6 +366,10 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     const Result<JointMask> joints = joints_argument(args, 1);
     if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINTS: comma-separated joint names, or all");
     m.header.type = q.type;
+    if (args.has("moved")) {
+      if (q.type != MessageType::clear_joints) return make_error(Errc::invalid_argument, "--moved goes with clear JOINTS");
+      m.header.type = MessageType::clear_moved;
+    }
     m.joints.joints = joints.value();
     return m;
   }
@@ -473,7 +478,8 @@ const CommandSpec kCtlCommand{
     "  enable [JOINTS] | disable [JOINTS]   DFA enable / disable (JOINTS: comma-separated names or all)\n"
     "  hold [JOINTS]                        Enabled joints stop and hold where they stand\n"
     "  mode JOINT MODE                      select csp, csv or cst\n"
-    "  clear JOINTS                         clear joints after repair (error-joints file), then reset\n"
+    "  clear JOINTS [--moved]               clear joints after repair (error-joints file), then reset;\n"
+    "                                       --moved: also confirm joints back away from their held position\n"
     "  move EFFECTOR POSE                   left|right x,y,z,roll,pitch,yaw to RC task --task\n"
     "  hand left|right open|close           to RC task --task\n"
     "  owner TASK                           RC task TASK takes the motion\n"

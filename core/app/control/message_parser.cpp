@@ -30,7 +30,8 @@ JointCommandSequence steps_of(const ControlRequest& r, JointMask joints) noexcep
     case MessageType::enable: (void)s.push_back(JointCommand{joints, fsm::JointInput::enable, ControlMode::none}); break;
     case MessageType::disable: return stop_robot_commands(joints);
     case MessageType::select_mode: (void)s.push_back(JointCommand{joints, fsm::JointInput::select_mode, r.mode}); break;
-    case MessageType::clear_joints: return clear_repaired_joints_commands(joints);
+    case MessageType::clear_joints: return clear_repaired_joints_commands(joints, false);
+    case MessageType::clear_moved: return clear_repaired_joints_commands(joints, true);
     case MessageType::hold:
       (void)s.push_back(JointCommand{joints, fsm::JointInput::disable, ControlMode::none});
       (void)s.push_back(JointCommand{joints, fsm::JointInput::set_reference, ControlMode::none});

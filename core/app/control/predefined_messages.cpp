@@ -34,10 +34,11 @@ JointCommandSequence stop_robot_commands(JointMask joints) noexcept {
   return sequence;
 }
 
-JointCommandSequence clear_repaired_joints_commands(JointMask joints) noexcept {
+JointCommandSequence clear_repaired_joints_commands(JointMask joints, bool confirm_moved) noexcept {
   JointCommandSequence sequence;
   // `input` is not read for a clear_lost command.
-  add(sequence, joints, fsm::JointInput::reset, ControlMode::none, JointCommandKind::clear_lost);
+  add(sequence, joints, fsm::JointInput::reset, ControlMode::none,
+      confirm_moved ? JointCommandKind::clear_lost_moved : JointCommandKind::clear_lost);
   add(sequence, joints, fsm::JointInput::reset, ControlMode::none);
   return sequence;
 }

@@ -392,6 +392,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::hold: return "hold";
     case MessageType::select_mode: return "select_mode";
     case MessageType::clear_joints: return "clear_joints";
+    case MessageType::clear_moved: return "clear_moved";
     case MessageType::move_effector: return "move_effector";
     case MessageType::hand: return "hand";
     case MessageType::take_owner: return "take_owner";
@@ -420,6 +421,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::hold:
     case MessageType::select_mode:
     case MessageType::clear_joints:
+    case MessageType::clear_moved:
     case MessageType::move_effector:
     case MessageType::hand:
     case MessageType::take_owner:
@@ -534,6 +536,7 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::hold:
     case MessageType::select_mode:
     case MessageType::clear_joints:
+    case MessageType::clear_moved:
       s = decode_joints(header, payload, m);
       break;
     case MessageType::move_effector: s = decode_move(payload, m); break;
@@ -580,6 +583,7 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::disable:
     case MessageType::hold:
     case MessageType::clear_joints:
+    case MessageType::clear_moved:
       w.u32(m.joints.joints);
       break;
     case MessageType::select_mode:

@@ -44,6 +44,7 @@ enum class MessageType : std::uint8_t {
   hold = 0x13,
   select_mode = 0x14,
   clear_joints = 0x15,
+  clear_moved = 0x16,  // clear_joints, and the operator confirms the joints' moved positions
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
@@ -86,7 +87,7 @@ struct Header {
   std::uint16_t payload_length{0};
 };
 
-// initialize, enable, disable, hold, clear_joints; select_mode adds the mode.
+// initialize, enable, disable, hold, clear_joints, clear_moved; select_mode adds the mode.
 struct JointsPayload {
   JointMask joints{0};
   ControlMode mode{ControlMode::none};  // select_mode only

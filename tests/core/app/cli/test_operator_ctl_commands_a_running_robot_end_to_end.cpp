@@ -78,6 +78,21 @@ TEST(OperatorCtlEndToEnd, InitStatusDisableEnableHoldAsDocumented) {
   EXPECT_TRUE(has(run.output(), "rescue-motion run: datagrams ")) << run.output();
 }
 
+// `ctl clear JOINTS --moved` reaches the robot's clear (here refused: l_hand was never lost);
+// --moved with any other verb is refused before anything is sent.
+TEST(OperatorCtlEndToEnd, ClearMovedReachesTheRobotsClear) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  const CommandResult moved = run.ctl({"clear", "l_hand", "--moved"});
+  EXPECT_EQ(moved.status, 1) << moved.out;
+  EXPECT_TRUE(has(moved.out, "clear: refused: clear refused: l_hand")) << moved.out;
+  const CommandResult wrong = run.ctl({"enable", "l_hand", "--moved"});
+  EXPECT_NE(wrong.status, 0) << wrong.out;
+  EXPECT_TRUE(has(wrong.out, "--moved goes with clear JOINTS")) << wrong.out;
+  EXPECT_EQ(run.stop(), 0) << run.output();
+  EXPECT_TRUE(has(run.output(), "accepted 1,")) << run.output();  // the clear; the enable never left ctl
+}
+
 TEST(OperatorCtlEndToEnd, AnotherKeyGetsNoAnswerAndAnOpenKeyFileIsRefused) {
   OperatorRun run;
   ASSERT_TRUE(run.wait_for("network in OP")) << run.output();

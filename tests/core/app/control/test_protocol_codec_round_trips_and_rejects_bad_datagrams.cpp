@@ -63,6 +63,12 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_EQ(back.joints.joints, m.joints.joints);
   EXPECT_EQ(back.joints.mode, ControlMode::cyclic_velocity);
+  m.header.type = MessageType::clear_moved;  // ctl clear JOINTS --moved: a joint mask, like clear_joints
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.header.type, MessageType::clear_moved);
+  EXPECT_EQ(back.joints.joints, m.joints.joints);
+  EXPECT_TRUE(is_control_request(MessageType::clear_moved));
+  EXPECT_FALSE(is_query(MessageType::clear_moved));
 
   m.header.type = MessageType::move_effector;
   m.move.task = 2;

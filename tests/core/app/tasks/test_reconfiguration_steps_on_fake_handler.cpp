@@ -217,12 +217,14 @@ TEST_F(Reconfiguration, AJointThatReturnsAwayFromItsHeldPositionStaysOutUntilThe
   EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(wrist)) << "the wrist was cleared, the hand kept";
   EXPECT_EQ(manager.lost_joints() & joint_bit(hand), joint_bit(hand));
 
-  JointCommand confirm;
-  confirm.kind = JointCommandKind::clear_lost_moved;
-  confirm.joints = joint_bit(hand);
-  ASSERT_TRUE(rig.commands.try_send(confirm));
+  // The operator confirms (`ctl clear l_hand --moved`: the parser's clear sequence with the
+  // confirmation, clear_lost_moved then reset).
+  const JointCommandSequence confirm = clear_repaired_joints_commands(joint_bit(hand), true);
+  ASSERT_EQ(confirm[0].kind, JointCommandKind::clear_lost_moved);
+  for (const JointCommand& c : confirm) ASSERT_TRUE(rig.commands.try_send(c));
   run(1);
   EXPECT_EQ(manager.lost_joints() & joint_bit(hand), 0u);
+  EXPECT_EQ(manager.statuses()[hand].state, JointState::idle);
   EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(hand) & ~joint_bit(wrist));
 }
 
