@@ -100,7 +100,7 @@ int run_main(const ParsedArgs& args) {
   options.timing_out = args.value("timing-out");
   options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);
   options.initialize = args.has("initialize");
-  options.auto_clear_power_cycled = args.has("auto-clear-power-cycled");
+  options.auto_clear_power_cycled = args.has("auto-clear-power-cycled") || g_config.auto_clear_power_cycled;
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
     if (!clear.ok()) {

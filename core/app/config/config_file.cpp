@@ -53,7 +53,8 @@ constexpr TaskSection kSections[] = {
 // clang-format on
 constexpr const char* kSectionNames =
     "[ethercat_handler], [joint_manager], [rc_tasks], [socket_handler], [message_parser]";
-constexpr const char* kTopKeys = "nic, state_dir, key_file, listen, duration, control_port, sensor_port (before any section)";
+constexpr const char* kTopKeys =
+    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled (before any section)";
 constexpr const char* kCpuRange = "0..1023";
 
 class Parser {
@@ -154,6 +155,16 @@ class Parser {
       if (first_time(key, seen_.control_port) && port(key, value, out_.control_port)) out_.has_control_port = true;
     } else if (key.equals("sensor_port")) {
       if (first_time(key, seen_.sensor_port) && port(key, value, out_.sensor_port)) out_.has_sensor_port = true;
+    } else if (key.equals("auto_clear_power_cycled")) {
+      if (!first_time(key, seen_.auto_clear_power_cycled)) return;
+      if (value.equals("true")) {
+        out_.auto_clear_power_cycled = true;
+      } else if (value.equals("false")) {
+        out_.auto_clear_power_cycled = false;
+      } else {
+        return fail(key, "not a boolean", "true or false");
+      }
+      out_.has_auto_clear_power_cycled = true;
     } else if (key.equals("priority") || key.equals("cpu")) {
       fail(key, "task key outside a task section", kSectionNames);
     } else {
@@ -300,7 +311,7 @@ class Parser {
   const TaskSection* section_{nullptr};
   std::array<bool, kConfigTaskCount> seen_section_{};
   struct Seen {
-    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port;
+    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled;
   } seen_{};
 };
 

@@ -32,6 +32,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
       "duration = 1.5\n"
       "control_port = 47100\n"
       "\t sensor_port=47101 \n"
+      "auto_clear_power_cycled = true\n"
       "\n"
       "[ethercat_handler]\n"
       "priority = 90\n"
@@ -55,6 +56,8 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
   EXPECT_DOUBLE_EQ(c.duration_s, 1.5);
   EXPECT_EQ(c.control_port, 47100);
   EXPECT_EQ(c.sensor_port, 47101);
+  EXPECT_TRUE(c.has_auto_clear_power_cycled);
+  EXPECT_TRUE(c.auto_clear_power_cycled);
   const ConfigTaskPlacement& handler = c.tasks[static_cast<std::size_t>(TaskId::ethercat_handler)];
   EXPECT_TRUE(handler.has_priority);
   EXPECT_EQ(handler.priority, 90);
@@ -100,6 +103,8 @@ TEST(ConfigFile, EachKindOfBadLineIsNamed) {
       {"duration = 1.\n", 1, "duration", "not a duration in range", "decimal seconds"},
       {"control_port = 0\n", 1, "control_port", "port out of range", "1..65535"},
       {"sensor_port = 65536\n", 1, "sensor_port", "port out of range", "1..65535"},
+      {"auto_clear_power_cycled = yes\n", 1, "auto_clear_power_cycled", "not a boolean", "true or false"},
+      {"auto_clear_power_cycled = false\nauto_clear_power_cycled = true\n", 2, "auto_clear_power_cycled", "key given twice", "each key once"},
       {"control_port = -5\n", 1, "control_port", "port out of range", "1..65535"},
       {"control_port = 99999999999\n", 1, "control_port", "port out of range", "1..65535"},
       {"[ethercat_handler]\npriority = 0\n", 2, "priority", "priority out of range", "1..99"},
