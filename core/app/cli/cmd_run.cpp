@@ -16,6 +16,7 @@ const OptionSpec kOptions[] = {
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
+    {"segment", "NAME", "shared-memory segment of the tasks, \"/NAME\" (default: /rescue-motion-<hash of the state directory>; docs/shared-memory.md)"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
     {"listen", "ADDR", "IPv4 address the UDP ports bind (default 0.0.0.0)"},
@@ -46,6 +47,7 @@ int run_main(const ParsedArgs& args) {
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
   options.state_dir = args.value("state-dir");
+  options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));

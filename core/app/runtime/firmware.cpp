@@ -26,6 +26,7 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/shm/shared_segment.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "drivers/joint/joint_bus.hpp"
@@ -55,8 +56,10 @@ constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistic
 // A scenario without --duration runs this long after it acted, then stops.
 constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
-// Everything the tasks use, in static storage: taken once at start-up, never from the heap.
-TaskLinks g_links;
+// What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
+// process at start-up (a second run_firmware in the same process, as tests do, reuses it).
+shm::SegmentOwner g_segment;
+TaskLinks& links() noexcept { return g_segment.links(); }
 
 ecat::CaptureWriter g_capture;
 // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
@@ -108,7 +111,7 @@ struct RunState {
 class TaskStatsPublisher {
  public:
   TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept
-      : slot_(&g_links.task_stats[static_cast<std::size_t>(id)]), stat_{} {
+      : slot_(&links().task_stats[static_cast<std::size_t>(id)]), stat_{} {
     protocol::set_text(stat_.name, name);
     stat_.pid = static_cast<std::int32_t>(::getpid());
     stat_.cpu = static_cast<std::int16_t>(cpu);
@@ -193,7 +196,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
     master.in_exchange = bus.master().monitor().in_exchange();
     master.lost = bus.master().monitor().lost();
-    g_links.master_status.write(master);
+    links().master_status.write(master);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
@@ -225,13 +228,13 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
     const std::uint64_t work_start = timing.timer.start();
     manager.step(start);
     timing.manager.record(start - next, work_start, timing.timer.stop());
-    g_links.joint_status.write(published_status(manager.statuses()));
+    links().joint_status.write(published_status(manager.statuses()));
     stats.period(next, start, clock.now(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
   manager.step(clock.now());  // the last answers and marks
-  g_links.joint_status.write(published_status(manager.statuses()));
+  links().joint_status.write(published_status(manager.statuses()));
   stats.publish();
 }
 
@@ -267,7 +270,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noex
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
-  while (g_links.local_replies.try_pop(reply)) {
+  while (links().local_replies.try_pop(reply)) {
     (void)std::printf("[%8.3f s] operator: %s: %s%s%s\n", seconds(at), protocol::to_string(reply.request_type),
                       reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
                       reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "", reply.text.data());
@@ -278,7 +281,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
   ControlRequest request;
   request.type = type;
   request.joints = joints;
-  if (g_links.local_requests.try_push(request)) return true;
+  if (links().local_requests.try_push(request)) return true;
   (void)std::printf("operator: request queue full, %s dropped\n", protocol::to_string(type));
   return false;
 }
@@ -286,7 +289,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
 // Whether the handler's latest published values show every joint of `joints` reachable.
 bool all_reachable(JointMask joints) noexcept {
   RobotSample sample{};
-  if (!g_links.samples.try_read(sample)) return false;
+  if (!links().samples.try_read(sample)) return false;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) != 0 && !sample[j].reachable) return false;
   }
@@ -408,6 +411,37 @@ int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) 
   return 0;
 }
 
+// Step 1b: the shared-memory segment (docs/shared-memory.md): named by --segment or after the state
+// directory; a stale one from a crashed run is replaced with a log line. 0 when ready, else the exit
+// status.
+int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
+  if (g_segment.created()) return 0;
+  shm::SegmentName name = shm::default_segment_name(state_dir);
+  if (options.segment_name != nullptr) {
+    const Result<shm::SegmentName> given = shm::segment_name(options.segment_name);
+    if (!given.ok()) return fail("run", given.error().what);
+    name = given.value();
+  }
+  shm::CreateReport report;
+  Result<shm::SegmentOwner> created = shm::SegmentOwner::create(name, &report);
+  if (!created.ok()) {
+    char line[256];
+    (void)shm::describe_segment_error(name, created.error(), line, sizeof line);
+    (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
+    return 1;
+  }
+  g_segment = std::move(created.value());
+  if (report.previous != shm::Previous::none) {
+    (void)std::printf("rescue-motion run: replaced stale shared-memory segment %s (%s, creator pid %d); its contents "
+                      "were not used\n",
+                      name.c_str(), shm::to_string(report.previous), static_cast<int>(report.previous_creator.pid));
+  }
+  (void)std::printf("rescue-motion run: shared-memory segment %s, %zu bytes, layout version %u hash 0x%08x%s\n",
+                    name.c_str(), shm::kSegmentSize, static_cast<unsigned>(TaskLinks::kLayoutVersion),
+                    static_cast<unsigned>(shm::kLayoutHash), report.memory_lock.ok() ? ", locked in RAM" : "");
+  return 0;
+}
+
 // The one line saying where a signal stopped the run.
 void print_stop_line(const RunState& state, bool drives_disabled, bool file_dirty) noexcept {
   (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
@@ -480,28 +514,30 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
   const int lock_status = take_instance_locks(options, dir.value().path.c_str());
   if (lock_status != 0) return lock_status;
+  const int segment_status = create_segment(options, dir.value().path.c_str());
+  if (segment_status != 0) return segment_status;
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
-  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
-  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
-  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
-  static SeqlockSampleSource samples(g_links.samples);
-  static SeqlockDemandSink demand_sink(g_links.demand);
-  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(g_links.command_outcomes);
+  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(links().lost_reports);
+  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(links().notices);
+  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(links().joint_commands);
+  static SeqlockSampleSource samples(links().samples);
+  static SeqlockDemandSink demand_sink(links().demand);
+  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
   static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
                                                 &demand_sink, &outcomes});
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
-  // key, the socket handler. They see only queues and seqlocks of g_links.
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(g_links.control_requests);
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(g_links.local_requests);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(g_links.control_replies);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(g_links.local_replies);
-  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(g_links.joint_commands);
-  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(g_links.command_outcomes);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(g_links.rc_inputs[0]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(g_links.rc_inputs[1]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(g_links.rc_inputs[2]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(g_links.rc_inputs[3]);
+  // key, the socket handler. They see only queues and seqlocks of links().
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(links().control_requests);
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(links().local_requests);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(links().control_replies);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(links().local_replies);
+  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(links().joint_commands);
+  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(links().command_outcomes);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(links().rc_inputs[0]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(links().rc_inputs[1]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(links().rc_inputs[2]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(links().rc_inputs[3]);
   MessageParserPorts parser_ports;
   parser_ports.network = &parser_network;
   parser_ports.local = &parser_local;
@@ -509,10 +545,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   parser_ports.local_replies = &parser_local_replies;
   parser_ports.joint_commands = &parser_out;
   parser_ports.outcomes = &parser_outcomes;
-  parser_ports.samples = &g_links.samples;
-  parser_ports.joint_status = &g_links.joint_status;
+  parser_ports.samples = &links().samples;
+  parser_ports.joint_status = &links().joint_status;
   parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
-  parser_ports.rc_heartbeat_ns = &g_links.rc_heartbeat_ns;
+  parser_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
   static MessageParser parser(parser_ports);
 
   if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
@@ -537,17 +573,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   static protocol::FileReplayStore replay_store(dir.value().path.c_str());
   static protocol::ReplayWindow replay(replay_store);
-  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(g_links.control_requests);
-  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(g_links.control_replies);
+  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
+  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
   socket_ports.requests = &socket_requests;
   socket_ports.replies = &socket_replies;
-  socket_ports.sensors = &g_links.sensors;
-  socket_ports.counters = &g_links.socket_counters;
-  socket_ports.samples = &g_links.samples;
-  socket_ports.joint_status = &g_links.joint_status;
-  socket_ports.master = &g_links.master_status;
-  socket_ports.tasks = &g_links.task_stats;
+  socket_ports.sensors = &links().sensors;
+  socket_ports.counters = &links().socket_counters;
+  socket_ports.samples = &links().samples;
+  socket_ports.joint_status = &links().joint_status;
+  socket_ports.master = &links().master_status;
+  socket_ports.tasks = &links().task_stats;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
@@ -622,7 +658,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
-  static EthercatHandler handler(bus, g_links, restored.restored);
+  static EthercatHandler handler(bus, links(), restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   start_task_timing();
   (void)std::fflush(stdout);
@@ -693,7 +729,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   // Which joints are Enabled comes from its published demand (its own state belongs to its thread).
   RobotDemand demand{};
   JointMask enabled = 0;
-  if (g_links.demand.try_read(demand)) {
+  if (links().demand.try_read(demand)) {
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if (demand[j].enable) enabled |= joint_bit(j);
     }
@@ -701,7 +737,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   // Through the parser, the joint handle queue's only producer; its answer comes within its timeout.
   if (enabled != 0 && send_local(protocol::MessageType::disable, enabled)) {
     const hal::Nanoseconds give_up = logger_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
-    while (g_links.local_replies.empty_approx() && logger_clock.now() < give_up) {
+    while (links().local_replies.empty_approx() && logger_clock.now() < give_up) {
       logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
     }
     print_local_replies(clock.now() - start);
