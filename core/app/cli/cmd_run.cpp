@@ -17,6 +17,7 @@ const OptionSpec kOptions[] = {
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
     {"segment", "NAME", "shared-memory segment of the tasks, \"/NAME\" (default: /rescue-motion-<hash of the state directory>; docs/shared-memory.md)"},
+    {"threads", nullptr, "run the tasks as threads of one process (tests, debugging, valgrind) instead of one process each"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
     {"listen", "ADDR", "IPv4 address the UDP ports bind (default 0.0.0.0)"},
@@ -49,6 +50,7 @@ int run_main(const ParsedArgs& args) {
   options.state_dir = args.value("state-dir");
   options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");
+  options.threads = args.has("threads");
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
     if (!clear.ok()) {

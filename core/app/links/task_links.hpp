@@ -13,6 +13,7 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
@@ -46,10 +47,11 @@ constexpr std::size_t kTaskStatSlots = 4;
   X(local_replies, "message parser -> runtime", SpscQueue<ControlReply, kReplyQueueDepth>)                            \
   X(command_outcomes, "joint manager -> message parser", SpscQueue<JointCommandOutcome, kOutcomeQueueDepth>)          \
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
+  X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)                     \
   X(rc_heartbeat_ns, "RC task k -> message parser (monotonic ns of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 3;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 4;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;

@@ -1,5 +1,6 @@
 #include "core/app/runtime/firmware.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -24,6 +25,7 @@
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/supervisor.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/shm/shared_segment.hpp"
@@ -61,6 +63,9 @@ constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 shm::SegmentOwner g_segment;
 TaskLinks& links() noexcept { return g_segment.links(); }
 
+// Whether the tasks run as processes (the default) or threads of one process (--threads).
+bool g_task_processes = false;
+
 ecat::CaptureWriter g_capture;
 // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
 // may block, the 1 ms cycle must not).
@@ -76,7 +81,7 @@ int cpu_for(int wanted) noexcept {
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
-  rt.lock_memory = false;  // done once for the process
+  rt.lock_memory = g_task_processes;  // a forked child does not inherit mlockall; threads: done once
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
   rt.fifo_priority = priority;
   rt.cpu = cpu_for(cpu);
@@ -94,16 +99,36 @@ void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
 
 double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
 
-// Shared between the threads of the run.
-struct RunState {
-  std::atomic<bool> op{false};
-  std::atomic<bool> handler_done{false};
-  std::atomic<bool> manager_stop{false};
-  std::atomic<bool> scenario_acted{false};
-  std::atomic<std::int64_t> op_at{0};
-  std::atomic<std::uint64_t> cycles{0};
-  std::atomic<int> tasks_started{0};  // tasks past their real-time set-up
-  std::atomic<bool> operator_stop{false};  // socket handler and message parser
+// The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
+// stops and reports the tasks whether they are threads or processes.
+RunControl& run() noexcept { return links().run; }
+
+// The EtherCAT handler stops on a signal to its own process or on the supervisor's word.
+bool stop_requested() noexcept { return stop_signal() != 0 || run().stop.load(std::memory_order_acquire); }
+
+// Heap allocations and page faults of a task after its init (run_control.hpp, TaskHealth): taken
+// when the task is past its set-up, reported in its slot at its end.
+class TaskHealthProbe {
+ public:
+  explicit TaskHealthProbe(StatTask id) noexcept
+      : slot_(&run().health[static_cast<std::size_t>(id)]),
+        heap_at_init_(heap_guard_counters().allocations),
+        faults_at_init_(hal::page_faults_of_thread()) {
+    slot_->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
+    slot_->reported.store(false, std::memory_order_release);
+  }
+  void report() noexcept {
+    const hal::PageFaults faults = hal::page_faults_of_thread();
+    slot_->heap_allocations.store(heap_guard_counters().allocations - heap_at_init_, std::memory_order_relaxed);
+    slot_->page_faults.store(faults.minor + faults.major - faults_at_init_.minor - faults_at_init_.major,
+                             std::memory_order_relaxed);
+    slot_->reported.store(true, std::memory_order_release);
+  }
+
+ private:
+  TaskHealth* slot_;
+  std::uint64_t heap_at_init_;
+  hal::PageFaults faults_at_init_;
 };
 
 // One task's period count, misses and worst execution time, published in its TaskLinks::task_stats
@@ -163,11 +188,12 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
   }
 }
 
-void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
-                  RunState& state) noexcept {
+void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
+  RunControl& state = run();
   apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
   TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::ethercat_handler);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
@@ -204,23 +230,32 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       state.op.store(true, std::memory_order_release);
     }
     if (scenario.on_cycle(now, op)) {
+      state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
       state.scenario_acted.store(true, std::memory_order_release);
       if (options.duration == 0) stop_at = now + kScenarioRunOn;
     }
-    if (stopping_since < 0 && (stop_signal() != 0 || (stop_at >= 0 && now >= stop_at))) {
+    if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
       stopping_since = now;
     }
     if (stopping_since >= 0 && (handler.drives_disabled() || now - stopping_since >= kDisableTimeout)) break;
   }
   stats.publish();
+  health.report();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
+  }
+  state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
+  state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
   state.handler_done.store(true, std::memory_order_release);
 }
 
-void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
+void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
+  RunControl& state = run();
   apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
   TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::joint_manager);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
   while (!state.manager_stop.load(std::memory_order_acquire)) {
@@ -236,13 +271,20 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& stat
   manager.step(clock.now());  // the last answers and marks
   links().joint_status.write(published_status(manager.statuses()));
   stats.publish();
+  health.report();
+  state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
+  state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
+  state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
+  state.manager_done.store(true, std::memory_order_release);
 }
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
-void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
+void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
+  RunControl& state = run();
   apply_thread_rt("message-parser", 0, kOperatorCpu);
   TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::message_parser);
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
@@ -252,13 +294,16 @@ void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noex
     clock.sleep_until(next);
   }
   stats.publish();
+  health.report();
 }
 
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
-void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
+void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
+  RunControl& state = run();
   apply_thread_rt("socket-handler", 0, kOperatorCpu);
   TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::socket_handler);
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
     const hal::Nanoseconds start = clock.now();
@@ -266,6 +311,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noex
     stats.period(start, start, clock.now(), hal::kNsPerSec);
   }
   stats.publish();
+  health.report();
 }
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
@@ -443,7 +489,7 @@ int create_segment(const FirmwareOptions& options, const char* state_dir) noexce
 }
 
 // The one line saying where a signal stopped the run.
-void print_stop_line(const RunState& state, bool drives_disabled, bool file_dirty) noexcept {
+void print_stop_line(const RunControl& state, bool drives_disabled, bool file_dirty) noexcept {
   (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
                     "file %s\n",
                     stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
@@ -495,14 +541,371 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 }
 }  // namespace
 
+
+namespace {
+
+// What the tasks run on: the static objects run_firmware wires once, before the tasks start (a
+// forked task process finds them at the same addresses).
+struct TaskSet {
+  EthercatHandler* handler;
+  ScenarioRunner* scenario;
+  JointManager* manager;
+  MessageParser* parser;
+  SocketHandler* socket;
+  protocol::ReplayWindow* replay;
+  hal::WallClock* wall_clock;
+  hal::Clock* clock;           // the NIC's: the handler's and the joint manager's
+  hal::Clock* operator_clock;  // the socket handler's and the message parser's
+  const FirmwareOptions* options;
+  bool operator_port;
+  hal::Nanoseconds start;
+};
+TaskSet g_tasks{};
+
+constexpr int kExitTaskDied = 4;  // a critical task process died (docs/tasks.md)
+constexpr hal::Nanoseconds kTaskStartLimit = 10 * hal::kNsPerSec;
+constexpr hal::Nanoseconds kTaskStopLimit = 5 * hal::kNsPerSec;
+constexpr hal::Nanoseconds kAttachLimit = hal::kNsPerSec;
+
+void run_handler() noexcept {
+  handler_task(*g_tasks.handler, *g_tasks.scenario, *g_tasks.options, *g_tasks.clock);
+}
+void run_manager() noexcept { joint_manager_task(*g_tasks.manager, *g_tasks.clock); }
+void run_parser() noexcept { parser_task(*g_tasks.parser, *g_tasks.operator_clock); }
+void run_socket() noexcept { socket_task(*g_tasks.socket, *g_tasks.operator_clock); }
+
+// The handler's side of the logger (in the handler's process: its events and capture queue are its
+// own): the scenario's action, OP reached, handler events, captured frames to the file.
+struct HandlerSideLog {
+  bool scenario_announced{false};
+  bool op_announced{false};
+};
+HandlerSideLog g_handler_log;
+
+void handler_side_pass() noexcept {
+  RunControl& state = run();
+  const FirmwareOptions& options = *g_tasks.options;
+  const ScenarioRunner& scenario = *g_tasks.scenario;
+  if (!g_handler_log.scenario_announced && state.scenario_acted.load(std::memory_order_acquire)) {
+    g_handler_log.scenario_announced = true;
+    char names[kJointNamesCapacity];
+    format_joint_names(options.scenario.expected_lost, names, sizeof names);
+    if (scenario.action_status().ok()) {
+      (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
+                        seconds(scenario.acted_at() - g_tasks.start), options.scenario.name,
+                        kJoints[options.scenario.cut_joint].name, names);
+    } else {
+      (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
+    }
+  }
+  HandlerEvent event{};
+  while (g_tasks.handler->pop_event(event)) print_handler_event(event, g_tasks.start);
+  if (!g_handler_log.op_announced && state.op.load(std::memory_order_acquire)) {
+    g_handler_log.op_announced = true;
+    (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
+                      seconds(state.op_at.load(std::memory_order_relaxed) - g_tasks.start));
+  }
+  if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
+}
+
+// The operator's side (the supervisor, or the main thread): the clear of repaired joints, then
+// "initialize robot", once the handler's values show the joints reachable; replies printed.
+struct OperatorSide {
+  JointMask to_clear;
+  JointMask out_of_service;
+  bool clear_sent;
+  bool initialized;
+};
+
+void operator_side_pass(OperatorSide& side) noexcept {
+  hal::Clock& clock = *g_tasks.clock;
+  const bool op = run().op.load(std::memory_order_acquire);
+  // The DFA takes its steps only for reachable joints: wait until the handler's published values
+  // show every joint that is not recorded lost reachable (the first OP cycles may not).
+  if (op && !side.clear_sent && all_reachable(side.to_clear)) {
+    side.clear_sent = true;
+    char names[kJointNamesCapacity];
+    format_joint_names(side.to_clear, names, sizeof names);
+    (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - g_tasks.start), names);
+    (void)send_local(protocol::MessageType::clear_joints, side.to_clear);
+  }
+  if (op && side.clear_sent && !side.initialized && all_reachable(kAllJoints & ~side.out_of_service)) {
+    side.initialized = true;
+    (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
+                      seconds(clock.now() - g_tasks.start));
+    (void)send_local(protocol::MessageType::initialize, kAllJoints & ~side.out_of_service);
+  }
+  print_local_replies(clock.now() - g_tasks.start);
+  (void)std::fflush(stdout);
+}
+
+// After the handler ended: the drives are off; the joint manager's Enabled DFAs follow (Enabled ->
+// Ready) through the parser, the joint handle queue's only producer (its answer within its timeout).
+// Which joints are Enabled comes from the manager's published demand.
+void disable_enabled_joints() noexcept {
+  RobotDemand demand{};
+  JointMask enabled = 0;
+  if (links().demand.try_read(demand)) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (demand[j].enable) enabled |= joint_bit(j);
+    }
+  }
+  if (enabled == 0 || !send_local(protocol::MessageType::disable, enabled)) return;
+  hal::MonotonicClock wait_clock;
+  const hal::Nanoseconds give_up = wait_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
+  while (links().local_replies.empty_approx() && wait_clock.now() < give_up) {
+    wait_clock.sleep_until(wait_clock.now() + hal::kNsPerMs);
+  }
+  print_local_replies(g_tasks.clock->now() - g_tasks.start);
+}
+
+const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler", "message-parser"};
+
+// `key: value` lines: per task (process), heap allocations and page faults after its init.
+void print_task_health(bool operator_port) noexcept {
+  for (std::size_t i = 0; i < kTaskStatSlots; ++i) {
+    if (!operator_port && static_cast<StatTask>(i) == StatTask::socket_handler) continue;
+    const TaskHealth& h = run().health[i];
+    if (!h.reported.load(std::memory_order_acquire)) {
+      (void)std::printf("%s heap allocations after init: unknown (it did not report)\n", kTaskNames[i]);
+      continue;
+    }
+    (void)std::printf("%s heap allocations after init: %" PRIu64 "\n", kTaskNames[i], h.heap_allocations.load());
+    (void)std::printf("%s page faults after init: %" PRIu64 "\n", kTaskNames[i], h.page_faults.load());
+    (void)std::printf("%s restarts: %u\n", kTaskNames[i], h.restarts.load());
+    TaskStat stat{};
+    if (links().task_stats[i].try_read(stat)) {
+      (void)std::printf("%s periods: %" PRIu64 "\n", kTaskNames[i], stat.periods);
+      (void)std::printf("%s periods missed: %" PRIu64 "\n", kTaskNames[i], stat.missed);
+      (void)std::printf("%s max execution time: %" PRIu64 " ns\n", kTaskNames[i], stat.max_execution_ns);
+    }
+  }
+}
+
+// --threads: the tasks as threads of this process, the logger in the main thread.
+int run_task_threads(OperatorSide& side) noexcept {
+  start_task_timing();
+  (void)std::fflush(stdout);
+  RunControl& state = run();
+  std::thread manager_thread(run_manager);
+  std::thread handler_thread(run_handler);
+  std::thread parser_thread(run_parser);
+  std::thread socket_thread;
+  if (g_tasks.operator_port) socket_thread = std::thread(run_socket);
+  const int task_count = g_tasks.operator_port ? 4 : 3;
+  // Init is complete once every task is past its set-up (thread start-up allocates).
+  hal::MonotonicClock logger_clock;
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
+    logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
+  }
+  declare_init_complete(HeapGuardMode::count);
+  for (;;) {
+    const bool done = state.handler_done.load(std::memory_order_acquire);
+    handler_side_pass();
+    operator_side_pass(side);
+    if (done) break;
+    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
+  }
+  handler_thread.join();
+  disable_enabled_joints();
+  state.operator_stop.store(true, std::memory_order_release);
+  parser_thread.join();
+  if (socket_thread.joinable()) socket_thread.join();
+  state.manager_stop.store(true, std::memory_order_release);
+  manager_thread.join();
+  handler_side_pass();
+  if (g_tasks.options->capture_path != nullptr) {
+    const Status closed = finish_capture(g_tasks.options->capture_path);
+    if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
+  }
+  return 0;
+}
+
+// A task process first checks the segment it inherited is still the one of its name, valid for this
+// program (docs/shared-memory.md); 0 when it is, else its exit status.
+int attach_task_process(const char* task) noexcept {
+  hal::MonotonicClock clock;
+  const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_segment.name(), clock, kAttachLimit);
+  if (!attached.ok()) {
+    char line[256];
+    (void)shm::describe_segment_error(g_segment.name(), attached.error(), line, sizeof line);
+    (void)std::fprintf(stderr, "rescue-motion run: %s: %s\n", task, line);
+    return 5;
+  }
+  if (attached.value().segment().header.creator_pid != g_segment.segment().header.creator_pid) {
+    (void)std::fprintf(stderr, "rescue-motion run: %s: segment %s was replaced by another process; not running\n", task,
+                       g_segment.name().c_str());
+    return 5;
+  }
+  return 0;
+}
+
+// The body of every task process: attach, then the task on its own thread while this one prints
+// (stdout is the process's own buffer now) and, in the handler's process, runs its side of the logger.
+int task_process(const char* name, void (*task)() noexcept, void (*log_pass)() noexcept) noexcept {
+  const int attached = attach_task_process(name);
+  if (attached != 0) return attached;
+  declare_init_complete(HeapGuardMode::count);  // each task counts from its own init (TaskHealthProbe)
+  std::atomic<bool> finished{false};
+  std::thread worker([task, &finished]() noexcept {
+    task();
+    finished.store(true, std::memory_order_release);
+  });
+  hal::MonotonicClock logger_clock;
+  while (!finished.load(std::memory_order_acquire)) {
+    if (log_pass != nullptr) log_pass();
+    (void)std::fflush(stdout);
+    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
+  }
+  worker.join();
+  if (log_pass != nullptr) log_pass();
+  (void)std::fflush(stdout);
+  return 0;
+}
+
+int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  const int status = task_process("ethercat-handler", run_handler, handler_side_pass);
+  if (status == 0 && g_tasks.options->capture_path != nullptr && !finish_capture(g_tasks.options->capture_path).ok()) return 1;
+  return status;
+}
+int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("joint-manager", run_manager, nullptr);
+}
+int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("message-parser", run_parser, nullptr);
+}
+int socket_process(void* /*context*/, unsigned incarnation) noexcept {
+  // A restarted socket handler reads the persisted replay windows again: no old message reopens.
+  if (incarnation > 0) {
+    (void)g_tasks.replay->restore(static_cast<std::uint64_t>(g_tasks.wall_clock->unix_time_ns()));
+  }
+  return task_process("socket-handler", run_socket, nullptr);
+}
+
+// The tasks as processes (the default): this process is the supervisor.
+struct TaskProcesses {
+  std::size_t handler{0};
+  std::size_t manager{0};
+  std::size_t parser{0};
+  std::size_t socket{0};
+};
+
+Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
+  TaskProcesses p;
+  const Result<std::size_t> handler = supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr});
+  const Result<std::size_t> manager = supervisor.add({"joint-manager", TaskCriticality::critical, manager_process, nullptr});
+  const Result<std::size_t> parser = supervisor.add({"message-parser", TaskCriticality::restartable, parser_process, nullptr});
+  if (!handler.ok() || !manager.ok() || !parser.ok()) return make_error(Errc::capacity_exceeded, "supervised tasks");
+  p.handler = handler.value();
+  p.manager = manager.value();
+  p.parser = parser.value();
+  if (g_tasks.operator_port) {
+    const Result<std::size_t> socket = supervisor.add({"socket-handler", TaskCriticality::restartable, socket_process, nullptr});
+    if (!socket.ok()) return socket.error();
+    p.socket = socket.value();
+  }
+  // Start-up order (docs/tasks.md): joint manager, EtherCAT handler, message parser, socket handler.
+  const std::size_t order[] = {p.manager, p.handler, p.parser, p.socket};
+  const std::size_t count = g_tasks.operator_port ? 4 : 3;
+  for (std::size_t i = 0; i < count; ++i) {
+    RESCUE_TRY(supervisor.start(order[i]));
+    (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(order[i]), static_cast<int>(supervisor.pid(order[i])));
+  }
+  return p;
+}
+
+// Stops the operator's tasks, then the joint manager, in that order (docs/tasks.md); the handler
+// has ended already.
+void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) noexcept {
+  RunControl& state = run();
+  supervisor.stop_restarting();
+  supervisor.expect_exit(p.parser);
+  if (g_tasks.operator_port) supervisor.expect_exit(p.socket);
+  state.operator_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.parser, kTaskStopLimit);
+  if (g_tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
+  supervisor.expect_exit(p.manager);
+  state.manager_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.manager, kTaskStopLimit);
+  supervisor.signal_all(SIGKILL);  // any that did not stop within its limit (said below)
+  for (const std::size_t i : {p.parser, p.socket, p.manager}) {
+    if (supervisor.running(i)) (void)std::printf("supervisor: %s did not stop within its limit: killed\n", supervisor.name(i));
+  }
+}
+
+// The supervisor's loop; returns 0 after an ordered stop, kExitTaskDied after a critical task died.
+int run_task_processes(OperatorSide& side) noexcept {
+  RunControl& state = run();
+  static hal::MonotonicClock supervisor_clock;
+  static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
+  const Result<TaskProcesses> started = start_task_processes(supervisor);
+  if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
+  const TaskProcesses& p = started.value();
+  const int task_count = g_tasks.operator_port ? 4 : 3;
+  const hal::Nanoseconds start_limit = supervisor_clock.now() + kTaskStartLimit;
+  Supervisor::Death death;
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count && !death.critical &&
+         supervisor_clock.now() < start_limit) {
+    death = supervisor.poll();
+    supervisor_clock.sleep_until(supervisor_clock.now() + hal::kNsPerMs);
+  }
+  declare_init_complete(HeapGuardMode::count);
+  while (!death.critical) {
+    if (stop_signal() != 0) state.stop.store(true, std::memory_order_release);
+    operator_side_pass(side);
+    death = supervisor.poll();
+    state.health[static_cast<std::size_t>(StatTask::message_parser)].restarts.store(supervisor.restarts(p.parser));
+    if (g_tasks.operator_port) {
+      state.health[static_cast<std::size_t>(StatTask::socket_handler)].restarts.store(supervisor.restarts(p.socket));
+    }
+    if (state.handler_done.load(std::memory_order_acquire)) break;
+    supervisor_clock.sleep_until(supervisor_clock.now() + kLoggerPeriod);
+  }
+  if (death.critical && death.index == p.handler) {
+    char how[64];
+    Supervisor::describe_wait_status(death.wait_status, how, sizeof how);
+    (void)std::printf("rescue-motion run: the EtherCAT handler died (%s): no frame is sent any more; the drives' "
+                      "SyncManager watchdog disables their outputs and the worm gears hold the joints (safe hold); "
+                      "stopping the other tasks\n", how);
+    stop_operator_and_manager(supervisor, p);
+    (void)std::fprintf(stderr, "rescue-motion run: the EtherCAT handler died (%s); exit status %d\n", how, kExitTaskDied);
+    return kExitTaskDied;
+  }
+  if (death.critical) {  // the joint manager: the handler disables the drives and ends, then the rest
+    state.stop.store(true, std::memory_order_release);
+    (void)std::printf("rescue-motion run: the joint manager died: disabling every drive, then stopping\n");
+  }
+  supervisor.expect_exit(p.handler);
+  (void)supervisor.wait_exit(p.handler, kTaskStopLimit + kDisableTimeout);
+  operator_side_pass(side);
+  disable_enabled_joints();
+  stop_operator_and_manager(supervisor, p);
+  if (death.critical) {
+    (void)std::fprintf(stderr, "rescue-motion run: the joint manager died; exit status %d\n", kExitTaskDied);
+    return kExitTaskDied;
+  }
+  return 0;
+}
+
+}  // namespace
+
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
 // NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");
-  static RunState state;
 
+  g_task_processes = !options.threads;
+  if (g_task_processes) {
+    // Several processes write to one stdout: whole lines, each in one write (a pipe keeps writes of
+    // up to PIPE_BUF bytes whole), so their lines never mix. Set before the first output.
+    static char stdout_buffer[4096];
+    (void)std::setvbuf(stdout, stdout_buffer, _IOLBF, sizeof stdout_buffer);
+  }
+  if (g_task_processes && options.timing_out != nullptr) {
+    return fail("run", "--timing-out records the tasks' timing in one process: use it with --threads");
+  }
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
   // cleanly, with one line saying where.
   if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
@@ -654,118 +1057,42 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
 
-  // 4. The tasks. From now on the handler's thread only queues captured frames.
+  // 4. The tasks. From now on the handler only queues captured frames.
   if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
   static EthercatHandler handler(bus, links(), restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
-  start_task_timing();
-  (void)std::fflush(stdout);
-  std::thread manager_thread(joint_manager_task, std::ref(manager), std::ref(clock), std::ref(state));
-  std::thread handler_thread(handler_task, std::ref(handler), std::ref(scenario), std::cref(options), std::ref(clock),
-                             std::ref(state));
   static hal::MonotonicClock operator_clock;
-  std::thread parser_thread(parser_task, std::ref(parser), std::ref(operator_clock), std::ref(state));
-  std::thread socket_thread;
-  if (operator_port) socket_thread = std::thread(socket_task, std::ref(socket), std::ref(operator_clock), std::ref(state));
-  const int task_count = operator_port ? 4 : 3;
-  // Init is complete once every task is past its set-up (thread start-up allocates).
-  hal::MonotonicClock logger_clock;
-  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
-    logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
-  }
-  declare_init_complete(HeapGuardMode::count);
+  g_tasks = TaskSet{&handler, &scenario, &manager, &parser, &socket, &replay, &wall_clock, &clock, &operator_clock,
+                    &options, operator_port, start};
+  OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
+                             !(options.initialize || options.scenario.kind != ScenarioKind::none)};
+  const int tasks_status = g_task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
 
-  // 5. Logger and operator: print what the tasks report; "initialize robot" once in OP.
-  bool op_announced = false;
-  bool scenario_announced = false;
-  bool initialized = !(options.initialize || options.scenario.kind != ScenarioKind::none);
-  bool clear_sent = to_clear == 0;
-  HandlerEvent event{};
-  for (;;) {
-    const bool done = state.handler_done.load(std::memory_order_acquire);
-    if (!scenario_announced && state.scenario_acted.load(std::memory_order_acquire)) {
-      scenario_announced = true;
-      char names[kJointNamesCapacity];
-      format_joint_names(options.scenario.expected_lost, names, sizeof names);
-      if (scenario.action_status().ok()) {
-        (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
-                          seconds(scenario.acted_at() - start), options.scenario.name,
-                          kJoints[options.scenario.cut_joint].name, names);
-      } else {
-        (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
-      }
-    }
-    while (handler.pop_event(event)) print_handler_event(event, start);
-    if (!op_announced && state.op.load(std::memory_order_acquire)) {
-      op_announced = true;
-      (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
-                        seconds(state.op_at.load(std::memory_order_relaxed) - start));
-    }
-    // The DFA takes its steps only for reachable joints: wait until the handler's published values
-    // show every joint that is not recorded lost reachable (the first OP cycles may not).
-    if (op_announced && !clear_sent && all_reachable(to_clear)) {
-      clear_sent = true;
-      char names[kJointNamesCapacity];
-      format_joint_names(to_clear, names, sizeof names);
-      (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - start), names);
-      (void)send_local(protocol::MessageType::clear_joints, to_clear);
-    }
-    if (op_announced && clear_sent && !initialized && all_reachable(kAllJoints & ~out_of_service)) {
-      initialized = true;
-      (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
-                        seconds(clock.now() - start));
-      (void)send_local(protocol::MessageType::initialize, kAllJoints & ~out_of_service);
-    }
-    print_local_replies(clock.now() - start);
-    (void)std::fflush(stdout);
-    if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
-    if (done) break;
-    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
-  }
-  handler_thread.join();
-  // The drives are off: the joint manager's Enabled DFAs follow (Enabled -> Ready) in its last step.
-  // Which joints are Enabled comes from its published demand (its own state belongs to its thread).
-  RobotDemand demand{};
-  JointMask enabled = 0;
-  if (links().demand.try_read(demand)) {
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (demand[j].enable) enabled |= joint_bit(j);
-    }
-  }
-  // Through the parser, the joint handle queue's only producer; its answer comes within its timeout.
-  if (enabled != 0 && send_local(protocol::MessageType::disable, enabled)) {
-    const hal::Nanoseconds give_up = logger_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
-    while (links().local_replies.empty_approx() && logger_clock.now() < give_up) {
-      logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
-    }
-    print_local_replies(clock.now() - start);
-  }
-  state.operator_stop.store(true, std::memory_order_release);
-  parser_thread.join();
-  if (socket_thread.joinable()) socket_thread.join();
-  state.manager_stop.store(true, std::memory_order_release);
-  manager_thread.join();
-  while (handler.pop_event(event)) print_handler_event(event, start);
-
-  // 6. What happened.
+  // 5. What happened.
+  RunControl& state = run();
   const HeapGuardCounters heap = heap_guard_counters();
-  const JointMask lost = manager.lost_joints();
-  const std::uint64_t healthy_missed = handler.missed_cycles(kAllJoints & ~lost);
+  const JointMask lost = state.lost_joints.load();
+  const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
+  std::uint64_t healthy_missed = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((lost & joint_bit(j)) == 0) healthy_missed += state.missed_cycles[j].load();
+  }
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
+  if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, handler.frames_missing(), lost_names,
-                    fsm::to_string(manager.summary().condition));
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(), lost_names, fsm::to_string(condition));
   for (std::size_t j = 0; j < kJointCount; ++j) {
-    const std::uint64_t m = handler.missed_cycles(joint_bit(j) & ~lost);
+    const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
-  const SocketCounters& counted = socket.counters();
+  print_task_health(operator_port);
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
   if (operator_port) {
     (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
     for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
@@ -776,35 +1103,32 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (options.report != nullptr) {
     options.report->cycles = state.cycles.load();
     options.report->healthy_missed = healthy_missed;
-    options.report->frames_missing = handler.frames_missing();
+    options.report->frames_missing = state.frames_missing.load();
     options.report->datagrams = counted.datagrams;
     options.report->accepted = counted.accepted;
     options.report->rejected = counted.rejected;
     options.report->control_port = socket.control_port();
     options.report->sensor_port = socket.sensor_port();
   }
+  if (tasks_status != 0) return tasks_status;
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
   }
-  if (options.capture_path != nullptr) {
-    const Status closed = finish_capture(options.capture_path);
-    if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
-  }
 
   if (options.scenario.kind == ScenarioKind::link_cut) {
-    if (!scenario.acted() || !scenario.action_status().ok()) return fail("run", "the scenario's link cut did not happen");
+    if (!state.scenario_acted.load() || !state.scenario_ok.load()) return fail("run", "the scenario's link cut did not happen");
     if ((lost & options.scenario.expected_lost) != options.scenario.expected_lost ||
         (lost & ~(options.scenario.expected_lost | restored.restored)) != 0) {
       return fail("run", "the joints marked lost differ from the joints behind the cut");
     }
     if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
-    if (manager.file_dirty()) return fail("run", "the error-joints file could not be written");
+    if (state.file_dirty.load()) return fail("run", "the error-joints file could not be written");
     (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
-  return robot_exit(manager.summary().condition);
+  return robot_exit(condition);
 }
 
 }  // namespace rescue::app

@@ -1,0 +1,48 @@
+// The run's own coordination, in the shared-memory segment with the tasks' data (TaskLinks::run):
+// who is started, who should stop, and what each task reports at its end, so the supervisor can
+// stop the tasks in order and print the run's figures whether the tasks are threads or processes.
+// Every member is a lock-free atomic with one writer (named on each line).
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include "core/robot/robot.hpp"
+
+namespace rescue::app {
+
+// Per task process (StatTask slot): its pid and what it did after its init (item "0 heap, 0 page
+// faults after init"). Written by the task at its end; restarts by the supervisor.
+struct TaskHealth {
+  std::atomic<std::int32_t> pid;
+  std::atomic<std::uint32_t> restarts;              // supervisor
+  std::atomic<std::uint64_t> heap_allocations;      // after the task's init (its process's heap guard)
+  std::atomic<std::uint64_t> page_faults;           // minor + major of the task's thread after its init
+  std::atomic<bool> reported;                       // the figures above are final
+};
+
+struct RunControl {
+  std::atomic<bool> stop;             // supervisor -> EtherCAT handler: stop the drives and end
+  std::atomic<bool> operator_stop;    // supervisor -> socket handler, message parser: end
+  std::atomic<bool> manager_stop;     // supervisor -> joint manager: end (after its last step)
+  std::atomic<std::int32_t> tasks_started;  // each task, once past its real-time set-up
+  // EtherCAT handler -> supervisor.
+  std::atomic<bool> op;
+  std::atomic<std::int64_t> op_at;
+  std::atomic<std::uint64_t> cycles;
+  std::atomic<bool> scenario_acted;
+  std::atomic<bool> scenario_ok;      // the scenario's action happened and succeeded
+  std::atomic<bool> handler_done;     // every figure of the handler below is final
+  std::atomic<bool> drives_disabled;
+  std::atomic<std::uint64_t> frames_missing;
+  std::array<std::atomic<std::uint64_t>, kJointCount> missed_cycles;  // per joint
+  // Joint manager -> supervisor, final once manager_done.
+  std::atomic<bool> manager_done;
+  std::atomic<std::uint32_t> lost_joints;   // JointMask
+  std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
+  std::atomic<bool> file_dirty;
+  std::array<TaskHealth, 4> health;         // StatTask order
+};
+
+}  // namespace rescue::app
