@@ -782,6 +782,9 @@ int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   return task_process("socket-handler", run_socket, nullptr);
 }
 
+bool handler_finished() noexcept { return run().handler_done.load(std::memory_order_acquire); }
+bool manager_finished() noexcept { return run().manager_done.load(std::memory_order_acquire); }
+
 // The tasks as processes (the default): this process is the supervisor.
 struct TaskProcesses {
   std::size_t handler{0};
@@ -792,8 +795,10 @@ struct TaskProcesses {
 
 Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
   TaskProcesses p;
-  const Result<std::size_t> handler = supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr});
-  const Result<std::size_t> manager = supervisor.add({"joint-manager", TaskCriticality::critical, manager_process, nullptr});
+  const Result<std::size_t> handler =
+      supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr, handler_finished});
+  const Result<std::size_t> manager =
+      supervisor.add({"joint-manager", TaskCriticality::critical, manager_process, nullptr, manager_finished});
   const Result<std::size_t> parser = supervisor.add({"message-parser", TaskCriticality::restartable, parser_process, nullptr});
   if (!handler.ok() || !manager.ok() || !parser.ok()) return make_error(Errc::capacity_exceeded, "supervised tasks");
   p.handler = handler.value();

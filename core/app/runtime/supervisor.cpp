@@ -49,7 +49,7 @@ void Supervisor::describe_wait_status(int wait_status, char* buffer, std::size_t
 void Supervisor::reaped(Slot& slot, int wait_status, Death& death, std::size_t index) noexcept {
   const pid_t pid = slot.pid;
   slot.pid = -1;
-  if (slot.exit_expected) return;
+  if (slot.exit_expected || (slot.task.finished != nullptr && slot.task.finished())) return;
   char how[64];
   describe_wait_status(wait_status, how, sizeof how);
   const hal::Nanoseconds now = clock_.now();

@@ -27,6 +27,8 @@ struct SupervisedTask {
   TaskCriticality criticality{TaskCriticality::critical};
   TaskBody body{nullptr};
   void* context{nullptr};
+  // Optional: true once the task's end is ordered (it finished its work); its exit is then no death.
+  bool (*finished)() noexcept {nullptr};
 };
 
 class Supervisor {
