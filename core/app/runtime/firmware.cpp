@@ -7,7 +7,9 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <thread>
+#include <utility>
 
 #include "core/app/cli/cli.hpp"
 #include "core/app/config/firmware_config.hpp"
@@ -26,6 +28,7 @@
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/supervisor.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/shm/shared_segment.hpp"
@@ -43,15 +46,11 @@
 namespace rescue::app {
 namespace {
 
-// Priorities, CPUs and periods: the task table (runtime/task_table.hpp, config/firmware_config.hpp).
-constexpr int kHandlerPriority = config::kEthercatHandlerPriority;
-constexpr int kJointManagerPriority = config::kJointManagerPriority;
-constexpr int kHandlerCpu = config::kEthercatHandlerCpu;
-constexpr int kJointManagerCpu = config::kJointManagerCpu;
+// Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
+// config/firmware_config.hpp), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
-constexpr int kOperatorCpu = config::kSocketHandlerCpu;  // socket handler and message parser
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
 constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
@@ -96,6 +95,13 @@ void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
     (void)std::printf("%s:   %s\n", task, line);
   }
 }
+
+// The task's real-time set-up from its row of the task table; its timing slot says what it asked for.
+void apply_task_rt(const char* name, TaskId id) noexcept {
+  apply_thread_rt(name, task_spec(id).priority, task_spec(id).cpu);
+}
+int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
+int task_priority(TaskId id) noexcept { return task_spec(id).priority; }
 
 double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
 
@@ -190,8 +196,9 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_thread_rt("ethercat", kHandlerPriority, kHandlerCpu);
-  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", cpu_for(kHandlerCpu), kHandlerPriority);
+  apply_task_rt("ethercat", TaskId::ethercat_handler);
+  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
+                           task_priority(TaskId::ethercat_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::ethercat_handler);
   drivers::JointBus& bus = handler.bus();
@@ -252,8 +259,9 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_thread_rt("joint-manager", kJointManagerPriority, kJointManagerCpu);
-  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", cpu_for(kJointManagerCpu), kJointManagerPriority);
+  apply_task_rt("joint-manager", TaskId::joint_manager);
+  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
+                           task_priority(TaskId::joint_manager));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::joint_manager);
   hal::Nanoseconds next = clock.now();
@@ -281,8 +289,9 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_thread_rt("message-parser", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", cpu_for(kOperatorCpu), 0);
+  apply_task_rt("message-parser", TaskId::message_parser);
+  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser),
+                           task_priority(TaskId::message_parser));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::message_parser);
   hal::Nanoseconds next = clock.now();
@@ -300,8 +309,9 @@ void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
 void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_thread_rt("socket-handler", 0, kOperatorCpu);
-  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", cpu_for(kOperatorCpu), 0);
+  apply_task_rt("socket-handler", TaskId::socket_handler);
+  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler),
+                           task_priority(TaskId::socket_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::socket_handler);
   while (!state.operator_stop.load(std::memory_order_acquire)) {
@@ -796,7 +806,7 @@ struct TaskProcesses {
 Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
   TaskProcesses p;
   const Result<std::size_t> handler =
-      supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr, handler_finished});
+      supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr, handler_finished, SIGTERM});
   const Result<std::size_t> manager =
       supervisor.add({"joint-manager", TaskCriticality::critical, manager_process, nullptr, manager_finished});
   const Result<std::size_t> parser = supervisor.add({"message-parser", TaskCriticality::restartable, parser_process, nullptr});
@@ -809,12 +819,15 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
     if (!socket.ok()) return socket.error();
     p.socket = socket.value();
   }
-  // Start-up order (docs/tasks.md): joint manager, EtherCAT handler, message parser, socket handler.
-  const std::size_t order[] = {p.manager, p.handler, p.parser, p.socket};
-  const std::size_t count = g_tasks.operator_port ? 4 : 3;
-  for (std::size_t i = 0; i < count; ++i) {
-    RESCUE_TRY(supervisor.start(order[i]));
-    (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(order[i]), static_cast<int>(supervisor.pid(order[i])));
+  // Start-up order: the task table's (docs/tasks.md).
+  const std::pair<TaskId, std::size_t> tasks[] = {{TaskId::joint_manager, p.manager}, {TaskId::ethercat_handler, p.handler},
+                                                  {TaskId::message_parser, p.parser}, {TaskId::socket_handler, p.socket}};
+  for (int order = 1; order <= static_cast<int>(std::size(tasks)); ++order) {
+    for (const auto& [id, index] : tasks) {
+      if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_tasks.operator_port)) continue;
+      RESCUE_TRY(supervisor.start(index));
+      (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(index), static_cast<int>(supervisor.pid(index)));
+    }
   }
   return p;
 }

@@ -1,6 +1,7 @@
 #include "core/app/runtime/supervisor.hpp"
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,9 +22,12 @@ Result<std::size_t> Supervisor::add(const SupervisedTask& task) noexcept {
 Status Supervisor::start(std::size_t index) noexcept {
   Slot& slot = tasks_[index];
   (void)std::fflush(nullptr);  // nothing buffered is written twice
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) return make_error(Errc::io_error, "fork", static_cast<std::uint32_t>(errno));
   if (pid == 0) {
+    // The task does not outlive the supervisor (and a supervisor that died before this line is seen).
+    if (::prctl(PR_SET_PDEATHSIG, slot.task.parent_death_signal) != 0 || ::getppid() != parent) ::_exit(6);
     const int status = slot.task.body(slot.task.context, slot.incarnation);
     (void)std::fflush(nullptr);
     ::_exit(status);

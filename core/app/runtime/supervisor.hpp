@@ -7,6 +7,7 @@
 // Single-threaded: call poll() from the supervisor's loop. Nothing here allocates.
 #pragma once
 
+#include <signal.h>
 #include <sys/types.h>
 
 #include <array>
@@ -29,6 +30,8 @@ struct SupervisedTask {
   void* context{nullptr};
   // Optional: true once the task's end is ordered (it finished its work); its exit is then no death.
   bool (*finished)() noexcept {nullptr};
+  // Sent to the task by the kernel when the supervisor dies (PR_SET_PDEATHSIG), even by SIGKILL.
+  int parent_death_signal{SIGKILL};
 };
 
 class Supervisor {
