@@ -72,13 +72,13 @@ Result<SharedMemory> SharedMemory::create_exclusive(const char* name, std::size_
     (void)::shm_unlink(name);
     return os_error("ftruncate shared memory", err);
   }
-  const Result<void*> data = map_and_close(fd, size);
-  if (!data.ok()) {
+  const Result<void*> mapped = map_and_close(fd, size);
+  if (!mapped.ok()) {
     (void)::shm_unlink(name);
-    return data.error();
+    return mapped.error();
   }
   SharedMemory memory;
-  memory.data_ = data.value();
+  memory.data_ = mapped.value();
   memory.size_ = size;
   return memory;
 }
@@ -100,12 +100,12 @@ Result<SharedMemory> SharedMemory::open_existing(const char* name) noexcept {
     (void)::close(fd);
     return make_error(Errc::truncated, "shared-memory segment is empty");
   }
-  const auto size = static_cast<std::size_t>(st.st_size);
-  const Result<void*> data = map_and_close(fd, size);
-  if (!data.ok()) return data.error();
+  const auto bytes = static_cast<std::size_t>(st.st_size);
+  const Result<void*> mapped = map_and_close(fd, bytes);
+  if (!mapped.ok()) return mapped.error();
   SharedMemory memory;
-  memory.data_ = data.value();
-  memory.size_ = size;
+  memory.data_ = mapped.value();
+  memory.size_ = bytes;
   return memory;
 }
 

@@ -29,10 +29,13 @@ constexpr std::size_t kTaskStatSlots = 4;
 // THE member list of TaskLinks, in layout order: X(name, "who writes -> who reads", type). The
 // record's members, the segment's layout table and hash (core/app/shm/segment_layout.hpp) and the
 // byte map of docs/shared-memory.md all come from this one list: adding a member is one line here.
-// Every type must be lock-free, pointer-free and standard-layout (it lives in shared memory).
+// Every type must be lock-free, pointer-free and standard-layout (it lives in shared memory). The
+// order keeps padding low (the static analysis checks it): rc_heartbeat_ns fills the gap before the
+// first cache-line-aligned queue.
 #define RESCUE_TASK_LINKS_MEMBERS(X)                                                                                   \
   X(samples, "EtherCAT handler -> joint manager, RC tasks, parser, socket handler", Seqlock<RobotSample>)              \
   X(demand, "joint manager -> EtherCAT handler", Seqlock<RobotDemand>)                                                \
+  X(rc_heartbeat_ns, "RC task k -> message parser (monotonic ns of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>) \
   X(lost_reports, "EtherCAT handler -> joint manager (step 1)", SpscQueue<LostJointsReport, kReportQueueDepth>)        \
   X(notices, "joint manager -> EtherCAT handler (step 4)", SpscQueue<JointManagerNotice, kNoticeQueueDepth>)            \
   X(joint_commands, "message parser (only producer) -> joint manager", SpscQueue<JointCommand, kCommandQueueDepth>)    \
@@ -47,8 +50,7 @@ constexpr std::size_t kTaskStatSlots = 4;
   X(local_replies, "message parser -> runtime", SpscQueue<ControlReply, kReplyQueueDepth>)                            \
   X(command_outcomes, "joint manager -> message parser", SpscQueue<JointCommandOutcome, kOutcomeQueueDepth>)          \
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
-  X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)                     \
-  X(rc_heartbeat_ns, "RC task k -> message parser (monotonic ns of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>)
+  X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
   static constexpr std::uint32_t kLayoutVersion = 4;  // bump on any change of meaning (the hash covers offsets and sizes)

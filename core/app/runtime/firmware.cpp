@@ -1,9 +1,9 @@
 #include "core/app/runtime/firmware.hpp"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>

@@ -1,10 +1,10 @@
 #include "core/app/runtime/supervisor.hpp"
 
-#include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cerrno>
 #include <cstring>
 
@@ -23,16 +23,16 @@ Status Supervisor::start(std::size_t index) noexcept {
   Slot& slot = tasks_[index];
   (void)std::fflush(nullptr);  // nothing buffered is written twice
   const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) return make_error(Errc::io_error, "fork", static_cast<std::uint32_t>(errno));
-  if (pid == 0) {
+  const pid_t child = ::fork();
+  if (child < 0) return make_error(Errc::io_error, "fork", static_cast<std::uint32_t>(errno));
+  if (child == 0) {
     // The task does not outlive the supervisor (and a supervisor that died before this line is seen).
     if (::prctl(PR_SET_PDEATHSIG, slot.task.parent_death_signal) != 0 || ::getppid() != parent) ::_exit(6);
     const int status = slot.task.body(slot.task.context, slot.incarnation);
     (void)std::fflush(nullptr);
     ::_exit(status);
   }
-  slot.pid = pid;
+  slot.pid = child;
   slot.exit_expected = false;
   slot.schedule.started(clock_.now());
   return Status::success();
@@ -41,8 +41,8 @@ Status Supervisor::start(std::size_t index) noexcept {
 void Supervisor::describe_wait_status(int wait_status, char* buffer, std::size_t size) noexcept {
   if (WIFSIGNALED(wait_status)) {
     const int sig = WTERMSIG(wait_status);
-    const char* name = sigabbrev_np(sig);
-    (void)std::snprintf(buffer, size, "killed by signal %d (SIG%s)", sig, name != nullptr ? name : "?");
+    const char* abbreviation = sigabbrev_np(sig);
+    (void)std::snprintf(buffer, size, "killed by signal %d (SIG%s)", sig, abbreviation != nullptr ? abbreviation : "?");
   } else if (WIFEXITED(wait_status)) {
     (void)std::snprintf(buffer, size, "exit status %d", WEXITSTATUS(wait_status));
   } else {
@@ -51,7 +51,7 @@ void Supervisor::describe_wait_status(int wait_status, char* buffer, std::size_t
 }
 
 void Supervisor::reaped(Slot& slot, int wait_status, Death& death, std::size_t index) noexcept {
-  const pid_t pid = slot.pid;
+  const pid_t dead = slot.pid;
   slot.pid = -1;
   if (slot.exit_expected || (slot.task.finished != nullptr && slot.task.finished())) return;
   char how[64];
@@ -59,11 +59,11 @@ void Supervisor::reaped(Slot& slot, int wait_status, Death& death, std::size_t i
   const hal::Nanoseconds now = clock_.now();
   if (slot.schedule.died(now) == DeathVerdict::stop_run) {
     (void)std::fprintf(log_, "supervisor: %s (pid %d) %s: a critical task; stopping the run\n", slot.task.name,
-                       static_cast<int>(pid), how);
+                       static_cast<int>(dead), how);
     if (!death.critical) death = Death{true, index, wait_status};
     return;
   }
-  (void)std::fprintf(log_, "supervisor: %s (pid %d) %s; restart %u in %lld ms\n", slot.task.name, static_cast<int>(pid),
+  (void)std::fprintf(log_, "supervisor: %s (pid %d) %s; restart %u in %lld ms\n", slot.task.name, static_cast<int>(dead),
                      how, slot.schedule.restarts(), static_cast<long long>(slot.schedule.last_backoff() / hal::kNsPerMs));
 }
 
@@ -71,10 +71,10 @@ Supervisor::Death Supervisor::poll() noexcept {
   Death death;
   for (;;) {
     int wait_status = 0;
-    const pid_t pid = ::waitpid(-1, &wait_status, WNOHANG);
-    if (pid <= 0) break;
+    const pid_t ended = ::waitpid(-1, &wait_status, WNOHANG);
+    if (ended <= 0) break;
     for (std::size_t i = 0; i < count_; ++i) {
-      if (tasks_[i].pid == pid) reaped(tasks_[i], wait_status, death, i);
+      if (tasks_[i].pid == ended) reaped(tasks_[i], wait_status, death, i);
     }
   }
   const hal::Nanoseconds now = clock_.now();

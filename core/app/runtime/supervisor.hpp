@@ -7,10 +7,10 @@
 // Single-threaded: call poll() from the supervisor's loop. Nothing here allocates.
 #pragma once
 
-#include <signal.h>
 #include <sys/types.h>
 
 #include <array>
+#include <csignal>
 #include <cstddef>
 #include <cstdio>
 

@@ -110,8 +110,7 @@ Result<SegmentOwner> SegmentOwner::create(const SegmentName& name, CreateReport*
   owner.memory_ = std::move(memory.value());
   owner.name_ = name;
   // The pages read zero (ftruncate): construct the record in place, then the header, ready last.
-  auto* segment = new (owner.memory_.data()) SharedSegment{};
-  SegmentHeader& header = segment->header;
+  SegmentHeader& header = (new (owner.memory_.data()) SharedSegment{})->header;
   header.creator_pid = self.value().pid;
   header.creator_start_time = self.value().start_time;
   header.magic = kMagic;
