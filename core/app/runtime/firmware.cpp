@@ -856,6 +856,7 @@ int run_task_processes(OperatorSide& side) noexcept {
   RunControl& state = run();
   static hal::MonotonicClock supervisor_clock;
   static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
+  start_task_timing();
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();
@@ -914,15 +915,13 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
   static JointEventPrinter events(stdout, "joint-manager: ");
 
-  g_task_processes = !options.threads;
+  // --timing-out writes the handler's and the joint manager's recorders together: one process's memory.
+  g_task_processes = !options.threads && options.timing_out == nullptr;
   if (g_task_processes) {
     // Several processes write to one stdout: whole lines, each in one write (a pipe keeps writes of
     // up to PIPE_BUF bytes whole), so their lines never mix. Set before the first output.
     static char stdout_buffer[4096];
     (void)std::setvbuf(stdout, stdout_buffer, _IOLBF, sizeof stdout_buffer);
-  }
-  if (g_task_processes && options.timing_out != nullptr) {
-    return fail("run", "--timing-out records the tasks' timing in one process: use it with --threads");
   }
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
   // cleanly, with one line saying where.
@@ -1076,6 +1075,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     bring_up.dc_max_difference_ns);
 
   // 4. The tasks. From now on the handler only queues captured frames.
+  if (!g_task_processes && !options.threads) {
+    (void)std::printf("rescue-motion run: --timing-out: the tasks run as threads of one process (their recorders are "
+                      "written together)\n");
+  }
   if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
@@ -1100,6 +1103,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
   if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
+  if (!state.handler_done.load()) {
+    (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
+                      "its last published\n");
+  }
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
                     state.cycles.load(), healthy_missed, state.frames_missing.load(), lost_names, fsm::to_string(condition));
