@@ -906,6 +906,56 @@ int run_task_processes(OperatorSide& side) noexcept {
   return 0;
 }
 
+// Step 5: the run's figures, from what the tasks published in the segment (run_control.hpp), also into
+// options.report; returns the cycles healthy joints missed.
+std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept {
+  RunControl& state = run();
+  const bool operator_port = g_tasks.operator_port;
+  const HeapGuardCounters heap = heap_guard_counters();
+  const JointMask lost = state.lost_joints.load();
+  const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
+  std::uint64_t healthy_missed = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((lost & joint_bit(j)) == 0) healthy_missed += state.missed_cycles[j].load();
+  }
+  char lost_names[kJointNamesCapacity];
+  format_joint_names(lost, lost_names, sizeof lost_names);
+  if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
+  if (!state.handler_done.load()) {
+    (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
+                      "its last published\n");
+  }
+  (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
+                    " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(), lost_names, fsm::to_string(condition));
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
+    if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
+  }
+  (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  print_task_health(operator_port);
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
+  if (operator_port) {
+    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
+    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
+    }
+    (void)std::printf("\n");
+  }
+  if (options.report != nullptr) {
+    options.report->cycles = state.cycles.load();
+    options.report->healthy_missed = healthy_missed;
+    options.report->frames_missing = state.frames_missing.load();
+    options.report->datagrams = counted.datagrams;
+    options.report->accepted = counted.accepted;
+    options.report->rejected = counted.rejected;
+    options.report->control_port = socket.control_port();
+    options.report->sensor_port = socket.sensor_port();
+  }
+  return healthy_missed;
+}
+
 }  // namespace
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
@@ -1093,48 +1143,11 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   // 5. What happened.
   RunControl& state = run();
-  const HeapGuardCounters heap = heap_guard_counters();
   const JointMask lost = state.lost_joints.load();
   const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
-  std::uint64_t healthy_missed = 0;
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((lost & joint_bit(j)) == 0) healthy_missed += state.missed_cycles[j].load();
-  }
+  const std::uint64_t healthy_missed = print_run_figures(options, socket);
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
-  if (!state.handler_done.load()) {
-    (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
-                      "its last published\n");
-  }
-  (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
-                    " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, state.frames_missing.load(), lost_names, fsm::to_string(condition));
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
-    if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
-  }
-  (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
-  print_task_health(operator_port);
-  SocketCounters counted{};
-  (void)links().socket_counters.try_read(counted);
-  if (operator_port) {
-    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
-    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
-      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
-    }
-    (void)std::printf("\n");
-  }
-  if (options.report != nullptr) {
-    options.report->cycles = state.cycles.load();
-    options.report->healthy_missed = healthy_missed;
-    options.report->frames_missing = state.frames_missing.load();
-    options.report->datagrams = counted.datagrams;
-    options.report->accepted = counted.accepted;
-    options.report->rejected = counted.rejected;
-    options.report->control_port = socket.control_port();
-    options.report->sensor_port = socket.sensor_port();
-  }
   if (tasks_status != 0) return tasks_status;
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
