@@ -72,13 +72,13 @@ Result<SharedMemory> SharedMemory::create_exclusive(const char* name, std::size_
     (void)::shm_unlink(name);
     return os_error("ftruncate shared memory", err);
   }
-  const Result<void*> mapped = map_and_close(fd, size);
-  if (!mapped.ok()) {
+  const Result<void*> region = map_and_close(fd, size);
+  if (!region.ok()) {
     (void)::shm_unlink(name);
-    return mapped.error();
+    return region.error();
   }
   SharedMemory memory;
-  memory.data_ = mapped.value();
+  memory.data_ = region.value();
   memory.size_ = size;
   return memory;
 }
@@ -101,10 +101,10 @@ Result<SharedMemory> SharedMemory::open_existing(const char* name) noexcept {
     return make_error(Errc::truncated, "shared-memory segment is empty");
   }
   const auto bytes = static_cast<std::size_t>(st.st_size);
-  const Result<void*> mapped = map_and_close(fd, bytes);
-  if (!mapped.ok()) return mapped.error();
+  const Result<void*> region = map_and_close(fd, bytes);
+  if (!region.ok()) return region.error();
   SharedMemory memory;
-  memory.data_ = mapped.value();
+  memory.data_ = region.value();
   memory.size_ = bytes;
   return memory;
 }

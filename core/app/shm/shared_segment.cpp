@@ -10,6 +10,9 @@ namespace {
 
 constexpr hal::Nanoseconds kAttachPoll = hal::kNsPerMs;
 
+// Value-initialises the record (atomics, queues, seqlocks) in the zeroed pages of a new segment.
+SharedSegment* construct_segment(void* memory) noexcept { return new (memory) SharedSegment(); }
+
 SegmentName name_from(const char* text) noexcept {
   SegmentName name;
   (void)std::snprintf(name.text.data(), name.text.size(), "%s", text);
@@ -110,7 +113,7 @@ Result<SegmentOwner> SegmentOwner::create(const SegmentName& name, CreateReport*
   owner.memory_ = std::move(memory.value());
   owner.name_ = name;
   // The pages read zero (ftruncate): construct the record in place, then the header, ready last.
-  SegmentHeader& header = (new (owner.memory_.data()) SharedSegment{})->header;
+  SegmentHeader& header = construct_segment(owner.memory_.data())->header;
   header.creator_pid = self.value().pid;
   header.creator_start_time = self.value().start_time;
   header.magic = kMagic;
