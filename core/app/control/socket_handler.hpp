@@ -68,6 +68,9 @@ class SocketHandler {
   void step(hal::Nanoseconds now) noexcept;
 
   const SocketCounters& counters() const noexcept { return counters_; }
+  // A restarted socket handler (a new process, docs/tasks.md) counts on from its predecessor's
+  // published counters instead of from zero.
+  void resume_counters(const SocketCounters& published) noexcept { counters_ = published; }
 
  private:
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;

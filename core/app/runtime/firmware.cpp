@@ -786,8 +786,11 @@ int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
 }
 int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   // A restarted socket handler reads the persisted replay windows again: no old message reopens.
+  // It also counts on from the counters its predecessor published.
   if (incarnation > 0) {
     (void)g_tasks.replay->restore(static_cast<std::uint64_t>(g_tasks.wall_clock->unix_time_ns()));
+    SocketCounters published{};
+    if (links().socket_counters.try_read(published)) g_tasks.socket->resume_counters(published);
   }
   return task_process("socket-handler", run_socket, nullptr);
 }
