@@ -928,9 +928,11 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
     (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
                       "its last published\n");
   }
+  const bool manager_reported = state.manager_done.load(std::memory_order_acquire);
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
                     " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, state.frames_missing.load(), lost_names, fsm::to_string(condition));
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(),
+                    manager_reported ? lost_names : "unknown", manager_reported ? fsm::to_string(condition) : "unknown (the joint manager did not report)");
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
