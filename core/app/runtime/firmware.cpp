@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
+#include <new>
 #include <thread>
 #include <utility>
 
@@ -471,7 +472,10 @@ int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) 
 // directory; a stale one from a crashed run is replaced with a log line. 0 when ready, else the exit
 // status.
 int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
-  if (g_segment.created()) return 0;
+  if (g_segment.created()) {  // a second run in this process (tests): the run's words start afresh
+    new (&links().run) RunControl();
+    return 0;
+  }
   shm::SegmentName name = shm::default_segment_name(state_dir);
   if (options.segment_name != nullptr) {
     const Result<shm::SegmentName> given = shm::segment_name(options.segment_name);
