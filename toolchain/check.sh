@@ -9,11 +9,13 @@
 #   5. AddressSanitizer + UndefinedBehaviorSanitizer build + the whole suite
 #   6. fuzz build (clang, every library instrumented) + a short bounded run of each fuzzer
 #   7. aarch64 cross compile of the firmware libraries
-# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross]
+#   8. package: the Debian package (motion-pc preset), its contents, lintian, the installed binary as the
+#      service user on the simulated robot, the systemd unit (toolchain/package-check.sh, docs/deploy.md)
+# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis verify tsan asan fuzz cross)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis verify tsan asan fuzz cross package)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
 
@@ -79,6 +81,11 @@ if want cross; then
   banner "aarch64 cross compile (firmware libraries)"
   cmake --preset aarch64 >/dev/null
   cmake --build --preset aarch64 -j "$jobs"
+fi
+
+if want package; then
+  banner "Debian package: contents, lintian, installed binary as the service user, systemd unit"
+  bash toolchain/package-check.sh "$jobs"
 fi
 
 banner "all checks passed in $(( $(date +%s) - start )) s"

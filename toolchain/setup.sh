@@ -20,6 +20,8 @@ packages=(
   rt-tests                                           # cyclictest: the OS latency floor (bench latency)
   valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)
   libsodium-dev                                      # UDP protocol authentication (crypto_auth), keys
+  dpkg-dev fakeroot lintian help2man                 # the Debian package: dpkg-shlibdeps, man page, lintian (docs/deploy.md)
+  systemd util-linux                                 # systemd-analyze verify/security on the unit; setpriv (package check)
 )
 
 missing=()

@@ -18,3 +18,4 @@ rescue_add_fuzzer(fuzz_simulated_segment SOURCES fuzz_simulated_segment.cpp
 rescue_add_fuzzer(fuzz_master_replies SOURCES fuzz_master_replies.cpp DEPS rescue_drivers rescue_sim rescue_ecat)
 rescue_add_fuzzer(fuzz_sdo_server SOURCES fuzz_sdo_server.cpp DEPS rescue_drivers rescue_sim rescue_ecat)
 rescue_add_fuzzer(fuzz_protocol_decoder SOURCES fuzz_protocol_decoder.cpp DEPS rescue_app)
+rescue_add_fuzzer(fuzz_config_file SOURCES fuzz_config_file.cpp DEPS rescue_app)

@@ -2,14 +2,21 @@
 #include <cstdio>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/config/config_file.hpp"
 #include "core/app/runtime/firmware.hpp"
+#include "core/app/runtime/self_check.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "core/app/cli/nic_option.hpp"
 #include "core/app/sim/run_scenario.hpp"
+#include "hal/rt/privileges.hpp"
 
 namespace rescue::app {
 namespace {
 
 const OptionSpec kOptions[] = {
+    {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
+    {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
     {"scenario", "NAME", "simulated fault scenario: link-cut (cut the cable into l_elbow 1 s after OP)"},
     {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
@@ -26,28 +33,73 @@ const OptionSpec kOptions[] = {
     {"key", "FILE", "pre-shared key file (default <state dir>/operator.key; made by: rescue-motion ctl keygen)"},
 };
 
+// The configuration file, when --config names one (static: its texts outlive the run).
+ConfigFile g_config;
+
+// A text of the file, or nullptr when it did not set it.
+const char* from_file(const ConfigText& text) noexcept { return text[0] != '\0' ? text.data() : nullptr; }
+// The command line's value, else the file's, else nullptr.
+const char* option_or_file(const ParsedArgs& args, const char* name, const ConfigText& text) noexcept {
+  return args.value(name) != nullptr ? args.value(name) : from_file(text);
+}
+
+// Says which capabilities and limits are missing and what that costs (docs/deploy.md).
+void report_privileges(const NicChoice& nic) noexcept {
+  const Result<hal::Privileges> have = hal::query_privileges();
+  if (!have.ok()) {
+    (void)std::printf("rescue-motion run: privileges unknown: %s (errno %u)\n", have.error().what, have.error().detail0);
+    return;
+  }
+  hal::PrivilegeNeeds needs;
+  for (const TaskSpec& t : task_table()) {
+    const int priority = runner_priority(t.id);
+    if (priority > needs.max_priority) needs.max_priority = priority;
+  }
+  needs.raw_socket = nic.kind == NicKind::raw;
+  (void)hal::describe_privileges(have.value(), needs, "rescue-motion run: privileges: ", stdout);
+}
+
 int run_main(const ParsedArgs& args) {
   FirmwareOptions options;
-  const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
+  if (args.value("config") != nullptr) {
+    const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
+    if (!loaded.ok) {
+      char line[512];
+      (void)format_config_error(args.value("config"), loaded.error, line, sizeof line);
+      (void)std::fprintf(stderr, "rescue-motion run: --config %s\n", line);
+      return 1;
+    }
+    apply_task_placements(g_config);
+  }
+  const char* nic_text = option_or_file(args, "nic", g_config.nic_text);
+  const Result<NicChoice> nic = parse_nic_option(nic_text);
   if (!nic.ok()) return fail("run", nic.error().what);
   options.nic = nic.value();
-  if (args.value("nic") != nullptr) options.nic_text = args.value("nic");
+  if (nic_text != nullptr) options.nic_text = nic_text;
+  if (args.has("check")) {
+    if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
+    SelfCheckOptions check;
+    check.nic = options.nic;
+    check.nic_text = options.nic_text;
+    return run_self_check(check, stdout, nullptr);
+  }
+  report_privileges(options.nic);
   const Result<Scenario> scenario = parse_scenario(args.value("scenario"));
   if (!scenario.ok()) return fail("run", scenario.error().what);
   options.scenario = scenario.value();
   if (options.scenario.kind != ScenarioKind::none && options.nic.kind != NicKind::sim) {
     return fail("run", "scenarios inject faults into the simulated robot: use --nic sim");
   }
-  const Result<double> duration = args.number("duration", 0.0, 0.0, 7.0 * 24 * 3600);
+  const Result<double> duration = args.number("duration", g_config.duration_s, 0.0, 7.0 * 24 * 3600);
   if (!duration.ok()) return fail("run", "--duration SECONDS", duration.error());
   // 0 is refused rather than read as "forever": leaving --duration out is how to run until a signal.
-  if (args.has("duration") && !(duration.value() > 0.0)) {
+  if ((args.has("duration") || g_config.has_duration) && !(duration.value() > 0.0)) {
     return fail("run", "--duration SECONDS: must be above 0 (leave it out to run until SIGINT/SIGTERM)");
   }
   options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
-  options.state_dir = args.value("state-dir");
+  options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);
   options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");
   options.threads = args.has("threads");
@@ -62,15 +114,17 @@ int run_main(const ParsedArgs& args) {
     }
     options.clear_joints = clear.value();
   }
-  const Result<std::int64_t> control_port = args.integer("control-port", 47010, 1, 65535);
+  const Result<std::int64_t> control_port =
+      args.integer("control-port", g_config.has_control_port ? g_config.control_port : 47010, 1, 65535);
   if (!control_port.ok()) return fail("run", "--control-port PORT", control_port.error());
-  const Result<std::int64_t> sensor_port = args.integer("sensor-port", 47011, 1, 65535);
+  const Result<std::int64_t> sensor_port =
+      args.integer("sensor-port", g_config.has_sensor_port ? g_config.sensor_port : 47011, 1, 65535);
   if (!sensor_port.ok()) return fail("run", "--sensor-port PORT", sensor_port.error());
   if (control_port.value() == sensor_port.value()) return fail("run", "--control-port and --sensor-port must differ");
   options.control_port = static_cast<std::uint16_t>(control_port.value());
   options.sensor_port = static_cast<std::uint16_t>(sensor_port.value());
-  if (args.value("listen") != nullptr) options.listen = args.value("listen");
-  options.key_path = args.value("key");
+  if (option_or_file(args, "listen", g_config.listen) != nullptr) options.listen = option_or_file(args, "listen", g_config.listen);
+  options.key_path = option_or_file(args, "key", g_config.key_file);
   return run_firmware(options);
 }
 
@@ -85,7 +139,12 @@ const CommandSpec kRunCommand{
     "After a repair, --clear-joint names the joints to clear: they must answer at bring-up; once they\n"
     "do in OP they leave the error-joints file (logged) and are reset to Idle.\n"
     "With a key file the operator's commands arrive on the control port and IMU/GPS records on the\n"
-    "sensor port (docs/protocol.md); `rescue-motion ctl` is the operator client (docs/operator.md).",
+    "sensor port (docs/protocol.md); `rescue-motion ctl` is the operator client (docs/operator.md).\n"
+    "--config FILE reads these settings and each task's priority and CPU from a file (docs/configuration.md);\n"
+    "an option on the command line overrides the file. At start the run says which of CAP_NET_RAW,\n"
+    "CAP_SYS_NICE, CAP_IPC_LOCK, RLIMIT_RTPRIO and RLIMIT_MEMLOCK it lacks and what that costs.\n"
+    "--check brings the network to OP and back to INIT without enabling a drive, prints one line and\n"
+    "exits 0 (OK) or 1 (docs/deploy.md).",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app

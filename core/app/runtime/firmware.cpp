@@ -48,7 +48,8 @@ namespace rescue::app {
 namespace {
 
 // Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
-// config/firmware_config.hpp), applied by the task itself, in its thread or process.
+// config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
+// before the run started), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
@@ -98,11 +99,9 @@ void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
 }
 
 // The task's real-time set-up from its row of the task table; its timing slot says what it asked for.
-void apply_task_rt(const char* name, TaskId id) noexcept {
-  apply_thread_rt(name, task_spec(id).priority, task_spec(id).cpu);
-}
+void apply_task_rt(const char* name, TaskId id) noexcept { apply_thread_rt(name, runner_priority(id), task_spec(id).cpu); }
 int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
-int task_priority(TaskId id) noexcept { return task_spec(id).priority; }
+int task_priority(TaskId id) noexcept { return runner_priority(id); }
 
 double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
 

@@ -10,7 +10,8 @@ namespace rescue::app {
 namespace {
 
 // clang-format off
-constexpr TaskSpec kTasks[] = {
+// Not const: a configuration file may move a task (set_task_priority, set_task_cpu), before the tasks start.
+TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
   {TaskId::basic_software, "basic software", config::kBasicSoftwarePriority, config::kBasicSoftwareCpu, config::kLoggerPeriodNs,
    "no", "the operating system; the firmware's logger (events, capture file)", "runtime/firmware.cpp (logger)",
    "the supervisor (the parent: owns the segment, starts, restarts and stops the others)", 0, 0,
@@ -33,14 +34,40 @@ constexpr TaskSpec kTasks[] = {
    "critical: no frame any more, the drives' SyncManager watchdog disables their outputs, worm gears hold (safe hold); the others stop; exit status 4 with the reason"},
 };
 // clang-format on
+bool g_operator_priority_set[std::size(kTasks)] = {};  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
+
+TaskSpec* find_task(TaskId id) noexcept {
+  TaskSpec* found = std::find_if(std::begin(kTasks), std::end(kTasks), [id](const TaskSpec& t) { return t.id == id; });
+  return found != std::end(kTasks) ? found : nullptr;
+}
 
 }  // namespace
 
 Span<const TaskSpec> task_table() noexcept { return {kTasks}; }
 
 const TaskSpec& task_spec(TaskId id) noexcept {
-  const TaskSpec* found = std::find_if(std::begin(kTasks), std::end(kTasks), [id](const TaskSpec& t) { return t.id == id; });
-  return found != std::end(kTasks) ? *found : kTasks[0];  // unreachable: every TaskId has a row (test_task_table_covers_every_task)
+  const TaskSpec* found = find_task(id);
+  return found != nullptr ? *found : kTasks[0];  // unreachable: every TaskId has a row (test_task_table_covers_every_task)
+}
+
+void set_task_priority(TaskId id, int priority) noexcept {
+  TaskSpec* task = find_task(id);
+  if (task == nullptr) return;
+  g_operator_priority_set[static_cast<std::size_t>(task - std::begin(kTasks))] = true;
+  task->priority = priority;
+}
+
+void set_task_cpu(TaskId id, int cpu) noexcept {
+  TaskSpec* task = find_task(id);
+  if (task != nullptr) task->cpu = cpu;
+}
+
+int runner_priority(TaskId id) noexcept {
+  const TaskSpec* task = find_task(id);
+  if (task == nullptr) return 0;
+  const bool operator_task = id == TaskId::socket_handler || id == TaskId::message_parser;
+  if (operator_task && !g_operator_priority_set[static_cast<std::size_t>(task - std::begin(kTasks))]) return 0;
+  return task->priority;
 }
 
 void write_task_table_markdown(std::FILE* out) noexcept {

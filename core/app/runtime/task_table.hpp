@@ -40,6 +40,14 @@ struct TaskSpec {
 Span<const TaskSpec> task_table() noexcept;
 const TaskSpec& task_spec(TaskId id) noexcept;
 
+// A task's priority and CPU set at start-up (the configuration file, config/config_file.hpp), over
+// the compiled-in table; before any task starts. docs tasks then prints the table in force.
+void set_task_priority(TaskId id, int priority) noexcept;
+void set_task_cpu(TaskId id, int cpu) noexcept;
+// The SCHED_FIFO priority the runner gives a task: the table's, except that the socket handler and
+// the message parser run at normal priority (0) unless a configuration file set theirs.
+int runner_priority(TaskId id) noexcept;
+
 // The task table as Markdown tables (docs/tasks.md): scheduling, then processes and their orders.
 void write_task_table_markdown(std::FILE* out) noexcept;
 

@@ -1,0 +1,100 @@
+#include "core/app/runtime/self_check.hpp"
+
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "drivers/cia402/cia402.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "ecat/master/al_control.hpp"
+#include "hal/files/instance_lock.hpp"
+
+namespace rescue::app {
+namespace {
+
+constexpr const char* kPrefix = "rescue-motion run --check";
+
+int failed(std::FILE* out, const char* what, const char* detail) noexcept {
+  (void)std::fprintf(out, "%s: FAILED: %s%s%s\n", kPrefix, what, detail[0] != '\0' ? ": " : "", detail);
+  return 1;
+}
+
+double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+
+}  // namespace
+
+int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckReport* report) noexcept {
+  SelfCheckReport local{};
+  SelfCheckReport& r = report != nullptr ? *report : local;
+  r = SelfCheckReport{};
+  // A raw NIC another rescue-motion drives (the service) is never touched: INIT would stop its robot.
+  if (options.nic.kind == NicKind::raw) {
+    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
+    if (!locked.ok()) {
+      return failed(out,
+                    locked.error().code == Errc::busy ? "the interface is in use by another rescue-motion (stop the service first)"
+                                                      : "cannot lock the interface",
+                    locked.error().what);
+    }
+  }
+  static SelectedNic selected;
+  const Status opened = selected.open(options.nic);
+  if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
+  hal::Clock& clock = selected.nic()->clock();
+  static drivers::JointBus bus(*selected.nic());
+  ecat::MasterOptions master_options;
+  master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
+  const hal::Nanoseconds start = clock.now();
+  const Status up = bus.bring_up(master_options);
+  if (!up.ok()) {
+    const ecat::BringUpReport& b = bus.master().report();
+    char detail[160];
+    (void)std::snprintf(detail, sizeof detail, "at %s: %s", b.failed_step != nullptr ? b.failed_step : "?", b.error.what);
+    return failed(out, "bring-up", detail);
+  }
+  r.slaves = bus.master().report().slaves_counted;
+
+  // Cycles with every output zero until OP, then a short hold in OP.
+  const drivers::JointReferences zero{};
+  drivers::JointFeedback feedback{};
+  hal::Nanoseconds op_at = -1;
+  for (;;) {
+    clock.sleep_until(bus.next_wakeup());
+    const drivers::JointCycleResult c = bus.cycle(zero, feedback);
+    const hal::Nanoseconds now = clock.now();
+    if (!c.frame_received) ++r.frames_missing;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((feedback.valid & joint_bit(j)) != 0 && (feedback.joints[j].statusword & drivers::cia402::sw::kOperationEnabled) != 0) {
+        r.drive_enabled = true;
+      }
+    }
+    if (c.state == ecat::MasterState::op && op_at < 0) {
+      op_at = now;
+      r.reached_op = true;
+      r.op_after_s = seconds(now - start);
+    }
+    if (op_at >= 0) ++r.cycles_in_op;
+    if (stop_signal() != 0) break;
+    if (op_at >= 0 && now - op_at >= options.hold_in_op) break;
+    if (op_at < 0 && (c.state == ecat::MasterState::failed || now - start >= options.op_timeout)) break;
+  }
+
+  // Back to INIT, every slave that answered at bring-up.
+  ecat::AlFailure failure{};
+  const Status init = ecat::request_al_state(bus.master().link(), bus.master().plan(), bus.master().present(),
+                                             ecat::reg::AlState::init, ecat::AlOptions{}, failure);
+  r.back_in_init = init.ok();
+  char al[160] = "";
+  if (!init.ok()) (void)ecat::describe(failure, bus.master().plan(), al, sizeof al);
+
+  if (stop_signal() != 0) return failed(out, "stopped by a signal", r.back_in_init ? "slaves back in INIT" : al);
+  if (r.drive_enabled) return failed(out, "a drive reported Operation enabled", "with controlword 0 (check the drives)");
+  if (!r.reached_op) return failed(out, "the network did not reach OP", r.back_in_init ? "slaves back in INIT" : al);
+  if (!r.back_in_init) return failed(out, "reached OP but the slaves did not go back to INIT", al);
+  (void)std::fprintf(out,
+                     "%s: OK: nic %s, %u slaves, OP after %.3f s, %llu cycles in OP (%llu frames late or lost), back "
+                     "in INIT; no drive enabled\n",
+                     kPrefix, options.nic_text, r.slaves, r.op_after_s, static_cast<unsigned long long>(r.cycles_in_op),
+                     static_cast<unsigned long long>(r.frames_missing));
+  return 0;
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,36 @@
+// `rescue-motion run --check` (docs/deploy.md): brings the EtherCAT network up to OP, exchanges
+// frames for a short while with every output zero (controlword 0: no drive is ever enabled), sends
+// every slave back to INIT, and prints one line saying what it saw. Exit status 0 when the network
+// reached OP, no drive reported Operation enabled, and every slave answered INIT; 1 otherwise. A raw
+// interface is locked first (hal/files/instance_lock.hpp): a running service keeps it, and the check refuses.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+
+#include "core/app/cli/nic_option.hpp"
+#include "hal/time/clock.hpp"
+
+namespace rescue::app {
+
+struct SelfCheckOptions {
+  NicChoice nic{};
+  const char* nic_text{"sim"};
+  hal::Nanoseconds op_timeout{5 * hal::kNsPerSec};      // from SAFE-OP to OP
+  hal::Nanoseconds hold_in_op{200 * hal::kNsPerMs};     // frames exchanged in OP before going back
+};
+
+struct SelfCheckReport {
+  bool reached_op{false};
+  bool back_in_init{false};
+  bool drive_enabled{false};  // a drive reported Operation enabled (must never happen)
+  unsigned slaves{0};
+  std::uint64_t cycles_in_op{0};
+  std::uint64_t frames_missing{0};
+  double op_after_s{0.0};
+};
+
+// Writes its one line to `out`; fills `report` when not nullptr. Returns the exit status.
+int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckReport* report) noexcept;
+
+}  // namespace rescue::app
