@@ -168,8 +168,11 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
     (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"}\n", verb,
                       accepted ? "true" : "false", protocol::to_string(r.reason), names, r.text.data());
   } else if (accepted) {
-    (void)std::printf("%s: accepted%s%s\n", verb, r.text[0] != '\0' ? " (" : "", r.text.data());
-    if (r.text[0] != '\0') (void)std::printf(")\n");
+    if (r.text[0] != '\0') {
+      (void)std::printf("%s: accepted (%s)\n", verb, r.text.data());
+    } else {
+      (void)std::printf("%s: accepted\n", verb);
+    }
   } else {
     (void)std::printf("%s: refused: %s: %s\n", verb, protocol::to_string(r.reason), r.text.data());
   }

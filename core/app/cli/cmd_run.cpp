@@ -18,7 +18,7 @@ const OptionSpec kOptions[] = {
     {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
     {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
-    {"scenario", "NAME", "simulated fault scenario: link-cut (cut the cable into l_elbow 1 s after OP)"},
+    {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion)"},
     {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},

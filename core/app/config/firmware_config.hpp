@@ -43,4 +43,13 @@ constexpr std::size_t kJointCommandQueueDepth = 64;  // message parser -> joint 
 constexpr std::int64_t kDisableTimeoutNs = 500'000'000;  // stop: drives disabled within this, or give up
 constexpr std::int64_t kScenarioRunOnNs = 1'000'000'000; // a scenario without --duration runs on this long
 
+// --- The Motion owner (docs/motion-owner.md) ------------------------------------------------------
+// The EtherCAT handler takes the owner's references only if the owner completed them at most this
+// long before the handler's period (2 RC periods); otherwise it holds and counts an owner miss.
+constexpr std::int64_t kOwnerReferenceDeadlineNs = 2'000'000;
+// An owner whose heartbeat is older than this many RC periods is dead: the handler releases the
+// motion in the period it notices (so within kOwnerDeadAfterPeriods + 1 handler periods of the
+// owner's last period), holding position from its first missed deadline on.
+constexpr std::int64_t kOwnerDeadAfterPeriods = 50;
+
 }  // namespace rescue::app::config

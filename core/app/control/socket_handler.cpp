@@ -57,6 +57,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
   const bool have_sample = ports_.samples != nullptr && ports_.samples->try_read(sample);
   const bool have_status = ports_.joint_status != nullptr && ports_.joint_status->try_read(status);
   const bool have_master = ports_.master != nullptr && ports_.master->try_read(master);
+  const std::uint8_t owner = ports_.motion != nullptr ? ports_.motion->owner.task() : protocol::kNoOwner;
+  const JointMask owner_joints = ports_.motion != nullptr ? ports_.motion->owner_joints.load(std::memory_order_relaxed) : 0;
   switch (request.header.type) {
     case MessageType::get_status:
       m.header.type = MessageType::status;
@@ -77,7 +79,9 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.velocity_rad_s = sample[j].velocity_rad_s;
           r.torque_nm = sample[j].torque_nm;
         }
-        r.owner = protocol::kNoOwner;  // no Motion owner yet: every enabled joint holds its reference
+        // The Motion owner's RC task on the joints its references drove in the handler's last
+        // period; kNoOwner on the others (they hold their reference, or are not driven).
+        r.owner = (owner_joints & joint_bit(j)) != 0 ? owner : protocol::kNoOwner;
       }
       break;
     case MessageType::get_slaves:

@@ -46,6 +46,7 @@ struct SocketHandlerPorts {
   const Seqlock<RobotJointStatus>* joint_status{nullptr};
   const Seqlock<MasterStatus>* master{nullptr};
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
+  const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
 };
 
 class SocketHandler {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 
 #include "core/robot/robot.hpp"
@@ -22,14 +23,20 @@ struct TaskHealth {
   std::atomic<bool> reported;                       // the figures above are final
 };
 
+// One per StatTask (links/task_links.hpp): EtherCAT handler, joint manager, socket handler, message
+// parser, RC rescue, RC teleop.
+constexpr std::size_t kRunHealthSlots = 6;
+
 struct RunControl {
   std::atomic<bool> stop;             // supervisor -> EtherCAT handler: stop the drives and end
   std::atomic<bool> operator_stop;    // supervisor -> socket handler, message parser: end
+  std::atomic<bool> rc_stop;          // supervisor -> RC tasks: end
   std::atomic<bool> manager_stop;     // supervisor -> joint manager: end (after its last step)
   std::atomic<std::int32_t> tasks_started;  // each task, once past its real-time set-up
   // EtherCAT handler -> supervisor.
   std::atomic<bool> op;
   std::atomic<std::int64_t> op_at;
+  std::atomic<std::int64_t> scenario_at;  // when the scenario acted (the handler's clock)
   std::atomic<std::uint64_t> cycles;
   std::atomic<bool> scenario_acted;
   std::atomic<bool> scenario_ok;      // the scenario's action happened and succeeded
@@ -37,12 +44,17 @@ struct RunControl {
   std::atomic<bool> drives_disabled;
   std::atomic<std::uint64_t> frames_missing;
   std::array<std::atomic<std::uint64_t>, kJointCount> missed_cycles;  // per joint
+  // The handler's motion intake (motion/motion_intake.hpp), final once handler_done.
+  std::atomic<std::uint64_t> intake_owned_periods;
+  std::atomic<std::uint64_t> intake_used_periods;
+  std::atomic<std::uint64_t> intake_misses;
+  std::atomic<std::uint64_t> intake_releases;
   // Joint manager -> supervisor, final once manager_done.
   std::atomic<bool> manager_done;
   std::atomic<std::uint32_t> lost_joints;   // JointMask
   std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
   std::atomic<bool> file_dirty;
-  std::array<TaskHealth, 4> health;         // StatTask order
+  std::array<TaskHealth, kRunHealthSlots> health;         // StatTask order
 };
 
 }  // namespace rescue::app

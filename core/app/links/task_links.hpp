@@ -14,6 +14,7 @@
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/run_control.hpp"
+#include "core/app/motion/motion_links.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
@@ -23,8 +24,11 @@
 namespace rescue::app {
 
 // The tasks that publish their timing (TaskLinks::task_stats), in this order.
-enum class StatTask : std::uint8_t { ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3 };
-constexpr std::size_t kTaskStatSlots = 4;
+enum class StatTask : std::uint8_t {
+  ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3, rc_rescue = 4, rc_teleop = 5
+};
+constexpr std::size_t kTaskStatSlots = 6;
+static_assert(kTaskStatSlots == kRunHealthSlots, "one health slot per StatTask (run_control.hpp)");
 
 // THE member list of TaskLinks, in layout order: X(name, "who writes -> who reads", type). The
 // record's members, the segment's layout table and hash (core/app/shm/segment_layout.hpp) and the
@@ -50,10 +54,11 @@ constexpr std::size_t kTaskStatSlots = 4;
   X(local_replies, "message parser -> runtime", SpscQueue<ControlReply, kReplyQueueDepth>)                            \
   X(command_outcomes, "joint manager -> message parser", SpscQueue<JointCommandOutcome, kOutcomeQueueDepth>)          \
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
+  X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 4;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 5;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <array>
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cinttypes>
@@ -18,6 +20,7 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/rc_task.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/control/message_parser.hpp"
@@ -50,14 +53,13 @@ namespace {
 // Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
 // config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
 // before the run started), applied by the task itself, in its thread or process.
+constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
 constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
-// A scenario without --duration runs this long after it acted, then stops.
-constexpr hal::Nanoseconds kScenarioRunOn = config::kScenarioRunOnNs;
 
 // What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
 // process at start-up (a second run_firmware in the same process, as tests do, reuses it).
@@ -238,8 +240,9 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     }
     if (scenario.on_cycle(now, op)) {
       state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
+      state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
       state.scenario_acted.store(true, std::memory_order_release);
-      if (options.duration == 0) stop_at = now + kScenarioRunOn;
+      if (options.duration == 0) stop_at = now + options.scenario.run_on;
     }
     if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
@@ -254,6 +257,11 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   }
   state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
   state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
+  const MotionIntakeCounters intake = handler.motion_intake().counters();
+  state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
+  state.intake_used_periods.store(intake.used_periods, std::memory_order_relaxed);
+  state.intake_misses.store(intake.misses, std::memory_order_relaxed);
+  state.intake_releases.store(intake.releases, std::memory_order_relaxed);
   state.handler_done.store(true, std::memory_order_release);
 }
 
@@ -284,6 +292,29 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
   state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
   state.manager_done.store(true, std::memory_order_release);
+}
+
+// An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
+// heartbeats and reference times the handler's motion intake compares with its own).
+void rc_task(RcTask& task, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  const bool rescue = task.id() == RcTaskId::rescue;
+  const char* name = rescue ? "rc-rescue" : "rc-teleop";
+  const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
+  apply_task_rt(name, TaskId::rc_tasks);
+  TaskStatsPublisher stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
+  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(slot);
+  hal::Nanoseconds next = clock.now();
+  while (!state.rc_stop.load(std::memory_order_acquire)) {
+    const hal::Nanoseconds start = clock.now();
+    task.period(start);
+    stats.period(next, start, clock.now(), kRcTaskPeriod / 2);
+    next += kRcTaskPeriod;
+    clock.sleep_until(next);
+  }
+  stats.publish();
+  health.report();
 }
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
@@ -322,6 +353,70 @@ void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
   }
   stats.publish();
   health.report();
+}
+
+// What the logger last printed of the motion (owner, RC task modes and phases).
+struct MotionLog {
+  std::uint64_t owner_word{MotionOwner::kNobody};
+  std::array<RcTaskState, kRcTasksRun> last{};
+  std::array<bool, kRcTasksRun> seen{};
+  std::uint8_t rescue_phase_reached{0};
+};
+
+const char* rc_task_name(std::size_t task) noexcept { return task == 0 ? "rc-rescue" : "rc-teleop"; }
+
+// The motion as the segment shows it at one instant (read before anything else of the pass is
+// printed: a line caused by the motion never comes before the line of its cause).
+struct MotionSnapshot {
+  std::uint64_t owner_word{MotionOwner::kNobody};
+  std::array<RcTaskState, kRcTasksRun> state{};
+  std::array<bool, kRcTasksRun> read{};
+};
+
+MotionSnapshot read_motion() noexcept {
+  MotionSnapshot snap;
+  snap.owner_word = links().motion.owner.word();
+  for (std::size_t k = 0; k < kRcTasksRun; ++k) snap.read[k] = links().motion.task_state[k].try_read(snap.state[k]);
+  return snap;
+}
+
+void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanoseconds at) noexcept {
+  const std::uint64_t word = snap.owner_word;
+  if (word != log.owner_word) {
+    log.owner_word = word;
+    const std::uint8_t task = MotionOwner::task_of(word);
+    if (task == kNoOwnerTask) {
+      (void)std::printf("[%8.3f s] motion: no owner (generation %" PRIu64 "): every enabled joint holds its reference\n",
+                        seconds(at), MotionOwner::generation_of(word));
+    } else {
+      (void)std::printf("[%8.3f s] motion: owned by %s (RC task %u, generation %" PRIu64 ")\n", seconds(at),
+                        task < kRcTasksRun ? rc_task_name(task) : "?", static_cast<unsigned>(task),
+                        MotionOwner::generation_of(word));
+    }
+  }
+  for (std::size_t k = 0; k < kRcTasksRun; ++k) {
+    const RcTaskState& now = snap.state[k];
+    if (!snap.read[k] || now.periods == 0) continue;
+    const RcTaskState& before = log.last[k];
+    const auto mode = static_cast<RcMode>(now.mode);
+    if (!log.seen[k] || now.mode != before.mode || (mode == RcMode::rescue_motion && now.phase != before.phase)) {
+      if (mode == RcMode::rescue_motion) {
+        (void)std::printf("[%8.3f s] %s: rescue motion: %s\n", seconds(at), rc_task_name(k),
+                          kin::to_string(static_cast<kin::RescuePhase>(now.phase)));
+        if (now.phase > log.rescue_phase_reached) log.rescue_phase_reached = now.phase;
+      } else {
+        (void)std::printf("[%8.3f s] %s: %s\n", seconds(at), rc_task_name(k), to_string(mode));
+      }
+    }
+    if (log.seen[k] && now.owns && now.out_of_service != before.out_of_service) {
+      char names[kJointNamesCapacity];
+      format_joint_names(now.out_of_service, names, sizeof names);
+      (void)std::printf("[%8.3f s] %s: joints out of service: %s; locked, the motion goes on with the others\n",
+                        seconds(at), rc_task_name(k), names);
+    }
+    log.last[k] = now;
+    log.seen[k] = true;
+  }
 }
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
@@ -565,6 +660,8 @@ struct TaskSet {
   JointManager* manager;
   MessageParser* parser;
   SocketHandler* socket;
+  RcTask* rc_rescue;
+  RcTask* rc_teleop;
   protocol::ReplayWindow* replay;
   hal::WallClock* wall_clock;
   hal::Clock* clock;           // the NIC's: the handler's and the joint manager's
@@ -586,11 +683,14 @@ void run_handler() noexcept {
 void run_manager() noexcept { joint_manager_task(*g_tasks.manager, *g_tasks.clock); }
 void run_parser() noexcept { parser_task(*g_tasks.parser, *g_tasks.operator_clock); }
 void run_socket() noexcept { socket_task(*g_tasks.socket, *g_tasks.operator_clock); }
+// The RC tasks on the handler's clock (the heartbeats and reference times its intake compares).
+void run_rc_rescue() noexcept { rc_task(*g_tasks.rc_rescue, *g_tasks.clock); }
+void run_rc_teleop() noexcept { rc_task(*g_tasks.rc_teleop, *g_tasks.clock); }
 
 // The handler's side of the logger (in the handler's process: its events and capture queue are its
 // own): the scenario's action, OP reached, handler events, captured frames to the file.
 struct HandlerSideLog {
-  bool scenario_announced{false};
+  bool scenario_failure_announced{false};
   bool op_announced{false};
 };
 HandlerSideLog g_handler_log;
@@ -599,17 +699,12 @@ void handler_side_pass() noexcept {
   RunControl& state = run();
   const FirmwareOptions& options = *g_tasks.options;
   const ScenarioRunner& scenario = *g_tasks.scenario;
-  if (!g_handler_log.scenario_announced && state.scenario_acted.load(std::memory_order_acquire)) {
-    g_handler_log.scenario_announced = true;
-    char names[kJointNamesCapacity];
-    format_joint_names(options.scenario.expected_lost, names, sizeof names);
-    if (scenario.action_status().ok()) {
-      (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
-                        seconds(scenario.acted_at() - g_tasks.start), options.scenario.name,
-                        kJoints[options.scenario.cut_joint].name, names);
-    } else {
-      (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
-    }
+  // The scenario's cut is announced by the operator's side (with the motion it causes); a failed
+  // action's reason is the handler's own.
+  if (!g_handler_log.scenario_failure_announced && state.scenario_acted.load(std::memory_order_acquire) &&
+      !scenario.action_status().ok()) {
+    g_handler_log.scenario_failure_announced = true;
+    (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
   }
   HandlerEvent event{};
   while (g_tasks.handler->pop_event(event)) print_handler_event(event, g_tasks.start);
@@ -628,10 +723,28 @@ struct OperatorSide {
   JointMask out_of_service;
   bool clear_sent;
   bool initialized;
+  bool scenario_announced;
+  MotionLog motion;  // the motion's changes, read from the segment
 };
+
+// The scenario's cut, from the handler's words in the segment (its process or thread).
+void announce_scenario(OperatorSide& side) noexcept {
+  const RunControl& state = run();
+  if (side.scenario_announced || !state.scenario_acted.load(std::memory_order_acquire)) return;
+  side.scenario_announced = true;
+  if (!state.scenario_ok.load(std::memory_order_relaxed)) return;  // the handler's side says why
+  const Scenario& wanted = g_tasks.options->scenario;
+  char names[kJointNamesCapacity];
+  format_joint_names(wanted.expected_lost, names, sizeof names);
+  (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
+                    seconds(state.scenario_at.load(std::memory_order_relaxed) - g_tasks.start), wanted.name,
+                    kJoints[wanted.cut_joint].name, names);
+}
 
 void operator_side_pass(OperatorSide& side) noexcept {
   hal::Clock& clock = *g_tasks.clock;
+  const MotionSnapshot motion = read_motion();
+  announce_scenario(side);
   const bool op = run().op.load(std::memory_order_acquire);
   // The DFA takes its steps only for reachable joints: wait until the handler's published values
   // show every joint that is not recorded lost reachable (the first OP cycles may not).
@@ -647,8 +760,18 @@ void operator_side_pass(OperatorSide& side) noexcept {
     (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
                       seconds(clock.now() - g_tasks.start));
     (void)send_local(protocol::MessageType::initialize, kAllJoints & ~side.out_of_service);
+    if (g_tasks.options->scenario.rescue_motion) {
+      // After the initialize (the parser takes one request at a time): the rescue RC task takes the motion.
+      (void)std::printf("[%8.3f s] operator: owner %u (the rescue RC task takes the motion)\n",
+                        seconds(clock.now() - g_tasks.start), static_cast<unsigned>(RcTaskId::rescue));
+      ControlRequest take;
+      take.type = protocol::MessageType::take_owner;
+      take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
+      if (!links().local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
+    }
   }
   print_local_replies(clock.now() - g_tasks.start);
+  print_motion_changes(side.motion, motion, clock.now() - g_tasks.start);
   (void)std::fflush(stdout);
 }
 
@@ -672,7 +795,8 @@ void disable_enabled_joints() noexcept {
   print_local_replies(g_tasks.clock->now() - g_tasks.start);
 }
 
-const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler", "message-parser"};
+const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler",
+                                                "message-parser",   "rc-rescue",     "rc-teleop"};
 
 // `key: value` lines: per task (process), heap allocations and page faults after its init.
 void print_task_health(bool operator_port) noexcept {
@@ -705,7 +829,10 @@ int run_task_threads(OperatorSide& side) noexcept {
   std::thread parser_thread(run_parser);
   std::thread socket_thread;
   if (g_tasks.operator_port) socket_thread = std::thread(run_socket);
-  const int task_count = g_tasks.operator_port ? 4 : 3;
+  // The two RC tasks compute every period; only the Motion owner's references reach the joints.
+  std::thread rescue_thread(run_rc_rescue);
+  std::thread teleop_thread(run_rc_teleop);
+  const int task_count = g_tasks.operator_port ? 6 : 5;
   // Init is complete once every task is past its set-up (thread start-up allocates).
   hal::MonotonicClock logger_clock;
   while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
@@ -724,6 +851,9 @@ int run_task_threads(OperatorSide& side) noexcept {
   state.operator_stop.store(true, std::memory_order_release);
   parser_thread.join();
   if (socket_thread.joinable()) socket_thread.join();
+  state.rc_stop.store(true, std::memory_order_release);
+  rescue_thread.join();
+  teleop_thread.join();
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   handler_side_pass();
@@ -797,6 +927,14 @@ int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   }
   return task_process("socket-handler", run_socket, nullptr);
 }
+// An RC task restarted after a crash starts from its initial state; its owner word, if it held it,
+// was released by the handler's intake once its heartbeat stopped (docs/motion-owner.md).
+int rc_rescue_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("rc-rescue", run_rc_rescue, nullptr);
+}
+int rc_teleop_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("rc-teleop", run_rc_teleop, nullptr);
+}
 
 bool handler_finished() noexcept { return run().handler_done.load(std::memory_order_acquire); }
 bool manager_finished() noexcept { return run().manager_done.load(std::memory_order_acquire); }
@@ -807,6 +945,8 @@ struct TaskProcesses {
   std::size_t manager{0};
   std::size_t parser{0};
   std::size_t socket{0};
+  std::size_t rc_rescue{0};
+  std::size_t rc_teleop{0};
 };
 
 Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
@@ -825,10 +965,18 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
     if (!socket.ok()) return socket.error();
     p.socket = socket.value();
   }
+  const Result<std::size_t> rc_rescue = supervisor.add({"rc-rescue", TaskCriticality::restartable, rc_rescue_process, nullptr});
+  const Result<std::size_t> rc_teleop = supervisor.add({"rc-teleop", TaskCriticality::restartable, rc_teleop_process, nullptr});
+  if (!rc_rescue.ok() || !rc_teleop.ok()) return make_error(Errc::capacity_exceeded, "supervised tasks");
+  p.rc_rescue = rc_rescue.value();
+  p.rc_teleop = rc_teleop.value();
   // Start-up order: the task table's (docs/tasks.md).
   const std::pair<TaskId, std::size_t> tasks[] = {{TaskId::joint_manager, p.manager}, {TaskId::ethercat_handler, p.handler},
-                                                  {TaskId::message_parser, p.parser}, {TaskId::socket_handler, p.socket}};
-  for (int order = 1; order <= static_cast<int>(std::size(tasks)); ++order) {
+                                                  {TaskId::message_parser, p.parser}, {TaskId::socket_handler, p.socket},
+                                                  {TaskId::rc_tasks, p.rc_rescue},      {TaskId::rc_tasks, p.rc_teleop}};
+  int last_order = 0;
+  for (const auto& task : tasks) last_order = std::max(last_order, task_spec(task.first).start_order);
+  for (int order = 1; order <= last_order; ++order) {
     for (const auto& [id, index] : tasks) {
       if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_tasks.operator_port)) continue;
       RESCUE_TRY(supervisor.start(index));
@@ -848,11 +996,16 @@ void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) n
   state.operator_stop.store(true, std::memory_order_release);
   (void)supervisor.wait_exit(p.parser, kTaskStopLimit);
   if (g_tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
+  supervisor.expect_exit(p.rc_rescue);
+  supervisor.expect_exit(p.rc_teleop);
+  state.rc_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.rc_rescue, kTaskStopLimit);
+  (void)supervisor.wait_exit(p.rc_teleop, kTaskStopLimit);
   supervisor.expect_exit(p.manager);
   state.manager_stop.store(true, std::memory_order_release);
   (void)supervisor.wait_exit(p.manager, kTaskStopLimit);
   supervisor.signal_all(SIGKILL);  // any that did not stop within its limit (said below)
-  for (const std::size_t i : {p.parser, p.socket, p.manager}) {
+  for (const std::size_t i : {p.parser, p.socket, p.rc_rescue, p.rc_teleop, p.manager}) {
     if (supervisor.running(i)) (void)std::printf("supervisor: %s did not stop within its limit: killed\n", supervisor.name(i));
   }
 }
@@ -866,7 +1019,7 @@ int run_task_processes(OperatorSide& side) noexcept {
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();
-  const int task_count = g_tasks.operator_port ? 4 : 3;
+  const int task_count = g_tasks.operator_port ? 6 : 5;
   const hal::Nanoseconds start_limit = supervisor_clock.now() + kTaskStartLimit;
   Supervisor::Death death;
   while (state.tasks_started.load(std::memory_order_acquire) < task_count && !death.critical &&
@@ -883,6 +1036,8 @@ int run_task_processes(OperatorSide& side) noexcept {
     if (g_tasks.operator_port) {
       state.health[static_cast<std::size_t>(StatTask::socket_handler)].restarts.store(supervisor.restarts(p.socket));
     }
+    state.health[static_cast<std::size_t>(StatTask::rc_rescue)].restarts.store(supervisor.restarts(p.rc_rescue));
+    state.health[static_cast<std::size_t>(StatTask::rc_teleop)].restarts.store(supervisor.restarts(p.rc_teleop));
     if (state.handler_done.load(std::memory_order_acquire)) break;
     supervisor_clock.sleep_until(supervisor_clock.now() + kLoggerPeriod);
   }
@@ -965,6 +1120,78 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
 }
 
 }  // namespace
+
+// A scenario's checks once the run stopped: 0, or the exit status after saying what failed.
+// What the tasks reported is read from the segment (run_control.hpp): threads or processes alike.
+int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
+                     std::uint64_t healthy_missed, std::uint8_t rescue_phase_reached) noexcept {
+  if (wanted.kind == ScenarioKind::none) return 0;
+  if (!state.scenario_acted.load() || !state.scenario_ok.load()) return fail("run", "the scenario's link cut did not happen");
+  if ((lost & wanted.expected_lost) != wanted.expected_lost || (lost & ~(wanted.expected_lost | restored)) != 0) {
+    return fail("run", "the joints marked lost differ from the joints behind the cut");
+  }
+  if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
+  if (state.file_dirty.load()) return fail("run", "the error-joints file could not be written");
+  if (wanted.rescue_motion) {
+    if (state.intake_used_periods.load() == 0) return fail("run", "the rescue RC task's references never drove the joints");
+    if (rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
+      return fail("run", "the rescue motion did not reach its end before the stop");
+    }
+  }
+  return 0;
+}
+
+// The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
+// Per task: what it published in its timing slot and its health slot (run_control.hpp).
+struct RunSummary {
+  std::uint64_t cycles{0};
+  std::uint64_t heap_allocations{0};
+  JointMask lost{0};
+  const SocketCounters* socket{nullptr};
+  MotionIntakeCounters intake{};
+  std::uint8_t rescue_phase_reached{0};
+  bool processes{false};
+};
+
+void print_run_summary(const RunSummary& s) noexcept {
+  (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: %s\n",
+                    s.processes ? "processes under a supervisor" : "threads of one process");
+  (void)std::printf("periods_run: %" PRIu64 "\n", s.cycles);
+  for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
+    TaskStat stat{};
+    if (!links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
+    char key[protocol::kNameSize + 1];
+    std::size_t n = 0;
+    for (; n < protocol::kNameSize && stat.name[n] != '\0'; ++n) key[n] = stat.name[n] == '-' ? '_' : stat.name[n];
+    key[n] = '\0';
+    const TaskHealth& health = links().run.health[k];
+    (void)std::printf("periods_run_%s: %" PRIu64 "\n", key, stat.periods);
+    (void)std::printf("periods_missed_%s: %" PRIu64 "\n", key, stat.missed);
+    (void)std::printf("max_execution_ns_%s: %" PRIu64 "\n", key, stat.max_execution_ns);
+    (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, health.page_faults.load());
+  }
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
+  char names[kJointNamesCapacity];
+  format_joint_names(s.lost, names, sizeof names);
+  std::size_t lost_count = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) lost_count += (s.lost & joint_bit(j)) != 0 ? 1U : 0U;
+  (void)std::printf("joints_lost: %zu\n", lost_count);
+  (void)std::printf("joints_lost_names: %s\n", names);
+  for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+    (void)std::printf("datagrams_rejected_%s: %" PRIu64 "\n", protocol::to_string(static_cast<protocol::Rejection>(i)),
+                      s.socket != nullptr ? s.socket->rejected[i] : 0U);
+  }
+  (void)std::printf("owner_periods: %" PRIu64 "\n", s.intake.owned_periods);
+  (void)std::printf("owner_references_used: %" PRIu64 "\n", s.intake.used_periods);
+  (void)std::printf("owner_misses: %" PRIu64 "\n", s.intake.misses);
+  (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
+  (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
+  RcTaskState rescue{};
+  if (links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+    (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
+    (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
+  }
+}
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -1062,6 +1289,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.joint_status = &links().joint_status;
   socket_ports.master = &links().master_status;
   socket_ports.tasks = &links().task_stats;
+  socket_ports.motion = &links().motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
@@ -1143,10 +1371,15 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static EthercatHandler handler(bus, links(), restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   static hal::MonotonicClock operator_clock;
-  g_tasks = TaskSet{&handler, &scenario, &manager, &parser, &socket, &replay, &wall_clock, &clock, &operator_clock,
-                    &options, operator_port, start};
+  // The two RC tasks compute every period; only the Motion owner's references reach the joints.
+  RcTaskSettings rescue_settings = default_rc_task_settings(RcTaskId::rescue);
+  if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
+  static RcTask rc_rescue(links(), rescue_settings);
+  static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
+  g_tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
+                    &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
-                             !(options.initialize || options.scenario.kind != ScenarioKind::none)};
+                             !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
 
   // 5. What happened.
@@ -1162,18 +1395,28 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
   }
 
-  if (options.scenario.kind == ScenarioKind::link_cut) {
-    if (!state.scenario_acted.load() || !state.scenario_ok.load()) return fail("run", "the scenario's link cut did not happen");
-    if ((lost & options.scenario.expected_lost) != options.scenario.expected_lost ||
-        (lost & ~(options.scenario.expected_lost | restored.restored)) != 0) {
-      return fail("run", "the joints marked lost differ from the joints behind the cut");
-    }
-    if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
-    if (state.file_dirty.load()) return fail("run", "the error-joints file could not be written");
+  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, healthy_missed,
+                                       operator_side.motion.rescue_phase_reached);
+  if (verdict == 0 && options.scenario.kind != ScenarioKind::none) {
     (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
+  RunSummary summary;
+  summary.cycles = state.cycles.load();
+  summary.heap_allocations = heap_guard_counters().allocations;
+  summary.lost = lost;
+  summary.socket = operator_port ? &counted : nullptr;
+  summary.intake.owned_periods = state.intake_owned_periods.load();
+  summary.intake.used_periods = state.intake_used_periods.load();
+  summary.intake.misses = state.intake_misses.load();
+  summary.intake.releases = state.intake_releases.load();
+  summary.rescue_phase_reached = operator_side.motion.rescue_phase_reached;
+  summary.processes = g_task_processes;
+  print_run_summary(summary);
+  if (verdict != 0) return verdict;
   return robot_exit(condition);
 }
 

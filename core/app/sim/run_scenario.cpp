@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/app/config/firmware_config.hpp"
+
 namespace rescue::app {
 
 Result<Scenario> parse_scenario(const char* name) noexcept {
@@ -13,9 +15,21 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.cut_joint = joint_index_by_name("l_elbow");
     scenario.cut_after_op = hal::kNsPerSec;
     scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
+    scenario.run_on = config::kScenarioRunOnNs;
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut)");
+  if (std::strcmp(name, "rescue") == 0) {
+    scenario.kind = ScenarioKind::rescue;
+    scenario.name = "rescue";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = 3 * hal::kNsPerSec;
+    scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
+    scenario.run_on = 2500 * hal::kNsPerMs;
+    scenario.rescue_motion = true;
+    scenario.motion_phase_s = {1.0, 1.0, 1.0};
+    return scenario;
+  }
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue)");
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {

@@ -3,11 +3,17 @@
 //
 //   link-cut  one second after the network reached OP, the cable into l_elbow is cut: l_elbow,
 //             l_wrist_yaw, l_wrist_pitch and l_hand become unreachable (design brief section 6)
+//   rescue    the robot is initialized and the rescue RC task takes the motion (the runtime sends
+//             "initialize robot" and `owner 0`): the approach to the ready posture (1.6 s), then
+//             lowering, forwarding, backwarding (1 s each); 3 s after OP, in the forwarding phase,
+//             the cable into l_elbow is cut; the motion goes on with the remaining joints; the run
+//             stops cleanly 2.5 s after the cut (docs/motion-owner.md)
 //
 // The scenario acts from the EtherCAT handler's thread, between two cycles (the simulated segment
 // is driven by that thread's frames), and only on the simulated NIC.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/base/result.hpp"
@@ -17,7 +23,7 @@
 
 namespace rescue::app {
 
-enum class ScenarioKind : std::uint8_t { none, link_cut };
+enum class ScenarioKind : std::uint8_t { none, link_cut, rescue };
 
 struct Scenario {
   ScenarioKind kind{ScenarioKind::none};
@@ -25,6 +31,9 @@ struct Scenario {
   std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
+  hal::Nanoseconds run_on{0};           // after acting, the run goes on this long (without --duration)
+  bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
+  std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
 };
 
 // Parses --scenario (nullptr: none). Unknown names are an error naming the known ones.

@@ -15,6 +15,7 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept
     : bus_(bus),
       links_(links),
+      intake_(links.motion, links.rc_heartbeat_ns, default_intake_settings()),
       report_sink_(links.lost_reports),
       notice_source_(links.notices),
       tracker_(report_sink_, notice_source_, restored_lost) {
@@ -31,15 +32,25 @@ void EthercatHandler::build_outputs() noexcept {
   RobotDemand demand{};
   if (links_.demand.try_read(demand)) demand_ = demand;  // else keep the last one
   const JointMask excluded = tracker_.excluded();
+  // The joints driven this period in position mode take the Motion owner's references (or hold).
+  JointMask driven = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const bool valid = (feedback_.valid & joint_bit(j)) != 0;
+    const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    if (demand_[j].mode != 0) outputs_[j].mode_of_operation = demand_[j].mode;
+    if (drive && outputs_[j].mode_of_operation == static_cast<std::int8_t>(ControlMode::cyclic_position)) {
+      driven |= joint_bit(j);
+    }
+  }
+  const std::array<double, kJointCount>& references = intake_.period(bus_.next_wakeup(), demand_, driven);
   for (std::size_t j = 0; j < kJointCount; ++j) {
     drivers::JointOutputs& out = outputs_[j];
     const drivers::JointInputs& in = feedback_.joints[j];
     const bool valid = (feedback_.valid & joint_bit(j)) != 0;
     const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
-    if (demand_[j].mode != 0) out.mode_of_operation = demand_[j].mode;
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
-      out.target_position = drivers::rad_to_counts(demand_[j].position_ref_rad);
+      out.target_position = drivers::rad_to_counts(references[j]);
     } else {
       out.controlword = drivers::controlword_towards_disabled(in.statusword);
       // A disabled drive's target follows its actual position, so enabling later moves nothing.

@@ -1,8 +1,10 @@
 // The EtherCAT handler task (design brief section 3; paper III-B): the highest-priority task, one
 // period per millisecond on CPU thread 3. Per period, cycle():
 //   1. builds every joint's outputs: joints the joint manager has Enabled (and the handler has not
-//      stopped or excluded) are driven towards Operation enabled and follow their reference; every
-//      other reachable joint is driven towards a disabled power stage, its worm gear holding;
+//      stopped or excluded) are driven towards Operation enabled and follow their reference: in
+//      position mode the Motion owner's (MotionIntake: on time, or hold; docs/motion-owner.md),
+//      else the joint manager's; every other reachable joint is driven towards a disabled power
+//      stage, its worm gear holding;
 //   2. exchanges one frame with all slaves (drivers::JointBus: the master);
 //   3. publishes every joint's values (seqlock; an unreachable joint keeps its last values);
 //   4. reconfiguration steps 1 and 6 (LostJointTracker): unreachable joints are excluded at once,
@@ -18,6 +20,7 @@
 
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/motion/motion_intake.hpp"
 #include "core/robot/joint_limits.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
@@ -75,6 +78,8 @@ class EthercatHandler {
   std::uint64_t missed_cycles(JointMask joints) const noexcept;
   // Cycles since OP whose frame did not come back before its deadline (late or lost frame).
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
+  // The Motion owner's references as this handler took them (misses, releases).
+  const MotionIntake& motion_intake() const noexcept { return intake_; }
 
  private:
   void build_outputs() noexcept;
@@ -85,6 +90,7 @@ class EthercatHandler {
   SpscQueue<HandlerEvent, kEventQueueDepth> events_;
   drivers::JointBus& bus_;
   TaskLinks& links_;
+  MotionIntake intake_;
   SpscMessageSink<LostJointsReport, TaskLinks::kReportQueueDepth> report_sink_;
   SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
   LostJointTracker tracker_;

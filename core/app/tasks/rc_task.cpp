@@ -1,0 +1,278 @@
+#include "core/app/tasks/rc_task.hpp"
+
+#include <Eigen/Geometry>
+
+#include "core/app/config/firmware_config.hpp"
+#include "core/kinematics/forward_kinematics.hpp"
+#include "core/kinematics/minimum_jerk.hpp"
+
+namespace rescue::app {
+namespace {
+
+double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+
+kin::IkSettings ik_settings(hal::Nanoseconds period_ns) noexcept {
+  kin::IkSettings ik;
+  ik.dt_s = seconds(period_ns);
+  return ik;
+}
+
+constexpr JointMask ik_joints() noexcept {
+  JointMask mask = 0;
+  // std::accumulate is constexpr only from C++20.
+  // cppcheck-suppress useStlAlgorithm
+  for (const std::size_t j : kin::kIkJoints) mask |= joint_bit(j);
+  return mask;
+}
+
+constexpr JointMask position_mode_joints() noexcept {
+  JointMask mask = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if (kJoints[j].default_mode == ControlMode::cyclic_position) mask |= joint_bit(j);
+  }
+  return mask;
+}
+
+// x, y, z (m), roll, pitch, yaw (rad) in base_link -> Pose (R = Rz(yaw) Ry(pitch) Rx(roll)).
+kin::Pose pose_of(const std::array<double, 6>& v) noexcept {
+  kin::Pose pose;
+  pose.p = kin::Vector3(v[0], v[1], v[2]);
+  pose.R = (Eigen::AngleAxisd(v[5], kin::Vector3::UnitZ()) * Eigen::AngleAxisd(v[4], kin::Vector3::UnitY()) *
+            Eigen::AngleAxisd(v[3], kin::Vector3::UnitX()))
+               .toRotationMatrix();
+  return pose;
+}
+
+}  // namespace
+
+const char* to_string(RcMode mode) noexcept {
+  switch (mode) {
+    case RcMode::idle: return "idle";
+    case RcMode::approach: return "approach";
+    case RcMode::rescue_motion: return "rescue motion";
+    case RcMode::target: return "target";
+    case RcMode::teleop: return "teleop";
+  }
+  return "unknown";
+}
+
+RcTaskSettings default_rc_task_settings(RcTaskId id) noexcept {
+  RcTaskSettings s;
+  s.id = id;
+  s.period_ns = config::kRcTaskPeriodNs;
+  return s;
+}
+
+RcTask::RcTask(TaskLinks& links, const RcTaskSettings& settings) noexcept
+    : links_(links),
+      settings_(settings),
+      rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
+      ik_(ik_settings(settings.period_ns)),
+      teleop_(kin::JointVector::Zero(), seconds(settings.period_ns)),
+      references_(kin::JointVector::Zero()),
+      previous_(kin::JointVector::Zero()),
+      sent_(kin::JointVector::Zero()),
+      approach_from_(kin::JointVector::Zero()),
+      next_(kin::JointVector::Zero()),
+      teleop_velocity_(kin::JointVector::Zero()),
+      mode_(settings.id == RcTaskId::teleop ? RcMode::teleop : RcMode::idle) {}
+
+void RcTask::read_joints() noexcept {
+  if (links_.samples.version() == 0) return;  // the handler has published nothing yet
+  RobotSample sample{};
+  if (links_.samples.try_read(sample)) sample_ = sample;
+  RobotJointStatus status{};
+  if (links_.joint_status.try_read(status)) status_ = status;
+  out_of_service_ = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const auto row = static_cast<Eigen::Index>(j);
+    sent_(row) = sample_[j].position_ref_rad;
+    if (!sample_[j].reachable || status_[j].lost || status_[j].state == fsm::JointState::error) {
+      out_of_service_ |= joint_bit(j);
+    }
+  }
+  if (!have_joints_) {
+    have_joints_ = true;
+    references_ = sent_;
+    previous_ = sent_;
+    teleop_.take_ownership(sent_);
+    teleop_.release_ownership();
+  }
+}
+
+void RcTask::on_take(hal::Nanoseconds now) noexcept {
+  ++counters_.takes;
+  mode_since_ = now;
+  references_ = sent_;  // bumpless: continue from what the handler sends
+  if (settings_.id == RcTaskId::teleop) {
+    teleop_.take_ownership(sent_);
+    return;
+  }
+  approach_from_ = sent_;
+  mode_ = RcMode::approach;
+  phase_ = kin::RescuePhase::lowering;
+}
+
+void RcTask::start_target(const RcTaskInput& input) noexcept {
+  kin::LinkPoses poses;
+  kin::forward_kinematics(references_, poses);
+  targets_.left = poses[kin::kLeftEe];
+  targets_.right = poses[kin::kRightEe];
+  targets_.payload_kg = 0.0;
+  if (input.effector == static_cast<std::uint8_t>(protocol::Effector::left_hand)) {
+    targets_.left = pose_of(input.pose);
+  } else {
+    targets_.right = pose_of(input.pose);
+  }
+  mode_ = RcMode::target;
+}
+
+void RcTask::take_inputs() noexcept {
+  RcTaskInput input;
+  // Bounded: at most the queue's depth per period.
+  for (std::size_t n = 0; n < TaskLinks::kRcInputQueueDepth && links_.rc_inputs[index()].try_pop(input); ++n) {
+    ++counters_.inputs;
+    switch (input.kind) {
+      case RcInputKind::take_ownership:
+        (void)links_.motion.owner.take(static_cast<std::uint8_t>(index()));
+        chosen_ = true;
+        take_pending_ = true;  // started once the handler has published the joints
+        break;
+      case RcInputKind::end_effector_target:
+        if (settings_.id == RcTaskId::rescue && have_joints_) {
+          start_target(input);
+        } else {
+          ++counters_.ignored_inputs;
+        }
+        break;
+      case RcInputKind::hand: {
+        if (settings_.id != RcTaskId::teleop) {
+          ++counters_.ignored_inputs;
+          break;
+        }
+        const bool left = input.effector == static_cast<std::uint8_t>(protocol::Effector::left_hand);
+        const auto row = static_cast<Eigen::Index>(joint_index_by_name(left ? "l_hand" : "r_hand"));
+        const bool close = input.action == static_cast<std::uint8_t>(protocol::HandAction::close);
+        teleop_velocity_(row) = close ? settings_.hand_speed_rad_s : -settings_.hand_speed_rad_s;
+        break;
+      }
+    }
+  }
+}
+
+void RcTask::compute(hal::Nanoseconds now) noexcept {
+  if (settings_.id == RcTaskId::teleop) {
+    if (!teleop_.step(teleop_velocity_, out_of_service_).ok()) ++counters_.kinematics_errors;
+    references_ = teleop_.references();
+    return;
+  }
+  switch (mode_) {
+    case RcMode::idle:
+    case RcMode::teleop:
+      references_ = sent_;  // ready to take over from where the joints are
+      return;
+    case RcMode::approach: {
+      const double tau = seconds(now - mode_since_) / settings_.approach_s;
+      const double s = kin::minimum_jerk(tau).s;
+      const kin::JointVector ready = kin::ready_posture();
+      for (const std::size_t j : kin::kIkJoints) {
+        const auto row = static_cast<Eigen::Index>(j);
+        references_(row) = (out_of_service_ & joint_bit(j)) != 0 ? sent_(row)
+                                                                 : approach_from_(row) + s * (ready(row) - approach_from_(row));
+      }
+      if (tau >= 1.0) {
+        rescue_ = kin::RcPeriod(references_, ik_settings(settings_.period_ns), settings_.motion);
+        mode_ = RcMode::rescue_motion;
+        mode_since_ = now;
+      }
+      return;
+    }
+    case RcMode::rescue_motion: {
+      const Result<kin::IkStepReport> report =
+          rescue_.run(seconds(now - mode_since_), out_of_service_, kin::JointVector::Zero());
+      if (report.ok()) {
+        ik_report_ = report.value();
+      } else {
+        ++counters_.kinematics_errors;
+      }
+      references_ = rescue_.rescue_references();
+      phase_ = rescue_.last_sample().phase;
+      return;
+    }
+    case RcMode::target: {
+      const Result<kin::IkStepReport> report = ik_.step(references_, targets_, out_of_service_, next_);
+      if (report.ok()) {
+        ik_report_ = report.value();
+        references_ = next_;
+      } else {
+        ++counters_.kinematics_errors;
+      }
+      return;
+    }
+  }
+}
+
+JointMask RcTask::commanded() const noexcept {
+  if (settings_.id == RcTaskId::teleop) return position_mode_joints() & ~out_of_service_;
+  if (mode_ == RcMode::idle) return 0;
+  return ik_joints() & ~out_of_service_;
+}
+
+void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
+  ReferenceSpace& space = links_.motion.references[index()];
+  const double dt = seconds(settings_.period_ns);
+  space.begin();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const auto row = static_cast<Eigen::Index>(j);
+    space.set(j, references_(row), (references_(row) - previous_(row)) / dt);
+  }
+  space.complete(owns_ ? word : 0, counters_.periods, commanded(), now);
+  previous_ = references_;
+}
+
+void RcTask::period(hal::Nanoseconds now) noexcept {
+  ++counters_.periods;
+  read_joints();
+  take_inputs();
+  if (take_pending_ && have_joints_) {
+    take_pending_ = false;
+    on_take(now);
+  }
+  std::uint64_t word = links_.motion.owner.word();
+  const std::uint8_t holder = MotionOwner::task_of(word);
+  if (holder != index() && holder != kNoOwnerTask) chosen_ = false;  // the operator gave it to another task
+  // Released while this task was silent too long (a stall, not a crash: it is running again): the
+  // operator's choice still stands, so it takes the free motion back and goes on with its motion.
+  if (holder == kNoOwnerTask && chosen_ && links_.motion.owner.take_if_free(static_cast<std::uint8_t>(index()), word)) {
+    ++counters_.retakes;
+  }
+  const bool owning = MotionOwner::task_of(word) == index();
+  if (owns_ && !owning) {
+    ++counters_.ownership_lost;
+    if (!chosen_) {
+      if (settings_.id == RcTaskId::rescue) mode_ = RcMode::idle;
+      teleop_.release_ownership();
+    }
+  }
+  owns_ = owning;
+  if (owns_) ++counters_.owned_periods;
+  if (have_joints_) {
+    compute(now);
+    publish(now, word);
+  } else {
+    ++counters_.no_samples;
+  }
+  RcTaskState state{};
+  state.mode = static_cast<std::uint8_t>(mode_);
+  state.phase = static_cast<std::uint8_t>(phase_);
+  state.owns = owns_;
+  state.out_of_service = out_of_service_;
+  state.periods = counters_.periods;
+  state.kinematics_errors = counters_.kinematics_errors;
+  state.position_residual_m[0] = ik_report_.position_residual_m[0];
+  state.position_residual_m[1] = ik_report_.position_residual_m[1];
+  links_.motion.task_state[index()].write(state);
+  links_.rc_heartbeat_ns[index()].store(now, std::memory_order_release);
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,150 @@
+// The two RC tasks (core/app/tasks/rc_task.hpp) with the EtherCAT handler's motion intake, in
+// virtual time (tests/support/rc_task_rig.hpp):
+//   both compute every period; only the owner's references reach the joints;
+//   the rescue task's motion goes through approach, lowering, forwarding, backwarding to done,
+//   and goes on with the remaining joints after a link cut (the lost ones never commanded);
+//   an owner that dies is released within kOwnerDeadAfterPeriods + 1 periods, the joints hold,
+//   the teleop task takes over bumplessly, and a restarted rescue task waits for the operator;
+//   an owner that stalls and comes back takes the free motion back.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/app/config/firmware_config.hpp"
+#include "tests/support/rc_task_rig.hpp"
+
+namespace rescue::app {
+namespace {
+
+const std::size_t kLeftElbow = joint_index_by_name("l_elbow");
+const std::size_t kRightElbow = joint_index_by_name("r_elbow");
+const std::size_t kLeftShoulder = joint_index_by_name("l_shoulder_pitch");
+const std::size_t kLeftHand = joint_index_by_name("l_hand");
+
+TEST(RcTasks, TheRescueTaskOwnsItsMotionToTheEndWhileTeleopComputesWithoutDriving) {
+  testing::RcTaskRig rig;
+  rig.steps(5);
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  // The operator closes the left hand through the teleop task, which does not own the motion.
+  ASSERT_TRUE(rig.send(RcTaskId::teleop, RcInputKind::hand, 0, static_cast<std::uint8_t>(protocol::HandAction::close)));
+  rig.step();
+  EXPECT_EQ(rig.links->motion.owner.task(), 0);
+  EXPECT_EQ(rig.rescue->mode(), RcMode::approach);
+  int steps = 0;
+  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && steps < 5000) {
+    rig.step();
+    ++steps;
+  }
+  EXPECT_EQ(rig.rescue->rescue_phase(), kin::RescuePhase::done);
+  EXPECT_EQ(rig.rescue->counters().periods, rig.teleop->counters().periods) << "both compute every period";
+  EXPECT_EQ(rig.intake.counters().misses, 0U);
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+  EXPECT_EQ(rig.rescue->counters().kinematics_errors, 0U);
+  // The joints follow the rescue task's references (the elbows went from hanging to bent).
+  EXPECT_GT(rig.sent[kRightElbow], 1.0);
+  EXPECT_NEAR(rig.sent[kRightElbow], rig.rescue->references()(static_cast<Eigen::Index>(kRightElbow)), 1e-9);
+  // The teleop task closed its left hand in its own reference space; that never reached the joint.
+  EXPECT_GT(rig.teleop->references()(static_cast<Eigen::Index>(kLeftHand)), 0.5);
+  EXPECT_DOUBLE_EQ(rig.sent[kLeftHand], 0.0);
+  ReferenceSnapshot teleop_space;
+  ASSERT_TRUE(rig.links->motion.references[1].read(teleop_space));
+  EXPECT_EQ(teleop_space.owner_word, 0U) << "written, but not as the owner";
+}
+
+TEST(RcTasks, TheRescueMotionGoesOnWithTheRemainingJointsAfterALinkCut) {
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(1600 + 500);  // approach, then into forwarding
+  ASSERT_EQ(rig.rescue->rescue_phase(), kin::RescuePhase::forwarding);
+  rig.cut_link_at(kLeftElbow);
+  const std::array<double, kJointCount> at_cut = rig.sent;
+  const double shoulder_at_cut = rig.sent[kLeftShoulder];
+  rig.steps(2);
+  ReferenceSnapshot space;
+  ASSERT_TRUE(rig.links->motion.references[0].read(space));
+  EXPECT_EQ(space.commanded & rig.unreachable, 0U) << "joints out of service are never commanded";
+  EXPECT_EQ(rig.rescue->out_of_service(), rig.unreachable);
+  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && rig.rescue->counters().periods < 6000) rig.step();
+  EXPECT_EQ(rig.rescue->rescue_phase(), kin::RescuePhase::done);
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((rig.unreachable & joint_bit(j)) != 0) {
+      EXPECT_DOUBLE_EQ(rig.sent[j], at_cut[j]) << kJoints[j].name;
+    }
+  }
+  EXPECT_NE(rig.sent[kLeftShoulder], shoulder_at_cut) << "the arm's remaining joints still move";
+  EXPECT_EQ(rig.intake.counters().misses, 0U);
+  EXPECT_EQ(rig.rescue->counters().kinematics_errors, 0U);
+}
+
+TEST(RcTasks, ADeadOwnerIsReleasedTheJointsHoldAndTeleopTakesOverBumplessly) {
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(400);  // in the approach: the joints are moving
+  const std::array<double, kJointCount> before = rig.sent;
+  rig.rescue_runs = false;  // the rescue task dies (its process is killed)
+  int periods = 0;
+  while (rig.links->motion.owner.task() == 0 && periods < 1000) {
+    rig.step();
+    ++periods;
+    EXPECT_EQ(rig.sent, before) << "hold position from the first missed period on";
+  }
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
+  EXPECT_LE(periods, config::kOwnerDeadAfterPeriods + 1);
+  EXPECT_EQ(rig.intake.counters().releases, 1U);
+  // The operator hands the motion to teleop: it continues from the references being sent.
+  ASSERT_TRUE(rig.send(RcTaskId::teleop, RcInputKind::take_ownership));
+  rig.step();
+  EXPECT_EQ(rig.links->motion.owner.task(), 1);
+  rig.step();
+  EXPECT_EQ(rig.intake.driving_task(), 1);
+  for (std::size_t j = 0; j < kJointCount; ++j) EXPECT_NEAR(rig.sent[j], before[j], 1e-12) << kJoints[j].name;
+  // The rescue task restarted (a new process): it computes, but waits for the operator.
+  rig.rescue = std::make_unique<RcTask>(*rig.links, testing::short_rescue_settings());
+  rig.rescue_runs = true;
+  rig.steps(10);
+  EXPECT_EQ(rig.links->motion.owner.task(), 1);
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(10);
+  EXPECT_EQ(rig.links->motion.owner.task(), 0);
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+  EXPECT_EQ(rig.teleop->counters().ownership_lost, 1U);
+}
+
+TEST(RcTasks, AnOwnerThatStallsAndComesBackTakesTheFreeMotionBack) {
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(300);
+  rig.rescue_runs = false;
+  rig.steps(static_cast<int>(config::kOwnerDeadAfterPeriods) + 5);
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
+  rig.rescue_runs = true;
+  rig.steps(3);
+  EXPECT_EQ(rig.links->motion.owner.task(), 0);
+  EXPECT_EQ(rig.rescue->counters().retakes, 1U);
+  EXPECT_EQ(rig.rescue->mode(), RcMode::approach) << "its motion goes on";
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+}
+
+TEST(RcTasks, AnEndEffectorTargetMovesThatPalm) {
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(1700);  // at the ready posture
+  kin::LinkPoses poses;
+  kin::forward_kinematics(rig.rescue->references(), poses);
+  const kin::Vector3 right = poses[kin::kRightEe].p;
+  const kin::Vector3 left = poses[kin::kLeftEe].p;
+  const kin::Vector3 rpy = poses[kin::kRightEe].R.eulerAngles(2, 1, 0);
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::end_effector_target,
+                       static_cast<std::uint8_t>(protocol::Effector::right_hand), 0,
+                       {right.x() + 0.05, right.y(), right.z() + 0.03, rpy(2), rpy(1), rpy(0)}));
+  rig.steps(1500);
+  EXPECT_EQ(rig.rescue->mode(), RcMode::target);
+  kin::forward_kinematics(rig.rescue->references(), poses);
+  EXPECT_NEAR(poses[kin::kRightEe].p.x(), right.x() + 0.05, 2e-3);
+  EXPECT_NEAR(poses[kin::kRightEe].p.z(), right.z() + 0.03, 2e-3);
+  EXPECT_NEAR((poses[kin::kLeftEe].p - left).norm(), 0.0, 2e-3) << "the other palm holds";
+}
+
+}  // namespace
+}  // namespace rescue::app
