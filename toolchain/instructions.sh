@@ -40,6 +40,7 @@ count() {
 read -r handler handler_with_sim < <(count ethercat 'rescue::app::measured_handler_period*' \
   'rescue::drivers::SimulatedNic::send(' 'rescue::drivers::SimulatedNic::receive(')
 read -r manager _ < <(count joint_manager 'rescue::app::measured_joint_manager_step*')
+read -r rc _ < <(count rc 'rescue::app::measured_rc_period*')
 
 echo "instructions_periods: $periods periods"
 echo "instructions_valgrind: $(valgrind --version)"
@@ -47,5 +48,4 @@ echo "instructions_binary: $binary"
 echo "ethercat_handler_instructions_per_period: $((handler / periods)) instructions"
 echo "ethercat_handler_with_simulated_robot_instructions_per_period: $((handler_with_sim / periods)) instructions"
 echo "joint_manager_instructions_per_period: $((manager / periods)) instructions"
-# The RC tasks add their line here when they land (their period function in bench periods).
-echo "rc_instructions_per_period: not yet measured (the RC task is not in run yet: docs/timing.md)"
+echo "rc_instructions_per_period: $((rc / periods)) instructions"

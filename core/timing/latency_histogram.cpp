@@ -85,6 +85,31 @@ std::uint64_t LatencyHistogram::percentile(double percent) const noexcept {
   return max_;
 }
 
+void LatencyHistogram::percentiles(const double* percents, std::uint64_t* out, std::size_t n) const noexcept {
+  std::size_t k = 0;
+  // The ends, as percentile() answers them.
+  while (k < n && (count_ == 0 || !(percents[k] > 0.0) || percents[k] >= 100.0)) {
+    out[k] = count_ == 0 ? 0 : (percents[k] >= 100.0 ? max_ : min_);
+    ++k;
+  }
+  std::uint64_t seen = 0;
+  for (std::size_t i = 0; i < kBucketCount && k < n; ++i) {
+    seen += buckets_[i];
+    while (k < n) {
+      if (percents[k] >= 100.0) {
+        out[k++] = max_;
+        continue;
+      }
+      auto rank = static_cast<std::uint64_t>(std::ceil(percents[k] / 100.0 * static_cast<double>(count_)));
+      if (rank == 0) rank = 1;
+      if (seen < rank) break;
+      const std::uint64_t upper = bucket_upper(i);
+      out[k++] = upper < min_ ? min_ : (upper > max_ ? max_ : upper);
+    }
+  }
+  for (; k < n; ++k) out[k] = max_;
+}
+
 HistogramSummary LatencyHistogram::summary() const noexcept {
   HistogramSummary s;
   s.count = count_;

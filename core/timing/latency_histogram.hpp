@@ -55,6 +55,8 @@ class LatencyHistogram {
   // Smallest bucket bound v such that at least `percent` % of the samples are <= v, clamped to
   // [min, max] (so percentile(0) == min and percentile(100) == max exactly). 0 when empty.
   std::uint64_t percentile(double percent) const noexcept;
+  // Several percentiles in one pass over the buckets: `percents` ascending, out[i] as percentile(percents[i]).
+  void percentiles(const double* percents, std::uint64_t* out, std::size_t n) const noexcept;
   HistogramSummary summary() const noexcept;
 
   // Bucket access, for plots: bucket i holds values lower(i)..upper(i) inclusive.

@@ -1,6 +1,7 @@
 #include "core/timing/period_recorder.hpp"
 
 #include <cinttypes>
+#include <cmath>
 
 namespace rescue {
 namespace {
@@ -13,6 +14,30 @@ PeriodFigures PeriodRecorder::figures(const LatencyHistogram& histogram) noexcep
   PeriodFigures f;
   f.summary = histogram.summary();
   f.p9999 = histogram.percentile(99.99);
+  return f;
+}
+
+namespace {
+
+std::uint32_t saturate(double v) noexcept {
+  if (!(v > 0.0)) return 0;
+  return v >= 4294967295.0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::llround(v));
+}
+
+}  // namespace
+
+TimingFigures PeriodRecorder::compact(const LatencyHistogram& histogram) noexcept {
+  static constexpr double kPercents[] = {99.0, 99.9, 99.99};
+  std::uint64_t tail[3] = {0, 0, 0};
+  histogram.percentiles(kPercents, tail, 3);
+  TimingFigures f{};
+  f.min = saturate(static_cast<double>(histogram.min()));
+  f.mean = saturate(histogram.mean());
+  f.stddev = saturate(histogram.stddev());
+  f.max = saturate(static_cast<double>(histogram.max()));
+  f.p99 = saturate(static_cast<double>(tail[0]));
+  f.p999 = saturate(static_cast<double>(tail[1]));
+  f.p9999 = saturate(static_cast<double>(tail[2]));
   return f;
 }
 

@@ -24,6 +24,18 @@ struct PeriodFigures {
   std::uint64_t p9999{0};  // p99.99
 };
 
+// The figures a task publishes live (ctl tasks), in ns, saturated at 2^32 - 1 (4.3 s). Trivial: it
+// travels in a seqlock and on the wire (docs/protocol.md, `tasks`).
+struct TimingFigures {
+  std::uint32_t min;
+  std::uint32_t mean;
+  std::uint32_t stddev;
+  std::uint32_t max;
+  std::uint32_t p99;
+  std::uint32_t p999;
+  std::uint32_t p9999;
+};
+
 class PeriodRecorder {
  public:
   // `task` must outlive the recorder (a string literal). `ns_per_tick`: 1 / TscTimer::ticks_per_ns().
@@ -45,6 +57,9 @@ class PeriodRecorder {
   const LatencyHistogram& latency() const noexcept { return latency_; }
   std::uint64_t periods() const noexcept { return execution_.count(); }
   static PeriodFigures figures(const LatencyHistogram& histogram) noexcept;
+  // min, mean, std, max, p99, p99.9, p99.99 in one pass over the buckets (about 2240 additions): cheap
+  // enough for a real-time task to publish every hundred periods. No heap, no system call.
+  static TimingFigures compact(const LatencyHistogram& histogram) noexcept;
   void reset() noexcept {
     execution_.reset();
     latency_.reset();

@@ -77,6 +77,21 @@ constexpr ecat::SlaveMask slaves_of_joints(JointMask joints) noexcept {
   return slaves;
 }
 
+// The name of a slave of the robot (its joint's, or the junction's), "master" for ecat::kMasterEnd,
+// "nothing" for any other value: names the two ends of a cable in link diagnostics.
+constexpr const char* slave_end_name(std::uint8_t position) noexcept {
+  if (position == ecat::kMasterEnd) return "master";
+  return position < kSlaveCount ? kSlaves[position].name : "nothing";
+}
+
+// The lowest slave of `slaves` (kSlaveCount when empty).
+constexpr std::uint8_t first_slave(ecat::SlaveMask slaves) noexcept {
+  for (std::size_t p = 0; p < kSlaveCount; ++p) {
+    if ((slaves & ecat::slave_bit(p)) != 0) return static_cast<std::uint8_t>(p);
+  }
+  return static_cast<std::uint8_t>(kSlaveCount);
+}
+
 static_assert(kRobotImageLayout.valid, "a branch has more slaves than ecat::kMaxSlavesPerBranch");
 static_assert(kRobotImageBytes == kJointCount * (kJointOutputBytes + kJointInputBytes), "image holds every joint once");
 

@@ -14,30 +14,45 @@ std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v)
 
 template <typename B>
 Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
-  BasicFrameView view;
-  view.frame_ = frame;
-  FrameHeader& h = view.header_;
   const std::size_t size = frame.size();
   const std::uint8_t* p = frame.data();
 
   if (size < kEthernetHeaderSize) return make_error(Errc::truncated, "ethernet header", kFrameLevel, 0);
   // A capture may keep the 4-byte FCS after the payload; more than that is not Ethernet.
   if (size > kMaxFrameSize + kVlanTagSize + 4) return make_error(Errc::malformed, "frame too long", kFrameLevel, u32(size));
-  std::memcpy(h.destination.data(), p, 6);
-  std::memcpy(h.source.data(), p + 6, 6);
   std::size_t offset = 12;
   std::uint16_t ether_type = load_be16(p + offset);
+  bool vlan_tagged = false;
+  std::uint16_t vlan_tci = 0;
   if (ether_type == kEtherTypeVlan) {
     if (size < offset + kVlanTagSize + 2) return make_error(Errc::truncated, "vlan tag", kFrameLevel, u32(offset));
-    h.vlan_tagged = true;
-    h.vlan_tci = load_be16(p + offset + 2);
+    vlan_tagged = true;
+    vlan_tci = load_be16(p + offset + 2);
     offset += kVlanTagSize;
     ether_type = load_be16(p + offset);
   }
   if (ether_type != kEtherTypeEtherCAT) return make_error(Errc::unsupported, "not EtherCAT", kFrameLevel, u32(offset));
   offset += 2;
+  auto ecat = parse_ecat(frame, offset);
+  if (!ecat.ok()) return ecat.error();
+  FrameHeader& h = ecat.value().header_;
+  std::memcpy(h.destination.data(), p, 6);
+  std::memcpy(h.source.data(), p + 6, 6);
+  h.vlan_tagged = vlan_tagged;
+  h.vlan_tci = vlan_tci;
+  return ecat;
+}
 
-  if (size < offset + kEcatHeaderSize) return make_error(Errc::truncated, "ecat header", kFrameLevel, u32(offset));
+template <typename B>
+Result<BasicFrameView<B>> BasicFrameView<B>::parse_ecat(Span<B> frame, std::size_t ecat_offset) noexcept {
+  BasicFrameView view;
+  view.frame_ = frame;
+  FrameHeader& h = view.header_;
+  const std::size_t size = frame.size();
+  const std::uint8_t* p = frame.data();
+  std::size_t offset = ecat_offset;
+
+  if (offset > size || size - offset < kEcatHeaderSize) return make_error(Errc::truncated, "ecat header", kFrameLevel, u32(offset));
   const std::uint16_t ecat_word = load_le16(p + offset);
   h.ecat_offset = offset;
   h.ecat_length = static_cast<std::uint16_t>(ecat_word & kEcatLengthMask);
@@ -63,7 +78,12 @@ Result<BasicFrameView<B>> BasicFrameView<B>::parse(Span<B> frame) noexcept {
     offset += kDatagramOverhead + data_length;
     ++index;
   }
-  if (offset != payload_end) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
+  // Padding: fewer bytes than a datagram needs, all zero. Anything else is garbage.
+  const std::size_t trailing = payload_end - offset;
+  bool padding = trailing < kDatagramOverhead;
+  for (std::size_t i = offset; padding && i < payload_end; ++i) padding = p[i] == 0;
+  if (!padding) return make_error(Errc::malformed, "bytes after last datagram", index, u32(offset));
+  h.padding = static_cast<std::uint16_t>(trailing);
   h.datagram_count = index;
   return view;
 }

@@ -104,8 +104,12 @@ struct FrameHeader {
   std::uint8_t ecat_type{0};
   std::size_t ecat_offset{0};    // offset of the EtherCAT header in the frame
   std::size_t datagram_count{0};
+  // Zero bytes after the last datagram inside ecat_length: a master that pads an odd-length
+  // datagram to an even length announces them (Wireshark shows them as "Pad bytes").
+  std::uint16_t padding{0};
 
-  // One past the last datagram byte; what follows (padding, a captured FCS) is not EtherCAT.
+  // One past the last EtherCAT byte (datagrams and their padding); what follows (Ethernet padding,
+  // a captured FCS) is not EtherCAT.
   std::size_t ecat_end() const noexcept { return ecat_offset + kEcatHeaderSize + ecat_length; }
 };
 
@@ -126,6 +130,11 @@ struct FrameHeader {
 //   truncated    "datagram length"            datagram index   offset of its length field (header + 6)
 //   malformed    "bytes after last datagram"  datagrams parsed offset of the first unused byte
 //
+// Bytes after the last datagram inside the EtherCAT length are padding (FrameHeader::padding) when
+// they are fewer than a datagram's 12-byte overhead and all zero: real masters pad an odd-length
+// datagram to an even length that way. Anything else there (a non-zero byte, or room for a whole
+// datagram whose more-follows bit is missing) is garbage: "bytes after last datagram".
+//
 // "truncated" means the frame (or the EtherCAT length) ends before a field it announces. Frames of
 // other EtherTypes give unsupported "not EtherCAT": callers skip them. Bytes after ecat_end()
 // (Ethernet padding, an FCS a capture kept) are ignored.
@@ -135,6 +144,10 @@ template <typename B>
 class BasicFrameView {
  public:
   static Result<BasicFrameView> parse(Span<B> frame) noexcept;
+  // The same checks from the EtherCAT header on, for frames whose link layer is not Ethernet II
+  // (Linux cooked captures): `ecat_offset` is where the EtherCAT header starts in `frame`, which
+  // must be <= frame.size(). destination/source stay zero. Error offsets are offsets in `frame`.
+  static Result<BasicFrameView> parse_ecat(Span<B> frame, std::size_t ecat_offset) noexcept;
 
   const FrameHeader& header() const noexcept { return header_; }
   std::size_t datagram_count() const noexcept { return header_.datagram_count; }

@@ -85,7 +85,11 @@ constexpr std::uint16_t kAlEventRequest = 0x0220;    // u32
 
 // --- Error counters ------------------------------------------------------------------------------
 constexpr std::uint16_t kRxErrorCounter = 0x0300;     // 4 x (u8 invalid frame, u8 RX error)
+constexpr std::uint16_t kForwardedRxErrorCounter = 0x0308;  // 4 x u8
+constexpr std::uint16_t kEpuErrorCounter = 0x030C;    // u8: ECAT processing unit error
+constexpr std::uint16_t kPdiErrorCounter = 0x030D;    // u8
 constexpr std::uint16_t kLostLinkCounter = 0x0310;    // 4 x u8
+constexpr std::uint16_t kErrorCountersLength = 0x14;  // 0x0300..0x0313
 
 // --- Watchdogs ------------------------------------------------------------------------------------
 constexpr std::uint16_t kWatchdogDivider = 0x0400;       // u16

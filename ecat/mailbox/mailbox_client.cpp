@@ -73,7 +73,11 @@ bool MailboxClient::pop_completion(SdoCompletion& out) noexcept { return done_.p
 void MailboxClient::complete(SdoOutcome outcome) noexcept {
   current_.outcome = outcome;
   phase_ = Phase::none;
-  (void)done_.push_overwrite(current_);
+  if ((current_.request.tag & kMasterTagBit) != 0) {
+    (void)master_done_.push_overwrite(current_);
+  } else {
+    (void)done_.push_overwrite(current_);
+  }
 }
 
 void MailboxClient::start_next(hal::Nanoseconds now) noexcept {

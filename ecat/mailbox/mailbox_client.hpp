@@ -78,6 +78,10 @@ class MailboxClient {
   // complete at once with no_mailbox.
   [[nodiscard]] bool submit(const SdoRequest& request) noexcept;
   [[nodiscard]] bool pop_completion(SdoCompletion& out) noexcept;
+  // Transfers whose tag has kMasterTagBit set are the master's own (its recovery's start-up SDOs):
+  // their completions go to a queue of their own, never to the owner's.
+  static constexpr std::uint32_t kMasterTagBit = 0x80000000U;
+  [[nodiscard]] bool pop_master_completion(SdoCompletion& out) noexcept { return master_done_.pop(out); }
   bool idle() const noexcept { return phase_ == Phase::none && queue_.empty(); }
   std::size_t free_slots() const noexcept { return kQueueCapacity - queue_.size(); }
 
@@ -113,6 +117,7 @@ class MailboxClient {
   std::array<Box, kMaxSlaves> boxes_{};
   RingBuffer<SdoRequest, kQueueCapacity> queue_{};
   RingBuffer<SdoCompletion, kQueueCapacity> done_{};  // the oldest uncollected one goes when full
+  RingBuffer<SdoCompletion, kQueueCapacity> master_done_{};
 
   Phase phase_{Phase::none};
   SdoCompletion current_{};

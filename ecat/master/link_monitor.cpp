@@ -30,6 +30,12 @@ const char* to_string(LinkEventKind kind) noexcept {
     case LinkEventKind::restored: return "restored";
     case LinkEventKind::reintegrated: return "reintegrated";
     case LinkEventKind::reintegration_failed: return "reintegration failed";
+    case LinkEventKind::silent: return "silent (no frame came back)";
+    case LinkEventKind::heard_again: return "heard again";
+    case LinkEventKind::recovered: return "recovered";
+    case LinkEventKind::recovery_refused: return "recovery refused";
+    case LinkEventKind::recovery_failed: return "recovery failed";
+    case LinkEventKind::port_errors: return "port errors";
   }
   return "?";
 }
@@ -39,10 +45,11 @@ LinkMonitor::LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layo
 
 void LinkMonitor::start(SlaveMask in_exchange) noexcept {
   present_ = in_exchange;
-  out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = 0;
+  out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = recovering_ = 0;
   pending_lost_ = pending_restored_ = 0;
   silent_frames_.fill(0);
   frames_missing_in_row_ = 0;
+  silence_reported_ = false;
 }
 
 std::uint16_t LinkMonitor::expected_wkc(std::size_t branch) const noexcept {
@@ -54,7 +61,7 @@ std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) no
   for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
     if ((suspect_ & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
   }
-  const SlaveMask to_clear = out_ & ~fmmus_cleared_;
+  const SlaveMask to_clear = out_ & ~fmmus_cleared_ & ~recovering_;
   std::size_t budget = kMaxOutProbesPerCycle;
   for (std::size_t i = 0; i < kMaxSlaves && n < capacity && budget > 0; ++i) {
     const std::size_t p = (rotate_ + i) % kMaxSlaves;
@@ -77,10 +84,22 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
   if (!frame_received) {
     // Late or missing: no evidence. Suspects stay suspects and are probed again next frame.
     ++frames_missing_;
-    ++frames_missing_in_row_;
+    if (frames_missing_in_row_++ == 0) {
+      silent_since_ = time;
+      silent_since_cycle_ = cycle;
+    }
+    if (!silence_reported_ && time - silent_since_ >= kSilenceAlarm) {
+      silence_reported_ = true;
+      ++silences_;
+      report(LinkEventKind::silent, present_, silent_since_cycle_);
+    }
     return;
   }
   frames_missing_in_row_ = 0;
+  if (silence_reported_) {
+    silence_reported_ = false;
+    report(LinkEventKind::heard_again, present_, cycle);
+  }
   const SlaveMask out_before = out_;
   const bool probed_suspects = (suspect_ & present_) != 0;
   bool silent_seen = false;
@@ -180,6 +199,31 @@ void LinkMonitor::reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanos
   report(LinkEventKind::reintegrated, slaves, cycle);
 }
 
+void LinkMonitor::recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept {
+  slaves &= out_;
+  if (slaves == 0) return;
+  present_ |= slaves;
+  out_ &= ~slaves;
+  lost_ &= ~slaves;
+  restored_ &= ~slaves;
+  fmmus_cleared_ &= ~slaves;
+  suspect_ &= ~slaves;
+  recovering_ &= ~slaves;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((slaves & slave_bit(p)) != 0) silent_frames_[p] = 0;
+  }
+  cycle_ = cycle;
+  time_ = time;
+  report(LinkEventKind::recovered, slaves, cycle, 0, 0, {cause, 0, 0, 0});
+}
+
+void LinkMonitor::recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                                 const std::array<std::uint32_t, 4>& found) noexcept {
+  cycle_ = cycle;
+  time_ = time;
+  report(kind, slaves, cycle, 0, 0, found);
+}
+
 void LinkMonitor::reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
                                        std::uint16_t al_status, std::uint16_t al_code) noexcept {
   if (slaves == 0) return;
@@ -190,7 +234,7 @@ void LinkMonitor::reintegration_failed(SlaveMask slaves, std::uint64_t cycle, ha
 }
 
 void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status,
-                         std::uint16_t al_code) noexcept {
+                         std::uint16_t al_code, const std::array<std::uint32_t, 4>& found) noexcept {
   LinkReport r;
   r.kind = kind;
   r.branch = common_branch(plan_, slaves);
@@ -200,6 +244,7 @@ void LinkMonitor::report(LinkEventKind kind, SlaveMask slaves, std::uint64_t det
   r.cycle = cycle_;
   r.detected_cycle = detected_cycle;
   r.time = time_;
+  r.found = found;
   if (!reports_.push(r)) ++reports_dropped_;  // nobody collects them: keep the oldest, count the rest
 }
 

@@ -42,7 +42,15 @@ enum class LinkEventKind : std::uint8_t {
   restored,         // a lost slave answers again (not re-used until re-integrated)
   reintegrated,     // back in the exchange after an explicit re-integration
   reintegration_failed,  // an explicit re-integration did not bring the slave back to OP
+  silent,           // alarm: no frame came back for LinkMonitor::kSilenceAlarm (slaves: those in the exchange)
+  heard_again,      // a frame came back after a `silent` alarm (the probes then say what is lost)
+  recovered,        // online recovery brought it back to OP and into the exchange ("available")
+  recovery_refused, // online recovery found another device in its place (identity in the report)
+  recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
+  port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
 };
+constexpr std::size_t kLinkEventKindCount = 11;
+static_assert(static_cast<std::size_t>(LinkEventKind::port_errors) + 1 == kLinkEventKindCount, "every kind counted");
 const char* to_string(LinkEventKind kind) noexcept;
 
 // One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
@@ -55,7 +63,14 @@ struct LinkReport {
   std::uint64_t cycle{0};           // cycle in which it was established
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
   hal::Nanoseconds time{0};
+  // recovered: found[0] = kRecoveredAfterPowerLoss when the slave had lost its station address (its
+  // power was cycled), 0 when it kept its configuration (a cable: link lost and back);
+  // recovery_refused: the SII identity found (vendor, product, revision, serial);
+  // recovery_failed: found[0] = the recovery state that timed out.
+  std::array<std::uint32_t, 4> found{};
 };
+
+constexpr std::uint32_t kRecoveredAfterPowerLoss = 1;
 
 struct ProbeRequest {
   std::uint8_t position{0};
@@ -78,6 +93,12 @@ class LinkMonitor {
   // N is reported in cycle N + kLossConfirmFrames - 1 when every frame comes back.
   static constexpr std::uint32_t kLossConfirmFrames = 3;
   static constexpr std::size_t kReportCapacity = 32;
+  // No frame back for this long (from the first one that did not come back) raises the link-silence
+  // alarm, once, and a returned frame ends it. Far above host jitter (frames bunched 3 ms late in
+  // issue 11, injected stalls of 3-7 ms), and the default SyncManager watchdog of the drives
+  // (100 ms), which by then has stopped them: the alarm says why. It is not evidence against single
+  // slaves: nothing is reported lost for it (docs/master.md, "A link that returns nothing").
+  static constexpr hal::Nanoseconds kSilenceAlarm = 100 * hal::kNsPerMs;
 
   LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
 
@@ -99,6 +120,13 @@ class LinkMonitor {
   void reintegration_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
                             std::uint16_t al_code) noexcept;
 
+  // Online recovery: slaves it works on are left out of the restoration probes (it talks to them);
+  // recovered() puts slaves back in the exchange (from lost, restored or not operational).
+  void set_recovering(SlaveMask slaves) noexcept { recovering_ = slaves; }
+  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept;
+  void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
+                      const std::array<std::uint32_t, 4>& found) noexcept;
+
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
 
   SlaveMask in_exchange() const noexcept { return present_; }
@@ -115,13 +143,16 @@ class LinkMonitor {
   // Cycles whose frame did not come back by its deadline (late or missing), and the current run.
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
   std::uint32_t frames_missing_in_row() const noexcept { return frames_missing_in_row_; }
+  // The link-silence alarm is raised (no frame back for kSilenceAlarm, none since), and how often it was.
+  bool silence_alarm() const noexcept { return silence_reported_; }
+  std::uint64_t silences() const noexcept { return silences_; }
 
  private:
   // True when the probe found a suspect silent (evidence of a loss, not yet confirmed).
   bool observe_probe(const ProbeResult& probe) noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
   void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
-              std::uint16_t al_code = 0) noexcept;
+              std::uint16_t al_code = 0, const std::array<std::uint32_t, 4>& found = {}) noexcept;
 
   const NetworkPlan& plan_;
   const ProcessImageLayout& layout_;
@@ -132,11 +163,16 @@ class LinkMonitor {
   SlaveMask fmmus_cleared_{0}; // out slaves whose FMMU activation is confirmed off
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
+  SlaveMask recovering_{0};    // online recovery works on them: no restoration probes
   std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
   // Returned frames in a row that showed the slave unreachable (counter, then silent probes).
   std::array<std::uint8_t, kMaxSlaves> silent_frames_{};
   std::uint64_t frames_missing_{0};
   std::uint32_t frames_missing_in_row_{0};
+  hal::Nanoseconds silent_since_{0};        // time of the first frame of the current missing run
+  std::uint64_t silent_since_cycle_{0};
+  bool silence_reported_{false};
+  std::uint64_t silences_{0};
   std::uint64_t cycle_{0};
   hal::Nanoseconds time_{0};
   std::size_t rotate_{0};

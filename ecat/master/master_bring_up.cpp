@@ -62,7 +62,7 @@ const char* to_string(MasterState state) noexcept {
 }
 
 Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept
-    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), mailbox_(plan) {}
+    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), diagnostics_(plan), mailbox_(plan) {}
 
 Status Master::fail(const char* step, const Error& error) noexcept {
   report_.failed_step = step;
@@ -82,6 +82,9 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   // Nothing of an earlier bring-up carries over.
   monitor_.start(0);
   reintegrating_ = 0;
+  recovery_.fill(Recovery{});
+  recovery_stats_ = RecoveryStats{};
+  diagnostics_.reset();
   setup_.fill(SlaveSetup{});
   if (image_.size() < layout_.total_bytes) {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));
@@ -285,12 +288,7 @@ Status Master::configure_mailboxes() noexcept {
   SlaveMask refused = 0;
   const Status st = for_each_slave(
       link_, plan_, with_mailbox, Command::FPWR, reg::sync_manager(0), 2 * reg::kSyncManagerSize,
-      [&](std::size_t p, ByteSpan out) {
-        const SyncManagerEntry sm0 = sync_manager_entry(setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[0].control);
-        const SyncManagerEntry sm1 = sync_manager_entry(setup_[p].sm[1].start, setup_[p].sm[1].length, setup_[p].sm[1].control);
-        std::memcpy(out.data(), sm0.data(), sm0.size());
-        std::memcpy(out.data() + sm0.size(), sm1.data(), sm1.size());
-      },
+      [&](std::size_t p, ByteSpan out) { fill_mailbox_sms(p, out.data()); },
       [&](std::size_t p, std::uint16_t wkc, ConstByteSpan) {
         if (wkc != 1) refused |= slave_bit(p);
       },
@@ -324,6 +322,31 @@ Status Master::run_startup_sdos() noexcept {
   return Status::success();
 }
 
+void Master::fill_mailbox_sms(std::size_t p, std::uint8_t* out) const noexcept {
+  const SyncManagerEntry sm0 = sync_manager_entry(setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[0].control);
+  const SyncManagerEntry sm1 = sync_manager_entry(setup_[p].sm[1].start, setup_[p].sm[1].length, setup_[p].sm[1].control);
+  std::memcpy(out, sm0.data(), sm0.size());
+  std::memcpy(out + sm0.size(), sm1.data(), sm1.size());
+}
+
+void Master::fill_process_data_sms(std::size_t p, std::uint8_t* out) const noexcept {
+  const SyncManagerSetup& o = setup_[p].sm[2];
+  const SyncManagerSetup& i = setup_[p].sm[3];
+  const SyncManagerEntry sm2 = sync_manager_entry(o.start, plan_[p].output_bytes, o.control != 0 ? o.control : kSmControlOutputs);
+  const SyncManagerEntry sm3 = sync_manager_entry(i.start, plan_[p].input_bytes, i.control != 0 ? i.control : kSmControlInputs);
+  std::memcpy(out, sm2.data(), sm2.size());
+  std::memcpy(out + sm2.size(), sm3.data(), sm3.size());
+}
+
+void Master::fill_fmmus(std::size_t p, std::uint8_t* out) const noexcept {
+  const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes, setup_[p].sm[2].start,
+                                       reg::kFmmuTypeWrite);
+  const FmmuEntry inputs = fmmu_entry(layout_.slaves[p].input_offset, plan_[p].input_bytes, setup_[p].sm[3].start,
+                                      reg::kFmmuTypeRead);
+  std::memcpy(out, outputs.data(), outputs.size());
+  std::memcpy(out + outputs.size(), inputs.data(), inputs.size());
+}
+
 Status Master::configure_process_data() noexcept {
   SlaveMask with_data = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
@@ -339,26 +362,12 @@ Status Master::configure_process_data() noexcept {
   };
   Status st = for_each_slave(
       link_, plan_, with_data, Command::FPWR, reg::sync_manager(2), 2 * reg::kSyncManagerSize,
-      [&](std::size_t p, ByteSpan out) {
-        const SyncManagerSetup& o = setup_[p].sm[2];
-        const SyncManagerSetup& i = setup_[p].sm[3];
-        const SyncManagerEntry sm2 = sync_manager_entry(o.start, plan_[p].output_bytes, o.control != 0 ? o.control : kSmControlOutputs);
-        const SyncManagerEntry sm3 = sync_manager_entry(i.start, plan_[p].input_bytes, i.control != 0 ? i.control : kSmControlInputs);
-        std::memcpy(out.data(), sm2.data(), sm2.size());
-        std::memcpy(out.data() + sm2.size(), sm3.data(), sm3.size());
-      },
+      [&](std::size_t p, ByteSpan out) { fill_process_data_sms(p, out.data()); },
       check, options_.frame_timeout);
   if (st.ok()) {
     st = for_each_slave(
         link_, plan_, with_data, Command::FPWR, reg::fmmu(kFmmuOutputs), 2 * reg::kFmmuSize,
-        [&](std::size_t p, ByteSpan out) {
-          const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes,
-                                               setup_[p].sm[2].start, reg::kFmmuTypeWrite);
-          const FmmuEntry inputs = fmmu_entry(layout_.slaves[p].input_offset, plan_[p].input_bytes,
-                                              setup_[p].sm[3].start, reg::kFmmuTypeRead);
-          std::memcpy(out.data(), outputs.data(), outputs.size());
-          std::memcpy(out.data() + outputs.size(), inputs.data(), inputs.size());
-        },
+        [&](std::size_t p, ByteSpan out) { fill_fmmus(p, out.data()); },
         check, options_.frame_timeout);
   }
   if (!st.ok()) return fail("process data", st.error());

@@ -14,6 +14,9 @@ constexpr std::size_t kProbeBytes = 2 * kDatagramOverhead + kAlStatusReadLength 
 constexpr std::array<std::uint8_t, kFmmuActivationOffLength> kZeros{};
 constexpr std::size_t kOpStatusBytes = kDatagramOverhead + kAlStatusReadLength;
 constexpr std::size_t kMailboxReserve = 2 * kDatagramOverhead + 1 + 256;
+constexpr std::size_t kDiagnosticsBytes = kDatagramOverhead + LinkDiagnostics::kReadLength;
+constexpr std::uint16_t kReadWriteWkc = 3;  // FPRW: read (1) + write (2)
+constexpr std::array<std::uint8_t, LinkDiagnostics::kReadLength> kCounterClear{};
 
 }  // namespace
 
@@ -63,6 +66,15 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
     }
     probe_count_ = kept;  // the rest are asked for again next cycle
     add_reintegration_datagrams(frame);
+    add_recovery_datagrams(frame);
+    if (options_.diag_interval_cycles != 0 && cycle_ % options_.diag_interval_cycles == 0 && fits(kDiagnosticsBytes)) {
+      const std::size_t p = diagnostics_.next(monitor_.in_exchange());
+      if (p < kMaxSlaves) {
+        note(Role::diagnostics, p,
+             frame.add(Command::FPRW, index, make_address(plan_[p].station_address, reg::kRxErrorCounter),
+                       LinkDiagnostics::kReadLength, ConstByteSpan(kCounterClear)).ok());
+      }
+    }
   } else if (state_ == MasterState::going_op) {
     std::array<std::uint8_t, 2> value{};
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
@@ -92,6 +104,8 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
     switch (what.role) {
       case Role::reference_time:
         if (d.wkc() != 0) result.reference_time = load_le64(data);
+        frame_reference_time_ = result.reference_time;
+        if (result.reference_time != 0) latest_reference_time_ = result.reference_time;
         break;
       case Role::branch: {
         const BranchLayout& branch = layout_.branches[what.param];
@@ -136,6 +150,15 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
       case Role::reintegration:
         on_reintegration_datagram(what.param, d);
         break;
+      case Role::recovery:
+        on_recovery_datagram(what.param, d);
+        break;
+      case Role::search:
+        on_search_datagram(what.param, d);
+        break;
+      case Role::diagnostics:
+        if (d.wkc() == kReadWriteWkc) diagnostics_.observe(what.param, data, cycle_, link_.clock().now());
+        break;
     }
   }
 }
@@ -167,6 +190,7 @@ CycleResult Master::cycle() noexcept {
   if (state_ != MasterState::going_op && state_ != MasterState::op && state_ != MasterState::safe_op) return result;
 
   silence_outputs_of_out_slaves();
+  frame_reference_time_ = 0;
   FrameBuilder& frame = link_.begin();
   build_cycle_frame(frame);
   result.sent_at = link_.clock().now();
@@ -183,6 +207,12 @@ CycleResult Master::cycle() noexcept {
                      Span<const ProbeResult>(probe_results_.data(), probe_count_));
     result.valid = monitor_.valid();
     finish_reintegration_step();
+    step_recovery();
+    PortErrorWarning warning;
+    while (diagnostics_.pop_warning(warning)) {
+      monitor_.recovery_event(LinkEventKind::port_errors, slave_bit(warning.slave), cycle_, warning.time,
+                              {warning.port, warning.peer, warning.errors, 0});
+    }
   } else if (state_ == MasterState::going_op) {
     step_op_transition(result);
   }

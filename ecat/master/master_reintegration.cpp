@@ -25,7 +25,7 @@ constexpr std::uint16_t kSafeOp = static_cast<std::uint16_t>(reg::AlState::safe_
 }  // namespace
 
 bool Master::reintegrate(SlaveMask slaves) noexcept {
-  if (slaves == 0 || reintegrating_ != 0 || state_ != MasterState::op) return false;
+  if (slaves == 0 || reintegrating_ != 0 || state_ != MasterState::op || options_.online_recovery) return false;
   if ((slaves & ~monitor_.restored()) != 0) return false;
   reintegrating_ = slaves;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
@@ -44,12 +44,7 @@ void Master::add_reintegration_datagrams(FrameBuilder& frame) noexcept {
     std::array<std::uint8_t, std::size_t{2} * reg::kFmmuSize> bytes{};
     switch (re_step_[p]) {
       case ReStep::fmmus: {
-        const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes, setup_[p].sm[2].start,
-                                             reg::kFmmuTypeWrite);
-        const FmmuEntry inputs = fmmu_entry(layout_.slaves[p].input_offset, plan_[p].input_bytes, setup_[p].sm[3].start,
-                                            reg::kFmmuTypeRead);
-        std::memcpy(bytes.data(), outputs.data(), outputs.size());
-        std::memcpy(bytes.data() + outputs.size(), inputs.data(), inputs.size());
+        fill_fmmus(p, bytes.data());
         added = frame.add(Command::FPWR, index, make_address(station, reg::fmmu(kFmmuOutputs)), 2 * reg::kFmmuSize,
                           ConstByteSpan(bytes));
         break;

@@ -22,6 +22,7 @@
 namespace rescue::ecat {
 
 constexpr std::uint8_t kNoBranch = 0xFF;
+constexpr std::uint8_t kMasterEnd = 0xFE;  // link diagnostics: the cable's other end is the master
 constexpr std::uint16_t kLrwWkcPerSlave = 3;  // read (1) + write (2) by one slave
 
 // A set of slaves by frame position (bit p = slave at position p of the plan).

@@ -1,12 +1,14 @@
 // libFuzzer target: CaptureReader on arbitrary bytes (a capture file someone hands to `decode`)
 // never reads outside them; every frame it returns lies inside the input, frame numbers count up
-// by one, the reader always moves forward, and each frame goes through the frame decoder as
-// `decode` would do.
+// by one, the reader always moves forward, and each frame goes through the link-layer and frame
+// decoders (Ethernet, Linux cooked SLL/SLL2) as `decode` does.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 
 #include "ecat/capture/capture_reader.hpp"
+#include "ecat/capture/captured_link.hpp"
 #include "ecat/codec/frame.hpp"
 
 namespace {
@@ -46,8 +48,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check(reader.value().offset() > last_offset && reader.value().offset() <= size);
     last_offset = reader.value().offset();
     unsigned sum = 0;
-    const auto parsed = FrameView::parse(frame.bytes);
+    const auto parsed = decode_captured_frame(frame.link_type, frame.bytes);
+    check(parsed.ok() || is_supported_link_type(frame.link_type) || std::strcmp(parsed.error().what, "link type") == 0);
     if (parsed.ok()) {
+      check(parsed.value().header().ecat_end() <= frame.bytes.size());
       for (const DatagramView d : parsed.value()) sum += d.length() + d.wkc();
     }
     (void)sum;

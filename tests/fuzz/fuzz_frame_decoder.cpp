@@ -1,6 +1,6 @@
 // libFuzzer target: FrameView/MutableFrameView::parse on arbitrary bytes never reads outside them,
-// and whatever it accepts is self-consistent and rebuilds: the datagrams tile the EtherCAT length
-// exactly, more-follows is set on all but the last, a slave's in-place edits keep the frame
+// and whatever it accepts is self-consistent and rebuilds: the datagrams and their zero padding
+// (fewer than 12 bytes) tile the EtherCAT length exactly, more-follows is set on all but the last, a slave's in-place edits keep the frame
 // parseable, and FrameBuilder given the decoded fields reproduces the EtherCAT bytes (apart from
 // the reserved and circulating bits, which the builder never sets).
 #include <cstddef>
@@ -38,7 +38,9 @@ void check_consistent(const FrameView& view, std::size_t size) {
   }
   (void)sum;
   check(n == h.datagram_count);
-  check(covered == h.ecat_length);
+  check(h.padding < kDatagramOverhead);
+  check(covered + h.padding == h.ecat_length);
+  for (std::size_t i = h.ecat_end() - h.padding; i < h.ecat_end(); ++i) check(view.bytes()[i] == 0);
 }
 
 // Rebuilds the frame from its decoded fields and compares the EtherCAT part.
@@ -58,9 +60,10 @@ void check_rebuilds(const FrameView& view) {
   }
   const ConstByteSpan rebuilt = b.finish();
   const std::uint8_t* original = view.bytes().data();
-  check(rebuilt.size() >= h.ecat_end());
+  check(rebuilt.size() + h.padding >= h.ecat_end());  // the builder never writes the padding
   check(std::memcmp(rebuilt.data(), original, kEthernetHeaderSize) == 0);                        // MACs, type
-  check((load_le16(rebuilt.data() + 14) & 0xF7FFU) == (load_le16(original + 14) & 0xF7FFU));    // reserved bit 11
+  const std::uint16_t rebuilt_word = static_cast<std::uint16_t>(load_le16(rebuilt.data() + 14) + h.padding);  // builder never pads
+  check((rebuilt_word & 0xF7FFU) == (load_le16(original + 14) & 0xF7FFU));                     // reserved bit 11
   std::size_t at = kEthernetHeaderSize + kEcatHeaderSize;
   for (const DatagramView d : view) {
     check(std::memcmp(rebuilt.data() + at, original + at, 6) == 0);                      // cmd, idx, address

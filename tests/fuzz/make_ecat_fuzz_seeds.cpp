@@ -1,9 +1,12 @@
-// Writes the seed corpora of fuzz_frame_decoder and fuzz_capture_reader at build time:
+// Writes the seed corpora of fuzz_frame_decoder, fuzz_capture_reader and fuzz_captured_link at
+// build time:
 //   make_ecat_fuzz_seeds SEED_ROOT [SHARED_DIR]
-// into SEED_ROOT/seeds-fuzz_frame_decoder and SEED_ROOT/seeds-fuzz_capture_reader (toolchain/
-// check.sh hands these directories to the fuzzers). Seeds are built with our own codec: every
-// command and address form, VLAN, padding, FCS, 124 datagrams, the largest frame, the robot's
-// cyclic frame, captures in every pcap/pcapng flavour the reader knows. When SHARED_DIR holds the
+// into SEED_ROOT/seeds-fuzz_frame_decoder, .../seeds-fuzz_capture_reader and
+// .../seeds-fuzz_captured_link (toolchain/check.sh hands these directories to the fuzzers). Seeds are
+// built with our own codec: every command and address form, VLAN, Ethernet padding, zero padding
+// after the last datagram (a 1-byte BWR in a frame whose header says 14), FCS, 124 datagrams, the
+// largest frame, the robot's cyclic frame, captures in every pcap/pcapng flavour the reader knows,
+// Linux cooked (SLL, SLL2) packets and captures. When SHARED_DIR holds the
 // real captures, their first frames and a short valid head of each file are added too; they stay
 // in the build tree, never in the repository.
 #include <sys/stat.h>
@@ -68,7 +71,20 @@ std::vector<Bytes> synthetic_frames() {
   Bytes with_fcs = frames.back();
   with_fcs.insert(with_fcs.end(), {0x12, 0x34, 0x56, 0x78});
   frames.push_back(with_fcs);
+  FrameBuilder odd;  // a 1-byte BWR padded to an even EtherCAT length, as real masters send it
+  (void)odd.add(Command::BWR, 5, make_address(0, 0x0120), 1);
+  Bytes padded = finish(odd);
+  store_le16(padded.data() + 14, static_cast<std::uint16_t>(0x1000 | 14));
+  frames.push_back(padded);
   return frames;
+}
+
+// A Linux cooked packet (SLL when !v2, SLL2 when v2) around an Ethernet frame's payload.
+Bytes cooked(bool v2, const Bytes& ethernet) {
+  Bytes p = v2 ? Bytes{0x88, 0xA4, 0, 0, 0, 0, 0, 2, 0, 1, 4, 6, 2, 0, 0, 0, 0, 1, 0, 0}
+               : Bytes{0, 4, 0, 1, 0, 6, 2, 0, 0, 0, 0, 1, 0, 0, 0x88, 0xA4};
+  if (ethernet.size() > kEthernetHeaderSize) p.insert(p.end(), ethernet.begin() + kEthernetHeaderSize, ethernet.end());
+  return p;
 }
 
 Bytes read_file(const std::string& path) {
@@ -86,12 +102,31 @@ int main(int argc, char** argv) {
   const std::string root = argv[1];
   const std::string frames_dir = root + "/seeds-fuzz_frame_decoder";
   const std::string captures_dir = root + "/seeds-fuzz_capture_reader";
+  const std::string links_dir = root + "/seeds-fuzz_captured_link";
   ::mkdir(root.c_str(), 0755);
   ::mkdir(frames_dir.c_str(), 0755);
   ::mkdir(captures_dir.c_str(), 0755);
+  ::mkdir(links_dir.c_str(), 0755);
 
   const std::vector<Bytes> frames = synthetic_frames();
   for (std::size_t i = 0; i < frames.size(); ++i) write_seed(frames_dir, "synthetic-" + std::to_string(i), frames[i]);
+  // fuzz_captured_link: first byte picks the link type (0 Ethernet, 1 SLL, 2 SLL2, 3 unsupported).
+  for (std::size_t i = 0; i < frames.size(); i += 3) {
+    for (std::uint8_t link = 0; link < 4; ++link) {
+      Bytes seed{link};
+      const Bytes packet = link == 1 || link == 2 ? cooked(link == 2, frames[i]) : frames[i];
+      seed.insert(seed.end(), packet.begin(), packet.end());
+      write_seed(links_dir, "link" + std::to_string(link) + "-" + std::to_string(i), seed);
+    }
+  }
+  for (const bool v2 : {false, true}) {  // cooked captures for the reader
+    test::PcapngBuilder ng(false);
+    ng.interface(v2 ? 276 : 113).packet(0, 1, cooked(v2, frames[0])).packet(0, 2, cooked(v2, frames.back()));
+    write_seed(captures_dir, v2 ? "sll2.pcapng" : "sll.pcapng", ng.bytes());
+    test::PcapBuilder pcap(false, false, v2 ? 276 : 113);
+    pcap.record(1, 2, cooked(v2, frames[1]));
+    write_seed(captures_dir, v2 ? "sll2.pcap" : "sll.pcap", pcap.bytes());
+  }
 
   // Captures: our writer, and hand-built flavours of both formats.
   {

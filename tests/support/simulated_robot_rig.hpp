@@ -3,6 +3,8 @@
 // Heap allocated by the test (the objects are large); nothing here is firmware.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <memory>
 #include <string>
@@ -87,6 +89,17 @@ inline ecat::MasterOptions fast_options() {
   ecat::MasterOptions options;
   options.drift_compensation_frames = 2000;  // enough on the model; the bench runs the full 15000
   return options;
+}
+
+// The robot brought up with `options` and cycled until the master is in OP (checked).
+inline std::unique_ptr<SimulatedRobotRig> simulated_robot_in_op(const ecat::MasterOptions& options = fast_options()) {
+  auto rig = std::make_unique<SimulatedRobotRig>();
+  EXPECT_TRUE(rig->bus.bring_up(options).ok()) << describe_master_failure(rig->bus.master());
+  drivers::JointReferences refs{};
+  drivers::JointFeedback fb{};
+  for (int i = 0; i < 200 && rig->bus.master().state() != ecat::MasterState::op; ++i) (void)rig->cycle(refs, fb);
+  EXPECT_EQ(rig->bus.master().state(), ecat::MasterState::op);
+  return rig;
 }
 
 }  // namespace rescue::testing

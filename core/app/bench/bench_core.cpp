@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/runtime/task_timing.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "core/timing/period_recorder.hpp"
@@ -39,7 +40,10 @@ LatencyHistogram g_timer_ticks;
 LatencyHistogram g_clock_ns;
 LatencyHistogram g_round_trip_ns;
 LatencyHistogram g_record_probe;
-PeriodRecorder g_period_probe;
+TaskRecorder g_period_probe;  // the task loops' recorder (runtime/task_timing.hpp)
+Seqlock<TaskStat> g_probe_slot;
+TaskRecorder g_publish_probe;
+LatencyHistogram g_publish_ns;
 LatencyHistogram g_period_ns;
 SpscQueue<Message, 1024> g_ping;
 SpscQueue<Message, 1024> g_pong;
@@ -84,8 +88,7 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   g_clock_ns.reset();
   g_round_trip_ns.reset();
   g_record_probe.reset();
-  g_period_probe.configure("probe", 1.0 / timer.ticks_per_ns());
-  g_period_probe.reset();
+  g_period_probe.start(g_probe_slot, "probe", -1, 0, 1.0 / timer.ticks_per_ns());
   g_period_ns.reset();
   std::thread second(partner);
   (void)std::fflush(stdout);
@@ -146,17 +149,34 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   const std::uint64_t record_ticks = timer.stop() - record_start;
 
   // What the firmware's task loops add per period (firmware.cpp, task_timing.hpp): the timer read
-  // before and after the work, and the recorder's two histogram records (the loops' clock reads
-  // were there before).
+  // before and after the work, and TaskRecorder::period: the two histogram records, the late-period
+  // count and the countdown to the next publication of the live figures (every
+  // TaskRecorder::kPublishEvery periods, measured on its own below). The loops' clock reads were
+  // there before.
   // Batches of kClockBatch, each timed as a whole: the median batch is not hit by preemption.
   for (std::uint64_t b = 0; b < kClockBatches; ++b) {
     const std::uint64_t batch_start = timer.start();
     for (std::uint64_t i = 0; i < kClockBatch; ++i) {
       const std::uint64_t work_start = timer.start();
       const std::uint64_t work_end = timer.stop();
-      g_period_probe.record(static_cast<std::int64_t>(i), work_start, work_end);
+      g_period_probe.period(0, static_cast<hal::Nanoseconds>(i), work_start, work_end, hal::kNsPerMs / 2);
     }
     g_period_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - batch_start)) / kClockBatch);
+  }
+
+  // The publication alone (PeriodRecorder::compact of both histograms, one seqlock write), on
+  // histograms holding what the handler records with the simulated robot (execution 85..120 us,
+  // wake-up latency 10..400 us): the pass over the buckets ends at the p99.99 bucket.
+  g_publish_probe.start(g_probe_slot, "publish", -1, 0, 1.0);
+  for (std::uint64_t i = 0; i < 10'000; ++i) {
+    const std::uint64_t start = 1'000'000 * i;
+    g_publish_probe.period(0, static_cast<hal::Nanoseconds>(10'000 + (i * 7919) % 390'000), start,
+                           start + 85'000 + (i * 104'729) % 35'000, hal::kNsPerMs / 2);
+  }
+  for (std::uint64_t b = 0; b < 1000; ++b) {
+    const std::uint64_t publish_start = timer.start();
+    g_publish_probe.publish();
+    g_publish_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - publish_start)));
   }
 
   const HeapGuardCounters heap = heap_guard_counters();
@@ -180,6 +200,7 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   (void)std::printf("histogram_record: %.1f ns\n", per_op_ns(timer, record_ticks, kSeqlockOps));
   (void)std::printf("period_recording_p50: %" PRIu64 " ns\n", g_period_ns.percentile(50.0));
   (void)std::printf("period_recording_p90: %" PRIu64 " ns\n", g_period_ns.percentile(90.0));
+  (void)std::printf("task_figures_publish_p50: %" PRIu64 " ns\n", g_publish_ns.percentile(50.0));
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   (void)std::printf("page_faults_after_init: %" PRIu64 " faults\n",

@@ -45,4 +45,14 @@ void print_bench_header(std::FILE* out, const char* name) noexcept {
                      ::geteuid() == 0 ? " (root)" : " (unprivileged)");
 }
 
+bool kernel_is_preempt_rt() noexcept {
+  utsname system{};
+  if (::uname(&system) == 0 && std::strstr(system.version, "PREEMPT_RT") != nullptr) return true;
+  std::FILE* f = std::fopen("/sys/kernel/realtime", "r");
+  if (f == nullptr) return false;
+  const int c = std::fgetc(f);
+  (void)std::fclose(f);
+  return c == '1';
+}
+
 }  // namespace rescue::app

@@ -13,6 +13,7 @@
 
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/config/firmware_config.hpp"
+#include "core/app/runtime/task_table.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
@@ -61,19 +62,6 @@ struct Figures {
   std::uint64_t count{0};
 };
 
-int cpu_for(int wanted) noexcept {
-  const long online = sysconf(_SC_NPROCESSORS_ONLN);
-  if (online <= 0 || wanted < online) return wanted;
-  return static_cast<int>(online - 1);
-}
-
-bool preempt_rt() noexcept {
-  std::FILE* f = std::fopen("/sys/kernel/realtime", "r");
-  if (f == nullptr) return false;
-  const int c = std::fgetc(f);
-  (void)std::fclose(f);
-  return c == '1';
-}
 
 void our_loop(std::uint64_t periods, int cpu, hal::RtReport* report) noexcept {
   hal::RtConfig config;
@@ -195,8 +183,8 @@ int bench_latency(const ParsedArgs& args) noexcept {
   if (!periods_arg.ok()) return fail("bench", "--periods N", periods_arg.error());
   const auto periods = static_cast<std::uint64_t>(periods_arg.value());
   print_bench_header(stdout, "latency");
-  const int cpu = cpu_for(kHandlerCpu);
-  (void)std::printf("preempt_rt: %s\n", preempt_rt() ? "yes (/sys/kernel/realtime = 1)" : "no (stock kernel)");
+  const int cpu = table_cpu_on_this_machine(kHandlerCpu);
+  (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes (/sys/kernel/realtime = 1)" : "no (stock kernel)");
   (void)std::printf("period: %" PRId64 " ns\n", kPeriod);
   (void)std::printf("priority: SCHED_FIFO %d (the EtherCAT handler's)\n", kHandlerPriority);
   (void)std::printf("task_cpu: %d (the handler's CPU %d, or the last one on fewer CPUs)\n", cpu, kHandlerCpu);

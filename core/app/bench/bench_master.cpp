@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/runtime/nic_factory.hpp"
@@ -139,15 +140,22 @@ int bench_master(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "--seed must be 0..1000000", seed.error());
   const bool simulated = choice.value().kind == NicKind::sim;
+  const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
+  const bool real_time = std::strcmp(scheduling, "rt") == 0;
+  if (!real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
 
   // Init: everything that may allocate or fault. The EtherCAT handler's real-time set-up
   // (docs/hal.md): memory locked, stack prefaulted, SCHED_FIFO 80 on CPU 1, each one announced.
+  // --scheduling normal (comparisons only, docs/master.md): the default scheduler on any CPU and a
+  // receive that sleeps at once, as SOEM's test program runs.
   print_bench_header(stdout, "master");
   hal::RtConfig rt;
   rt.prefault_stack_bytes = std::size_t{256} * 1024;
-  rt.fifo_priority = 80;
-  rt.cpu = 1;
+  rt.fifo_priority = real_time ? 80 : 0;
+  rt.cpu = real_time ? 1 : -1;
   hal::apply_rt_config(rt).print(stdout);
+  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1, receive spin 150 us)"
+                                                  : "normal (default scheduler, any CPU, no receive spin)");
   g_master_ns.reset();
   g_nic_ns.reset();
   g_latch_spread_ns.reset();
@@ -162,7 +170,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     g_segment = &robot.segment();
     inner = &sim_nic;
   } else {
-    const Status opened = selected.open(choice.value());
+    const Status opened = selected.open(choice.value(), real_time ? kMasterReceiveSpin : 0);
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
     inner = selected.nic();
   }
@@ -192,7 +200,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   std::int64_t all_valid = 0;
   std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
-  std::array<std::uint32_t, 5> reports_by_kind{};
+  std::array<std::uint32_t, ecat::kLinkEventKindCount> reports_by_kind{};
   ecat::LinkReport report;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
@@ -289,8 +297,10 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
   (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
   (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
-  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored\n",
-                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2]);
+  (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored, %" PRIu32
+                    " silent\n",
+                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2],
+                    reports_by_kind[static_cast<std::size_t>(ecat::LinkEventKind::silent)]);
   const HistogramSummary master = g_master_ns.summary();
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));

@@ -3,6 +3,7 @@
 
 #include "core/app/bench/bench_codec.hpp"
 #include "core/app/bench/bench_core.hpp"
+#include "core/app/bench/bench_fig4.hpp"
 #include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
 #include "core/app/bench/bench_periods.hpp"
@@ -22,7 +23,12 @@ const OptionSpec kOptions[] = {
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
     {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
-    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000)"},
+    {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the 150 us receive spin (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},
+    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000)"},
+    {"load", "LIST", "fig4: background load: stress,udp (default), stress, udp or none"},
+    {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4)"},
+    {"plot-script", "PATH", "fig4: the matplotlib script (default toolchain/plot_fig4.py, from the source tree)"},
+    {"no-plot", nullptr, "fig4: write the CSV files only"},
 };
 
 struct Bench {
@@ -39,6 +45,7 @@ const Bench kBenches[] = {
     {"rc", bench_rc},
     {"latency", bench_latency},
     {"periods", bench_periods},
+    {"fig4", bench_fig4},
 };
 
 int bench_main(const ParsedArgs& args) {
@@ -53,7 +60,7 @@ int bench_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kBenchCommand{
-    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods)",
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods, fig4)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
     "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
@@ -63,7 +70,8 @@ const CommandSpec kBenchCommand{
     "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
     "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl\n"
     "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
-    "  periods the handler's cycle and the joint manager's step on the simulated robot in virtual time (toolchain/instructions.sh)",
+    "  periods the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time (toolchain/instructions.sh)\n"
+    "  fig4   the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main};
 
 }  // namespace rescue::app

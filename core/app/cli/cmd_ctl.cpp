@@ -142,6 +142,17 @@ void print_master(const Message& m, bool json) noexcept {
   }
 }
 
+void print_figures_json(const char* key, const protocol::TimingFigures& f) noexcept {
+  (void)std::printf(R"(,"%s":{"min":%u,"mean":%u,"std":%u,"max":%u,"p99":%u,"p99.9":%u,"p99.99":%u})", key,
+                    f.min, f.mean, f.stddev, f.max, f.p99, f.p999, f.p9999);
+}
+
+void print_figures_text(const char* what, const protocol::TimingFigures& f) noexcept {
+  const auto us = [](std::uint32_t ns) { return static_cast<double>(ns) / 1000.0; };
+  (void)std::printf("  %-10s min %.1f  mean %.1f  std %.1f  max %.1f  p99 %.1f  p99.9 %.1f  p99.99 %.1f us\n", what,
+                    us(f.min), us(f.mean), us(f.stddev), us(f.max), us(f.p99), us(f.p999), us(f.p9999));
+}
+
 void print_tasks(const Message& m, bool json) noexcept {
   if (json) (void)std::printf("{\"tasks\":[");
   if (!json) (void)std::printf("%-16s %7s %3s %4s %10s %7s %12s\n", "TASK", "PID", "CPU", "PRIO", "PERIODS", "MISSED", "MAX EXEC(us)");
@@ -149,11 +160,16 @@ void print_tasks(const Message& m, bool json) noexcept {
     const protocol::TaskRecord& t = m.tasks.tasks[i];
     if (json) {
       (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"cpu\":%d,\"priority\":%d,\"periods\":%" PRIu64
-                        ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64 "}",
+                        ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64,
                         i == 0 ? "" : ",", t.name.data(), t.pid, t.cpu, t.priority, t.periods, t.missed, t.max_execution_ns);
+      print_figures_json("execution_ns", t.execution);
+      print_figures_json("wakeup_latency_ns", t.latency);
+      (void)std::printf("}");
     } else {
       (void)std::printf("%-16s %7d %3d %4d %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid, t.cpu, t.priority,
                         t.periods, t.missed, static_cast<double>(t.max_execution_ns) / 1000.0);
+      print_figures_text("execution", t.execution);
+      print_figures_text("wake-up", t.latency);
     }
   }
   if (json) (void)std::printf("]}\n");

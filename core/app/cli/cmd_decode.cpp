@@ -1,14 +1,17 @@
 // rescue-motion decode FILE: one line per EtherCAT datagram of a pcap/pcapng capture (design brief
-// section 7), e.g. `3022 FRMW 230 0x1000:0x0910 8 2`. The capture is mapped, not copied; every frame
-// goes through the same decoder the master uses.
+// section 7), e.g. `3022 FRMW 230 0x1000:0x0910 8 2`, and `3022 PAD 1` for padding after the last
+// datagram. The capture is read once into private memory (hal::FileSnapshot: no hang on a FIFO, no
+// SIGBUS when the file is truncated meanwhile); every frame goes through the same decoder the master
+// uses, behind an Ethernet or Linux cooked (SLL, SLL2) link layer.
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
 #include "ecat/capture/capture_reader.hpp"
+#include "ecat/capture/captured_link.hpp"
 #include "ecat/codec/frame.hpp"
-#include "hal/files/mapped_file.hpp"
+#include "hal/files/file_snapshot.hpp"
 
 namespace rescue::app {
 namespace {
@@ -47,37 +50,56 @@ int open_error(const char* path, const Error& e) {
 }
 
 // The reader's errors name the field, the frame being read and the byte offset in the file.
-int capture_error(const char* path, const Error& e) {
-  char message[256];
-  (void)std::snprintf(message, sizeof message, "cannot read %s: %s: %s (frame %" PRIu32 ", byte %" PRIu32 ")", path,
-                      e.what, to_string(e.code), e.detail0, e.detail1);
+// A file truncated by someone else while it was read says so.
+int capture_error(const char* path, const Error& e, bool shrank) {
+  char message[320];
+  (void)std::snprintf(message, sizeof message, "cannot read %s: %s: %s (frame %" PRIu32 ", byte %" PRIu32 ")%s", path,
+                      e.what, to_string(e.code), e.detail0, e.detail1,
+                      shrank ? "; the file shrank while it was read" : "");
   return fail("decode", message);
 }
 
 int decode_main(const ParsedArgs& args) {
   const char* path = args.positional(0);
-  auto mapped = hal::MappedFile::open(path);
-  if (!mapped.ok()) return open_error(path, mapped.error());
-  auto reader = ecat::CaptureReader::open(mapped.value().bytes());
-  if (!reader.ok()) return capture_error(path, reader.error());
+  auto file = hal::FileSnapshot::open(path);
+  if (!file.ok()) return open_error(path, file.error());
+  auto reader = ecat::CaptureReader::open(file.value().bytes());
+  if (!reader.ok()) return capture_error(path, reader.error(), file.value().shrank());
 
   ecat::CapturedFrame frame;
+  std::uint32_t unsupported_frames = 0;
+  std::uint16_t unsupported_link_type = 0;
   for (;;) {
     const Result<bool> more = reader.value().next(frame);
     if (!more.ok()) {
       (void)std::fflush(stdout);  // the lines so far first, then the reason
-      return capture_error(path, more.error());
+      return capture_error(path, more.error(), file.value().shrank());
     }
     if (!more.value()) break;
-    if (frame.link_type != ecat::capture::kLinkTypeEthernet) continue;
-    const auto parsed = ecat::FrameView::parse(frame.bytes);
+    if (!ecat::is_supported_link_type(frame.link_type)) {
+      if (unsupported_frames++ == 0) unsupported_link_type = frame.link_type;
+      continue;
+    }
+    const auto parsed = ecat::decode_captured_frame(frame.link_type, frame.bytes);
     if (!parsed.ok()) {
       if (!is_not_ethercat(parsed.error())) print_frame_error(frame.number, parsed.error());
       continue;
     }
     for (const ecat::DatagramView d : parsed.value()) print_datagram(frame.number, d);
+    if (parsed.value().header().padding != 0) {
+      (void)std::printf("%" PRIu32 " PAD %u\n", frame.number, parsed.value().header().padding);
+    }
   }
   if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) return fail("decode", "cannot write the listing");
+  if (file.value().shrank()) return fail("decode", "the file shrank while it was read: the listing stops where its bytes did");
+  if (unsupported_frames != 0) {
+    char message[256];
+    (void)std::snprintf(message, sizeof message,
+                        "%" PRIu32 " frame(s) not decoded: link type %u is not supported (1 Ethernet, 113 Linux cooked SLL, "
+                        "276 Linux cooked SLL2)",
+                        unsupported_frames, unsupported_link_type);
+    return fail("decode", message);
+  }
   return 0;
 }
 
@@ -92,8 +114,13 @@ const CommandSpec kDecodeCommand{
     "  address 0xADP:0xADO for position/station/broadcast commands (and NOP), 0xLLLLLLLL for logical ones\n"
     "  length  data length in bytes, decimal\n"
     "  wkc     working counter, decimal\n"
+    "Zero bytes after a frame's last datagram inside the EtherCAT length (a master padding an odd\n"
+    "length to an even one) print 'frame PAD bytes'.\n"
+    "Link types: Ethernet (1), Linux cooked SLL (113, tcpdump -i any) and SLL2 (276, tshark -i any).\n"
     "Frames that are not EtherCAT are skipped; malformed ones print 'frame ERROR reason'.\n"
-    "Exit status 0 when the whole file was read; 1, with the reason on stderr, when it could not be.",
+    "Only regular files are read (a FIFO or device is refused at once).\n"
+    "Exit status 0 when the whole file was read and decoded; 1, with the reason on stderr, when it\n"
+    "could not be or when frames of another link type were left out (the listing still covers the rest).",
     Span<const OptionSpec>(), 1, 1, decode_main};
 
 }  // namespace rescue::app

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/cli/recovery_machine_view.hpp"
 #include "core/app/runtime/task_table.hpp"
 #include "core/app/shm/segment_layout.hpp"
 #include "fsm/machines/documented_machines.hpp"
@@ -32,13 +33,15 @@ int docs_main(const ParsedArgs& args) {
   const bool dot = std::strcmp(format, "dot") == 0;
   if (!dot && std::strcmp(format, "markdown") != 0) return fail("docs", "--format must be markdown or dot");
 
+  // The machines of fsm/, then the master's online recovery (ecat/master/slave_recovery.hpp).
   const char* only = args.value("machine");
-  if (only != nullptr && fsm::find_documented_machine(only) == nullptr) {
+  constexpr fsm::MachineView kRecovery = RecoveryMachineView::view();
+  if (only != nullptr && fsm::find_documented_machine(only) == nullptr && std::strcmp(only, kRecovery.name) != 0) {
     return fail("docs", "no state machine of that name (see rescue-motion docs fsm)");
   }
   bool first = true;
-  for (const fsm::MachineView& machine : fsm::documented_machines()) {
-    if (only != nullptr && std::strcmp(only, machine.name) != 0) continue;
+  const auto print = [&](const fsm::MachineView& machine) {
+    if (only != nullptr && std::strcmp(only, machine.name) != 0) return;
     if (!first) std::printf("\n");
     first = false;
     if (dot) {
@@ -46,7 +49,9 @@ int docs_main(const ParsedArgs& args) {
     } else {
       fsm::write_markdown(stdout, machine);
     }
-  }
+  };
+  for (const fsm::MachineView& machine : fsm::documented_machines()) print(machine);
+  print(kRecovery);
   return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
 }
 

@@ -18,7 +18,7 @@ const OptionSpec kOptions[] = {
     {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
     {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
-    {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion)"},
+    {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP)"},
     {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
@@ -26,6 +26,7 @@ const OptionSpec kOptions[] = {
     {"segment", "NAME", "shared-memory segment of the tasks, \"/NAME\" (default: /rescue-motion-<hash of the state directory>; docs/shared-memory.md)"},
     {"threads", nullptr, "run the tasks as threads of one process (tests, debugging, valgrind) instead of one process each"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
+    {"auto-clear-power-cycled", nullptr, "a joint whose drive was power-cycled and brought back online returns to Idle without the operator's clear (unless it moved)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
     {"listen", "ADDR", "IPv4 address the UDP ports bind (default 0.0.0.0)"},
     {"control-port", "PORT", "operator control UDP port (default 47010)"},
@@ -103,6 +104,7 @@ int run_main(const ParsedArgs& args) {
   options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");
   options.threads = args.has("threads");
+  options.auto_clear_power_cycled = args.has("auto-clear-power-cycled");
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
     if (!clear.ok()) {

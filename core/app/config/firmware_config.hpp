@@ -39,6 +39,14 @@ constexpr std::size_t kLostReportQueueDepth = 16;  // handler -> joint manager (
 constexpr std::size_t kNoticeQueueDepth = 16;      // joint manager -> handler (step 4, clears)
 constexpr std::size_t kJointCommandQueueDepth = 64;  // message parser -> joint manager (joint handle queue)
 
+// --- The socket handler under a flood (core/app/control/socket_handler.*, docs/protocol.md) -------
+// Datagrams handled per wake-up, both UDP ports together, whatever is queued: a flood costs the socket
+// handler at most this much work (checks, tag, replay window) before it answers the parser's replies
+// and waits again. The rest stays in the kernel's receive buffer (or is dropped by the kernel).
+constexpr std::size_t kSocketDatagramsPerWakeup = 64;
+constexpr std::size_t kSocketRecvBatch = 32;          // datagrams per recvmmsg call
+constexpr std::size_t kSocketRepliesPerWakeup = 16;   // parser replies sent per wake-up
+
 // --- Time limits ----------------------------------------------------------------------------------
 constexpr std::int64_t kDisableTimeoutNs = 500'000'000;  // stop: drives disabled within this, or give up
 constexpr std::int64_t kScenarioRunOnNs = 1'000'000'000; // a scenario without --duration runs on this long

@@ -23,7 +23,8 @@ constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecord
 constexpr std::size_t kListHeadSize = 8;
 constexpr std::size_t kSlaveRecordSize = 32;
 constexpr std::size_t kMasterSize = 112;
-constexpr std::size_t kTaskRecordSize = 56;
+constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
+constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload,
               "every payload fits");
@@ -333,6 +334,15 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
     t.periods = r.u64();
     t.missed = r.u64();
     t.max_execution_ns = r.u64();
+    for (TimingFigures* f : {&t.execution, &t.latency}) {
+      f->min = r.u32();
+      f->mean = r.u32();
+      f->stddev = r.u32();
+      f->max = r.u32();
+      f->p99 = r.u32();
+      f->p999 = r.u32();
+      f->p9999 = r.u32();
+    }
   }
   return Status::success();
 }
@@ -639,6 +649,15 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
         w.u64(t.periods);
         w.u64(t.missed);
         w.u64(t.max_execution_ns);
+        for (const TimingFigures* f : {&t.execution, &t.latency}) {
+          w.u32(f->min);
+          w.u32(f->mean);
+          w.u32(f->stddev);
+          w.u32(f->max);
+          w.u32(f->p99);
+          w.u32(f->p999);
+          w.u32(f->p9999);
+        }
       }
       break;
     }

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "core/robot/robot.hpp"
+#include "core/timing/period_recorder.hpp"
 
 namespace rescue::app::protocol {
 
@@ -27,6 +28,7 @@ constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
 
 using Key = std::array<std::uint8_t, kKeySize>;
+using rescue::TimingFigures;
 
 enum class MessageType : std::uint8_t {
   // operator -> robot, control port
@@ -219,6 +221,8 @@ struct TaskRecord {
   std::uint64_t periods{0};
   std::uint64_t missed{0};
   std::uint64_t max_execution_ns{0};
+  TimingFigures execution{};  // per period, ns (core/timing/period_recorder.hpp)
+  TimingFigures latency{};    // wake-up latency: release to start, ns
 };
 
 struct TasksPayload {

@@ -132,6 +132,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.periods = t.periods;
           r.missed = t.missed;
           r.max_execution_ns = t.max_execution_ns;
+          r.execution = t.execution;
+          r.latency = t.latency;
         }
       }
       break;
@@ -226,6 +228,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
     }
   }
   if (handled >= kBudget) ++counters_.budget_exhausted;
+  if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
   ControlReply reply;
   for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
     Message m;

@@ -1,6 +1,6 @@
 // The socket handler task (design brief section 3, docs/protocol.md): the operator's UDP control port
 // and the sensor port of the two other robot computers. Per wake-up it handles at most kBudget
-// datagrams (recvmmsg batches), whatever arrives: a flood costs it bounded work per period, and the
+// (config::kSocketDatagramsPerWakeup) datagrams (recvmmsg batches), whatever arrives: a flood costs it bounded work per period, and the
 // real-time tasks never touch a socket. Every datagram is checked in this order, and the first check
 // that fails is counted under its Rejection and the datagram dropped (no reply: an unauthenticated
 // peer learns nothing):
@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/control/protocol_messages.hpp"
 #include "core/app/control/replay_window.hpp"
 #include "core/app/links/control_messages.hpp"
@@ -51,9 +52,10 @@ struct SocketHandlerPorts {
 
 class SocketHandler {
  public:
-  static constexpr std::size_t kBatch = 32;       // datagrams per recvmmsg call
-  static constexpr std::size_t kBudget = 64;      // datagrams per wake-up, both ports together
-  static constexpr std::size_t kRepliesPerStep = 16;
+  static constexpr std::size_t kBatch = config::kSocketRecvBatch;            // datagrams per recvmmsg call
+  static constexpr std::size_t kBudget = config::kSocketDatagramsPerWakeup;  // per wake-up, both ports together
+  static constexpr std::size_t kRepliesPerStep = config::kSocketRepliesPerWakeup;
+  static_assert(kBatch > 0 && kBudget > 0, "a wake-up handles at least one datagram");
 
   SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
                 hal::WallClock& wall) noexcept
@@ -72,6 +74,8 @@ class SocketHandler {
   // A restarted socket handler (a new process, docs/tasks.md) counts on from its predecessor's
   // published counters instead of from zero.
   void resume_counters(const SocketCounters& published) noexcept { counters_ = published; }
+  // The most datagrams handled in one wake-up so far (never above kBudget).
+  std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
 
  private:
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
@@ -90,6 +94,7 @@ class SocketHandler {
   SocketCounters counters_{};
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
+  std::size_t max_per_wakeup_{0};
 };
 
 }  // namespace rescue::app

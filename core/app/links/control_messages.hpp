@@ -101,6 +101,9 @@ struct TaskStat {
   std::uint64_t periods;
   std::uint64_t missed;
   std::uint64_t max_execution_ns;
+  TimingFigures execution;  // the task's PeriodRecorder, published every few periods
+  TimingFigures latency;
+  std::uint64_t spare;      // 0: makes Seqlock<TaskStat> 128 bytes, so TaskLinks' slots stay cache-line multiples
 };
 static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
 

@@ -19,6 +19,9 @@ struct LostJointsReport {
   JointMask lost{0};               // every joint found unreachable (may repeat joints already reported)
   std::uint64_t cycle{0};          // the handler cycle that confirmed the loss
   hal::Nanoseconds detected_at{0}; // monotonic time of that cycle
+  // Joints whose drive the master brought back after a power cycle (it had lost its station
+  // address), with `lost` 0: the joint manager may clear them automatically (auto_clear_power_cycled).
+  JointMask back_after_power_cycle{0};
 };
 
 enum class NoticeKind : std::uint8_t {
@@ -37,6 +40,9 @@ struct JointManagerNotice {
 enum class JointCommandKind : std::uint8_t {
   dfa_input,    // `input` for each joint of `joints`
   clear_lost,   // operator: `joints` were repaired; unlatch their loss and drop them from the error file
+  // The same, and the operator confirms that a joint whose position differs from the held position
+  // recorded in the file may return to service (clear_lost refuses it).
+  clear_lost_moved,
 };
 
 // Message parser -> joint manager (the paper's "joint handle queue"): one DFA input for a set of

@@ -43,6 +43,8 @@ struct RunControl {
   std::atomic<bool> handler_done;     // every figure of the handler below is final
   std::atomic<bool> drives_disabled;
   std::atomic<std::uint64_t> frames_missing;
+  std::atomic<std::uint64_t> late_periods;     // as `ctl master` shows them (skipped ones included)
+  std::atomic<std::uint64_t> skipped_periods;  // periods that had no cycle at all
   std::array<std::atomic<std::uint64_t>, kJointCount> missed_cycles;  // per joint
   // The handler's motion intake (motion/motion_intake.hpp), final once handler_done.
   std::atomic<std::uint64_t> intake_owned_periods;
@@ -54,6 +56,8 @@ struct RunControl {
   std::atomic<std::uint32_t> lost_joints;   // JointMask
   std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
   std::atomic<bool> file_dirty;
+  // Socket handler -> supervisor: the most datagrams one wake-up handled (budget: SocketHandler::kBudget).
+  std::atomic<std::uint64_t> socket_max_per_wakeup;
   std::array<TaskHealth, kRunHealthSlots> health;         // StatTask order
 };
 

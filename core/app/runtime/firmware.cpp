@@ -19,6 +19,7 @@
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/rc_task.hpp"
 #include "core/app/links/joint_sample_source.hpp"
@@ -59,7 +60,6 @@ constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
 constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
-constexpr hal::Nanoseconds kStatsEvery = 100;  // periods between task-statistics publications
 
 // What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
 // process at start-up (a second run_firmware in the same process, as tests do, reuses it).
@@ -76,11 +76,7 @@ ecat::CaptureQueue g_capture_queue;
 constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
-int cpu_for(int wanted) noexcept {
-  const long online = sysconf(_SC_NPROCESSORS_ONLN);
-  if (online <= 0 || wanted < online) return wanted;
-  return static_cast<int>(online - 1);
-}
+int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
@@ -139,31 +135,24 @@ class TaskHealthProbe {
   hal::PageFaults faults_at_init_;
 };
 
-// One task's period count, misses and worst execution time, published in its TaskLinks::task_stats
-// slot for `ctl tasks` (the histograms of `run --timing-out` are runtime/task_timing.hpp's).
-class TaskStatsPublisher {
+// A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
+// for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
+class TaskStats {
  public:
-  TaskStatsPublisher(StatTask id, const char* name, int cpu, int priority) noexcept
-      : slot_(&links().task_stats[static_cast<std::size_t>(id)]), stat_{} {
-    protocol::set_text(stat_.name, name);
-    stat_.pid = static_cast<std::int32_t>(::getpid());
-    stat_.cpu = static_cast<std::int16_t>(cpu);
-    stat_.priority = static_cast<std::int16_t>(priority);
+  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept : recorder_(&task_timing()[id]) {
+    recorder_->start(links().task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
   }
-  // A period that started at `start`, due at `due`, ended at `end`.
-  void period(hal::Nanoseconds due, hal::Nanoseconds start, hal::Nanoseconds end, hal::Nanoseconds late_after) noexcept {
-    ++stat_.periods;
-    if (start - due > late_after) ++stat_.missed;
-    const auto exec = static_cast<std::uint64_t>(end > start ? end - start : 0);
-    if (exec > stat_.max_execution_ns) stat_.max_execution_ns = exec;
-    if (stat_.periods % kStatsEvery == 1) slot_->write(stat_);
+  // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
+  void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
+              hal::Nanoseconds late_after) noexcept {
+    recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
   }
-  void publish() noexcept { slot_->write(stat_); }
-  std::uint64_t missed() const noexcept { return stat_.missed; }
+  // The last publication, when the task ends (its page faults: TaskHealthProbe).
+  void publish() noexcept { recorder_->publish(); }
+  std::uint64_t missed() const noexcept { return recorder_->missed(); }
 
  private:
-  Seqlock<TaskStat>* slot_;
-  TaskStat stat_;
+  TaskRecorder* recorder_;
 };
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
@@ -172,6 +161,15 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
   const double t = seconds(e.time - start);
   switch (e.kind) {
     case HandlerEventKind::link_report:
+      if (e.link.kind == ecat::LinkEventKind::port_errors) {
+        // found: port, the slave at the cable's other end, errors so far (ecat/master/link_diagnostics.hpp).
+        const std::uint8_t slave = drivers::first_slave(e.link.slaves);
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": receive errors rising on %s port %" PRIu32
+                          " (%" PRIu32 " so far): check the cable between %s and %s\n",
+                          t, e.cycle, drivers::slave_end_name(slave), e.link.found[0], e.link.found[2],
+                          drivers::slave_end_name(static_cast<std::uint8_t>(e.link.found[1])), drivers::slave_end_name(slave));
+        break;
+      }
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;
@@ -199,8 +197,8 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
   RunControl& state = run();
   apply_task_rt("ethercat", TaskId::ethercat_handler);
-  TaskStatsPublisher stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
-                           task_priority(TaskId::ethercat_handler));
+  TaskStats stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
+                  task_priority(TaskId::ethercat_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::ethercat_handler);
   drivers::JointBus& bus = handler.bus();
@@ -218,13 +216,14 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     const hal::Nanoseconds now = clock.now();
     // Woke at now - the work's duration: no extra clock read.
     const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
-    timing.handler.record(woke - release, work_start, work_end);
-    stats.period(release, woke, now, hal::kNsPerMs / 2);
+    stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
     master.state = static_cast<std::uint8_t>(r.state);
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
     master.frames_lost = handler.frames_missing();
-    master.late_periods = stats.missed();
+    // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
+    // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
+    master.late_periods = stats.missed() + bus.master().skipped_periods();
     const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
     master.dc_deviation_ns = dc_error;
     const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
@@ -233,6 +232,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.lost = bus.master().monitor().lost();
     links().master_status.write(master);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
+    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
       state.op_at.store(now, std::memory_order_relaxed);
@@ -256,6 +256,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
   }
   state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
+  state.skipped_periods.store(bus.master().skipped_periods(), std::memory_order_relaxed);
   state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
   const MotionIntakeCounters intake = handler.motion_intake().counters();
   state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
@@ -268,8 +269,8 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   RunControl& state = run();
   apply_task_rt("joint-manager", TaskId::joint_manager);
-  TaskStatsPublisher stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
-                           task_priority(TaskId::joint_manager));
+  TaskStats stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
+                  task_priority(TaskId::joint_manager));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::joint_manager);
   hal::Nanoseconds next = clock.now();
@@ -278,9 +279,8 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
     const hal::Nanoseconds start = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     manager.step(start);
-    timing.manager.record(start - next, work_start, timing.timer.stop());
     links().joint_status.write(published_status(manager.statuses()));
-    stats.period(next, start, clock.now(), kJointManagerPeriod / 2);
+    stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
@@ -302,14 +302,16 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
   const char* name = rescue ? "rc-rescue" : "rc-teleop";
   const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
   apply_task_rt(name, TaskId::rc_tasks);
-  TaskStatsPublisher stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
+  TaskStats stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(slot);
+  const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.rc_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     task.period(start);
-    stats.period(next, start, clock.now(), kRcTaskPeriod / 2);
+    stats.period(next, start, work_start, timer.stop(), kRcTaskPeriod / 2);
     next += kRcTaskPeriod;
     clock.sleep_until(next);
   }
@@ -321,15 +323,16 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
 void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
   RunControl& state = run();
   apply_task_rt("message-parser", TaskId::message_parser);
-  TaskStatsPublisher stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser),
-                           task_priority(TaskId::message_parser));
+  TaskStats stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser), task_priority(TaskId::message_parser));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::message_parser);
+  const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     parser.step(start);
-    stats.period(next, start, clock.now(), 10 * kParserPeriod);
+    stats.period(next, start, work_start, timer.stop(), 10 * kParserPeriod);
     next += kParserPeriod;
     clock.sleep_until(next);
   }
@@ -341,18 +344,38 @@ void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
 void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
   RunControl& state = run();
   apply_task_rt("socket-handler", TaskId::socket_handler);
-  TaskStatsPublisher stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler),
-                           task_priority(TaskId::socket_handler));
+  TaskStats stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler), task_priority(TaskId::socket_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
   TaskHealthProbe health(StatTask::socket_handler);
+  const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
     const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
     socket.step(start);
-    stats.period(start, start, clock.now(), hal::kNsPerSec);
+    stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
+  }
+  // A restarted socket handler keeps its predecessors' maximum.
+  std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
+  while (socket.max_per_wakeup() > seen &&
+         !state.socket_max_per_wakeup.compare_exchange_weak(seen, socket.max_per_wakeup(), std::memory_order_relaxed)) {
   }
   stats.publish();
   health.report();
+}
+
+// The logger's side of the joint manager's events: prints what is queued, and how many a full queue
+// dropped since the last pass.
+void print_joint_events(JointEventQueue& events, JointEventPrinter& printer) noexcept {
+  static std::uint64_t dropped_reported = 0;
+  JointEvent e{};
+  while (events.pop(e)) printer.print(e);
+  const std::uint64_t dropped = events.dropped();
+  if (dropped != dropped_reported) {
+    (void)std::printf("joint-manager: event queue full: %" PRIu64 " event(s) not printed (%" PRIu64 " in all)\n",
+                      dropped - dropped_reported, dropped);
+    dropped_reported = dropped;
+  }
 }
 
 // What the logger last printed of the motion (owner, RC task modes and phases).
@@ -669,6 +692,8 @@ struct TaskSet {
   const FirmwareOptions* options;
   bool operator_port;
   hal::Nanoseconds start;
+  JointEventQueue* joint_events;          // the joint manager's events (its process's or thread's)
+  JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
 };
 TaskSet g_tasks{};
 
@@ -716,6 +741,9 @@ void handler_side_pass() noexcept {
   if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
 }
 
+// The joint manager's side of the logger (in its process, or the main thread with --threads).
+void manager_side_pass() noexcept { print_joint_events(*g_tasks.joint_events, *g_tasks.joint_event_printer); }
+
 // The operator's side (the supervisor, or the main thread): the clear of repaired joints, then
 // "initialize robot", once the handler's values show the joints reachable; replies printed.
 struct OperatorSide {
@@ -736,8 +764,11 @@ void announce_scenario(OperatorSide& side) noexcept {
   const Scenario& wanted = g_tasks.options->scenario;
   char names[kJointNamesCapacity];
   format_joint_names(wanted.expected_lost, names, sizeof names);
-  (void)std::printf("[%8.3f s] scenario %s: cut the link into %s (expect %s lost)\n",
+  (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n",
                     seconds(state.scenario_at.load(std::memory_order_relaxed) - g_tasks.start), wanted.name,
+                    wanted.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
+                    : wanted.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
+                                                                : "cut the link into",
                     kJoints[wanted.cut_joint].name, names);
 }
 
@@ -842,6 +873,7 @@ int run_task_threads(OperatorSide& side) noexcept {
   for (;;) {
     const bool done = state.handler_done.load(std::memory_order_acquire);
     handler_side_pass();
+    manager_side_pass();
     operator_side_pass(side);
     if (done) break;
     logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
@@ -857,6 +889,7 @@ int run_task_threads(OperatorSide& side) noexcept {
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
   handler_side_pass();
+  manager_side_pass();
   if (g_tasks.options->capture_path != nullptr) {
     const Status closed = finish_capture(g_tasks.options->capture_path);
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
@@ -912,7 +945,7 @@ int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return status;
 }
 int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("joint-manager", run_manager, nullptr);
+  return task_process("joint-manager", run_manager, manager_side_pass);
 }
 int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return task_process("message-parser", run_parser, nullptr);
@@ -1088,9 +1121,10 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
   }
   const bool manager_reported = state.manager_done.load(std::memory_order_acquire);
   (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
-                    " cycles; frames late or lost: %" PRIu64 "; lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, state.frames_missing.load(),
-                    manager_reported ? lost_names : "unknown", manager_reported ? fsm::to_string(condition) : "unknown (the joint manager did not report)");
+                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
+                    " not run); lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(), state.late_periods.load(),
+                    state.skipped_periods.load(), manager_reported ? lost_names : "unknown", manager_reported ? fsm::to_string(condition) : "unknown (the joint manager did not report)");
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
@@ -1105,6 +1139,9 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
       (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
     }
     (void)std::printf("\n");
+    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
+                      ", most datagrams in one wake-up %" PRIu64 " (budget %zu)\n",
+                      counted.wakeups, counted.budget_exhausted, state.socket_max_per_wakeup.load(), SocketHandler::kBudget);
   }
   if (options.report != nullptr) {
     options.report->cycles = state.cycles.load();
@@ -1198,7 +1235,8 @@ void print_run_summary(const RunSummary& s) noexcept {
 // NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
-  static JointEventPrinter events(stdout, "joint-manager: ");
+  static JointEventQueue events;  // the joint manager's sink; a logger prints (never its real-time thread)
+  static JointEventPrinter event_printer(stdout, "joint-manager: ");
 
   // --timing-out writes the handler's and the joint manager's recorders together: one process's memory.
   g_task_processes = !options.threads && options.timing_out == nullptr;
@@ -1230,6 +1268,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
   static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
                                                 &demand_sink, &outcomes});
+  manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
   // key, the socket handler. They see only queues and seqlocks of links().
@@ -1314,9 +1353,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   hal::Nic& nic = *selected.nic();
   hal::Clock& clock = nic.clock();
   const hal::Nanoseconds start = clock.now();
-  events.set_origin(start);
+  event_printer.set_origin(start);
 
   const RestoreReport restored = manager.restore(clock.now());
+  print_joint_events(events, event_printer);
   print_restored(restored.restored);
   // The operator's clear of repaired joints: they must answer at bring-up; the file changes only
   // once they do (a clear that cannot be confirmed loses nothing).
@@ -1343,6 +1383,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
+  master_options.online_recovery = true;  // returning slaves back to OP while cycling (docs/master.md)
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
@@ -1377,7 +1418,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static RcTask rc_rescue(links(), rescue_settings);
   static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
   g_tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
-                    &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start};
+                    &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
+                    &events,   &event_printer};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);

@@ -37,6 +37,7 @@ struct FirmwareOptions {
   bool threads{false};               // the tasks as threads of one process (default: processes, docs/tasks.md)
   bool initialize{false};            // send "initialize robot" once the network is in OP
   JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)
+  bool auto_clear_power_cycled{false};  // a joint whose drive was power-cycled and recovered is cleared automatically
   // The operator's path in (docs/protocol.md): UDP ports, and the pre-shared key file.
   const char* listen{"0.0.0.0"};
   std::uint16_t control_port{47010};

@@ -12,11 +12,11 @@ hal::MonotonicClock g_real_time;
 
 }  // namespace
 
-Status SelectedNic::open(const NicChoice& choice) noexcept {
+Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin) noexcept {
   active_ = nullptr;
   if (choice.kind == NicKind::raw) {
     hal::RawSocketSettings settings;
-    settings.receive_spin = kMasterReceiveSpin;
+    settings.receive_spin = receive_spin;
     RESCUE_TRY(raw_.open(choice.interface_name.data(), settings));
     active_ = &raw_;
     return Status::success();

@@ -21,7 +21,9 @@ constexpr hal::Nanoseconds kMasterReceiveSpin = 150 * hal::kNsPerUs;
 class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
-  Status open(const NicChoice& choice) noexcept;
+  // `receive_spin`: how long a raw socket reads before it sleeps (the master's default; 0 sleeps at
+  // once, as a normally scheduled master like SOEM's does).
+  Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
   // The clock the simulated robot runs on (default: CLOCK_MONOTONIC; a VirtualClock runs it
   // faster than real time). Set before open().
   void set_simulation_clock(hal::Clock& clock) noexcept { simulation_clock_ = &clock; }

@@ -1,5 +1,7 @@
 #include "core/app/runtime/task_table.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cinttypes>
 #include <iterator>
@@ -45,6 +47,12 @@ TaskSpec* find_task(TaskId id) noexcept {
 }  // namespace
 
 Span<const TaskSpec> task_table() noexcept { return {kTasks}; }
+
+int table_cpu_on_this_machine(int wanted) noexcept {
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  if (online <= 0 || wanted < online) return wanted;
+  return static_cast<int>(online - 1);
+}
 
 const TaskSpec& task_spec(TaskId id) noexcept {
   const TaskSpec* found = find_task(id);

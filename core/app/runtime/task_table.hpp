@@ -38,6 +38,9 @@ struct TaskSpec {
 };
 
 Span<const TaskSpec> task_table() noexcept;
+// The CPU a Table I task asks for on this machine: `wanted`, or the machine's last CPU when it has
+// fewer (Table I assumes 4 hardware threads; on 2, CPUs 2 and 3 become CPU 1).
+int table_cpu_on_this_machine(int wanted) noexcept;
 const TaskSpec& task_spec(TaskId id) noexcept;
 
 // A task's priority and CPU set at start-up (the configuration file, config/config_file.hpp), over

@@ -1,49 +1,72 @@
 #include "core/app/runtime/task_timing.hpp"
 
+#include <unistd.h>
+
 #include <cinttypes>
 #include <cstdio>
 
+#include "core/app/control/protocol_codec.hpp"
+
 namespace rescue::app {
+
+void TaskRecorder::start(Seqlock<TaskStat>& slot, const char* name, int cpu, int priority, double ns_per_tick) noexcept {
+  slot_ = &slot;
+  stat_ = TaskStat{};
+  protocol::set_text(stat_.name, name);
+  stat_.pid = static_cast<std::int32_t>(::getpid());
+  stat_.cpu = static_cast<std::int16_t>(cpu);
+  stat_.priority = static_cast<std::int16_t>(priority);
+  recorder_.configure(name, ns_per_tick);
+  recorder_.reset();
+  until_publish_ = 1;
+  publish();
+}
+
+void TaskRecorder::publish() noexcept {
+  if (slot_ == nullptr) return;
+  stat_.execution = PeriodRecorder::compact(recorder_.execution());
+  stat_.latency = PeriodRecorder::compact(recorder_.latency());
+  stat_.max_execution_ns = recorder_.execution().max();
+  slot_->write(stat_);
+}
 
 TaskTiming& task_timing() noexcept {
   static TaskTiming timing;
   return timing;
 }
 
-void start_task_timing() noexcept {
-  TaskTiming& t = task_timing();
-  t.timer = hal::TscTimer::calibrate();
-  const double ns_per_tick = 1.0 / t.timer.ticks_per_ns();
-  t.handler.configure("ethercat", ns_per_tick);
-  t.manager.configure("joint_manager", ns_per_tick);
-  t.handler.reset();
-  t.manager.reset();
-}
+void start_task_timing() noexcept { task_timing().timer = hal::TscTimer::calibrate(); }
 
 namespace {
 
-Status write_file(const char* dir, const char* name, bool (*write)(std::FILE*, const TaskTiming&)) noexcept {
+constexpr std::size_t kMaxRecorders = kTaskStatSlots;
+
+// The recorders of the tasks that ran, in StatTask order.
+std::size_t recorders_that_ran(const PeriodRecorder* (&out)[kMaxRecorders]) noexcept {
+  std::size_t n = 0;
+  for (const TaskRecorder& t : task_timing().tasks) {
+    if (t.started()) out[n++] = &t.recorder();
+  }
+  return n;
+}
+
+Status write_file(const char* dir, const char* name, bool (*write)(std::FILE*, Span<const PeriodRecorder* const>)) noexcept {
   char path[512];
   const int n = std::snprintf(path, sizeof path, "%s/%s", dir, name);
   if (n < 0 || static_cast<std::size_t>(n) >= sizeof path) return make_error(Errc::invalid_argument, "--timing-out path too long");
   std::FILE* out = std::fopen(path, "w");
   if (out == nullptr) return make_error(Errc::io_error, "cannot create the timing file (does the directory exist?)");
-  const bool written = write(out, task_timing());
+  const PeriodRecorder* recorders[kMaxRecorders] = {};
+  const std::size_t count = recorders_that_ran(recorders);
+  const bool written = write(out, Span<const PeriodRecorder* const>(recorders, count));
   const bool closed = std::fclose(out) == 0;
   if (!written || !closed) return make_error(Errc::io_error, "cannot write the timing file");
   (void)std::printf("rescue-motion run: timing written to %s\n", path);
   return Status::success();
 }
 
-bool write_csv(std::FILE* out, const TaskTiming& t) noexcept {
-  const PeriodRecorder* recorders[] = {&t.handler, &t.manager};
-  return PeriodRecorder::write_csv(out, Span<const PeriodRecorder* const>(recorders));
-}
-
-bool write_histogram(std::FILE* out, const TaskTiming& t) noexcept {
-  const PeriodRecorder* recorders[] = {&t.handler, &t.manager};
-  return PeriodRecorder::write_cyclictest_histogram(out, Span<const PeriodRecorder* const>(recorders),
-                                                    TaskTiming::kHistogramMaxUs);
+bool write_histogram(std::FILE* out, Span<const PeriodRecorder* const> recorders) noexcept {
+  return PeriodRecorder::write_cyclictest_histogram(out, recorders, TaskTiming::kHistogramMaxUs);
 }
 
 void print_summary(const PeriodRecorder& r) noexcept {
@@ -59,9 +82,10 @@ void print_summary(const PeriodRecorder& r) noexcept {
 }  // namespace
 
 Status write_task_timing(const char* dir) noexcept {
-  print_summary(task_timing().handler);
-  print_summary(task_timing().manager);
-  RESCUE_TRY(write_file(dir, "timing.csv", write_csv));
+  for (const TaskRecorder& t : task_timing().tasks) {
+    if (t.started()) print_summary(t.recorder());
+  }
+  RESCUE_TRY(write_file(dir, "timing.csv", PeriodRecorder::write_csv));
   return write_file(dir, "timing-histogram.txt", write_histogram);
 }
 

@@ -5,6 +5,11 @@
 #include "core/app/config/firmware_config.hpp"
 
 namespace rescue::app {
+namespace {
+
+constexpr std::uint32_t kDamagedFrames = 5;  // cable-damage: frames damaged on the cable
+
+}  // namespace
 
 Result<Scenario> parse_scenario(const char* name) noexcept {
   Scenario scenario{};
@@ -15,6 +20,23 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.cut_joint = joint_index_by_name("l_elbow");
     scenario.cut_after_op = hal::kNsPerSec;
     scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
+    scenario.run_on = config::kScenarioRunOnNs;
+    return scenario;
+  }
+  if (std::strcmp(name, "power-cycle") == 0) {
+    scenario.kind = ScenarioKind::power_cycle;
+    scenario.name = "power-cycle";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = hal::kNsPerSec;
+    scenario.expected_lost = joint_bit(scenario.cut_joint);
+    scenario.run_on = config::kScenarioRunOnNs;
+    return scenario;
+  }
+  if (std::strcmp(name, "cable-damage") == 0) {
+    scenario.kind = ScenarioKind::cable_damage;
+    scenario.name = "cable-damage";
+    scenario.cut_joint = joint_index_by_name("l_elbow");
+    scenario.cut_after_op = hal::kNsPerSec;
     scenario.run_on = config::kScenarioRunOnNs;
     return scenario;
   }
@@ -29,7 +51,7 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.motion_phase_s = {1.0, 1.0, 1.0};
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue)");
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, cable-damage)");
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
@@ -45,7 +67,12 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
     action_status_ = make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
     return true;
   }
-  action_status_ = segment_->cut_link(slave_position_of_joint(scenario_.cut_joint));
+  const std::size_t position = slave_position_of_joint(scenario_.cut_joint);
+  switch (scenario_.kind) {
+    case ScenarioKind::power_cycle: action_status_ = segment_->power_cycle(position, now); break;
+    case ScenarioKind::cable_damage: action_status_ = segment_->corrupt_port(position, 0, kDamagedFrames); break;
+    default: action_status_ = segment_->cut_link(position); break;
+  }
   return true;
 }
 

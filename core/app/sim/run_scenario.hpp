@@ -3,6 +3,10 @@
 //
 //   link-cut  one second after the network reached OP, the cable into l_elbow is cut: l_elbow,
 //             l_wrist_yaw, l_wrist_pitch and l_hand become unreachable (design brief section 6)
+//   power-cycle  one second after OP, l_elbow's drive is power-cycled (its ESC loses its registers and
+//             station address): l_elbow is lost, and the master's online recovery brings it back
+//   cable-damage  one second after OP, 5 frames are damaged on the cable into l_elbow's port 0: the
+//             link diagnostics count them and warn, naming the cable; no joint is lost
 //   rescue    the robot is initialized and the rescue RC task takes the motion (the runtime sends
 //             "initialize robot" and `owner 0`): the approach to the ready posture (1.6 s), then
 //             lowering, forwarding, backwarding (1 s each); 3 s after OP, in the forwarding phase,
@@ -23,12 +27,12 @@
 
 namespace rescue::app {
 
-enum class ScenarioKind : std::uint8_t { none, link_cut, rescue };
+enum class ScenarioKind : std::uint8_t { none, link_cut, rescue, power_cycle, cable_damage };
 
 struct Scenario {
   ScenarioKind kind{ScenarioKind::none};
   const char* name{"none"};
-  std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut
+  std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
   hal::Nanoseconds run_on{0};           // after acting, the run goes on this long (without --duration)

@@ -105,6 +105,13 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     e.joints = link.joints;
     e.link = link.link;
     post(e);
+    if (link.link.kind == ecat::LinkEventKind::recovered && link.link.found[0] == ecat::kRecoveredAfterPowerLoss) {
+      LostJointsReport back{};
+      back.cycle = result.cycle;
+      back.detected_at = now;
+      back.back_after_power_cycle = link.joints;
+      (void)report_sink_.try_send(back);  // full queue: no automatic clear, the operator's stays possible
+    }
   }
 
   // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,

@@ -2,7 +2,7 @@
 
 namespace rescue::app {
 
-void JointEventPrinter::on_event(const JointEvent& event) noexcept {
+void JointEventPrinter::print(const JointEvent& event) noexcept {
   char line[512];
   (void)format_event(event, line, sizeof line);
   const double t = static_cast<double>(event.time - origin_) / static_cast<double>(hal::kNsPerSec);

@@ -38,6 +38,9 @@ const char* to_string(JointEventKind kind) noexcept {
     case JointEventKind::operator_cleared: return "operator_cleared";
     case JointEventKind::operator_clear_refused: return "operator_clear_refused";
     case JointEventKind::notice_deferred: return "notice_deferred";
+    case JointEventKind::auto_cleared: return "auto_cleared";
+    case JointEventKind::lost_joint_returned: return "lost_joint_returned";
+    case JointEventKind::lost_joint_moved: return "lost_joint_moved";
   }
   return "unknown";
 }
@@ -107,6 +110,18 @@ std::size_t format_event(const JointEvent& e, char* out, std::size_t capacity) n
       break;
     case JointEventKind::operator_clear_refused:
       n = std::snprintf(out, capacity, "%s: operator clear refused: %s", joint_name(e.joint), e.error.what);
+      break;
+    case JointEventKind::auto_cleared:
+      n = std::snprintf(out, capacity, "%s: cleared automatically: its drive was power-cycled and is back", joint_name(e.joint));
+      break;
+    case JointEventKind::lost_joint_returned:
+      n = std::snprintf(out, capacity, "%s: answers again at its held position; stays in Error until cleared", joint_name(e.joint));
+      break;
+    case JointEventKind::lost_joint_moved:
+      n = std::snprintf(out, capacity,
+                        "%s: answers again %.4f rad away from its held position; out of service until the operator "
+                        "confirms the clear",
+                        joint_name(e.joint), e.fault.value);
       break;
     case JointEventKind::notice_deferred:
       n = std::snprintf(out, capacity, "notice to the EtherCAT handler deferred (queue full): %s", names);

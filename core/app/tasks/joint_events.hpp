@@ -31,6 +31,10 @@ enum class JointEventKind : std::uint8_t {
   operator_cleared,      // `joint` cleared by an operator after repair
   operator_clear_refused,// `joint`: the clear was refused; `error` says why
   notice_deferred,       // the handler's notice queue was full; the notice is kept and resent
+  auto_cleared,          // `joint` cleared automatically: its drive was power-cycled (configuration's choice)
+  lost_joint_returned,   // `joint`, recorded lost, answers again at its held position (awaits the clear)
+  lost_joint_moved,      // `joint`, recorded lost, answers again away from its held position: out of
+                         // service until the operator confirms (clear with confirmation)
 };
 
 const char* to_string(JointEventKind kind) noexcept;

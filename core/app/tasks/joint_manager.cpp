@@ -1,5 +1,6 @@
 #include "core/app/tasks/joint_manager.hpp"
 
+#include <algorithm>
 #include <cassert>
 
 #include "drivers/joint/joint_units.hpp"
@@ -138,6 +139,8 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
 
 void JointManager::step(hal::Nanoseconds now) noexcept {
   (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
+  note_returned_joints(now);
+  auto_clear_returned(now);
   LostJointsReport report;
   for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
     handle_report(report, now);
@@ -152,8 +155,55 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
   publish();
 }
 
+double JointManager::offset_from_held(std::size_t j) const noexcept {
+  const auto* const it = std::find_if(recorded_.records.begin(), recorded_.records.end(),
+                               [j](const LostJointRecord& r) { return r.joint == j; });
+  if (it == recorded_.records.end()) return 0.0;  // no held position recorded: nothing to compare
+  return sample_[j].position_rad - drivers::counts_to_rad(it->last_position_counts);
+}
+
+void JointManager::auto_clear_returned(hal::Nanoseconds now) noexcept {
+  auto_clear_pending_ &= lost_;
+  JointMask ready = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((auto_clear_pending_ & joint_bit(j)) != 0 && sample_[j].reachable) ready |= joint_bit(j);
+  }
+  if (ready == 0) return;
+  auto_clear_pending_ &= ~ready;
+  (void)clear_lost_joints(ready, now, 0, true);  // refusals (e.g. moved from the held position) are logged
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((ready & joint_bit(j)) != 0 && (lost_ & joint_bit(j)) == 0) (void)dispatch(j, JointInput::reset, now);
+  }
+}
+
+void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
+  // A lost joint that answers again (its slave was brought back, e.g. by the master's online
+  // recovery) is reported once per return, with whether it still stands at its held position.
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const JointMask bit = joint_bit(j);
+    if ((lost_ & bit) == 0 || !sample_[j].reachable) {
+      returned_ &= ~bit;
+      continue;
+    }
+    if ((returned_ & bit) != 0) continue;
+    returned_ |= bit;
+    const double offset = offset_from_held(j);
+    const bool moved = offset > kHeldPositionToleranceRad || offset < -kHeldPositionToleranceRad;
+    JointEvent e = joint_event(moved ? JointEventKind::lost_joint_moved : JointEventKind::lost_joint_returned, j, now);
+    e.fault.value = offset;
+    e.fault.limit = kHeldPositionToleranceRad;
+    emit(e);
+  }
+}
+
 // Paper section IV-C, steps 1-5; the handler does step 6 when it reads the answer.
 void JointManager::handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept {
+  if (report.lost == 0) {
+    // A drive back after a power cycle: cleared and reset (once it is seen reachable) only when
+    // the configuration says so.
+    if (auto_clear_power_cycled_) auto_clear_pending_ |= report.back_after_power_cycle & lost_;
+    return;
+  }
   const JointMask reported = report.lost & kAllJoints;
   const JointMask fresh = reported & ~lost_;
   emit_step(1, reported, now);
@@ -224,9 +274,10 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     }
     outcome.refused |= joint_bit(j);
   };
-  if (command.kind == JointCommandKind::clear_lost) {
+  if (command.kind == JointCommandKind::clear_lost || command.kind == JointCommandKind::clear_lost_moved) {
     const JointMask joints = command.joints & kAllJoints;
-    if (clear_lost_joints(joints, now).ok()) {
+    const JointMask confirmed = command.kind == JointCommandKind::clear_lost_moved ? joints : 0;
+    if (clear_lost_joints(joints, now, confirmed).ok()) {
       outcome.applied = joints;
     } else {
       ++refused_commands_;
@@ -331,7 +382,8 @@ Status JointManager::clear_lost_joint(std::size_t joint, hal::Nanoseconds now) n
   return clear_lost_joints(joint_bit(joint), now);
 }
 
-Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept {
+Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved,
+                                       bool automatic) noexcept {
   // Each joint is judged on its own; the ones that may be cleared leave the file in one durable write.
   Error first_refusal{};
   JointMask accepted = 0;
@@ -342,6 +394,10 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) n
       refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
     } else if (!sample_[j].reachable) {
       refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
+    } else if ((confirmed_moved & joint_bit(j)) == 0 &&
+               (offset_from_held(j) > kHeldPositionToleranceRad || offset_from_held(j) < -kHeldPositionToleranceRad)) {
+      refusal = make_error(Errc::refused, "position differs from the held position in the file: confirm the clear",
+                           static_cast<std::uint32_t>(j));
     }
     if (refusal.code == Errc::ok) {
       accepted |= joint_bit(j);
@@ -376,7 +432,7 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now) n
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((accepted & joint_bit(j)) == 0) continue;
     joints_[j].context.loss_latched = false;
-    emit(joint_event(JointEventKind::operator_cleared, j, now));
+    emit(joint_event(automatic ? JointEventKind::auto_cleared : JointEventKind::operator_cleared, j, now));
   }
   JointManagerNotice notice;
   notice.kind = NoticeKind::joints_cleared;

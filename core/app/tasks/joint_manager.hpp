@@ -94,7 +94,16 @@ class JointManager {
   Status clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept;
   // The same for a set of joints (the operator's `clear_lost` command): each joint is judged alone and
   // logged; those that may be cleared leave the file in one write. The first refusal is returned.
-  Status clear_lost_joints(JointMask joints, hal::Nanoseconds now) noexcept;
+  // A joint that answers again away from the held position recorded in the file (more than
+  // kHeldPositionToleranceRad) is refused unless `confirmed_moved` holds it.
+  Status clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved = 0,
+                           bool automatic = false) noexcept;
+  // The configuration's choice: a joint whose drive was power-cycled (and brought back by the
+  // master) is cleared and reset to Idle without the operator, unless it moved from its held position.
+  void set_auto_clear_power_cycled(bool on) noexcept { auto_clear_power_cycled_ = on; }
+  static constexpr double kHeldPositionToleranceRad = 0.01;
+  // The current position minus the held one recorded in the file (0 when none is recorded).
+  double offset_from_held(std::size_t joint) const noexcept;
 
   const std::array<JointStatus, kJointCount>& statuses() const noexcept { return status_; }
   std::array<fsm::JointState, kJointCount> states() const noexcept;
@@ -121,6 +130,8 @@ class JointManager {
   void report_outcome(const JointCommandOutcome& outcome) noexcept;
   void monitor(hal::Nanoseconds now) noexcept;
   void publish() noexcept;
+  void note_returned_joints(hal::Nanoseconds now) noexcept;
+  void auto_clear_returned(hal::Nanoseconds now) noexcept;
   // Saves `next` as the file's new contents (sequence + 1). Success: recorded_ = next. Failure: the file
   // is marked dirty and the caller decides what recorded_ holds; step() retries a dirty file.
   Status persist(const ErrorJointsContents& next, hal::Nanoseconds now) noexcept;
@@ -137,6 +148,9 @@ class JointManager {
   std::array<JointStatus, kJointCount> status_{};
   RobotSample sample_{};                 // the last snapshot read (lost joints keep their last values)
   JointMask lost_{0};                    // loss latched (file or report) until an operator clears it
+  JointMask returned_{0};                // lost joints seen answering again (reported once per return)
+  bool auto_clear_power_cycled_{false};
+  JointMask auto_clear_pending_{0};      // back after a power cycle, to clear once seen reachable
   ErrorJointsContents recorded_;         // what the error-joints file holds (or must hold: file_dirty_)
   bool file_dirty_{false};
   hal::Nanoseconds next_write_retry_{0};

@@ -22,7 +22,8 @@ constexpr std::uint16_t kEventAlStatus = 0x0008;
 constexpr std::uint32_t kDlControlAliasEnable = 0x01000000;
 constexpr std::uint8_t kEscConfigDeviceEmulation = 0x01;
 constexpr std::uint8_t kEscConfigEnhancedLinkAllPorts = 0x02;
-constexpr std::uint8_t kSmActivateWritable = 0xC3;  // enable, repeat, latch event ECAT/PDI
+constexpr std::uint8_t kSmActivateWritable = 0xC3;
+constexpr std::uint16_t kForeignProductXor = 0x5A5A;  // enable, repeat, latch event ECAT/PDI
 
 bool overlaps(std::uint32_t first, std::uint32_t end, std::uint32_t reg_first, std::uint32_t reg_count) noexcept {
   return first < reg_first + reg_count && reg_first < end;
@@ -80,6 +81,10 @@ void Esc::power_up(const EscConfig& config, SlaveDevice& device, hal::Nanosecond
 
   dc_.reset(memory_, config_, now);
   sii_.power_up(memory_, config_, device.sii_image());
+  if (foreign_identity_) {
+    // Product code (SII words 0x0A/0x0B) of another device type; the config area CRC does not cover it.
+    sii_.set_word(ecat::sii::kProductCode, static_cast<std::uint16_t>(sii_.word(ecat::sii::kProductCode) ^ kForeignProductXor));
+  }
   apply_configuration_area();
   memory_.set_u16(reg::kAlControl, static_cast<std::uint16_t>(AlState::init));
   state_ = AlState::init;
@@ -487,6 +492,12 @@ void Esc::set_application_frozen(bool frozen) noexcept {
 void Esc::count_invalid_frame(unsigned port) noexcept {
   if (port >= kMaxEscPorts) return;
   const std::uint32_t counter = reg::kRxErrorCounter + 2U * port;
+  if (memory_.u8(counter) < 0xFF) memory_.set_u8(counter, static_cast<std::uint8_t>(memory_.u8(counter) + 1U));
+}
+
+void Esc::count_forwarded_error(unsigned port) noexcept {
+  if (port >= kMaxEscPorts) return;
+  const std::uint32_t counter = reg::kForwardedRxErrorCounter + port;
   if (memory_.u8(counter) < 0xFF) memory_.set_u8(counter, static_cast<std::uint8_t>(memory_.u8(counter) + 1U));
 }
 

@@ -93,6 +93,12 @@ class Esc final : public EscPdi {
   void inject_device_fault(std::uint16_t error_code) noexcept;
   // A frame with a broken FCS or length arrived at `port` (invalid frame counter 0x0300 + 2n).
   void count_invalid_frame(unsigned port) noexcept;
+  // A frame already damaged upstream arrived at `port` (forwarded RX error counter 0x0308 + n).
+  void count_forwarded_error(unsigned port) noexcept;
+  // The next power-up loads an SII whose product code differs (a device of another type plugged
+  // into this place: the simulator's foreign device). Survives power cycles until cleared.
+  void set_foreign_identity(bool foreign) noexcept { foreign_identity_ = foreign; }
+  bool foreign_identity() const noexcept { return foreign_identity_; }
 
   // --- observation (tests, the simulator's figures) ---
   std::uint8_t register_u8(std::uint32_t a) const noexcept { return memory_.u8(a); }
@@ -167,6 +173,7 @@ class Esc final : public EscPdi {
   EscConfig config_{};
   SlaveDevice* device_{nullptr};
   bool powered_{false};
+  bool foreign_identity_{false};
   bool frozen_{false};
   hal::Nanoseconds frozen_since_{0};
   bool device_emulation_{false};

@@ -47,6 +47,13 @@ std::uint16_t EscSii::word(std::uint32_t address) const noexcept {
   return static_cast<std::uint16_t>(eeprom_[at] | (eeprom_[at + 1] << 8U));
 }
 
+void EscSii::set_word(std::uint32_t address, std::uint16_t value) noexcept {
+  const std::size_t at = std::size_t{2} * address;
+  if (at + 1 >= eeprom_.size()) return;
+  eeprom_[at] = static_cast<std::uint8_t>(value & 0xFFU);
+  eeprom_[at + 1] = static_cast<std::uint8_t>(value >> 8U);
+}
+
 void EscSii::on_master_write(EscMemory& memory, const std::uint8_t* written, const bool* mask) noexcept {
   if (busy_) return;  // the interface ignores writes while a command runs
   // Address and data registers: plain storage.

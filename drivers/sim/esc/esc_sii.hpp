@@ -31,6 +31,8 @@ class EscSii {
 
   bool configuration_valid() const noexcept { return configuration_valid_; }
   std::uint16_t word(std::uint32_t address) const noexcept;
+  // Overwrites one EEPROM word (a device of another identity: the simulator's foreign device).
+  void set_word(std::uint32_t address, std::uint16_t value) noexcept;
   std::size_t size_bytes() const noexcept { return size_; }
 
   // The master wrote the interface registers 0x0502..0x050F: `written` holds the new bytes of the

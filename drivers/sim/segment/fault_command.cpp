@@ -20,9 +20,10 @@ struct Verb {
   FaultKind kind;
   bool needs_slave;
   bool needs_value;
+  bool needs_port{false};
 };
 
-constexpr std::array<Verb, 9> kVerbs{{
+constexpr std::array<Verb, 14> kVerbs{{
     {"cut", FaultKind::cut, true, false},
     {"restore", FaultKind::restore, true, false},
     {"freeze", FaultKind::freeze, true, false},
@@ -32,6 +33,11 @@ constexpr std::array<Verb, 9> kVerbs{{
     {"drop", FaultKind::drop, false, true},
     {"corrupt", FaultKind::corrupt, false, true},
     {"drive-fault", FaultKind::drive_fault, true, true},
+    {"power-cycle", FaultKind::power_cycle, true, false},
+    {"replace-cable", FaultKind::replace_cable, true, false},
+    {"foreign", FaultKind::foreign, true, false},
+    {"original", FaultKind::original, true, false},
+    {"corrupt-port", FaultKind::corrupt_port, true, true, true},
 }};
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
@@ -107,7 +113,7 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
     if (tokens[0].is(v.word)) verb = &v;
   }
   if (verb == nullptr) return make_error(Errc::not_found, "unknown fault command");
-  const std::size_t expected = 1U + (verb->needs_slave ? 1U : 0U) + (verb->needs_value ? 1U : 0U);
+  const std::size_t expected = 1U + (verb->needs_slave ? 1U : 0U) + (verb->needs_port ? 1U : 0U) + (verb->needs_value ? 1U : 0U);
   if (count != expected) return make_error(Errc::invalid_argument, "wrong number of words for fault command",
                                            static_cast<std::uint32_t>(count), static_cast<std::uint32_t>(expected));
   FaultCommand command;
@@ -115,6 +121,11 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
   std::size_t next = 1;
   if (verb->needs_slave) {
     if (!find_slave(tokens[next], segment, command.position)) return make_error(Errc::not_found, "unknown slave");
+    ++next;
+  }
+  if (verb->needs_port) {
+    if (!parse_number(tokens[next], command.port)) return make_error(Errc::invalid_argument, "bad port in fault command");
+    if (command.port >= kMaxEscPorts) return make_error(Errc::out_of_range, "port above 3", command.port);
     ++next;
   }
   if (verb->needs_value && !parse_number(tokens[next], command.value)) {
@@ -142,6 +153,11 @@ Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segmen
       return Status::success();
     case FaultKind::drive_fault:
       return segment.inject_device_fault(command.position, static_cast<std::uint16_t>(command.value));
+    case FaultKind::power_cycle: return segment.power_cycle(command.position, now);
+    case FaultKind::replace_cable: return segment.replace_cable(command.position);
+    case FaultKind::foreign: return segment.plug_device(command.position, true, now);
+    case FaultKind::original: return segment.plug_device(command.position, false, now);
+    case FaultKind::corrupt_port: return segment.corrupt_port(command.position, command.port, command.value);
   }
   return make_error(Errc::invalid_argument, "fault kind");
 }

@@ -10,6 +10,11 @@
 //   drop N               lose the next N frames on their way back
 //   corrupt N            flip one bit in each of the next N frames
 //   drive-fault SLAVE CODE   raise a device fault with error code CODE (decimal or 0x hex)
+//   power-cycle SLAVE    SLAVE off and on at once: registers and station address lost, INIT, SII kept
+//   replace-cable SLAVE  the cable into SLAVE's port 0 goes down and up (slaves keep their power)
+//   foreign SLAVE        a device of another type (other SII product code) plugged in SLAVE's place
+//   original SLAVE       the planned device plugged back in SLAVE's place
+//   corrupt-port SLAVE PORT N   damage the next N frames received on SLAVE's PORT (0..3): error counters
 //
 // The text is untrusted: every token is checked, nothing is assumed about its length.
 #pragma once
@@ -23,12 +28,28 @@
 
 namespace rescue::drivers {
 
-enum class FaultKind : std::uint8_t { cut, restore, freeze, thaw, power_off, power_on, drop, corrupt, drive_fault };
+enum class FaultKind : std::uint8_t {
+  cut,
+  restore,
+  freeze,
+  thaw,
+  power_off,
+  power_on,
+  drop,
+  corrupt,
+  drive_fault,
+  power_cycle,
+  replace_cable,
+  foreign,
+  original,
+  corrupt_port,
+};
 
 struct FaultCommand {
   FaultKind kind{FaultKind::cut};
   std::size_t position{0};  // slave, for the commands that name one
-  std::uint32_t value{0};   // count (drop, corrupt) or error code (drive-fault)
+  std::uint32_t value{0};   // count (drop, corrupt, corrupt-port) or error code (drive-fault)
+  std::uint32_t port{0};    // corrupt-port
 };
 
 // Parses one line (at most `length` characters, stops at the first NUL). Slave names are looked up

@@ -81,6 +81,7 @@ Status SimulatedSegment::build(Span<const SegmentSlave> slaves, hal::Nanoseconds
   }
   counters_ = SegmentCounters{};
   drop_pending_ = 0;
+  port_corrupt_pending_ = {};
   corrupt_pending_ = 0;
   update_links();
   return Status::success();
@@ -153,6 +154,8 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
   std::array<Visit, kMaxSegmentSlaves> stack{};
   std::size_t depth = 0;
   const hal::Nanoseconds t0 = sent_at + timing_[0].link_delay_ns;
+  frame_damaged_ = false;
+  receive(0, 0);
   enter(0, view, t0);
   stack[depth++] = Visit{0, 0, 0, t0 + timing_[0].processing_delay_ns};
   bool lost = false;
@@ -169,6 +172,7 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
       }
       const std::uint8_t c = children_[v.position][port];
       const hal::Nanoseconds t_child = v.t + timing_[c].link_delay_ns;
+      receive(c, 0);
       enter(c, view, t_child);
       stack[depth++] = Visit{c, port, 0, t_child + timing_[c].processing_delay_ns};
       descended = true;
@@ -188,6 +192,7 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
     }
     Visit& parent = stack[depth - 1];
     const hal::Nanoseconds t_rx = t_out + timing_[position].link_delay_ns;
+    receive(parent.position, via);
     escs_[parent.position].arrived_at_port(via, t_rx);
     parent.t = t_rx + timing_[parent.position].forwarding_delay_ns;
   }
@@ -198,6 +203,10 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
   }
   // Every ESC sets the locally administered bit of the source address on the way back.
   if (frame.size() > kSourceMacFirstByte) frame[kSourceMacFirstByte] = static_cast<std::uint8_t>(frame[kSourceMacFirstByte] | kLocallyAdministered);
+  if (frame_damaged_) {
+    ++counters_.lost_port_corruption;
+    return outcome;
+  }
   if (drop_pending_ > 0) {
     --drop_pending_;
     ++counters_.dropped_by_fault;
@@ -252,6 +261,43 @@ Status SimulatedSegment::set_power(std::size_t position, bool on, hal::Nanosecon
     escs_[position].power_down();
   }
   update_links();
+  return Status::success();
+}
+
+void SimulatedSegment::receive(std::size_t position, unsigned port) noexcept {
+  if (port >= kMaxEscPorts) return;
+  std::uint32_t& pending = port_corrupt_pending_[position][port];
+  if (pending > 0) {
+    --pending;
+    frame_damaged_ = true;
+    escs_[position].count_invalid_frame(port);
+  } else if (frame_damaged_) {
+    escs_[position].count_forwarded_error(port);
+  }
+}
+
+Status SimulatedSegment::power_cycle(std::size_t position, hal::Nanoseconds now) noexcept {
+  Status st = set_power(position, false, now);
+  if (st.ok()) st = set_power(position, true, now);
+  return st;
+}
+
+Status SimulatedSegment::plug_device(std::size_t position, bool foreign, hal::Nanoseconds now) noexcept {
+  if (position >= count_) return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  escs_[position].set_foreign_identity(foreign);
+  return power_cycle(position, now);
+}
+
+Status SimulatedSegment::replace_cable(std::size_t position) noexcept {
+  Status st = cut_link(position);
+  if (st.ok()) st = restore_link(position);
+  return st;
+}
+
+Status SimulatedSegment::corrupt_port(std::size_t position, unsigned port, std::uint32_t count) noexcept {
+  if (position >= count_) return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  if (port >= kMaxEscPorts) return make_error(Errc::out_of_range, "port", port);
+  port_corrupt_pending_[position][port] = count;
   return Status::success();
 }
 

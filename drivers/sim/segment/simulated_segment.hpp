@@ -64,6 +64,7 @@ struct SegmentCounters {
   std::uint64_t lost_malformed{0};      // a datagram ran past the frame's end
   std::uint64_t dropped_by_fault{0};
   std::uint64_t corrupted_by_fault{0};
+  std::uint64_t lost_port_corruption{0};  // damaged on a cable (corrupt_port): broken FCS at the master
 };
 
 class SimulatedSegment {
@@ -103,6 +104,20 @@ class SimulatedSegment {
   // A dead slave (power lost): its links go down on both sides. Power on = a fresh ESC in INIT.
   Status set_power(std::size_t position, bool on, hal::Nanoseconds now) noexcept;
   Status inject_device_fault(std::size_t position, std::uint16_t error_code) noexcept;
+  // Power off and on again at once: the ESC loses every register (station address, SMs, FMMUs,
+  // DC), comes back in INIT with its SII unchanged; its neighbours count a lost link.
+  Status power_cycle(std::size_t position, hal::Nanoseconds now) noexcept;
+  // A device of another type (its SII product code differs) plugged in at `position` in place of
+  // the planned one (foreign = true), or the right one put back (false). Modelled as a power cycle.
+  Status plug_device(std::size_t position, bool foreign, hal::Nanoseconds now) noexcept;
+  // A cable replaced: the link into `position`'s port 0 goes down and up again (the slaves behind
+  // keep their power and configuration).
+  Status replace_cable(std::size_t position) noexcept;
+  // The next `count` frames received on `position`'s `port` are damaged on that cable: that ESC
+  // counts an invalid frame (0x0300 + 2 * port), every ESC the damaged frame reaches afterwards a
+  // forwarded RX error on its receiving port (0x0308 + port), and the frame is lost at the master
+  // (broken FCS). Port 0 is the cable from upstream, ports 1..3 the cables from the slaves behind.
+  Status corrupt_port(std::size_t position, unsigned port, std::uint32_t count) noexcept;
   // The next `count` frames are lost on the way back / come back with one bit flipped (a
   // corruption the Ethernet FCS did not catch, for testing the master's own checks).
   void drop_frames(std::uint32_t count) noexcept { drop_pending_ = count; }
@@ -120,6 +135,8 @@ class SimulatedSegment {
   void update_links() noexcept;
   bool cable_up(std::size_t position) const noexcept;
   void enter(std::size_t position, ecat::MutableFrameView* view, hal::Nanoseconds t) noexcept;
+  // The frame is received at `position`'s `port`: injected cable damage and the error counters.
+  void receive(std::size_t position, unsigned port) noexcept;
 
   // The delays a frame's passage reads, packed (a few cache lines for the whole segment).
   struct Timing {
@@ -136,6 +153,8 @@ class SimulatedSegment {
   std::uint32_t drop_pending_{0};
   std::uint32_t corrupt_pending_{0};
   std::uint64_t corrupt_sequence_{0};
+  std::array<std::array<std::uint32_t, kMaxEscPorts>, kMaxSegmentSlaves> port_corrupt_pending_{};
+  bool frame_damaged_{false};  // the frame in flight was damaged on a cable
   SegmentCounters counters_{};
   // Last: the segment's own state above stays together, before the ESCs' 30 KiB each.
   std::array<Esc, kMaxSegmentSlaves> escs_{};

@@ -132,6 +132,7 @@ TEST(FrameErrors, MoreFollowsOnTheLastDatagram) {
 TEST(FrameErrors, EtherCATLengthLongerThanTheDatagrams) {
   auto f = three_datagram_frame();
   f.resize(63, 0);
+  f[61] = 0x5A;  // not padding: padding is zero
   set_ecat_length(f, 14, static_cast<std::uint16_t>(61 - 16 + 2));  // two bytes no datagram uses
   expect_error(parse_error(f), Errc::malformed, "bytes after last datagram", 3, 61);
 }

@@ -7,67 +7,30 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
-#include <unistd.h>
 
-#include <memory>
+#include <cstdio>
 #include <string>
 #include <vector>
 
-#include "drivers/joint/joint_bus.hpp"
-#include "hal/net/raw_socket_nic.hpp"
-#include "tests/support/child_process.hpp"
-#include "tests/support/netns_veth.hpp"
+#include "tests/support/master_over_veth.hpp"
 
 namespace rescue::app {
 namespace {
 
-using rescue::testing::ChildProcess;
-using rescue::testing::InNamespace;
 using rescue::testing::VethPair;
 
-const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
-constexpr int kStartTimeoutMs = 10000;
-
-class LateFramesOverVeth : public rescue::testing::NetnsTest {
+class LateFramesOverVeth : public rescue::testing::MasterOverVethTest {
  protected:
-  void SetUp() override {
-    NetnsTest::SetUp();
-    if (IsSkipped() || HasFatalFailure()) return;
-    // Through the qdisc: netem on the slaves' end delays and reorders the replies.
-    std::vector<std::string> argv{kBinary, "sim", "--iface", VethPair::kSlaveInterface, "--through-qdisc"};
-    if (::geteuid() == 0 && ::access("/usr/bin/chrt", X_OK) == 0) argv.insert(argv.begin(), {"/usr/bin/chrt", "-f", "70"});
-    ASSERT_TRUE(sim_.start(argv, veth_->slave_ns()));
-    ASSERT_TRUE(sim_.wait_for_output("serving 23 slaves on", kStartTimeoutMs)) << sim_.output();
-    InNamespace inside(veth_->master_ns());
-    ASSERT_TRUE(inside.entered());
-    ASSERT_TRUE(nic_.open(VethPair::kMasterInterface).ok());
-    bus_ = std::make_unique<drivers::JointBus>(nic_);
-  }
-
-  drivers::JointCycleResult cycle() {
-    nic_.clock().sleep_until(bus_->next_wakeup());
-    const drivers::JointCycleResult r = bus_->cycle(refs_, feedback_);
-    drivers::JointLinkReport report;
-    while (bus_->pop_report(report)) reports_.push_back(report);
-    return r;
-  }
-
-  ChildProcess sim_;
-  hal::RawSocketNic nic_;
-  std::unique_ptr<drivers::JointBus> bus_;
-  drivers::JointReferences refs_{};
-  drivers::JointFeedback feedback_{};
-  std::vector<drivers::JointLinkReport> reports_;
+  // Through the qdisc: netem on the slaves' end delays and reorders the replies.
+  std::vector<std::string> sim_arguments() const override { return {"--through-qdisc"}; }
 };
 
 TEST_F(LateFramesOverVeth, NoJointIsFalselyLostAndARealCutIsStillFound) {
   ecat::MasterOptions options;
   options.drift_compensation_frames = 1000;
   options.frame_timeout = 20 * hal::kNsPerMs;  // bring-up before any jitter; a loaded CI machine
-  const Status up = bus_->bring_up(options);
-  ASSERT_TRUE(up.ok()) << bus_->master().report().failed_step << ": " << up.error().what;
-  for (int i = 0; i < 3000 && bus_->master().state() != ecat::MasterState::op; ++i) (void)cycle();
-  ASSERT_EQ(bus_->master().state(), ecat::MasterState::op);
+  bring_up_to_op(options, 3000);
+  if (HasFatalFailure()) return;
 
   // 1. Jitter: netem where the kernel has it (not every kernel builds sch_netem), stalls always.
   std::string output;

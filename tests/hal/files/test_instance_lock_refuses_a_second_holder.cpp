@@ -2,8 +2,13 @@
 // `busy` and the holder's pid (here the holder is this process: flock locks belong to the open file,
 // abstract socket names to the bound socket, so a second take from the same process conflicts too).
 #include <gtest/gtest.h>
+#include <sched.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <cstdlib>
 #include <string>
@@ -49,6 +54,29 @@ TEST(InstanceLock, AReadOnlyStateDirectoryIsSeenAtStart) {
   (void)chmod(dir.c_str(), 0700);
   EXPECT_TRUE(check_writable(dir.c_str()).ok());
   (void)std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// Root writes through permissions (the test above skips), but not onto a read-only filesystem: the
+// state directory on a read-only mount (private mount namespace, in a child) is seen at start too.
+TEST(InstanceLock, AStateDirectoryOnAReadOnlyMountIsSeenEvenByRoot) {
+  const std::string dir = temp_dir();
+  ASSERT_FALSE(dir.empty());
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (unshare(CLONE_NEWNS) != 0 || mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
+        mount("none", dir.c_str(), "tmpfs", MS_RDONLY, nullptr) != 0) {
+      _exit(77);  // no mount namespace here (not privileged)
+    }
+    const Status writable = check_writable(dir.c_str());
+    _exit(!writable.ok() && writable.error().code == Errc::permission_denied && writable.error().detail0 == EROFS ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  (void)rmdir(dir.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "cannot make a mount namespace (needs CAP_SYS_ADMIN)";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "a read-only state directory was taken for writable";
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ const std::string kProgram = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
 const std::string kDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/fsm.md";
 const std::string kTasksDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/tasks.md";
 const std::string kSharedMemoryDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/shared-memory.md";
+const std::string kMasterDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/master.md";
 
 TEST(DocsFsm, MarkdownInDocsEqualsCommandOutput) {
   const std::string printed = run(kProgram + " docs fsm --format markdown");
@@ -67,6 +68,13 @@ TEST(DocsFsm, DotDiagramInDocsEqualsCommandOutput) {
   ASSERT_FALSE(printed.empty());
   EXPECT_EQ(generated_block(read_file(kDoc), "rescue-motion docs fsm --format dot"), printed)
       << "docs/fsm.md is stale; put this between its dot markers:\n" << printed;
+}
+
+TEST(DocsFsm, RecoveryMachineInMasterDocEqualsCommandOutput) {
+  const std::string printed = run(kProgram + " docs fsm --machine slave_recovery");
+  ASSERT_NE(printed.find("### State machine `slave_recovery`"), std::string::npos) << printed;
+  EXPECT_EQ(generated_block(read_file(kMasterDoc), "rescue-motion docs fsm --machine slave_recovery"), printed)
+      << "docs/master.md is stale; put this between its markers:\n" << printed;
 }
 
 TEST(DocsTasks, TaskTableInDocsEqualsCommandOutput) {

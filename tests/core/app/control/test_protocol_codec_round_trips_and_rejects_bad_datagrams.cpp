@@ -125,8 +125,18 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   m.header.type = MessageType::tasks;
   m.tasks.count = 2;
   m.tasks.tasks[1].max_execution_ns = 77;
+  m.tasks.tasks[1].execution = TimingFigures{1, 2, 3, 4, 5, 6, 7};
+  m.tasks.tasks[1].latency = TimingFigures{8, 9, 10, 11, 12, 13, 0xFFFFFFFFU};
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_EQ(back.tasks.tasks[1].max_execution_ns, 77U);
+  EXPECT_EQ(back.tasks.tasks[1].execution.min, 1U);
+  EXPECT_EQ(back.tasks.tasks[1].execution.p9999, 7U);
+  EXPECT_EQ(back.tasks.tasks[1].latency.min, 8U);
+  EXPECT_EQ(back.tasks.tasks[1].latency.p999, 13U);
+  EXPECT_EQ(back.tasks.tasks[1].latency.p9999, 0xFFFFFFFFU);
+  m.tasks.count = kMaxTasks;  // the largest tasks answer still fits one datagram
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.tasks.count, kMaxTasks);
 }
 
 TEST(ProtocolCodec, EachRejectionReason) {

@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "tests/support/simulated_firmware_rig.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
@@ -21,65 +22,9 @@
 namespace rescue::app {
 namespace {
 
-class NoEvents final : public JointEventSink {
- public:
-  void on_event(const JointEvent&) noexcept override {}
-};
-
-// The firmware's two tasks over one TaskLinks, as `run` wires them.
-struct Firmware {
-  explicit Firmware(const std::string& state_dir)
-      : storage(state_dir.c_str()),
-        reports(links->lost_reports),
-        notices(links->notices),
-        commands(links->joint_commands),
-        parser(links->joint_commands),
-        samples(links->samples),
-        demand(links->demand),
-        manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand}) {}
-
-  bool bring_up() {
-    restored = manager.restore(rig->clock.now()).restored;
-    ecat::MasterOptions options;
-    if (!rig->bus.bring_up(options, restored).ok()) return false;
-    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
-    return true;
-  }
-  // One millisecond: the handler's cycle, then the joint manager's step.
-  drivers::JointCycleResult period() {
-    rig->clock.sleep_until(rig->bus.next_wakeup());
-    const drivers::JointCycleResult r = handler->cycle();
-    manager.step(rig->clock.now());
-    return r;
-  }
-  void run_until_op() {
-    for (int i = 0; i < 3000 && period().state != ecat::MasterState::op; ++i) {
-    }
-    period();
-  }
-  void initialize_robot() {
-    for (const JointCommand& c : initialize_robot_commands(kAllJoints & ~restored)) ASSERT_TRUE(parser.try_send(c));
-  }
-
-  std::unique_ptr<rescue::testing::SimulatedRobotRig> rig = std::make_unique<rescue::testing::SimulatedRobotRig>();
-  std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
-  ErrorJointsFileStorage storage;
-  SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports;
-  SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices;
-  SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands;
-  SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser;
-  SeqlockSampleSource samples;
-  SeqlockDemandSink demand;
-  hal::ManualWallClock wall;
-  NoEvents events;
-  JointManager manager;
-  std::unique_ptr<EthercatHandler> handler;
-  JointMask restored{0};
-};
-
 void cut_and_reconfigure(const char* joint_name) {
   testing::TempStateDir dir;
-  Firmware fw(dir.path);
+  SimulatedFirmware fw(dir.path);
   ASSERT_TRUE(fw.rig->built.ok());
   ASSERT_TRUE(fw.bring_up()) << rescue::testing::describe_master_failure(fw.rig->bus.master());
   fw.run_until_op();
@@ -119,14 +64,14 @@ TEST(EthercatHandlerOnSimulatedRobot, RestartWithTheFileKeepsLostJointsOut) {
   testing::TempStateDir dir;
   const JointMask expected = joints_lost_by_link_failure_at(joint_index_by_name("l_elbow"));
   {
-    Firmware fw(dir.path);
+    SimulatedFirmware fw(dir.path);
     ASSERT_TRUE(fw.bring_up());
     fw.run_until_op();
     ASSERT_TRUE(fw.rig->segment.cut_link(slave_position_of_joint(joint_index_by_name("l_elbow"))).ok());
     for (int i = 0; i < 50; ++i) fw.period();
     ASSERT_EQ(fw.manager.lost_joints(), expected);
   }
-  Firmware again(dir.path);  // a new robot: every cable intact again
+  SimulatedFirmware again(dir.path);  // a new robot: every cable intact again
   ASSERT_TRUE(again.bring_up()) << rescue::testing::describe_master_failure(again.rig->bus.master());
   EXPECT_EQ(again.restored, expected);
   again.run_until_op();
@@ -142,7 +87,7 @@ TEST(EthercatHandlerOnSimulatedRobot, RestartWithTheFileKeepsLostJointsOut) {
 
 TEST(EthercatHandlerOnSimulatedRobot, OwnLimitCheckStopsEveryDrive) {
   testing::TempStateDir dir;
-  Firmware fw(dir.path);
+  SimulatedFirmware fw(dir.path);
   ASSERT_TRUE(fw.bring_up());
   fw.run_until_op();
   fw.initialize_robot();

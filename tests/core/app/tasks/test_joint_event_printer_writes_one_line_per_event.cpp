@@ -23,11 +23,11 @@ TEST(JointEventPrinter, WritesPrefixTimeAndTheEventsLine) {
   e.from = fsm::JointState::enabled;
   e.to = fsm::JointState::error;
   e.input = fsm::JointInput::comm_lost;
-  printer.on_event(e);
+  printer.print(e);
   e.kind = JointEventKind::reconfiguration_step;
   e.step = 3;
   e.joints = joints_lost_by_link_failure_at(e.joint);
-  printer.on_event(e);
+  printer.print(e);
   std::fclose(out);
   const std::string text(buf, len);
   std::free(buf);

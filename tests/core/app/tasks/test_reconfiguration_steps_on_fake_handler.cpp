@@ -197,6 +197,35 @@ TEST_F(Reconfiguration, OperatorClearsARepairedJointExplicitlyAndItComesBackThro
   EXPECT_EQ(manager.statuses()[joint_index_by_name("l_wrist_pitch")].state, JointState::error);
 }
 
+TEST_F(Reconfiguration, AJointThatReturnsAwayFromItsHeldPositionStaysOutUntilTheOperatorConfirms) {
+  initialize_robot();
+  handler.cut = kElbowCut;
+  run(10);
+  const std::size_t hand = joint_index_by_name("l_hand");
+  const std::size_t wrist = joint_index_by_name("l_wrist_pitch");
+
+  // The link works again (the master recovered the drives); the hand was moved meanwhile.
+  handler.cut = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) rig.samples.robot[j].reachable = true;
+  rig.samples.robot[hand].position_rad += 0.5;
+  run(2);
+  EXPECT_TRUE(rig.log.contains("l_hand: answers again 0.5000 rad away from its held position"));
+  EXPECT_TRUE(rig.log.contains("l_wrist_pitch: answers again at its held position"));
+
+  EXPECT_FALSE(manager.clear_lost_joints(joint_bit(hand) | joint_bit(wrist), clock.now()).ok());
+  EXPECT_TRUE(rig.log.contains("l_hand: operator clear refused: position differs from the held position"));
+  EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(wrist)) << "the wrist was cleared, the hand kept";
+  EXPECT_EQ(manager.lost_joints() & joint_bit(hand), joint_bit(hand));
+
+  JointCommand confirm;
+  confirm.kind = JointCommandKind::clear_lost_moved;
+  confirm.joints = joint_bit(hand);
+  ASSERT_TRUE(rig.commands.try_send(confirm));
+  run(1);
+  EXPECT_EQ(manager.lost_joints() & joint_bit(hand), 0u);
+  EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(hand) & ~joint_bit(wrist));
+}
+
 TEST_F(Reconfiguration, OperatorClearCommandClearsRepairedJointsInOneWriteAndRefusesTheRest) {
   initialize_robot();
   handler.cut = kElbowCut;

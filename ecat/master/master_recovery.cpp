@@ -1,0 +1,463 @@
+// Online recovery while cycling: a slave out of the exchange (lost, restored, or not operational) is
+// looked for at its auto-increment position and, when it answers, addressed, reset, identified from
+// its SII, configured as at bring-up (SMs, start-up SDOs, FMMUs, DC offset/delay, SYNC0) and taken
+// through PRE-OP and SAFE-OP to OP, then put back in the exchange ("recovered"). The states and
+// transitions are the table of ecat/master/slave_recovery.hpp; this file does what each state says.
+//
+// Bounded cost: each cycle carries at most options_.recovery_datagrams_per_cycle datagrams of the
+// recovery in all (one per slave being recovered, plus one search), only while something is out of
+// the exchange; the healthy path carries none. Other slaves are only ever addressed by their own
+// station address; the one APWR (by position) writes the device found at the expected position.
+#include <cstring>
+
+#include "ecat/master/master.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/slave_config.hpp"
+
+namespace rescue::ecat {
+namespace {
+
+constexpr std::uint16_t kAlStatusReadLength = 6;
+constexpr std::uint8_t kGonePeriods = 3;
+constexpr std::uint16_t kSiiBlockLength = 14;  // 0x0502..0x050F: control, address, data
+constexpr std::uint16_t kDcBlockLength = 0x20;  // 0x0910..0x092F: time, receive time, offset, delay, difference
+constexpr std::uint16_t kDcLoopRestart = 0x1000;
+constexpr std::uint64_t kSync0MarginPeriods = 10;
+constexpr std::size_t kIdentityWords = 8;
+
+constexpr std::uint16_t al_control_value(reg::AlState state, bool acknowledge) noexcept {
+  return static_cast<std::uint16_t>(static_cast<std::uint16_t>(state) | (acknowledge ? reg::kAlErrorBit : 0U));
+}
+
+// The AL state a state's control write asks for.
+reg::AlState target_al_state(RecoveryState state) noexcept {
+  switch (state) {
+    case RecoveryState::pre_op: return reg::AlState::pre_op;
+    case RecoveryState::safe_op: return reg::AlState::safe_op;
+    case RecoveryState::op: return reg::AlState::op;
+    default: return reg::AlState::init;
+  }
+}
+
+bool is_al_step(RecoveryState state) noexcept {
+  return state == RecoveryState::resetting || state == RecoveryState::pre_op || state == RecoveryState::safe_op ||
+         state == RecoveryState::op;
+}
+
+std::uint32_t word_pair(const std::array<std::uint16_t, 8>& w, std::size_t first) noexcept {
+  return static_cast<std::uint32_t>(w[first]) | (static_cast<std::uint32_t>(w[first + 1]) << 16U);
+}
+
+}  // namespace
+
+const char* to_string(RecoveryState state) noexcept {
+  const auto index = static_cast<std::size_t>(state);
+  return index < kRecoveryStateCount ? SlaveRecoveryTable::kStates[index].name : "?";
+}
+
+SlaveMask Master::recovering() const noexcept {
+  SlaveMask mask = 0;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if (recovery_[p].state != RecoveryState::idle) mask |= slave_bit(p);
+  }
+  return mask;
+}
+
+std::uint16_t Master::expected_position(std::size_t position) const noexcept {
+  // Every slave before it that answered at bring-up and is not being searched for occupies a place.
+  std::uint16_t n = 0;
+  for (std::size_t q = 0; q < position; ++q) {
+    if ((present() & slave_bit(q)) != 0 && recovery_[q].state != RecoveryState::searching) ++n;
+  }
+  return n;
+}
+
+void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
+  Recovery& r = recovery_[p];
+  r.state = state;
+  r.sub = 0;
+  r.silent = 0;
+  r.acknowledge = false;
+  r.deadline = link_.clock().now() + (state == RecoveryState::failed ? options_.recovery_hold_off : options_.recovery_step_timeout);
+  if (state == RecoveryState::identifying) {
+    r.words = 0;
+    r.sii.fill(0);
+  }
+  if (state == RecoveryState::mailbox && plan_[p].mailbox) {
+    mailbox_.configure(p, setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[1].start, setup_[p].sm[1].length);
+  }
+  if (state == RecoveryState::startup_sdos) {
+    r.sdos_pending = 0;
+    r.sdo_refused = false;
+    for (const SdoRequest& request : options_.startup_sdos) {
+      if (request.position != p) continue;
+      SdoRequest mine = request;
+      mine.tag = MailboxClient::kMasterTagBit | static_cast<std::uint32_t>(p);
+      if (mailbox_.submit(mine)) {
+        ++r.sdos_pending;
+      } else {
+        r.sdo_refused = true;  // queue full: fails by timeout, tried again later
+      }
+    }
+  }
+}
+
+void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
+  Recovery& r = recovery_[p];
+  const RecoveryRow* row = SlaveRecoveryTable::find(r.state, input);
+  if (row == nullptr) {
+    ++recovery_stats_.table_refusals;
+    return;
+  }
+  const RecoveryState from = r.state;
+  const SlaveMask bit = slave_bit(p);
+  const hal::Nanoseconds now = link_.clock().now();
+  switch (row->to) {
+    case RecoveryState::failed: {
+      ++recovery_stats_.failed;
+      if (!r.failure_reported) {
+        monitor_.recovery_event(LinkEventKind::recovery_failed, bit, cycle_, now, {static_cast<std::uint32_t>(from), 0, 0, 0});
+        r.failure_reported = true;
+      }
+      break;
+    }
+    case RecoveryState::refused:
+      ++recovery_stats_.refused;
+      monitor_.recovery_event(LinkEventKind::recovery_refused, bit, cycle_, now,
+                              {word_pair(r.sii, 0), word_pair(r.sii, 2), word_pair(r.sii, 4), word_pair(r.sii, 6)});
+      break;
+    case RecoveryState::searching:
+      if (input == RecoveryInput::not_this_one) r.withdraw = true;
+      if (input == RecoveryInput::lost) r.started_cycle = cycle_;
+      break;
+    case RecoveryState::idle:
+      ++recovery_stats_.recovered;
+      r.failure_reported = false;
+      monitor_.recovered(bit, cycle_, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
+      break;
+    default:
+      break;
+  }
+  enter_recovery_state(p, row->to);
+}
+
+bool Master::add_search(FrameBuilder& frame) noexcept {
+  const std::uint8_t index = link_.index();
+  for (std::size_t i = 0; i < kMaxSlaves; ++i) {
+    const std::size_t p = (search_rotate_ + i) % kMaxSlaves;
+    Recovery& r = recovery_[p];
+    if (r.state != RecoveryState::searching && r.state != RecoveryState::refused) continue;
+    search_rotate_ = p + 1;
+    Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
+    if (r.withdraw) {
+      const std::array<std::uint8_t, 2> zero{};
+      added = frame.add(Command::FPWR, index, make_address(plan_[p].station_address, reg::kStationAddress), 2, ConstByteSpan(zero));
+    } else {
+      r.adp = r.state == RecoveryState::refused ? r.adp : position_adp(expected_position(p));
+      added = frame.add(Command::APRD, index, make_address(r.adp, reg::kStationAddress), 2);
+    }
+    if (!added.ok()) return false;
+    planned_[planned_count_++] = Planned{Role::search, static_cast<std::uint8_t>(p)};
+    return true;
+  }
+  return false;
+}
+
+void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
+  Recovery& r = recovery_[p];
+  if (r.withdraw) {
+    r.withdraw = false;  // taken or not: the device is searched for again either way
+    return;
+  }
+  const std::uint16_t station = d.wkc() == 1 ? load_le16(d.data().data()) : 0;
+  if (r.state == RecoveryState::refused) {
+    // The foreign device keeps the station address it was given; when that place holds anything
+    // else (or nothing), it has left.
+    if (d.wkc() == 0 || station != plan_[p].station_address) recovery_input(p, RecoveryInput::gone);
+    return;
+  }
+  if (d.wkc() != 1) return;
+  if (station == 0) {
+    r.lost_address = true;
+    recovery_input(p, RecoveryInput::answered_unaddressed);
+  } else if (station == plan_[p].station_address) {
+    r.lost_address = false;
+    recovery_input(p, RecoveryInput::answered_addressed);
+  }
+  // Any other address: another slave sits at that position (this one is still absent).
+}
+
+bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
+  Recovery& r = recovery_[p];
+  const std::uint8_t index = link_.index();
+  const std::uint16_t station = plan_[p].station_address;
+  std::array<std::uint8_t, std::size_t{2} * reg::kFmmuSize> bytes{};
+  Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
+  const auto write = [&](std::uint16_t ado, std::size_t length) {
+    added = frame.add(Command::FPWR, index, make_address(station, ado), static_cast<std::uint16_t>(length),
+                      ConstByteSpan(bytes.data(), length));
+  };
+  const auto read = [&](std::uint16_t ado, std::uint16_t length) {
+    added = frame.add(Command::FPRD, index, make_address(station, ado), length);
+  };
+  if (is_al_step(r.state)) {
+    if (r.sub == 0) {
+      store_le16(bytes.data(), al_control_value(target_al_state(r.state), r.acknowledge || r.state == RecoveryState::resetting));
+      write(reg::kAlControl, 2);
+    } else {
+      read(reg::kAlStatus, kAlStatusReadLength);
+    }
+  } else {
+    switch (r.state) {
+      case RecoveryState::addressing:
+        store_le16(bytes.data(), station);
+        added = frame.add(Command::APWR, index, make_address(r.adp, reg::kStationAddress), 2, ConstByteSpan(bytes.data(), 2));
+        break;
+      case RecoveryState::identifying:
+        if (r.sub < 2) {
+          bytes[0] = r.sub == 0 ? 0x02 : 0x00;  // SII to ECAT, forced, then kept
+          write(reg::kSiiConfig, 1);
+        } else if (r.sub % 2 == 0) {
+          store_le16(bytes.data(), reg::kSiiCommandRead);
+          store_le32(bytes.data() + 2, static_cast<std::uint32_t>(sii::kVendorId + r.words));
+          write(reg::kSiiControl, 6);
+        } else {
+          read(reg::kSiiControl, kSiiBlockLength);
+        }
+        break;
+      case RecoveryState::mailbox:
+        fill_mailbox_sms(p, bytes.data());
+        write(reg::sync_manager(0), std::size_t{2} * reg::kSyncManagerSize);
+        break;
+      case RecoveryState::process_data:
+        if (r.sub == 0) {
+          fill_process_data_sms(p, bytes.data());
+          write(reg::sync_manager(2), std::size_t{2} * reg::kSyncManagerSize);
+        } else {
+          fill_fmmus(p, bytes.data());
+          write(reg::fmmu(kFmmuOutputs), std::size_t{2} * reg::kFmmuSize);
+        }
+        break;
+      case RecoveryState::clock:
+        if (r.sub == 0) {
+          read(reg::kDcSystemTime, kDcBlockLength);
+        } else if (r.sub == 1) {
+          store_le64(bytes.data(), r.offset);
+          store_le32(bytes.data() + 8, report_.delays[p]);
+          write(reg::kDcSystemTimeOffset, 12);
+        } else {
+          store_le16(bytes.data(), kDcLoopRestart);
+          write(reg::kDcSpeedCounterStart, 2);
+        }
+        break;
+      case RecoveryState::sync0: {
+        const auto period = static_cast<std::uint64_t>(options_.cycle_time);
+        if (r.sub == 0) {
+          write(reg::kDcCyclicUnitControl, 2);  // unit to ECAT, activation off
+        } else if (r.sub == 1) {
+          store_le32(bytes.data(), static_cast<std::uint32_t>(period));
+          write(reg::kDcSync0CycleTime, 4);
+        } else if (r.sub == 2) {
+          // In phase with every other slave's SYNC0: the bring-up's start plus whole periods.
+          const std::uint64_t earliest = latest_reference_time_ + kSync0MarginPeriods * period;
+          const std::uint64_t base = report_.sync0_start;
+          const std::uint64_t start = earliest <= base ? base : base + ((earliest - base) / period + 1) * period;
+          store_le64(bytes.data(), start);
+          write(reg::kDcStartTime, 8);
+        } else {
+          bytes[0] = static_cast<std::uint8_t>(reg::kDcActivateCyclic | reg::kDcActivateSync0);
+          write(reg::kDcActivation, 1);
+        }
+        break;
+      }
+      default:
+        return false;
+    }
+  }
+  if (!added.ok()) return false;
+  planned_[planned_count_++] = Planned{Role::recovery, static_cast<std::uint8_t>(p)};
+  return true;
+}
+
+void Master::add_recovery_datagrams(FrameBuilder& frame) noexcept {
+  recovery_datagrams_this_cycle_ = 0;
+  if (!options_.online_recovery) return;
+  const unsigned budget = options_.recovery_datagrams_per_cycle;
+  bool searching = false;
+  for (const Recovery& r : recovery_) {
+    searching = searching || r.state == RecoveryState::searching || r.state == RecoveryState::refused;
+  }
+  // One place for a search when something is searched for and the budget has more than one.
+  const unsigned for_steps = searching && budget > 1 ? budget - 1 : budget;
+  for (std::size_t i = 0; i < kMaxSlaves && recovery_datagrams_this_cycle_ < for_steps; ++i) {
+    const std::size_t p = (recovery_rotate_ + i) % kMaxSlaves;
+    const RecoveryState s = recovery_[p].state;
+    if (s == RecoveryState::idle || s == RecoveryState::searching || s == RecoveryState::refused || s == RecoveryState::failed ||
+        s == RecoveryState::startup_sdos) {
+      continue;
+    }
+    if (add_recovery_step(frame, p)) ++recovery_datagrams_this_cycle_;
+  }
+  recovery_rotate_ = (recovery_rotate_ + 1) % kMaxSlaves;
+  if (searching && recovery_datagrams_this_cycle_ < budget && add_search(frame)) ++recovery_datagrams_this_cycle_;
+  recovery_stats_.datagrams += recovery_datagrams_this_cycle_;
+  if (recovery_datagrams_this_cycle_ > recovery_stats_.max_datagrams_per_cycle) {
+    recovery_stats_.max_datagrams_per_cycle = recovery_datagrams_this_cycle_;
+  }
+}
+
+void Master::check_identity(std::size_t p) noexcept {
+  const Recovery& r = recovery_[p];
+  const std::uint32_t vendor = word_pair(r.sii, 0);
+  const std::uint32_t product = word_pair(r.sii, 2);
+  const std::uint32_t revision = word_pair(r.sii, 4);
+  const std::uint32_t serial = word_pair(r.sii, 6);
+  if (vendor != plan_[p].vendor_id || product != plan_[p].product_code) {
+    recovery_input(p, RecoveryInput::foreign);
+    return;
+  }
+  const std::uint8_t found = report_.match.found_of_slot[p];
+  if (found != kNoPosition && found < report_.found.size()) {
+    const FoundSlave& before = report_.found[found];
+    if (revision != before.revision) {
+      recovery_input(p, RecoveryInput::foreign);
+      return;
+    }
+    if (serial != before.serial_number) {
+      recovery_input(p, RecoveryInput::not_this_one);
+      return;
+    }
+  } else if (revision != plan_[p].revision) {
+    recovery_input(p, RecoveryInput::foreign);
+    return;
+  }
+  recovery_input(p, RecoveryInput::step_done);
+}
+
+void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept {
+  if (p >= kMaxSlaves) return;
+  Recovery& r = recovery_[p];
+  if (d.wkc() != 1) {
+    if (++r.silent >= kGonePeriods) recovery_input(p, RecoveryInput::gone);
+    return;  // same step again next period
+  }
+  r.silent = 0;
+  const std::uint8_t* data = d.data().data();
+  if (is_al_step(r.state)) {
+    if (r.sub == 0) {
+      r.sub = 1;
+      return;
+    }
+    const std::uint16_t status = load_le16(data);
+    const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state));
+    if ((status & reg::kAlErrorBit) != 0) {
+      r.acknowledge = true;  // acknowledge and ask again
+      r.sub = 0;
+    } else if ((status & reg::kAlStateMask) == wanted) {
+      recovery_input(p, RecoveryInput::step_done);
+    }
+    return;
+  }
+  switch (r.state) {
+    case RecoveryState::addressing:
+    case RecoveryState::mailbox:
+      recovery_input(p, RecoveryInput::step_done);
+      break;
+    case RecoveryState::identifying: {
+      if (r.sub < 2 || r.sub % 2 == 0) {
+        ++r.sub;
+        break;
+      }
+      const std::uint16_t control = load_le16(data);
+      if ((control & reg::kSiiBusy) != 0) break;  // poll again
+      if ((control & reg::kSiiCommandError) != 0) {
+        r.sub = 2;  // command refused: issue it again
+        break;
+      }
+      const std::size_t got = (control & reg::kSiiRead8Bytes) != 0 ? 4 : 2;
+      for (std::size_t k = 0; k < got && r.words < kIdentityWords; ++k) {
+        r.sii[r.words++] = load_le16(data + 6 + 2 * k);
+      }
+      if (r.words >= kIdentityWords) {
+        check_identity(p);
+      } else {
+        r.sub = 2;
+      }
+      break;
+    }
+    case RecoveryState::process_data:
+      if (r.sub == 0) {
+        r.sub = 1;
+      } else {
+        recovery_input(p, RecoveryInput::step_done);
+      }
+      break;
+    case RecoveryState::clock:
+      if (r.sub == 0) {
+        if (frame_reference_time_ == 0) break;  // the reference did not answer: read again
+        // Its system time should equal the reference's at the instant the frame passed it: the
+        // reference's time (read by the same frame) plus the propagation delay between them.
+        const std::uint64_t system_time = load_le64(data);
+        const std::uint64_t old_offset = load_le64(data + 16);
+        r.offset = old_offset + (frame_reference_time_ + report_.delays[p]) - system_time;
+        r.sub = 1;
+      } else if (r.sub == 1) {
+        r.sub = 2;
+      } else {
+        recovery_input(p, RecoveryInput::step_done);
+      }
+      break;
+    case RecoveryState::sync0:
+      if (r.sub < 3) {
+        ++r.sub;
+      } else {
+        recovery_input(p, RecoveryInput::step_done);
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+void Master::step_recovery() noexcept {
+  if (!options_.online_recovery) return;
+  const hal::Nanoseconds now = link_.clock().now();
+  // Completions of the recovery's start-up SDOs.
+  SdoCompletion done;
+  while (mailbox_.pop_master_completion(done)) {
+    const std::size_t p = done.request.position;
+    if (p >= kMaxSlaves || recovery_[p].state != RecoveryState::startup_sdos) continue;
+    Recovery& r = recovery_[p];
+    if (r.sdos_pending > 0) --r.sdos_pending;
+    if (done.outcome != SdoOutcome::ok) r.sdo_refused = true;
+  }
+  const SlaveMask out = monitor_.out_of_exchange() & operated() & ~reintegrating_;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    const Recovery& r = recovery_[p];
+    const SlaveMask bit = slave_bit(p);
+    if (r.state == RecoveryState::idle) {
+      if ((out & bit) != 0) recovery_input(p, RecoveryInput::lost);
+      continue;
+    }
+    // States with nothing to write for this slave are done at once.
+    const bool skip = (r.state == RecoveryState::mailbox && !plan_[p].mailbox) ||
+                      (r.state == RecoveryState::process_data && plan_[p].output_bytes + plan_[p].input_bytes == 0) ||
+                      (r.state == RecoveryState::clock && (dc_slaves_ & bit) == 0) ||
+                      (r.state == RecoveryState::sync0 && (!plan_[p].dc_sync0 || (dc_slaves_ & bit) == 0)) ||
+                      (r.state == RecoveryState::startup_sdos && r.sdos_pending == 0 && !r.sdo_refused);
+    if (skip) {
+      recovery_input(p, RecoveryInput::step_done);
+      continue;
+    }
+    if (r.state == RecoveryState::failed) {
+      if (now >= r.deadline) recovery_input(p, RecoveryInput::retry);
+      continue;
+    }
+    if (r.state != RecoveryState::searching && r.state != RecoveryState::refused && now > r.deadline) {
+      recovery_input(p, RecoveryInput::timeout);
+    }
+  }
+  monitor_.set_recovering(recovering());
+}
+
+}  // namespace rescue::ecat

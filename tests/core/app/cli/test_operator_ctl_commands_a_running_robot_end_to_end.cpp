@@ -1,0 +1,106 @@
+// Issue 12, the operator's path end to end (docs/operator.md): a real `rescue-motion run --listen
+// 127.0.0.1 --key FILE` on the in-process simulator, and from separate processes `ctl keygen`, `init`,
+// `status` (table and --json), `disable`, `enable`, `hold`: each exits 0 and its output shows the
+// documented effect. A ctl holding another key gets no answer (the robot stays silent to
+// unauthenticated peers) and exits 1 saying so; a key file readable by others is refused before
+// anything is sent.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <string>
+
+#include "tests/support/operator_run.hpp"
+
+namespace rescue::app {
+namespace {
+
+using testing::CommandResult;
+using testing::OperatorRun;
+
+bool has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+// Lines of `ctl status` for joints in `state` (column STATE).
+int joints_in(const std::string& status, const std::string& state) {
+  int n = 0;
+  for (std::size_t at = status.find('\n'); at != std::string::npos; at = status.find('\n', at + 1)) {
+    const std::string line = status.substr(at + 1, status.find('\n', at + 1) - at - 1);
+    if (line.size() > 20 && line.compare(20, state.size() + 1, state + " ") == 0) ++n;
+  }
+  return n;
+}
+
+TEST(OperatorCtlEndToEnd, InitStatusDisableEnableHoldAsDocumented) {
+  OperatorRun run;
+  EXPECT_EQ(run.keygen.status, 0) << run.keygen.out;
+  EXPECT_TRUE(has(run.keygen.out, "keygen: wrote a new 32-byte key to " + run.key + " (mode 0600)")) << run.keygen.out;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+
+  const CommandResult init = run.ctl({"init"});
+  EXPECT_EQ(init.status, 0) << init.out;
+  EXPECT_TRUE(has(init.out, "init: accepted")) << init.out;
+
+  const CommandResult status = run.ctl({"status"});
+  EXPECT_EQ(status.status, 0) << status.out;
+  EXPECT_TRUE(has(status.out, "POS(rad)")) << status.out;
+  EXPECT_EQ(joints_in(status.out, "Enabled"), 21) << status.out;
+  EXPECT_TRUE(has(status.out, "0  waist_yaw        Enabled    CSP        0.0000")) << status.out;
+
+  const CommandResult json = run.ctl({"--json", "status"});
+  EXPECT_EQ(json.status, 0) << json.out;
+  EXPECT_EQ(json.out.rfind("{\"cycle\":", 0), 0U) << json.out;
+  EXPECT_TRUE(has(json.out, R"({"name":"waist_yaw","state":"Enabled","mode":"CSP","reachable":true,"lost":false,"position_rad":0.000000)"))
+      << json.out;
+
+  const CommandResult disable = run.ctl({"disable", "l_hand"});
+  EXPECT_EQ(disable.status, 0) << disable.out;
+  EXPECT_TRUE(has(disable.out, "disable: accepted")) << disable.out;
+  const CommandResult after_disable = run.ctl({"status"});
+  EXPECT_EQ(joints_in(after_disable.out, "Enabled"), 20) << after_disable.out;
+  EXPECT_EQ(joints_in(after_disable.out, "Ready"), 1) << after_disable.out;
+  EXPECT_TRUE(has(after_disable.out, " l_hand           Ready ")) << after_disable.out;
+
+  const CommandResult enable = run.ctl({"enable", "l_hand"});
+  EXPECT_EQ(enable.status, 0) << enable.out;
+  EXPECT_TRUE(has(enable.out, "enable: accepted")) << enable.out;
+  EXPECT_EQ(joints_in(run.ctl({"status"}).out, "Enabled"), 21);
+
+  const CommandResult hold = run.ctl({"hold"});
+  EXPECT_EQ(hold.status, 0) << hold.out;
+  EXPECT_TRUE(has(hold.out, "hold: accepted")) << hold.out;
+  EXPECT_EQ(joints_in(run.ctl({"status"}).out, "Enabled"), 21);
+
+  // A command the state machine refuses: exit 1 and the reason.
+  const CommandResult again = run.ctl({"enable", "l_elbow"});
+  EXPECT_EQ(again.status, 1) << again.out;
+  EXPECT_TRUE(has(again.out, "enable: refused: state machine refusal: l_elbow: enable in Enabled")) << again.out;
+
+  EXPECT_EQ(run.stop(), 0) << run.output();
+  EXPECT_TRUE(has(run.output(), "rescue-motion run: datagrams ")) << run.output();
+}
+
+TEST(OperatorCtlEndToEnd, AnotherKeyGetsNoAnswerAndAnOpenKeyFileIsRefused) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  const std::string other = run.dir.path + "/other.key";
+  ASSERT_EQ(testing::run_program({"ctl", "keygen", "--key", other}).status, 0);
+
+  const CommandResult wrong = testing::run_program(
+      {"ctl", "--key", other, "--port", std::to_string(run.control_port), "--timeout", "0.5", "enable"});
+  EXPECT_EQ(wrong.status, 1) << wrong.out;
+  EXPECT_TRUE(has(wrong.out, "rescue-motion ctl: enable: refused: no authentic answer from the robot "
+                             "(not running, wrong port, or another key)"))
+      << wrong.out;
+
+  ASSERT_EQ(::chmod(other.c_str(), 0644), 0);
+  const CommandResult open = testing::run_program({"ctl", "--key", other, "--port", std::to_string(run.control_port), "status"});
+  EXPECT_EQ(open.status, 1) << open.out;
+  EXPECT_TRUE(has(open.out, "key file is readable by group or others (chmod 600 it)")) << open.out;
+
+  // The robot counted the wrong key's request and nothing else reached it.
+  EXPECT_EQ(run.stop(), 0) << run.output();
+  EXPECT_TRUE(has(run.output(), "rescue-motion run: datagrams 1, accepted 0, malformed 0, oversized 0, unauthenticated 1"))
+      << run.output();
+}
+
+}  // namespace
+}  // namespace rescue::app

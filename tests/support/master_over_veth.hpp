@@ -1,0 +1,76 @@
+// Test support: our master over the raw-socket NIC (wall clock) against `rescue-motion sim --iface`
+// at the other end of a fresh veth pair in network namespaces. The simulator gets a real-time
+// priority when the machine allows (root), standing for slave hardware that a busy test machine does
+// not delay by milliseconds. cycle() sleeps to the master's wake-up, runs one cycle and collects the
+// joint link reports in reports_. Tests only.
+#pragma once
+
+#include <unistd.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "drivers/joint/joint_bus.hpp"
+#include "hal/net/raw_socket_nic.hpp"
+#include "tests/support/child_process.hpp"
+#include "tests/support/netns_veth.hpp"
+
+namespace rescue::testing {
+
+class MasterOverVethTest : public NetnsTest {
+ protected:
+  static constexpr int kStartTimeoutMs = 10000;
+
+  // Extra arguments of `sim` (e.g. "--through-qdisc"); override before SetUp runs.
+  virtual std::vector<std::string> sim_arguments() const { return {}; }
+
+  void SetUp() override {
+    NetnsTest::SetUp();
+    if (IsSkipped() || HasFatalFailure()) return;
+    std::vector<std::string> argv{std::string(RESCUE_BINARY_DIR) + "/rescue-motion", "sim", "--iface",
+                                  VethPair::kSlaveInterface};
+    for (const std::string& a : sim_arguments()) argv.push_back(a);
+    if (::geteuid() == 0 && ::access("/usr/bin/chrt", X_OK) == 0) argv.insert(argv.begin(), {"/usr/bin/chrt", "-f", "70"});
+    ASSERT_TRUE(sim_.start(argv, veth_->slave_ns()));
+    ASSERT_TRUE(sim_.wait_for_output("serving 23 slaves on", kStartTimeoutMs)) << sim_.output();
+    InNamespace inside(veth_->master_ns());
+    ASSERT_TRUE(inside.entered());
+    ASSERT_TRUE(nic_.open(VethPair::kMasterInterface).ok());
+    bus_ = std::make_unique<drivers::JointBus>(nic_);
+  }
+
+  drivers::JointCycleResult cycle() {
+    nic_.clock().sleep_until(bus_->next_wakeup());
+    const drivers::JointCycleResult r = bus_->cycle(refs_, feedback_);
+    drivers::JointLinkReport report;
+    while (bus_->pop_report(report)) reports_.push_back(report);
+    return r;
+  }
+
+  // Brings the bus up with `options` and cycles until OP (at most `max_cycles`).
+  void bring_up_to_op(const ecat::MasterOptions& options, int max_cycles) {
+    const Status up = bus_->bring_up(options);
+    ASSERT_TRUE(up.ok()) << bus_->master().report().failed_step << ": " << up.error().what;
+    for (int i = 0; i < max_cycles && bus_->master().state() != ecat::MasterState::op; ++i) (void)cycle();
+    ASSERT_EQ(bus_->master().state(), ecat::MasterState::op);
+  }
+
+  // The joints of every report of `kind` so far.
+  JointMask reported(ecat::LinkEventKind kind) const {
+    JointMask joints = 0;
+    for (const drivers::JointLinkReport& r : reports_) joints |= r.link.kind == kind ? r.joints : 0;
+    return joints;
+  }
+
+  ChildProcess sim_;
+  hal::RawSocketNic nic_;
+  std::unique_ptr<drivers::JointBus> bus_;
+  drivers::JointReferences refs_{};
+  drivers::JointFeedback feedback_{};
+  std::vector<drivers::JointLinkReport> reports_;
+};
+
+}  // namespace rescue::testing
