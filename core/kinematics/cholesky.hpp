@@ -1,7 +1,8 @@
 // Cholesky factorisation and solves of a small fixed-size symmetric positive definite matrix,
-// unblocked and in place: what the damped least-squares kernels need (N = 6), without Eigen's
-// size-generic LLT (whose blocked path, never taken for these sizes, drags a heap fallback into
-// the static analyser's view).
+// unblocked and in place: what the damped least-squares kernels (N = 6) and the task-priority IK
+// (N = 12 and 4) need, without Eigen's size-generic LLT, whose blocked triangular solve (GEMM
+// kernels with a heap fallback and a function-local static guarded by a lock) would otherwise be
+// reachable from the RC task's period (toolchain/rt_verify.py finds it).
 #pragma once
 
 #include <Eigen/Core>
@@ -31,6 +32,14 @@ class SmallCholesky {
       }
     }
     return true;
+  }
+
+  // X = A^-1 B, column by column (no blocked triangular solve).
+  template <int Cols>
+  Eigen::Matrix<double, N, Cols> solve_columns(const Eigen::Matrix<double, N, Cols>& b) const noexcept {
+    Eigen::Matrix<double, N, Cols> x;
+    for (int c = 0; c < Cols; ++c) x.col(c) = solve(b.col(c));
+    return x;
   }
 
   // x = A^-1 b.

@@ -1,10 +1,10 @@
 #include "core/kinematics/task_priority_ik.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
 #include "core/kinematics/centre_of_mass.hpp"
+#include "core/kinematics/cholesky.hpp"
 #include "core/kinematics/jacobian.hpp"
 
 namespace rescue::kin {
@@ -112,10 +112,15 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
       j2m.col(static_cast<Eigen::Index>(c)).setZero();
     }
     const Vector12 e1r = e1 - j1 * dq_fixed;
-    const Matrix12 jjt = j1m * j1m.transpose();
+    // Products of these sizes would go to Eigen's blocked GEMM (a heap fallback and a lock in
+    // its reach); lazyProduct keeps them coefficient-based, as a real-time period needs.
+    const Matrix12 jjt = j1m.lazyProduct(j1m.transpose());
 
     // Smallest singular value of J1 by two steps of inverse iteration on J J^T + floor^2 I.
-    Eigen::LLT<Matrix12> llt(jjt + floor2 * Matrix12::Identity());
+    SmallCholesky<12> llt;
+    if (!llt.compute(jjt + floor2 * Matrix12::Identity())) {
+      return make_error(Errc::invalid_argument, "main task matrix is not positive definite");
+    }
     Vector12 v = singular_vector_;
     double inverse_eigen = 0.0;
     for (int i = 0; i < 2; ++i) {
@@ -130,19 +135,24 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     if (report.sigma_min < s.singular_threshold) {
       const double ratio = report.sigma_min / s.singular_threshold;
       lambda2 += (1.0 - ratio * ratio) * s.max_damping * s.max_damping;
-      llt.compute(jjt + lambda2 * Matrix12::Identity());
+      if (!llt.compute(jjt + lambda2 * Matrix12::Identity())) {
+        return make_error(Errc::invalid_argument, "damped main task matrix is not positive definite");
+      }
     }
     report.damping = std::sqrt(lambda2);
 
     // X = (J J^T + lambda^2 I)^-1 J, so J# = X^T and N1 = I - X^T J.
-    const Jacobian12 x = llt.solve(j1m);
+    const Jacobian12 x = llt.solve_columns(j1m);
     const IkVector dq1 = x.transpose() * e1r;
-    const Matrix13 n1 = Matrix13::Identity() - x.transpose() * j1m;
-    const Jacobian4 j2n = j2m * n1;
+    const Matrix13 n1 = Matrix13::Identity() - x.transpose().lazyProduct(j1m);
+    const Jacobian4 j2n = j2m.lazyProduct(n1);
     const Eigen::Vector4d e2r = e2 - j2 * (dq_fixed + dq1);
-    const Eigen::Matrix4d b =
-        j2n * j2n.transpose() + s.subtask_damping * s.subtask_damping * Eigen::Matrix4d::Identity();
-    const IkVector dq2 = j2n.transpose() * b.llt().solve(e2r);
+    SmallCholesky<4> sub;
+    if (!sub.compute(j2n.lazyProduct(j2n.transpose()) +
+                     s.subtask_damping * s.subtask_damping * Eigen::Matrix4d::Identity())) {
+      return make_error(Errc::invalid_argument, "sub-task matrix is not positive definite");
+    }
+    const IkVector dq2 = j2n.transpose() * sub.solve(e2r);
     // The sub-tasks may only use what the velocity limits leave over from the main task.
     const IkVector main = dq_fixed + dq1;
     double sub_scale = 1.0;

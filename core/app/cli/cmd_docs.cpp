@@ -1,4 +1,4 @@
-// rescue-motion docs fsm|tasks: documentation printed from the firmware's own tables, so docs/ cannot
+// rescue-motion docs fsm|tasks|shared-memory: documentation printed from the firmware's own tables, so docs/ cannot
 // drift from the code (a test compares docs/fsm.md with this command's output).
 #include <cstdio>
 #include <cstring>
@@ -6,6 +6,7 @@
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/recovery_machine_view.hpp"
 #include "core/app/runtime/task_table.hpp"
+#include "core/app/shm/segment_layout.hpp"
 #include "fsm/machines/documented_machines.hpp"
 #include "fsm/engine/table_docs.hpp"
 
@@ -23,7 +24,11 @@ int docs_main(const ParsedArgs& args) {
     write_task_table_markdown(stdout);
     return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
   }
-  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm, tasks)");
+  if (std::strcmp(topic, "shared-memory") == 0) {
+    shm::write_segment_map_markdown(stdout);
+    return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
+  }
+  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm, tasks, shared-memory)");
   const char* format = args.value("format") != nullptr ? args.value("format") : "markdown";
   const bool dot = std::strcmp(format, "dot") == 0;
   if (!dot && std::strcmp(format, "markdown") != 0) return fail("docs", "--format must be markdown or dot");
@@ -53,12 +58,13 @@ int docs_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kDocsCommand{
-    "docs", "docs fsm|tasks [--format markdown|dot] [--machine NAME]",
+    "docs", "docs fsm|tasks|shared-memory [--format markdown|dot] [--machine NAME]",
     "print documentation generated from the firmware's tables",
     "Topics:\n"
     "  fsm    every state machine: states, inputs, the (state, input) grid, guards and actions.\n"
     "  tasks  the firmware's tasks (paper Table I): scheduling, CPU, period, shared memory, role.\n"
-    "docs/fsm.md and docs/tasks.md hold this output; render a state-machine diagram with\n"
+    "  shared-memory  the tasks' shared-memory segment byte by byte: header, then every member.\n"
+    "docs/fsm.md, docs/tasks.md and docs/shared-memory.md hold this output; render a state-machine diagram with\n"
     "  rescue-motion docs fsm --format dot | dot -Tsvg > fsm.svg",
     Span<const OptionSpec>(kOptions), 1, 1, docs_main};
 

@@ -23,6 +23,8 @@ const OptionSpec kOptions[] = {
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
+    {"segment", "NAME", "shared-memory segment of the tasks, \"/NAME\" (default: /rescue-motion-<hash of the state directory>; docs/shared-memory.md)"},
+    {"threads", nullptr, "run the tasks as threads of one process (tests, debugging, valgrind) instead of one process each"},
     {"initialize", nullptr, "send the operator's 'initialize robot' once the network is in OP (scenarios do)"},
     {"auto-clear-power-cycled", nullptr, "a joint whose drive was power-cycled and brought back online returns to Idle without the operator's clear (unless it moved)"},
     {"clear-joint", "NAMES", "operator, after a repair: clear these joints (comma-separated) from the error-joints file"},
@@ -99,7 +101,9 @@ int run_main(const ParsedArgs& args) {
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
   options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);
+  options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");
+  options.threads = args.has("threads");
   options.auto_clear_power_cycled = args.has("auto-clear-power-cycled") || g_config.auto_clear_power_cycled;
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));

@@ -72,6 +72,9 @@ class SocketHandler {
   void step(hal::Nanoseconds now) noexcept;
 
   const SocketCounters& counters() const noexcept { return counters_; }
+  // A restarted socket handler (a new process, docs/tasks.md) counts on from its predecessor's
+  // published counters instead of from zero.
+  void resume_counters(const SocketCounters& published) noexcept { counters_ = published; }
   // The most datagrams handled in one wake-up so far (never above kBudget).
   std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
 

@@ -13,6 +13,7 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/app/motion/motion_links.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
@@ -27,9 +28,38 @@ enum class StatTask : std::uint8_t {
   ethercat_handler = 0, joint_manager = 1, socket_handler = 2, message_parser = 3, rc_rescue = 4, rc_teleop = 5
 };
 constexpr std::size_t kTaskStatSlots = 6;
+static_assert(kTaskStatSlots == kRunHealthSlots, "one health slot per StatTask (run_control.hpp)");
+
+// THE member list of TaskLinks, in layout order: X(name, "who writes -> who reads", type). The
+// record's members, the segment's layout table and hash (core/app/shm/segment_layout.hpp) and the
+// byte map of docs/shared-memory.md all come from this one list: adding a member is one line here.
+// Every type must be lock-free, pointer-free and standard-layout (it lives in shared memory). The
+// order keeps padding low (the static analysis checks it): rc_heartbeat_ns fills the gap before the
+// first cache-line-aligned queue.
+#define RESCUE_TASK_LINKS_MEMBERS(X)                                                                                   \
+  X(samples, "EtherCAT handler -> joint manager, RC tasks, parser, socket handler", Seqlock<RobotSample>)              \
+  X(demand, "joint manager -> EtherCAT handler", Seqlock<RobotDemand>)                                                \
+  X(rc_heartbeat_ns, "RC task k -> message parser (monotonic ns of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>) \
+  X(lost_reports, "EtherCAT handler -> joint manager (step 1)", SpscQueue<LostJointsReport, kReportQueueDepth>)        \
+  X(notices, "joint manager -> EtherCAT handler (step 4)", SpscQueue<JointManagerNotice, kNoticeQueueDepth>)            \
+  X(joint_commands, "message parser (only producer) -> joint manager", SpscQueue<JointCommand, kCommandQueueDepth>)    \
+  X(joint_status, "joint manager -> socket handler (status), message parser", Seqlock<RobotJointStatus>)               \
+  X(master_status, "EtherCAT handler -> socket handler", Seqlock<MasterStatus>)                                       \
+  X(link_diag, "EtherCAT handler (once per diagnostics sweep) -> socket handler (ctl diag)", Seqlock<protocol::DiagPayload>) \
+  X(sensors, "socket handler -> RC tasks (IMU, GPS)", Seqlock<SensorData>)                                            \
+  X(socket_counters, "socket handler -> status, run summary", Seqlock<SocketCounters>)                                \
+  X(task_stats, "each task its own slot (StatTask) -> socket handler (ctl tasks)", std::array<Seqlock<TaskStat>, kTaskStatSlots>) \
+  X(control_requests, "socket handler -> message parser", SpscQueue<ControlRequest, kRequestQueueDepth>)              \
+  X(control_replies, "message parser -> socket handler", SpscQueue<ControlReply, kReplyQueueDepth>)                   \
+  X(local_requests, "runtime (start-up, exit) -> message parser", SpscQueue<ControlRequest, kRequestQueueDepth>)      \
+  X(local_replies, "message parser -> runtime", SpscQueue<ControlReply, kReplyQueueDepth>)                            \
+  X(command_outcomes, "joint manager -> message parser", SpscQueue<JointCommandOutcome, kOutcomeQueueDepth>)          \
+  X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
+  X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
+  X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 4;
+  static constexpr std::uint32_t kLayoutVersion = 6;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
@@ -38,31 +68,9 @@ struct TaskLinks {
   static constexpr std::size_t kOutcomeQueueDepth = 64;
   static constexpr std::size_t kRcInputQueueDepth = 8;
 
-  std::uint32_t layout_version{kLayoutVersion};
-  Seqlock<RobotSample> samples;                                   // handler -> joint manager, RC tasks
-  Seqlock<RobotDemand> demand;                                    // joint manager -> handler
-  SpscQueue<LostJointsReport, kReportQueueDepth> lost_reports;    // handler -> joint manager (step 1)
-  SpscQueue<JointManagerNotice, kNoticeQueueDepth> notices;       // joint manager -> handler (step 4)
-  SpscQueue<JointCommand, kCommandQueueDepth> joint_commands;     // message parser -> joint manager (its only producer)
-  // The operator's path in (docs/protocol.md, docs/operator.md).
-  Seqlock<RobotJointStatus> joint_status;                         // joint manager -> socket handler (status), parser
-  Seqlock<MasterStatus> master_status;                            // EtherCAT handler's loop -> socket handler
-  Seqlock<protocol::DiagPayload> link_diag;                       // EtherCAT handler's loop -> socket handler (per sweep)
-  Seqlock<SensorData> sensors;                                    // socket handler -> RC tasks (IMU, GPS)
-  Seqlock<SocketCounters> socket_counters;                        // socket handler -> status, run summary
-  std::array<Seqlock<TaskStat>, kTaskStatSlots> task_stats;       // each task its own slot (StatTask)
-  SpscQueue<ControlRequest, kRequestQueueDepth> control_requests; // socket handler -> message parser
-  SpscQueue<ControlReply, kReplyQueueDepth> control_replies;      // message parser -> socket handler
-  SpscQueue<ControlRequest, kRequestQueueDepth> local_requests;   // runtime (start-up, exit) -> message parser
-  SpscQueue<ControlReply, kReplyQueueDepth> local_replies;        // message parser -> runtime
-  SpscQueue<JointCommandOutcome, kOutcomeQueueDepth> command_outcomes;  // joint manager -> message parser
-  // Per RC task: its input queue (parser -> task k) and its heartbeat, the monotonic time (ns) of
-  // its latest period, 0 before its first (tasks/rc_task.hpp writes it; the parser and the
-  // handler's motion intake read it).
-  std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs;
-  std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks> rc_heartbeat_ns{};
-  // The RC tasks' reference spaces and the Motion owner (core/app/motion/, docs/motion-owner.md).
-  MotionLinks motion;
+#define RESCUE_TASK_LINKS_X(name, who, ...) __VA_ARGS__ name{};
+  RESCUE_TASK_LINKS_MEMBERS(RESCUE_TASK_LINKS_X)
+#undef RESCUE_TASK_LINKS_X
 };
 static_assert(std::is_standard_layout_v<TaskLinks>, "shared between processes: standard layout only");
 

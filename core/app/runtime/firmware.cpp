@@ -3,11 +3,16 @@
 #include <unistd.h>
 
 #include <array>
+#include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
+#include <new>
 #include <thread>
+#include <utility>
 
 #include "core/app/cli/cli.hpp"
 #include "core/app/config/firmware_config.hpp"
@@ -27,9 +32,11 @@
 #include "core/app/control/repaired_joints.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/supervisor.hpp"
 #include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/shm/shared_segment.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "drivers/joint/joint_bus.hpp"
@@ -44,14 +51,9 @@
 namespace rescue::app {
 namespace {
 
-// Priorities, CPUs and periods: the task table (runtime/task_table.hpp, config/firmware_config.hpp).
-// A configuration file (config/config_file.hpp) may have moved them before the run started.
-int handler_priority() noexcept { return runner_priority(TaskId::ethercat_handler); }
-int manager_priority() noexcept { return runner_priority(TaskId::joint_manager); }
-int handler_cpu() noexcept { return task_spec(TaskId::ethercat_handler).cpu; }
-int manager_cpu() noexcept { return task_spec(TaskId::joint_manager).cpu; }
-int rc_task_priority() noexcept { return runner_priority(TaskId::rc_tasks); }
-int rc_task_cpu() noexcept { return task_spec(TaskId::rc_tasks).cpu; }
+// Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
+// config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
+// before the run started), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
@@ -59,8 +61,13 @@ constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
 
-// Everything the tasks use, in static storage: taken once at start-up, never from the heap.
-TaskLinks g_links;
+// What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
+// process at start-up (a second run_firmware in the same process, as tests do, reuses it).
+shm::SegmentOwner g_segment;
+TaskLinks& links() noexcept { return g_segment.links(); }
+
+// Whether the tasks run as processes (the default) or threads of one process (--threads).
+bool g_task_processes = false;
 
 ecat::CaptureWriter g_capture;
 // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
@@ -73,7 +80,7 @@ int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   hal::RtConfig rt;
-  rt.lock_memory = false;  // done once for the process
+  rt.lock_memory = g_task_processes;  // a forked child does not inherit mlockall; threads: done once
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
   rt.fifo_priority = priority;
   rt.cpu = cpu_for(cpu);
@@ -89,54 +96,63 @@ void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   }
 }
 
+// The task's real-time set-up from its row of the task table; its timing slot says what it asked for.
+void apply_task_rt(const char* name, TaskId id) noexcept { apply_thread_rt(name, runner_priority(id), task_spec(id).cpu); }
+int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
+int task_priority(TaskId id) noexcept { return runner_priority(id); }
+
 double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
 
-// Shared between the threads of the run.
-struct RunState {
-  std::atomic<bool> op{false};
-  std::atomic<bool> handler_done{false};
-  std::atomic<bool> manager_stop{false};
-  std::atomic<bool> scenario_acted{false};
-  std::atomic<std::int64_t> op_at{0};
-  std::atomic<std::uint64_t> cycles{0};
-  std::atomic<std::uint64_t> late_periods{0};  // as `ctl master` shows them
-  std::atomic<int> tasks_started{0};  // tasks past their real-time set-up
-  std::atomic<bool> operator_stop{false};  // socket handler and message parser
-  std::atomic<bool> rc_stop{false};        // RC tasks
-};
+// The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
+// stops and reports the tasks whether they are threads or processes.
+RunControl& run() noexcept { return links().run; }
 
-// Each task's page faults during its periods (hal::page_faults_of_thread), written by its thread
-// when it ends, read by the main thread after joining it.
-std::array<hal::PageFaults, kTaskStatSlots> g_task_page_faults{};
+// The EtherCAT handler stops on a signal to its own process or on the supervisor's word.
+bool stop_requested() noexcept { return stop_signal() != 0 || run().stop.load(std::memory_order_acquire); }
+
+// Heap allocations and page faults of a task after its init (run_control.hpp, TaskHealth): taken
+// when the task is past its set-up, reported in its slot at its end.
+class TaskHealthProbe {
+ public:
+  explicit TaskHealthProbe(StatTask id) noexcept
+      : slot_(&run().health[static_cast<std::size_t>(id)]),
+        heap_at_init_(heap_guard_counters().allocations),
+        faults_at_init_(hal::page_faults_of_thread()) {
+    slot_->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
+    slot_->reported.store(false, std::memory_order_release);
+  }
+  void report() noexcept {
+    const hal::PageFaults faults = hal::page_faults_of_thread();
+    slot_->heap_allocations.store(heap_guard_counters().allocations - heap_at_init_, std::memory_order_relaxed);
+    slot_->page_faults.store(faults.minor + faults.major - faults_at_init_.minor - faults_at_init_.major,
+                             std::memory_order_relaxed);
+    slot_->reported.store(true, std::memory_order_release);
+  }
+
+ private:
+  TaskHealth* slot_;
+  std::uint64_t heap_at_init_;
+  hal::PageFaults faults_at_init_;
+};
 
 // A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
 // for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
 class TaskStats {
  public:
-  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept
-      : recorder_(&task_timing()[id]),
-        faults_(&g_task_page_faults[static_cast<std::size_t>(id)]),
-        faults_at_start_(hal::page_faults_of_thread()) {
-    recorder_->start(g_links.task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
+  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept : recorder_(&task_timing()[id]) {
+    recorder_->start(links().task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
   }
   // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
   void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
               hal::Nanoseconds late_after) noexcept {
     recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
   }
-  // The last publication, when the task ends (its page faults since its set-up recorded too).
-  void publish() noexcept {
-    recorder_->publish();
-    const hal::PageFaults now = hal::page_faults_of_thread();
-    faults_->minor = now.minor - faults_at_start_.minor;
-    faults_->major = now.major - faults_at_start_.major;
-  }
+  // The last publication, when the task ends (its page faults: TaskHealthProbe).
+  void publish() noexcept { recorder_->publish(); }
   std::uint64_t missed() const noexcept { return recorder_->missed(); }
 
  private:
   TaskRecorder* recorder_;
-  hal::PageFaults* faults_;
-  hal::PageFaults faults_at_start_;
 };
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
@@ -206,14 +222,16 @@ void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std:
     s.pdi_errors = saturate16(c.pdi_errors);
     s.reads = saturate16(c.reads);
   }
-  g_links.link_diag.write(out);
+  links().link_diag.write(out);
 }
 
-void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
-                  RunState& state) noexcept {
-  apply_thread_rt("ethercat", handler_priority(), handler_cpu());
-  TaskStats stats(StatTask::ethercat_handler, "ethercat", cpu_for(handler_cpu()), handler_priority());
+void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  apply_task_rt("ethercat", TaskId::ethercat_handler);
+  TaskStats stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
+                  task_priority(TaskId::ethercat_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::ethercat_handler);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
@@ -244,7 +262,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
     master.in_exchange = bus.master().monitor().in_exchange();
     master.lost = bus.master().monitor().lost();
-    g_links.master_status.write(master);
+    links().master_status.write(master);
     publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     state.late_periods.store(master.late_periods, std::memory_order_relaxed);
@@ -254,47 +272,72 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       state.op.store(true, std::memory_order_release);
     }
     if (scenario.on_cycle(now, op)) {
+      state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
+      state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
       state.scenario_acted.store(true, std::memory_order_release);
       if (options.duration == 0) stop_at = now + options.scenario.run_on;
     }
-    if (stopping_since < 0 && (stop_signal() != 0 || (stop_at >= 0 && now >= stop_at))) {
+    if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
       stopping_since = now;
     }
     if (stopping_since >= 0 && (handler.drives_disabled() || now - stopping_since >= kDisableTimeout)) break;
   }
   stats.publish();
+  health.report();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
+  }
+  state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
+  state.skipped_periods.store(bus.master().skipped_periods(), std::memory_order_relaxed);
+  state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
+  const MotionIntakeCounters intake = handler.motion_intake().counters();
+  state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
+  state.intake_used_periods.store(intake.used_periods, std::memory_order_relaxed);
+  state.intake_misses.store(intake.misses, std::memory_order_relaxed);
+  state.intake_releases.store(intake.releases, std::memory_order_relaxed);
   state.handler_done.store(true, std::memory_order_release);
 }
 
-void joint_manager_task(JointManager& manager, hal::Clock& clock, RunState& state) noexcept {
-  apply_thread_rt("joint-manager", manager_priority(), manager_cpu());
-  TaskStats stats(StatTask::joint_manager, "joint-manager", cpu_for(manager_cpu()), manager_priority());
+void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  apply_task_rt("joint-manager", TaskId::joint_manager);
+  TaskStats stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
+                  task_priority(TaskId::joint_manager));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::joint_manager);
   hal::Nanoseconds next = clock.now();
   TaskTiming& timing = task_timing();
   while (!state.manager_stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds start = clock.now();
     const std::uint64_t work_start = timing.timer.start();
     manager.step(start);
-    g_links.joint_status.write(published_status(manager.statuses()));
+    links().joint_status.write(published_status(manager.statuses()));
     stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
     next += kJointManagerPeriod;
     clock.sleep_until(next);
   }
   manager.step(clock.now());  // the last answers and marks
-  g_links.joint_status.write(published_status(manager.statuses()));
+  links().joint_status.write(published_status(manager.statuses()));
   stats.publish();
+  health.report();
+  state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
+  state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
+  state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
+  state.manager_done.store(true, std::memory_order_release);
 }
 
 // An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
 // heartbeats and reference times the handler's motion intake compares with its own).
-void rc_task_thread(RcTask& task, hal::Clock& clock, RunState& state) noexcept {
+void rc_task(RcTask& task, hal::Clock& clock) noexcept {
+  RunControl& state = run();
   const bool rescue = task.id() == RcTaskId::rescue;
   const char* name = rescue ? "rc-rescue" : "rc-teleop";
-  apply_thread_rt(name, rc_task_priority(), rc_task_cpu());
-  TaskStats stats(rescue ? StatTask::rc_rescue : StatTask::rc_teleop, name, cpu_for(rc_task_cpu()), rc_task_priority());
+  const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
+  apply_task_rt(name, TaskId::rc_tasks);
+  TaskStats stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(slot);
   const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.rc_stop.load(std::memory_order_acquire)) {
@@ -306,14 +349,16 @@ void rc_task_thread(RcTask& task, hal::Clock& clock, RunState& state) noexcept {
     clock.sleep_until(next);
   }
   stats.publish();
+  health.report();
 }
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
-void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noexcept {
-  const TaskSpec& task = task_spec(TaskId::message_parser);
-  apply_thread_rt("message-parser", runner_priority(task.id), task.cpu);
-  TaskStats stats(StatTask::message_parser, "message-parser", cpu_for(task.cpu), runner_priority(task.id));
+void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  apply_task_rt("message-parser", TaskId::message_parser);
+  TaskStats stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser), task_priority(TaskId::message_parser));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::message_parser);
   const hal::TscTimer& timer = task_timing().timer;
   hal::Nanoseconds next = clock.now();
   while (!state.operator_stop.load(std::memory_order_acquire)) {
@@ -325,14 +370,16 @@ void parser_task(MessageParser& parser, hal::Clock& clock, RunState& state) noex
     clock.sleep_until(next);
   }
   stats.publish();
+  health.report();
 }
 
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
-void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noexcept {
-  const TaskSpec& task = task_spec(TaskId::socket_handler);
-  apply_thread_rt("socket-handler", runner_priority(task.id), task.cpu);
-  TaskStats stats(StatTask::socket_handler, "socket-handler", cpu_for(task.cpu), runner_priority(task.id));
+void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  apply_task_rt("socket-handler", TaskId::socket_handler);
+  TaskStats stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler), task_priority(TaskId::socket_handler));
   state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskHealthProbe health(StatTask::socket_handler);
   const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
@@ -341,7 +388,13 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, RunState& state) noex
     socket.step(start);
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
   }
+  // A restarted socket handler keeps its predecessors' maximum.
+  std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
+  while (socket.max_per_wakeup() > seen &&
+         !state.socket_max_per_wakeup.compare_exchange_weak(seen, socket.max_per_wakeup(), std::memory_order_relaxed)) {
+  }
   stats.publish();
+  health.report();
 }
 
 // The logger's side of the joint manager's events: prints what is queued, and how many a full queue
@@ -368,8 +421,23 @@ struct MotionLog {
 
 const char* rc_task_name(std::size_t task) noexcept { return task == 0 ? "rc-rescue" : "rc-teleop"; }
 
-void print_motion_changes(MotionLog& log, hal::Nanoseconds at) noexcept {
-  const std::uint64_t word = g_links.motion.owner.word();
+// The motion as the segment shows it at one instant (read before anything else of the pass is
+// printed: a line caused by the motion never comes before the line of its cause).
+struct MotionSnapshot {
+  std::uint64_t owner_word{MotionOwner::kNobody};
+  std::array<RcTaskState, kRcTasksRun> state{};
+  std::array<bool, kRcTasksRun> read{};
+};
+
+MotionSnapshot read_motion() noexcept {
+  MotionSnapshot snap;
+  snap.owner_word = links().motion.owner.word();
+  for (std::size_t k = 0; k < kRcTasksRun; ++k) snap.read[k] = links().motion.task_state[k].try_read(snap.state[k]);
+  return snap;
+}
+
+void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanoseconds at) noexcept {
+  const std::uint64_t word = snap.owner_word;
   if (word != log.owner_word) {
     log.owner_word = word;
     const std::uint8_t task = MotionOwner::task_of(word);
@@ -383,8 +451,8 @@ void print_motion_changes(MotionLog& log, hal::Nanoseconds at) noexcept {
     }
   }
   for (std::size_t k = 0; k < kRcTasksRun; ++k) {
-    RcTaskState now{};
-    if (!g_links.motion.task_state[k].try_read(now) || now.periods == 0) continue;
+    const RcTaskState& now = snap.state[k];
+    if (!snap.read[k] || now.periods == 0) continue;
     const RcTaskState& before = log.last[k];
     const auto mode = static_cast<RcMode>(now.mode);
     if (!log.seen[k] || now.mode != before.mode || (mode == RcMode::rescue_motion && now.phase != before.phase)) {
@@ -409,7 +477,7 @@ void print_motion_changes(MotionLog& log, hal::Nanoseconds at) noexcept {
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
-  while (g_links.local_replies.try_pop(reply)) {
+  while (links().local_replies.try_pop(reply)) {
     (void)std::printf("[%8.3f s] operator: %s: %s%s%s\n", seconds(at), protocol::to_string(reply.request_type),
                       reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
                       reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "", reply.text.data());
@@ -420,7 +488,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
   ControlRequest request;
   request.type = type;
   request.joints = joints;
-  if (g_links.local_requests.try_push(request)) return true;
+  if (links().local_requests.try_push(request)) return true;
   (void)std::printf("operator: request queue full, %s dropped\n", protocol::to_string(type));
   return false;
 }
@@ -428,7 +496,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
 // Whether the handler's latest published values show every joint of `joints` reachable.
 bool all_reachable(JointMask joints) noexcept {
   RobotSample sample{};
-  if (!g_links.samples.try_read(sample)) return false;
+  if (!links().samples.try_read(sample)) return false;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) != 0 && !sample[j].reachable) return false;
   }
@@ -550,8 +618,42 @@ int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) 
   return 0;
 }
 
+// Step 1b: the shared-memory segment (docs/shared-memory.md): named by --segment or after the state
+// directory; a stale one from a crashed run is replaced with a log line. 0 when ready, else the exit
+// status.
+int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
+  if (g_segment.created()) {  // a second run in this process (tests): the run's words start afresh
+    new (&links().run) RunControl();
+    return 0;
+  }
+  shm::SegmentName name = shm::default_segment_name(state_dir);
+  if (options.segment_name != nullptr) {
+    const Result<shm::SegmentName> given = shm::segment_name(options.segment_name);
+    if (!given.ok()) return fail("run", given.error().what);
+    name = given.value();
+  }
+  shm::CreateReport report;
+  Result<shm::SegmentOwner> created = shm::SegmentOwner::create(name, &report);
+  if (!created.ok()) {
+    char line[256];
+    (void)shm::describe_segment_error(name, created.error(), line, sizeof line);
+    (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
+    return 1;
+  }
+  g_segment = std::move(created.value());
+  if (report.previous != shm::Previous::none) {
+    (void)std::printf("rescue-motion run: replaced stale shared-memory segment %s (%s, creator pid %d); its contents "
+                      "were not used\n",
+                      name.c_str(), shm::to_string(report.previous), static_cast<int>(report.previous_creator.pid));
+  }
+  (void)std::printf("rescue-motion run: shared-memory segment %s, %zu bytes, layout version %u hash 0x%08x%s\n",
+                    name.c_str(), shm::kSegmentSize, static_cast<unsigned>(TaskLinks::kLayoutVersion),
+                    static_cast<unsigned>(shm::kLayoutHash), report.memory_lock.ok() ? ", locked in RAM" : "");
+  return 0;
+}
+
 // The one line saying where a signal stopped the run.
-void print_stop_line(const RunState& state, bool drives_disabled, bool file_dirty) noexcept {
+void print_stop_line(const RunControl& state, bool drives_disabled, bool file_dirty) noexcept {
   (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
                     "file %s\n",
                     stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
@@ -603,20 +705,506 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 }
 }  // namespace
 
+
+namespace {
+
+// What the tasks run on: the static objects run_firmware wires once, before the tasks start (a
+// forked task process finds them at the same addresses).
+struct TaskSet {
+  EthercatHandler* handler;
+  ScenarioRunner* scenario;
+  JointManager* manager;
+  MessageParser* parser;
+  SocketHandler* socket;
+  RcTask* rc_rescue;
+  RcTask* rc_teleop;
+  protocol::ReplayWindow* replay;
+  hal::WallClock* wall_clock;
+  hal::Clock* clock;           // the NIC's: the handler's and the joint manager's
+  hal::Clock* operator_clock;  // the socket handler's and the message parser's
+  const FirmwareOptions* options;
+  bool operator_port;
+  hal::Nanoseconds start;
+  JointEventQueue* joint_events;          // the joint manager's events (its process's or thread's)
+  JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
+};
+TaskSet g_tasks{};
+
+constexpr int kExitTaskDied = 4;  // a critical task process died (docs/tasks.md)
+constexpr hal::Nanoseconds kTaskStartLimit = 10 * hal::kNsPerSec;
+constexpr hal::Nanoseconds kTaskStopLimit = 5 * hal::kNsPerSec;
+constexpr hal::Nanoseconds kAttachLimit = hal::kNsPerSec;
+
+void run_handler() noexcept {
+  handler_task(*g_tasks.handler, *g_tasks.scenario, *g_tasks.options, *g_tasks.clock);
+}
+void run_manager() noexcept { joint_manager_task(*g_tasks.manager, *g_tasks.clock); }
+void run_parser() noexcept { parser_task(*g_tasks.parser, *g_tasks.operator_clock); }
+void run_socket() noexcept { socket_task(*g_tasks.socket, *g_tasks.operator_clock); }
+// The RC tasks on the handler's clock (the heartbeats and reference times its intake compares).
+void run_rc_rescue() noexcept { rc_task(*g_tasks.rc_rescue, *g_tasks.clock); }
+void run_rc_teleop() noexcept { rc_task(*g_tasks.rc_teleop, *g_tasks.clock); }
+
+// The handler's side of the logger (in the handler's process: its events and capture queue are its
+// own): the scenario's action, OP reached, handler events, captured frames to the file.
+struct HandlerSideLog {
+  bool scenario_failure_announced{false};
+  bool op_announced{false};
+};
+HandlerSideLog g_handler_log;
+
+void handler_side_pass() noexcept {
+  RunControl& state = run();
+  const FirmwareOptions& options = *g_tasks.options;
+  const ScenarioRunner& scenario = *g_tasks.scenario;
+  // The scenario's cut is announced by the operator's side (with the motion it causes); a failed
+  // action's reason is the handler's own.
+  if (!g_handler_log.scenario_failure_announced && state.scenario_acted.load(std::memory_order_acquire) &&
+      !scenario.action_status().ok()) {
+    g_handler_log.scenario_failure_announced = true;
+    (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
+  }
+  HandlerEvent event{};
+  while (g_tasks.handler->pop_event(event)) print_handler_event(event, g_tasks.start);
+  if (!g_handler_log.op_announced && state.op.load(std::memory_order_acquire)) {
+    g_handler_log.op_announced = true;
+    (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
+                      seconds(state.op_at.load(std::memory_order_relaxed) - g_tasks.start));
+  }
+  if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
+}
+
+// The joint manager's side of the logger (in its process, or the main thread with --threads).
+void manager_side_pass() noexcept { print_joint_events(*g_tasks.joint_events, *g_tasks.joint_event_printer); }
+
+// The operator's side (the supervisor, or the main thread): the clear of repaired joints, then
+// "initialize robot", once the handler's values show the joints reachable; replies printed.
+struct OperatorSide {
+  JointMask to_clear;
+  JointMask out_of_service;
+  bool clear_sent;
+  bool initialized;
+  bool scenario_announced;
+  MotionLog motion;  // the motion's changes, read from the segment
+};
+
+// The scenario's cut, from the handler's words in the segment (its process or thread).
+void announce_scenario(OperatorSide& side) noexcept {
+  const RunControl& state = run();
+  if (side.scenario_announced || !state.scenario_acted.load(std::memory_order_acquire)) return;
+  side.scenario_announced = true;
+  if (!state.scenario_ok.load(std::memory_order_relaxed)) return;  // the handler's side says why
+  const Scenario& wanted = g_tasks.options->scenario;
+  char names[kJointNamesCapacity];
+  format_joint_names(wanted.expected_lost, names, sizeof names);
+  (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n",
+                    seconds(state.scenario_at.load(std::memory_order_relaxed) - g_tasks.start), wanted.name,
+                    wanted.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
+                    : wanted.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
+                                                                : "cut the link into",
+                    kJoints[wanted.cut_joint].name, names);
+}
+
+void operator_side_pass(OperatorSide& side) noexcept {
+  hal::Clock& clock = *g_tasks.clock;
+  const MotionSnapshot motion = read_motion();
+  announce_scenario(side);
+  const bool op = run().op.load(std::memory_order_acquire);
+  // The DFA takes its steps only for reachable joints: wait until the handler's published values
+  // show every joint that is not recorded lost reachable (the first OP cycles may not).
+  if (op && !side.clear_sent && all_reachable(side.to_clear)) {
+    side.clear_sent = true;
+    char names[kJointNamesCapacity];
+    format_joint_names(side.to_clear, names, sizeof names);
+    (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - g_tasks.start), names);
+    (void)send_local(protocol::MessageType::clear_joints, side.to_clear);
+  }
+  if (op && side.clear_sent && !side.initialized && all_reachable(kAllJoints & ~side.out_of_service)) {
+    side.initialized = true;
+    (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
+                      seconds(clock.now() - g_tasks.start));
+    (void)send_local(protocol::MessageType::initialize, kAllJoints & ~side.out_of_service);
+    if (g_tasks.options->scenario.rescue_motion) {
+      // After the initialize (the parser takes one request at a time): the rescue RC task takes the motion.
+      (void)std::printf("[%8.3f s] operator: owner %u (the rescue RC task takes the motion)\n",
+                        seconds(clock.now() - g_tasks.start), static_cast<unsigned>(RcTaskId::rescue));
+      ControlRequest take;
+      take.type = protocol::MessageType::take_owner;
+      take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
+      if (!links().local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
+    }
+  }
+  print_local_replies(clock.now() - g_tasks.start);
+  print_motion_changes(side.motion, motion, clock.now() - g_tasks.start);
+  (void)std::fflush(stdout);
+}
+
+// After the handler ended: the drives are off; the joint manager's Enabled DFAs follow (Enabled ->
+// Ready) through the parser, the joint handle queue's only producer (its answer within its timeout).
+// Which joints are Enabled comes from the manager's published demand.
+void disable_enabled_joints() noexcept {
+  RobotDemand demand{};
+  JointMask enabled = 0;
+  if (links().demand.try_read(demand)) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (demand[j].enable) enabled |= joint_bit(j);
+    }
+  }
+  if (enabled == 0 || !send_local(protocol::MessageType::disable, enabled)) return;
+  hal::MonotonicClock wait_clock;
+  const hal::Nanoseconds give_up = wait_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
+  while (links().local_replies.empty_approx() && wait_clock.now() < give_up) {
+    wait_clock.sleep_until(wait_clock.now() + hal::kNsPerMs);
+  }
+  print_local_replies(g_tasks.clock->now() - g_tasks.start);
+}
+
+const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler",
+                                                "message-parser",   "rc-rescue",     "rc-teleop"};
+
+// `key: value` lines: per task (process), heap allocations and page faults after its init.
+void print_task_health(bool operator_port) noexcept {
+  for (std::size_t i = 0; i < kTaskStatSlots; ++i) {
+    if (!operator_port && static_cast<StatTask>(i) == StatTask::socket_handler) continue;
+    const TaskHealth& h = run().health[i];
+    if (!h.reported.load(std::memory_order_acquire)) {
+      (void)std::printf("%s heap allocations after init: unknown (it did not report)\n", kTaskNames[i]);
+      continue;
+    }
+    (void)std::printf("%s heap allocations after init: %" PRIu64 "\n", kTaskNames[i], h.heap_allocations.load());
+    (void)std::printf("%s page faults after init: %" PRIu64 "\n", kTaskNames[i], h.page_faults.load());
+    (void)std::printf("%s restarts: %u\n", kTaskNames[i], h.restarts.load());
+    TaskStat stat{};
+    if (links().task_stats[i].try_read(stat)) {
+      (void)std::printf("%s periods: %" PRIu64 "\n", kTaskNames[i], stat.periods);
+      (void)std::printf("%s periods missed: %" PRIu64 "\n", kTaskNames[i], stat.missed);
+      (void)std::printf("%s max execution time: %" PRIu64 " ns\n", kTaskNames[i], stat.max_execution_ns);
+    }
+  }
+}
+
+// --threads: the tasks as threads of this process, the logger in the main thread.
+int run_task_threads(OperatorSide& side) noexcept {
+  start_task_timing();
+  (void)std::fflush(stdout);
+  RunControl& state = run();
+  std::thread manager_thread(run_manager);
+  std::thread handler_thread(run_handler);
+  std::thread parser_thread(run_parser);
+  std::thread socket_thread;
+  if (g_tasks.operator_port) socket_thread = std::thread(run_socket);
+  // The two RC tasks compute every period; only the Motion owner's references reach the joints.
+  std::thread rescue_thread(run_rc_rescue);
+  std::thread teleop_thread(run_rc_teleop);
+  const int task_count = g_tasks.operator_port ? 6 : 5;
+  // Init is complete once every task is past its set-up (thread start-up allocates).
+  hal::MonotonicClock logger_clock;
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
+    logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
+  }
+  declare_init_complete(HeapGuardMode::count);
+  for (;;) {
+    const bool done = state.handler_done.load(std::memory_order_acquire);
+    handler_side_pass();
+    manager_side_pass();
+    operator_side_pass(side);
+    if (done) break;
+    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
+  }
+  handler_thread.join();
+  disable_enabled_joints();
+  state.operator_stop.store(true, std::memory_order_release);
+  parser_thread.join();
+  if (socket_thread.joinable()) socket_thread.join();
+  state.rc_stop.store(true, std::memory_order_release);
+  rescue_thread.join();
+  teleop_thread.join();
+  state.manager_stop.store(true, std::memory_order_release);
+  manager_thread.join();
+  handler_side_pass();
+  manager_side_pass();
+  if (g_tasks.options->capture_path != nullptr) {
+    const Status closed = finish_capture(g_tasks.options->capture_path);
+    if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
+  }
+  return 0;
+}
+
+// A task process first checks the segment it inherited is still the one of its name, valid for this
+// program (docs/shared-memory.md); 0 when it is, else its exit status.
+int attach_task_process(const char* task) noexcept {
+  hal::MonotonicClock clock;
+  const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_segment.name(), clock, kAttachLimit);
+  if (!attached.ok()) {
+    char line[256];
+    (void)shm::describe_segment_error(g_segment.name(), attached.error(), line, sizeof line);
+    (void)std::fprintf(stderr, "rescue-motion run: %s: %s\n", task, line);
+    return 5;
+  }
+  if (attached.value().segment().header.creator_pid != g_segment.segment().header.creator_pid) {
+    (void)std::fprintf(stderr, "rescue-motion run: %s: segment %s was replaced by another process; not running\n", task,
+                       g_segment.name().c_str());
+    return 5;
+  }
+  return 0;
+}
+
+// The body of every task process: attach, then the task on its own thread while this one prints
+// (stdout is the process's own buffer now) and, in the handler's process, runs its side of the logger.
+int task_process(const char* name, void (*task)() noexcept, void (*log_pass)() noexcept) noexcept {
+  const int attached = attach_task_process(name);
+  if (attached != 0) return attached;
+  declare_init_complete(HeapGuardMode::count);  // each task counts from its own init (TaskHealthProbe)
+  std::atomic<bool> finished{false};
+  std::thread worker([task, &finished]() noexcept {
+    task();
+    finished.store(true, std::memory_order_release);
+  });
+  hal::MonotonicClock logger_clock;
+  while (!finished.load(std::memory_order_acquire)) {
+    if (log_pass != nullptr) log_pass();
+    (void)std::fflush(stdout);
+    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
+  }
+  worker.join();
+  if (log_pass != nullptr) log_pass();
+  (void)std::fflush(stdout);
+  return 0;
+}
+
+int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  const int status = task_process("ethercat-handler", run_handler, handler_side_pass);
+  if (status == 0 && g_tasks.options->capture_path != nullptr && !finish_capture(g_tasks.options->capture_path).ok()) return 1;
+  return status;
+}
+int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("joint-manager", run_manager, manager_side_pass);
+}
+int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("message-parser", run_parser, nullptr);
+}
+int socket_process(void* /*context*/, unsigned incarnation) noexcept {
+  // A restarted socket handler reads the persisted replay windows again: no old message reopens.
+  // It also counts on from the counters its predecessor published.
+  if (incarnation > 0) {
+    (void)g_tasks.replay->restore(static_cast<std::uint64_t>(g_tasks.wall_clock->unix_time_ns()));
+    SocketCounters published{};
+    if (links().socket_counters.try_read(published)) g_tasks.socket->resume_counters(published);
+  }
+  return task_process("socket-handler", run_socket, nullptr);
+}
+// An RC task restarted after a crash starts from its initial state; its owner word, if it held it,
+// was released by the handler's intake once its heartbeat stopped (docs/motion-owner.md).
+int rc_rescue_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("rc-rescue", run_rc_rescue, nullptr);
+}
+int rc_teleop_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
+  return task_process("rc-teleop", run_rc_teleop, nullptr);
+}
+
+bool handler_finished() noexcept { return run().handler_done.load(std::memory_order_acquire); }
+bool manager_finished() noexcept { return run().manager_done.load(std::memory_order_acquire); }
+
+// The tasks as processes (the default): this process is the supervisor.
+struct TaskProcesses {
+  std::size_t handler{0};
+  std::size_t manager{0};
+  std::size_t parser{0};
+  std::size_t socket{0};
+  std::size_t rc_rescue{0};
+  std::size_t rc_teleop{0};
+};
+
+Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
+  TaskProcesses p;
+  const Result<std::size_t> handler =
+      supervisor.add({"ethercat-handler", TaskCriticality::critical, handler_process, nullptr, handler_finished, SIGTERM});
+  const Result<std::size_t> manager =
+      supervisor.add({"joint-manager", TaskCriticality::critical, manager_process, nullptr, manager_finished});
+  const Result<std::size_t> parser = supervisor.add({"message-parser", TaskCriticality::restartable, parser_process, nullptr});
+  if (!handler.ok() || !manager.ok() || !parser.ok()) return make_error(Errc::capacity_exceeded, "supervised tasks");
+  p.handler = handler.value();
+  p.manager = manager.value();
+  p.parser = parser.value();
+  if (g_tasks.operator_port) {
+    const Result<std::size_t> socket = supervisor.add({"socket-handler", TaskCriticality::restartable, socket_process, nullptr});
+    if (!socket.ok()) return socket.error();
+    p.socket = socket.value();
+  }
+  const Result<std::size_t> rc_rescue = supervisor.add({"rc-rescue", TaskCriticality::restartable, rc_rescue_process, nullptr});
+  const Result<std::size_t> rc_teleop = supervisor.add({"rc-teleop", TaskCriticality::restartable, rc_teleop_process, nullptr});
+  if (!rc_rescue.ok() || !rc_teleop.ok()) return make_error(Errc::capacity_exceeded, "supervised tasks");
+  p.rc_rescue = rc_rescue.value();
+  p.rc_teleop = rc_teleop.value();
+  // Start-up order: the task table's (docs/tasks.md).
+  const std::pair<TaskId, std::size_t> tasks[] = {{TaskId::joint_manager, p.manager}, {TaskId::ethercat_handler, p.handler},
+                                                  {TaskId::message_parser, p.parser}, {TaskId::socket_handler, p.socket},
+                                                  {TaskId::rc_tasks, p.rc_rescue},      {TaskId::rc_tasks, p.rc_teleop}};
+  int last_order = 0;
+  for (const auto& task : tasks) last_order = std::max(last_order, task_spec(task.first).start_order);
+  for (int order = 1; order <= last_order; ++order) {
+    for (const auto& [id, index] : tasks) {
+      if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_tasks.operator_port)) continue;
+      RESCUE_TRY(supervisor.start(index));
+      (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(index), static_cast<int>(supervisor.pid(index)));
+    }
+  }
+  return p;
+}
+
+// Stops the operator's tasks, then the joint manager, in that order (docs/tasks.md); the handler
+// has ended already.
+void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) noexcept {
+  RunControl& state = run();
+  supervisor.stop_restarting();
+  supervisor.expect_exit(p.parser);
+  if (g_tasks.operator_port) supervisor.expect_exit(p.socket);
+  state.operator_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.parser, kTaskStopLimit);
+  if (g_tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
+  supervisor.expect_exit(p.rc_rescue);
+  supervisor.expect_exit(p.rc_teleop);
+  state.rc_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.rc_rescue, kTaskStopLimit);
+  (void)supervisor.wait_exit(p.rc_teleop, kTaskStopLimit);
+  supervisor.expect_exit(p.manager);
+  state.manager_stop.store(true, std::memory_order_release);
+  (void)supervisor.wait_exit(p.manager, kTaskStopLimit);
+  supervisor.signal_all(SIGKILL);  // any that did not stop within its limit (said below)
+  for (const std::size_t i : {p.parser, p.socket, p.rc_rescue, p.rc_teleop, p.manager}) {
+    if (supervisor.running(i)) (void)std::printf("supervisor: %s did not stop within its limit: killed\n", supervisor.name(i));
+  }
+}
+
+// The supervisor's loop; returns 0 after an ordered stop, kExitTaskDied after a critical task died.
+int run_task_processes(OperatorSide& side) noexcept {
+  RunControl& state = run();
+  static hal::MonotonicClock supervisor_clock;
+  static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
+  start_task_timing();
+  const Result<TaskProcesses> started = start_task_processes(supervisor);
+  if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
+  const TaskProcesses& p = started.value();
+  const int task_count = g_tasks.operator_port ? 6 : 5;
+  const hal::Nanoseconds start_limit = supervisor_clock.now() + kTaskStartLimit;
+  Supervisor::Death death;
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count && !death.critical &&
+         supervisor_clock.now() < start_limit) {
+    death = supervisor.poll();
+    supervisor_clock.sleep_until(supervisor_clock.now() + hal::kNsPerMs);
+  }
+  declare_init_complete(HeapGuardMode::count);
+  while (!death.critical) {
+    if (stop_signal() != 0) state.stop.store(true, std::memory_order_release);
+    operator_side_pass(side);
+    death = supervisor.poll();
+    state.health[static_cast<std::size_t>(StatTask::message_parser)].restarts.store(supervisor.restarts(p.parser));
+    if (g_tasks.operator_port) {
+      state.health[static_cast<std::size_t>(StatTask::socket_handler)].restarts.store(supervisor.restarts(p.socket));
+    }
+    state.health[static_cast<std::size_t>(StatTask::rc_rescue)].restarts.store(supervisor.restarts(p.rc_rescue));
+    state.health[static_cast<std::size_t>(StatTask::rc_teleop)].restarts.store(supervisor.restarts(p.rc_teleop));
+    if (state.handler_done.load(std::memory_order_acquire)) break;
+    supervisor_clock.sleep_until(supervisor_clock.now() + kLoggerPeriod);
+  }
+  if (death.critical && death.index == p.handler) {
+    char how[64];
+    Supervisor::describe_wait_status(death.wait_status, how, sizeof how);
+    (void)std::printf("rescue-motion run: the EtherCAT handler died (%s): no frame is sent any more; the drives' "
+                      "SyncManager watchdog disables their outputs and the worm gears hold the joints (safe hold); "
+                      "stopping the other tasks\n", how);
+    stop_operator_and_manager(supervisor, p);
+    (void)std::fprintf(stderr, "rescue-motion run: the EtherCAT handler died (%s); exit status %d\n", how, kExitTaskDied);
+    return kExitTaskDied;
+  }
+  if (death.critical) {  // the joint manager: the handler disables the drives and ends, then the rest
+    state.stop.store(true, std::memory_order_release);
+    (void)std::printf("rescue-motion run: the joint manager died: disabling every drive, then stopping\n");
+  }
+  supervisor.expect_exit(p.handler);
+  (void)supervisor.wait_exit(p.handler, kTaskStopLimit + kDisableTimeout);
+  operator_side_pass(side);
+  disable_enabled_joints();
+  stop_operator_and_manager(supervisor, p);
+  if (death.critical) {
+    (void)std::fprintf(stderr, "rescue-motion run: the joint manager died; exit status %d\n", kExitTaskDied);
+    return kExitTaskDied;
+  }
+  return 0;
+}
+
+// Step 5: the run's figures, from what the tasks published in the segment (run_control.hpp), also into
+// options.report; returns the cycles healthy joints missed.
+std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept {
+  RunControl& state = run();
+  const bool operator_port = g_tasks.operator_port;
+  const HeapGuardCounters heap = heap_guard_counters();
+  const JointMask lost = state.lost_joints.load();
+  const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
+  std::uint64_t healthy_missed = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((lost & joint_bit(j)) == 0) healthy_missed += state.missed_cycles[j].load();
+  }
+  char lost_names[kJointNamesCapacity];
+  format_joint_names(lost, lost_names, sizeof lost_names);
+  if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
+  if (!state.handler_done.load()) {
+    (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
+                      "its last published\n");
+  }
+  const bool manager_reported = state.manager_done.load(std::memory_order_acquire);
+  (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
+                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
+                    " not run); lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(), state.late_periods.load(),
+                    state.skipped_periods.load(), manager_reported ? lost_names : "unknown", manager_reported ? fsm::to_string(condition) : "unknown (the joint manager did not report)");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
+    if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
+  }
+  (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  print_task_health(operator_port);
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
+  if (operator_port) {
+    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
+    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
+    }
+    (void)std::printf("\n");
+    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
+                      ", most datagrams in one wake-up %" PRIu64 " (budget %zu)\n",
+                      counted.wakeups, counted.budget_exhausted, state.socket_max_per_wakeup.load(), SocketHandler::kBudget);
+  }
+  if (options.report != nullptr) {
+    options.report->cycles = state.cycles.load();
+    options.report->healthy_missed = healthy_missed;
+    options.report->frames_missing = state.frames_missing.load();
+    options.report->datagrams = counted.datagrams;
+    options.report->accepted = counted.accepted;
+    options.report->rejected = counted.rejected;
+    options.report->control_port = socket.control_port();
+    options.report->sensor_port = socket.sensor_port();
+  }
+  return healthy_missed;
+}
+
+}  // namespace
+
 // A scenario's checks once the run stopped: 0, or the exit status after saying what failed.
-int scenario_verdict(const Scenario& wanted, const ScenarioRunner& runner, JointMask lost, JointMask restored,
-                     std::uint64_t healthy_missed, bool file_dirty, const MotionLog& motion,
-                     const MotionIntakeCounters& intake) noexcept {
+// What the tasks reported is read from the segment (run_control.hpp): threads or processes alike.
+int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
+                     std::uint64_t healthy_missed, std::uint8_t rescue_phase_reached) noexcept {
   if (wanted.kind == ScenarioKind::none) return 0;
-  if (!runner.acted() || !runner.action_status().ok()) return fail("run", "the scenario's link cut did not happen");
+  if (!state.scenario_acted.load() || !state.scenario_ok.load()) return fail("run", "the scenario's link cut did not happen");
   if ((lost & wanted.expected_lost) != wanted.expected_lost || (lost & ~(wanted.expected_lost | restored)) != 0) {
     return fail("run", "the joints marked lost differ from the joints behind the cut");
   }
   if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
-  if (file_dirty) return fail("run", "the error-joints file could not be written");
+  if (state.file_dirty.load()) return fail("run", "the error-joints file could not be written");
   if (wanted.rescue_motion) {
-    if (intake.used_periods == 0) return fail("run", "the rescue RC task's references never drove the joints");
-    if (motion.rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
+    if (state.intake_used_periods.load() == 0) return fail("run", "the rescue RC task's references never drove the joints");
+    if (rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
       return fail("run", "the rescue motion did not reach its end before the stop");
     }
   }
@@ -624,6 +1212,7 @@ int scenario_verdict(const Scenario& wanted, const ScenarioRunner& runner, Joint
 }
 
 // The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
+// Per task: what it published in its timing slot and its health slot (run_control.hpp).
 struct RunSummary {
   std::uint64_t cycles{0};
   std::uint64_t heap_allocations{0};
@@ -631,23 +1220,25 @@ struct RunSummary {
   const SocketCounters* socket{nullptr};
   MotionIntakeCounters intake{};
   std::uint8_t rescue_phase_reached{0};
+  bool processes{false};
 };
 
 void print_run_summary(const RunSummary& s) noexcept {
-  (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: threads of one process\n");
+  (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: %s\n",
+                    s.processes ? "processes under a supervisor" : "threads of one process");
   (void)std::printf("periods_run: %" PRIu64 "\n", s.cycles);
   for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
     TaskStat stat{};
-    if (!g_links.task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
+    if (!links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
     char key[protocol::kNameSize + 1];
     std::size_t n = 0;
     for (; n < protocol::kNameSize && stat.name[n] != '\0'; ++n) key[n] = stat.name[n] == '-' ? '_' : stat.name[n];
     key[n] = '\0';
-    const hal::PageFaults& faults = g_task_page_faults[k];
+    const TaskHealth& health = links().run.health[k];
     (void)std::printf("periods_run_%s: %" PRIu64 "\n", key, stat.periods);
     (void)std::printf("periods_missed_%s: %" PRIu64 "\n", key, stat.missed);
     (void)std::printf("max_execution_ns_%s: %" PRIu64 "\n", key, stat.max_execution_ns);
-    (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, faults.minor + faults.major);
+    (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, health.page_faults.load());
   }
   (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
   char names[kJointNamesCapacity];
@@ -666,7 +1257,7 @@ void print_run_summary(const RunSummary& s) noexcept {
   (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
   (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
   RcTaskState rescue{};
-  if (g_links.motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+  if (links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
     (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
     (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
   }
@@ -677,10 +1268,17 @@ void print_run_summary(const RunSummary& s) noexcept {
 // NOLINTNEXTLINE(readability-function-size)
 int run_firmware(const FirmwareOptions& options) noexcept {
   static hal::SystemWallClock wall_clock;
-  static JointEventQueue events;  // the joint manager's sink; the logger prints (never its thread)
+  static JointEventQueue events;  // the joint manager's sink; a logger prints (never its real-time thread)
   static JointEventPrinter event_printer(stdout, "joint-manager: ");
-  static RunState state;
 
+  // --timing-out writes the handler's and the joint manager's recorders together: one process's memory.
+  g_task_processes = !options.threads && options.timing_out == nullptr;
+  if (g_task_processes) {
+    // Several processes write to one stdout: whole lines, each in one write (a pipe keeps writes of
+    // up to PIPE_BUF bytes whole), so their lines never mix. Set before the first output.
+    static char stdout_buffer[4096];
+    (void)std::setvbuf(stdout, stdout_buffer, _IOLBF, sizeof stdout_buffer);
+  }
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
   // cleanly, with one line saying where.
   if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
@@ -692,29 +1290,31 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
   const int lock_status = take_instance_locks(options, dir.value().path.c_str());
   if (lock_status != 0) return lock_status;
+  const int segment_status = create_segment(options, dir.value().path.c_str());
+  if (segment_status != 0) return segment_status;
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
-  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
-  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
-  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
-  static SeqlockSampleSource samples(g_links.samples);
-  static SeqlockDemandSink demand_sink(g_links.demand);
-  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(g_links.command_outcomes);
+  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(links().lost_reports);
+  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(links().notices);
+  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(links().joint_commands);
+  static SeqlockSampleSource samples(links().samples);
+  static SeqlockDemandSink demand_sink(links().demand);
+  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
   static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
                                                 &demand_sink, &outcomes});
   manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
-  // key, the socket handler. They see only queues and seqlocks of g_links.
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(g_links.control_requests);
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(g_links.local_requests);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(g_links.control_replies);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(g_links.local_replies);
-  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(g_links.joint_commands);
-  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(g_links.command_outcomes);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(g_links.rc_inputs[0]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(g_links.rc_inputs[1]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(g_links.rc_inputs[2]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(g_links.rc_inputs[3]);
+  // key, the socket handler. They see only queues and seqlocks of links().
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(links().control_requests);
+  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(links().local_requests);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(links().control_replies);
+  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(links().local_replies);
+  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(links().joint_commands);
+  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(links().command_outcomes);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(links().rc_inputs[0]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(links().rc_inputs[1]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(links().rc_inputs[2]);
+  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(links().rc_inputs[3]);
   MessageParserPorts parser_ports;
   parser_ports.network = &parser_network;
   parser_ports.local = &parser_local;
@@ -722,10 +1322,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   parser_ports.local_replies = &parser_local_replies;
   parser_ports.joint_commands = &parser_out;
   parser_ports.outcomes = &parser_outcomes;
-  parser_ports.samples = &g_links.samples;
-  parser_ports.joint_status = &g_links.joint_status;
+  parser_ports.samples = &links().samples;
+  parser_ports.joint_status = &links().joint_status;
   parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
-  parser_ports.rc_heartbeat_ns = &g_links.rc_heartbeat_ns;
+  parser_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
   static MessageParser parser(parser_ports);
 
   if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
@@ -750,19 +1350,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   static protocol::FileReplayStore replay_store(dir.value().path.c_str());
   static protocol::ReplayWindow replay(replay_store);
-  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(g_links.control_requests);
-  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(g_links.control_replies);
+  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
+  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
   socket_ports.requests = &socket_requests;
   socket_ports.replies = &socket_replies;
-  socket_ports.sensors = &g_links.sensors;
-  socket_ports.counters = &g_links.socket_counters;
-  socket_ports.samples = &g_links.samples;
-  socket_ports.joint_status = &g_links.joint_status;
-  socket_ports.master = &g_links.master_status;
-  socket_ports.diag = &g_links.link_diag;
-  socket_ports.tasks = &g_links.task_stats;
-  socket_ports.motion = &g_links.motion;
+  socket_ports.sensors = &links().sensors;
+  socket_ports.counters = &links().socket_counters;
+  socket_ports.samples = &links().samples;
+  socket_ports.joint_status = &links().joint_status;
+  socket_ports.master = &links().master_status;
+  socket_ports.diag = &links().link_diag;
+  socket_ports.tasks = &links().task_stats;
+  socket_ports.motion = &links().motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
@@ -835,192 +1435,65 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
 
-  // 4. The tasks. From now on the handler's thread only queues captured frames.
+  // 4. The tasks. From now on the handler only queues captured frames.
+  if (!g_task_processes && !options.threads) {
+    (void)std::printf("rescue-motion run: --timing-out: the tasks run as threads of one process (their recorders are "
+                      "written together)\n");
+  }
   if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
-  static EthercatHandler handler(bus, g_links, restored.restored);
+  static EthercatHandler handler(bus, links(), restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
-  start_task_timing();
-  (void)std::fflush(stdout);
-  std::thread manager_thread(joint_manager_task, std::ref(manager), std::ref(clock), std::ref(state));
-  std::thread handler_thread(handler_task, std::ref(handler), std::ref(scenario), std::cref(options), std::ref(clock),
-                             std::ref(state));
   static hal::MonotonicClock operator_clock;
-  std::thread parser_thread(parser_task, std::ref(parser), std::ref(operator_clock), std::ref(state));
-  std::thread socket_thread;
-  if (operator_port) socket_thread = std::thread(socket_task, std::ref(socket), std::ref(operator_clock), std::ref(state));
   // The two RC tasks compute every period; only the Motion owner's references reach the joints.
   RcTaskSettings rescue_settings = default_rc_task_settings(RcTaskId::rescue);
   if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
-  static RcTask rc_rescue(g_links, rescue_settings);
-  static RcTask rc_teleop(g_links, default_rc_task_settings(RcTaskId::teleop));
-  std::thread rescue_thread(rc_task_thread, std::ref(rc_rescue), std::ref(clock), std::ref(state));
-  std::thread teleop_thread(rc_task_thread, std::ref(rc_teleop), std::ref(clock), std::ref(state));
-  const int task_count = operator_port ? 6 : 5;
-  // Init is complete once every task is past its set-up (thread start-up allocates).
-  hal::MonotonicClock logger_clock;
-  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
-    logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
-  }
-  declare_init_complete(HeapGuardMode::count);
+  static RcTask rc_rescue(links(), rescue_settings);
+  static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
+  g_tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
+                    &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
+                    &events,   &event_printer};
+  OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
+                             !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
+  const int tasks_status = g_task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
 
-  // 5. Logger and operator: print what the tasks report; "initialize robot" once in OP.
-  bool op_announced = false;
-  bool scenario_announced = false;
-  bool initialized = !(options.initialize || options.scenario.kind != ScenarioKind::none);
-  bool clear_sent = to_clear == 0;
-  MotionLog motion_log;
-  HandlerEvent event{};
-  for (;;) {
-    const bool done = state.handler_done.load(std::memory_order_acquire);
-    if (!scenario_announced && state.scenario_acted.load(std::memory_order_acquire)) {
-      scenario_announced = true;
-      char names[kJointNamesCapacity];
-      format_joint_names(options.scenario.expected_lost, names, sizeof names);
-      if (scenario.action_status().ok()) {
-        (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n", seconds(scenario.acted_at() - start),
-                          options.scenario.name,
-                          options.scenario.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
-                          : options.scenario.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
-                                                                                : "cut the link into",
-                          kJoints[options.scenario.cut_joint].name, names);
-      } else {
-        (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
-      }
-    }
-    while (handler.pop_event(event)) print_handler_event(event, start);
-    print_joint_events(events, event_printer);
-    if (!op_announced && state.op.load(std::memory_order_acquire)) {
-      op_announced = true;
-      (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
-                        seconds(state.op_at.load(std::memory_order_relaxed) - start));
-    }
-    // The DFA takes its steps only for reachable joints: wait until the handler's published values
-    // show every joint that is not recorded lost reachable (the first OP cycles may not).
-    if (op_announced && !clear_sent && all_reachable(to_clear)) {
-      clear_sent = true;
-      char names[kJointNamesCapacity];
-      format_joint_names(to_clear, names, sizeof names);
-      (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - start), names);
-      (void)send_local(protocol::MessageType::clear_joints, to_clear);
-    }
-    if (op_announced && clear_sent && !initialized && all_reachable(kAllJoints & ~out_of_service)) {
-      initialized = true;
-      (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
-                        seconds(clock.now() - start));
-      (void)send_local(protocol::MessageType::initialize, kAllJoints & ~out_of_service);
-      if (options.scenario.rescue_motion) {
-        // After the initialize (the parser takes one request at a time): the rescue RC task takes the motion.
-        (void)std::printf("[%8.3f s] operator: owner %u (the rescue RC task takes the motion)\n",
-                          seconds(clock.now() - start), static_cast<unsigned>(RcTaskId::rescue));
-        ControlRequest take;
-        take.type = protocol::MessageType::take_owner;
-        take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
-        if (!g_links.local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
-      }
-    }
-    print_local_replies(clock.now() - start);
-    print_motion_changes(motion_log, clock.now() - start);
-    (void)std::fflush(stdout);
-    if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
-    if (done) break;
-    logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
-  }
-  handler_thread.join();
-  // The drives are off: the joint manager's Enabled DFAs follow (Enabled -> Ready) in its last step.
-  // Which joints are Enabled comes from its published demand (its own state belongs to its thread).
-  RobotDemand demand{};
-  JointMask enabled = 0;
-  if (g_links.demand.try_read(demand)) {
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (demand[j].enable) enabled |= joint_bit(j);
-    }
-  }
-  // Through the parser, the joint handle queue's only producer; its answer comes within its timeout.
-  if (enabled != 0 && send_local(protocol::MessageType::disable, enabled)) {
-    const hal::Nanoseconds give_up = logger_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
-    while (g_links.local_replies.empty_approx() && logger_clock.now() < give_up) {
-      logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
-    }
-    print_local_replies(clock.now() - start);
-  }
-  state.operator_stop.store(true, std::memory_order_release);
-  parser_thread.join();
-  if (socket_thread.joinable()) socket_thread.join();
-  state.rc_stop.store(true, std::memory_order_release);
-  rescue_thread.join();
-  teleop_thread.join();
-  state.manager_stop.store(true, std::memory_order_release);
-  manager_thread.join();
-  while (handler.pop_event(event)) print_handler_event(event, start);
-  print_joint_events(events, event_printer);
-
-  // 6. What happened.
-  const HeapGuardCounters heap = heap_guard_counters();
-  const JointMask lost = manager.lost_joints();
-  const std::uint64_t healthy_missed = handler.missed_cycles(kAllJoints & ~lost);
+  // 5. What happened.
+  RunControl& state = run();
+  const JointMask lost = state.lost_joints.load();
+  const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
+  const std::uint64_t healthy_missed = print_run_figures(options, socket);
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost, lost_names, sizeof lost_names);
-  if (stop_signal() != 0) print_stop_line(state, handler.drives_disabled(), manager.file_dirty());
-  const std::uint64_t skipped = handler.bus().master().skipped_periods();
-  (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
-                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
-                    " not run); lost joints: %s; robot %s\n",
-                    state.cycles.load(), healthy_missed, handler.frames_missing(), state.late_periods.load(), skipped,
-                    lost_names, fsm::to_string(manager.summary().condition));
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    const std::uint64_t m = handler.missed_cycles(joint_bit(j) & ~lost);
-    if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
-  }
-  (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
-  const SocketCounters& counted = socket.counters();
-  if (operator_port) {
-    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
-    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
-      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
-    }
-    (void)std::printf("\n");
-    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
-                      ", most datagrams in one wake-up %zu (budget %zu)\n",
-                      counted.wakeups, counted.budget_exhausted, socket.max_per_wakeup(), SocketHandler::kBudget);
-  }
-  if (options.report != nullptr) {
-    options.report->cycles = state.cycles.load();
-    options.report->healthy_missed = healthy_missed;
-    options.report->frames_missing = handler.frames_missing();
-    options.report->datagrams = counted.datagrams;
-    options.report->accepted = counted.accepted;
-    options.report->rejected = counted.rejected;
-    options.report->control_port = socket.control_port();
-    options.report->sensor_port = socket.sensor_port();
-  }
+  if (tasks_status != 0) return tasks_status;
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
   }
-  if (options.capture_path != nullptr) {
-    const Status closed = finish_capture(options.capture_path);
-    if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
-  }
 
-  const int verdict = scenario_verdict(options.scenario, scenario, lost, restored.restored, healthy_missed,
-                                       manager.file_dirty(), motion_log, handler.motion_intake().counters());
+  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, healthy_missed,
+                                       operator_side.motion.rescue_phase_reached);
   if (verdict == 0 && options.scenario.kind != ScenarioKind::none) {
     (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
                       options.scenario.name, lost_names, dir.value().path.c_str(),
                       ErrorJointsFileStorage::kFileName);
   }
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
   RunSummary summary;
   summary.cycles = state.cycles.load();
-  summary.heap_allocations = heap.allocations;
+  summary.heap_allocations = heap_guard_counters().allocations;
   summary.lost = lost;
   summary.socket = operator_port ? &counted : nullptr;
-  summary.intake = handler.motion_intake().counters();
-  summary.rescue_phase_reached = motion_log.rescue_phase_reached;
+  summary.intake.owned_periods = state.intake_owned_periods.load();
+  summary.intake.used_periods = state.intake_used_periods.load();
+  summary.intake.misses = state.intake_misses.load();
+  summary.intake.releases = state.intake_releases.load();
+  summary.rescue_phase_reached = operator_side.motion.rescue_phase_reached;
+  summary.processes = g_task_processes;
   print_run_summary(summary);
   if (verdict != 0) return verdict;
-  return robot_exit(manager.summary().condition);
+  return robot_exit(condition);
 }
 
 }  // namespace rescue::app

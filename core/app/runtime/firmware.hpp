@@ -33,6 +33,8 @@ struct FirmwareOptions {
   const char* capture_path{nullptr};
   const char* timing_out{nullptr};   // directory: per-period timing of the tasks written there at the end
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)
+  const char* segment_name{nullptr}; // shared-memory segment; nullptr: derived from the state directory (docs/shared-memory.md)
+  bool threads{false};               // the tasks as threads of one process (default: processes, docs/tasks.md)
   bool initialize{false};            // send "initialize robot" once the network is in OP
   JointMask clear_joints{0};         // operator: these lost joints were repaired (clear them once they answer)
   bool auto_clear_power_cycled{false};  // a joint whose drive was power-cycled and recovered is cleared automatically

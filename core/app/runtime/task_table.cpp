@@ -15,17 +15,26 @@ namespace {
 // Not const: a configuration file may move a task (set_task_priority, set_task_cpu), before the tasks start.
 TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
   {TaskId::basic_software, "basic software", config::kBasicSoftwarePriority, config::kBasicSoftwareCpu, config::kLoggerPeriodNs,
-   "no", "the operating system; the firmware's logger (events, capture file)", "runtime/firmware.cpp (logger)"},
+   "no", "the operating system; the firmware's logger (events, capture file)", "runtime/firmware.cpp (logger)",
+   "the supervisor (the parent: owns the segment, starts, restarts and stops the others)", 0, 0,
+   "the run ends; even on SIGKILL the EtherCAT handler gets SIGTERM (disables every drive, then ends) and the others SIGKILL (PR_SET_PDEATHSIG); the next run replaces the stale segment"},
   {TaskId::socket_handler, "socket handler", config::kSocketHandlerPriority, config::kSocketHandlerCpu, 0,
-   "partly (sensor data)", "UDP from the operator and the other two computers; every datagram validated", "not built yet (issue: the running robot)"},
+   "partly (sensor data)", "UDP from the operator and the other two computers; every datagram validated", "control/socket_handler.cpp",
+   "its own (with a key file)", 4, 2, "restarted after a back-off (100 ms doubling to 5 s), logged; replay windows re-read from their file"},
   {TaskId::message_parser, "message parser", config::kMessageParserPriority, config::kMessageParserCpu, 0,
-   "no (queues)", "operator messages to the joint handle queue and the RC tasks' inputs", "control/predefined_messages.cpp (at start-up)"},
+   "no (queues)", "operator messages to the joint handle queue and the RC tasks' inputs", "control/message_parser.cpp",
+   "its own", 3, 2, "restarted after a back-off (100 ms doubling to 5 s), logged"},
   {TaskId::joint_manager, "joint manager", config::kJointManagerPriority, config::kJointManagerCpu, config::kJointManagerPeriodNs,
-   "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp"},
+   "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp",
+   "its own", 1, 4, "critical: the handler disables every drive, the others stop, exit status 4 with the reason"},
   {TaskId::rc_tasks, "RC tasks", config::kRcTaskPriority, config::kRcTaskCpu, config::kRcTaskPeriodNs,
-   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rc_task.cpp, motion/"},
+   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rc_task.cpp, motion/",
+   "one each (rc-rescue, rc-teleop)", 5, 3,
+   "restarted after a back-off (100 ms doubling to 5 s), logged, from its initial state; if it owned the motion, the handler's intake releases the owner word once its heartbeat is kOwnerDeadAfterPeriods old (every joint holds), and an operator's take re-takes it"},
   {TaskId::ethercat_handler, "EtherCAT handler", config::kEthercatHandlerPriority, config::kEthercatHandlerCpu, config::kEthercatHandlerPeriodNs,
-   "yes", "one frame with every slave per period; joint state, references, limits, safe stop", "tasks/ethercat_handler.cpp"},
+   "yes", "one frame with every slave per period; joint state, references, limits, safe stop", "tasks/ethercat_handler.cpp",
+   "its own (with the NIC, the simulated robot and the capture file)", 2, 1,
+   "critical: no frame any more, the drives' SyncManager watchdog disables their outputs, worm gears hold (safe hold); the others stop; exit status 4 with the reason"},
 };
 // clang-format on
 bool g_operator_priority_set[std::size(kTasks)] = {};  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
@@ -88,6 +97,14 @@ void write_task_table_markdown(std::FILE* out) noexcept {
     }
     (void)std::fprintf(out, "| %s | %s | %d | %s | %s | %s | %s |\n", t.name, sched, t.cpu, period, t.shared_memory, t.role,
                        t.built);
+  }
+  (void)std::fprintf(out, "\n| task | process in `run` | start | stop | when it dies |\n|---|---|---|---|---|\n");
+  for (const TaskSpec& t : kTasks) {
+    char start[16] = "-";
+    char stop[16] = "-";
+    if (t.start_order > 0) (void)std::snprintf(start, sizeof start, "%d", t.start_order);
+    if (t.stop_order > 0) (void)std::snprintf(stop, sizeof stop, "%d", t.stop_order);
+    (void)std::fprintf(out, "| %s | %s | %s | %s | %s |\n", t.name, t.process, start, stop, t.on_death);
   }
 }
 

@@ -29,6 +29,12 @@ struct TaskSpec {
   const char* shared_memory;  // what it reads/writes of the shared records
   const char* role;
   const char* built;          // where the code is, or what is not built yet
+  // `run` (docs/tasks.md): the process it is, its place in the start-up and shutdown orders (0: not
+  // started by the supervisor), and what happens when it dies.
+  const char* process;
+  int start_order;
+  int stop_order;
+  const char* on_death;
 };
 
 Span<const TaskSpec> task_table() noexcept;
@@ -45,7 +51,7 @@ void set_task_cpu(TaskId id, int cpu) noexcept;
 // the message parser run at normal priority (0) unless a configuration file set theirs.
 int runner_priority(TaskId id) noexcept;
 
-// The task table as a Markdown table (docs/tasks.md).
+// The task table as Markdown tables (docs/tasks.md): scheduling, then processes and their orders.
 void write_task_table_markdown(std::FILE* out) noexcept;
 
 }  // namespace rescue::app

@@ -1,4 +1,5 @@
-// docs/fsm.md and docs/tasks.md hold the output of `rescue-motion docs fsm|tasks` between BEGIN/END
+// docs/fsm.md, docs/tasks.md and docs/shared-memory.md hold the output of `rescue-motion docs
+// fsm|tasks|shared-memory` between BEGIN/END
 // GENERATED markers. This
 // test runs the built program and requires the committed blocks to equal what it prints now, so the
 // documented tables cannot drift from the tables the firmware runs. To refresh the docs after changing
@@ -52,6 +53,7 @@ std::string generated_block(const std::string& doc, const std::string& command) 
 const std::string kProgram = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
 const std::string kDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/fsm.md";
 const std::string kTasksDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/tasks.md";
+const std::string kSharedMemoryDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/shared-memory.md";
 const std::string kMasterDoc = std::string(RESCUE_SOURCE_DIR) + "/docs/master.md";
 
 TEST(DocsFsm, MarkdownInDocsEqualsCommandOutput) {
@@ -80,6 +82,13 @@ TEST(DocsTasks, TaskTableInDocsEqualsCommandOutput) {
   ASSERT_NE(printed.find("| EtherCAT handler | SCHED_FIFO "), std::string::npos) << printed;
   EXPECT_EQ(generated_block(read_file(kTasksDoc), "rescue-motion docs tasks"), printed)
       << "docs/tasks.md is stale; put this between its markers:\n" << printed;
+}
+
+TEST(DocsSharedMemory, ByteMapInDocsEqualsCommandOutput) {
+  const std::string printed = run(kProgram + " docs shared-memory");
+  ASSERT_NE(printed.find("| `samples` |"), std::string::npos) << printed;
+  EXPECT_EQ(generated_block(read_file(kSharedMemoryDoc), "rescue-motion docs shared-memory"), printed)
+      << "docs/shared-memory.md is stale; put this between its markers:\n" << printed;
 }
 
 TEST(DocsFsm, UnknownTopicOrFormatFailsWithOneLineReason) {

@@ -20,9 +20,10 @@ const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
 TEST(RunCommand, AStallInOpIsReportedAsLatePeriodsNotRun) {
   testing::TempStateDir dir;
   const std::string log = dir.path + "/run.log";
-  // Start, wait for OP (at most 20 s), stop the process for 100 ms, let it finish.
+  // Start, wait for OP (at most 20 s), stop the process for 100 ms, let it finish. --threads: the
+  // EtherCAT handler is a thread of the one process SIGSTOP stops (by default it is a child process).
   const std::string script =
-      "'" + kBinary + "' run --duration 1 --state-dir '" + dir.path + "' >'" + log + "' 2>&1 & pid=$!; " +
+      "'" + kBinary + "' run --threads --duration 1 --state-dir '" + dir.path + "' >'" + log + "' 2>&1 & pid=$!; " +
       "for i in $(seq 200); do grep -q 'network in OP' '" + log + "' && break; sleep 0.1; done; " +
       "sleep 0.2; kill -STOP $pid; sleep 0.1; kill -CONT $pid; wait $pid; echo status=$?; cat '" + log + "'";
   const test::CommandOutput out = test::run_command(script);

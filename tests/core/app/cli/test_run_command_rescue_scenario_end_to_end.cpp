@@ -1,4 +1,5 @@
-// `rescue-motion run --scenario rescue` end to end on the simulated robot, tasks as threads:
+// `rescue-motion run --scenario rescue` end to end on the simulated robot, tasks as processes under
+// the supervisor (the default: the RC tasks are processes rc-rescue, rc-teleop) and as threads (--threads):
 // initialize, enable, the rescue RC task takes the motion (approach, lowering, forwarding,
 // backwarding), the cable into l_elbow is cut in the forwarding phase, reconfiguration, the motion
 // goes on with the remaining joints to its end, a clean stop; the run ends with `key: value` lines.
@@ -32,9 +33,10 @@ std::string value_of(const std::string& text, const std::string& key) {
   return "";
 }
 
-TEST(RunCommand, RescueScenarioOwnedByTheRescueTaskGoesOnAfterALinkCut) {
+void expect_rescue_scenario(const std::string& mode_option, const char* tasks_line) {
   testing::TempStateDir dir;
-  const test::CommandOutput out = test::run_command(kBinary + " run --scenario rescue --state-dir " + dir.path + " 2>&1");
+  const test::CommandOutput out =
+      test::run_command(kBinary + " run --scenario rescue" + mode_option + " --state-dir " + dir.path + " 2>&1");
   ASSERT_EQ(out.exit_status, 0) << out.out;
   // The story, in order.
   const char* story[] = {"operator: initialize robot",
@@ -56,7 +58,7 @@ TEST(RunCommand, RescueScenarioOwnedByTheRescueTaskGoesOnAfterALinkCut) {
   }
   EXPECT_TRUE(contains(out.out, "step 6: joint manager answered (error-joints file: written)")) << out.out;
   // The figures: the last lines.
-  EXPECT_EQ(value_of(out.out, "clock"), "wall (CLOCK_MONOTONIC); tasks: threads of one process") << out.out;
+  EXPECT_EQ(value_of(out.out, "clock"), std::string("wall (CLOCK_MONOTONIC); tasks: ") + tasks_line) << out.out;
   EXPECT_GT(std::atoll(value_of(out.out, "periods_run").c_str()), 5000) << out.out;
   for (const char* task : {"ethercat", "joint_manager", "message_parser", "rc_rescue", "rc_teleop"}) {
     EXPECT_GT(std::atoll(value_of(out.out, std::string("periods_run_") + task).c_str()), 0) << task << "\n" << out.out;
@@ -77,6 +79,14 @@ TEST(RunCommand, RescueScenarioOwnedByTheRescueTaskGoesOnAfterALinkCut) {
   EXPECT_LT(std::atof(value_of(out.out, "rescue_residual_right_m").c_str()), 0.01) << "the intact arm reaches its target";
   // Every healthy joint answered every cycle (frames, not host scheduling: docs/firmware.md).
   EXPECT_TRUE(contains(out.out, "healthy joints missed 0 cycles")) << out.out;
+}
+
+TEST(RunCommand, RescueScenarioOwnedByTheRescueTaskGoesOnAfterALinkCut) {
+  expect_rescue_scenario("", "processes under a supervisor");
+}
+
+TEST(RunCommand, RescueScenarioInThreadsModeGoesOnAfterALinkCut) {
+  expect_rescue_scenario(" --threads", "threads of one process");
 }
 
 }  // namespace

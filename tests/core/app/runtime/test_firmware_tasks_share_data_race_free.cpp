@@ -16,6 +16,7 @@ TEST(FirmwareTasks, RunHalfASecondOnTheSimulatedRobotAndStopCleanly) {
   options.state_dir = dir.path.c_str();
   options.duration = hal::kNsPerSec / 2;
   options.initialize = true;
+  options.threads = true;  // ThreadSanitizer watches threads; the processes mode shares the same memory
   EXPECT_EQ(run_firmware(options), 0);
 }
 

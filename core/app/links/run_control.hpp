@@ -1,0 +1,64 @@
+// The run's own coordination, in the shared-memory segment with the tasks' data (TaskLinks::run):
+// who is started, who should stop, and what each task reports at its end, so the supervisor can
+// stop the tasks in order and print the run's figures whether the tasks are threads or processes.
+// Every member is a lock-free atomic with one writer (named on each line).
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/robot/robot.hpp"
+
+namespace rescue::app {
+
+// Per task process (StatTask slot): its pid and what it did after its init (item "0 heap, 0 page
+// faults after init"). Written by the task at its end; restarts by the supervisor.
+struct TaskHealth {
+  std::atomic<std::int32_t> pid;
+  std::atomic<std::uint32_t> restarts;              // supervisor
+  std::atomic<std::uint64_t> heap_allocations;      // after the task's init (its process's heap guard)
+  std::atomic<std::uint64_t> page_faults;           // minor + major of the task's thread after its init
+  std::atomic<bool> reported;                       // the figures above are final
+};
+
+// One per StatTask (links/task_links.hpp): EtherCAT handler, joint manager, socket handler, message
+// parser, RC rescue, RC teleop.
+constexpr std::size_t kRunHealthSlots = 6;
+
+struct RunControl {
+  std::atomic<bool> stop;             // supervisor -> EtherCAT handler: stop the drives and end
+  std::atomic<bool> operator_stop;    // supervisor -> socket handler, message parser: end
+  std::atomic<bool> rc_stop;          // supervisor -> RC tasks: end
+  std::atomic<bool> manager_stop;     // supervisor -> joint manager: end (after its last step)
+  std::atomic<std::int32_t> tasks_started;  // each task, once past its real-time set-up
+  // EtherCAT handler -> supervisor.
+  std::atomic<bool> op;
+  std::atomic<std::int64_t> op_at;
+  std::atomic<std::int64_t> scenario_at;  // when the scenario acted (the handler's clock)
+  std::atomic<std::uint64_t> cycles;
+  std::atomic<bool> scenario_acted;
+  std::atomic<bool> scenario_ok;      // the scenario's action happened and succeeded
+  std::atomic<bool> handler_done;     // every figure of the handler below is final
+  std::atomic<bool> drives_disabled;
+  std::atomic<std::uint64_t> frames_missing;
+  std::atomic<std::uint64_t> late_periods;     // as `ctl master` shows them (skipped ones included)
+  std::atomic<std::uint64_t> skipped_periods;  // periods that had no cycle at all
+  std::array<std::atomic<std::uint64_t>, kJointCount> missed_cycles;  // per joint
+  // The handler's motion intake (motion/motion_intake.hpp), final once handler_done.
+  std::atomic<std::uint64_t> intake_owned_periods;
+  std::atomic<std::uint64_t> intake_used_periods;
+  std::atomic<std::uint64_t> intake_misses;
+  std::atomic<std::uint64_t> intake_releases;
+  // Joint manager -> supervisor, final once manager_done.
+  std::atomic<bool> manager_done;
+  std::atomic<std::uint32_t> lost_joints;   // JointMask
+  std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
+  std::atomic<bool> file_dirty;
+  // Socket handler -> supervisor: the most datagrams one wake-up handled (budget: SocketHandler::kBudget).
+  std::atomic<std::uint64_t> socket_max_per_wakeup;
+  std::array<TaskHealth, kRunHealthSlots> health;         // StatTask order
+};
+
+}  // namespace rescue::app
