@@ -259,6 +259,7 @@ struct DiagPayload {
   std::uint64_t sweeps;   // completed round-robin sweeps of the counters
   std::uint8_t count;
   std::array<DiagSlaveRecord, kMaxSlaves> slaves;
+  std::uint64_t spare;       // not on the wire; 0: makes Seqlock<DiagPayload> 960 bytes, a cache-line multiple (TaskLinks' padding)
 };
 
 // One decoded message: the header and the payload of its type (only that member is meaningful).
