@@ -226,7 +226,7 @@ void print_diag(const Message& m, bool json) noexcept {
     (void)std::printf("%-3zu %-16s", i, drivers::slave_end_name(static_cast<std::uint8_t>(i)));
     for (unsigned n = 0; n < protocol::kDiagPorts; ++n) {
       const protocol::DiagPortRecord& p = s.ports[n];
-      char cell[24];
+      char cell[32];  // four 16-bit counters (5 digits each), three slashes, a mark and the NUL
       (void)std::snprintf(cell, sizeof cell, "%u/%u/%u/%u%s", static_cast<unsigned>(p.invalid_frames),
                           static_cast<unsigned>(p.rx_errors), static_cast<unsigned>(p.forwarded_errors),
                           static_cast<unsigned>(p.lost_links),
