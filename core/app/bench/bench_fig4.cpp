@@ -545,7 +545,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   (void)std::printf("periods_per_case: %" PRId64 " periods\n", periods.value());
   for (int c = 0; c < kCases; ++c) {
     for (int t = 0; t < kTasks; ++t) {
-      char key_name[192];  // a task-and-case name (up to 159 bytes) and a suffix
+      char key_name[192];  // a name of g_names and a suffix, with room for GCC's -Wformat-truncation bound
       (void)std::snprintf(key_name, sizeof key_name, "%s_execution", g_names[t][c]);
       print_figures(key_name, g_recorders[t][c].execution());
       (void)std::snprintf(key_name, sizeof key_name, "%s_wakeup_latency", g_names[t][c]);
