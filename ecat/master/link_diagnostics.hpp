@@ -78,7 +78,7 @@ class LinkDiagnostics {
   // Whether `port` of `position` is in warning (raised, not yet re-armed).
   bool warned(std::size_t position, unsigned port) const noexcept { return warned_[position][port]; }
   // Whether `port` of `position` was ever warned about since the last reset (stays set once quiet).
-  bool ever_warned(std::size_t position, unsigned port) const noexcept { return ((ever_warned_[position] >> port) & 1U) != 0; }
+  bool ever_warned(std::size_t position, unsigned port) const noexcept { return ((static_cast<unsigned>(ever_warned_[position]) >> port) & 1U) != 0; }
   // Completed round-robin sweeps (next() wrapped around): a low-rate moment to publish the table.
   std::uint64_t sweeps() const noexcept { return sweeps_; }
   [[nodiscard]] bool pop_warning(PortErrorWarning& out) noexcept { return warnings_.pop(out); }
