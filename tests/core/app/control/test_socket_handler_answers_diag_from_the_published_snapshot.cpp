@@ -8,29 +8,17 @@
 
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"
-#include "core/app/control/replay_window.hpp"
 #include "core/app/control/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
-#include "hal/time/wall_clock.hpp"
-#include "tests/support/joint_manager_fakes.hpp"
+#include "tests/support/loopback_socket_handler.hpp"
 
 namespace rescue::app {
 namespace {
 
-constexpr std::int64_t kNow = 1'700'000'000'000'000'000LL;
+constexpr std::int64_t kNow = test::LoopbackSocketHandler::kNow;
 
-struct Bench {
-  explicit Bench(const SocketHandlerPorts& ports)
-      : store(dir.path.c_str()), window(store), wall(kNow), handler(ports, key, window, wall) {
-    (void)window.restore(static_cast<std::uint64_t>(kNow) - 1'000'000'000ULL);
-    SocketHandlerOptions options;
-    options.listen = "127.0.0.1";
-    options.control_port = 0;
-    options.sensor_port = 0;
-    EXPECT_TRUE(handler.open(options).ok());
-    EXPECT_TRUE(client.open("127.0.0.1", 0).ok());
-    loopback = hal::parse_ipv4("127.0.0.1").value();
-  }
+struct Bench : test::LoopbackSocketHandler {
+  explicit Bench(const SocketHandlerPorts& ports) : LoopbackSocketHandler(ports, protocol::Key{}) {}
   // Sends get_diag, lets the handler answer, returns the decoded answer.
   protocol::Message ask(std::uint64_t sequence) {
     protocol::Message request;
@@ -55,14 +43,6 @@ struct Bench {
     return decoded.ok() ? decoded.value() : answer;
   }
 
-  testing::TempStateDir dir;
-  protocol::FileReplayStore store;
-  protocol::ReplayWindow window;
-  hal::ManualWallClock wall;
-  protocol::Key key{};
-  SocketHandler handler;
-  hal::UdpSocket client;
-  std::uint32_t loopback{0};
 };
 
 TEST(SocketHandlerDiag, AnswersTheLatestPublishedSnapshot) {

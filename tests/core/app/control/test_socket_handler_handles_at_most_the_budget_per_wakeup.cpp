@@ -9,16 +9,14 @@
 
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"
-#include "core/app/control/replay_window.hpp"
 #include "core/app/control/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
-#include "hal/time/wall_clock.hpp"
-#include "tests/support/joint_manager_fakes.hpp"
+#include "tests/support/loopback_socket_handler.hpp"
 
 namespace rescue::app {
 namespace {
 
-constexpr std::int64_t kNow = 1'700'000'000'000'000'000LL;
+constexpr std::int64_t kNow = test::LoopbackSocketHandler::kNow;
 
 protocol::Key test_key() {
   protocol::Key k{};
@@ -26,31 +24,14 @@ protocol::Key test_key() {
   return k;
 }
 
-struct Bench {
-  Bench() : store(dir.path.c_str()), window(store), wall(kNow), handler(SocketHandlerPorts{}, key, window, wall) {
-    (void)window.restore(static_cast<std::uint64_t>(kNow) - 1'000'000'000ULL);
-    SocketHandlerOptions options;
-    options.listen = "127.0.0.1";
-    options.control_port = 0;
-    options.sensor_port = 0;
-    EXPECT_TRUE(handler.open(options).ok());
-    EXPECT_TRUE(client.open("127.0.0.1", 0).ok());
-    loopback = hal::parse_ipv4("127.0.0.1").value();
-  }
+struct Bench : test::LoopbackSocketHandler {
+  Bench() : LoopbackSocketHandler(SocketHandlerPorts{}, test_key()) {}
   // `n` datagrams of garbage (malformed: no magic) to a port; loopback queues them before send returns.
   void garbage(std::uint16_t port, std::size_t n) {
     const std::array<std::uint8_t, 12> junk{'n', 'o', 't', ' ', 'R', 'M', 'C', 'P', 0, 1, 2, 3};
     for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(client.send_to(loopback, port, ConstByteSpan(junk)).ok());
   }
 
-  testing::TempStateDir dir;
-  protocol::FileReplayStore store;
-  protocol::ReplayWindow window;
-  hal::ManualWallClock wall;
-  protocol::Key key = test_key();  // before the handler, which copies it
-  SocketHandler handler;
-  hal::UdpSocket client;
-  std::uint32_t loopback{0};
 };
 
 std::uint64_t rejected(const SocketCounters& c) {

@@ -1,0 +1,45 @@
+// A socket handler on 127.0.0.1 (ephemeral control and sensor ports), its replay window in a
+// temporary state directory at a manual wall clock, and a client socket to talk to it: the rig of
+// the socket handler's unit tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "core/app/control/protocol_auth.hpp"
+#include "core/app/control/replay_window.hpp"
+#include "core/app/control/socket_handler.hpp"
+#include "hal/net/udp_socket.hpp"
+#include "hal/time/wall_clock.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
+
+namespace rescue::test {
+namespace protocol = app::protocol;
+
+struct LoopbackSocketHandler {
+  static constexpr std::int64_t kNow = 1'700'000'000'000'000'000LL;  // the wall clock's reading
+
+  LoopbackSocketHandler(const app::SocketHandlerPorts& ports, const protocol::Key& k)
+      : store(dir.path.c_str()), window(store), wall(kNow), key(k), handler(ports, key, window, wall) {
+    (void)window.restore(static_cast<std::uint64_t>(kNow) - 1'000'000'000ULL);
+    app::SocketHandlerOptions options;
+    options.listen = "127.0.0.1";
+    options.control_port = 0;
+    options.sensor_port = 0;
+    EXPECT_TRUE(handler.open(options).ok());
+    EXPECT_TRUE(client.open("127.0.0.1", 0).ok());
+    loopback = hal::parse_ipv4("127.0.0.1").value();
+  }
+
+  app::testing::TempStateDir dir;
+  protocol::FileReplayStore store;
+  protocol::ReplayWindow window;
+  hal::ManualWallClock wall;
+  protocol::Key key;  // before the handler, which copies it
+  app::SocketHandler handler;
+  hal::UdpSocket client;
+  std::uint32_t loopback{0};
+};
+
+}  // namespace rescue::test
