@@ -48,112 +48,13 @@
 #include "hal/files/state_dir.hpp"
 #include "hal/time/wall_clock.hpp"
 
+#include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/task_loops.hpp"
+
 namespace rescue::app {
+
+using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
 namespace {
-
-// Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
-// config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
-// before the run started), applied by the task itself, in its thread or process.
-constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
-constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
-constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
-constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
-constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
-constexpr int kSocketWaitMs = 5;
-
-// What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
-// process at start-up (a second run_firmware in the same process, as tests do, reuses it).
-shm::SegmentOwner g_segment;
-TaskLinks& links() noexcept { return g_segment.links(); }
-
-// Whether the tasks run as processes (the default) or threads of one process (--threads).
-bool g_task_processes = false;
-
-ecat::CaptureWriter g_capture;
-// The handler's tap only copies frames into this queue; the logger thread writes them (the disk
-// may block, the 1 ms cycle must not).
-ecat::CaptureQueue g_capture_queue;
-constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
-
-// The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
-int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
-
-void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
-  hal::RtConfig rt;
-  rt.lock_memory = g_task_processes;  // a forked child does not inherit mlockall; threads: done once
-  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
-  rt.fifo_priority = priority;
-  rt.cpu = cpu_for(cpu);
-  const hal::RtReport report = hal::apply_rt_config(rt);
-  if (!report.fully_applied()) {
-    (void)std::printf("%s: running degraded, %zu real-time setting(s) refused:\n", task, report.refused_count());
-  }
-  for (const hal::RtItemReport& item : report.items) {
-    if (item.outcome != hal::RtOutcome::refused) continue;
-    char line[256];
-    (void)hal::RtReport::format_item(item, line, sizeof line);
-    (void)std::printf("%s:   %s\n", task, line);
-  }
-}
-
-// The task's real-time set-up from its row of the task table; its timing slot says what it asked for.
-void apply_task_rt(const char* name, TaskId id) noexcept { apply_thread_rt(name, runner_priority(id), task_spec(id).cpu); }
-int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
-int task_priority(TaskId id) noexcept { return runner_priority(id); }
-
-double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
-
-// The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
-// stops and reports the tasks whether they are threads or processes.
-RunControl& run() noexcept { return links().run; }
-
-// The EtherCAT handler stops on a signal to its own process or on the supervisor's word.
-bool stop_requested() noexcept { return stop_signal() != 0 || run().stop.load(std::memory_order_acquire); }
-
-// Heap allocations and page faults of a task after its init (run_control.hpp, TaskHealth): taken
-// when the task is past its set-up, reported in its slot at its end.
-class TaskHealthProbe {
- public:
-  explicit TaskHealthProbe(StatTask id) noexcept
-      : slot_(&run().health[static_cast<std::size_t>(id)]),
-        heap_at_init_(heap_guard_counters().allocations),
-        faults_at_init_(hal::page_faults_of_thread()) {
-    slot_->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
-    slot_->reported.store(false, std::memory_order_release);
-  }
-  void report() noexcept {
-    const hal::PageFaults faults = hal::page_faults_of_thread();
-    slot_->heap_allocations.store(heap_guard_counters().allocations - heap_at_init_, std::memory_order_relaxed);
-    slot_->page_faults.store(faults.minor + faults.major - faults_at_init_.minor - faults_at_init_.major,
-                             std::memory_order_relaxed);
-    slot_->reported.store(true, std::memory_order_release);
-  }
-
- private:
-  TaskHealth* slot_;
-  std::uint64_t heap_at_init_;
-  hal::PageFaults faults_at_init_;
-};
-
-// A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
-// for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
-class TaskStats {
- public:
-  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept : recorder_(&task_timing()[id]) {
-    recorder_->start(links().task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
-  }
-  // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
-  void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
-              hal::Nanoseconds late_after) noexcept {
-    recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
-  }
-  // The last publication, when the task ends (its page faults: TaskHealthProbe).
-  void publish() noexcept { recorder_->publish(); }
-  std::uint64_t missed() const noexcept { return recorder_->missed(); }
-
- private:
-  TaskRecorder* recorder_;
-};
 
 void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept {
   char names[kJointNamesCapacity];
@@ -192,209 +93,6 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": every reachable drive disabled\n", t, e.cycle);
       break;
   }
-}
-
-std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
-
-// The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
-// 23 reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB.
-void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps) noexcept {
-  if (d.sweeps() == published_sweeps) return;
-  published_sweeps = d.sweeps();
-  protocol::DiagPayload out{};
-  out.cycle = cycle;
-  out.sweeps = d.sweeps();
-  out.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
-  static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one diag message");
-  static_assert(ecat::kEscPorts == protocol::kDiagPorts, "one record per ESC port");
-  for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
-    const ecat::SlaveErrorCounters& c = d.counters(p);
-    protocol::DiagSlaveRecord& s = out.slaves[p];
-    for (unsigned n = 0; n < ecat::kEscPorts; ++n) {
-      s.ports[n].invalid_frames = saturate16(c.ports[n].invalid_frames);
-      s.ports[n].rx_errors = saturate16(c.ports[n].rx_errors);
-      s.ports[n].forwarded_errors = saturate16(c.ports[n].forwarded_errors);
-      s.ports[n].lost_links = saturate16(c.ports[n].lost_links);
-      if (d.warned(p, n)) s.warned = static_cast<std::uint8_t>(s.warned | (1U << n));
-      if (d.ever_warned(p, n)) s.warned_before = static_cast<std::uint8_t>(s.warned_before | (1U << n));
-    }
-    s.processing_unit_errors = saturate16(c.processing_unit_errors);
-    s.pdi_errors = saturate16(c.pdi_errors);
-    s.reads = saturate16(c.reads);
-  }
-  links().link_diag.write(out);
-}
-
-void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  apply_task_rt("ethercat", TaskId::ethercat_handler);
-  TaskStats stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
-                  task_priority(TaskId::ethercat_handler));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
-  TaskHealthProbe health(StatTask::ethercat_handler);
-  drivers::JointBus& bus = handler.bus();
-  const hal::Nanoseconds started = clock.now();
-  hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
-  hal::Nanoseconds stopping_since = -1;
-  TaskTiming& timing = task_timing();
-  MasterStatus master{};
-  std::uint64_t diag_sweeps = 0;
-  for (;;) {
-    const hal::Nanoseconds release = bus.next_wakeup();
-    clock.sleep_until(release);
-    const std::uint64_t work_start = timing.timer.start();
-    const drivers::JointCycleResult r = handler.cycle();
-    const std::uint64_t work_end = timing.timer.stop();
-    const hal::Nanoseconds now = clock.now();
-    // Woke at now - the work's duration: no extra clock read.
-    const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
-    stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
-    master.state = static_cast<std::uint8_t>(r.state);
-    master.cycles = r.cycle;
-    master.frames_sent = r.cycle;
-    master.frames_lost = handler.frames_missing();
-    // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
-    // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
-    master.late_periods = stats.missed() + bus.master().skipped_periods();
-    const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
-    master.dc_deviation_ns = dc_error;
-    const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
-    if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
-    master.in_exchange = bus.master().monitor().in_exchange();
-    master.lost = bus.master().monitor().lost();
-    links().master_status.write(master);
-    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
-    state.cycles.store(r.cycle, std::memory_order_relaxed);
-    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
-    const bool op = r.state == ecat::MasterState::op;
-    if (op && !state.op.load(std::memory_order_relaxed)) {
-      state.op_at.store(now, std::memory_order_relaxed);
-      state.op.store(true, std::memory_order_release);
-    }
-    if (scenario.on_cycle(now, op)) {
-      state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
-      state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
-      state.scenario_acted.store(true, std::memory_order_release);
-      if (options.duration == 0) stop_at = now + options.scenario.run_on;
-    }
-    if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
-      handler.stop_drives();
-      stopping_since = now;
-    }
-    if (stopping_since >= 0 && (handler.drives_disabled() || now - stopping_since >= kDisableTimeout)) break;
-  }
-  stats.publish();
-  health.report();
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
-  }
-  state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
-  state.skipped_periods.store(bus.master().skipped_periods(), std::memory_order_relaxed);
-  state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
-  const MotionIntakeCounters intake = handler.motion_intake().counters();
-  state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
-  state.intake_used_periods.store(intake.used_periods, std::memory_order_relaxed);
-  state.intake_misses.store(intake.misses, std::memory_order_relaxed);
-  state.intake_releases.store(intake.releases, std::memory_order_relaxed);
-  state.handler_done.store(true, std::memory_order_release);
-}
-
-void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  apply_task_rt("joint-manager", TaskId::joint_manager);
-  TaskStats stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
-                  task_priority(TaskId::joint_manager));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
-  TaskHealthProbe health(StatTask::joint_manager);
-  hal::Nanoseconds next = clock.now();
-  TaskTiming& timing = task_timing();
-  while (!state.manager_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timing.timer.start();
-    manager.step(start);
-    links().joint_status.write(published_status(manager.statuses()));
-    stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
-    next += kJointManagerPeriod;
-    clock.sleep_until(next);
-  }
-  manager.step(clock.now());  // the last answers and marks
-  links().joint_status.write(published_status(manager.statuses()));
-  stats.publish();
-  health.report();
-  state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
-  state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
-  state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
-  state.manager_done.store(true, std::memory_order_release);
-}
-
-// An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
-// heartbeats and reference times the handler's motion intake compares with its own).
-void rc_task(RcTask& task, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  const bool rescue = task.id() == RcTaskId::rescue;
-  const char* name = rescue ? "rc-rescue" : "rc-teleop";
-  const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
-  apply_task_rt(name, TaskId::rc_tasks);
-  TaskStats stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
-  TaskHealthProbe health(slot);
-  const hal::TscTimer& timer = task_timing().timer;
-  hal::Nanoseconds next = clock.now();
-  while (!state.rc_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    task.period(start);
-    stats.period(next, start, work_start, timer.stop(), kRcTaskPeriod / 2);
-    next += kRcTaskPeriod;
-    clock.sleep_until(next);
-  }
-  stats.publish();
-  health.report();
-}
-
-// The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
-void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  apply_task_rt("message-parser", TaskId::message_parser);
-  TaskStats stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser), task_priority(TaskId::message_parser));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
-  TaskHealthProbe health(StatTask::message_parser);
-  const hal::TscTimer& timer = task_timing().timer;
-  hal::Nanoseconds next = clock.now();
-  while (!state.operator_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    parser.step(start);
-    stats.period(next, start, work_start, timer.stop(), 10 * kParserPeriod);
-    next += kParserPeriod;
-    clock.sleep_until(next);
-  }
-  stats.publish();
-  health.report();
-}
-
-// The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
-void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  apply_task_rt("socket-handler", TaskId::socket_handler);
-  TaskStats stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler), task_priority(TaskId::socket_handler));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
-  TaskHealthProbe health(StatTask::socket_handler);
-  const hal::TscTimer& timer = task_timing().timer;
-  while (!state.operator_stop.load(std::memory_order_acquire)) {
-    socket.wait(kSocketWaitMs);
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    socket.step(start);
-    stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
-  }
-  // A restarted socket handler keeps its predecessors' maximum.
-  std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
-  while (socket.max_per_wakeup() > seen &&
-         !state.socket_max_per_wakeup.compare_exchange_weak(seen, socket.max_per_wakeup(), std::memory_order_relaxed)) {
-  }
-  stats.publish();
-  health.report();
 }
 
 // The logger's side of the joint manager's events: prints what is queued, and how many a full queue
@@ -552,13 +250,13 @@ int report_bring_up_failure(drivers::JointBus& bus) noexcept {
 
 // After the tasks stopped: the frames still queued are written, the figures printed, the file closed.
 Status finish_capture(const char* path) noexcept {
-  while (g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass) != 0) {
+  while (g_run.capture_queue.drain(g_run.capture, kCaptureFramesPerLoggerPass) != 0) {
   }
-  const ecat::CaptureQueueStats queued = g_capture_queue.stats();
+  const ecat::CaptureQueueStats queued = g_run.capture_queue.stats();
   (void)std::printf("rescue-motion run: capture %s: %" PRIu64 " frames, %" PRIu64 " write errors, %" PRIu64
                     " dropped (queue full)\n",
-                    path, g_capture.stats().frames_written, g_capture.stats().write_errors, queued.frames_dropped);
-  return g_capture.close();
+                    path, g_run.capture.stats().frames_written, g_run.capture.stats().write_errors, queued.frames_dropped);
+  return g_run.capture.close();
 }
 
 void print_restored(JointMask restored) noexcept {
@@ -622,7 +320,7 @@ int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) 
 // directory; a stale one from a crashed run is replaced with a log line. 0 when ready, else the exit
 // status.
 int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
-  if (g_segment.created()) {  // a second run in this process (tests): the run's words start afresh
+  if (g_run.segment.created()) {  // a second run in this process (tests): the run's words start afresh
     new (&links().run) RunControl();
     return 0;
   }
@@ -640,7 +338,7 @@ int create_segment(const FirmwareOptions& options, const char* state_dir) noexce
     (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
     return 1;
   }
-  g_segment = std::move(created.value());
+  g_run.segment = std::move(created.value());
   if (report.previous != shm::Previous::none) {
     (void)std::printf("rescue-motion run: replaced stale shared-memory segment %s (%s, creator pid %d); its contents "
                       "were not used\n",
@@ -705,45 +403,12 @@ int robot_exit(fsm::RobotCondition condition) noexcept {
 }
 }  // namespace
 
-
 namespace {
-
-// What the tasks run on: the static objects run_firmware wires once, before the tasks start (a
-// forked task process finds them at the same addresses).
-struct TaskSet {
-  EthercatHandler* handler;
-  ScenarioRunner* scenario;
-  JointManager* manager;
-  MessageParser* parser;
-  SocketHandler* socket;
-  RcTask* rc_rescue;
-  RcTask* rc_teleop;
-  protocol::ReplayWindow* replay;
-  hal::WallClock* wall_clock;
-  hal::Clock* clock;           // the NIC's: the handler's and the joint manager's
-  hal::Clock* operator_clock;  // the socket handler's and the message parser's
-  const FirmwareOptions* options;
-  bool operator_port;
-  hal::Nanoseconds start;
-  JointEventQueue* joint_events;          // the joint manager's events (its process's or thread's)
-  JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
-};
-TaskSet g_tasks{};
 
 constexpr int kExitTaskDied = 4;  // a critical task process died (docs/tasks.md)
 constexpr hal::Nanoseconds kTaskStartLimit = 10 * hal::kNsPerSec;
 constexpr hal::Nanoseconds kTaskStopLimit = 5 * hal::kNsPerSec;
 constexpr hal::Nanoseconds kAttachLimit = hal::kNsPerSec;
-
-void run_handler() noexcept {
-  handler_task(*g_tasks.handler, *g_tasks.scenario, *g_tasks.options, *g_tasks.clock);
-}
-void run_manager() noexcept { joint_manager_task(*g_tasks.manager, *g_tasks.clock); }
-void run_parser() noexcept { parser_task(*g_tasks.parser, *g_tasks.operator_clock); }
-void run_socket() noexcept { socket_task(*g_tasks.socket, *g_tasks.operator_clock); }
-// The RC tasks on the handler's clock (the heartbeats and reference times its intake compares).
-void run_rc_rescue() noexcept { rc_task(*g_tasks.rc_rescue, *g_tasks.clock); }
-void run_rc_teleop() noexcept { rc_task(*g_tasks.rc_teleop, *g_tasks.clock); }
 
 // The handler's side of the logger (in the handler's process: its events and capture queue are its
 // own): the scenario's action, OP reached, handler events, captured frames to the file.
@@ -755,8 +420,8 @@ HandlerSideLog g_handler_log;
 
 void handler_side_pass() noexcept {
   RunControl& state = run();
-  const FirmwareOptions& options = *g_tasks.options;
-  const ScenarioRunner& scenario = *g_tasks.scenario;
+  const FirmwareOptions& options = *g_run.tasks.options;
+  const ScenarioRunner& scenario = *g_run.tasks.scenario;
   // The scenario's cut is announced by the operator's side (with the motion it causes); a failed
   // action's reason is the handler's own.
   if (!g_handler_log.scenario_failure_announced && state.scenario_acted.load(std::memory_order_acquire) &&
@@ -765,17 +430,17 @@ void handler_side_pass() noexcept {
     (void)std::printf("scenario %s: %s\n", options.scenario.name, scenario.action_status().error().what);
   }
   HandlerEvent event{};
-  while (g_tasks.handler->pop_event(event)) print_handler_event(event, g_tasks.start);
+  while (g_run.tasks.handler->pop_event(event)) print_handler_event(event, g_run.tasks.start);
   if (!g_handler_log.op_announced && state.op.load(std::memory_order_acquire)) {
     g_handler_log.op_announced = true;
     (void)std::printf("[%8.3f s] ethercat: network in OP, cycling every 1 ms\n",
-                      seconds(state.op_at.load(std::memory_order_relaxed) - g_tasks.start));
+                      seconds(state.op_at.load(std::memory_order_relaxed) - g_run.tasks.start));
   }
-  if (g_capture.is_open()) (void)g_capture_queue.drain(g_capture, kCaptureFramesPerLoggerPass);
+  if (g_run.capture.is_open()) (void)g_run.capture_queue.drain(g_run.capture, kCaptureFramesPerLoggerPass);
 }
 
 // The joint manager's side of the logger (in its process, or the main thread with --threads).
-void manager_side_pass() noexcept { print_joint_events(*g_tasks.joint_events, *g_tasks.joint_event_printer); }
+void manager_side_pass() noexcept { print_joint_events(*g_run.tasks.joint_events, *g_run.tasks.joint_event_printer); }
 
 // The operator's side (the supervisor, or the main thread): the clear of repaired joints, then
 // "initialize robot", once the handler's values show the joints reachable; replies printed.
@@ -794,11 +459,11 @@ void announce_scenario(OperatorSide& side) noexcept {
   if (side.scenario_announced || !state.scenario_acted.load(std::memory_order_acquire)) return;
   side.scenario_announced = true;
   if (!state.scenario_ok.load(std::memory_order_relaxed)) return;  // the handler's side says why
-  const Scenario& wanted = g_tasks.options->scenario;
+  const Scenario& wanted = g_run.tasks.options->scenario;
   char names[kJointNamesCapacity];
   format_joint_names(wanted.expected_lost, names, sizeof names);
   (void)std::printf("[%8.3f s] scenario %s: %s %s (expect %s lost)\n",
-                    seconds(state.scenario_at.load(std::memory_order_relaxed) - g_tasks.start), wanted.name,
+                    seconds(state.scenario_at.load(std::memory_order_relaxed) - g_run.tasks.start), wanted.name,
                     wanted.kind == ScenarioKind::power_cycle    ? "power-cycle the drive of"
                     : wanted.kind == ScenarioKind::cable_damage ? "damage 5 frames on the cable into"
                                                                 : "cut the link into",
@@ -806,7 +471,7 @@ void announce_scenario(OperatorSide& side) noexcept {
 }
 
 void operator_side_pass(OperatorSide& side) noexcept {
-  hal::Clock& clock = *g_tasks.clock;
+  hal::Clock& clock = *g_run.tasks.clock;
   const MotionSnapshot motion = read_motion();
   announce_scenario(side);
   const bool op = run().op.load(std::memory_order_acquire);
@@ -816,26 +481,26 @@ void operator_side_pass(OperatorSide& side) noexcept {
     side.clear_sent = true;
     char names[kJointNamesCapacity];
     format_joint_names(side.to_clear, names, sizeof names);
-    (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - g_tasks.start), names);
+    (void)std::printf("[%8.3f s] operator: clear repaired joints %s (then reset)\n", seconds(clock.now() - g_run.tasks.start), names);
     (void)send_local(protocol::MessageType::clear_joints, side.to_clear);
   }
   if (op && side.clear_sent && !side.initialized && all_reachable(kAllJoints & ~side.out_of_service)) {
     side.initialized = true;
     (void)std::printf("[%8.3f s] operator: initialize robot (select mode, set reference, enable)\n",
-                      seconds(clock.now() - g_tasks.start));
+                      seconds(clock.now() - g_run.tasks.start));
     (void)send_local(protocol::MessageType::initialize, kAllJoints & ~side.out_of_service);
-    if (g_tasks.options->scenario.rescue_motion) {
+    if (g_run.tasks.options->scenario.rescue_motion) {
       // After the initialize (the parser takes one request at a time): the rescue RC task takes the motion.
       (void)std::printf("[%8.3f s] operator: owner %u (the rescue RC task takes the motion)\n",
-                        seconds(clock.now() - g_tasks.start), static_cast<unsigned>(RcTaskId::rescue));
+                        seconds(clock.now() - g_run.tasks.start), static_cast<unsigned>(RcTaskId::rescue));
       ControlRequest take;
       take.type = protocol::MessageType::take_owner;
       take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
       if (!links().local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
     }
   }
-  print_local_replies(clock.now() - g_tasks.start);
-  print_motion_changes(side.motion, motion, clock.now() - g_tasks.start);
+  print_local_replies(clock.now() - g_run.tasks.start);
+  print_motion_changes(side.motion, motion, clock.now() - g_run.tasks.start);
   (void)std::fflush(stdout);
 }
 
@@ -856,7 +521,7 @@ void disable_enabled_joints() noexcept {
   while (links().local_replies.empty_approx() && wait_clock.now() < give_up) {
     wait_clock.sleep_until(wait_clock.now() + hal::kNsPerMs);
   }
-  print_local_replies(g_tasks.clock->now() - g_tasks.start);
+  print_local_replies(g_run.tasks.clock->now() - g_run.tasks.start);
 }
 
 const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler",
@@ -892,11 +557,11 @@ int run_task_threads(OperatorSide& side) noexcept {
   std::thread handler_thread(run_handler);
   std::thread parser_thread(run_parser);
   std::thread socket_thread;
-  if (g_tasks.operator_port) socket_thread = std::thread(run_socket);
+  if (g_run.tasks.operator_port) socket_thread = std::thread(run_socket);
   // The two RC tasks compute every period; only the Motion owner's references reach the joints.
   std::thread rescue_thread(run_rc_rescue);
   std::thread teleop_thread(run_rc_teleop);
-  const int task_count = g_tasks.operator_port ? 6 : 5;
+  const int task_count = g_run.tasks.operator_port ? 6 : 5;
   // Init is complete once every task is past its set-up (thread start-up allocates).
   hal::MonotonicClock logger_clock;
   while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
@@ -923,8 +588,8 @@ int run_task_threads(OperatorSide& side) noexcept {
   manager_thread.join();
   handler_side_pass();
   manager_side_pass();
-  if (g_tasks.options->capture_path != nullptr) {
-    const Status closed = finish_capture(g_tasks.options->capture_path);
+  if (g_run.tasks.options->capture_path != nullptr) {
+    const Status closed = finish_capture(g_run.tasks.options->capture_path);
     if (!closed.ok()) return fail("run", "cannot close the capture file", closed.error());
   }
   return 0;
@@ -934,16 +599,16 @@ int run_task_threads(OperatorSide& side) noexcept {
 // program (docs/shared-memory.md); 0 when it is, else its exit status.
 int attach_task_process(const char* task) noexcept {
   hal::MonotonicClock clock;
-  const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_segment.name(), clock, kAttachLimit);
+  const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_run.segment.name(), clock, kAttachLimit);
   if (!attached.ok()) {
     char line[256];
-    (void)shm::describe_segment_error(g_segment.name(), attached.error(), line, sizeof line);
+    (void)shm::describe_segment_error(g_run.segment.name(), attached.error(), line, sizeof line);
     (void)std::fprintf(stderr, "rescue-motion run: %s: %s\n", task, line);
     return 5;
   }
-  if (attached.value().segment().header.creator_pid != g_segment.segment().header.creator_pid) {
+  if (attached.value().segment().header.creator_pid != g_run.segment.segment().header.creator_pid) {
     (void)std::fprintf(stderr, "rescue-motion run: %s: segment %s was replaced by another process; not running\n", task,
-                       g_segment.name().c_str());
+                       g_run.segment.name().c_str());
     return 5;
   }
   return 0;
@@ -974,7 +639,7 @@ int task_process(const char* name, void (*task)() noexcept, void (*log_pass)() n
 
 int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   const int status = task_process("ethercat-handler", run_handler, handler_side_pass);
-  if (status == 0 && g_tasks.options->capture_path != nullptr && !finish_capture(g_tasks.options->capture_path).ok()) return 1;
+  if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
 int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
@@ -987,9 +652,9 @@ int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   // A restarted socket handler reads the persisted replay windows again: no old message reopens.
   // It also counts on from the counters its predecessor published.
   if (incarnation > 0) {
-    (void)g_tasks.replay->restore(static_cast<std::uint64_t>(g_tasks.wall_clock->unix_time_ns()));
+    (void)g_run.tasks.replay->restore(static_cast<std::uint64_t>(g_run.tasks.wall_clock->unix_time_ns()));
     SocketCounters published{};
-    if (links().socket_counters.try_read(published)) g_tasks.socket->resume_counters(published);
+    if (links().socket_counters.try_read(published)) g_run.tasks.socket->resume_counters(published);
   }
   return task_process("socket-handler", run_socket, nullptr);
 }
@@ -1026,7 +691,7 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
   p.handler = handler.value();
   p.manager = manager.value();
   p.parser = parser.value();
-  if (g_tasks.operator_port) {
+  if (g_run.tasks.operator_port) {
     const Result<std::size_t> socket = supervisor.add({"socket-handler", TaskCriticality::restartable, socket_process, nullptr});
     if (!socket.ok()) return socket.error();
     p.socket = socket.value();
@@ -1044,7 +709,7 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
   for (const auto& task : tasks) last_order = std::max(last_order, task_spec(task.first).start_order);
   for (int order = 1; order <= last_order; ++order) {
     for (const auto& [id, index] : tasks) {
-      if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_tasks.operator_port)) continue;
+      if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_run.tasks.operator_port)) continue;
       RESCUE_TRY(supervisor.start(index));
       (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(index), static_cast<int>(supervisor.pid(index)));
     }
@@ -1058,10 +723,10 @@ void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) n
   RunControl& state = run();
   supervisor.stop_restarting();
   supervisor.expect_exit(p.parser);
-  if (g_tasks.operator_port) supervisor.expect_exit(p.socket);
+  if (g_run.tasks.operator_port) supervisor.expect_exit(p.socket);
   state.operator_stop.store(true, std::memory_order_release);
   (void)supervisor.wait_exit(p.parser, kTaskStopLimit);
-  if (g_tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
+  if (g_run.tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
   supervisor.expect_exit(p.rc_rescue);
   supervisor.expect_exit(p.rc_teleop);
   state.rc_stop.store(true, std::memory_order_release);
@@ -1085,7 +750,7 @@ int run_task_processes(OperatorSide& side) noexcept {
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();
-  const int task_count = g_tasks.operator_port ? 6 : 5;
+  const int task_count = g_run.tasks.operator_port ? 6 : 5;
   const hal::Nanoseconds start_limit = supervisor_clock.now() + kTaskStartLimit;
   Supervisor::Death death;
   while (state.tasks_started.load(std::memory_order_acquire) < task_count && !death.critical &&
@@ -1099,7 +764,7 @@ int run_task_processes(OperatorSide& side) noexcept {
     operator_side_pass(side);
     death = supervisor.poll();
     state.health[static_cast<std::size_t>(StatTask::message_parser)].restarts.store(supervisor.restarts(p.parser));
-    if (g_tasks.operator_port) {
+    if (g_run.tasks.operator_port) {
       state.health[static_cast<std::size_t>(StatTask::socket_handler)].restarts.store(supervisor.restarts(p.socket));
     }
     state.health[static_cast<std::size_t>(StatTask::rc_rescue)].restarts.store(supervisor.restarts(p.rc_rescue));
@@ -1137,7 +802,7 @@ int run_task_processes(OperatorSide& side) noexcept {
 // options.report; returns the cycles healthy joints missed.
 std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept {
   RunControl& state = run();
-  const bool operator_port = g_tasks.operator_port;
+  const bool operator_port = g_run.tasks.operator_port;
   const HeapGuardCounters heap = heap_guard_counters();
   const JointMask lost = state.lost_joints.load();
   const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
@@ -1272,8 +937,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static JointEventPrinter event_printer(stdout, "joint-manager: ");
 
   // --timing-out writes the handler's and the joint manager's recorders together: one process's memory.
-  g_task_processes = !options.threads && options.timing_out == nullptr;
-  if (g_task_processes) {
+  g_run.task_processes = !options.threads && options.timing_out == nullptr;
+  if (g_run.task_processes) {
     // Several processes write to one stdout: whole lines, each in one write (a pipe keeps writes of
     // up to PIPE_BUF bytes whole), so their lines never mix. Set before the first output.
     static char stdout_buffer[4096];
@@ -1411,9 +1076,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (options.capture_path != nullptr) {
     ecat::CaptureWriterOptions capture_options;
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);
-    const Status capture = g_capture.open(options.capture_path, capture_options);
+    const Status capture = g_run.capture.open(options.capture_path, capture_options);
     if (!capture.ok()) return fail("run", "cannot open the capture file", capture.error());
-    bus.master().set_tap(ecat::capture_tap, &g_capture);  // bring-up: this thread writes directly
+    bus.master().set_tap(ecat::capture_tap, &g_run.capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
@@ -1436,11 +1101,11 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                     bring_up.dc_max_difference_ns);
 
   // 4. The tasks. From now on the handler only queues captured frames.
-  if (!g_task_processes && !options.threads) {
+  if (!g_run.task_processes && !options.threads) {
     (void)std::printf("rescue-motion run: --timing-out: the tasks run as threads of one process (their recorders are "
                       "written together)\n");
   }
-  if (g_capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_capture_queue);
+  if (g_run.capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_run.capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
   static EthercatHandler handler(bus, links(), restored.restored);
@@ -1451,12 +1116,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
   static RcTask rc_rescue(links(), rescue_settings);
   static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
-  g_tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
+  g_run.tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
                     &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
                     &events,   &event_printer};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
-  const int tasks_status = g_task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
+  const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
 
   // 5. What happened.
   RunControl& state = run();
@@ -1490,7 +1155,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   summary.intake.misses = state.intake_misses.load();
   summary.intake.releases = state.intake_releases.load();
   summary.rescue_phase_reached = operator_side.motion.rescue_phase_reached;
-  summary.processes = g_task_processes;
+  summary.processes = g_run.task_processes;
   print_run_summary(summary);
   if (verdict != 0) return verdict;
   return robot_exit(condition);
