@@ -52,149 +52,13 @@
 #include "core/app/runtime/task_loops.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/operator_side.hpp"
+#include "core/app/runtime/instance_setup.hpp"
+#include "core/app/runtime/startup_log.hpp"
 
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
 namespace {
-
-// A resource another instance holds: name it and the holder's pid; the run does not start.
-int fail_locked(const char* what, const char* name, const Error& error) noexcept {
-  if (error.code == Errc::busy) {
-    if (error.detail0 != 0) {
-      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid %u); not starting\n",
-                         what, name, error.detail0);
-    } else {
-      (void)std::fprintf(stderr, "rescue-motion run: %s %s is in use by another rescue-motion (pid unknown); not starting\n",
-                         what, name);
-    }
-    return 1;
-  }
-  (void)std::fprintf(stderr, "rescue-motion run: cannot lock %s %s: %s (%s, errno %u); not starting\n", what, name,
-                     error.what, to_string(error.code), error.detail0);
-  return 1;
-}
-
-// One instance per state directory and per raw NIC; 0 when taken, else the exit status. A read-only
-// state directory is warned about (a loss could not be recorded) and takes no lock.
-int take_instance_locks(const FirmwareOptions& options, const char* dir) noexcept {
-  // One instance per state directory and per raw NIC (a second one would erase the first's losses).
-  const Status writable = hal::check_writable(dir);
-  if (!writable.ok()) {
-    (void)std::fprintf(stderr,
-                       "rescue-motion run: WARNING: state directory %s is not writable (errno %u): a joint lost in this run "
-                       "cannot be recorded, and no other instance is kept out; fix its permissions or use "
-                       "--state-dir\n",
-                       dir, writable.error().detail0);
-  } else {
-    const Status locked = hal::lock_state_directory(dir);
-    if (!locked.ok()) return fail_locked("state directory", dir, locked.error());
-  }
-  if (options.nic.kind == NicKind::raw) {
-    const Status locked = hal::lock_raw_interface(options.nic.interface_name.data());
-    if (!locked.ok()) return fail_locked("interface", options.nic.interface_name.data(), locked.error());
-  }
-  return 0;
-}
-
-int report_bring_up_failure(drivers::JointBus& bus) noexcept {
-  const ecat::BringUpReport& report = bus.master().report();
-  (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
-                     report.failed_step != nullptr ? report.failed_step : "?", report.error.what,
-                     to_string(report.error.code));
-  return 1;
-}
-
-void print_restored(JointMask restored) noexcept {
-  if (restored == 0) return;
-  char names[kJointNamesCapacity];
-  format_joint_names(restored, names, sizeof names);
-  (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
-                    "they stay out of the exchange until an operator clears them\n",
-                    names);
-}
-
-// What start-up did with a damaged error-joints file or an interrupted write: exactly what was salvaged,
-// dropped and added, where the original is kept, and what the operator can do.
-void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
-  char kept[64];
-  set_aside_name(r.set_aside_suffix, kept, sizeof kept);
-  char names[kJointNamesCapacity];
-  if (r.newer_temporary) {
-    format_joint_names(r.from_temporary, names, sizeof names);
-    (void)std::printf("rescue-motion run: %s/%s is complete and newer (sequence %" PRIu64 ") than the error-joints "
-                      "file: a write was interrupted before its rename; its joints are kept recorded lost%s%s\n",
-                      dir, ErrorJointsFileStorage::kTemporaryName, r.temporary_sequence,
-                      r.from_temporary != 0 ? "; it adds " : "", r.from_temporary != 0 ? names : "");
-  }
-  if (!r.damaged()) return;
-  const Error& why = r.file_status.error();
-  if (r.salvaged == 0) {
-    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); %u record(s) dropped; starting safely\n",
-                      why.what, to_string(why.code), r.records_dropped);
-    if (r.set_aside) (void)std::printf("rescue-motion run:   the original is kept as %s/%s\n", dir, kept);
-    return;
-  }
-  format_joint_names(r.salvaged, names, sizeof names);
-  (void)std::printf("rescue-motion run: error-joints file damaged: %s (%s); salvaged %s from the records that passed "
-                    "their checks; dropped %u record(s) that did not\n",
-                    why.what, to_string(why.code), names, r.records_dropped);
-  if (r.added_behind != 0) {
-    format_joint_names(r.added_behind, names, sizeof names);
-    (void)std::printf("rescue-motion run:   also recorded lost: %s, behind a salvaged lost joint on its branch and "
-                      "so unreachable too (held position unknown)\n",
-                      names);
-  }
-  if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
-  format_joint_names(r.restored, names, sizeof names);
-  (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
-                    "they are repaired and checked, clear them with --clear-joint %s\n",
-                    names, names);
-}
-
-// A signal stopped the bring-up: nothing reached OP, no drive was enabled; exit 0.
-int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) noexcept {
-  const ecat::BringUpReport& report = bus.master().report();
-  (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
-                    "(no slave reached OP); error-joints file unchanged\n",
-                    stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
-  if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
-  return 0;
-}
-
-// Step 1b: the shared-memory segment (docs/shared-memory.md): named by --segment or after the state
-// directory; a stale one from a crashed run is replaced with a log line. 0 when ready, else the exit
-// status.
-int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
-  if (g_run.segment.created()) {  // a second run in this process (tests): the run's words start afresh
-    new (&links().run) RunControl();
-    return 0;
-  }
-  shm::SegmentName name = shm::default_segment_name(state_dir);
-  if (options.segment_name != nullptr) {
-    const Result<shm::SegmentName> given = shm::segment_name(options.segment_name);
-    if (!given.ok()) return fail("run", given.error().what);
-    name = given.value();
-  }
-  shm::CreateReport report;
-  Result<shm::SegmentOwner> created = shm::SegmentOwner::create(name, &report);
-  if (!created.ok()) {
-    char line[256];
-    (void)shm::describe_segment_error(name, created.error(), line, sizeof line);
-    (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
-    return 1;
-  }
-  g_run.segment = std::move(created.value());
-  if (report.previous != shm::Previous::none) {
-    (void)std::printf("rescue-motion run: replaced stale shared-memory segment %s (%s, creator pid %d); its contents "
-                      "were not used\n",
-                      name.c_str(), shm::to_string(report.previous), static_cast<int>(report.previous_creator.pid));
-  }
-  (void)std::printf("rescue-motion run: shared-memory segment %s, %zu bytes, layout version %u hash 0x%08x%s\n",
-                    name.c_str(), shm::kSegmentSize, static_cast<unsigned>(TaskLinks::kLayoutVersion),
-                    static_cast<unsigned>(shm::kLayoutHash), report.memory_lock.ok() ? ", locked in RAM" : "");
-  return 0;
-}
 
 // The one line saying where a signal stopped the run.
 void print_stop_line(const RunControl& state, bool drives_disabled, bool file_dirty) noexcept {
@@ -203,32 +67,6 @@ void print_stop_line(const RunControl& state, bool drives_disabled, bool file_di
                     stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
                     drives_disabled ? "disabled" : "told to disable (not all confirmed)",
                     file_dirty ? "NOT written" : "up to date");
-}
-
-// Prints what the operator's --clear-joint request will do; false when it is refused.
-bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
-  char names[kJointNamesCapacity];
-  if (plan.not_recorded != 0) {
-    format_joint_names(plan.not_recorded, names, sizeof names);
-    (void)std::printf("rescue-motion run: --clear-joint: %s not recorded lost; nothing to clear\n", names);
-  }
-  if (plan.refused()) {
-    format_joint_names(plan.stranded, names, sizeof names);
-    char blocking[kJointNamesCapacity];
-    format_joint_names(plan.blocking, blocking, sizeof blocking);
-    (void)std::fprintf(stderr,
-                       "rescue-motion run: --clear-joint: %s cannot answer behind %s, which stay(s) recorded lost: "
-                       "clear those too; the error-joints file is unchanged\n",
-                       names, blocking);
-    return false;
-  }
-  if (plan.to_clear != 0) {
-    format_joint_names(plan.to_clear, names, sizeof names);
-    (void)std::printf("rescue-motion run: operator declares %s repaired: expected on the network, cleared once they "
-                      "answer in OP\n",
-                      names);
-  }
-  return true;
 }
 
 }  // namespace
