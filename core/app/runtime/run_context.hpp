@@ -68,6 +68,9 @@ extern RunContext g_run;
 
 inline TaskLinks& links() noexcept { return g_run.segment.links(); }
 
+// How many tasks run: the socket handler only with the operator's port (a key file).
+inline int task_count() noexcept { return g_run.tasks.operator_port ? 6 : 5; }
+
 // The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
 // stops and reports the tasks whether they are threads or processes.
 inline RunControl& run() noexcept { return links().run; }

@@ -101,6 +101,32 @@ class TaskStats {
   TaskRecorder* recorder_;
 };
 
+// A task's start, in this order: its real-time set-up from its row of the task table, its timing
+// slot, then its count in tasks_started (the run's init is complete once every task is past it).
+TaskStats start_task(const char* name, TaskId id, StatTask slot) noexcept {
+  apply_task_rt(name, id);
+  TaskStats stats(slot, name, task_cpu(id), task_priority(id));
+  run().tasks_started.fetch_add(1, std::memory_order_release);
+  return stats;
+}
+
+// A periodic task's loop: `work(start)` once every `period` on `clock` until `stop` is set, each
+// period recorded (late when it began more than `late_after` after it was due).
+template <typename Work>
+void run_periods(const std::atomic<bool>& stop, hal::Clock& clock, hal::Nanoseconds period,
+                 hal::Nanoseconds late_after, TaskStats& stats, Work work) noexcept {
+  const hal::TscTimer& timer = task_timing().timer;
+  hal::Nanoseconds next = clock.now();
+  while (!stop.load(std::memory_order_acquire)) {
+    const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
+    work(start);
+    stats.period(next, start, work_start, timer.stop(), late_after);
+    next += period;
+    clock.sleep_until(next);
+  }
+}
+
 std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
 
 // The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
@@ -134,10 +160,7 @@ void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std:
 
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_task_rt("ethercat", TaskId::ethercat_handler);
-  TaskStats stats(StatTask::ethercat_handler, "ethercat", task_cpu(TaskId::ethercat_handler),
-                  task_priority(TaskId::ethercat_handler));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats = start_task("ethercat", TaskId::ethercat_handler, StatTask::ethercat_handler);
   TaskHealthProbe health(StatTask::ethercat_handler);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
@@ -208,22 +231,13 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
 
 void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_task_rt("joint-manager", TaskId::joint_manager);
-  TaskStats stats(StatTask::joint_manager, "joint-manager", task_cpu(TaskId::joint_manager),
-                  task_priority(TaskId::joint_manager));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats = start_task("joint-manager", TaskId::joint_manager, StatTask::joint_manager);
   TaskHealthProbe health(StatTask::joint_manager);
-  hal::Nanoseconds next = clock.now();
-  TaskTiming& timing = task_timing();
-  while (!state.manager_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timing.timer.start();
-    manager.step(start);
-    links().joint_status.write(published_status(manager.statuses()));
-    stats.period(next, start, work_start, timing.timer.stop(), kJointManagerPeriod / 2);
-    next += kJointManagerPeriod;
-    clock.sleep_until(next);
-  }
+  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, stats,
+              [&manager](hal::Nanoseconds start) noexcept {
+                manager.step(start);
+                links().joint_status.write(published_status(manager.statuses()));
+              });
   manager.step(clock.now());  // the last answers and marks
   links().joint_status.write(published_status(manager.statuses()));
   stats.publish();
@@ -241,20 +255,10 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
   const bool rescue = task.id() == RcTaskId::rescue;
   const char* name = rescue ? "rc-rescue" : "rc-teleop";
   const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
-  apply_task_rt(name, TaskId::rc_tasks);
-  TaskStats stats(slot, name, task_cpu(TaskId::rc_tasks), task_priority(TaskId::rc_tasks));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats = start_task(name, TaskId::rc_tasks, slot);
   TaskHealthProbe health(slot);
-  const hal::TscTimer& timer = task_timing().timer;
-  hal::Nanoseconds next = clock.now();
-  while (!state.rc_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    task.period(start);
-    stats.period(next, start, work_start, timer.stop(), kRcTaskPeriod / 2);
-    next += kRcTaskPeriod;
-    clock.sleep_until(next);
-  }
+  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, stats,
+              [&task](hal::Nanoseconds start) noexcept { task.period(start); });
   stats.publish();
   health.report();
 }
@@ -262,20 +266,10 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_task_rt("message-parser", TaskId::message_parser);
-  TaskStats stats(StatTask::message_parser, "message-parser", task_cpu(TaskId::message_parser), task_priority(TaskId::message_parser));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
   TaskHealthProbe health(StatTask::message_parser);
-  const hal::TscTimer& timer = task_timing().timer;
-  hal::Nanoseconds next = clock.now();
-  while (!state.operator_stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    parser.step(start);
-    stats.period(next, start, work_start, timer.stop(), 10 * kParserPeriod);
-    next += kParserPeriod;
-    clock.sleep_until(next);
-  }
+  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, stats,
+              [&parser](hal::Nanoseconds start) noexcept { parser.step(start); });
   stats.publish();
   health.report();
 }
@@ -283,9 +277,7 @@ void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
 void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
   RunControl& state = run();
-  apply_task_rt("socket-handler", TaskId::socket_handler);
-  TaskStats stats(StatTask::socket_handler, "socket-handler", task_cpu(TaskId::socket_handler), task_priority(TaskId::socket_handler));
-  state.tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats = start_task("socket-handler", TaskId::socket_handler, StatTask::socket_handler);
   TaskHealthProbe health(StatTask::socket_handler);
   const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {

@@ -185,10 +185,9 @@ int run_task_processes(OperatorSide& side) noexcept {
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();
-  const int task_count = g_run.tasks.operator_port ? 6 : 5;
   const hal::Nanoseconds start_limit = supervisor_clock.now() + kTaskStartLimit;
   Supervisor::Death death;
-  while (state.tasks_started.load(std::memory_order_acquire) < task_count && !death.critical &&
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count() && !death.critical &&
          supervisor_clock.now() < start_limit) {
     death = supervisor.poll();
     supervisor_clock.sleep_until(supervisor_clock.now() + hal::kNsPerMs);

@@ -26,10 +26,9 @@ int run_task_threads(OperatorSide& side) noexcept {
   // The two RC tasks compute every period; only the Motion owner's references reach the joints.
   std::thread rescue_thread(run_rc_rescue);
   std::thread teleop_thread(run_rc_teleop);
-  const int task_count = g_run.tasks.operator_port ? 6 : 5;
   // Init is complete once every task is past its set-up (thread start-up allocates).
   hal::MonotonicClock logger_clock;
-  while (state.tasks_started.load(std::memory_order_acquire) < task_count) {
+  while (state.tasks_started.load(std::memory_order_acquire) < task_count()) {
     logger_clock.sleep_until(logger_clock.now() + hal::kNsPerMs);
   }
   declare_init_complete(HeapGuardMode::count);
