@@ -3,6 +3,7 @@
 #include "core/app/runtime/task_loops.hpp"
 
 #include <unistd.h>
+
 #include <atomic>
 #include <cstdio>
 
@@ -23,7 +24,6 @@ namespace {
 // before the run started), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
-
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
 
