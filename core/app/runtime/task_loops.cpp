@@ -251,7 +251,7 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
 // An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
 // heartbeats and reference times the handler's motion intake compares with its own).
 void rc_task(RcTask& task, hal::Clock& clock) noexcept {
-  RunControl& state = run();
+  const RunControl& state = run();
   const bool rescue = task.id() == RcTaskId::rescue;
   const char* name = rescue ? "rc-rescue" : "rc-teleop";
   const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
@@ -265,7 +265,7 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
 void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
-  RunControl& state = run();
+  const RunControl& state = run();
   TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
   TaskHealthProbe health(StatTask::message_parser);
   run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, stats,
