@@ -12,6 +12,7 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
+#include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "hal/rt/rt_setup.hpp"
@@ -26,6 +27,7 @@ constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
+constexpr hal::Nanoseconds kRescueSettle = 200 * hal::kNsPerMs;  // the rescue scenario runs on after the motion ended
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
 int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
@@ -158,6 +160,12 @@ void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std:
   links().link_diag.write(out);
 }
 
+// The rescue RC task (task 0) published that its rescue motion reached its end.
+bool rescue_motion_done() noexcept {
+  RcTaskState rescue{};
+  return links().motion.task_state[0].try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(kin::RescuePhase::done);
+}
+
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
   RunControl& state = run();
   TaskStats stats = start_task("ethercat", TaskId::ethercat_handler, StatTask::ethercat_handler);
@@ -206,6 +214,13 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
       state.scenario_acted.store(true, std::memory_order_release);
       if (options.duration == 0) stop_at = now + options.scenario.run_on;
+    }
+    // The rescue scenario ends once the rescue motion reached its end (run_on only bounds it): a
+    // slow host stretches the motion in wall time, and that must not fail the run.
+    if (options.duration == 0 && options.scenario.rescue_motion && stopping_since < 0 &&
+        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_done()) {
+      const hal::Nanoseconds settled = now + kRescueSettle;
+      if (settled < stop_at) stop_at = settled;
     }
     if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
