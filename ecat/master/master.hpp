@@ -310,9 +310,9 @@ class Master {
   // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
   enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
   SlaveMask reintegrating_{0};
+  SlaveMask rearming_{0};  // re-arming after the watchdog check (link_monitor.hpp, item 5)
   std::array<ReStep, kMaxSlaves> re_step_{};
   hal::Nanoseconds re_deadline_{0};
-  SlaveMask rearming_{0};
   hal::Nanoseconds rearm_deadline_{0};
   // Online recovery, per slave.
   struct Recovery {
