@@ -25,6 +25,17 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
                           drivers::slave_end_name(static_cast<std::uint8_t>(e.link.found[1])), drivers::slave_end_name(slave));
         break;
       }
+      if (e.link.kind == ecat::LinkEventKind::watchdog_expired) {
+        // Not a link fault: the master itself was silent (host stall) past the SyncManager watchdog.
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": SyncManager watchdogs expired after %" PRIu32
+                          " ms without frames (host stall, not a link fault), re-arming: %s\n",
+                          t, e.cycle, e.link.found[0], names);
+        break;
+      }
+      if (e.link.kind == ecat::LinkEventKind::rearmed) {
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": back in OP after the watchdog: %s\n", t, e.cycle, names);
+        break;
+      }
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;
