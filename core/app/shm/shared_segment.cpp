@@ -52,6 +52,16 @@ Result<Previous> inspect_existing(const SegmentName& name, hal::ProcessIdentity*
   return Previous::creator_dead;
 }
 
+// True when the segment now at `name` is the one whose header is `ours` (same creator pid and start
+// time): another program may have put its own segment at the name meanwhile; that one is not ours to
+// unlink.
+bool name_is_still_ours(const SegmentName& name, const SegmentHeader& ours) noexcept {
+  const Result<hal::SharedMemory> existing = hal::SharedMemory::open_existing(name.c_str());
+  if (!existing.ok() || existing.value().size() < sizeof(SegmentHeader)) return false;
+  const auto* header = static_cast<const SegmentHeader*>(existing.value().data());
+  return header->creator_pid == ours.creator_pid && header->creator_start_time == ours.creator_start_time;
+}
+
 }  // namespace
 
 SegmentName default_segment_name(const char* state_dir) noexcept {
@@ -95,7 +105,9 @@ SegmentOwner& SegmentOwner::operator=(SegmentOwner&& other) noexcept {
 }
 
 void SegmentOwner::release() noexcept {
-  if (memory_.mapped() && name_.text[0] != '\0') (void)hal::SharedMemory::unlink(name_.c_str());
+  if (memory_.mapped() && name_.text[0] != '\0' && name_is_still_ours(name_, segment().header)) {
+    (void)hal::SharedMemory::unlink(name_.c_str());
+  }
   memory_ = hal::SharedMemory{};
   name_ = SegmentName{};
 }

@@ -55,7 +55,9 @@ struct CreateReport {
   Status memory_lock{};                      // mlock of the segment (refused without privilege)
 };
 
-// Owns the segment: created by create(), unlinked (and unmapped) when destroyed.
+// Owns the segment: created by create(), unlinked (and unmapped) when destroyed; the name is unlinked
+// only while it still names this segment (same creator pid and start time in the header found there),
+// so a segment another program put at the name meanwhile is left as it is.
 class SegmentOwner {
  public:
   SegmentOwner() = default;
