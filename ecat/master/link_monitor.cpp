@@ -36,6 +36,8 @@ const char* to_string(LinkEventKind kind) noexcept {
     case LinkEventKind::recovery_refused: return "recovery refused";
     case LinkEventKind::recovery_failed: return "recovery failed";
     case LinkEventKind::port_errors: return "port errors";
+    case LinkEventKind::watchdog_expired: return "watchdog expired while the master was silent (not a link fault), re-arming";
+    case LinkEventKind::rearmed: return "re-armed, back in OP";
   }
   return "?";
 }
@@ -47,6 +49,8 @@ void LinkMonitor::start(SlaveMask in_exchange) noexcept {
   present_ = in_exchange;
   out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = recovering_ = 0;
   pending_lost_ = pending_restored_ = 0;
+  watchdog_check_ = rearm_requests_ = rearming_ = pending_expired_ = pending_rearmed_ = 0;
+  last_returned_ = -1;
   silent_frames_.fill(0);
   frames_missing_in_row_ = 0;
   silence_reported_ = false;
@@ -60,6 +64,10 @@ std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) no
   std::size_t n = 0;
   for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
     if ((suspect_ & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
+  }
+  const SlaveMask to_check = watchdog_check_ & present_ & ~suspect_;
+  for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
+    if ((to_check & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
   }
   const SlaveMask to_clear = out_ & ~fmmus_cleared_ & ~recovering_;
   std::size_t budget = kMaxOutProbesPerCycle;
@@ -81,6 +89,10 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
   valid_ = 0;
   pending_lost_ = pending_restored_ = 0;
   pending_detected_ = cycle;
+  if (pending_rearmed_ != 0) {
+    report(LinkEventKind::rearmed, pending_rearmed_, cycle);
+    pending_rearmed_ = 0;
+  }
   if (!frame_received) {
     // Late or missing: no evidence. Suspects stay suspects and are probed again next frame.
     ++frames_missing_;
@@ -100,12 +112,24 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
     silence_reported_ = false;
     report(LinkEventKind::heard_again, present_, cycle);
   }
+  // Before this frame's probes: they may already show what the silence did (item 5).
+  if (last_returned_ >= 0 && time - last_returned_ >= kWatchdogCheckGap) {
+    watchdog_check_ = present_;
+    silence_gap_ = time - last_returned_;
+    ++watchdog_check_rounds_;
+  }
+  last_returned_ = time;
+  pending_expired_ = 0;
   const SlaveMask out_before = out_;
   const bool probed_suspects = (suspect_ & present_) != 0;
   bool silent_seen = false;
   for (const ProbeResult& probe : probes) silent_seen = observe_probe(probe) || silent_seen;  // first: they change the expectation
   if (probed_suspects && out_ == out_before && !silent_seen) ++glitches_;  // a shortfall nobody explains
   observe_branches(branch_wkc);
+  if (pending_expired_ != 0) {
+    report(LinkEventKind::watchdog_expired, pending_expired_, cycle, 0, reg::al_code::kSyncManagerWatchdog,
+           {static_cast<std::uint32_t>(silence_gap_ / hal::kNsPerMs), 0, 0, 0});
+  }
   if (pending_lost_ != 0) report(LinkEventKind::lost, pending_lost_, pending_detected_);
   if (pending_restored_ != 0) report(LinkEventKind::restored, pending_restored_, cycle);
 }
@@ -114,14 +138,20 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
   if (probe.position >= kMaxSlaves) return false;
   const SlaveMask bit = slave_bit(probe.position);
   if ((present_ & bit) != 0) {
-    if ((suspect_ & bit) == 0) return false;  // only suspects are probed while in the exchange
+    // Only suspects and the watchdog check are probed while in the exchange.
+    if ((suspect_ & bit) == 0 && (watchdog_check_ & bit) == 0) return false;
     std::uint8_t& silent = silent_frames_[probe.position];
     if (probe.status_wkc == 0) {
+      // A check that did not reach a slave the counters do not doubt: checked again next frame.
+      if ((suspect_ & bit) == 0) return false;
       // Silent once more. The counter that raised the suspicion was the first such frame.
       if (silent == 0) silent = 1;
       if (++silent < kLossConfirmFrames) return true;  // stays a suspect: probed again next frame
       silent = 0;
       suspect_ &= ~bit;
+      watchdog_check_ &= ~bit;
+      rearming_ &= ~bit;
+      rearm_requests_ &= ~bit;
       present_ &= ~bit;
       out_ |= bit;
       lost_ |= bit;
@@ -132,7 +162,21 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
     // It answered: whatever the counter said, the link to it is there.
     silent = 0;
     suspect_ &= ~bit;
+    const bool expired = expired_by_watchdog(probe, bit);
+    watchdog_check_ &= ~bit;
+    if (expired) {
+      // Out of OP because nothing reached it while the master was silent: the master re-arms it.
+      if ((rearming_ & bit) == 0) {
+        rearming_ |= bit;
+        rearm_requests_ |= bit;
+        pending_expired_ |= bit;
+        ++watchdog_expiries_;
+      }
+      return false;
+    }
     if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::op)) {
+      rearming_ &= ~bit;
+      rearm_requests_ &= ~bit;
       present_ &= ~bit;
       out_ |= bit;
       report(LinkEventKind::not_operational, bit, suspect_since_[probe.position], probe.al_status,
@@ -154,6 +198,37 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
     fmmus_cleared_ &= ~bit;
   }
   return false;
+}
+
+bool LinkMonitor::expired_by_watchdog(const ProbeResult& probe, SlaveMask bit) const noexcept {
+  // Found by the watchdog check, or a suspect the master is already re-arming (a device whose
+  // counter in SAFE-OP falls short raises suspicion until it is back in OP).
+  if ((watchdog_check_ & bit) == 0 && (rearming_ & bit) == 0) return false;
+  if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::safe_op)) return false;
+  return (rearming_ & bit) != 0 || probe.al_status_code == reg::al_code::kSyncManagerWatchdog;
+}
+
+void LinkMonitor::rearmed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept {
+  slaves &= rearming_;
+  if (slaves == 0) return;
+  rearming_ &= ~slaves;
+  pending_rearmed_ |= slaves;  // one report for the frame's answers, by observe()
+  cycle_ = cycle;
+  time_ = time;
+}
+
+void LinkMonitor::rearm_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
+                               std::uint16_t al_code) noexcept {
+  slaves &= rearming_;
+  if (slaves == 0) return;
+  rearming_ &= ~slaves;
+  rearm_requests_ &= ~slaves;
+  cycle_ = cycle;
+  time_ = time;
+  const SlaveMask taken_out = slaves & present_;
+  present_ &= ~taken_out;
+  out_ |= taken_out;
+  if (taken_out != 0) report(LinkEventKind::not_operational, taken_out, cycle, al_status, al_code);
 }
 
 void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept {

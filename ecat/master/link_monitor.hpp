@@ -24,6 +24,14 @@
 // 4. No frame back at all is "late or missing": counted (frames_missing()), never a loss by itself.
 //    Only frames that come back are evidence; replies are matched to their request by the frame's
 //    index (DatagramLink), so a late reply of an earlier period is never read as the current one.
+// 5. The master's own silence: when a frame comes back kWatchdogCheckGap or more after the previous
+//    one that came back (a stalled host, or a network that returned nothing), the slaves may have
+//    gone without outputs for their SyncManager watchdog (100 ms by default) and dropped to SAFE-OP
+//    with AL status code 0x001B. Their working counter does not show it (SAFE-OP still exchanges
+//    the process data), so every slave in the exchange is probed once (the watchdog check). One
+//    found in SAFE-OP with 0x001B by that check is not a link fault: it stays in the exchange,
+//    is reported `watchdog_expired`, and the master re-arms it (acknowledge, OP) until `rearmed`.
+//    Anything else the check finds is what the probe of a suspect would say (not operational).
 #pragma once
 
 #include <array>
@@ -48,9 +56,11 @@ enum class LinkEventKind : std::uint8_t {
   recovery_refused, // online recovery found another device in its place (identity in the report)
   recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
   port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
+  watchdog_expired, // reachable, in SAFE-OP by its SyncManager watchdog after the master's silence (found[0] = ms)
+  rearmed,          // back in OP after a watchdog_expired (the master acknowledged and requested OP)
 };
-constexpr std::size_t kLinkEventKindCount = 11;
-static_assert(static_cast<std::size_t>(LinkEventKind::port_errors) + 1 == kLinkEventKindCount, "every kind counted");
+constexpr std::size_t kLinkEventKindCount = 13;
+static_assert(static_cast<std::size_t>(LinkEventKind::rearmed) + 1 == kLinkEventKindCount, "every kind counted");
 const char* to_string(LinkEventKind kind) noexcept;
 
 // One report for the master's owner (fixed size, trivially copyable: goes through SPSC queues).
@@ -99,6 +109,10 @@ class LinkMonitor {
   // (100 ms), which by then has stopped them: the alarm says why. It is not evidence against single
   // slaves: nothing is reported lost for it (docs/master.md, "A link that returns nothing").
   static constexpr hal::Nanoseconds kSilenceAlarm = 100 * hal::kNsPerMs;
+  // Returned frames this far apart (send times) start the watchdog check (item 5 above). Half the
+  // ESCs' default process-data watchdog (100 ms, 0x0400 x 0x0420 at reset, which the master keeps):
+  // the check costs one status read per slave, and a gap this long is already far above jitter.
+  static constexpr hal::Nanoseconds kWatchdogCheckGap = 50 * hal::kNsPerMs;
 
   LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
 
@@ -127,6 +141,22 @@ class LinkMonitor {
   void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
                       const std::array<std::uint32_t, 4>& found) noexcept;
 
+  // Watchdog check (item 5): slaves found in SAFE-OP by their watchdog that the master has not yet
+  // taken over for re-arming; the master takes them (clears the set) and says how it ended.
+  SlaveMask take_rearm_requests() noexcept {
+    const SlaveMask taken = rearm_requests_;
+    rearm_requests_ = 0;
+    return taken;
+  }
+  void rearmed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time) noexcept;
+  // It could not be brought back to OP: out of the exchange, reported not operational.
+  void rearm_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
+                    std::uint16_t al_code) noexcept;
+  SlaveMask watchdog_checks() const noexcept { return watchdog_check_; }
+  // Watchdog checks started, and slaves found in SAFE-OP by their watchdog.
+  std::uint64_t watchdog_check_rounds() const noexcept { return watchdog_check_rounds_; }
+  std::uint64_t watchdog_expiries() const noexcept { return watchdog_expiries_; }
+
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept;
 
   SlaveMask in_exchange() const noexcept { return present_; }
@@ -150,6 +180,8 @@ class LinkMonitor {
  private:
   // True when the probe found a suspect silent (evidence of a loss, not yet confirmed).
   bool observe_probe(const ProbeResult& probe) noexcept;
+  // True when the probe (of a suspect or a watchdog check) found the slave in SAFE-OP by its watchdog.
+  bool expired_by_watchdog(const ProbeResult& probe, SlaveMask bit) const noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
   void report(LinkEventKind kind, SlaveMask slaves, std::uint64_t detected_cycle, std::uint16_t al_status = 0,
               std::uint16_t al_code = 0, const std::array<std::uint32_t, 4>& found = {}) noexcept;
@@ -164,6 +196,15 @@ class LinkMonitor {
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
   SlaveMask recovering_{0};    // online recovery works on them: no restoration probes
+  SlaveMask watchdog_check_{0};  // in the exchange, to probe once after the master's silence (item 5)
+  SlaveMask rearm_requests_{0};  // found in SAFE-OP by their watchdog, not yet taken by the master
+  SlaveMask rearming_{0};        // found so, until rearmed() or rearm_failed()
+  SlaveMask pending_expired_{0}; // found so by the current frame's probes (one report)
+  SlaveMask pending_rearmed_{0}; // back in OP by the current frame's answers (one report)
+  hal::Nanoseconds last_returned_{-1};  // send time of the last frame that came back
+  hal::Nanoseconds silence_gap_{0};     // the gap that started the current watchdog check
+  std::uint64_t watchdog_check_rounds_{0};
+  std::uint64_t watchdog_expiries_{0};
   std::array<std::uint64_t, kMaxSlaves> suspect_since_{};  // cycle whose counter raised the suspicion
   // Returned frames in a row that showed the slave unreachable (counter, then silent probes).
   std::array<std::uint8_t, kMaxSlaves> silent_frames_{};

@@ -255,6 +255,9 @@ class Master {
   void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
   void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
   void finish_reintegration_step() noexcept;
+  // Re-arming slaves the watchdog check found in SAFE-OP by their watchdog (same steps, from the
+  // acknowledge; they stay in the exchange meanwhile).
+  void start_rearm(SlaveMask slaves) noexcept;
 
   enum class Role : std::uint8_t {
     reference_time,
@@ -307,8 +310,10 @@ class Master {
   // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
   enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
   SlaveMask reintegrating_{0};
+  SlaveMask rearming_{0};  // re-arming after the watchdog check (link_monitor.hpp, item 5)
   std::array<ReStep, kMaxSlaves> re_step_{};
   hal::Nanoseconds re_deadline_{0};
+  hal::Nanoseconds rearm_deadline_{0};
   // Online recovery, per slave.
   struct Recovery {
     RecoveryState state{RecoveryState::idle};

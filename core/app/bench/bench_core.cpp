@@ -148,7 +148,7 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   for (std::uint64_t i = 0; i < kSeqlockOps; ++i) g_record_probe.record(i & 0xFFFFU);
   const std::uint64_t record_ticks = timer.stop() - record_start;
 
-  // What the firmware's task loops add per period (firmware.cpp, task_timing.hpp): the timer read
+  // What the firmware's task loops add per period (runtime/task_loops.cpp, task_timing.hpp): the timer read
   // before and after the work, and TaskRecorder::period: the two histogram records, the late-period
   // count and the countdown to the next publication of the live figures (every
   // TaskRecorder::kPublishEvery periods, measured on its own below). The loops' clock reads were

@@ -197,7 +197,7 @@ void rc_thread(kin::RcPeriod& rc) noexcept {
   }
 }
 
-// The socket handler's thread: as firmware.cpp's socket_task, following the handler's case.
+// The socket handler's thread: as runtime/task_loops.cpp's socket_task, following the handler's case.
 void socket_thread(SocketHandler& socket) noexcept {
   hal::MonotonicClock clock;
   int pinned_for = -2;

@@ -15,7 +15,7 @@ namespace {
 // Not const: a configuration file may move a task (set_task_priority, set_task_cpu), before the tasks start.
 TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
   {TaskId::basic_software, "basic software", config::kBasicSoftwarePriority, config::kBasicSoftwareCpu, config::kLoggerPeriodNs,
-   "no", "the operating system; the firmware's logger (events, capture file)", "runtime/firmware.cpp (logger)",
+   "no", "the operating system; the firmware's logger (events, capture file)", "runtime/run_log.cpp (logger)",
    "the supervisor (the parent: owns the segment, starts, restarts and stops the others)", 0, 0,
    "the run ends; even on SIGKILL the EtherCAT handler gets SIGTERM (disables every drive, then ends) and the others SIGKILL (PR_SET_PDEATHSIG); the next run replaces the stale segment"},
   {TaskId::socket_handler, "socket handler", config::kSocketHandlerPriority, config::kSocketHandlerCpu, 0,

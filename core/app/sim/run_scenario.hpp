@@ -11,7 +11,8 @@
 //             "initialize robot" and `owner 0`): the approach to the ready posture (1.6 s), then
 //             lowering, forwarding, backwarding (1 s each); 3 s after OP, in the forwarding phase,
 //             the cable into l_elbow is cut; the motion goes on with the remaining joints; the run
-//             stops cleanly 2.5 s after the cut (docs/motion-owner.md)
+//             stops cleanly 0.2 s after the motion's end (at most run_on after the cut,
+//             docs/motion-owner.md)
 //
 // The scenario acts from the EtherCAT handler's thread, between two cycles (the simulated segment
 // is driven by that thread's frames), and only on the simulated NIC.

@@ -2,7 +2,8 @@
 // FMMU activation per slave; LRW adds 3 per reached slave in OP with active FMMUs): a cut at any
 // joint is reported as exactly that joint and everything behind it, one cycle after the working
 // counter showed it, while every other slave stays valid in every cycle; restoration is reported
-// and never re-used silently; a slave leaving OP and a dead network are reported too.
+// and never re-used silently; a slave leaving OP and a dead network are reported too; a watchdog
+// expiry after the master's silence is re-armed, not reported not operational.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -173,6 +174,37 @@ TEST_F(LinkMonitorTest, SlaveLeavingOpIsReportedWithItsAlStatusCode) {
   // neck_tilt behind it keeps running.
   EXPECT_NE(monitor.valid() & slave_bit(neck + 1), 0u);
   EXPECT_EQ(net.fmmu_active & slave_bit(neck), 0u);
+}
+
+// The same AL status code after 60 ms without a returned frame: the drive's watchdog expired
+// while nothing reached it, which is no link fault: reported `watchdog_expired`, left in the
+// exchange for the master to re-arm (here a device whose counter in SAFE-OP falls short, so its
+// branch stays suspect until it is back in OP), never `not_operational`.
+TEST_F(LinkMonitorTest, AWatchdogExpiryAfterTheMastersSilenceIsReArmedNotReported) {
+  for (int i = 0; i < 3; ++i) (void)run_cycle();
+  const std::size_t neck = slave_position_of_joint(joint_index_by_name("neck_pan"));
+  net.frames_pass = false;
+  for (int i = 0; i < 60; ++i) (void)run_cycle();
+  net.frames_pass = true;
+  net.al_state[neck] = static_cast<std::uint16_t>(reg::AlState::safe_op) | reg::kAlErrorBit;
+  for (int i = 0; i < 5; ++i) (void)run_cycle();
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].kind, LinkEventKind::watchdog_expired);
+  EXPECT_EQ(reports[0].slaves, slave_bit(neck));
+  EXPECT_EQ(reports[0].al_status_code, 0x001B);
+  EXPECT_GE(reports[0].found[0], 60u);
+  EXPECT_EQ(monitor.take_rearm_requests(), slave_bit(neck));
+  EXPECT_EQ(monitor.take_rearm_requests(), 0u) << "taken once";
+  EXPECT_EQ(monitor.out_of_exchange(), 0u);
+  EXPECT_EQ(net.fmmu_active, kAllSlaves) << "its FMMUs stay on";
+  // Acknowledged and back in OP (the master's part): one `rearmed`, every slave valid again.
+  net.al_state[neck] = static_cast<std::uint16_t>(reg::AlState::op);
+  monitor.rearmed(slave_bit(neck), cycle, static_cast<hal::Nanoseconds>(cycle) * hal::kNsPerMs);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(run_cycle(), kAllSlaves & ~slave_bit(0) & ~slave_bit(1));
+  ASSERT_EQ(reports.size(), 2u);
+  EXPECT_EQ(reports[1].kind, LinkEventKind::rearmed);
+  EXPECT_EQ(reports[1].slaves, slave_bit(neck));
+  EXPECT_EQ(monitor.watchdog_expiries(), 1u);
 }
 
 TEST_F(LinkMonitorTest, FramesThatDoNotComeBackAreMissingNeverLost) {

@@ -1,0 +1,80 @@
+// The runner's shared context (internal to core/app/runtime): the objects run_firmware wires once before
+// the tasks start, read by the task loops, the logger's passes, the two task modes and the end-of-run
+// report. Only core/app/runtime/*.cpp include it.
+#pragma once
+
+#include <cstddef>
+
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/control/message_parser.hpp"
+#include "core/app/control/replay_window.hpp"
+#include "core/app/control/socket_handler.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/runtime/firmware.hpp"
+#include "core/app/shm/shared_segment.hpp"
+#include "core/app/sim/run_scenario.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
+#include "core/app/tasks/joint_event_printer.hpp"
+#include "core/app/tasks/joint_event_queue.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/rc_task.hpp"
+#include "ecat/capture/capture_queue.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/wall_clock.hpp"
+
+namespace rescue::app::runner {
+
+constexpr hal::Nanoseconds kLoggerPeriod = config::kLoggerPeriodNs;
+constexpr hal::Nanoseconds kDisableTimeout = config::kDisableTimeoutNs;
+constexpr std::size_t kCaptureFramesPerLoggerPass = 256;
+
+// What the tasks run on: the static objects run_firmware wires once, before the tasks start (a
+// forked task process finds them at the same addresses).
+struct TaskSet {
+  EthercatHandler* handler;
+  ScenarioRunner* scenario;
+  JointManager* manager;
+  MessageParser* parser;
+  SocketHandler* socket;
+  RcTask* rc_rescue;
+  RcTask* rc_teleop;
+  protocol::ReplayWindow* replay;
+  hal::WallClock* wall_clock;
+  hal::Clock* clock;           // the NIC's: the handler's and the joint manager's
+  hal::Clock* operator_clock;  // the socket handler's and the message parser's
+  const FirmwareOptions* options;
+  bool operator_port;
+  hal::Nanoseconds start;
+  JointEventQueue* joint_events;          // the joint manager's events (its process's or thread's)
+  JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
+};
+
+struct RunContext {
+  // What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
+  // process at start-up (a second run_firmware in the same process, as tests do, reuses it).
+  shm::SegmentOwner segment;
+  // Whether the tasks run as processes (the default) or threads of one process (--threads).
+  bool task_processes{false};
+  ecat::CaptureWriter capture;
+  // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
+  // may block, the 1 ms cycle must not).
+  ecat::CaptureQueue capture_queue;
+  TaskSet tasks{};
+};
+// Process-wide on purpose: a forked task process finds it at the same address, and the task entry
+// points (std::thread's, the supervisor's) take no argument. Defined in run_context.cpp.
+extern RunContext g_run;
+
+inline TaskLinks& links() noexcept { return g_run.segment.links(); }
+
+// How many tasks run: the socket handler only with the operator's port (a key file).
+inline int task_count() noexcept { return g_run.tasks.operator_port ? 6 : 5; }
+
+// The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
+// stops and reports the tasks whether they are threads or processes.
+inline RunControl& run() noexcept { return links().run; }
+
+inline double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+
+}  // namespace rescue::app::runner

@@ -1,0 +1,179 @@
+// The end of a run (run_report.hpp), and exit_status_for (firmware.hpp).
+#include "core/app/runtime/run_report.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+
+#include "core/app/cli/cli.hpp"
+#include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "core/memory/heap_guard.hpp"
+
+namespace rescue::app {
+
+int exit_status_for(fsm::RobotCondition condition) noexcept {
+  return condition == fsm::RobotCondition::error ? kExitRobotError : 0;
+}
+
+}  // namespace rescue::app
+
+namespace rescue::app::runner {
+namespace {
+
+// The one line saying where a signal stopped the run.
+void print_stop_line(const RunControl& state, bool drives_disabled, bool file_dirty) noexcept {
+  (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
+                    "file %s\n",
+                    stop_signal(), state.op.load() ? "while in OP" : "before OP (going to OP)", state.cycles.load(),
+                    drives_disabled ? "disabled" : "told to disable (not all confirmed)",
+                    file_dirty ? "NOT written" : "up to date");
+}
+
+const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler",
+                                                "message-parser",   "rc-rescue",     "rc-teleop"};
+
+// `key: value` lines: per task (process), heap allocations and page faults after its init.
+void print_task_health(bool operator_port) noexcept {
+  for (std::size_t i = 0; i < kTaskStatSlots; ++i) {
+    if (!operator_port && static_cast<StatTask>(i) == StatTask::socket_handler) continue;
+    const TaskHealth& h = run().health[i];
+    if (!h.reported.load(std::memory_order_acquire)) {
+      (void)std::printf("%s heap allocations after init: unknown (it did not report)\n", kTaskNames[i]);
+      continue;
+    }
+    (void)std::printf("%s heap allocations after init: %" PRIu64 "\n", kTaskNames[i], h.heap_allocations.load());
+    (void)std::printf("%s page faults after init: %" PRIu64 "\n", kTaskNames[i], h.page_faults.load());
+    (void)std::printf("%s restarts: %u\n", kTaskNames[i], h.restarts.load());
+    TaskStat stat{};
+    if (links().task_stats[i].try_read(stat)) {
+      (void)std::printf("%s periods: %" PRIu64 "\n", kTaskNames[i], stat.periods);
+      (void)std::printf("%s periods missed: %" PRIu64 "\n", kTaskNames[i], stat.missed);
+      (void)std::printf("%s max execution time: %" PRIu64 " ns\n", kTaskNames[i], stat.max_execution_ns);
+    }
+  }
+}
+
+}  // namespace
+
+std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept {
+  RunControl& state = run();
+  const bool operator_port = g_run.tasks.operator_port;
+  const HeapGuardCounters heap = heap_guard_counters();
+  const JointMask lost = state.lost_joints.load();
+  const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
+  std::uint64_t healthy_missed = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((lost & joint_bit(j)) == 0) healthy_missed += state.missed_cycles[j].load();
+  }
+  char lost_names[kJointNamesCapacity];
+  format_joint_names(lost, lost_names, sizeof lost_names);
+  if (stop_signal() != 0) print_stop_line(state, state.drives_disabled.load(), state.file_dirty.load());
+  if (!state.handler_done.load()) {
+    (void)std::printf("rescue-motion run: the EtherCAT handler did not report its final figures: the ones below are "
+                      "its last published\n");
+  }
+  const bool manager_reported = state.manager_done.load(std::memory_order_acquire);
+  (void)std::printf("rescue-motion run: %" PRIu64 " cycles; healthy joints missed %" PRIu64
+                    " cycles; frames late or lost: %" PRIu64 "; late periods: %" PRIu64 " (%" PRIu64
+                    " not run); lost joints: %s; robot %s\n",
+                    state.cycles.load(), healthy_missed, state.frames_missing.load(), state.late_periods.load(),
+                    state.skipped_periods.load(), manager_reported ? lost_names : "unknown", manager_reported ? fsm::to_string(condition) : "unknown (the joint manager did not report)");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const std::uint64_t m = (lost & joint_bit(j)) != 0 ? 0 : state.missed_cycles[j].load();
+    if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
+  }
+  (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  print_task_health(operator_port);
+  SocketCounters counted{};
+  (void)links().socket_counters.try_read(counted);
+  if (operator_port) {
+    (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
+    for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+      (void)std::printf(", %s %" PRIu64, protocol::to_string(static_cast<protocol::Rejection>(i)), counted.rejected[i]);
+    }
+    (void)std::printf("\n");
+    (void)std::printf("rescue-motion run: socket handler wake-ups %" PRIu64 ", at the budget %" PRIu64
+                      ", most datagrams in one wake-up %" PRIu64 " (budget %zu)\n",
+                      counted.wakeups, counted.budget_exhausted, state.socket_max_per_wakeup.load(), SocketHandler::kBudget);
+  }
+  if (options.report != nullptr) {
+    options.report->cycles = state.cycles.load();
+    options.report->healthy_missed = healthy_missed;
+    options.report->frames_missing = state.frames_missing.load();
+    options.report->datagrams = counted.datagrams;
+    options.report->accepted = counted.accepted;
+    options.report->rejected = counted.rejected;
+    options.report->control_port = socket.control_port();
+    options.report->sensor_port = socket.sensor_port();
+  }
+  return healthy_missed;
+}
+
+int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
+                     std::uint64_t healthy_missed, std::uint8_t rescue_phase_reached) noexcept {
+  if (wanted.kind == ScenarioKind::none) return 0;
+  if (!state.scenario_acted.load() || !state.scenario_ok.load()) return fail("run", "the scenario's link cut did not happen");
+  if ((lost & wanted.expected_lost) != wanted.expected_lost || (lost & ~(wanted.expected_lost | restored)) != 0) {
+    return fail("run", "the joints marked lost differ from the joints behind the cut");
+  }
+  if (healthy_missed != 0) return fail("run", "healthy joints missed cycles during the link cut");
+  if (state.file_dirty.load()) return fail("run", "the error-joints file could not be written");
+  if (wanted.rescue_motion) {
+    if (state.intake_used_periods.load() == 0) return fail("run", "the rescue RC task's references never drove the joints");
+    if (rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
+      return fail("run", "the rescue motion did not reach its end before the stop");
+    }
+  }
+  return 0;
+}
+
+void print_run_summary(const RunSummary& s) noexcept {
+  (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: %s\n",
+                    s.processes ? "processes under a supervisor" : "threads of one process");
+  (void)std::printf("periods_run: %" PRIu64 "\n", s.cycles);
+  for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
+    TaskStat stat{};
+    if (!links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
+    char key[protocol::kNameSize + 1];
+    std::size_t n = 0;
+    for (; n < protocol::kNameSize && stat.name[n] != '\0'; ++n) key[n] = stat.name[n] == '-' ? '_' : stat.name[n];
+    key[n] = '\0';
+    const TaskHealth& health = links().run.health[k];
+    (void)std::printf("periods_run_%s: %" PRIu64 "\n", key, stat.periods);
+    (void)std::printf("periods_missed_%s: %" PRIu64 "\n", key, stat.missed);
+    (void)std::printf("max_execution_ns_%s: %" PRIu64 "\n", key, stat.max_execution_ns);
+    (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, health.page_faults.load());
+  }
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
+  char names[kJointNamesCapacity];
+  format_joint_names(s.lost, names, sizeof names);
+  std::size_t lost_count = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) lost_count += (s.lost & joint_bit(j)) != 0 ? 1U : 0U;
+  (void)std::printf("joints_lost: %zu\n", lost_count);
+  (void)std::printf("joints_lost_names: %s\n", names);
+  for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
+    (void)std::printf("datagrams_rejected_%s: %" PRIu64 "\n", protocol::to_string(static_cast<protocol::Rejection>(i)),
+                      s.socket != nullptr ? s.socket->rejected[i] : 0U);
+  }
+  (void)std::printf("owner_periods: %" PRIu64 "\n", s.intake.owned_periods);
+  (void)std::printf("owner_references_used: %" PRIu64 "\n", s.intake.used_periods);
+  (void)std::printf("owner_misses: %" PRIu64 "\n", s.intake.misses);
+  (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
+  (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
+  RcTaskState rescue{};
+  if (links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+    (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
+    (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
+  }
+}
+
+int robot_exit(fsm::RobotCondition condition) noexcept {
+  const int status = exit_status_for(condition);
+  if (status != 0) {
+    (void)std::fprintf(stderr, "rescue-motion run: the robot ended in error (every joint in Error): exit status %d\n",
+                       status);
+  }
+  return status;
+}
+
+}  // namespace rescue::app::runner

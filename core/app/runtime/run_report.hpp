@@ -1,0 +1,41 @@
+// The end of a run (docs/firmware.md, step 5): the figures the tasks published in the segment, the
+// scenario's verdict, the `key: value` summary lines, and the exit status of a run that stopped in order.
+#pragma once
+
+#include <cstdint>
+
+#include "core/app/control/socket_handler.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/motion/motion_intake.hpp"
+#include "core/app/runtime/firmware.hpp"
+#include "core/app/sim/run_scenario.hpp"
+
+namespace rescue::app::runner {
+
+// Step 5: the run's figures, from what the tasks published in the segment (run_control.hpp), also into
+// options.report; returns the cycles healthy joints missed.
+std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept;
+
+// A scenario's checks once the run stopped: 0, or the exit status after saying what failed.
+// What the tasks reported is read from the segment (run_control.hpp): threads or processes alike.
+int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
+                     std::uint64_t healthy_missed, std::uint8_t rescue_phase_reached) noexcept;
+
+// The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
+// Per task: what it published in its timing slot and its health slot (run_control.hpp).
+struct RunSummary {
+  std::uint64_t cycles{0};
+  std::uint64_t heap_allocations{0};
+  JointMask lost{0};
+  const SocketCounters* socket{nullptr};
+  MotionIntakeCounters intake{};
+  std::uint8_t rescue_phase_reached{0};
+  bool processes{false};
+};
+
+void print_run_summary(const RunSummary& s) noexcept;
+
+// The exit status of a run that stopped in order, said on stderr when it is not 0.
+int robot_exit(fsm::RobotCondition condition) noexcept;
+
+}  // namespace rescue::app::runner

@@ -1,0 +1,100 @@
+// What start-up says before the tasks run (startup_log.hpp).
+#include "core/app/runtime/startup_log.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+
+#include "core/app/runtime/run_log.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+
+namespace rescue::app::runner {
+
+int report_bring_up_failure(drivers::JointBus& bus) noexcept {
+  const ecat::BringUpReport& report = bus.master().report();
+  (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
+                     report.failed_step != nullptr ? report.failed_step : "?", report.error.what,
+                     to_string(report.error.code));
+  return 1;
+}
+
+void print_restored(JointMask restored) noexcept {
+  if (restored == 0) return;
+  char names[kJointNamesCapacity];
+  format_joint_names(restored, names, sizeof names);
+  (void)std::printf("rescue-motion run: restored lost joints %s from the error-joints file before bring-up; "
+                    "they stay out of the exchange until an operator clears them\n",
+                    names);
+}
+
+void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
+  char kept[64];
+  set_aside_name(r.set_aside_suffix, kept, sizeof kept);
+  char names[kJointNamesCapacity];
+  if (r.newer_temporary) {
+    format_joint_names(r.from_temporary, names, sizeof names);
+    (void)std::printf("rescue-motion run: %s/%s is complete and newer (sequence %" PRIu64 ") than the error-joints "
+                      "file: a write was interrupted before its rename; its joints are kept recorded lost%s%s\n",
+                      dir, ErrorJointsFileStorage::kTemporaryName, r.temporary_sequence,
+                      r.from_temporary != 0 ? "; it adds " : "", r.from_temporary != 0 ? names : "");
+  }
+  if (!r.damaged()) return;
+  const Error& why = r.file_status.error();
+  if (r.salvaged == 0) {
+    (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); %u record(s) dropped; starting safely\n",
+                      why.what, to_string(why.code), r.records_dropped);
+    if (r.set_aside) (void)std::printf("rescue-motion run:   the original is kept as %s/%s\n", dir, kept);
+    return;
+  }
+  format_joint_names(r.salvaged, names, sizeof names);
+  (void)std::printf("rescue-motion run: error-joints file damaged: %s (%s); salvaged %s from the records that passed "
+                    "their checks; dropped %u record(s) that did not\n",
+                    why.what, to_string(why.code), names, r.records_dropped);
+  if (r.added_behind != 0) {
+    format_joint_names(r.added_behind, names, sizeof names);
+    (void)std::printf("rescue-motion run:   also recorded lost: %s, behind a salvaged lost joint on its branch and "
+                      "so unreachable too (held position unknown)\n",
+                      names);
+  }
+  if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
+  format_joint_names(r.restored, names, sizeof names);
+  (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
+                    "they are repaired and checked, clear them with --clear-joint %s\n",
+                    names, names);
+}
+
+int stopped_in_bring_up(drivers::JointBus& bus, const FirmwareOptions& options) noexcept {
+  const ecat::BringUpReport& report = bus.master().report();
+  (void)std::printf("rescue-motion run: stopped by signal %d during bring-up, before step %s; no drive was enabled "
+                    "(no slave reached OP); error-joints file unchanged\n",
+                    stop_signal(), report.failed_step != nullptr ? report.failed_step : "?");
+  if (options.capture_path != nullptr) (void)finish_capture(options.capture_path);
+  return 0;
+}
+
+bool announce_repaired_joints(const RepairedJointsPlan& plan) noexcept {
+  char names[kJointNamesCapacity];
+  if (plan.not_recorded != 0) {
+    format_joint_names(plan.not_recorded, names, sizeof names);
+    (void)std::printf("rescue-motion run: --clear-joint: %s not recorded lost; nothing to clear\n", names);
+  }
+  if (plan.refused()) {
+    format_joint_names(plan.stranded, names, sizeof names);
+    char blocking[kJointNamesCapacity];
+    format_joint_names(plan.blocking, blocking, sizeof blocking);
+    (void)std::fprintf(stderr,
+                       "rescue-motion run: --clear-joint: %s cannot answer behind %s, which stay(s) recorded lost: "
+                       "clear those too; the error-joints file is unchanged\n",
+                       names, blocking);
+    return false;
+  }
+  if (plan.to_clear != 0) {
+    format_joint_names(plan.to_clear, names, sizeof names);
+    (void)std::printf("rescue-motion run: operator declares %s repaired: expected on the network, cleared once they "
+                      "answer in OP\n",
+                      names);
+  }
+  return true;
+}
+
+}  // namespace rescue::app::runner

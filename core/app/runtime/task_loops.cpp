@@ -1,0 +1,325 @@
+// The tasks' period loops (task_loops.hpp): handler_task, joint_manager_task, rc_task, parser_task,
+// socket_task, and the entry points that run them on g_run.tasks.
+#include "core/app/runtime/task_loops.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_table.hpp"
+#include "core/app/runtime/task_timing.hpp"
+#include "core/kinematics/rescue_motion.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "hal/rt/rt_setup.hpp"
+
+namespace rescue::app::runner {
+namespace {
+
+// Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
+// config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
+// before the run started), applied by the task itself, in its thread or process.
+constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
+constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
+constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
+constexpr int kSocketWaitMs = 5;
+constexpr hal::Nanoseconds kRescueSettle = 200 * hal::kNsPerMs;  // the rescue scenario runs on after the motion ended
+
+// The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
+int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
+
+void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
+  hal::RtConfig rt;
+  rt.lock_memory = g_run.task_processes;  // a forked child does not inherit mlockall; threads: done once
+  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
+  rt.fifo_priority = priority;
+  rt.cpu = cpu_for(cpu);
+  const hal::RtReport report = hal::apply_rt_config(rt);
+  if (!report.fully_applied()) {
+    (void)std::printf("%s: running degraded, %zu real-time setting(s) refused:\n", task, report.refused_count());
+  }
+  for (const hal::RtItemReport& item : report.items) {
+    if (item.outcome != hal::RtOutcome::refused) continue;
+    char line[256];
+    (void)hal::RtReport::format_item(item, line, sizeof line);
+    (void)std::printf("%s:   %s\n", task, line);
+  }
+}
+
+// The task's real-time set-up from its row of the task table; its timing slot says what it asked for.
+void apply_task_rt(const char* name, TaskId id) noexcept { apply_thread_rt(name, runner_priority(id), task_spec(id).cpu); }
+int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
+int task_priority(TaskId id) noexcept { return runner_priority(id); }
+
+// The EtherCAT handler stops on a signal to its own process or on the supervisor's word.
+bool stop_requested() noexcept { return stop_signal() != 0 || run().stop.load(std::memory_order_acquire); }
+
+// Heap allocations and page faults of a task after its init (run_control.hpp, TaskHealth): taken
+// when the task is past its set-up, reported in its slot at its end.
+class TaskHealthProbe {
+ public:
+  explicit TaskHealthProbe(StatTask id) noexcept
+      : slot_(&run().health[static_cast<std::size_t>(id)]),
+        heap_at_init_(heap_guard_counters().allocations),
+        faults_at_init_(hal::page_faults_of_thread()) {
+    slot_->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
+    slot_->reported.store(false, std::memory_order_release);
+  }
+  void report() noexcept {
+    const hal::PageFaults faults = hal::page_faults_of_thread();
+    slot_->heap_allocations.store(heap_guard_counters().allocations - heap_at_init_, std::memory_order_relaxed);
+    slot_->page_faults.store(faults.minor + faults.major - faults_at_init_.minor - faults_at_init_.major,
+                             std::memory_order_relaxed);
+    slot_->reported.store(true, std::memory_order_release);
+  }
+
+ private:
+  TaskHealth* slot_;
+  std::uint64_t heap_at_init_;
+  hal::PageFaults faults_at_init_;
+};
+
+// A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
+// for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
+class TaskStats {
+ public:
+  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept : recorder_(&task_timing()[id]) {
+    recorder_->start(links().task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
+  }
+  // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
+  void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
+              hal::Nanoseconds late_after) noexcept {
+    recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
+  }
+  // The last publication, when the task ends (its page faults: TaskHealthProbe).
+  void publish() noexcept { recorder_->publish(); }
+  std::uint64_t missed() const noexcept { return recorder_->missed(); }
+
+ private:
+  TaskRecorder* recorder_;
+};
+
+// A task's start, in this order: its real-time set-up from its row of the task table, its timing
+// slot, then its count in tasks_started (the run's init is complete once every task is past it).
+TaskStats start_task(const char* name, TaskId id, StatTask slot) noexcept {
+  apply_task_rt(name, id);
+  TaskStats stats(slot, name, task_cpu(id), task_priority(id));
+  run().tasks_started.fetch_add(1, std::memory_order_release);
+  return stats;
+}
+
+// A periodic task's loop: `work(start)` once every `period` on `clock` until `stop` is set, each
+// period recorded (late when it began more than `late_after` after it was due).
+template <typename Work>
+void run_periods(const std::atomic<bool>& stop, hal::Clock& clock, hal::Nanoseconds period,
+                 hal::Nanoseconds late_after, TaskStats& stats, Work work) noexcept {
+  const hal::TscTimer& timer = task_timing().timer;
+  hal::Nanoseconds next = clock.now();
+  while (!stop.load(std::memory_order_acquire)) {
+    const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
+    work(start);
+    stats.period(next, start, work_start, timer.stop(), late_after);
+    next += period;
+    clock.sleep_until(next);
+  }
+}
+
+std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
+
+// The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
+// 23 reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB.
+void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps) noexcept {
+  if (d.sweeps() == published_sweeps) return;
+  published_sweeps = d.sweeps();
+  protocol::DiagPayload out{};
+  out.cycle = cycle;
+  out.sweeps = d.sweeps();
+  out.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+  static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one diag message");
+  static_assert(ecat::kEscPorts == protocol::kDiagPorts, "one record per ESC port");
+  for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
+    const ecat::SlaveErrorCounters& c = d.counters(p);
+    protocol::DiagSlaveRecord& s = out.slaves[p];
+    for (unsigned n = 0; n < ecat::kEscPorts; ++n) {
+      s.ports[n].invalid_frames = saturate16(c.ports[n].invalid_frames);
+      s.ports[n].rx_errors = saturate16(c.ports[n].rx_errors);
+      s.ports[n].forwarded_errors = saturate16(c.ports[n].forwarded_errors);
+      s.ports[n].lost_links = saturate16(c.ports[n].lost_links);
+      if (d.warned(p, n)) s.warned = static_cast<std::uint8_t>(s.warned | (1U << n));
+      if (d.ever_warned(p, n)) s.warned_before = static_cast<std::uint8_t>(s.warned_before | (1U << n));
+    }
+    s.processing_unit_errors = saturate16(c.processing_unit_errors);
+    s.pdi_errors = saturate16(c.pdi_errors);
+    s.reads = saturate16(c.reads);
+  }
+  links().link_diag.write(out);
+}
+
+// The rescue RC task (task 0) published that its rescue motion reached its end.
+bool rescue_motion_done() noexcept {
+  RcTaskState rescue{};
+  return links().motion.task_state[0].try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(kin::RescuePhase::done);
+}
+
+void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  TaskStats stats = start_task("ethercat", TaskId::ethercat_handler, StatTask::ethercat_handler);
+  TaskHealthProbe health(StatTask::ethercat_handler);
+  drivers::JointBus& bus = handler.bus();
+  const hal::Nanoseconds started = clock.now();
+  hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
+  hal::Nanoseconds stopping_since = -1;
+  TaskTiming& timing = task_timing();
+  MasterStatus master{};
+  std::uint64_t diag_sweeps = 0;
+  for (;;) {
+    const hal::Nanoseconds release = bus.next_wakeup();
+    clock.sleep_until(release);
+    const std::uint64_t work_start = timing.timer.start();
+    const drivers::JointCycleResult r = handler.cycle();
+    const std::uint64_t work_end = timing.timer.stop();
+    const hal::Nanoseconds now = clock.now();
+    // Woke at now - the work's duration: no extra clock read.
+    const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
+    stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
+    master.state = static_cast<std::uint8_t>(r.state);
+    master.cycles = r.cycle;
+    master.frames_sent = r.cycle;
+    master.frames_lost = handler.frames_missing();
+    // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
+    // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
+    master.late_periods = stats.missed() + bus.master().skipped_periods();
+    const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
+    master.dc_deviation_ns = dc_error;
+    const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
+    if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
+    master.in_exchange = bus.master().monitor().in_exchange();
+    master.lost = bus.master().monitor().lost();
+    links().master_status.write(master);
+    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
+    state.cycles.store(r.cycle, std::memory_order_relaxed);
+    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
+    const bool op = r.state == ecat::MasterState::op;
+    if (op && !state.op.load(std::memory_order_relaxed)) {
+      state.op_at.store(now, std::memory_order_relaxed);
+      state.op.store(true, std::memory_order_release);
+    }
+    if (scenario.on_cycle(now, op)) {
+      state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
+      state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
+      state.scenario_acted.store(true, std::memory_order_release);
+      if (options.duration == 0) stop_at = now + options.scenario.run_on;
+    }
+    // The rescue scenario ends once the rescue motion reached its end (run_on only bounds it): a
+    // slow host stretches the motion in wall time, and that must not fail the run.
+    if (options.duration == 0 && options.scenario.rescue_motion && stopping_since < 0 &&
+        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_done()) {
+      const hal::Nanoseconds settled = now + kRescueSettle;
+      if (settled < stop_at) stop_at = settled;
+    }
+    if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
+      handler.stop_drives();
+      stopping_since = now;
+    }
+    if (stopping_since >= 0 && (handler.drives_disabled() || now - stopping_since >= kDisableTimeout)) break;
+  }
+  stats.publish();
+  health.report();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
+  }
+  state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
+  state.skipped_periods.store(bus.master().skipped_periods(), std::memory_order_relaxed);
+  state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
+  const MotionIntakeCounters intake = handler.motion_intake().counters();
+  state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
+  state.intake_used_periods.store(intake.used_periods, std::memory_order_relaxed);
+  state.intake_misses.store(intake.misses, std::memory_order_relaxed);
+  state.intake_releases.store(intake.releases, std::memory_order_relaxed);
+  state.handler_done.store(true, std::memory_order_release);
+}
+
+void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  TaskStats stats = start_task("joint-manager", TaskId::joint_manager, StatTask::joint_manager);
+  TaskHealthProbe health(StatTask::joint_manager);
+  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, stats,
+              [&manager](hal::Nanoseconds start) noexcept {
+                manager.step(start);
+                links().joint_status.write(published_status(manager.statuses()));
+              });
+  manager.step(clock.now());  // the last answers and marks
+  links().joint_status.write(published_status(manager.statuses()));
+  stats.publish();
+  health.report();
+  state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
+  state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
+  state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
+  state.manager_done.store(true, std::memory_order_release);
+}
+
+// An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
+// heartbeats and reference times the handler's motion intake compares with its own).
+void rc_task(RcTask& task, hal::Clock& clock) noexcept {
+  const RunControl& state = run();
+  const bool rescue = task.id() == RcTaskId::rescue;
+  const char* name = rescue ? "rc-rescue" : "rc-teleop";
+  const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
+  TaskStats stats = start_task(name, TaskId::rc_tasks, slot);
+  TaskHealthProbe health(slot);
+  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, stats,
+              [&task](hal::Nanoseconds start) noexcept { task.period(start); });
+  stats.publish();
+  health.report();
+}
+
+// The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
+void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
+  const RunControl& state = run();
+  TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
+  TaskHealthProbe health(StatTask::message_parser);
+  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, stats,
+              [&parser](hal::Nanoseconds start) noexcept { parser.step(start); });
+  stats.publish();
+  health.report();
+}
+
+// The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
+void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
+  RunControl& state = run();
+  TaskStats stats = start_task("socket-handler", TaskId::socket_handler, StatTask::socket_handler);
+  TaskHealthProbe health(StatTask::socket_handler);
+  const hal::TscTimer& timer = task_timing().timer;
+  while (!state.operator_stop.load(std::memory_order_acquire)) {
+    socket.wait(kSocketWaitMs);
+    const hal::Nanoseconds start = clock.now();
+    const std::uint64_t work_start = timer.start();
+    socket.step(start);
+    stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
+  }
+  // A restarted socket handler keeps its predecessors' maximum.
+  std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
+  while (socket.max_per_wakeup() > seen &&
+         !state.socket_max_per_wakeup.compare_exchange_weak(seen, socket.max_per_wakeup(), std::memory_order_relaxed)) {
+  }
+  stats.publish();
+  health.report();
+}
+
+}  // namespace
+
+void run_handler() noexcept {
+  handler_task(*g_run.tasks.handler, *g_run.tasks.scenario, *g_run.tasks.options, *g_run.tasks.clock);
+}
+void run_manager() noexcept { joint_manager_task(*g_run.tasks.manager, *g_run.tasks.clock); }
+void run_parser() noexcept { parser_task(*g_run.tasks.parser, *g_run.tasks.operator_clock); }
+void run_socket() noexcept { socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock); }
+void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock); }
+void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock); }
+
+}  // namespace rescue::app::runner

@@ -1,0 +1,18 @@
+// The tasks' period loops (docs/tasks.md), the same code whether the tasks run as threads of one
+// process or as processes: each task applies its row of the task table, records its periods and its
+// health, runs its object once per period, and publishes its final figures in the segment. The entry
+// points take no argument: they run on the objects of g_run.tasks (run_context.hpp).
+#pragma once
+
+
+namespace rescue::app::runner {
+
+void run_handler() noexcept;
+void run_manager() noexcept;
+void run_parser() noexcept;
+void run_socket() noexcept;
+// The RC tasks on the handler's clock (the heartbeats and reference times its intake compares).
+void run_rc_rescue() noexcept;
+void run_rc_teleop() noexcept;
+
+}  // namespace rescue::app::runner
