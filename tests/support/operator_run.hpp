@@ -129,6 +129,8 @@ class OperatorRun {
     return exit_status_;
   }
   std::string output() const { return read_text(log); }
+  // The run's pid (the supervisor: the task processes are its children); -1 once stopped.
+  pid_t pid() const { return pid_; }
 
   TempStateDir dir;
   std::uint16_t control_port{0};

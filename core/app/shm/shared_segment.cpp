@@ -9,6 +9,14 @@ namespace rescue::app::shm {
 namespace {
 
 constexpr hal::Nanoseconds kAttachPoll = hal::kNsPerMs;
+constexpr const char* kLiveOtherLayout = "segment of another layout in use by a live process";
+
+// The creator pid in the header of the segment `name` now (0 when it cannot be read): for a message.
+std::int32_t creator_pid_of(const SegmentName& name) noexcept {
+  const Result<hal::SharedMemory> existing = hal::SharedMemory::open_existing(name.c_str());
+  if (!existing.ok() || existing.value().size() < sizeof(SegmentHeader)) return 0;
+  return static_cast<const SegmentHeader*>(existing.value().data())->creator_pid;
+}
 
 // Value-initialises the record (atomics, queues, seqlocks) in the zeroed pages of a new segment.
 SharedSegment* construct_segment(void* memory) noexcept { return new (memory) SharedSegment(); }
@@ -34,9 +42,24 @@ Result<Previous> inspect_existing(const SegmentName& name, hal::ProcessIdentity*
   creator->pid = header->creator_pid;
   creator->start_time = header->creator_start_time;
   if (hal::process_alive(*creator)) {
+    // Another program's layout is refused naming both (describe_segment_error): version and hash
+    // found here, this program's are its constants. The same layout is a second instance: busy.
+    if (header->layout_version != TaskLinks::kLayoutVersion || header->layout_hash != kLayoutHash) {
+      return make_error(Errc::version, kLiveOtherLayout, header->layout_version, header->layout_hash);
+    }
     return make_error(Errc::busy, "segment in use by a live process", static_cast<std::uint32_t>(creator->pid));
   }
   return Previous::creator_dead;
+}
+
+// True when the segment now at `name` is the one whose header is `ours` (same creator pid and start
+// time): another program may have put its own segment at the name meanwhile; that one is not ours to
+// unlink.
+bool name_is_still_ours(const SegmentName& name, const SegmentHeader& ours) noexcept {
+  const Result<hal::SharedMemory> existing = hal::SharedMemory::open_existing(name.c_str());
+  if (!existing.ok() || existing.value().size() < sizeof(SegmentHeader)) return false;
+  const auto* header = static_cast<const SegmentHeader*>(existing.value().data());
+  return header->creator_pid == ours.creator_pid && header->creator_start_time == ours.creator_start_time;
 }
 
 }  // namespace
@@ -82,7 +105,9 @@ SegmentOwner& SegmentOwner::operator=(SegmentOwner&& other) noexcept {
 }
 
 void SegmentOwner::release() noexcept {
-  if (memory_.mapped() && name_.text[0] != '\0') (void)hal::SharedMemory::unlink(name_.c_str());
+  if (memory_.mapped() && name_.text[0] != '\0' && name_is_still_ours(name_, segment().header)) {
+    (void)hal::SharedMemory::unlink(name_.c_str());
+  }
   memory_ = hal::SharedMemory{};
   name_ = SegmentName{};
 }
@@ -181,6 +206,12 @@ std::size_t describe_segment_error(const SegmentName& name, const Error& error, 
   } else if (error.code == Errc::mismatch && std::strcmp(error.what, "segment size differs") == 0) {
     n = std::snprintf(buffer, size, "segment %s: %" PRIu32 " bytes found, this program needs %" PRIu32 "; refused",
                       name.c_str(), error.detail0, error.detail1);
+  } else if (error.code == Errc::version && std::strcmp(error.what, kLiveOtherLayout) == 0) {
+    n = std::snprintf(buffer, size, "segment %s: layout version %" PRIu32 " hash 0x%08" PRIx32 " of running pid %d, "
+                      "this program has version %" PRIu32 " hash 0x%08" PRIx32
+                      "; refused, left as it is (stop that program or use another --segment)",
+                      name.c_str(), error.detail0, error.detail1, static_cast<int>(creator_pid_of(name)),
+                      TaskLinks::kLayoutVersion, kLayoutHash);
   } else if (error.code == Errc::busy) {
     n = std::snprintf(buffer, size, "segment %s is in use by a running process (pid %" PRIu32 "); not replaced",
                       name.c_str(), error.detail0);

@@ -6,7 +6,10 @@
 //   stale    A segment of that name that already exists is inspected, never trusted: when its
 //            creator (pid AND /proc start time) is dead, or it has no valid header, it is unlinked
 //            and created anew (CreateReport says so: the caller logs one line). When its creator
-//            still runs, create refuses (busy, detail0 = that pid).
+//            still runs, create refuses and touches nothing: busy (detail0 = that pid) when it has
+//            this program's layout (a second instance), else version "segment of another layout in
+//            use by a live process" (detail0/detail1 = its layout version/hash; the message names
+//            both, this program's and the pid).
 //   attach   A task process opens the name, waits (bounded, on the clock interface) for the ready
 //            word (acquire), then checks magic, layout version, layout hash and size: another
 //            version or hash is refused with both values (describe_segment_error).
@@ -52,7 +55,9 @@ struct CreateReport {
   Status memory_lock{};                      // mlock of the segment (refused without privilege)
 };
 
-// Owns the segment: created by create(), unlinked (and unmapped) when destroyed.
+// Owns the segment: created by create(), unlinked (and unmapped) when destroyed; the name is unlinked
+// only while it still names this segment (same creator pid and start time in the header found there),
+// so a segment another program put at the name meanwhile is left as it is.
 class SegmentOwner {
  public:
   SegmentOwner() = default;

@@ -12,9 +12,13 @@
 // wake-up there is host jitter, never counted as the firmware's fault (COMMON-RULES).
 #include <gtest/gtest.h>
 
+#include <dirent.h>
+
 #include <atomic>
+#include <chrono>
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -249,6 +253,247 @@ TEST(RunCommandFlood, UnpacedFloodIsAccountedForAndNoneAccepted) {
   std::printf("flood (unpaced): sent %" PRIu64 ", kernel drops %" PRIu64 "\nflood (unpaced): %s\nflood (unpaced): %s\n",
               sent.total(), drops, line_with(out, "rescue-motion run: datagrams ").c_str(),
               line_with(out, "socket handler wake-ups").c_str());
+}
+
+// ---- The flood while the robot moves (issue 12 "Done means"; docs/protocol.md "Flood while moving").
+
+// `"field":` of the joint `joint` in `ctl --json status` (empty when absent).
+std::string joint_field(const std::string& json, const std::string& joint, const std::string& field) {
+  const std::size_t at = json.find("\"name\":\"" + joint + "\"");
+  if (at == std::string::npos) return std::string();
+  const std::size_t f = json.find("\"" + field + "\":", at);
+  if (f == std::string::npos || f > json.find('}', at)) return std::string();
+  const std::size_t begin = f + field.size() + 3;
+  return json.substr(begin, json.find_first_of(",}", begin) - begin);
+}
+
+// A PREEMPT_RT kernel says so in /sys/kernel/realtime.
+bool real_time_kernel() {
+  std::ifstream in("/sys/kernel/realtime");
+  int flag = 0;
+  return static_cast<bool>(in >> flag) && flag == 1;
+}
+
+// Threads of other processes at SCHED_FIFO or SCHED_RR, kernel threads and the run's own processes
+// (`run_pid` and its children) left out: another program's real-time work (on a shared host, another
+// engineer's run) that the firmware's real-time threads compete with for the CPUs.
+int other_real_time_threads(pid_t run_pid) {
+  int count = 0;
+  DIR* proc = ::opendir("/proc");
+  if (proc == nullptr) return 0;
+  while (const dirent* entry = ::readdir(proc)) {
+    const int pid = std::atoi(entry->d_name);
+    if (pid <= 0 || pid == run_pid) continue;
+    const std::string base = "/proc/" + std::string(entry->d_name);
+    if (testing::read_text(base + "/cmdline").empty()) continue;  // a kernel thread
+    const std::string stat = testing::read_text(base + "/stat");
+    const std::size_t close = stat.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream fields(stat.substr(close + 2));
+    std::string state;
+    long ppid = 0;
+    fields >> state >> ppid;
+    if (ppid == run_pid) continue;
+    DIR* tasks = ::opendir((base + "/task").c_str());
+    if (tasks == nullptr) continue;
+    while (const dirent* task = ::readdir(tasks)) {
+      if (task->d_name[0] == '.') continue;
+      const std::string tstat = testing::read_text(base + "/task/" + task->d_name + "/stat");
+      const std::size_t tclose = tstat.rfind(')');
+      if (tclose == std::string::npos) continue;
+      std::istringstream tfields(tstat.substr(tclose + 2));
+      std::string field;
+      for (int i = 3; i <= 41 && (tfields >> field); ++i) {
+        if (i == 41 && (field == "1" || field == "2")) ++count;  // SCHED_FIFO, SCHED_RR
+      }
+    }
+    (void)::closedir(tasks);
+  }
+  (void)::closedir(proc);
+  return count;
+}
+
+struct RobotSample {
+  bool ok{false};
+  std::uint64_t cycles{0};
+  std::uint64_t late_periods{0};
+  double hand{0.0};        // l_hand's position, rad
+  std::string hand_owner;  // the RC task whose references drove l_hand ("null": none)
+};
+
+// One `ctl --json status` and one `ctl --json master`: two authentic requests.
+RobotSample sample(const OperatorRun& run) {
+  RobotSample s;
+  const CommandResult status = run.ctl({"--json", "status"});
+  const CommandResult master = run.ctl({"--json", "master"});
+  const std::string hand = joint_field(status.out, "l_hand", "position_rad");
+  s.ok = status.status == 0 && master.status == 0 && !hand.empty();
+  if (!s.ok) return s;
+  s.hand = std::stod(hand);
+  s.hand_owner = joint_field(status.out, "l_hand", "owner");
+  s.cycles = number_after(master.out, "\"cycles\":");
+  s.late_periods = number_after(master.out, "\"late_periods\":");
+  return s;
+}
+
+// The same bad datagrams as above, sent for kFloodSeconds while RC task 1 (teleop) owns the motion
+// and moves l_hand back and forth between 0.2 and 0.4 rad (`ctl hand left close|open --task 1`, the
+// direction chosen from where the hand is, so it never rests at a limit). Proven: none of the bad
+// datagrams is accepted and each is counted under its reason (when the kernel dropped none); no frame
+// lost, no joint lost; the hand is never driven by another RC task and moves again after the flood.
+// While no other program's real-time thread shares the host (CI: the test runs alone), also: the
+// hand's position changes between every two samples during the flood, the hand is driven by RC task
+// 1 in every sample (the owner stayed the RC task), the handler's cycle counter advances between
+// every two samples, the owner was never released (its heartbeat never went silent) and the motion
+// intake missed at most 1 in 10 of its periods; otherwise a weaker form, the figures printed.
+// The handler's late and skipped periods during the flood window (`ctl master` late periods, read
+// before and after) are asserted 0 only when the run's EtherCAT handler got SCHED_FIFO (the run
+// prints "ethercat: running degraded" when it did not) on a PREEMPT_RT kernel; otherwise they are
+// host jitter, printed beside those of a quiet window as long just before the flood. (On this 2-core
+// VM without PREEMPT_RT, as root, the handler does run at SCHED_FIFO 80 and still shows a few late
+// periods per second with no flood at all: a non-real-time kernel and the hypervisor, not the firmware.)
+TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccepted) {
+  constexpr auto kFloodTime = std::chrono::seconds(3);
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  ASSERT_EQ(run.ctl({"init"}).status, 0) << run.output();
+  ASSERT_EQ(run.ctl({"owner", "1"}).status, 0) << run.output();
+  ASSERT_EQ(run.ctl({"hand", "left", "close", "--task", "1"}).status, 0) << run.output();
+  std::uint64_t valid = 3;
+  Flooder flooder(run);
+  ASSERT_TRUE(flooder.record()) << "the original of the replayed datagram was not answered";
+  ++valid;
+  const RobotSample quiet = sample(run);  // a quiet window as long as the flood, for comparison
+  valid += 2;
+  ASSERT_TRUE(quiet.ok) << run.output();
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));  // the hand on its way: about 0.2 rad
+  EXPECT_EQ(run.ctl({"hand", "left", "open", "--task", "1"}).status, 0);
+  ++valid;
+  std::this_thread::sleep_for(kFloodTime - std::chrono::milliseconds(400));
+  EXPECT_EQ(run.ctl({"hand", "left", "close", "--task", "1"}).status, 0);  // from the open end again
+  ++valid;
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  const RobotSample before = sample(run);
+  valid += 2;
+  ASSERT_TRUE(before.ok) << run.output();
+
+  const int other_rt_before = other_real_time_threads(run.pid());
+  Sent sent;
+  std::atomic<bool> stop_flood{false};
+  std::thread sender([&] {
+    while (!stop_flood.load()) {
+      const Sent round = flooder.flood(500, true);
+      sent.malformed += round.malformed;
+      sent.oversized += round.oversized;
+      sent.unauthenticated += round.unauthenticated;
+      sent.replayed += round.replayed;
+    }
+  });
+  const auto flood_end = std::chrono::steady_clock::now() + kFloodTime;
+  RobotSample last = before;
+  int samples = 0;
+  int moved = 0;
+  int driven = 0;      // samples with l_hand driven by RC task 1
+  int advanced = 0;    // samples after which the handler's cycle counter had advanced
+  int refused = 0;     // hand commands refused ("no RC task running": its heartbeat older than 100 ms)
+  int other_owner = 0; // samples with l_hand driven by another RC task
+  while (std::chrono::steady_clock::now() < flood_end) {
+    const char* direction = last.hand < 0.3 ? "close" : "open";
+    if (run.ctl({"hand", "left", direction, "--task", "1"}).status != 0) ++refused;
+    const RobotSample now = sample(run);
+    valid += 3;
+    EXPECT_TRUE(now.ok);
+    if (now.hand_owner == "1") ++driven;
+    if (now.hand_owner != "1" && now.hand_owner != "null") ++other_owner;
+    if (now.cycles > last.cycles) ++advanced;
+    if (now.hand != last.hand) ++moved;
+    ++samples;
+    last = now;
+  }
+  stop_flood.store(true);
+  sender.join();
+  const int other_rt_after = other_real_time_threads(run.pid());
+  const RobotSample flood_over = sample(run);
+  valid += 2;
+  // After the flood: moving again within a second (several tries when the host starves the RC task).
+  RobotSample after = flood_over;
+  for (int attempt = 0; attempt < 5 && after.hand == flood_over.hand; ++attempt) {
+    (void)run.ctl({"hand", "left", flood_over.hand < 0.3 ? "close" : "open", "--task", "1"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    after = sample(run);
+    valid += 3;
+  }
+  const std::uint64_t drops = flooder.kernel_drops();
+  ASSERT_EQ(run.stop(), 0) << run.output();
+  const std::string out = run.output();
+
+  // Alone: no other program's real-time thread on the host (CI runs this test alone: `serial`). Then
+  // every sample must show the hand moving, driven by RC task 1, and the handler cycling. On a host
+  // shared with other real-time programs (another engineer's run at the same SCHED_FIFO priorities on
+  // the same CPUs) those are the other programs' doing: the weaker form below, the figures printed.
+  const bool alone = other_rt_before == 0 && other_rt_after == 0;
+  EXPECT_GE(samples, 3) << "too few samples during the flood";
+  EXPECT_EQ(other_owner, 0) << "l_hand driven by another RC task during the flood";
+  EXPECT_GT(flood_over.cycles, before.cycles) << "the handler's cycle counter stopped";
+  EXPECT_NE(after.hand, flood_over.hand) << "l_hand stood still after the flood";
+  EXPECT_GT(after.cycles, flood_over.cycles);
+  if (alone) {
+    EXPECT_EQ(moved, samples) << "l_hand stood still between two samples during the flood";
+    EXPECT_EQ(driven, samples) << "l_hand not driven by the RC task in every sample during the flood";
+    EXPECT_EQ(advanced, samples) << "the handler's cycle counter stood still between two samples";
+    EXPECT_EQ(refused, 0) << "an RC task's heartbeat went silent for 100 ms";
+    EXPECT_EQ(after.hand_owner, "1");
+  } else {
+    EXPECT_GE(2 * moved, samples) << "l_hand stood still in more than half the samples during the flood";
+    EXPECT_GE(2 * driven, samples) << "l_hand not driven by the RC task in more than half the samples";
+  }
+  // None accepted, each counted under its reason.
+  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + valid) << out;
+  EXPECT_EQ(number_after(out, ", accepted "), valid) << "a bad datagram was accepted\n" << out;
+  if (drops == 0) {
+    EXPECT_EQ(number_after(out, ", malformed "), sent.malformed) << out;
+    EXPECT_EQ(number_after(out, ", unauthenticated "), sent.unauthenticated) << out;
+    EXPECT_EQ(number_after(out, ", replayed "), sent.replayed) << out;
+  }
+  EXPECT_LE(number_after(out, "most datagrams in one wake-up "), SocketHandler::kBudget) << out;
+  // What the firmware controls: no frame, no joint lost; the owner kept; the intake took its references.
+  EXPECT_NE(out.find("frames late or lost: 0;"), std::string::npos) << out;
+  EXPECT_NE(out.find("healthy joints missed 0 cycles"), std::string::npos) << out;
+  EXPECT_NE(out.find("\njoints_lost: 0\n"), std::string::npos) << out;
+  const std::uint64_t owner_periods = number_after(out, "\nowner_periods: ");
+  const std::uint64_t owner_misses = number_after(out, "\nowner_misses: ");
+  EXPECT_GT(owner_periods, 0U) << out;
+  if (alone) {
+    EXPECT_EQ(number_after(out, "\nowner_releases: "), 0U) << "the owner's heartbeat went silent\n" << out;
+    EXPECT_LE(owner_misses * 10, owner_periods) << out;
+  }
+  // The handler's late and skipped periods in the flood window, and in a quiet window as long before it.
+  const std::uint64_t late_in_flood = flood_over.late_periods - before.late_periods;
+  const std::uint64_t late_in_quiet = before.late_periods - quiet.late_periods;
+  const bool handler_fifo = out.find("ethercat: running degraded") == std::string::npos;
+  const bool asserted = handler_fifo && real_time_kernel();
+  if (asserted) {
+    EXPECT_EQ(late_in_flood, 0U) << "late or skipped handler periods under SCHED_FIFO on a real-time kernel\n" << out;
+  }
+
+  std::printf("flood while moving: sent malformed %" PRIu64 ", oversized %" PRIu64 ", unauthenticated %" PRIu64
+              ", replayed %" PRIu64 " in %lld s; valid %" PRIu64 "; kernel drops %" PRIu64 "\n",
+              sent.malformed, sent.oversized, sent.unauthenticated, sent.replayed,
+              static_cast<long long>(kFloodTime.count()), valid, drops);
+  std::printf("flood while moving: %s (other programs' real-time threads %d before, %d after); %d samples: l_hand moved "
+              "in %d, driven by rc1 in %d, handler cycled in %d; %d hand commands refused; handler cycles %" PRIu64
+              " -> %" PRIu64 " during the flood\n",
+              alone ? "alone, every sample asserted" : "host shared with other real-time programs, weaker form", other_rt_before,
+              other_rt_after, samples, moved, driven, advanced, refused, before.cycles, flood_over.cycles);
+  std::printf("flood while moving: handler late or skipped periods during the flood %" PRIu64 " (%s), in the quiet "
+              "window before it %" PRIu64 ", whole run %" PRIu64 "; owner periods %" PRIu64 ", misses %" PRIu64
+              ", releases %" PRIu64 "\n",
+              late_in_flood,
+              asserted       ? "SCHED_FIFO on a real-time kernel: asserted 0"
+              : handler_fifo ? "SCHED_FIFO on a kernel without PREEMPT_RT: host jitter, not asserted"
+                             : "no SCHED_FIFO: host jitter, not asserted",
+              late_in_quiet, after.late_periods, owner_periods, owner_misses, number_after(out, "\nowner_releases: "));
+  std::printf("flood while moving: %s\n", line_with(out, "rescue-motion run: datagrams ").c_str());
 }
 
 }  // namespace

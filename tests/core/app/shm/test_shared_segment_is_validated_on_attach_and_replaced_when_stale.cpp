@@ -180,6 +180,29 @@ TEST(SharedSegment, ASegmentOfALiveCreatorIsNotReplaced) {
   EXPECT_NE(describe(name, second.error()).find("in use by a running process"), std::string::npos);
 }
 
+TEST(SharedSegment, ALiveSegmentOfAnotherLayoutIsRefusedNamingBothAndLeftAsItIs) {
+  const SegmentName name = test_name("live-other");
+  Result<SegmentOwner> first = SegmentOwner::create(name, nullptr);
+  ASSERT_TRUE(first.ok());
+  first.value().segment().header.layout_version = TaskLinks::kLayoutVersion + 1;
+  first.value().segment().header.layout_hash = 0x12345678U;
+  const Result<SegmentOwner> second = SegmentOwner::create(name, nullptr);
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.error().code, Errc::version);
+  EXPECT_EQ(second.error().detail0, TaskLinks::kLayoutVersion + 1);
+  EXPECT_EQ(second.error().detail1, 0x12345678U);
+  const std::string line = describe(name, second.error());
+  EXPECT_NE(line.find("layout version " + std::to_string(TaskLinks::kLayoutVersion + 1) + " hash 0x12345678 of running pid " +
+                      std::to_string(::getpid()) + ", this program has version " + std::to_string(TaskLinks::kLayoutVersion)),
+            std::string::npos)
+      << line;
+  EXPECT_NE(line.find("use another --segment"), std::string::npos) << line;
+  // The first one's segment is still the one at the name, untouched.
+  EXPECT_EQ(first.value().segment().header.layout_hash, 0x12345678U);
+  EXPECT_EQ(first.value().segment().header.ready.load(), kReady);
+  EXPECT_TRUE(hal::SharedMemory::open_existing(name.c_str()).ok());
+}
+
 TEST(SharedSegment, DefaultNameFollowsTheStateDirectoryAndBadNamesAreRefused) {
   const SegmentName a = default_segment_name("/var/lib/rescue-motion");
   const SegmentName b = default_segment_name("/tmp/other");
