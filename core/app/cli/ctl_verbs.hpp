@@ -4,7 +4,9 @@
 // (toolchain/operator-transcript.sh), so a new verb cannot land without its documentation.
 #pragma once
 
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 
 namespace rescue::app {
 
@@ -14,10 +16,7 @@ inline constexpr const char* kCtlVerbs[] = {
 };
 
 inline bool is_ctl_verb(const char* verb) noexcept {
-  for (const char* v : kCtlVerbs) {
-    if (std::strcmp(v, verb) == 0) return true;
-  }
-  return false;
+  return std::any_of(std::begin(kCtlVerbs), std::end(kCtlVerbs), [verb](const char* v) { return std::strcmp(v, verb) == 0; });
 }
 
 }  // namespace rescue::app

@@ -14,17 +14,17 @@ enum class Lost : std::uint8_t { nothing, the_joint, its_branch_from_it };
 
 struct ScenarioRow {
   const char* name;
-  ScenarioKind kind;
   hal::Nanoseconds cut_after_op;
-  Lost lost;                 // what the firmware must report lost
   hal::Nanoseconds run_on;   // after acting, without --duration
+  ScenarioKind kind;
+  Lost lost;                 // what the firmware must report lost
 };
 
 constexpr ScenarioRow kScenarios[] = {
-    {"link-cut", ScenarioKind::link_cut, hal::kNsPerSec, Lost::its_branch_from_it, config::kScenarioRunOnNs},
-    {"power-cycle", ScenarioKind::power_cycle, hal::kNsPerSec, Lost::the_joint, config::kScenarioRunOnNs},
-    {"cable-damage", ScenarioKind::cable_damage, hal::kNsPerSec, Lost::nothing, config::kScenarioRunOnNs},
-    {"rescue", ScenarioKind::rescue, 3 * hal::kNsPerSec, Lost::its_branch_from_it, 2500 * hal::kNsPerMs},
+    {"link-cut", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::link_cut, Lost::its_branch_from_it},
+    {"power-cycle", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint},
+    {"cable-damage", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing},
+    {"rescue", 3 * hal::kNsPerSec, 2500 * hal::kNsPerMs, ScenarioKind::rescue, Lost::its_branch_from_it},
 };
 
 }  // namespace
