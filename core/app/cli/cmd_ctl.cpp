@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/cli/ctl_verbs.hpp"
 #include "core/app/control/ctl_client.hpp"
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"
@@ -441,6 +442,7 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
 
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
+  if (!is_ctl_verb(verb)) return fail("ctl", "unknown verb (see rescue-motion ctl --help)");
   if (!protocol::init_crypto().ok()) return fail("ctl", "libsodium could not be initialised");
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
   const bool watch = std::strcmp(verb, "watch") == 0;

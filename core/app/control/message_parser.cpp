@@ -162,7 +162,9 @@ void MessageParser::finish() noexcept {
     reply(request, Outcome::refused, RefusalReason::busy, 0, "the joint manager did not answer in time");
   } else if (pending_.skipped != 0) {
     format_joint_names(pending_.skipped, names, sizeof names);
-    (void)std::snprintf(text, sizeof text, "not reachable, left out: %.37s", names);
+    // initialize leaves out the unreachable joints, hold the ones that are not Enabled.
+    (void)std::snprintf(text, sizeof text, "%s, left out: %.37s",
+                        request.type == MessageType::hold ? "not Enabled" : "not reachable", names);
     reply(request, Outcome::accepted, RefusalReason::none, pending_.skipped, text);
   } else {
     reply(request, Outcome::accepted, RefusalReason::none, 0, "");

@@ -4,8 +4,8 @@
 //   - records execution time and wake-up latency (release to start) into its PeriodRecorder's fixed
 //     histograms (core/timing/period_recorder.hpp): static storage, no heap, no system call;
 //   - counts periods and late periods (woke more than `late_after` after the release);
-//   - every kPublishEvery periods (and after the first) publishes them with the histograms' min, mean, std, max, p99,
-//     p99.9, p99.99 (PeriodRecorder::compact: one pass over the buckets) into the task's TaskStat
+//   - after periods 1, 10, 100 and 1000, then every kPublishEvery periods, publishes them with the
+//     histograms' min, mean, std, max, p99, p99.9, p99.99 (PeriodRecorder::compact: one pass over the buckets) into the task's TaskStat
 //     seqlock slot (TaskLinks::task_stats), which the socket handler answers `ctl tasks` from, live.
 // At the end of `run --timing-out DIR` the same recorders are written as DIR/timing.csv and
 // DIR/timing-histogram.txt (cyclictest --histogram layout).
@@ -29,6 +29,14 @@ class TaskRecorder {
   // publication's pass over the buckets (up to the p99.99 bucket, about 1 us for 100 us values)
   // then costs about 1 ns a period.
   static constexpr std::uint32_t kPublishEvery = 1000;
+  // The first publications come sooner, after periods 1, 10 and 100 (then 1000, 2000, ...), so that
+  // `ctl tasks` in a run's first second shows more than the first period. The schedule is computed
+  // at a publication; the period itself still only counts down.
+  static constexpr std::uint32_t periods_until_next_publication(std::uint64_t periods_published) noexcept {
+    return periods_published != 0 && periods_published < kPublishEvery
+               ? static_cast<std::uint32_t>(periods_published * 9U)  // 1 -> 10 -> 100 -> 1000
+               : kPublishEvery;
+  }
 
   // Before the task's first period (from the task's thread or before it starts): names the task,
   // resets the histograms and publishes an empty record.
@@ -41,7 +49,7 @@ class TaskRecorder {
     ++stat_.periods;
     if (woke_ns - due_ns > late_after) ++stat_.missed;
     if (--until_publish_ == 0) {
-      until_publish_ = kPublishEvery;
+      until_publish_ = periods_until_next_publication(stat_.periods);
       publish();
     }
   }

@@ -9,46 +9,43 @@ namespace {
 
 constexpr std::uint32_t kDamagedFrames = 5;  // cable-damage: frames damaged on the cable
 
+// Every scenario acts on l_elbow (the joint whose incoming cable is cut, damaged or power-cycled).
+enum class Lost : std::uint8_t { nothing, the_joint, its_branch_from_it };
+
+struct ScenarioRow {
+  const char* name;
+  hal::Nanoseconds cut_after_op;
+  hal::Nanoseconds run_on;   // after acting, without --duration
+  ScenarioKind kind;
+  Lost lost;                 // what the firmware must report lost
+};
+
+constexpr ScenarioRow kScenarios[] = {
+    {"link-cut", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::link_cut, Lost::its_branch_from_it},
+    {"power-cycle", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint},
+    {"cable-damage", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing},
+    {"rescue", 3 * hal::kNsPerSec, 2500 * hal::kNsPerMs, ScenarioKind::rescue, Lost::its_branch_from_it},
+};
+
 }  // namespace
 
 Result<Scenario> parse_scenario(const char* name) noexcept {
   Scenario scenario{};
   if (name == nullptr || std::strcmp(name, "none") == 0) return scenario;
-  if (std::strcmp(name, "link-cut") == 0) {
-    scenario.kind = ScenarioKind::link_cut;
-    scenario.name = "link-cut";
+  for (const ScenarioRow& row : kScenarios) {
+    if (std::strcmp(name, row.name) != 0) continue;
+    scenario.kind = row.kind;
+    scenario.name = row.name;
     scenario.cut_joint = joint_index_by_name("l_elbow");
-    scenario.cut_after_op = hal::kNsPerSec;
-    scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
-    scenario.run_on = config::kScenarioRunOnNs;
-    return scenario;
-  }
-  if (std::strcmp(name, "power-cycle") == 0) {
-    scenario.kind = ScenarioKind::power_cycle;
-    scenario.name = "power-cycle";
-    scenario.cut_joint = joint_index_by_name("l_elbow");
-    scenario.cut_after_op = hal::kNsPerSec;
-    scenario.expected_lost = joint_bit(scenario.cut_joint);
-    scenario.run_on = config::kScenarioRunOnNs;
-    return scenario;
-  }
-  if (std::strcmp(name, "cable-damage") == 0) {
-    scenario.kind = ScenarioKind::cable_damage;
-    scenario.name = "cable-damage";
-    scenario.cut_joint = joint_index_by_name("l_elbow");
-    scenario.cut_after_op = hal::kNsPerSec;
-    scenario.run_on = config::kScenarioRunOnNs;
-    return scenario;
-  }
-  if (std::strcmp(name, "rescue") == 0) {
-    scenario.kind = ScenarioKind::rescue;
-    scenario.name = "rescue";
-    scenario.cut_joint = joint_index_by_name("l_elbow");
-    scenario.cut_after_op = 3 * hal::kNsPerSec;
-    scenario.expected_lost = joints_lost_by_link_failure_at(scenario.cut_joint);
-    scenario.run_on = 2500 * hal::kNsPerMs;
-    scenario.rescue_motion = true;
-    scenario.motion_phase_s = {1.0, 1.0, 1.0};
+    scenario.cut_after_op = row.cut_after_op;
+    scenario.expected_lost = row.lost == Lost::the_joint            ? joint_bit(scenario.cut_joint)
+                             : row.lost == Lost::its_branch_from_it ? joints_lost_by_link_failure_at(scenario.cut_joint)
+                                                                    : JointMask{0};
+    scenario.run_on = row.run_on;
+    if (row.kind == ScenarioKind::rescue) {
+      scenario.rescue_motion = true;
+      scenario.motion_phase_s = {1.0, 1.0, 1.0};  // lowering, forwarding, backwarding
+    }
     return scenario;
   }
   return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, cable-damage)");

@@ -1,7 +1,7 @@
 // Issue 12, the operator's path end to end (docs/operator.md): a real `rescue-motion run --listen
 // 127.0.0.1 --key FILE` on the in-process simulator, and from separate processes `ctl keygen`, `init`,
-// `status` (table and --json), `disable`, `enable`, `hold`: each exits 0 and its output shows the
-// documented effect. A ctl holding another key gets no answer (the robot stays silent to
+// `status` (table and --json), `disable`, `enable`, `hold` (with a disabled joint: named as not
+// Enabled): each exits 0 and its output shows the documented effect. A ctl holding another key gets no answer (the robot stays silent to
 // unauthenticated peers) and exits 1 saying so; a key file readable by others is refused before
 // anything is sent.
 #include <gtest/gtest.h>
@@ -58,6 +58,10 @@ TEST(OperatorCtlEndToEnd, InitStatusDisableEnableHoldAsDocumented) {
   EXPECT_EQ(joints_in(after_disable.out, "Enabled"), 20) << after_disable.out;
   EXPECT_EQ(joints_in(after_disable.out, "Ready"), 1) << after_disable.out;
   EXPECT_TRUE(has(after_disable.out, " l_hand           Ready ")) << after_disable.out;
+  // hold acts on the Enabled joints and names the others as not Enabled (not as unreachable).
+  const CommandResult hold_without_hand = run.ctl({"hold"});
+  EXPECT_EQ(hold_without_hand.status, 0) << hold_without_hand.out;
+  EXPECT_TRUE(has(hold_without_hand.out, "hold: accepted (not Enabled, left out: l_hand)")) << hold_without_hand.out;
 
   const CommandResult enable = run.ctl({"enable", "l_hand"});
   EXPECT_EQ(enable.status, 0) << enable.out;

@@ -31,9 +31,9 @@ TEST(TaskRecorder, PublishesEveryFigureLiveWithoutHeap) {
     const hal::Nanoseconds woke = release + (i == 7000 || i == 8000 ? 600'000 : 10'000);
     const auto t0 = static_cast<std::uint64_t>(woke);
     recorder.period(release, woke, t0, t0 + 1000 + static_cast<std::uint64_t>(i % 100), kLateAfter);
-    if (i == static_cast<std::int64_t>(TaskRecorder::kPublishEvery) + 50) {  // mid-run: published after the first period, then every kPublishEvery
+    if (i == static_cast<std::int64_t>(TaskRecorder::kPublishEvery) + 50) {  // mid-run: last published after period 1000
       ASSERT_TRUE(slot.try_read(seen));
-      EXPECT_EQ(seen.periods, TaskRecorder::kPublishEvery + 1U);
+      EXPECT_EQ(seen.periods, TaskRecorder::kPublishEvery);
       EXPECT_EQ(seen.execution.min, 1000U);
       EXPECT_EQ(seen.latency.max, 10'000U);
     }
@@ -61,6 +61,38 @@ TEST(TaskRecorder, PublishesEveryFigureLiveWithoutHeap) {
   EXPECT_EQ(seen.latency.p9999, 600'000U);  // 2 in 10 000: p99.99 reaches them
   EXPECT_LE(seen.latency.p999, 10'000U + 10'000U / 64U);
   EXPECT_EQ(recorder.recorder().periods(), 10'000U);
+}
+
+// `ctl tasks` early in a run: the slot is published after periods 1, 10, 100 and 1000, then every
+// kPublishEvery periods, and at no other period (the period itself only counts down).
+TEST(TaskRecorder, PublishesAfterPeriods1And10And100ThenEvery1000) {
+  static Seqlock<TaskStat> slot;
+  static TaskRecorder recorder;
+  recorder.start(slot, "rc-rescue", 0, 65, 1.0);
+  reopen_init_for_testing();
+  declare_init_complete(HeapGuardMode::strict);
+  std::uint64_t published[16] = {};
+  std::size_t publications = 0;
+  std::uint64_t last_seen = 0;
+  for (std::int64_t i = 0; i < 3500; ++i) {
+    const hal::Nanoseconds release = i * 1'000'000;
+    const auto t0 = static_cast<std::uint64_t>(release);
+    recorder.period(release, release + 5'000, t0, t0 + 2'000, 500'000);
+    TaskStat seen{};
+    if (slot.try_read(seen) && seen.periods != last_seen && publications < 16) {
+      last_seen = seen.periods;
+      published[publications++] = seen.periods;
+    }
+  }
+  const HeapGuardCounters heap = heap_guard_counters();
+  reopen_init_for_testing();
+  EXPECT_EQ(heap.allocations, 0U);
+  const std::uint64_t expected[] = {1, 10, 100, 1000, 2000, 3000};
+  ASSERT_EQ(publications, 6U);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(published[k], expected[k]) << k;
+  static_assert(TaskRecorder::periods_until_next_publication(1) == 9, "after period 1, period 10");
+  static_assert(TaskRecorder::periods_until_next_publication(100) == 900, "after period 100, period 1000");
+  static_assert(TaskRecorder::periods_until_next_publication(1000) == TaskRecorder::kPublishEvery, "then steady");
 }
 
 TEST(TaskRecorder, OnePassPercentilesEqualThePercentilesOneByOne) {
