@@ -36,7 +36,7 @@ TEST(ParseScenario, EveryKnownScenarioActsOnTheLeftElbow) {
       {"link-cut", ScenarioKind::link_cut, hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), config::kScenarioRunOnNs, false},
       {"power-cycle", ScenarioKind::power_cycle, hal::kNsPerSec, joint_bit(elbow), config::kScenarioRunOnNs, false},
       {"cable-damage", ScenarioKind::cable_damage, hal::kNsPerSec, 0, config::kScenarioRunOnNs, false},
-      {"rescue", ScenarioKind::rescue, 3 * hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), 2500 * hal::kNsPerMs, true},
+      {"rescue", ScenarioKind::rescue, 3 * hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), 10 * hal::kNsPerSec, true},
   };
   for (const Expected& e : expected) {
     const Result<Scenario> s = parse_scenario(e.name);
