@@ -28,18 +28,37 @@ FrameBuilder& DatagramLink::begin() noexcept {
 }
 
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
+  const Status sent = send_frame();
+  if (!sent.ok()) return sent.error();
+  return await_frame(deadline);
+}
+
+Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexcept {
+  const Status sent = send_frame();
+  if (!sent.ok()) return sent.error();
+  // The wait is measured from the moment the frame left: a process preempted between preparing the
+  // exchange and sending it (a slow host, not a slow network) must not use up the frame's timeout.
+  return await_frame(nic_.clock().now() + timeout);
+}
+
+Status DatagramLink::send_frame() noexcept {
   ++stats_.exchanges;
   sent_ = builder_.finish();
   const Result<FrameView> sent_view = FrameView::parse(sent_);
   if (!sent_view.ok() || sent_view.value().datagram_count() == 0) {
     return make_error(Errc::invalid_argument, "exchange of an empty frame");
   }
+  sent_view_ = sent_view.value();
   if (tap_ != nullptr) tap_(tap_context_, sent_, nic_.clock().now(), TapDirection::outbound);
   const Status sent = nic_.send(sent_);
   if (!sent.ok()) {
     ++stats_.send_errors;
     return sent.error();
   }
+  return Status::success();
+}
+
+Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept {
   for (;;) {
     const Result<std::size_t> got = nic_.receive(ByteSpan(rx_), deadline);
     if (!got.ok()) {
@@ -57,7 +76,7 @@ Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
       ++stats_.stale_frames;
       continue;
     }
-    if (!same_datagrams(sent_view.value(), view.value())) {
+    if (!same_datagrams(sent_view_, view.value())) {
       ++stats_.malformed;
       return make_error(Errc::malformed, "returned frame differs from the frame sent", index_);
     }
@@ -68,7 +87,7 @@ Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept {
   Result<FrameView> back = make_error(Errc::timeout, "no frame came back", attempts);
   for (unsigned attempt = 0; attempt < attempts; ++attempt) {
-    back = exchange(nic_.clock().now() + timeout);
+    back = exchange_within(timeout);
     if (back.ok() || back.error().code != Errc::timeout) break;
   }
   return back;
@@ -84,7 +103,7 @@ Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t addr
     const Result<DatagramSlot> slot =
         frame.add(command, index_, address, length, writes_slave(command) ? ConstByteSpan(data) : ConstByteSpan{});
     if (!slot.ok()) return slot.error();
-    const Result<FrameView> back = exchange(nic_.clock().now() + timeout);
+    const Result<FrameView> back = exchange_within(timeout);
     if (!back.ok()) {
       last = back.error();
       if (last.code == Errc::timeout) continue;

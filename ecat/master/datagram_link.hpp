@@ -54,12 +54,12 @@ class DatagramLink {
   // points into the link's receive buffer and stays valid until the next begin().
   Result<FrameView> exchange(hal::Nanoseconds deadline) noexcept;
 
-  // The same, sending the frame again (same index) when nothing came back within `timeout`, up
-  // to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
+  // The same, sending the frame again (same index) when nothing came back within `timeout` of its
+  // sending, up to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
   Result<FrameView> exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept;
 
   // One datagram in a frame of its own, sent up to `attempts` times while no frame comes back
-  // (each attempt waits `timeout`). For reading commands the returned data is copied into `data`;
+  // (each attempt waits `timeout` from its sending). For reading commands the returned data is copied into `data`;
   // for writing ones `data` is what is sent. Returns the working counter.
   Result<std::uint16_t> transfer(Command command, std::uint32_t address, ByteSpan data, hal::Nanoseconds timeout,
                                  unsigned attempts = 3) noexcept;
@@ -69,10 +69,15 @@ class DatagramLink {
   const LinkStats& stats() const noexcept { return stats_; }
 
  private:
+  Status send_frame() noexcept;                                     // the frame built since begin()
+  Result<FrameView> await_frame(hal::Nanoseconds deadline) noexcept;  // its return, until `deadline`
+  Result<FrameView> exchange_within(hal::Nanoseconds timeout) noexcept;
+
   hal::Nic& nic_;
   FrameBuilder builder_{};
   std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize + 4> rx_{};
   ConstByteSpan sent_{};
+  FrameView sent_view_{};  // sent_, parsed by send_frame()
   std::uint8_t index_{0};
   FrameTapFn tap_{nullptr};
   void* tap_context_{nullptr};

@@ -268,7 +268,10 @@ Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline)
   if (fd_ < 0) return make_error(Errc::invalid_argument, "raw socket NIC not open");
   Nanoseconds spin_until = -1;  // set on the first empty read
   for (;;) {
-    // Read first: a frame already queued is returned even when the deadline has passed.
+    // The time first, then the read: a timeout is declared only when the queue was still empty at or
+    // after the deadline. A process preempted between the two (a slow host, not a lost frame) finds
+    // the frame that arrived meanwhile, and a frame already queued is returned past the deadline.
+    const Nanoseconds now = clock_.now();
     const Result<std::size_t> got = read_one(buffer);
     if (got.ok()) {
       if (got.value() > 0) return got.value();
@@ -276,13 +279,12 @@ Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline)
     }
     if (got.error().code != Errc::busy) return got.error();
 
-    const Nanoseconds now = clock_.now();
-    if (spin_until < 0) spin_until = now + receive_spin_;
-    if (now < spin_until && now < deadline) continue;  // spinning: read again without sleeping
     if (now >= deadline) {
       ++stats_.receive_timeouts;
       return make_error(Errc::timeout, "no EtherCAT frame before the deadline");
     }
+    if (spin_until < 0) spin_until = now + receive_spin_;
+    if (now < spin_until) continue;  // spinning: read again without sleeping
     pollfd waiting{fd_, POLLIN, 0};
     const timespec timeout = to_timespec(deadline - now);
     if (::ppoll(&waiting, 1, &timeout, nullptr) < 0 && errno != EINTR) return os_error("ppoll() on the raw socket failed");

@@ -1,10 +1,13 @@
 // Test support: our master over the raw-socket NIC (wall clock) against `rescue-motion sim --iface`
 // at the other end of a fresh veth pair in network namespaces. The simulator gets a real-time
 // priority when the machine allows (root), standing for slave hardware that a busy test machine does
-// not delay by milliseconds. cycle() sleeps to the master's wake-up, runs one cycle and collects the
+// not delay by milliseconds, and the test's thread (the master) one below it, as the EtherCAT handler
+// has on the motion PC: a busy CI machine then delays neither side's wake-ups. cycle() sleeps to the master's wake-up, runs one cycle and collects the
 // joint link reports in reports_. Tests only.
 #pragma once
 
+#include <pthread.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <memory>
@@ -23,6 +26,7 @@ namespace rescue::testing {
 class MasterOverVethTest : public NetnsTest {
  protected:
   static constexpr int kStartTimeoutMs = 10000;
+  static constexpr int kMasterPriority = 60;  // below the simulator's 70 (chrt -f 70 below)
 
   // Extra arguments of `sim` (e.g. "--through-qdisc"); override before SetUp runs.
   virtual std::vector<std::string> sim_arguments() const { return {}; }
@@ -36,10 +40,21 @@ class MasterOverVethTest : public NetnsTest {
     if (::geteuid() == 0 && ::access("/usr/bin/chrt", X_OK) == 0) argv.insert(argv.begin(), {"/usr/bin/chrt", "-f", "70"});
     ASSERT_TRUE(sim_.start(argv, veth_->slave_ns()));
     ASSERT_TRUE(sim_.wait_for_output("serving 23 slaves on", kStartTimeoutMs)) << sim_.output();
+    sched_param master_priority{};
+    master_priority.sched_priority = kMasterPriority;
+    master_is_real_time_ = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &master_priority) == 0;
     InNamespace inside(veth_->master_ns());
     ASSERT_TRUE(inside.entered());
     ASSERT_TRUE(nic_.open(VethPair::kMasterInterface).ok());
     bus_ = std::make_unique<drivers::JointBus>(nic_);
+  }
+
+  void TearDown() override {
+    if (master_is_real_time_) {
+      const sched_param normal{};
+      (void)::pthread_setschedparam(::pthread_self(), SCHED_OTHER, &normal);
+    }
+    NetnsTest::TearDown();
   }
 
   drivers::JointCycleResult cycle() {
@@ -65,6 +80,7 @@ class MasterOverVethTest : public NetnsTest {
     return joints;
   }
 
+  bool master_is_real_time_{false};
   ChildProcess sim_;
   hal::RawSocketNic nic_;
   std::unique_ptr<drivers::JointBus> bus_;

@@ -96,6 +96,26 @@ TEST_F(RawSocketNicOverVeth, HundredFramesReturnInOrder) {
   EXPECT_EQ(master_.stats().frames_dropped, 0U);
 }
 
+// A master that wakes up after its deadline (a slow host) still gets the frame that came back in
+// time: a timeout means the queue was empty at the deadline, never "the process was late to look".
+TEST_F(RawSocketNicOverVeth, AFrameQueuedBeforeALateLookIsReturnedNotTimedOut) {
+  const auto sent = rescue::testing::make_brd_frame(source_, 7);
+  ASSERT_TRUE(master_.send(ConstByteSpan(sent.data(), sent.size())).ok());
+  echo_one(slaves_);
+  const Nanoseconds deadline = master_.clock().now();  // already over when receive() first looks
+  master_.clock().sleep_until(deadline + 5 * kNsPerMs);  // the reply is queued by now
+  std::array<std::uint8_t, ecat::kMaxFrameSize> buffer{};
+  auto got = master_.receive(ByteSpan(buffer), deadline);
+  ASSERT_TRUE(got.ok()) << got.error().what;
+  EXPECT_EQ(got.value(), sent.size());
+  EXPECT_EQ(master_.stats().receive_timeouts, 0U);
+  // And with nothing queued, the past deadline is a timeout at once, counted.
+  got = master_.receive(ByteSpan(buffer), deadline);
+  ASSERT_FALSE(got.ok());
+  EXPECT_EQ(got.error().code, Errc::timeout);
+  EXPECT_EQ(master_.stats().receive_timeouts, 1U);
+}
+
 TEST_F(RawSocketNicOverVeth, OpenSetsPromiscuousQdiscBypassAndReceiveBuffer) {
   const RawSocketFeatures& f = master_.features();
   EXPECT_TRUE(f.promiscuous);
