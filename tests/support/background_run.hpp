@@ -21,6 +21,17 @@ inline std::string read_text_file(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// The number after "pid " on the first line of `out` holding `text` (0 when none), e.g. the pid in
+// "supervisor: started rc-rescue (pid 1234)".
+inline pid_t pid_on_line(const std::string& out, const std::string& text) {
+  const std::size_t at = out.find(text);
+  if (at == std::string::npos) return 0;
+  const std::size_t p = out.find("pid ", at);
+  const std::size_t eol = out.find('\n', at);
+  if (p == std::string::npos || p > eol) return 0;
+  return static_cast<pid_t>(std::atoi(out.c_str() + p + 4));
+}
+
 class BackgroundRun {
  public:
   // Starts RESCUE_BINARY_DIR/rescue-motion with `args`, output to `log`.
@@ -59,16 +70,8 @@ class BackgroundRun {
     }
     return output().find(text) != std::string::npos;
   }
-  // The number after "pid " on the first line holding `text` (0 when none).
-  pid_t pid_on_line(const std::string& text) const {
-    const std::string out = output();
-    const std::size_t at = out.find(text);
-    if (at == std::string::npos) return 0;
-    const std::size_t p = out.find("pid ", at);
-    const std::size_t eol = out.find('\n', at);
-    if (p == std::string::npos || p > eol) return 0;
-    return static_cast<pid_t>(std::atoi(out.c_str() + p + 4));
-  }
+  // The number after "pid " on the first line of the output holding `text` (0 when none).
+  pid_t pid_on_line(const std::string& text) const { return rescue::test::pid_on_line(output(), text); }
   // Waits for the end; the exit status, or -signal when killed.
   int wait_exit() {
     int status = 0;

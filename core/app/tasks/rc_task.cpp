@@ -239,6 +239,15 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
     on_take(now);
   }
   std::uint64_t word = links_.motion.owner.word();
+  // A word naming this task that this task never took (only a take_ownership input or a retake,
+  // both under chosen_, make one) is a killed predecessor process's: the supervisor restarted this
+  // one before the handler's intake noticed the death. It frees it, as the intake would have: the
+  // joints hold and the operator gives the motion again (this task's fresh heartbeat would keep
+  // the dead generation's word alive, and this task would own it without the operator's choice).
+  if (MotionOwner::task_of(word) == index() && !chosen_) {
+    if (links_.motion.owner.release(word)) ++counters_.predecessor_releases;
+    word = links_.motion.owner.word();
+  }
   const std::uint8_t holder = MotionOwner::task_of(word);
   if (holder != index() && holder != kNoOwnerTask) chosen_ = false;  // the operator gave it to another task
   // Released while this task was silent too long (a stall, not a crash: it is running again): the

@@ -17,7 +17,8 @@
 // Ownership: `ctl owner TASK` takes the motion (from whoever holds it). If the EtherCAT handler
 // released it because this task fell silent (a stall) and nobody took it since, the task takes it
 // back (compare-exchange on the free word) and goes on; a restarted task process starts without
-// the operator's choice and waits for `ctl owner` again.
+// the operator's choice and waits for `ctl owner` again (if its killed predecessor's word is still
+// there, the handler not having noticed the death yet, it frees it in its first period).
 // Only the owner's references reach the joints (the EtherCAT handler's MotionIntake).
 // The task sees only TaskLinks, so the same code runs as a thread (`run --threads`) or as its own
 // process over the shared-memory segment. No heap after construction, no locks, bounded work.
@@ -54,6 +55,7 @@ struct RcTaskCounters {
   std::uint64_t takes{0};             // the operator gave it the motion
   std::uint64_t ownership_lost{0};    // another task took it, or the handler released it
   std::uint64_t retakes{0};           // took the motion back after a release while it was silent
+  std::uint64_t predecessor_releases{0};  // freed the word a killed predecessor process held
   std::uint64_t kinematics_errors{0}; // periods whose kinematics refused its inputs (references held)
   std::uint64_t no_samples{0};        // periods before the handler published any joint
 };

@@ -5,6 +5,7 @@
 //   and goes on with the remaining joints after a link cut (the lost ones never commanded);
 //   an owner that dies is released within kOwnerDeadAfterPeriods + 1 periods, the joints hold,
 //   the teleop task takes over bumplessly, and a restarted rescue task waits for the operator;
+//   a restarted owner's process frees its predecessor's word if it beats before the handler noticed;
 //   an owner that stalls and comes back takes the free motion back.
 #include <gtest/gtest.h>
 
@@ -109,6 +110,37 @@ TEST(RcTasks, ADeadOwnerIsReleasedTheJointsHoldAndTeleopTakesOverBumplessly) {
   EXPECT_EQ(rig.links->motion.owner.task(), 0);
   EXPECT_EQ(rig.intake.driving_task(), 0);
   EXPECT_EQ(rig.teleop->counters().ownership_lost, 1U);
+}
+
+// The supervisor restarts a killed owner's process; if the new process beats before the handler
+// noticed the death (the handler held off its CPU longer than the back-off), its fresh heartbeat
+// makes the dead generation's word look alive to the handler. Before this rule the new process
+// adopted that word (owning without the operator's choice: a restarted teleop task would drive the
+// joints) and the handler never released it. Now it frees its predecessor's word in its first
+// period, as the intake would have: the joints hold and the operator gives the motion again.
+TEST(RcTasks, ARestartedTaskThatBeatsBeforeTheReleaseFreesItsPredecessorsWord) {
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(400);
+  rig.rescue_runs = false;  // killed
+  rig.steps(10);            // the handler holds; not yet released
+  ASSERT_EQ(rig.links->motion.owner.task(), 0);
+  const std::array<double, kJointCount> held = rig.sent;
+  rig.rescue = std::make_unique<RcTask>(*rig.links, testing::short_rescue_settings());
+  rig.rescue_runs = true;
+  rig.step();
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "the predecessor's word is freed at once";
+  EXPECT_EQ(rig.rescue->counters().predecessor_releases, 1U);
+  const std::uint64_t misses = rig.intake.counters().misses;
+  rig.steps(200);
+  EXPECT_EQ(rig.intake.counters().misses, misses) << "nobody owns the motion: no miss";
+  EXPECT_EQ(rig.sent, held) << "the joints hold";
+  EXPECT_EQ(rig.rescue->mode(), RcMode::idle) << "it waits for the operator";
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(10);
+  EXPECT_EQ(rig.links->motion.owner.task(), 0);
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+  EXPECT_EQ(rig.rescue->counters().predecessor_releases, 1U);
 }
 
 TEST(RcTasks, AnOwnerThatStallsAndComesBackTakesTheFreeMotionBack) {
