@@ -144,4 +144,24 @@ class OperatorRun {
   int exit_status_{-1};
 };
 
+// The raw value of "key": in one flat JSON object of `ctl --json` (strings without their quotes;
+// empty when absent).
+inline std::string json_field(const std::string& object, const std::string& key) {
+  const std::size_t at = object.find("\"" + key + "\":");
+  if (at == std::string::npos) return "";
+  std::size_t from = at + key.size() + 3;
+  if (from < object.size() && object[from] == '"') {
+    ++from;
+    return object.substr(from, object.find('"', from) - from);
+  }
+  return object.substr(from, object.find_first_of(",}", from) - from);
+}
+
+// The object of joint `joint` in `ctl --json status` (empty when absent).
+inline std::string joint_object(const std::string& json, const std::string& joint) {
+  const std::size_t at = json.find("{\"name\":\"" + joint + "\"");
+  if (at == std::string::npos) return "";
+  return json.substr(at, json.find('}', at) - at + 1);
+}
+
 }  // namespace rescue::app::testing

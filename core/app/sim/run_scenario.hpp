@@ -36,7 +36,7 @@ struct Scenario {
   std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
-  hal::Nanoseconds run_on{0};           // after acting, the run goes on this long (without --duration)
+  hal::Nanoseconds run_on{0};           // after acting, the run goes on at most this long (without --duration)
   bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
   std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
 };

@@ -257,16 +257,6 @@ TEST(RunCommandFlood, UnpacedFloodIsAccountedForAndNoneAccepted) {
 
 // ---- The flood while the robot moves (issue 12 "Done means"; docs/protocol.md "Flood while moving").
 
-// `"field":` of the joint `joint` in `ctl --json status` (empty when absent).
-std::string joint_field(const std::string& json, const std::string& joint, const std::string& field) {
-  const std::size_t at = json.find("\"name\":\"" + joint + "\"");
-  if (at == std::string::npos) return std::string();
-  const std::size_t f = json.find("\"" + field + "\":", at);
-  if (f == std::string::npos || f > json.find('}', at)) return std::string();
-  const std::size_t begin = f + field.size() + 3;
-  return json.substr(begin, json.find_first_of(",}", begin) - begin);
-}
-
 // A PREEMPT_RT kernel says so in /sys/kernel/realtime.
 bool real_time_kernel() {
   std::ifstream in("/sys/kernel/realtime");
@@ -326,11 +316,11 @@ RobotSample sample(const OperatorRun& run) {
   RobotSample s;
   const CommandResult status = run.ctl({"--json", "status"});
   const CommandResult master = run.ctl({"--json", "master"});
-  const std::string hand = joint_field(status.out, "l_hand", "position_rad");
+  const std::string hand = testing::json_field(testing::joint_object(status.out, "l_hand"), "position_rad");
   s.ok = status.status == 0 && master.status == 0 && !hand.empty();
   if (!s.ok) return s;
   s.hand = std::stod(hand);
-  s.hand_owner = joint_field(status.out, "l_hand", "owner");
+  s.hand_owner = testing::json_field(testing::joint_object(status.out, "l_hand"), "owner");
   s.cycles = number_after(master.out, "\"cycles\":");
   s.late_periods = number_after(master.out, "\"late_periods\":");
   return s;

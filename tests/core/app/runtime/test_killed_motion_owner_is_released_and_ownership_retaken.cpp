@@ -44,6 +44,7 @@ namespace {
 
 using std::chrono::milliseconds;
 using testing::CommandResult;
+using testing::json_field;
 using testing::OperatorRun;
 
 constexpr double kHoldToleranceRad = 1e-3;  // a held joint moves less than this over 200 ms
@@ -63,29 +64,17 @@ struct JointView {
   int owner{-1};  // -1: null (no owner drove it)
 };
 
-// The raw value of "key": in one JSON object (strings without their quotes).
-std::string field(const std::string& object, const std::string& key) {
-  const std::size_t at = object.find("\"" + key + "\":");
-  if (at == std::string::npos) return "";
-  std::size_t from = at + key.size() + 3;
-  if (from < object.size() && object[from] == '"') {
-    ++from;
-    return object.substr(from, object.find('"', from) - from);
-  }
-  return object.substr(from, object.find_first_of(",}", from) - from);
-}
-
 std::vector<JointView> joints_of(const std::string& json) {
   std::vector<JointView> joints;
   for (std::size_t at = json.find("{\"name\":"); at != std::string::npos; at = json.find("{\"name\":", at + 1)) {
     const std::string object = json.substr(at, json.find('}', at) - at + 1);
     JointView j;
-    j.name = field(object, "name");
-    j.state = field(object, "state");
-    j.fault = field(object, "fault");
-    j.lost = field(object, "lost") != "false";
-    j.position = std::strtod(field(object, "position_rad").c_str(), nullptr);
-    const std::string owner = field(object, "owner");
+    j.name = json_field(object, "name");
+    j.state = json_field(object, "state");
+    j.fault = json_field(object, "fault");
+    j.lost = json_field(object, "lost") != "false";
+    j.position = std::strtod(json_field(object, "position_rad").c_str(), nullptr);
+    const std::string owner = json_field(object, "owner");
     j.owner = owner == "null" ? -1 : std::atoi(owner.c_str());
     joints.push_back(j);
   }
