@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The project's test command (README, .ci/run): sets up, builds and passes every check.
 #   1. install the Debian packages (toolchain/setup.sh)
+#   1b. README command 1 as a new user runs it: toolchain/run.sh --duration 3 (release build of the
+#      program, 3 s on the simulated robot), so the first command of the README can never break silently
 #   2. debug build + the whole GoogleTest suite through CTest
 #   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
 #   3b. verify: release-flag build with GCC's stack usage and call graph + toolchain/rt_verify.py
@@ -11,11 +13,11 @@
 #   7. aarch64 cross compile of the firmware libraries
 #   8. package: the Debian package (motion-pc preset), its contents, lintian, the installed binary as the
 #      service user on the simulated robot, the systemd unit (toolchain/package-check.sh, docs/deploy.md)
-# Stages can be chosen: toolchain/check.sh [setup] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
+# Stages can be chosen: toolchain/check.sh [setup] [run] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup test analysis verify tsan asan fuzz cross package)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup run test analysis verify tsan asan fuzz cross package)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
 
@@ -24,6 +26,11 @@ banner() { printf '\n==== %s ====\n' "$*"; }
 start=$(date +%s)
 
 if want setup; then banner "setup"; bash toolchain/setup.sh; fi
+
+if want run; then
+  banner "README command 1: toolchain/run.sh --duration 3"
+  bash toolchain/run.sh --duration 3
+fi
 
 if want test; then
   banner "debug build + tests"
