@@ -77,7 +77,10 @@ struct MasterOptions {
   // Extra datagrams the recovery adds to one cyclic frame, all slaves together (search included).
   unsigned recovery_datagrams_per_cycle{2};
   hal::Nanoseconds recovery_step_timeout{hal::kNsPerSec};  // per state
-  hal::Nanoseconds recovery_hold_off{hal::kNsPerSec};      // after a failure, before searching again
+  // After a failure, before searching again; doubled after each failure in a row, up to
+  // recovery_hold_off_max (a recovery that cannot finish is retried from the start, never left stuck).
+  hal::Nanoseconds recovery_hold_off{hal::kNsPerSec};
+  hal::Nanoseconds recovery_hold_off_max{8 * hal::kNsPerSec};
   // Link diagnostics (ecat/master/link_diagnostics.hpp): one slave's error counters read (and
   // cleared) by one datagram in every this many cycles, round robin over the slaves in the
   // exchange; 0 = off. 10 at 1 ms: each of 23 slaves every 230 ms.
@@ -188,6 +191,10 @@ class Master {
 
   // Online recovery (MasterOptions::online_recovery): where each slave stands, and the counters.
   RecoveryState recovery_state(std::size_t position) const noexcept { return recovery_[position].state; }
+  // When the slave's recovery state last changed (master clock; 0 = never since bring-up), and its
+  // failed attempts in a row (each one doubles the hold-off before it searches again).
+  hal::Nanoseconds recovery_changed_at(std::size_t position) const noexcept { return recovery_[position].changed_at; }
+  std::uint8_t recovery_failures(std::size_t position) const noexcept { return recovery_[position].failures; }
   SlaveMask recovering() const noexcept;
   const RecoveryStats& recovery_stats() const noexcept { return recovery_stats_; }
 
@@ -250,7 +257,16 @@ class Master {
   void recovery_input(std::size_t position, RecoveryInput input) noexcept;
   void enter_recovery_state(std::size_t position, RecoveryState state) noexcept;
   void check_identity(std::size_t position) noexcept;
-  std::uint16_t expected_position(std::size_t position) const noexcept;
+  // The slave being searched for whose bring-up identity is this device's (kMaxSlaves: none).
+  std::size_t owner_of_identity(std::size_t finder) const noexcept;
+  hal::Nanoseconds hold_off(std::uint8_t failures) const noexcept;
+  // The auto-increment places the slave may be at: `first` slaves before it surely answer, up to
+  // `unknown` more may (searched for, or waiting after a failure).
+  struct Places {
+    std::uint16_t first{0};
+    std::uint16_t unknown{0};
+  };
+  Places expected_places(std::size_t position) const noexcept;
   // Re-integration (master_reintegration.cpp).
   void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
   void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
@@ -322,8 +338,13 @@ class Master {
     std::uint8_t words{0};           // SII words 0x08.. read so far
     bool acknowledge{false};         // next AL control write acknowledges an error
     bool withdraw{false};            // searching: first write its station address back to 0
-    bool failure_reported{false};
     bool lost_address{false};        // found with station address 0: its power was cycled
+    bool by_address{false};          // searching: the next search reads 0x0010 by its own station address
+    std::uint8_t scan{0};            // searching: which of its possible places the next APRD reads
+    std::uint16_t handover{0};       // withdrawing: the station address written instead of 0 (the device's owner)
+    std::uint8_t failures{0};        // failed attempts in a row (back-off), 0 after a recovery
+    std::uint8_t bounces{0};         // attempts in a row that lost the device again (gone)
+    hal::Nanoseconds changed_at{0};  // when it entered its current state
     std::uint16_t adp{0};            // auto-increment address it was found at
     std::uint8_t sdos_pending{0};
     bool sdo_refused{false};

@@ -19,11 +19,13 @@ namespace {
 
 constexpr std::uint16_t kAlStatusReadLength = 6;
 constexpr std::uint8_t kGonePeriods = 3;
+constexpr std::uint8_t kMaxBounces = 3;  // attempts in a row that lost the device again
 constexpr std::uint16_t kSiiBlockLength = 14;  // 0x0502..0x050F: control, address, data
 constexpr std::uint16_t kDcBlockLength = 0x20;  // 0x0910..0x092F: time, receive time, offset, delay, difference
 constexpr std::uint16_t kDcLoopRestart = 0x1000;
 constexpr std::uint64_t kSync0MarginPeriods = 10;
 constexpr std::size_t kIdentityWords = 8;
+constexpr hal::Nanoseconds kSdoResponseTimeout = 100 * hal::kNsPerMs;  // MailboxClient's default
 
 constexpr std::uint16_t al_control_value(reg::AlState state, bool acknowledge) noexcept {
   return static_cast<std::uint16_t>(static_cast<std::uint16_t>(state) | (acknowledge ? reg::kAlErrorBit : 0U));
@@ -63,13 +65,21 @@ SlaveMask Master::recovering() const noexcept {
   return mask;
 }
 
-std::uint16_t Master::expected_position(std::size_t position) const noexcept {
-  // Every slave before it that answered at bring-up and is not being searched for occupies a place.
-  std::uint16_t n = 0;
+Master::Places Master::expected_places(std::size_t position) const noexcept {
+  // Every slave before it that answered at bring-up occupies a place when it is known to answer
+  // (in the exchange, being configured again, or refused: a foreign device is there); one searched
+  // for or waiting after a failure may or may not be there.
+  Places places;
   for (std::size_t q = 0; q < position; ++q) {
-    if ((present() & slave_bit(q)) != 0 && recovery_[q].state != RecoveryState::searching) ++n;
+    if ((present() & slave_bit(q)) == 0) continue;
+    const RecoveryState s = recovery_[q].state;
+    if (s == RecoveryState::searching || s == RecoveryState::failed) {
+      ++places.unknown;
+    } else {
+      ++places.first;
+    }
   }
-  return n;
+  return places;
 }
 
 void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
@@ -78,7 +88,9 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
   r.sub = 0;
   r.silent = 0;
   r.acknowledge = false;
-  r.deadline = link_.clock().now() + (state == RecoveryState::failed ? options_.recovery_hold_off : options_.recovery_step_timeout);
+  const hal::Nanoseconds now = link_.clock().now();
+  r.changed_at = now;
+  r.deadline = now + (state == RecoveryState::failed ? hold_off(r.failures) : options_.recovery_step_timeout);
   if (state == RecoveryState::identifying) {
     r.words = 0;
     r.sii.fill(0);
@@ -93,8 +105,12 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
       if (request.position != p) continue;
       SdoRequest mine = request;
       mine.tag = MailboxClient::kMasterTagBit | static_cast<std::uint32_t>(p);
+      const std::size_t ahead = MailboxClient::kQueueCapacity - mailbox_.free_slots();
       if (mailbox_.submit(mine)) {
         ++r.sdos_pending;
+        // Transfers of other slaves queued before these each may take their response timeout
+        // (one that vanished meanwhile): waiting for them is not this slave's failure.
+        r.deadline += static_cast<hal::Nanoseconds>(ahead) * kSdoResponseTimeout;
       } else {
         r.sdo_refused = true;  // queue full: fails by timeout, tried again later
       }
@@ -104,6 +120,12 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
 
 void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
   Recovery& r = recovery_[p];
+  if (input == RecoveryInput::gone && r.state != RecoveryState::refused) {
+    // A device that answers its search but falls silent in every attempt (e.g. its application
+    // refuses AL control) would go round Searching for ever: after kMaxBounces such attempts the
+    // attempt counts as failed (reported, retried after the hold-off).
+    if (++r.bounces >= kMaxBounces) input = RecoveryInput::timeout;
+  }
   const RecoveryRow* row = SlaveRecoveryTable::find(r.state, input);
   if (row == nullptr) {
     ++recovery_stats_.table_refusals;
@@ -114,11 +136,14 @@ void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
   const hal::Nanoseconds now = link_.clock().now();
   switch (row->to) {
     case RecoveryState::failed: {
+      r.bounces = 0;
+      // Every failure is reported; the hold-off before the next attempt (from the start: searching)
+      // doubles with each failure in a row, so a slave that cannot be recovered costs little.
       ++recovery_stats_.failed;
-      if (!r.failure_reported) {
-        monitor_.recovery_event(LinkEventKind::recovery_failed, bit, cycle_, now, {static_cast<std::uint32_t>(from), 0, 0, 0});
-        r.failure_reported = true;
-      }
+      if (r.failures < 0xFF) ++r.failures;
+      monitor_.recovery_event(LinkEventKind::recovery_failed, bit, cycle_, now,
+                              {static_cast<std::uint32_t>(from), r.failures,
+                               static_cast<std::uint32_t>(hold_off(r.failures) / hal::kNsPerMs), 0});
       break;
     }
     case RecoveryState::refused:
@@ -132,7 +157,8 @@ void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
       break;
     case RecoveryState::idle:
       ++recovery_stats_.recovered;
-      r.failure_reported = false;
+      r.failures = 0;
+      r.bounces = 0;
       monitor_.recovered(bit, cycle_, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
       break;
     default:
@@ -150,10 +176,20 @@ bool Master::add_search(FrameBuilder& frame) noexcept {
     search_rotate_ = p + 1;
     Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
     if (r.withdraw) {
-      const std::array<std::uint8_t, 2> zero{};
-      added = frame.add(Command::FPWR, index, make_address(plan_[p].station_address, reg::kStationAddress), 2, ConstByteSpan(zero));
+      std::array<std::uint8_t, 2> value{};
+      store_le16(value.data(), r.handover);
+      added = frame.add(Command::FPWR, index, make_address(plan_[p].station_address, reg::kStationAddress), 2, ConstByteSpan(value));
+    } else if (r.state == RecoveryState::searching && r.by_address) {
+      // Slaves behind a power-cycled or reconnected one come back with their station address: found
+      // by it wherever they are, whatever returned before them.
+      added = frame.add(Command::FPRD, index, make_address(plan_[p].station_address, reg::kStationAddress), 2);
     } else {
-      r.adp = r.state == RecoveryState::refused ? r.adp : position_adp(expected_position(p));
+      if (r.state == RecoveryState::searching) {
+        // Its place: after every slave known to answer, plus any of those that may be there.
+        const Places places = expected_places(p);
+        r.adp = position_adp(static_cast<std::uint16_t>(places.first + (r.scan % (places.unknown + 1U))));
+        ++r.scan;
+      }
       added = frame.add(Command::APRD, index, make_address(r.adp, reg::kStationAddress), 2);
     }
     if (!added.ok()) return false;
@@ -167,6 +203,7 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
   Recovery& r = recovery_[p];
   if (r.withdraw) {
     r.withdraw = false;  // taken or not: the device is searched for again either way
+    r.handover = 0;
     return;
   }
   const std::uint16_t station = d.wkc() == 1 ? load_le16(d.data().data()) : 0;
@@ -176,10 +213,32 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
     if (d.wkc() == 0 || station != plan_[p].station_address) recovery_input(p, RecoveryInput::gone);
     return;
   }
+  if (r.state != RecoveryState::searching) return;
+  const bool by_address = r.by_address;
+  r.by_address = !by_address;  // the two searches alternate
   if (d.wkc() != 1) return;
+  if (by_address) {
+    r.lost_address = false;
+    recovery_input(p, RecoveryInput::answered_addressed);
+    return;
+  }
   if (station == 0) {
-    r.lost_address = true;
-    recovery_input(p, RecoveryInput::answered_unaddressed);
+    // A blank device at that place. Several slaves searched for may expect the same place (none of
+    // the slaves between them answers): the first of them in frame order is the one the device
+    // must be if it is any of them; the identity check hands it on when it is another one.
+    std::size_t claimant = p;
+    const std::uint32_t place = static_cast<std::uint16_t>(0U - r.adp);
+    for (std::size_t q = 0; q < p; ++q) {
+      if (recovery_[q].state != RecoveryState::searching || (present() & slave_bit(q)) == 0) continue;
+      const Places places = expected_places(q);
+      if (place >= places.first && place <= places.first + places.unknown) {
+        claimant = q;
+        break;
+      }
+    }
+    recovery_[claimant].adp = r.adp;
+    recovery_[claimant].lost_address = true;
+    recovery_input(claimant, RecoveryInput::answered_unaddressed);
   } else if (station == plan_[p].station_address) {
     r.lost_address = false;
     recovery_input(p, RecoveryInput::answered_addressed);
@@ -324,7 +383,15 @@ void Master::check_identity(std::size_t p) noexcept {
       return;
     }
     if (serial != before.serial_number) {
+      // Another slave's device (found at the place this one expected): it gets that slave's
+      // station address instead of 0, so that slave's search by address finds it next.
+      const std::size_t owner = owner_of_identity(p);
       recovery_input(p, RecoveryInput::not_this_one);
+      if (owner < kMaxSlaves) {
+        recovery_[p].handover = plan_[owner].station_address;
+        recovery_[owner].lost_address = true;
+        recovery_[owner].by_address = true;
+      }
       return;
     }
   } else if (revision != plan_[p].revision) {
@@ -332,6 +399,27 @@ void Master::check_identity(std::size_t p) noexcept {
     return;
   }
   recovery_input(p, RecoveryInput::step_done);
+}
+
+std::size_t Master::owner_of_identity(std::size_t finder) const noexcept {
+  const std::array<std::uint16_t, 8>& w = recovery_[finder].sii;
+  for (std::size_t q = 0; q < kMaxSlaves; ++q) {
+    if (q == finder || (recovery_[q].state != RecoveryState::searching && recovery_[q].state != RecoveryState::failed)) continue;
+    const std::uint8_t found = report_.match.found_of_slot[q];
+    if (found == kNoPosition || found >= report_.found.size()) continue;
+    const FoundSlave& before = report_.found[found];
+    if (word_pair(w, 0) == before.vendor_id && word_pair(w, 2) == before.product_code && word_pair(w, 4) == before.revision &&
+        word_pair(w, 6) == before.serial_number) {
+      return q;
+    }
+  }
+  return kMaxSlaves;
+}
+
+hal::Nanoseconds Master::hold_off(std::uint8_t failures) const noexcept {
+  hal::Nanoseconds wait = options_.recovery_hold_off;
+  for (std::uint8_t k = 1; k < failures && wait < options_.recovery_hold_off_max; ++k) wait *= 2;
+  return wait < options_.recovery_hold_off_max ? wait : options_.recovery_hold_off_max;
 }
 
 void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept {
