@@ -69,10 +69,23 @@ std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) no
   for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
     if ((to_check & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
   }
+  // The AL state watch (item 6): the next few slaves in the exchange not probed otherwise.
+  const SlaveMask to_watch = present_ & ~suspect_ & ~watchdog_check_ & ~rearming_;
+  const std::size_t watched = static_cast<std::size_t>(popcount(present_));
+  std::size_t watch_budget = (watched + kAlWatchPeriods - 1) / kAlWatchPeriods;
+  const std::size_t watch_start = watch_rotate_;
+  for (std::size_t i = 0; i < kMaxSlaves && n < capacity && watch_budget > 0 && to_watch != 0; ++i) {
+    const std::size_t p = (watch_start + i) % kMaxSlaves;
+    if ((present_ & slave_bit(p)) == 0) continue;
+    --watch_budget;  // a slave the others already probe this frame uses its turn
+    watch_rotate_ = p + 1;
+    if ((to_watch & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false, true};
+  }
   const SlaveMask to_clear = out_ & ~fmmus_cleared_ & ~recovering_;
   std::size_t budget = kMaxOutProbesPerCycle;
+  const std::size_t start = rotate_;  // (rotate_ moves inside the loop: a fixed start, so no slave is probed twice)
   for (std::size_t i = 0; i < kMaxSlaves && n < capacity && budget > 0; ++i) {
-    const std::size_t p = (rotate_ + i) % kMaxSlaves;
+    const std::size_t p = (start + i) % kMaxSlaves;
     if ((to_clear & slave_bit(p)) == 0) continue;
     out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), true};
     --budget;
@@ -138,8 +151,10 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
   if (probe.position >= kMaxSlaves) return false;
   const SlaveMask bit = slave_bit(probe.position);
   if ((present_ & bit) != 0) {
-    // Only suspects and the watchdog check are probed while in the exchange.
-    if ((suspect_ & bit) == 0 && (watchdog_check_ & bit) == 0) return false;
+    if ((suspect_ & bit) == 0 && (watchdog_check_ & bit) == 0) {
+      if (probe.watch) observe_watch(probe, bit);
+      return false;
+    }
     std::uint8_t& silent = silent_frames_[probe.position];
     if (probe.status_wkc == 0) {
       // A check that did not reach a slave the counters do not doubt: checked again next frame.
@@ -198,6 +213,19 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
     fmmus_cleared_ &= ~bit;
   }
   return false;
+}
+
+void LinkMonitor::observe_watch(const ProbeResult& probe, SlaveMask bit) noexcept {
+  if (probe.status_wkc == 0) return;  // not reached: no evidence (the counters judge reachability)
+  ++watch_reads_;
+  const bool op = (probe.al_status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op);
+  if (op && (probe.al_status & reg::kAlErrorBit) == 0) return;
+  // Out of OP on its own (or flagging an error): out of the exchange, reported with its code.
+  rearming_ &= ~bit;
+  rearm_requests_ &= ~bit;
+  present_ &= ~bit;
+  out_ |= bit;
+  report(LinkEventKind::not_operational, bit, cycle_, probe.al_status, probe.al_status_code);
 }
 
 bool LinkMonitor::expired_by_watchdog(const ProbeResult& probe, SlaveMask bit) const noexcept {

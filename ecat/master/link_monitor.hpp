@@ -32,6 +32,14 @@
 //    found in SAFE-OP with 0x001B by that check is not a link fault: it stays in the exchange,
 //    is reported `watchdog_expired`, and the master re-arms it (acknowledge, OP) until `rearmed`.
 //    Anything else the check finds is what the probe of a suspect would say (not operational).
+// 6. The AL state watch: a slave that leaves OP for a reason of its own (a synchronisation error, its
+//    application) may still add to the working counter (drives keep exchanging process data in
+//    SAFE-OP), so every slave in the exchange has its AL status read (FPRD 0x0130) in the cyclic
+//    frame in turn: ceil(slaves / kAlWatchPeriods) of them per frame, so each one at least every
+//    kAlWatchPeriods periods (IgH's master reads every slave's AL state cyclically too). One found
+//    out of OP (or with the error bit) is reported `not_operational` with its AL status and code and
+//    taken out of the exchange (online recovery takes it from there); a read that did not reach the
+//    slave is no evidence (the counters judge reachability).
 #pragma once
 
 #include <array>
@@ -54,7 +62,7 @@ enum class LinkEventKind : std::uint8_t {
   heard_again,      // a frame came back after a `silent` alarm (the probes then say what is lost)
   recovered,        // online recovery brought it back to OP and into the exchange ("available")
   recovery_refused, // online recovery found another device in its place (identity in the report)
-  recovery_failed,  // online recovery gave up for now (a step timed out); it tries again later
+  recovery_failed,  // online recovery gave up for now (a step timed out); it tries again from the start after a hold-off
   port_errors,      // a port's receive errors rise (found = port, slave at the cable's other end, errors)
   watchdog_expired, // reachable, in SAFE-OP by its SyncManager watchdog after the master's silence (found[0] = ms)
   rearmed,          // back in OP after a watchdog_expired (the master acknowledged and requested OP)
@@ -76,7 +84,8 @@ struct LinkReport {
   // recovered: found[0] = kRecoveredAfterPowerLoss when the slave had lost its station address (its
   // power was cycled), 0 when it kept its configuration (a cable: link lost and back);
   // recovery_refused: the SII identity found (vendor, product, revision, serial);
-  // recovery_failed: found[0] = the recovery state that timed out.
+  // recovery_failed: found[0] = the recovery state that timed out (or lost the device in the third
+  // attempt in a row), found[1] = failed attempts in a row, found[2] = hold-off before the next (ms).
   std::array<std::uint32_t, 4> found{};
 };
 
@@ -85,11 +94,13 @@ constexpr std::uint32_t kRecoveredAfterPowerLoss = 1;
 struct ProbeRequest {
   std::uint8_t position{0};
   bool clear_fmmus{false};  // also write FMMU activation off (slaves out of the exchange)
+  bool watch{false};        // the AL state watch's read of a slave in the exchange (item 6)
 };
 
 struct ProbeResult {
   std::uint8_t position{0};
   bool had_clear{false};
+  bool watch{false};
   std::uint16_t status_wkc{0};  // FPRD 0x0130
   std::uint16_t al_status{0};
   std::uint16_t al_status_code{0};
@@ -113,6 +124,9 @@ class LinkMonitor {
   // ESCs' default process-data watchdog (100 ms, 0x0400 x 0x0420 at reset, which the master keeps):
   // the check costs one status read per slave, and a gap this long is already far above jitter.
   static constexpr hal::Nanoseconds kWatchdogCheckGap = 50 * hal::kNsPerMs;
+  // Item 6: every slave in the exchange has its AL status read at least once in this many periods
+  // (frames), so a drop out of OP is reported within kAlWatchPeriods + 1 periods: 9 ms at 1 ms.
+  static constexpr std::size_t kAlWatchPeriods = 8;
 
   LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layout) noexcept;
 
@@ -169,6 +183,8 @@ class LinkMonitor {
   std::uint16_t expected_wkc(std::size_t branch) const noexcept;
   // Probe rounds that found every suspect reachable and in OP (a transient shortfall).
   std::uint64_t glitches() const noexcept { return glitches_; }
+  // AL status reads of the AL state watch so far (item 6).
+  std::uint64_t watch_reads() const noexcept { return watch_reads_; }
   std::uint64_t reports_dropped() const noexcept { return reports_dropped_; }
   // Cycles whose frame did not come back by its deadline (late or missing), and the current run.
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
@@ -180,6 +196,8 @@ class LinkMonitor {
  private:
   // True when the probe found a suspect silent (evidence of a loss, not yet confirmed).
   bool observe_probe(const ProbeResult& probe) noexcept;
+  // The AL state watch's read of a slave in the exchange (item 6).
+  void observe_watch(const ProbeResult& probe, SlaveMask bit) noexcept;
   // True when the probe (of a suspect or a watchdog check) found the slave in SAFE-OP by its watchdog.
   bool expired_by_watchdog(const ProbeResult& probe, SlaveMask bit) const noexcept;
   void observe_branches(const std::array<std::uint16_t, kMaxBranches>& branch_wkc) noexcept;
@@ -217,6 +235,8 @@ class LinkMonitor {
   std::uint64_t cycle_{0};
   hal::Nanoseconds time_{0};
   std::size_t rotate_{0};
+  std::size_t watch_rotate_{0};
+  std::uint64_t watch_reads_{0};
   std::uint64_t glitches_{0};
   std::uint64_t reports_dropped_{0};
 

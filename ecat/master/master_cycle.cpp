@@ -56,7 +56,7 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
     for (std::size_t i = 0; i < probe_count_ && fits(kProbeBytes); ++i, ++kept) {
       const ProbeRequest& probe = probes_[i];
       const std::uint16_t station = plan_[probe.position].station_address;
-      probe_results_[i] = ProbeResult{probe.position, probe.clear_fmmus, 0, 0, 0, 0};
+      probe_results_[i] = ProbeResult{probe.position, probe.clear_fmmus, probe.watch, 0, 0, 0, 0};
       note(Role::probe_status, i, frame.add(Command::FPRD, index, make_address(station, reg::kAlStatus), kAlStatusReadLength).ok());
       if (probe.clear_fmmus) {
         note(Role::probe_clear, i,

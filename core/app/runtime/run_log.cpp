@@ -6,6 +6,7 @@
 
 #include "core/app/runtime/run_context.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::app::runner {
 namespace {
@@ -30,6 +31,23 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
         (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": SyncManager watchdogs expired after %" PRIu32
                           " ms without frames (host stall, not a link fault), re-arming: %s\n",
                           t, e.cycle, e.link.found[0], names);
+        break;
+      }
+      if (e.link.kind == ecat::LinkEventKind::not_operational) {
+        // Reachable but out of OP (the AL state watch, or a probe): its AL status and code by name.
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link not operational: %s in %s%s, AL status code 0x%04X %s"
+                          " (first seen in cycle %" PRIu64 ")\n",
+                          t, e.cycle, names, ecat::reg::to_string(static_cast<ecat::reg::AlState>(e.link.al_status & ecat::reg::kAlStateMask)),
+                          (e.link.al_status & ecat::reg::kAlErrorBit) != 0 ? " with error" : "", e.link.al_status_code,
+                          ecat::reg::explain_al_status_code(e.link.al_status_code), e.link.detected_cycle);
+        break;
+      }
+      if (e.link.kind == ecat::LinkEventKind::recovery_failed) {
+        // found: the recovery state that timed out, failures in a row, hold-off before the next attempt.
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": recovery failed: %s (in %s, attempt %" PRIu32
+                          " in a row), trying again from the start in %" PRIu32 " ms\n",
+                          t, e.cycle, names, ecat::to_string(static_cast<ecat::RecoveryState>(e.link.found[0])), e.link.found[1],
+                          e.link.found[2]);
         break;
       }
       if (e.link.kind == ecat::LinkEventKind::rearmed) {

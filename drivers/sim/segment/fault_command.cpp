@@ -23,7 +23,7 @@ struct Verb {
   bool needs_port{false};
 };
 
-constexpr std::array<Verb, 14> kVerbs{{
+constexpr std::array<Verb, 15> kVerbs{{
     {"cut", FaultKind::cut, true, false},
     {"restore", FaultKind::restore, true, false},
     {"freeze", FaultKind::freeze, true, false},
@@ -38,6 +38,7 @@ constexpr std::array<Verb, 14> kVerbs{{
     {"foreign", FaultKind::foreign, true, false},
     {"original", FaultKind::original, true, false},
     {"corrupt-port", FaultKind::corrupt_port, true, true, true},
+    {"safe-op", FaultKind::safe_op, true, true},
 }};
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
@@ -131,7 +132,7 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
   if (verb->needs_value && !parse_number(tokens[next], command.value)) {
     return make_error(Errc::invalid_argument, "bad number in fault command");
   }
-  if (command.kind == FaultKind::drive_fault && command.value > 0xFFFF) {
+  if ((command.kind == FaultKind::drive_fault || command.kind == FaultKind::safe_op) && command.value > 0xFFFF) {
     return make_error(Errc::out_of_range, "error code above 0xFFFF", command.value);
   }
   return command;
@@ -158,6 +159,7 @@ Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segmen
     case FaultKind::foreign: return segment.plug_device(command.position, true, now);
     case FaultKind::original: return segment.plug_device(command.position, false, now);
     case FaultKind::corrupt_port: return segment.corrupt_port(command.position, command.port, command.value);
+    case FaultKind::safe_op: return segment.drop_to_safe_op(command.position, static_cast<std::uint16_t>(command.value));
   }
   return make_error(Errc::invalid_argument, "fault kind");
 }

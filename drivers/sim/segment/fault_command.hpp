@@ -15,6 +15,8 @@
 //   foreign SLAVE        a device of another type (other SII product code) plugged in SLAVE's place
 //   original SLAVE       the planned device plugged back in SLAVE's place
 //   corrupt-port SLAVE PORT N   damage the next N frames received on SLAVE's PORT (0..3): error counters
+//   safe-op SLAVE CODE   SLAVE's application drops it from OP to SAFE-OP with AL status code CODE
+//                        (error bit set), e.g. 0x001A synchronisation error; it still exchanges process data
 //
 // The text is untrusted: every token is checked, nothing is assumed about its length.
 #pragma once
@@ -43,12 +45,13 @@ enum class FaultKind : std::uint8_t {
   foreign,
   original,
   corrupt_port,
+  safe_op,
 };
 
 struct FaultCommand {
   FaultKind kind{FaultKind::cut};
   std::size_t position{0};  // slave, for the commands that name one
-  std::uint32_t value{0};   // count (drop, corrupt, corrupt-port) or error code (drive-fault)
+  std::uint32_t value{0};   // count (drop, corrupt, corrupt-port) or error code (drive-fault, safe-op)
   std::uint32_t port{0};    // corrupt-port
 };
 

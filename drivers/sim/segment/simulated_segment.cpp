@@ -264,6 +264,15 @@ Status SimulatedSegment::set_power(std::size_t position, bool on, hal::Nanosecon
   return Status::success();
 }
 
+Status SimulatedSegment::drop_to_safe_op(std::size_t position, std::uint16_t al_status_code) noexcept {
+  if (position >= count_) return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  Esc& e = escs_[position];
+  if (!e.powered() || e.al_state() != AlState::op) return make_error(Errc::refused, "slave not in OP", static_cast<std::uint32_t>(position));
+  if (e.device_emulation()) return make_error(Errc::refused, "no application (device emulation)", static_cast<std::uint32_t>(position));
+  e.raise_al_error(AlState::safe_op, al_status_code);
+  return Status::success();
+}
+
 void SimulatedSegment::receive(std::size_t position, unsigned port) noexcept {
   if (port >= kMaxEscPorts) return;
   std::uint32_t& pending = port_corrupt_pending_[position][port];

@@ -104,6 +104,11 @@ class SimulatedSegment {
   // A dead slave (power lost): its links go down on both sides. Power on = a fresh ESC in INIT.
   Status set_power(std::size_t position, bool on, hal::Nanoseconds now) noexcept;
   Status inject_device_fault(std::size_t position, std::uint16_t error_code) noexcept;
+  // The slave's application drops it from OP to SAFE-OP with `al_status_code` (error indication set),
+  // as a drive does that loses its synchronisation (0x001A) or its DC sync (0x002C). It keeps its
+  // SyncManagers and FMMUs, so it still adds to the working counter. Refused unless the slave is
+  // powered, in OP and has an application (junctions emulate their device).
+  Status drop_to_safe_op(std::size_t position, std::uint16_t al_status_code) noexcept;
   // Power off and on again at once: the ESC loses every register (station address, SMs, FMMUs,
   // DC), comes back in INIT with its SII unchanged; its neighbours count a lost link.
   Status power_cycle(std::size_t position, hal::Nanoseconds now) noexcept;

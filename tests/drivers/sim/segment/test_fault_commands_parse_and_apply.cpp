@@ -31,6 +31,10 @@ TEST(FaultCommands, EachCommandParses) {
   ASSERT_TRUE(fault.ok());
   EXPECT_EQ(fault.value().kind, FaultKind::drive_fault);
   EXPECT_EQ(fault.value().value, 0x7305u);
+  const auto drop = parse(s, "safe-op l_elbow 0x001A");
+  ASSERT_TRUE(drop.ok());
+  EXPECT_EQ(drop.value().kind, FaultKind::safe_op);
+  EXPECT_EQ(drop.value().value, 0x001Au);
 }
 
 TEST(FaultCommands, MalformedLinesAreRefusedWithAReason) {
@@ -45,6 +49,8 @@ TEST(FaultCommands, MalformedLinesAreRefusedWithAReason) {
   EXPECT_EQ(parse(s, "drop many").error().code, Errc::invalid_argument);
   EXPECT_EQ(parse(s, "drop 99999999999").error().code, Errc::invalid_argument);
   EXPECT_EQ(parse(s, "drive-fault l_leg 0x10000").error().code, Errc::out_of_range);
+  EXPECT_EQ(parse(s, "safe-op l_leg 0x10000").error().code, Errc::out_of_range);
+  EXPECT_EQ(parse(s, "safe-op l_leg").error().code, Errc::invalid_argument);
   EXPECT_EQ(parse(s, "a b c d e").error().code, Errc::malformed);
   const char not_terminated[] = {'c', 'u', 't', ' ', '3'};
   EXPECT_TRUE(parse_fault_command(not_terminated, sizeof(not_terminated), s).ok());
