@@ -45,20 +45,35 @@ namespace rescue::ecat {
 // Room the cyclic frame keeps beyond the process image: probes, AL datagrams, a mailbox step.
 constexpr std::size_t kCycleFrameReserve = 400;
 
+// What a bring-up waits for (MasterOptions::waiting).
+struct BringUpWait {
+  const char* step{""};            // "count": first contact (no frame has come back yet)
+  hal::Nanoseconds waited{0};      // since the step began
+  std::uint32_t frames{0};         // frames sent for it (count: BRDs)
+  hal::Nanoseconds limit{0};       // when it gives up (first_contact_timeout), 0 or less: never
+};
+
 struct MasterOptions {
   hal::Nanoseconds cycle_time{hal::kNsPerMs};
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
   // First contact: the count BRD is sent again every frame_timeout until a frame comes back or this
   // much time has passed (a segment just powered, a simulator just started or long idle, a link
   // still negotiating). Only then does bring-up fail, saying that nothing answered.
+  // 0 or less: keep trying until stop_requested says stop.
   hal::Nanoseconds first_contact_timeout{5 * hal::kNsPerSec};
+  // Called about once a second while the bring-up waits for first contact (a bring-up is never
+  // silent: the owner says what it waits for); nullptr: nobody is told.
+  void (*waiting)(const BringUpWait& wait, void* context) noexcept {nullptr};
+  void* waiting_context{nullptr};
   hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
   unsigned drift_compensation_frames{15000};  // static drift compensation before cycling
   hal::Nanoseconds sync0_start_margin{10 * hal::kNsPerMs};
   hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
-  hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};  // SAFE-OP -> OP while cycling
+  // SAFE-OP -> OP while cycling: after this long the failure is reported (report().failed_step "OP",
+  // the slave and its AL status code) and the slaves not in OP are asked again, acknowledged first.
+  hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};
   // Slaves kept out of service (the owner's choice, e.g. their joints are recorded lost). They and the
   // slaves behind them may be absent; one that answers is brought into the topology and the
   // distributed clocks and never operated. Bring-up never fails for them.
@@ -182,6 +197,11 @@ class Master {
   // start skips whole periods to keep the phase. cycles() + skipped_periods() is the number of
   // periods since the first cycle, so a 2 s run at 1 ms that made 1964 cycles shows 36 here.
   std::uint64_t skipped_periods() const noexcept { return overruns_; }
+  // Before OP (going to OP): the slaves not yet confirmed in OP, and the AL status and code each
+  // last answered (0 when not read yet).
+  SlaveMask not_in_op() const noexcept { return state_ == MasterState::op ? 0 : op_pending_; }
+  std::uint16_t op_al_status(std::size_t position) const noexcept { return op_al_status_[position]; }
+  std::uint16_t op_al_status_code(std::size_t position) const noexcept { return op_al_code_[position]; }
 
   // Re-integration of restored slaves (the explicit action after a `restored` report): their
   // FMMUs are written again, an AL error is acknowledged and OP requested, one step per cycle;
@@ -322,6 +342,8 @@ class Master {
   SlaveMask op_pending_{0};        // slaves not yet confirmed in OP
   std::array<OpStep, kMaxSlaves> op_step_{};
   std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
+  std::array<std::uint16_t, kMaxSlaves> op_al_status_{};
+  std::array<std::uint16_t, kMaxSlaves> op_al_code_{};
   hal::Nanoseconds op_deadline_{0};
   // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
   enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };

@@ -16,6 +16,7 @@ std::uint32_t u32(std::size_t v) noexcept { return static_cast<std::uint32_t>(v)
 
 // Bring-up frames whose datagrams may be repeated are sent again when they do not come back.
 constexpr unsigned kBringUpAttempts = 3;
+constexpr hal::Nanoseconds kWaitingInterval = hal::kNsPerSec;  // MasterOptions::waiting
 
 // Reset values real masters broadcast before configuring (SOEM ecx_set_slaves_to_default).
 struct ResetWrite {
@@ -139,6 +140,8 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   // flowing before they accept it).
   state_ = MasterState::going_op;
   op_pending_ = operated();
+  op_al_status_.fill(0);
+  op_al_code_.fill(0);
   op_step_.fill(OpStep::request);
   op_refusals_.fill(0);
   op_deadline_ = link_.clock().now() + options_.op_timeout;
@@ -158,11 +161,24 @@ Status Master::count_and_reset() noexcept {
   const hal::Nanoseconds give_up_at = link_.clock().now() + options_.first_contact_timeout;
   Result<std::uint16_t> counted = make_error(Errc::timeout, "no frame came back");
   report_.first_contact_frames = 0;
+  const hal::Nanoseconds began = link_.clock().now();
+  hal::Nanoseconds next_word = began + kWaitingInterval;
+  const bool forever = options_.first_contact_timeout <= 0;
   for (;;) {
     ++report_.first_contact_frames;
     counted = link_.transfer(Command::BRD, make_address(0, reg::kType), ByteSpan(type), options_.frame_timeout, 1);
     if (counted.ok() || counted.error().code != Errc::timeout) break;
-    if (report_.first_contact_frames >= kBringUpAttempts && link_.clock().now() >= give_up_at) break;
+    const hal::Nanoseconds now = link_.clock().now();
+    if (!forever && report_.first_contact_frames >= kBringUpAttempts && now >= give_up_at) break;
+    if (now >= next_word) {
+      next_word += kWaitingInterval;
+      if (options_.waiting != nullptr) {
+        options_.waiting(BringUpWait{"count", now - began, report_.first_contact_frames, options_.first_contact_timeout},
+                         options_.waiting_context);
+      }
+      const Status stop = check_stop("count");
+      if (!stop.ok()) return stop;
+    }
   }
   if (!counted.ok() && counted.error().code == Errc::timeout) {
     const auto waited_ms = static_cast<std::uint32_t>(options_.first_contact_timeout / hal::kNsPerMs);

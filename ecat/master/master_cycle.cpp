@@ -136,6 +136,8 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         const std::size_t p = what.param;
         const std::uint16_t status = load_le16(data);
         if (d.wkc() != 1) break;
+        op_al_status_[p] = status;
+        op_al_code_[p] = load_le16(data + 4);
         if ((status & reg::kAlErrorBit) == 0 && (status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op)) {
           op_pending_ &= ~slave_bit(p);
         } else if ((status & reg::kAlErrorBit) != 0) {
@@ -178,7 +180,14 @@ void Master::step_op_transition(CycleResult& result) noexcept {
     }
     report_.failed_step = "OP";
     report_.error = make_error(Errc::timeout, "network did not reach OP", report_.al_failure.position);
-    state_ = MasterState::safe_op;
+    // Keep trying (a bring-up is never given up here: the owner has the limit): every slave not in
+    // OP is acknowledged and asked again, with a new deadline.
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      if ((op_pending_ & slave_bit(p)) == 0) continue;
+      op_step_[p] = OpStep::acknowledge;
+      op_refusals_[p] = 0;
+    }
+    op_deadline_ = now + options_.op_timeout;
   }
   result.state = state_;
 }

@@ -74,7 +74,7 @@ struct SlaveRecoveryTable {
   // clang-format off
   static constexpr std::array<RecoveryStateSpec, kRecoveryStateCount> kStates{{
     {S::idle,         "Idle",         "in the exchange, or not planned to run"},
-    {S::searching,    "Searching",    "out of the exchange; APRD 0x0010 at its auto-increment position looks for a device there (one search per period, rotating among the slaves searched for)"},
+    {S::searching,    "Searching",    "out of the exchange; FPRD 0x0010 by its own station address (it kept it: a slave behind a power-cycled or reconnected one) and APRD 0x0010 at the places it may have, in turn (one search per period, rotating among the slaves searched for)"},
     {S::addressing,   "Addressing",   "APWR 0x0010 by position: its station address (no other slave is written)"},
     {S::resetting,    "Resetting",    "FPWR 0x0120 = INIT + acknowledge, FPRD 0x0130 until INIT"},
     {S::identifying,  "Identifying",  "SII to ECAT (0x0500), then SII words 0x08..0x0F (vendor, product, revision, serial) through 0x0502..0x050F"},
@@ -87,16 +87,16 @@ struct SlaveRecoveryTable {
     {S::safe_op,      "SafeOp",       "FPWR 0x0120 = SAFE-OP, FPRD 0x0130 until SAFE-OP (an error is acknowledged)"},
     {S::op,           "Op",           "FPWR 0x0120 = OP, FPRD 0x0130 until OP (an error is acknowledged)"},
     {S::refused,      "Refused",      "another device in its place: only its station address was written; watched by APRD until it leaves"},
-    {S::failed,       "Failed",       "a step timed out; waits the hold-off, then searches again"},
+    {S::failed,       "Failed",       "a step timed out, or the device was lost in 3 attempts in a row; reported; waits the hold-off (doubling with each failure in a row, up to recovery_hold_off_max), then starts again from the search"},
   }};
   static constexpr std::array<RecoveryInputSpec, kRecoveryInputCount> kInputs{{
     {I::lost,                 "lost",                 "the link monitor has it out of the exchange (lost, restored, or not operational e.g. answering in INIT)"},
-    {I::answered_unaddressed, "answered_unaddressed", "a device with station address 0 answers at its position"},
-    {I::answered_addressed,   "answered_addressed",   "it answers at its position with its own station address (configuration kept)"},
+    {I::answered_unaddressed, "answered_unaddressed", "a device with station address 0 answers at a place it may have (taken by the first slave searched for that may be there)"},
+    {I::answered_addressed,   "answered_addressed",   "it answers by its own station address (configuration kept)"},
     {I::step_done,            "step_done",            "the state's writes were taken and its state confirmed"},
     {I::foreign,              "foreign",              "SII vendor, product or revision differ from the plan"},
     {I::not_this_one,         "not_this_one",         "same device type, another serial number than at bring-up"},
-    {I::gone,                 "gone",                 "silent (working counter 0) for several periods in a row"},
+    {I::gone,                 "gone",                 "silent (working counter 0) for several periods in a row (the third such attempt in a row counts as a timeout)"},
     {I::timeout,              "timeout",              "the state's deadline passed"},
     {I::retry,                "retry",                "the hold-off after a failure is over"},
   }};
@@ -112,7 +112,7 @@ struct SlaveRecoveryTable {
     {S::resetting,    I::timeout,              S::failed,       "", "report recovery_failed"},
     {S::identifying,  I::step_done,            S::mailbox,      "", ""},
     {S::identifying,  I::foreign,              S::refused,      "", "report recovery_refused with the identity found"},
-    {S::identifying,  I::not_this_one,         S::searching,    "", "station address withdrawn (FPWR 0x0010 = 0)"},
+    {S::identifying,  I::not_this_one,         S::searching,    "", "station address withdrawn (FPWR 0x0010 = 0), or handed to the slave searched for whose serial number it has"},
     {S::identifying,  I::gone,                 S::searching,    "", ""},
     {S::identifying,  I::timeout,              S::failed,       "", "report recovery_failed"},
     {S::mailbox,      I::step_done,            S::pre_op,       "", ""},

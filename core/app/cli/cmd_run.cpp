@@ -20,6 +20,7 @@ const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
     {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP)"},
     {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
+    {"first-contact-limit", "SECONDS", "give the bring-up up (exit status 1) when no frame has come back for this long, decimal, at most 604800; 0: keep trying until SIGINT/SIGTERM (default 5); meanwhile the wait is reported every second"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
@@ -98,6 +99,9 @@ int run_main(const ParsedArgs& args) {
     return fail("run", "--duration SECONDS: must be above 0 (leave it out to run until SIGINT/SIGTERM)");
   }
   options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
+  const Result<double> first_contact = args.number("first-contact-limit", 5.0, 0.0, 7.0 * 24 * 3600);
+  if (!first_contact.ok()) return fail("run", "--first-contact-limit SECONDS", first_contact.error());
+  options.first_contact_limit = static_cast<hal::Nanoseconds>(first_contact.value() * static_cast<double>(hal::kNsPerSec));
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
   options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);

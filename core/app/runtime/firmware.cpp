@@ -198,6 +198,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
   master_options.online_recovery = true;  // returning slaves back to OP while cycling (docs/master.md)
+  master_options.first_contact_timeout = options.first_contact_limit;
+  master_options.waiting = [](const ecat::BringUpWait& wait, void*) noexcept {
+    // Never silent: what the bring-up waits for, about once a second.
+    if (wait.limit > 0) {
+      (void)std::printf("rescue-motion run: waiting for first contact: no EtherCAT frame came back yet (%u BRDs in %.1f s); "
+                        "giving up after %.1f s\n",
+                        static_cast<unsigned>(wait.frames), seconds(wait.waited), seconds(wait.limit));
+    } else {
+      (void)std::printf("rescue-motion run: waiting for first contact: no EtherCAT frame came back yet (%u BRDs in %.1f s); "
+                        "trying until stopped\n",
+                        static_cast<unsigned>(wait.frames), seconds(wait.waited));
+    }
+    (void)std::fflush(stdout);
+  };
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);

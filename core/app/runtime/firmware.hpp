@@ -30,6 +30,8 @@ struct FirmwareOptions {
   const char* nic_text{"sim"};
   Scenario scenario{};
   hal::Nanoseconds duration{0};      // 0: until SIGINT/SIGTERM (or the scenario's own end)
+  // Bring-up gives up when no frame has come back for this long (exit status 1); 0: keeps trying.
+  hal::Nanoseconds first_contact_limit{5 * hal::kNsPerSec};
   const char* capture_path{nullptr};
   const char* timing_out{nullptr};   // directory: per-period timing of the tasks written there at the end
   const char* state_dir{nullptr};    // nullptr: the default (hal::resolve_state_dir)

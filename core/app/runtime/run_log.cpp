@@ -72,6 +72,17 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
                         t, e.cycle, e.stop.first_joint < kJointCount ? kJoints[e.stop.first_joint].name : "?",
                         to_string(e.stop.first.reason), e.stop.first.value, e.stop.first.limit);
       break;
+    case HandlerEventKind::waiting_for_op: {
+      const std::uint8_t first = drivers::first_slave(e.link.slaves);
+      const bool read = e.link.al_status != 0;
+      (void)std::printf("[%8.3f s] ethercat: not in OP yet (%.1f s after SAFE-OP): %d slave(s) not in OP; first %s: %s%s,"
+                        " AL status code 0x%04X %s; still trying\n",
+                        t, seconds(e.link.time), ecat::popcount(e.link.slaves), drivers::slave_end_name(first),
+                        read ? ecat::reg::to_string(static_cast<ecat::reg::AlState>(e.link.al_status & ecat::reg::kAlStateMask)) : "not read yet",
+                        (e.link.al_status & ecat::reg::kAlErrorBit) != 0 ? " with error" : "",
+                        e.link.al_status_code, ecat::reg::explain_al_status_code(e.link.al_status_code));
+      break;
+    }
     case HandlerEventKind::drives_disabled:
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": every reachable drive disabled\n", t, e.cycle);
       break;

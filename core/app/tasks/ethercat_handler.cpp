@@ -114,6 +114,30 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     }
   }
 
+  // Never silent before OP: about once a second, which slaves are not in OP yet and why.
+  if (result.state != ecat::MasterState::op && !op_seen_) {
+    if (not_in_op_since_ < 0) {
+      not_in_op_since_ = now;
+      next_waiting_word_ = now + hal::kNsPerSec;
+    } else if (now >= next_waiting_word_) {
+      next_waiting_word_ += hal::kNsPerSec;
+      const ecat::Master& master = bus_.master();
+      HandlerEvent e{};
+      e.kind = HandlerEventKind::waiting_for_op;
+      e.cycle = result.cycle;
+      e.time = now;
+      e.link.slaves = master.not_in_op();
+      e.link.time = now - not_in_op_since_;
+      e.joints = drivers::joints_of_slaves(e.link.slaves);
+      const std::uint8_t first = drivers::first_slave(e.link.slaves);
+      if (first < ecat::kMaxSlaves) {
+        e.link.al_status = master.op_al_status(first);
+        e.link.al_status_code = master.op_al_status_code(first);
+      }
+      post(e);
+    }
+  }
+
   // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,
   // and the cycle that first reports OP carries inputs from before the switch; so from the next.
   const bool counting = op_seen_;

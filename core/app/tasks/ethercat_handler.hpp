@@ -36,6 +36,8 @@ enum class HandlerEventKind : std::uint8_t {
   loss_recorded,    // step 4 answer read: the joint manager recorded them (file status inside)
   safe_stop,        // the handler's own limit check stopped the robot
   drives_disabled,  // shutdown: every reachable drive reports its power stage off
+  waiting_for_op,   // about once a second while the network is not in OP: the slaves not in OP yet
+                    // (link.slaves; link.al_status/al_status_code of the first), link.time = since
 };
 
 struct HandlerEvent {
@@ -105,6 +107,8 @@ class EthercatHandler {
   JointMask last_pending_{0};
   std::uint32_t last_reports_sent_{0};
   bool op_seen_{false};
+  hal::Nanoseconds not_in_op_since_{-1};   // first cycle without OP (-1: none yet)
+  hal::Nanoseconds next_waiting_word_{0};  // when the next waiting_for_op event is due
   bool stopping_{false};
   bool drives_disabled_{false};
   bool safe_stopped_{false};

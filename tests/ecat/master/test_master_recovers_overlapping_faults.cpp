@@ -253,6 +253,8 @@ TEST(MasterOverlappingFaults, ARecoveryThatCannotFinishIsRetriedWithBackOffAndBl
   EXPECT_GE(failures, 3);
   EXPECT_LE(failures, 6) << "hold-off grows";
   EXPECT_GE(rig->bus.master().recovery_failures(hand), 3);
+  std::printf("hung r_hand: %d failures reported in %d periods, %u in a row\n", failures, run.periods,
+              static_cast<unsigned>(rig->bus.master().recovery_failures(hand)));
   // The application runs again: the next attempt recovers it.
   ASSERT_TRUE(rig->segment.freeze(hand, false).ok());
   EXPECT_GT(run.until_valid(kAllJoints, 10000), 0);

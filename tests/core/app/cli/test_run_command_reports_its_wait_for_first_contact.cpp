@@ -1,0 +1,73 @@
+// `rescue-motion run --nic raw:` on a veth pair with nothing at the other end (no simulator, no
+// segment): the bring-up is never silent. It says every second that no frame has come back yet, how
+// many BRDs it sent and when it gives up, and follows --first-contact-limit: exit status 1 with the
+// reason after the limit (docs/firmware.md), or, with 0, keeps trying until SIGTERM (exit 0).
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <time.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "tests/support/child_process.hpp"
+#include "tests/support/netns_veth.hpp"
+
+namespace rescue::app {
+namespace {
+
+using RunWithoutSegment = rescue::testing::NetnsTest;
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::vector<std::string> run_argv(const std::string& state, const char* limit) {
+  return {std::string(RESCUE_BINARY_DIR) + "/rescue-motion", "run", "--nic",
+          std::string("raw:") + rescue::testing::VethPair::kMasterInterface, "--state-dir", state, "--first-contact-limit",
+          limit};
+}
+
+double now_s() {
+  timespec t{};
+  ::clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+}
+
+TEST_F(RunWithoutSegment, ReportsItsWaitEverySecondAndGivesUpAtItsLimit) {
+  char dir[] = "/tmp/rm-first-contact-XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  rescue::testing::ChildProcess run;
+  const double started = now_s();
+  ASSERT_TRUE(run.start(run_argv(dir, "3.5"), veth_->master_ns()));
+  const int status = run.wait_exit();
+  const double took = now_s() - started;
+  EXPECT_EQ(status, 1) << run.output();
+  EXPECT_GE(count(run.output(), "waiting for first contact: no EtherCAT frame came back yet"), 3u) << run.output();
+  EXPECT_NE(run.output().find("giving up after 3.5 s"), std::string::npos) << run.output();
+  EXPECT_NE(run.output().find("bring-up failed at count: no EtherCAT frame came back"), std::string::npos) << run.output();
+  EXPECT_GE(took, 3.5);
+  (void)std::system((std::string("rm -rf ") + dir).c_str());
+}
+
+TEST_F(RunWithoutSegment, KeepsTryingWithoutALimitUntilStopped) {
+  char dir[] = "/tmp/rm-first-contact-XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  rescue::testing::ChildProcess run;
+  ASSERT_TRUE(run.start(run_argv(dir, "0"), veth_->master_ns()));
+  // Still waiting, and saying so, after twice the default limit.
+  EXPECT_TRUE(run.wait_for_output("trying until stopped", 3000)) << run.output();
+  const double until = now_s() + 10.5;
+  while (now_s() < until) (void)run.wait_for_output("never printed", 500);
+  EXPECT_GE(count(run.output(), "trying until stopped"), 9u) << run.output();
+  EXPECT_EQ(run.output().find("bring-up failed"), std::string::npos) << run.output();
+  EXPECT_EQ(run.stop(SIGTERM), 0) << run.output();
+  EXPECT_NE(run.output().find("stopped by signal"), std::string::npos) << run.output();
+  (void)std::system((std::string("rm -rf ") + dir).c_str());
+}
+
+}  // namespace
+}  // namespace rescue::app
