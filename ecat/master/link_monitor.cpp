@@ -71,7 +71,7 @@ std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) no
   }
   // The AL state watch (item 6): the next few slaves in the exchange not probed otherwise.
   const SlaveMask to_watch = present_ & ~suspect_ & ~watchdog_check_ & ~rearming_;
-  const std::size_t watched = static_cast<std::size_t>(popcount(present_));
+  const auto watched = static_cast<std::size_t>(popcount(present_));
   std::size_t watch_budget = (watched + kAlWatchPeriods - 1) / kAlWatchPeriods;
   const std::size_t watch_start = watch_rotate_;
   for (std::size_t i = 0; i < kMaxSlaves && n < capacity && watch_budget > 0 && to_watch != 0; ++i) {
@@ -83,9 +83,9 @@ std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) no
   }
   const SlaveMask to_clear = out_ & ~fmmus_cleared_ & ~recovering_;
   std::size_t budget = kMaxOutProbesPerCycle;
-  const std::size_t start = rotate_;  // (rotate_ moves inside the loop: a fixed start, so no slave is probed twice)
+  const std::size_t clear_start = rotate_;  // (rotate_ moves inside the loop: a fixed start, so no slave is probed twice)
   for (std::size_t i = 0; i < kMaxSlaves && n < capacity && budget > 0; ++i) {
-    const std::size_t p = (start + i) % kMaxSlaves;
+    const std::size_t p = (clear_start + i) % kMaxSlaves;
     if ((to_clear & slave_bit(p)) == 0) continue;
     out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), true};
     --budget;
