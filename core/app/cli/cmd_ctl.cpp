@@ -100,20 +100,27 @@ void print_status(const Message& m, bool json) noexcept {
 
 void print_slaves(const Message& m, bool json) noexcept {
   if (json) (void)std::printf("{\"slaves\":[");
-  if (!json) (void)std::printf("%-3s %-7s %-6s %-16s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE");
+  if (!json) (void)std::printf("%-3s %-7s %-6s %-16s %-16s %-12s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE", "RECOVERY", "CHANGED");
   for (std::size_t i = 0; i < m.slaves.count; ++i) {
     const protocol::SlaveRecord& s = m.slaves.slaves[i];
     const char* service = (s.flags & protocol::kSlaveLost) != 0            ? "lost"
                           : (s.flags & protocol::kSlaveOutOfService) != 0  ? "out of service"
                           : (s.flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
                                                                            : "not in exchange";
+    const char* recovery = ecat::to_string(static_cast<ecat::RecoveryState>(s.recovery));
+    char changed[24] = "never";
+    if (s.recovery_age_ms != protocol::kRecoveryAgeNever) {
+      (void)std::snprintf(changed, sizeof changed, "%.1f s ago", static_cast<double>(s.recovery_age_ms) / 1000.0);
+    }
     if (json) {
-      (void)std::printf(R"(%s{"position":%u,"station":%u,"al_state":"%s","name":"%s","service":"%s"})",
+      char age[16] = "null";
+      if (s.recovery_age_ms != protocol::kRecoveryAgeNever) (void)std::snprintf(age, sizeof age, "%u", static_cast<unsigned>(s.recovery_age_ms));
+      (void)std::printf(R"(%s{"position":%u,"station":%u,"al_state":"%s","name":"%s","service":"%s","recovery":"%s","recovery_changed_ms_ago":%s})",
                         i == 0 ? "" : ",", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
-                        al_name(s.al_state), s.name.data(), service);
+                        al_name(s.al_state), s.name.data(), service, recovery, age);
     } else {
-      (void)std::printf("%-3u 0x%04x  %-6s %-16s %s\n", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
-                        al_name(s.al_state), s.name.data(), service);
+      (void)std::printf("%-3u 0x%04x  %-6s %-16s %-16s %-12s %s\n", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
+                        al_name(s.al_state), s.name.data(), service, recovery, changed);
     }
   }
   if (json) (void)std::printf("]}\n");

@@ -89,6 +89,10 @@ struct MasterStatus {
   std::int64_t dc_max_deviation_ns;
   std::uint64_t in_exchange;  // slave mask
   std::uint64_t lost;         // slave mask
+  // Online recovery per slave (position): its state (ecat::RecoveryState) and how long ago, in ms,
+  // it last changed (protocol::kRecoveryAgeNever: not since bring-up), as of this publication.
+  std::array<std::uint8_t, protocol::kMaxSlaves> recovery;
+  std::array<std::uint32_t, protocol::kMaxSlaves> recovery_age_ms;
 };
 static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
 

@@ -24,6 +24,8 @@ constexpr std::size_t kMaxDatagram = kHeaderSize + kMaxPayload + kTagSize;  // 1
 constexpr std::size_t kNameSize = 24;            // slave and task names, ASCII, NUL-padded
 constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NUL-padded
 constexpr std::size_t kMaxSlaves = 23;
+constexpr std::uint8_t kRecoveryStates = 15;  // ecat::kRecoveryStateCount (checked where both are seen)
+constexpr std::uint32_t kRecoveryAgeNever = 0xFFFFFFFFU;  // SlaveRecord: not changed since bring-up
 constexpr std::size_t kMaxTasks = 8;
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
@@ -194,6 +196,8 @@ struct SlaveRecord {
   std::uint8_t al_state{0};   // 1 INIT, 2 PRE-OP, 3 BOOT, 4 SAFE-OP, 8 OP, 0 unknown
   std::uint8_t flags{0};      // kSlave*
   std::array<char, kNameSize> name{};
+  std::uint8_t recovery{0};   // ecat::RecoveryState (0 Idle: in the exchange, or not planned to run)
+  std::uint32_t recovery_age_ms{kRecoveryAgeNever};  // ms since its recovery state last changed
 };
 constexpr std::uint8_t kSlaveInExchange = 0x01;
 constexpr std::uint8_t kSlaveLost = 0x02;

@@ -21,7 +21,7 @@ constexpr std::size_t kStatusHeadSize = 16;
 constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
 constexpr std::size_t kListHeadSize = 8;
-constexpr std::size_t kSlaveRecordSize = 32;
+constexpr std::size_t kSlaveRecordSize = 40;
 constexpr std::size_t kMasterSize = 112;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
@@ -300,6 +300,10 @@ Status decode_slaves(ConstByteSpan payload, Message& m) noexcept {
     if (!r.zeros(2)) return malformed("reserved bytes not zero");
     if (!r.text(s.name)) return malformed("slave name not NUL-terminated");
     if ((s.flags & ~kSlaveFlagsMask) != 0) return out_of_range("slave flags");
+    s.recovery = r.u8();
+    if (!r.zeros(3)) return malformed("reserved bytes not zero");
+    s.recovery_age_ms = r.u32();
+    if (s.recovery >= kRecoveryStates) return out_of_range("slave recovery state");
   }
   return Status::success();
 }
@@ -662,6 +666,9 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
         w.u8(s.flags);
         w.zeros(2);
         w.text(s.name);
+        w.u8(s.recovery);
+        w.zeros(3);
+        w.u32(s.recovery_age_ms);
       }
       break;
     }

@@ -200,6 +200,13 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
     master.in_exchange = bus.master().monitor().in_exchange();
     master.lost = bus.master().monitor().lost();
+    for (std::size_t p = 0; p < protocol::kMaxSlaves && p < ecat::kMaxSlaves; ++p) {
+      const ecat::Master& m = bus.master();
+      master.recovery[p] = static_cast<std::uint8_t>(m.recovery_state(p));
+      const hal::Nanoseconds changed = m.recovery_changed_at(p);
+      const hal::Nanoseconds age_ms = changed > 0 && now >= changed ? (now - changed) / hal::kNsPerMs : -1;
+      master.recovery_age_ms[p] = age_ms < 0 || age_ms >= protocol::kRecoveryAgeNever ? protocol::kRecoveryAgeNever : static_cast<std::uint32_t>(age_ms);
+    }
     links().master_status.write(master);
     publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
     state.cycles.store(r.cycle, std::memory_order_relaxed);

@@ -7,6 +7,9 @@
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
 
+static_assert(rescue::app::protocol::kRecoveryStates == rescue::ecat::kRecoveryStateCount,
+              "the operator protocol carries every recovery state");
+
 namespace rescue::app {
 namespace {
 
@@ -103,6 +106,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         }
         const bool op = have_master && master.state == static_cast<std::uint8_t>(ecat::MasterState::op);
         s.al_state = in ? (op ? kAlOp : kAlSafeOp) : 0;
+        if (have_master) {
+          s.recovery = master.recovery[p] < protocol::kRecoveryStates ? master.recovery[p] : 0;
+          s.recovery_age_ms = master.recovery_age_ms[p];
+        }
         protocol::set_text(s.name, plan.name);
       }
       break;

@@ -125,8 +125,16 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   m.header.type = MessageType::slaves;
   m.slaves.count = 23;
   set_text(m.slaves.slaves[22].name, "r_shoulder_pitch");
+  m.slaves.slaves[22].recovery = 5;  // Mailbox
+  m.slaves.slaves[22].recovery_age_ms = 1234;
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_STREQ(back.slaves.slaves[22].name.data(), "r_shoulder_pitch");
+  EXPECT_EQ(back.slaves.slaves[22].recovery, 5U);
+  EXPECT_EQ(back.slaves.slaves[22].recovery_age_ms, 1234U);
+  EXPECT_EQ(back.slaves.slaves[21].recovery_age_ms, kRecoveryAgeNever);
+  m.slaves.slaves[22].recovery = kRecoveryStates;  // no such state: the answer is refused
+  EXPECT_NE(judge(seal_ok(m, k), k, &back), -1);
+  m.slaves.slaves[22].recovery = 0;
 
   m.header.type = MessageType::tasks;
   m.tasks.count = 2;
