@@ -65,7 +65,7 @@ int run_main(const ParsedArgs& args) {
   if (args.value("config") != nullptr) {
     const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
     if (!loaded.ok) {
-      char line[512];
+      char line[1024];
       (void)format_config_error(args.value("config"), loaded.error, line, sizeof line);
       (void)std::fprintf(stderr, "rescue-motion run: --config %s\n", line);
       return 1;

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "hal/files/trusted_file.hpp"
+
 namespace rescue::app {
 namespace {
 
@@ -325,35 +327,38 @@ ConfigOutcome parse_config(Span<const std::uint8_t> bytes, ConfigFile& out) noex
 ConfigOutcome load_config_file(const char* path, ConfigFile& out) noexcept {
   ConfigOutcome outcome;
   outcome.ok = false;
-  outcome.error.allowed = "a readable regular file of at most 65536 bytes";
-  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    outcome.error.os_errno = static_cast<std::uint32_t>(errno);
-    outcome.error.what = "cannot open the file";
+  outcome.error.allowed =
+      "a regular file of at most 65536 bytes, it and the directories above it owned by this user or root and not "
+      "writable by group or others";
+  // StrictModes (docs/security.md): the file decides the key file and the state directory, so
+  // another user must not be able to write it; and nothing at its name may hang start-up.
+  hal::FileProblem why;
+  const Result<hal::OpenFile> file = hal::open_trusted_for_read(path, hal::Secrecy::public_file, why);
+  if (!file.ok()) {
+    if (file.error().code == Errc::not_found && file.error().detail0 != 0) {
+      outcome.error.os_errno = file.error().detail0;
+      outcome.error.what = "cannot open the file";
+      return outcome;
+    }
+    outcome.error.what = "refused";
+    outcome.error.detail = why.text;
     return outcome;
   }
+  const int fd = file.value().fd();
   static std::array<std::uint8_t, kConfigMaxBytes + 1> buffer;  // start-up only; one more byte detects a larger file
   std::size_t size = 0;
-  struct stat info{};
-  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-    outcome.error.what = "not a regular file";
-    (void)::close(fd);
-    return outcome;
-  }
   for (;;) {
     const ssize_t n = ::read(fd, buffer.data() + size, buffer.size() - size);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       outcome.error.os_errno = static_cast<std::uint32_t>(errno);
       outcome.error.what = "cannot read the file";
-      (void)::close(fd);
       return outcome;
     }
     if (n == 0) break;
     size += static_cast<std::size_t>(n);
     if (size == buffer.size()) break;
   }
-  (void)::close(fd);
   return parse_config(Span<const std::uint8_t>(buffer.data(), size), out);
 }
 
@@ -369,7 +374,8 @@ std::size_t format_config_error(const char* file, const ConfigError& e, char* ou
     // GNU strerror_r (thread-safe): returns the text, in `reason` or a static string.
     (void)std::snprintf(os, sizeof os, " (%s)", strerror_r(static_cast<int>(e.os_errno), reason, sizeof reason));
   }
-  const int n = std::snprintf(out, size, "%s%s:%s %s%s (allowed: %s)", file, where, key, e.what, os, e.allowed);
+  const int n = e.detail[0] != '\0' ? std::snprintf(out, size, "%s: %s", file, e.detail.data())
+                                     : std::snprintf(out, size, "%s%s:%s %s%s (allowed: %s)", file, where, key, e.what, os, e.allowed);
   if (n < 0) return 0;
   return static_cast<std::size_t>(n) < size ? static_cast<std::size_t>(n) : size - 1;
 }

@@ -57,6 +57,7 @@ struct ConfigError {
   const char* what{""};
   const char* allowed{""};
   std::uint32_t os_errno{0};
+  std::array<char, 768> detail{};  // a refused file (hal/files/trusted_file.hpp): the path, what is wrong, the fix
 };
 
 struct ConfigOutcome {

@@ -2,6 +2,8 @@
 // objects; the runner's other pieces are in this folder (docs/firmware.md, "Code").
 #include "core/app/runtime/firmware.hpp"
 
+#include <sys/stat.h>
+
 #include <cinttypes>
 #include <cstdio>
 
@@ -36,6 +38,7 @@
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/files/state_dir.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -68,6 +71,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
+  // StrictModes (docs/security.md): the state directory holds the key, the lock and the error-joints
+  // file; it and every directory above it must be ours or root's and writable by nobody else.
+  hal::FileProblem dir_problem;
+  if (!hal::check_trusted_directory(dir.value().path.c_str(), dir_problem).ok()) {
+    (void)std::fprintf(stderr, "rescue-motion run: state directory refused: %s\n", dir_problem.c_str());
+    return 1;
+  }
+  if (options.timing_out != nullptr) {
+    // Checked now, not after the run: a FIFO or a file given as the directory fails at once.
+    struct stat timing_dir {};
+    if (::stat(options.timing_out, &timing_dir) != 0 || !S_ISDIR(timing_dir.st_mode)) {
+      (void)std::fprintf(stderr, "rescue-motion run: --timing-out %s: not a directory (give an existing directory)\n",
+                         options.timing_out);
+      return 1;
+    }
+  }
   const int lock_status = take_instance_locks(options, dir.value().path.c_str());
   if (lock_status != 0) return lock_status;
   const int segment_status = create_segment(options, dir.value().path.c_str());
@@ -117,11 +136,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!joined.ok()) return fail("run", "key file path", joined.error());
     key_path = joined.value();
   }
-  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str());
+  hal::FileProblem key_problem;
+  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str(), key_problem);
   const bool operator_port = key.ok();
   if (!key.ok()) {
     if (options.key_path != nullptr || key.error().code != Errc::not_found) {
-      (void)std::fprintf(stderr, "rescue-motion run: key file %s: %s\n", key_path.c_str(), key.error().what);
+      (void)std::fprintf(stderr, "rescue-motion run: key file refused: %s\n", key_problem.c_str());
       return 1;
     }
     (void)std::printf("rescue-motion run: no key file %s: operator and sensor ports closed "
@@ -192,7 +212,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     ecat::CaptureWriterOptions capture_options;
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);
     const Status capture = g_run.capture.open(options.capture_path, capture_options);
-    if (!capture.ok()) return fail("run", "cannot open the capture file", capture.error());
+    if (!capture.ok()) {
+      (void)std::fprintf(stderr, "rescue-motion run: --capture: %s\n", g_run.capture.problem().c_str());
+      return fail("run", "cannot open the capture file", capture.error());
+    }
     bus.master().set_tap(ecat::capture_tap, &g_run.capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;

@@ -107,7 +107,8 @@ struct Sent {
 // The flood's sender and what it needs: the key, a socket, one authentic datagram accepted once.
 struct Flooder {
   explicit Flooder(const OperatorRun& run_in) : run(run_in) {
-    const Result<protocol::Key> loaded = protocol::load_key_file(run.key.c_str());
+    hal::FileProblem why;
+    const Result<protocol::Key> loaded = protocol::load_key_file(run.key.c_str(), why);
     if (loaded.ok()) key = loaded.value();
     other = key;
     other[0] ^= 0xFF;
