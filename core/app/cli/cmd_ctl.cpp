@@ -34,6 +34,7 @@ const OptionSpec kOptions[] = {
     {"port", "PORT", "control UDP port of the motion PC (default 47010)"},
     {"key", "FILE", "pre-shared key file (default <state dir>/operator.key)"},
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
+    {"robot", "ID", "the robot id expected (run's --robot-id); another robot at the address is refused (default: any)"},
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
     {"moved", nullptr, "clear: also confirm joints that returned away from their held position"},
@@ -289,6 +290,9 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> sender = args.integer("sender", 1, 1, 0xFFFFFFFFLL);
   if (!sender.ok()) return make_error(Errc::invalid_argument, "--sender must be 1..4294967295");
   t.sender = static_cast<std::uint32_t>(sender.value());
+  const Result<std::int64_t> robot = args.integer("robot", protocol::kAnyRobot, 0, 999'999'999);
+  if (!robot.ok()) return make_error(Errc::invalid_argument, "--robot must be 1..999999999");
+  t.robot = static_cast<std::uint32_t>(robot.value());
   const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
   if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
   t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
@@ -332,7 +336,12 @@ int keygen(const ParsedArgs& args) noexcept {
 int exchange_and_print(const char* verb, const CtlTarget& target, const Message& request, bool json) noexcept {
   const Result<Message> answer = ctl_exchange(target, request);
   if (!answer.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+    if (answer.error().code == Errc::refused) {  // another robot id than --robot
+      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: the robot at that address is robot %u, not robot %u (--robot)\n",
+                         verb, static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
+    } else {
+      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+    }
     return 1;
   }
   const Message& m = answer.value();

@@ -56,7 +56,8 @@ constexpr TaskSection kSections[] = {
 constexpr const char* kSectionNames =
     "[ethercat_handler], [joint_manager], [rc_tasks], [socket_handler], [message_parser]";
 constexpr const char* kTopKeys =
-    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled (before any section)";
+    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled (before any "
+    "section)";
 constexpr const char* kCpuRange = "0..1023";
 
 class Parser {
@@ -157,6 +158,12 @@ class Parser {
       if (first_time(key, seen_.control_port) && port(key, value, out_.control_port)) out_.has_control_port = true;
     } else if (key.equals("sensor_port")) {
       if (first_time(key, seen_.sensor_port) && port(key, value, out_.sensor_port)) out_.has_sensor_port = true;
+    } else if (key.equals("robot_id")) {
+      if (!first_time(key, seen_.robot_id)) return;
+      std::int64_t n = 0;
+      if (!parse_integer(value, n) || n < 1) return fail(key, "robot id out of range", "1..999999999");
+      out_.robot_id = static_cast<std::uint32_t>(n);
+      out_.has_robot_id = true;
     } else if (key.equals("auto_clear_power_cycled")) {
       if (!first_time(key, seen_.auto_clear_power_cycled)) return;
       if (value.equals("true")) {
@@ -313,7 +320,7 @@ class Parser {
   const TaskSection* section_{nullptr};
   std::array<bool, kConfigTaskCount> seen_section_{};
   struct Seen {
-    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled;
+    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled;
   } seen_{};
 };
 

@@ -66,6 +66,12 @@ Status verify_frame(const FrameView& frame, const Key& key) noexcept {
   return Status::success();
 }
 
+std::uint64_t new_epoch() noexcept {
+  std::uint64_t epoch = 0;
+  while (epoch == 0) randombytes_buf(&epoch, sizeof epoch);
+  return epoch;
+}
+
 Result<Key> load_key_file(const char* path, hal::FileProblem& why) noexcept {
   // StrictModes (docs/security.md): the key, and every directory above it, ours or root's and
   // writable by nobody else; the key readable by nobody else; a link only to such a target; nothing

@@ -24,6 +24,9 @@ Result<std::size_t> seal(const Message& message, const Key& key, ByteSpan out) n
 // The tag of a parsed frame, in constant time. Error checksum: it does not verify.
 Status verify_frame(const FrameView& frame, const Key& key) noexcept;
 
+// A new epoch for the replay window (replay_window.hpp): 64 random bits (randombytes_buf), never 0.
+std::uint64_t new_epoch() noexcept;
+
 // Reads a key file, trusted only as OpenSSH's StrictModes would (hal/files/trusted_file.hpp): it and
 // every directory above it owned by this user or root, not writable by group or others, the key not
 // readable by them; a regular file (a FIFO or device is refused at once). Errors: not_found,

@@ -148,8 +148,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                       "(create one with: rescue-motion ctl keygen --key %s)\n",
                       key_path.c_str(), key_path.c_str());
   }
-  static protocol::FileReplayStore replay_store(dir.value().path.c_str());
-  static protocol::ReplayWindow replay(replay_store);
+  static protocol::ReplayWindow replay;
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
@@ -163,22 +162,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
   socket_ports.motion = &links().motion;
-  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
+  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
+                              options.robot_id);
   if (operator_port) {
-    const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
-    if (!window.file_status.ok() && window.file_status.error().code != Errc::not_found) {
-      (void)std::printf("rescue-motion run: replay-window file not used: %s; every sender starts at the robot's clock\n",
-                        window.file_status.error().what);
-    }
+    // A new epoch: every datagram made before this start is refused (docs/protocol.md "Replay protection").
+    replay.begin_epoch(protocol::new_epoch());
     SocketHandlerOptions socket_options;
     socket_options.listen = options.listen;
     socket_options.control_port = options.control_port;
     socket_options.sensor_port = options.sensor_port;
     const Status opened_ports = socket.open(socket_options);
     if (!opened_ports.ok()) return fail("run", "cannot open the UDP ports", opened_ports.error());
-    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s)\n", options.listen,
-                      static_cast<unsigned>(socket.control_port()), options.listen,
-                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str());
+    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s, robot id %u)\n",
+                      options.listen, static_cast<unsigned>(socket.control_port()), options.listen,
+                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str(), static_cast<unsigned>(options.robot_id));
   }
 
   static SelectedNic selected;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/app/cli/cli.hpp"
+#include "core/app/control/protocol_auth.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -83,10 +84,11 @@ int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return task_process("message-parser", run_parser, nullptr);
 }
 int socket_process(void* /*context*/, unsigned incarnation) noexcept {
-  // A restarted socket handler reads the persisted replay windows again: no old message reopens.
-  // It also counts on from the counters its predecessor published.
+  // A restarted socket handler begins a new epoch: its predecessor's replay windows died with it, so
+  // every datagram of the old epoch is refused (docs/protocol.md "Replay protection"). It counts on
+  // from the counters its predecessor published.
   if (incarnation > 0) {
-    (void)g_run.tasks.replay->restore(static_cast<std::uint64_t>(g_run.tasks.wall_clock->unix_time_ns()));
+    g_run.tasks.replay->begin_epoch(protocol::new_epoch());
     SocketCounters published{};
     if (links().socket_counters.try_read(published)) g_run.tasks.socket->resume_counters(published);
   }
