@@ -36,7 +36,7 @@ int attach_task_process(const char* task) noexcept {
   hal::MonotonicClock clock;
   const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_run.segment.name(), clock, kAttachLimit);
   if (!attached.ok()) {
-    char line[256];
+    char line[512];
     (void)shm::describe_segment_error(g_run.segment.name(), attached.error(), line, sizeof line);
     (void)std::fprintf(stderr, "rescue-motion run: %s: %s\n", task, line);
     return 5;
