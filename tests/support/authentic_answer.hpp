@@ -5,8 +5,8 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/protocol_codec.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
 #include "hal/net/udp_socket.hpp"
 
 namespace rescue::test {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/protocol_codec.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "tests/support/authentic_answer.hpp"
 #include "tests/support/operator_run.hpp"
