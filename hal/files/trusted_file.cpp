@@ -16,7 +16,9 @@ namespace {
 
 Error os_error(FileProblem& why, const char* path, const char* doing) noexcept {
   const int e = errno;
-  set_problem(why, "%s: cannot %s (%s)", path, doing, std::strerror(e));
+  char reason[64];
+  // GNU strerror_r (thread-safe): returns the text, in `reason` or a static string.
+  set_problem(why, "%s: cannot %s (%s)", path, doing, strerror_r(e, reason, sizeof reason));
   if (e == ENOENT) return make_error(Errc::not_found, "no such file", static_cast<std::uint32_t>(e));
   if (e == EACCES || e == EPERM) return make_error(Errc::permission_denied, "no permission", static_cast<std::uint32_t>(e));
   return make_error(Errc::io_error, "cannot open", static_cast<std::uint32_t>(e));
@@ -126,7 +128,7 @@ Result<OpenFile> open_and_check(const char* path, int flags, FileProblem& why) n
 
 }  // namespace
 
-void set_problem(FileProblem& why, const char* format, ...) noexcept {
+void set_problem(FileProblem& why, const char* format, ...) noexcept {  // NOLINT(cert-dcl50-cpp): printf-style, checked by its format attribute
   va_list args;
   va_start(args, format);
   (void)std::vsnprintf(why.text.data(), why.text.size(), format, args);  // NOLINT(clang-analyzer-valist.Uninitialized)

@@ -39,9 +39,9 @@ class OpenFile {
   ~OpenFile();
   int fd() const noexcept { return fd_; }
   int release() noexcept {
-    const int fd = fd_;
+    const int taken = fd_;
     fd_ = -1;
-    return fd;
+    return taken;
   }
 
  private:
