@@ -94,6 +94,7 @@ struct MasterStatus {
   // it last changed (protocol::kRecoveryAgeNever: not since bring-up), as of this publication.
   std::array<std::uint8_t, protocol::kMaxSlaves> recovery;
   std::array<std::uint32_t, protocol::kMaxSlaves> recovery_age_ms;
+  std::uint64_t spare;  // 0: Seqlock<MasterStatus> grew by 128 bytes (2 cache lines), so TaskLinks keeps its members on their lines
 };
 static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
 

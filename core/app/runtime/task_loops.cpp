@@ -200,7 +200,8 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
     master.in_exchange = bus.master().monitor().in_exchange();
     master.lost = bus.master().monitor().lost();
-    for (std::size_t p = 0; p < protocol::kMaxSlaves && p < ecat::kMaxSlaves; ++p) {
+    static_assert(protocol::kMaxSlaves <= ecat::kMaxSlaves, "every published slave is one of the master's");
+    for (std::size_t p = 0; p < protocol::kMaxSlaves; ++p) {
       const ecat::Master& m = bus.master();
       master.recovery[p] = static_cast<std::uint8_t>(m.recovery_state(p));
       const hal::Nanoseconds changed = m.recovery_changed_at(p);
