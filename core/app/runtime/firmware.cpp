@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "core/app/config/command_line.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -221,7 +222,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
+  // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
+  // not stretch it (every frame of it waits for the one before); then this thread is given back its
+  // normal scheduling before it forks the tasks and supervises them.
+  const Result<hal::SchedulingState> normal = hal::save_scheduling();
+  const int handler_priority = runner_priority(TaskId::ethercat_handler);
+  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
+  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   const Status up = bus.bring_up(master_options, out_of_service);
+  if (raised && !hal::restore_scheduling(normal.value()).ok()) {
+    return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
+  }
   if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
   if (!up.ok()) {
     if (to_clear != 0) {
