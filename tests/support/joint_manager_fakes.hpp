@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/joint_events.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/concurrency/message_port.hpp"
@@ -110,6 +111,35 @@ class FlakyStorage final : public ErrorJointsStorage {
   ErrorJointsStorage& inner_;
 };
 
+// The storage worker (core/app/tasks/error_joints_worker.hpp) run inline, for tests on one thread: a
+// request is saved as it is sent (or, while `paused`, when finish() is called: a disk that takes its
+// time), and its outcome waits in the results queue for the joint manager's next read. The firmware
+// runs the same ErrorJointsStorageWorker on its own thread.
+class InlineStorageWorker final : public MessageSink<ErrorJointsSaveRequest>, public MessageSource<ErrorJointsSaveResult> {
+ public:
+  explicit InlineStorageWorker(ErrorJointsStorage& storage) : worker_(requests_, results_, storage) {}
+  bool try_send(const ErrorJointsSaveRequest& request) noexcept override {
+    if (!requests_.try_send(request)) return false;
+    ++requests;
+    if (!paused) (void)worker_.serve_one();
+    return true;
+  }
+  bool try_receive(ErrorJointsSaveResult& out) noexcept override { return results_.try_receive(out); }
+  // Saves every request waiting (the paused disk is done).
+  void finish() {
+    while (worker_.serve_one()) {
+    }
+  }
+  std::size_t waiting() const { return requests_.size(); }
+  bool paused{false};
+  int requests{0};
+
+ private:
+  FakeQueue<ErrorJointsSaveRequest> requests_{2};
+  FakeQueue<ErrorJointsSaveResult> results_{2};
+  ErrorJointsStorageWorker worker_;
+};
+
 // A fresh temporary state directory, removed at the end.
 class TempStateDir {
  public:
@@ -124,9 +154,12 @@ class TempStateDir {
 
 // Everything a JointManager needs, wired to fakes.
 struct Rig {
-  explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in) {}
+  explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in), worker(storage_in) {}
   JointManagerPorts ports() {
-    return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
+    JointManagerPorts p{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
+    p.save_requests = &worker;
+    p.save_results = &worker;
+    return p;
   }
   void command(JointMask joints, fsm::JointInput input, ControlMode mode = ControlMode::none) {
     ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode, JointCommandKind::dfa_input}));
@@ -136,6 +169,7 @@ struct Rig {
   FakeQueue<JointCommand> commands{64};
   FakeSamples samples;
   ErrorJointsStorage& storage;
+  InlineStorageWorker worker;
   hal::ManualWallClock wall{1'700'000'000'000'000'000LL};
   EventLog log;
 };

@@ -27,6 +27,8 @@ constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
 constexpr int kSocketWaitMs = 5;
+constexpr hal::Nanoseconds kFileDrainLimit = config::kFileDrainLimitNs;
+constexpr hal::Nanoseconds kStorageWorkerPoll = config::kStorageWorkerPollNs;
 constexpr hal::Nanoseconds kRescueSettle = 200 * hal::kNsPerMs;  // the rescue scenario runs on after the motion ended
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
@@ -253,8 +255,16 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
                 manager.step(start);
                 links().joint_status.write(published_status(manager.statuses()));
               });
-  manager.step(clock.now());  // the last answers and marks
-  links().joint_status.write(published_status(manager.statuses()));
+  // The last answers and marks. The periods are over: a write of the file still in flight (or failing)
+  // is waited for here, within kFileDrainLimit, so the run's end says whether the file is current.
+  const hal::Nanoseconds drain_until = clock.now() + kFileDrainLimit;
+  for (;;) {
+    manager.step(clock.now());
+    links().joint_status.write(published_status(manager.statuses()));
+    if (!manager.file_dirty() || clock.now() >= drain_until) break;
+    clock.sleep_until(clock.now() + kJointManagerPeriod);
+  }
+  g_run.storage_stop.store(true, std::memory_order_release);
   stats.publish();
   health.report();
   state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
@@ -321,5 +331,16 @@ void run_parser() noexcept { parser_task(*g_run.tasks.parser, *g_run.tasks.opera
 void run_socket() noexcept { socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock); }
 void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock); }
 void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock); }
+
+void run_storage_worker() noexcept {
+  ErrorJointsStorageWorker& worker = *g_run.tasks.storage_worker;
+  hal::MonotonicClock clock;  // a normal-priority thread: it may wait, for the disk and here
+  for (;;) {
+    const bool stopping = g_run.storage_stop.load(std::memory_order_acquire);
+    if (worker.serve_one()) continue;
+    if (stopping && !worker.holding()) break;
+    clock.sleep_until(clock.now() + kStorageWorkerPoll);
+  }
+}
 
 }  // namespace rescue::app::runner

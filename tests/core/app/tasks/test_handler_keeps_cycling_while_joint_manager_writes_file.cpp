@@ -1,7 +1,7 @@
 // The handler is never blocked by the error-joints file write: the joint manager runs on its own
-// thread and its write is held open (a disk that takes forever) while the handler's thread runs
-// thousands of further cycles with the lost joints pending and every other joint commanded. Only when
-// the write is released does the answer arrive. If the handler waited for the write, this test would
+// thread, its storage worker on another, and the write is held open (a disk that takes forever) while
+// the handler's thread runs thousands of further cycles with the lost joints pending and every other
+// joint commanded. Only when the write is released does the answer arrive. If the handler waited for the write, this test would
 // hang (and CTest's timeout would fail it). No sleeps and no timing: progress is observed via atomics.
 // The threads share what the firmware's tasks share: lock-free SPSC queues and the seqlocked samples.
 #include <gtest/gtest.h>
@@ -67,7 +67,17 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   SeqlockSampleSource samples(published);
   hal::ManualWallClock wall(1'700'000'000'000'000'000LL);
   NullLog log;
-  JointManager manager(JointManagerPorts{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr});
+  SpscQueue<ErrorJointsSaveRequest, 2> save_request_queue;
+  SpscQueue<ErrorJointsSaveResult, 2> save_result_queue;
+  SpscMessageSink<ErrorJointsSaveRequest, 2> save_requests(save_request_queue);
+  SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(save_request_queue);
+  SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(save_result_queue);
+  SpscMessageSource<ErrorJointsSaveResult, 2> save_results(save_result_queue);
+  ErrorJointsStorageWorker worker(worker_requests, worker_results, disk);
+  JointManagerPorts ports{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr};
+  ports.save_requests = &save_requests;
+  ports.save_results = &save_results;
+  JointManager manager(ports);
 
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> handler_cycles{0};
@@ -92,6 +102,11 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   std::thread joint_manager([&] {
     for (hal::Nanoseconds now = 0; !stop.load(); now += hal::kNsPerMs) manager.step(now);
   });
+  std::thread storage([&] {
+    while (!stop.load()) {
+      if (!worker.serve_one()) std::this_thread::yield();
+    }
+  });
 
   while (!disk.in_save.load()) std::this_thread::yield();  // the joint manager is inside the write
   const std::uint64_t at_write = handler_cycles.load();
@@ -105,6 +120,7 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   stop.store(true);
   handler.join();
   joint_manager.join();
+  storage.join();
 
   EXPECT_EQ(commanded_healthy_cycles.load(), handler_cycles.load());  // every cycle of the healthy joints
   EXPECT_EQ(files.load().decoded.contents.joints(), kElbowCut);
