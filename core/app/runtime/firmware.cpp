@@ -158,6 +158,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.master = &links().master_status;
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
+  socket_ports.drops = &links().run.dropped;
   socket_ports.motion = &links().motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
