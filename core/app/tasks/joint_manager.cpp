@@ -579,7 +579,9 @@ void JointManager::on_write_failed(const Error& error, hal::Nanoseconds now) noe
   }
   if (clear_.active && clear_.version <= in_flight_version_) finish_clear(error, now);  // the joints stay lost
   // Nothing left to write when the file already holds every joint recorded lost (a refused clear).
-  if (recorded_.joints() == durable_joints_ && !rewrite_ && answers_.empty()) durable_version_ = intent_version_;
+  if (recorded_.joints() == durable_joints_ && !rewrite_ && answers_.empty() && !clear_.active) {
+    durable_version_ = intent_version_;
+  }
 }
 
 void JointManager::write_at_start_up(hal::Nanoseconds now) noexcept {

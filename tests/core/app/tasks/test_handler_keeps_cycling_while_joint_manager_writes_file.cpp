@@ -7,8 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 
 #include "core/app/tasks/lost_joint_tracker.hpp"
@@ -20,32 +18,6 @@ namespace {
 
 const JointMask kElbowCut = joints_lost_by_link_failure_at(joint_index_by_name("l_elbow"));
 
-// save() blocks until released.
-class StuckDisk final : public ErrorJointsStorage {
- public:
-  explicit StuckDisk(ErrorJointsStorage& inner) : inner_(inner) {}
-  ErrorJointsLoad load() noexcept override { return inner_.load(); }
-  Status save(const ErrorJointsContents& c) noexcept override {
-    std::unique_lock<std::mutex> lock(mutex_);
-    in_save.store(true);
-    released_.wait(lock, [this] { return release_; });
-    return inner_.save(c);
-  }
-  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
-  void release() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    release_ = true;
-    released_.notify_all();
-  }
-  std::atomic<bool> in_save{false};
-
- private:
-  ErrorJointsStorage& inner_;
-  std::mutex mutex_;
-  std::condition_variable released_;
-  bool release_{false};
-};
-
 class NullLog final : public JointEventSink {
  public:
   void on_event(const JointEvent&) noexcept override {}
@@ -54,7 +26,8 @@ class NullLog final : public JointEventSink {
 TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   testing::TempStateDir dir;
   ErrorJointsFileStorage files(dir.path.c_str());
-  StuckDisk disk(files);
+  testing::BlockingDisk disk(files);
+  testing::ThreadedStorageWorker storage(disk);
   SpscQueue<LostJointsReport, 16> report_queue;
   SpscQueue<JointManagerNotice, 16> notice_queue;
   SpscQueue<JointCommand, 16> command_queue;
@@ -67,16 +40,8 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   SeqlockSampleSource samples(published);
   hal::ManualWallClock wall(1'700'000'000'000'000'000LL);
   NullLog log;
-  SpscQueue<ErrorJointsSaveRequest, 2> save_request_queue;
-  SpscQueue<ErrorJointsSaveResult, 2> save_result_queue;
-  SpscMessageSink<ErrorJointsSaveRequest, 2> save_requests(save_request_queue);
-  SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(save_request_queue);
-  SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(save_result_queue);
-  SpscMessageSource<ErrorJointsSaveResult, 2> save_results(save_result_queue);
-  ErrorJointsStorageWorker worker(worker_requests, worker_results, disk);
   JointManagerPorts ports{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr};
-  ports.save_requests = &save_requests;
-  ports.save_results = &save_results;
+  storage.wire(ports);
   JointManager manager(ports);
 
   std::atomic<bool> stop{false};
@@ -102,11 +67,6 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   std::thread joint_manager([&] {
     for (hal::Nanoseconds now = 0; !stop.load(); now += hal::kNsPerMs) manager.step(now);
   });
-  std::thread storage([&] {
-    while (!stop.load()) {
-      if (!worker.serve_one()) std::this_thread::yield();
-    }
-  });
 
   while (!disk.in_save.load()) std::this_thread::yield();  // the joint manager is inside the write
   const std::uint64_t at_write = handler_cycles.load();
@@ -120,7 +80,7 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   stop.store(true);
   handler.join();
   joint_manager.join();
-  storage.join();
+  storage.stop();
 
   EXPECT_EQ(commanded_healthy_cycles.load(), handler_cycles.load());  // every cycle of the healthy joints
   EXPECT_EQ(files.load().decoded.contents.joints(), kElbowCut);

@@ -7,13 +7,9 @@
 // that every one of those periods completed while the worker was still inside save().
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 
-#include "core/concurrency/spsc_message_port.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {
@@ -27,60 +23,16 @@ const JointMask kElbowCut = joints_lost_by_link_failure_at(kElbow);
 const std::size_t kRightElbow = joint_index_by_name("r_elbow");
 constexpr int kBlockedPeriods = 2000;  // 2 s of the joint manager's 1 ms periods
 
-// save() blocks until released, then saves for real.
-class BlockingDisk final : public ErrorJointsStorage {
- public:
-  explicit BlockingDisk(ErrorJointsStorage& inner) : inner_(inner) {}
-  ErrorJointsLoad load() noexcept override { return inner_.load(); }
-  Status save(const ErrorJointsContents& c) noexcept override {
-    std::unique_lock<std::mutex> lock(mutex_);
-    in_save.store(true);
-    released_.wait(lock, [this] { return release_; });
-    const Status saved = inner_.save(c);
-    saves_returned.fetch_add(1);
-    in_save.store(false);
-    return saved;
-  }
-  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
-  void release() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    release_ = true;
-    released_.notify_all();
-  }
-  std::atomic<bool> in_save{false};
-  std::atomic<int> saves_returned{0};
-
- private:
-  ErrorJointsStorage& inner_;
-  std::mutex mutex_;
-  std::condition_variable released_;
-  bool release_{false};
-};
-
 TEST(JointManagerDuringABlockedWrite, KeepsItsPeriodChecksLimitsAndAnswersOnceTheFileIsDurable) {
   testing::TempStateDir dir;
   ErrorJointsFileStorage files(dir.path.c_str());
-  BlockingDisk disk(files);
-  SpscQueue<ErrorJointsSaveRequest, 2> request_queue;
-  SpscQueue<ErrorJointsSaveResult, 2> result_queue;
-  SpscMessageSink<ErrorJointsSaveRequest, 2> requests(request_queue);
-  SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(request_queue);
-  SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(result_queue);
-  SpscMessageSource<ErrorJointsSaveResult, 2> results(result_queue);
-  ErrorJointsStorageWorker worker(worker_requests, worker_results, disk);
+  testing::BlockingDisk disk(files);
+  testing::ThreadedStorageWorker storage(disk);  // the real worker on its own thread, not the rig's inline one
   testing::Rig rig(disk);
   JointManagerPorts ports = rig.ports();
-  ports.save_requests = &requests;  // the real worker on its own thread, not the rig's inline one
-  ports.save_results = &results;
+  storage.wire(ports);
   JointManager manager(ports);
   (void)manager.restore(0);
-
-  std::atomic<bool> stop{false};
-  std::thread storage([&] {
-    while (!stop.load()) {
-      if (!worker.serve_one()) std::this_thread::yield();
-    }
-  });
 
   hal::VirtualClock clock;
   std::int64_t longest_step_ns = 0;
@@ -135,8 +87,7 @@ TEST(JointManagerDuringABlockedWrite, KeepsItsPeriodChecksLimitsAndAnswersOnceTh
     period();
     std::this_thread::yield();
   }
-  stop.store(true);
-  storage.join();
+  storage.stop();
 
   EXPECT_FALSE(manager.file_dirty());
   const ErrorJointsLoad load = files.load();

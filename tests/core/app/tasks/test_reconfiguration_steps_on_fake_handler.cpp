@@ -288,12 +288,22 @@ TEST_F(Reconfiguration, FailedWriteStillMarksTheJointsTellsTheHandlerAndRetries)
   EXPECT_TRUE(manager.file_dirty());
   EXPECT_TRUE(rig.log.contains("error-joints file NOT written: write temporary file (I/O error, errno 28); will retry"));
   EXPECT_FALSE(storage.load().file_present);
+  // Issue 21: a failed write is never followed by a line saying it was written (step 3, "file
+  // written"); the answer's line says the file does not hold them yet.
+  EXPECT_TRUE(rig.log.of(JointEventKind::file_written).empty());
+  EXPECT_FALSE(rig.log.contains("reconfiguration step 3 wrote the error-joints file"));
+  EXPECT_TRUE(rig.log.contains("reconfiguration step 4 answered the handler: l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand "
+                               "(the error-joints file does NOT hold them yet: write temporary file; retrying)"));
+  run(50);  // within the retry period: one attempt so far
+  EXPECT_EQ(flaky.saves, 1);
 
   flaky.fail_saves = false;
   run(150);  // past the retry period
   EXPECT_FALSE(manager.file_dirty());
   EXPECT_EQ(file_on_disk().joints(), kElbowCut);
   EXPECT_EQ(manager.file_write_failures(), 1u);  // no retry storm: one attempt per retry period
+  EXPECT_TRUE(rig.log.contains("reconfiguration step 3 wrote the error-joints file: l_elbow"));  // once durable
+  EXPECT_EQ(handler.tracker.last_file_status(), Errc::ok);  // answered again, with the file's ok
 }
 
 TEST_F(Reconfiguration, ClearThatCannotBeWrittenIsRefusedAndNothingChanges) {
