@@ -25,18 +25,18 @@
 #include <array>
 #include <cstdint>
 
-#include "core/containers/fixed_vector.hpp"
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
-#include "ecat/master/al_control.hpp"
-#include "ecat/master/datagram_link.hpp"
+#include "core/containers/fixed_vector.hpp"
 #include "ecat/dc/dc_cycle_sync.hpp"
 #include "ecat/dc/dc_delay.hpp"
+#include "ecat/link/datagram_link.hpp"
+#include "ecat/link/network_plan.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/master/al_control.hpp"
 #include "ecat/master/link_diagnostics.hpp"
 #include "ecat/master/link_monitor.hpp"
-#include "ecat/mailbox/mailbox_client.hpp"
 #include "ecat/master/network_match.hpp"
-#include "ecat/master/network_plan.hpp"
 #include "ecat/master/slave_recovery.hpp"
 #include "ecat/sii/sii_reader.hpp"
 

@@ -9,9 +9,9 @@
 #include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
-#include "core/app/runtime/nic_factory.hpp"
-#include "core/app/cli/nic_option.hpp"
 #include "core/app/bench/timed_nic.hpp"
+#include "core/app/config/nic_option.hpp"
+#include "core/app/runtime/nic_factory.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"

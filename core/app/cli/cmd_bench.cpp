@@ -6,12 +6,12 @@
 #include "core/app/bench/bench_fig4.hpp"
 #include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
-#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
 #include "core/app/cli/commands.hpp"
-#include "core/app/cli/nic_option.hpp"
+#include "core/app/config/nic_option.hpp"
 
 namespace rescue::app {
 namespace {

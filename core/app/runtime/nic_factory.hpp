@@ -2,21 +2,19 @@
 // the raw socket on a named interface, or the in-process simulated segment.
 #pragma once
 
-#include "core/app/cli/nic_option.hpp"
-#include "core/containers/fixed_vector.hpp"
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/config/nic_option.hpp"
 #include "core/base/result.hpp"
+#include "core/containers/fixed_vector.hpp"
 #include "drivers/sim/segment/simulated_nic.hpp"
-#include "hal/time/clock.hpp"
 #include "hal/net/nic.hpp"
 #include "hal/net/raw_socket_nic.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 
-// The master's raw socket reads for this long before it sleeps waiting for a frame
-// (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
-// is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
-// CPU per exchange.
-constexpr hal::Nanoseconds kMasterReceiveSpin = 150 * hal::kNsPerUs;
+// How long the master's raw socket reads before it sleeps: config::kMasterReceiveSpinNs.
+constexpr hal::Nanoseconds kMasterReceiveSpin = config::kMasterReceiveSpinNs;
 
 class SelectedNic {
  public:
