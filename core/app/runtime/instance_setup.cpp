@@ -5,7 +5,7 @@
 #include <new>
 #include <utility>
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "hal/files/instance_lock.hpp"
 #include "hal/files/state_dir.hpp"
@@ -66,7 +66,7 @@ int create_segment(const FirmwareOptions& options, const char* state_dir) noexce
   shm::CreateReport report;
   Result<shm::SegmentOwner> created = shm::SegmentOwner::create(name, &report);
   if (!created.ok()) {
-    char line[256];
+    char line[512];
     (void)shm::describe_segment_error(name, created.error(), line, sizeof line);
     (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
     return 1;

@@ -1,0 +1,298 @@
+// The operator and sensor protocol over UDP (docs/protocol.md): message types, their payloads as
+// plain records, the limits every decoded value is checked against, and why a datagram is rejected.
+// The byte layout of each record is in docs/protocol.md and in protocol_codec.cpp, field by field;
+// no record here is ever overlaid on a buffer.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "core/robot/robot.hpp"
+#include "core/timing/period_recorder.hpp"
+
+namespace rescue::app::protocol {
+
+constexpr std::array<std::uint8_t, 4> kMagic{{0x52, 0x4D, 0x43, 0x50}};  // "RMCP"
+constexpr std::uint8_t kVersion = 2;             // 2: the robot id and the epoch in the header (issue 23)
+constexpr std::size_t kHeaderSize = 40;
+constexpr std::size_t kTagSize = 32;             // crypto_auth_BYTES (HMAC-SHA-512-256)
+constexpr std::size_t kKeySize = 32;             // crypto_auth_KEYBYTES
+constexpr std::size_t kMaxPayload = 1024;
+constexpr std::size_t kMaxDatagram = kHeaderSize + kMaxPayload + kTagSize;  // 1096 bytes
+constexpr std::size_t kNameSize = 24;            // slave and task names, ASCII, NUL-padded
+constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NUL-padded
+constexpr std::size_t kMaxSlaves = 23;
+constexpr std::size_t kMaxTasks = 8;
+constexpr std::size_t kMaxRcTasks = 4;
+constexpr std::uint8_t kNoOwner = 0xFF;
+constexpr std::uint32_t kAnyRobot = 0;          // robot id of a get_epoch that asks whichever robot answers
+constexpr std::uint32_t kDefaultRobotId = 1;
+
+using Key = std::array<std::uint8_t, kKeySize>;
+using rescue::TimingFigures;
+
+enum class MessageType : std::uint8_t {
+  // operator -> robot, control port
+  get_status = 0x01,
+  get_slaves = 0x02,
+  get_master = 0x03,
+  get_tasks = 0x04,
+  get_diag = 0x05,
+  get_epoch = 0x06,  // the robot's current epoch (docs/protocol.md "Replay protection"); the only request with epoch 0
+  initialize = 0x10,
+  enable = 0x11,
+  disable = 0x12,
+  hold = 0x13,
+  select_mode = 0x14,
+  clear_joints = 0x15,
+  clear_moved = 0x16,  // clear_joints, and the operator confirms the joints' moved positions
+  move_effector = 0x20,
+  hand = 0x21,
+  take_owner = 0x22,
+  // robot computers -> robot, sensor port
+  imu = 0x40,
+  gps = 0x41,
+  // robot -> operator
+  reply = 0x80,
+  status = 0x81,
+  slaves = 0x82,
+  master = 0x83,
+  tasks = 0x84,
+  diag = 0x85,
+  epoch = 0x86,  // the answer to get_epoch: the epoch and robot id are its header's
+};
+
+const char* to_string(MessageType type) noexcept;
+bool is_known(std::uint8_t type) noexcept;
+bool is_control_request(MessageType type) noexcept;  // accepted on the control port
+bool is_sensor_record(MessageType type) noexcept;    // accepted on the sensor port
+bool is_query(MessageType type) noexcept;            // get_*: answered by the socket handler itself
+
+// Why a datagram was dropped; each reason has its own counter (docs/protocol.md "Rejections").
+enum class Rejection : std::uint8_t {
+  malformed = 0,        // shorter than its header, bad magic or version, lengths that disagree, reserved bits set
+  oversized = 1,        // longer than kMaxDatagram, or a payload length above kMaxPayload
+  unauthenticated = 2,  // the tag does not verify under the key
+  replayed = 3,         // authentic, but its sequence was seen or is older than the window
+  out_of_range = 4,     // a field's value outside its documented range (NaN included)
+  unknown_type = 5,     // a type this version does not define, or not accepted on this port
+  wrong_robot = 6,      // authentic, but it names another robot (its robot id is not ours)
+  sender_table_full = 7,  // authentic and current, from a sender the full sender table has no room for
+};
+constexpr std::size_t kRejectionCount = 8;
+const char* to_string(Rejection reason) noexcept;
+
+struct Header {
+  std::uint8_t version{kVersion};
+  MessageType type{MessageType::get_status};
+  std::uint8_t flags{0};       // reserved, 0
+  std::uint32_t sender{0};     // who signed it; the replay window is per sender
+  std::uint32_t robot{0};      // the robot it is for (or from): run's robot_id; kAnyRobot only in get_epoch
+  std::uint64_t epoch{0};      // the robot's epoch it belongs to (random, new at every socket handler start); 0 only in get_epoch
+  std::uint64_t sequence{0};   // strictly increasing per sender: its Unix time in ns
+  std::uint16_t payload_length{0};
+};
+
+// initialize, enable, disable, hold, clear_joints, clear_moved; select_mode adds the mode.
+struct JointsPayload {
+  JointMask joints{0};
+  ControlMode mode{ControlMode::none};  // select_mode only
+};
+
+enum class Effector : std::uint8_t { left_hand = 0, right_hand = 1 };
+enum class HandAction : std::uint8_t { open = 0, close = 1 };
+
+// An end-effector target for an RC task: position in metres, orientation as roll/pitch/yaw in
+// radians, in the robot's base frame.
+struct MovePayload {
+  std::uint8_t task{0};
+  Effector effector{Effector::left_hand};
+  std::array<double, 3> position_m{};
+  std::array<double, 3> rpy_rad{};
+};
+constexpr double kMaxReachM = 2.0;
+
+struct HandPayload {
+  std::uint8_t task{0};
+  Effector hand{Effector::left_hand};
+  HandAction action{HandAction::open};
+};
+
+struct OwnerPayload {
+  std::uint8_t task{0};
+};
+
+// IMU and GPS records are trivial (published through a seqlock): value-initialise them.
+// IMU record (SI units): orientation as a unit quaternion, angular velocity in rad/s, linear
+// acceleration in m/s^2, in the IMU's frame; time is the sender's Unix time of the measurement.
+struct ImuRecord {
+  std::uint64_t time_unix_ns;
+  std::array<double, 4> orientation_wxyz;
+  std::array<double, 3> angular_velocity_rad_s;
+  std::array<double, 3> linear_acceleration_m_s2;
+};
+constexpr double kMaxAngularVelocityRadS = 35.0;   // 2000 deg/s, a common gyro's full scale
+constexpr double kMaxAccelerationMs2 = 160.0;      // 16 g
+constexpr double kQuaternionNormTolerance = 0.01;
+
+enum class GpsFix : std::uint8_t { none = 0, fix_2d = 1, fix_3d = 2, rtk = 3 };
+// GPS record (WGS-84): latitude/longitude in degrees, altitude above the ellipsoid and accuracies
+// in metres.
+struct GpsRecord {
+  std::uint64_t time_unix_ns;
+  double latitude_deg;
+  double longitude_deg;
+  double altitude_m;
+  double horizontal_accuracy_m;
+  double vertical_accuracy_m;
+  GpsFix fix;
+  std::uint8_t satellites;
+};
+
+enum class Outcome : std::uint8_t { accepted = 0, refused = 1 };
+
+// Why the robot refused an authentic, well-formed command (a reply's reason code).
+enum class RefusalReason : std::uint8_t {
+  none = 0,
+  state_machine = 1,      // the joint status DFA has no such transition from the joint's state
+  unreachable_joint = 2,  // the joint does not answer on the network (or is recorded lost)
+  not_owner = 3,          // another RC task owns the motion
+  no_rc_task = 4,         // no RC task running to take the input
+  busy = 5,               // a queue was full or the robot did not answer in time
+  bad_request = 6,        // e.g. a mode that is not CSP, CSV or CST, no joint selected
+  clear_refused = 7,      // clear after repair refused (joint still unreachable, not lost, file not written)
+  sender_table_full = 8,  // the robot's sender table has no room for this sender (docs/protocol.md "Senders")
+};
+const char* to_string(RefusalReason reason) noexcept;
+
+struct ReplyPayload {
+  std::uint64_t request_sequence{0};
+  MessageType request_type{MessageType::get_status};
+  Outcome outcome{Outcome::accepted};
+  RefusalReason reason{RefusalReason::none};
+  JointMask refused_joints{0};
+  std::array<char, kReplyTextSize> text{};  // NUL-padded; the last byte is always NUL
+};
+
+struct JointStatusRecord {
+  std::uint8_t state{0};        // fsm::JointState
+  std::int8_t mode{0};          // ControlMode
+  std::uint8_t flags{0};        // kFlag*
+  std::uint8_t fault{0};        // FaultReason of the (last) fault
+  std::uint8_t owner{kNoOwner}; // RC task owning its motion, kNoOwner: none (the reference is held)
+  double position_rad{0.0};
+  double velocity_rad_s{0.0};
+  double torque_nm{0.0};
+};
+constexpr std::uint8_t kFlagReachable = 0x01;
+constexpr std::uint8_t kFlagDriveEnabled = 0x02;
+constexpr std::uint8_t kFlagLost = 0x04;
+constexpr std::uint8_t kFlagDriveFault = 0x08;
+constexpr std::uint8_t kJointFlagsMask = 0x0F;
+
+struct StatusPayload {
+  std::uint64_t cycle{0};  // the EtherCAT handler cycle of the values
+  std::array<JointStatusRecord, kJointCount> joints{};
+};
+
+struct SlaveRecord {
+  std::uint16_t position{0};  // auto-increment position along the wire
+  std::uint16_t station{0};   // configured station address
+  std::uint8_t al_state{0};   // 1 INIT, 2 PRE-OP, 3 BOOT, 4 SAFE-OP, 8 OP, 0 unknown
+  std::uint8_t flags{0};      // kSlave*
+  std::array<char, kNameSize> name{};
+};
+constexpr std::uint8_t kSlaveInExchange = 0x01;
+constexpr std::uint8_t kSlaveLost = 0x02;
+constexpr std::uint8_t kSlaveOutOfService = 0x04;  // recorded lost; excluded until an operator clears it
+constexpr std::uint8_t kSlaveFlagsMask = 0x07;
+
+struct SlavesPayload {
+  std::uint8_t count{0};
+  std::array<SlaveRecord, kMaxSlaves> slaves{};
+};
+
+struct MasterPayload {
+  std::uint8_t state{0};               // ecat::MasterState
+  std::uint64_t cycles{0};
+  std::uint64_t frames_sent{0};
+  std::uint64_t frames_lost{0};        // late or lost
+  std::uint64_t late_periods{0};       // periods the handler woke up after its deadline
+  std::int64_t dc_deviation_ns{0};     // latest phase error of the frame in the SYNC0 period
+  std::int64_t dc_max_deviation_ns{0}; // largest |phase error| seen
+  std::uint64_t datagrams_accepted{0}; // socket handler
+  std::array<std::uint64_t, kRejectionCount> rejected{};  // socket handler, per Rejection
+};
+
+struct TaskRecord {
+  std::array<char, kNameSize> name{};
+  std::int32_t pid{0};
+  std::int16_t cpu{-1};       // -1: any
+  std::int16_t priority{0};   // SCHED_FIFO priority, 0: normal
+  std::uint64_t periods{0};
+  std::uint64_t missed{0};
+  std::uint64_t max_execution_ns{0};
+  TimingFigures execution{};  // per period, ns (core/timing/period_recorder.hpp)
+  TimingFigures latency{};    // wake-up latency: release to start, ns
+};
+
+struct TasksPayload {
+  std::uint8_t count{0};
+  std::array<TaskRecord, kMaxTasks> tasks{};
+};
+
+// Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each
+// slave, accumulated since bring-up, saturated at 65535 on the wire.
+constexpr std::size_t kDiagPorts = 4;
+constexpr std::uint8_t kDiagWarnedMask = 0x0F;  // one bit per port
+struct DiagPortRecord {
+  std::uint16_t invalid_frames;
+  std::uint16_t rx_errors;
+  std::uint16_t forwarded_errors;
+  std::uint16_t lost_links;
+};
+struct DiagSlaveRecord {
+  std::array<DiagPortRecord, kDiagPorts> ports;
+  std::uint16_t processing_unit_errors;
+  std::uint16_t pdi_errors;
+  std::uint16_t reads;     // answers taken
+  std::uint8_t warned;     // bit n: port n's receive errors are rising now (the master warned)
+  std::uint8_t warned_before;  // bit n: the master warned about port n since bring-up (sticky)
+};
+// Also the record the EtherCAT handler's loop publishes (TaskLinks::link_diag): trivial (copied
+// by a seqlock), pointer-free, fixed size: value-initialise these records.
+struct DiagPayload {
+  std::uint64_t cycle;    // the handler cycle of the snapshot, 0: none published yet
+  std::uint64_t sweeps;   // completed round-robin sweeps of the counters
+  std::uint8_t count;
+  std::array<DiagSlaveRecord, kMaxSlaves> slaves;
+  std::uint64_t spare;       // not on the wire; 0: makes Seqlock<DiagPayload> 960 bytes, a cache-line multiple (TaskLinks' padding)
+};
+
+// The answer to get_epoch: the request's sequence echoed (the robot's epoch and id are in the header).
+struct EpochPayload {
+  std::uint64_t request_sequence{0};
+};
+
+// One decoded message: the header and the payload of its type (only that member is meaningful).
+struct Message {
+  Header header{};
+  JointsPayload joints{};
+  MovePayload move{};
+  HandPayload hand{};
+  OwnerPayload owner{};
+  ImuRecord imu{};
+  GpsRecord gps{};
+  ReplyPayload reply{};
+  StatusPayload status{};
+  SlavesPayload slaves{};
+  MasterPayload master{};
+  TasksPayload tasks{};
+  DiagPayload diag{};
+  EpochPayload epoch{};
+};
+static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
+
+}  // namespace rescue::app::protocol
