@@ -29,7 +29,7 @@ constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
+                  kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
               "every payload fits");
 
@@ -332,7 +332,11 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
   m.tasks.count = r.u8();
   if (!r.zeros(7)) return malformed("reserved bytes not zero");
   if (m.tasks.count > kMaxTasks) return out_of_range("task count");
-  RESCUE_TRY(check_length(payload, kListHeadSize + m.tasks.count * kTaskRecordSize));
+  const std::size_t drops_at = kListHeadSize + m.tasks.count * kTaskRecordSize;
+  if (payload.size() < drops_at + kListHeadSize) return malformed("payload shorter than its drop counters' header", payload.size());
+  const std::uint8_t drop_count = payload[drops_at];
+  if (drop_count > kMaxDropCounters) return out_of_range("drop counter count");
+  RESCUE_TRY(check_length(payload, drops_at + kListHeadSize + drop_count * 8U));
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     TaskRecord& t = m.tasks.tasks[i];
     if (!r.text(t.name)) return malformed("task name not NUL-terminated");
@@ -352,6 +356,9 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
       f->p9999 = r.u32();
     }
   }
+  m.tasks.drop_count = r.u8();
+  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) m.tasks.dropped[i] = r.u64();
   return Status::success();
 }
 
@@ -735,6 +742,10 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
           w.u32(f->p9999);
         }
       }
+      const std::size_t drops = m.tasks.drop_count <= kMaxDropCounters ? m.tasks.drop_count : kMaxDropCounters;
+      w.u8(static_cast<std::uint8_t>(drops));
+      w.zeros(7);
+      for (std::size_t i = 0; i < drops; ++i) w.u64(m.tasks.dropped[i]);
       break;
     }
     case MessageType::diag: {
