@@ -119,10 +119,10 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   const bool counting = op_seen_;
   if (result.state == ecat::MasterState::op) op_seen_ = true;
   if (counting) {
-    // A frame that did not come back says nothing about single joints (a late frame on a busy
-    // host): then only what the master has established as out of the exchange counts.
-    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid : result.out;
-    tracker_.on_cycle(result.cycle, now, unreachable);
+    // The master alone decides a loss (ecat/master/link_monitor.hpp): the joints it holds out of
+    // the exchange are reported; a joint merely invalid this cycle (a short working counter being
+    // probed, a late frame) is not.
+    tracker_.on_cycle(result.cycle, now, result.out);
     if (tracker_.reports_sent() != last_reports_sent_) {
       last_reports_sent_ = tracker_.reports_sent();
       HandlerEvent e{};
