@@ -26,8 +26,7 @@ struct ReferenceSnapshot {
   std::uint64_t period;           // the writer's period count
   hal::Nanoseconds completed_ns;  // when the writer completed it (the tasks' common monotonic clock)
   JointMask commanded;            // the joints these references command
-  std::array<double, kJointCount> position_rad;
-  std::array<double, kJointCount> velocity_rad_s;
+  std::array<double, kJointCount> position_rad;  // positions only: the joints run in CSP (no velocity reference)
 };
 static_assert(std::is_trivial_v<ReferenceSnapshot>, "published through a seqlock");
 
@@ -47,10 +46,7 @@ class ReferenceSpace {
 
   // ---- the writer (its RC task only) ----
   void begin() noexcept { published_.begin_write(); }
-  void set(std::size_t joint, double position_rad, double velocity_rad_s) noexcept {
-    draft_.position_rad[joint] = position_rad;
-    draft_.velocity_rad_s[joint] = velocity_rad_s;
-  }
+  void set(std::size_t joint, double position_rad) noexcept { draft_.position_rad[joint] = position_rad; }
   void complete(std::uint64_t owner_word, std::uint64_t period, JointMask commanded, hal::Nanoseconds now) noexcept {
     draft_.owner_word = owner_word;
     draft_.period = period;

@@ -96,6 +96,7 @@ class EthercatHandler {
   SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
   LostJointTracker tracker_;
   drivers::JointReferences outputs_{};
+  std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   drivers::JointFeedback feedback_{};
   RobotSample sample_{};
   RobotDemand demand_{};

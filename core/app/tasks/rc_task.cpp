@@ -70,7 +70,6 @@ RcTask::RcTask(TaskLinks& links, const RcTaskSettings& settings) noexcept
       ik_(ik_settings(settings.period_ns)),
       teleop_(kin::JointVector::Zero(), seconds(settings.period_ns)),
       references_(kin::JointVector::Zero()),
-      previous_(kin::JointVector::Zero()),
       sent_(kin::JointVector::Zero()),
       approach_from_(kin::JointVector::Zero()),
       next_(kin::JointVector::Zero()),
@@ -94,7 +93,6 @@ void RcTask::read_joints() noexcept {
   if (!have_joints_) {
     have_joints_ = true;
     references_ = sent_;
-    previous_ = sent_;
     teleop_.take_ownership(sent_);
     teleop_.release_ownership();
   }
@@ -220,14 +218,9 @@ JointMask RcTask::commanded() const noexcept {
 
 void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
   ReferenceSpace& space = links_.motion.references[index()];
-  const double dt = seconds(settings_.period_ns);
   space.begin();
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    const auto row = static_cast<Eigen::Index>(j);
-    space.set(j, references_(row), (references_(row) - previous_(row)) / dt);
-  }
+  for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, references_(static_cast<Eigen::Index>(j)));
   space.complete(owns_ ? word : 0, counters_.periods, commanded(), now);
-  previous_ = references_;
 }
 
 void RcTask::period(hal::Nanoseconds now) noexcept {

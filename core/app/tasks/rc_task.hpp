@@ -92,7 +92,6 @@ class RcTask {
   kin::TaskPriorityIk ik_;
   kin::JointSpaceTeleop teleop_;
   kin::JointVector references_;
-  kin::JointVector previous_;
   kin::JointVector sent_;        // what the handler sends (samples' position_ref_rad)
   kin::JointVector approach_from_;
   kin::JointVector next_;
