@@ -21,11 +21,10 @@ Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin)
     active_ = &raw_;
     return Status::success();
   }
-  hal::Clock* clock = simulation_clock_ != nullptr ? simulation_clock_ : &g_real_time;
-  drivers::SimulatedRobot& robot = simulated_robot(clock->now());
+  drivers::SimulatedRobot& robot = simulated_robot(g_real_time.now());  // the simulated robot runs on CLOCK_MONOTONIC
   RESCUE_TRY(robot.status());
   simulated_.clear();
-  active_ = simulated_.emplace_back(robot.segment(), *clock);
+  active_ = simulated_.emplace_back(robot.segment(), g_real_time);
   return Status::success();
 }
 
