@@ -77,6 +77,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   report_ = BringUpReport{};
   report_.started_at = link_.clock().now();
   const std::uint64_t frames_before = link_.stats().exchanges;
+  bring_up_frames_before_ = frames_before;
   state_ = MasterState::idle;
   cycle_ = 0;
   // Nothing of an earlier bring-up carries over.
@@ -147,6 +148,9 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
 }
 
 Status Master::check_stop(const char* step) noexcept {
+  if (report_.step_count < report_.steps.size()) {
+    report_.steps[report_.step_count++] = BringUpStepMark{step, link_.clock().now(), link_.stats().exchanges - bring_up_frames_before_};
+  }
   if (options_.stop_requested == nullptr || !options_.stop_requested()) return Status::success();
   return fail(step, make_error(Errc::refused, "stopped on request"));
 }
@@ -167,8 +171,8 @@ Status Master::count_and_reset() noexcept {
   if (!counted.ok() && counted.error().code == Errc::timeout) {
     const auto waited_ms = static_cast<std::uint32_t>(options_.first_contact_timeout / hal::kNsPerMs);
     return fail("count", make_error(Errc::timeout,
-                                    "no EtherCAT frame came back (BRDs sent, ms waited): is the segment cabled to "
-                                    "this interface and powered, or `rescue-motion sim --iface` running at its end?",
+                                    "no EtherCAT frame came back: is the segment cabled to this interface and powered, "
+                                    "or `rescue-motion sim --iface` running at its end?",
                                     report_.first_contact_frames, waited_ms));
   }
   if (!counted.ok()) return fail("count", counted.error());

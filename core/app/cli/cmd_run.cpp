@@ -5,6 +5,7 @@
 #include "core/app/config/config_file.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/config/task_table.hpp"
+#include "core/app/links/protocol_messages.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/runtime/self_check.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -32,6 +33,7 @@ const OptionSpec kOptions[] = {
     {"control-port", "PORT", "operator control UDP port (default 47010)"},
     {"sensor-port", "PORT", "IMU/GPS sensor UDP port (default 47011)"},
     {"key", "FILE", "pre-shared key file (default <state dir>/operator.key; made by: rescue-motion ctl keygen)"},
+    {"robot-id", "N", "this robot's identity in every datagram, 1..999999999 (default 1; give each robot its own)"},
 };
 
 // The configuration file, when --config names one (static: its texts outlive the run).
@@ -65,7 +67,7 @@ int run_main(const ParsedArgs& args) {
   if (args.value("config") != nullptr) {
     const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
     if (!loaded.ok) {
-      char line[512];
+      char line[1024];
       (void)format_config_error(args.value("config"), loaded.error, line, sizeof line);
       (void)std::fprintf(stderr, "rescue-motion run: --config %s\n", line);
       return 1;
@@ -125,6 +127,10 @@ int run_main(const ParsedArgs& args) {
   if (control_port.value() == sensor_port.value()) return fail("run", "--control-port and --sensor-port must differ");
   options.control_port = static_cast<std::uint16_t>(control_port.value());
   options.sensor_port = static_cast<std::uint16_t>(sensor_port.value());
+  const Result<std::int64_t> robot_id =
+      args.integer("robot-id", g_config.has_robot_id ? g_config.robot_id : protocol::kDefaultRobotId, 1, 999'999'999);
+  if (!robot_id.ok()) return fail("run", "--robot-id N (1..999999999)", robot_id.error());
+  options.robot_id = static_cast<std::uint32_t>(robot_id.value());
   if (option_or_file(args, "listen", g_config.listen) != nullptr) options.listen = option_or_file(args, "listen", g_config.listen);
   options.key_path = option_or_file(args, "key", g_config.key_file);
   return run_firmware(options);

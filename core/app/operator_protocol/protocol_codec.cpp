@@ -22,7 +22,8 @@ constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
 constexpr std::size_t kListHeadSize = 8;
 constexpr std::size_t kSlaveRecordSize = 32;
-constexpr std::size_t kMasterSize = 112;
+constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
+constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
 constexpr std::size_t kDiagHeadSize = 24;
@@ -191,9 +192,15 @@ void header_fields(F& f, H& h) noexcept {
   f.require(h.flags == 0, Errc::malformed, "reserved header bytes not zero");
   f.reserved(1);
   f.u32(h.sender);
+  f.u32(h.robot);
+  f.u64(h.epoch);
   f.u64(h.sequence);
   f.u16(h.payload_length);
-  f.reserved(2);
+  f.reserved(6);
+  // Only get_epoch may leave the robot and the epoch open; the robot's epoch answer never does.
+  const bool asks_epoch = h.type == MessageType::get_epoch;
+  f.require(!asks_epoch || h.epoch == 0, Errc::malformed, "get_epoch with an epoch");
+  f.require(asks_epoch || (h.epoch != 0 && h.robot != kAnyRobot), Errc::malformed, "no robot id or no epoch");
   f.require(h.payload_length <= kMaxPayload, Errc::capacity_exceeded, "payload length above the protocol's maximum",
             h.payload_length, kMaxPayload);
 }
@@ -316,7 +323,7 @@ void reply_fields(F& f, M& m) noexcept {
   f.text(m.reply.text, "reply text not NUL-terminated");
   f.check(is_known(static_cast<std::uint8_t>(m.reply.request_type)), "request type");
   f.check(static_cast<std::uint8_t>(m.reply.outcome) <= 1, "outcome");
-  f.check(static_cast<std::uint8_t>(m.reply.reason) <= static_cast<std::uint8_t>(RefusalReason::clear_refused),
+  f.check(static_cast<std::uint8_t>(m.reply.reason) <= static_cast<std::uint8_t>(RefusalReason::sender_table_full),
           "refusal reason");
   f.check((m.reply.refused_joints & ~kAllJoints) == 0, "refused joint mask");
 }
@@ -378,6 +385,12 @@ void master_fields(F& f, M& m) noexcept {
   f.u64(m.master.datagrams_accepted);
   for (auto& v : m.master.rejected) f.u64(v);
   f.check(m.master.state <= 4, "master state");
+}
+
+template <typename F, typename M>
+void epoch_fields(F& f, M& m) noexcept {
+  f.length(kEpochSize);
+  f.u64(m.epoch.request_sequence);
 }
 
 template <typename F, typename T>
@@ -454,6 +467,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::get_master, "get_master", no_payload, no_payload},
     {MessageType::get_tasks, "get_tasks", no_payload, no_payload},
     {MessageType::get_diag, "get_diag", no_payload, no_payload},
+    {MessageType::get_epoch, "get_epoch", no_payload, no_payload},
     {MessageType::initialize, "initialize", joints_fields, joints_fields},
     {MessageType::enable, "enable", joints_fields, joints_fields},
     {MessageType::disable, "disable", joints_fields, joints_fields},
@@ -472,6 +486,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::master, "master", master_fields, master_fields},
     {MessageType::tasks, "tasks", tasks_fields, tasks_fields},
     {MessageType::diag, "diag", diag_fields, diag_fields},
+    {MessageType::epoch, "epoch", epoch_fields, epoch_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {
@@ -508,6 +523,8 @@ const char* to_string(Rejection reason) noexcept {
     case Rejection::replayed: return "replayed";
     case Rejection::out_of_range: return "out_of_range";
     case Rejection::unknown_type: return "unknown_type";
+    case Rejection::wrong_robot: return "wrong_robot";
+    case Rejection::sender_table_full: return "sender_table_full";
   }
   return "?";
 }
@@ -522,6 +539,7 @@ const char* to_string(RefusalReason reason) noexcept {
     case RefusalReason::busy: return "busy";
     case RefusalReason::bad_request: return "bad request";
     case RefusalReason::clear_refused: return "clear refused";
+    case RefusalReason::sender_table_full: return "sender table full";
   }
   return "?";
 }

@@ -2,6 +2,8 @@
 // objects; the runner's other pieces are in this folder (docs/firmware.md, "Code").
 #include "core/app/runtime/firmware.hpp"
 
+#include <sys/stat.h>
+
 #include <cinttypes>
 #include <cstdio>
 
@@ -36,6 +38,7 @@
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/files/state_dir.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -68,6 +71,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
+  // StrictModes (docs/security.md): the state directory holds the key, the lock and the error-joints
+  // file; it and every directory above it must be ours or root's and writable by nobody else.
+  hal::FileProblem dir_problem;
+  if (!hal::check_trusted_directory(dir.value().path.c_str(), dir_problem).ok()) {
+    (void)std::fprintf(stderr, "rescue-motion run: state directory refused: %s\n", dir_problem.c_str());
+    return 1;
+  }
+  if (options.timing_out != nullptr) {
+    // Checked now, not after the run: a FIFO or a file given as the directory fails at once.
+    struct stat timing_dir {};
+    if (::stat(options.timing_out, &timing_dir) != 0 || !S_ISDIR(timing_dir.st_mode)) {
+      (void)std::fprintf(stderr, "rescue-motion run: --timing-out %s: not a directory (give an existing directory)\n",
+                         options.timing_out);
+      return 1;
+    }
+  }
   const int lock_status = take_instance_locks(options, dir.value().path.c_str());
   if (lock_status != 0) return lock_status;
   const int segment_status = create_segment(options, dir.value().path.c_str());
@@ -117,19 +136,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!joined.ok()) return fail("run", "key file path", joined.error());
     key_path = joined.value();
   }
-  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str());
+  hal::FileProblem key_problem;
+  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str(), key_problem);
   const bool operator_port = key.ok();
   if (!key.ok()) {
     if (options.key_path != nullptr || key.error().code != Errc::not_found) {
-      (void)std::fprintf(stderr, "rescue-motion run: key file %s: %s\n", key_path.c_str(), key.error().what);
+      (void)std::fprintf(stderr, "rescue-motion run: key file refused: %s\n", key_problem.c_str());
       return 1;
     }
     (void)std::printf("rescue-motion run: no key file %s: operator and sensor ports closed "
                       "(create one with: rescue-motion ctl keygen --key %s)\n",
                       key_path.c_str(), key_path.c_str());
   }
-  static protocol::FileReplayStore replay_store(dir.value().path.c_str());
-  static protocol::ReplayWindow replay(replay_store);
+  static protocol::ReplayWindow replay;
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
@@ -143,22 +162,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
   socket_ports.motion = &links().motion;
-  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
+  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
+                              options.robot_id);
   if (operator_port) {
-    const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
-    if (!window.file_status.ok() && window.file_status.error().code != Errc::not_found) {
-      (void)std::printf("rescue-motion run: replay-window file not used: %s; every sender starts at the robot's clock\n",
-                        window.file_status.error().what);
-    }
+    // A new epoch: every datagram made before this start is refused (docs/protocol.md "Replay protection").
+    replay.begin_epoch(protocol::new_epoch());
     SocketHandlerOptions socket_options;
     socket_options.listen = options.listen;
     socket_options.control_port = options.control_port;
     socket_options.sensor_port = options.sensor_port;
     const Status opened_ports = socket.open(socket_options);
     if (!opened_ports.ok()) return fail("run", "cannot open the UDP ports", opened_ports.error());
-    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s)\n", options.listen,
-                      static_cast<unsigned>(socket.control_port()), options.listen,
-                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str());
+    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s, robot id %u)\n",
+                      options.listen, static_cast<unsigned>(socket.control_port()), options.listen,
+                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str(), static_cast<unsigned>(options.robot_id));
   }
 
   static SelectedNic selected;
@@ -192,7 +209,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     ecat::CaptureWriterOptions capture_options;
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);
     const Status capture = g_run.capture.open(options.capture_path, capture_options);
-    if (!capture.ok()) return fail("run", "cannot open the capture file", capture.error());
+    if (!capture.ok()) {
+      (void)std::fprintf(stderr, "rescue-motion run: --capture: %s\n", g_run.capture.problem().c_str());
+      return fail("run", "cannot open the capture file", capture.error());
+    }
     bus.master().set_tap(ecat::capture_tap, &g_run.capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;

@@ -24,7 +24,8 @@ Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin)
   drivers::SimulatedRobot& robot = simulated_robot(g_real_time.now());  // the simulated robot runs on CLOCK_MONOTONIC
   RESCUE_TRY(robot.status());
   simulated_.clear();
-  active_ = simulated_.emplace_back(robot.segment(), g_real_time);
+  // The wall clock's simulated robot answers within the model's round trip (the spin).
+  active_ = simulated_.emplace_back(robot.segment(), g_real_time, receive_spin);
   return Status::success();
 }
 

@@ -19,7 +19,8 @@ constexpr hal::Nanoseconds kMasterReceiveSpin = config::kMasterReceiveSpinNs;
 class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
-  // `receive_spin`: how long a raw socket reads before it sleeps (the master's default; 0 sleeps at
+  // `receive_spin`: how long a raw socket (or the simulated robot on the wall clock) waits for a frame
+  // by reading before it sleeps (the master's default; 0 sleeps at
   // once, as a normally scheduled master like SOEM's does).
   Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
   // The open NIC; nullptr before a successful open().

@@ -5,6 +5,7 @@
 #include "drivers/cia402/cia402.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/master/al_control.hpp"
+#include "ecat/master/bring_up_report.hpp"
 #include "hal/files/instance_lock.hpp"
 
 namespace rescue::app {
@@ -45,10 +46,9 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   const hal::Nanoseconds start = clock.now();
   const Status up = bus.bring_up(master_options);
   if (!up.ok()) {
-    const ecat::BringUpReport& b = bus.master().report();
-    char detail[160];
-    (void)std::snprintf(detail, sizeof detail, "at %s: %s", b.failed_step != nullptr ? b.failed_step : "?", b.error.what);
-    return failed(out, "bring-up", detail);
+    // The FAILED line is the report's first; the report's other lines follow it (bring_up_report.hpp).
+    ecat::print_bring_up_failure(out, "rescue-motion run --check: FAILED: ", "rescue-motion run --check: ", bus.master());
+    return 1;
   }
   r.slaves = bus.master().report().slaves_counted;
 
