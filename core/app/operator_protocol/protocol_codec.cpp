@@ -351,14 +351,24 @@ void status_fields(F& f, M& m) noexcept {
   }
 }
 
+// A list's head: its count (at most `max`) and 7 reserved bytes, then `head - 8` more bytes of the
+// caller's; the payload is `head` + count records of `record` bytes. Returns the records to walk.
+template <typename F, typename C>
+std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, std::size_t record,
+                      const char* short_what, const char* count_what) noexcept {
+  f.at_least(head, short_what);
+  f.count(count, max);
+  f.reserved(7);
+  f.check(count <= max, count_what);
+  const std::size_t n = records(count, max);
+  f.length(head + n * record);
+  return n;
+}
+
 template <typename F, typename M>
 void slaves_fields(F& f, M& m) noexcept {
-  f.at_least(kListHeadSize, "payload shorter than its list header");
-  f.count(m.slaves.count, kMaxSlaves);
-  f.reserved(7);
-  f.check(m.slaves.count <= kMaxSlaves, "slave count");
-  const std::size_t count = records(m.slaves.count, kMaxSlaves);
-  f.length(kListHeadSize + count * kSlaveRecordSize);
+  const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, kSlaveRecordSize,
+                                      "payload shorter than its list header", "slave count");
   for (std::size_t i = 0; i < count; ++i) {
     auto& s = m.slaves.slaves[i];
     f.u16(s.position);
@@ -406,12 +416,8 @@ void timing_fields(F& f, T& t) noexcept {
 
 template <typename F, typename M>
 void tasks_fields(F& f, M& m) noexcept {
-  f.at_least(kListHeadSize, "payload shorter than its list header");
-  f.count(m.tasks.count, kMaxTasks);
-  f.reserved(7);
-  f.check(m.tasks.count <= kMaxTasks, "task count");
-  const std::size_t count = records(m.tasks.count, kMaxTasks);
-  f.length(kListHeadSize + count * kTaskRecordSize);
+  const std::size_t count = list_head(f, m.tasks.count, kMaxTasks, kListHeadSize, kTaskRecordSize,
+                                      "payload shorter than its list header", "task count");
   for (std::size_t i = 0; i < count; ++i) {
     auto& t = m.tasks.tasks[i];
     f.text(t.name, "task name not NUL-terminated");
@@ -428,12 +434,8 @@ void tasks_fields(F& f, M& m) noexcept {
 
 template <typename F, typename M>
 void diag_fields(F& f, M& m) noexcept {
-  f.at_least(kDiagHeadSize, "payload shorter than its diag header");
-  f.count(m.diag.count, kMaxSlaves);
-  f.reserved(7);
-  f.check(m.diag.count <= kMaxSlaves, "slave count");
-  const std::size_t count = records(m.diag.count, kMaxSlaves);
-  f.length(kDiagHeadSize + count * kDiagRecordSize);
+  const std::size_t count = list_head(f, m.diag.count, kMaxSlaves, kDiagHeadSize, kDiagRecordSize,
+                                      "payload shorter than its diag header", "slave count");
   f.u64(m.diag.cycle);
   f.u64(m.diag.sweeps);
   for (std::size_t i = 0; i < count; ++i) {
