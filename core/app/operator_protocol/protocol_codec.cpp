@@ -1,7 +1,8 @@
 #include "core/app/operator_protocol/protocol_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <iterator>
 
 #include "core/base/le_stream.hpp"
 
@@ -122,7 +123,7 @@ class DecodeFields {
   void f64(double& v) noexcept { v = r_.f64(); }
   template <std::size_t N>
   void f64s(std::array<double, N>& values) noexcept {
-    for (double& v : values) v = r_.f64();
+    std::generate(values.begin(), values.end(), [this] { return r_.f64(); });
   }
   template <std::size_t N>
   void text(std::array<char, N>& t, const char* unterminated) noexcept {
@@ -492,10 +493,9 @@ constexpr Layout kLayouts[] = {
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {
-  for (const Layout& l : kLayouts) {
-    if (static_cast<std::uint8_t>(l.type) == type) return &l;
-  }
-  return nullptr;
+  const Layout* l = std::find_if(std::begin(kLayouts), std::end(kLayouts),
+                                 [type](const Layout& x) { return static_cast<std::uint8_t>(x.type) == type; });
+  return l != std::end(kLayouts) ? l : nullptr;
 }
 
 }  // namespace
