@@ -130,6 +130,9 @@ class LeReader {
     if (there) at_ += count;
   }
 
+  // The byte at `offset` from the start, without moving on (0 when it is not there; never a failure).
+  std::uint8_t peek(std::size_t offset) const noexcept { return offset < in_.size() ? in_[offset] : 0; }
+
   std::size_t size() const noexcept { return at_; }  // bytes read so far
   bool ok() const noexcept { return ok_; }
 

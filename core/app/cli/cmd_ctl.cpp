@@ -16,6 +16,7 @@
 #include "core/app/operator_protocol/ctl_client.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
@@ -180,7 +181,21 @@ void print_tasks(const Message& m, bool json) noexcept {
       print_figures_text("wake-up", t.latency);
     }
   }
-  if (json) (void)std::printf("]}\n");
+  // The queues between the tasks: what each dropped (or deferred) so far (docs/tasks.md).
+  if (json) {
+    (void)std::printf("],\"queues\":{");
+    for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+      (void)std::printf("%s\"%s\":%" PRIu64, i == 0 ? "" : ",", i < kDropCounters ? kDropCounterNames[i] : "unknown",
+                        m.tasks.dropped[i]);
+    }
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("queues:");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+    (void)std::printf(" %s %" PRIu64, i < kDropCounters ? kDropCounterNames[i] : "unknown", m.tasks.dropped[i]);
+  }
+  (void)std::printf("\n");
 }
 
 // The slave at the other end of the cable on `slave`'s `port` (ecat::cable_peer on the robot's plan).

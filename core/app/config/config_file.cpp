@@ -150,8 +150,9 @@ class Parser {
       }
     } else if (key.equals("duration")) {
       if (!first_time(key, seen_.duration)) return;
-      if (!parse_seconds(value, out_.duration_s) || !(out_.duration_s > 0.0) || out_.duration_s > 604800.0) {
-        return fail(key, "not a duration in range", "decimal seconds above 0, at most 604800 (leave it out: run until SIGTERM)");
+      if (!parse_seconds(value, out_.duration_s) || !(out_.duration_s >= 0.001) || out_.duration_s > 604800.0) {
+        return fail(key, "not a duration in range",
+                    "decimal seconds, at least 0.001 (one period), at most 604800 (leave it out: run until SIGTERM)");
       }
       out_.has_duration = true;
     } else if (key.equals("control_port")) {

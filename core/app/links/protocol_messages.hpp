@@ -25,6 +25,7 @@ constexpr std::size_t kNameSize = 24;            // slave and task names, ASCII,
 constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NUL-padded
 constexpr std::size_t kMaxSlaves = 23;
 constexpr std::size_t kMaxTasks = 8;
+constexpr std::size_t kMaxDropCounters = 12;  // after the task records: the queues' drop counters
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
 constexpr std::uint32_t kAnyRobot = 0;          // robot id of a get_epoch that asks whichever robot answers
@@ -241,6 +242,10 @@ struct TaskRecord {
 struct TasksPayload {
   std::uint8_t count{0};
   std::array<TaskRecord, kMaxTasks> tasks{};
+  // What each bounded queue between the tasks dropped (or deferred), in the order of
+  // core/app/links/run_control.hpp's kDropCounterNames.
+  std::uint8_t drop_count{0};
+  std::array<std::uint64_t, kMaxDropCounters> dropped{};
 };
 
 // Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each

@@ -30,7 +30,7 @@ constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
+                  kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
               "every payload fits");
 
@@ -79,7 +79,8 @@ class EncodeFields {
   void magic() noexcept { w_.bytes(kMagic.data(), kMagic.size()); }
   // A list's record count, at most `max` on the wire.
   void count(std::uint8_t v, std::size_t max) noexcept { w_.u8(static_cast<std::uint8_t>(v <= max ? v : max)); }
-  // Checks and lengths are the decoder's.
+  // Checks, lengths and looking ahead are the decoder's.
+  void ahead(std::uint8_t /*v*/, std::size_t /*offset*/) noexcept {}
   void length(std::size_t /*expected*/) noexcept {}
   void at_least(std::size_t /*head*/, const char* /*what*/) noexcept {}
   void check(bool /*ok*/, const char* /*what*/) noexcept {}
@@ -137,6 +138,8 @@ class DecodeFields {
     require(same, Errc::malformed, "bad magic");
   }
   void count(std::uint8_t& v, std::size_t /*max: checked by the layout, after the reserved bytes*/) noexcept { v = r_.u8(); }
+  // A u8 further on, at `offset` from the start (0 when it is not there), read ahead of its turn.
+  void ahead(std::uint8_t& v, std::size_t offset) noexcept { v = r_.peek(offset); }
   // The payload is exactly `expected` bytes long.
   void length(std::size_t expected) noexcept {
     require(size_ == expected, Errc::malformed, "payload length differs from its type's", size_, expected);
@@ -353,23 +356,22 @@ void status_fields(F& f, M& m) noexcept {
 }
 
 // A list's head: its count (at most `max`) and 7 reserved bytes, then `head - 8` more bytes of the
-// caller's; the payload is `head` + count records of `record` bytes. Returns the records to walk.
+// caller's. Returns the records to walk; the caller checks the length they make.
 template <typename F, typename C>
-std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, std::size_t record,
-                      const char* short_what, const char* count_what) noexcept {
+std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const char* short_what,
+                      const char* count_what) noexcept {
   f.at_least(head, short_what);
   f.count(count, max);
   f.reserved(7);
   f.check(count <= max, count_what);
-  const std::size_t n = records(count, max);
-  f.length(head + n * record);
-  return n;
+  return records(count, max);
 }
 
 template <typename F, typename M>
 void slaves_fields(F& f, M& m) noexcept {
-  const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, kSlaveRecordSize,
-                                      "payload shorter than its list header", "slave count");
+  const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
+                                      "slave count");
+  f.length(kListHeadSize + count * kSlaveRecordSize);
   for (std::size_t i = 0; i < count; ++i) {
     auto& s = m.slaves.slaves[i];
     f.u16(s.position);
@@ -417,8 +419,15 @@ void timing_fields(F& f, T& t) noexcept {
 
 template <typename F, typename M>
 void tasks_fields(F& f, M& m) noexcept {
-  const std::size_t count = list_head(f, m.tasks.count, kMaxTasks, kListHeadSize, kTaskRecordSize,
-                                      "payload shorter than its list header", "task count");
+  const std::size_t count = list_head(f, m.tasks.count, kMaxTasks, kListHeadSize, "payload shorter than its list header",
+                                      "task count");
+  // The queues' drop counters follow the records: their count is checked before a record is read.
+  const std::size_t drops_at = kListHeadSize + count * kTaskRecordSize;
+  f.at_least(drops_at + kListHeadSize, "payload shorter than its drop counters' header");
+  f.ahead(m.tasks.drop_count, drops_at);
+  f.check(m.tasks.drop_count <= kMaxDropCounters, "drop counter count");
+  const std::size_t drops = records(m.tasks.drop_count, kMaxDropCounters);
+  f.length(drops_at + kListHeadSize + drops * 8);
   for (std::size_t i = 0; i < count; ++i) {
     auto& t = m.tasks.tasks[i];
     f.text(t.name, "task name not NUL-terminated");
@@ -431,12 +440,16 @@ void tasks_fields(F& f, M& m) noexcept {
     timing_fields(f, t.execution);
     timing_fields(f, t.latency);
   }
+  f.count(m.tasks.drop_count, kMaxDropCounters);
+  f.reserved(7);
+  for (std::size_t i = 0; i < drops; ++i) f.u64(m.tasks.dropped[i]);
 }
 
 template <typename F, typename M>
 void diag_fields(F& f, M& m) noexcept {
-  const std::size_t count = list_head(f, m.diag.count, kMaxSlaves, kDiagHeadSize, kDiagRecordSize,
-                                      "payload shorter than its diag header", "slave count");
+  const std::size_t count = list_head(f, m.diag.count, kMaxSlaves, kDiagHeadSize, "payload shorter than its diag header",
+                                      "slave count");
+  f.length(kDiagHeadSize + count * kDiagRecordSize);
   f.u64(m.diag.cycle);
   f.u64(m.diag.sweeps);
   for (std::size_t i = 0; i < count; ++i) {

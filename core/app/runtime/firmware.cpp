@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "core/app/config/command_line.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -24,6 +25,7 @@
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_event_queue.hpp"
@@ -45,6 +47,9 @@
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
+
+// The joint manager has one write in flight at a time (tasks/error_joints_worker.hpp): two slots.
+constexpr std::size_t kSaveQueueDepth = 2;
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -98,8 +103,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SeqlockSampleSource samples(links().samples);
   static SeqlockDemandSink demand_sink(links().demand);
   static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
-                                                &demand_sink, &outcomes});
+  // The storage worker (a normal-priority thread of the joint manager's process) writes the file off
+  // the joint manager's period: one request in flight, its outcome back (tasks/error_joints_worker.hpp).
+  static SpscQueue<ErrorJointsSaveRequest, kSaveQueueDepth> save_request_queue;
+  static SpscQueue<ErrorJointsSaveResult, kSaveQueueDepth> save_result_queue;
+  static SpscMessageSink<ErrorJointsSaveRequest, kSaveQueueDepth> save_requests(save_request_queue);
+  static SpscMessageSource<ErrorJointsSaveResult, kSaveQueueDepth> save_results(save_result_queue);
+  static SpscMessageSource<ErrorJointsSaveRequest, kSaveQueueDepth> worker_requests(save_request_queue);
+  static SpscMessageSink<ErrorJointsSaveResult, kSaveQueueDepth> worker_results(save_result_queue);
+  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
+  JointManagerPorts manager_ports{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
+                                  &demand_sink, &outcomes};
+  manager_ports.save_requests = &save_requests;
+  manager_ports.save_results = &save_results;
+  static JointManager manager(manager_ports);
   manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
@@ -161,6 +178,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.master = &links().master_status;
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
+  socket_ports.drops = &links().run.dropped;
   socket_ports.motion = &links().motion;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
                               options.robot_id);
@@ -221,7 +239,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
+  // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
+  // not stretch it (every frame of it waits for the one before); then this thread is given back its
+  // normal scheduling before it forks the tasks and supervises them.
+  const Result<hal::SchedulingState> normal = hal::save_scheduling();
+  const int handler_priority = runner_priority(TaskId::ethercat_handler);
+  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
+  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   const Status up = bus.bring_up(master_options, out_of_service);
+  if (raised && !hal::restore_scheduling(normal.value()).ok()) {
+    return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
+  }
   if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
   if (!up.ok()) {
     if (to_clear != 0) {
@@ -253,7 +281,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
   g_run.tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
                     &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
-                    &events,   &event_printer};
+                    &events,   &event_printer, &storage_worker};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);

@@ -4,6 +4,8 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "drivers/cia402/cia402.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "ecat/capture/capture_tap.hpp"
+#include "ecat/capture/capture_writer.hpp"
 #include "ecat/master/al_control.hpp"
 #include "ecat/master/bring_up_report.hpp"
 #include "hal/files/instance_lock.hpp"
@@ -41,6 +43,21 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
   hal::Clock& clock = selected.nic()->clock();
   static drivers::JointBus bus(*selected.nic());
+  // --capture: every frame of the check, written by this thread as it goes (nothing here is periodic).
+  static ecat::CaptureWriter capture;
+  if (options.capture_path != nullptr) {
+    ecat::CaptureWriterOptions capture_options;
+    capture_options.timestamp_offset = ecat::unix_time_offset(clock);
+    if (!capture.open(options.capture_path, capture_options).ok()) {
+      return failed(out, "cannot open the capture file", capture.problem().c_str());
+    }
+    bus.master().set_tap(ecat::capture_tap, &capture);
+  }
+  struct CaptureCloser {
+    ~CaptureCloser() {
+      if (capture.is_open()) (void)capture.close();
+    }
+  } const closer;
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
   const hal::Nanoseconds start = clock.now();

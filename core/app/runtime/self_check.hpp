@@ -20,6 +20,7 @@ struct SelfCheckOptions {
   const char* nic_text{"sim"};
   hal::Nanoseconds op_timeout{5 * hal::kNsPerSec};      // from SAFE-OP to OP
   hal::Nanoseconds hold_in_op{200 * hal::kNsPerMs};     // frames exchanged in OP before going back
+  const char* capture_path{nullptr};  // every frame of the check recorded there (pcapng), when given
 };
 
 struct SelfCheckReport {

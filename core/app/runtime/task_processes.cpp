@@ -77,8 +77,15 @@ int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
+// The joint manager's process also runs its storage worker, a thread at normal priority created
+// here (before the task's thread takes its real-time priority): the file is written off the period.
 int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("joint-manager", run_manager, manager_side_pass);
+  g_run.storage_stop.store(false, std::memory_order_relaxed);
+  std::thread storage(run_storage_worker);
+  const int status = task_process("joint-manager", run_manager, manager_side_pass);
+  g_run.storage_stop.store(true, std::memory_order_release);  // also when the task did not run
+  storage.join();
+  return status;
 }
 int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return task_process("message-parser", run_parser, nullptr);

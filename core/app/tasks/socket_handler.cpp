@@ -138,6 +138,11 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.latency = t.latency;
         }
       }
+      if (ports_.drops != nullptr) {
+        static_assert(kDropCounters <= protocol::kMaxDropCounters, "every drop counter fits the tasks message");
+        m.tasks.drop_count = static_cast<std::uint8_t>(kDropCounters);
+        for (std::size_t i = 0; i < kDropCounters; ++i) m.tasks.dropped[i] = (*ports_.drops)[i].load(std::memory_order_relaxed);
+      }
       break;
     case MessageType::get_diag:
       m.header.type = MessageType::diag;

@@ -52,6 +52,7 @@ struct SocketHandlerPorts {
   const Seqlock<MasterStatus>* master{nullptr};
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
+  const std::array<std::atomic<std::uint64_t>, kDropCounters>* drops{nullptr};  // the queues' drop counters (ctl tasks)
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
 };
 

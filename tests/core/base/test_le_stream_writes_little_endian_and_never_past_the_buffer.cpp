@@ -46,6 +46,10 @@ TEST(LeStream, WritesEveryWidthLittleEndianAndReadsItBack) {
   EXPECT_EQ(r.f64(), -1.5);
   EXPECT_TRUE(r.ok());
   EXPECT_EQ(r.size(), 29U);
+  EXPECT_EQ(r.peek(2), 0x03);  // looking back or ahead moves nothing and never fails
+  EXPECT_EQ(r.peek(29), 0);
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.size(), 29U);
 }
 
 TEST(LeStream, PatchesAtAnOffsetWithoutMovingOn) {

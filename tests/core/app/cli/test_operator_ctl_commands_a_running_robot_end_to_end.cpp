@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "core/app/links/run_control.hpp"
 #include "tests/support/operator_run.hpp"
 
 namespace rescue::app {
@@ -77,6 +78,19 @@ TEST(OperatorCtlEndToEnd, InitStatusDisableEnableHoldAsDocumented) {
   const CommandResult again = run.ctl({"enable", "l_elbow"});
   EXPECT_EQ(again.status, 1) << again.out;
   EXPECT_TRUE(has(again.out, "enable: refused: state machine refusal: l_elbow: enable in Enabled")) << again.out;
+
+  // Issue 21: `ctl tasks` reports what each bounded queue dropped (or deferred), text and --json.
+  const CommandResult tasks = run.ctl({"tasks"});
+  EXPECT_EQ(tasks.status, 0) << tasks.out;
+  const CommandResult tasks_json = run.ctl({"--json", "tasks"});
+  EXPECT_EQ(tasks_json.status, 0) << tasks_json.out;
+  const std::size_t queues = tasks_json.out.find("\"queues\":{");
+  ASSERT_NE(queues, std::string::npos) << tasks_json.out;
+  for (const char* name : kDropCounterNames) {
+    EXPECT_TRUE(has(tasks.out, std::string(" ") + name + " ")) << name << "\n" << tasks.out;
+    EXPECT_NE(testing::json_field(tasks_json.out.substr(queues), name), "") << name << "\n" << tasks_json.out;
+  }
+  EXPECT_EQ(testing::json_field(tasks_json.out.substr(queues), "outcomes_deferred"), "0") << tasks_json.out;
 
   EXPECT_EQ(run.stop(), 0) << run.output();
   EXPECT_TRUE(has(run.output(), "rescue-motion run: datagrams ")) << run.output();

@@ -152,9 +152,19 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   EXPECT_EQ(back.tasks.tasks[1].latency.min, 8U);
   EXPECT_EQ(back.tasks.tasks[1].latency.p999, 13U);
   EXPECT_EQ(back.tasks.tasks[1].latency.p9999, 0xFFFFFFFFU);
-  m.tasks.count = kMaxTasks;  // the largest tasks answer still fits one datagram
+  m.tasks.drop_count = 3;  // the queues' drop counters follow the task records
+  m.tasks.dropped[0] = 5;
+  m.tasks.dropped[2] = 0x0102030405060708ULL;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.tasks.drop_count, 3U);
+  EXPECT_EQ(back.tasks.dropped[0], 5U);
+  EXPECT_EQ(back.tasks.dropped[1], 0U);
+  EXPECT_EQ(back.tasks.dropped[2], 0x0102030405060708ULL);
+  m.tasks.count = kMaxTasks;  // the largest tasks answer (every task, every drop counter) still fits one datagram
+  m.tasks.drop_count = kMaxDropCounters;
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_EQ(back.tasks.count, kMaxTasks);
+  EXPECT_EQ(back.tasks.drop_count, kMaxDropCounters);
 }
 
 // ctl diag's answer (get_diag/diag): the largest answer (23 slaves) fits one datagram and every
