@@ -50,12 +50,18 @@ void EthercatHandler::build_outputs() noexcept {
     const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
-      out.target_position = drivers::rad_to_counts(references[j]);
+      reference_rad_[j] = references[j];
+      out.target_position = drivers::rad_to_counts(reference_rad_[j]);  // the one conversion, for the wire
     } else {
       out.controlword = drivers::controlword_towards_disabled(in.statusword);
       // A disabled drive's target follows its actual position, so enabling later moves nothing.
-      if (valid) out.target_position = in.position_actual;
+      if (valid) {
+        out.target_position = in.position_actual;
+        reference_rad_[j] = drivers::counts_to_rad(in.position_actual);
+      }
     }
+    // No velocity reference: the joints run in CSP, which takes positions; the fixed mapping's
+    // target velocity (0x60FF, for CSV) is sent 0, and so is the samples' velocity_ref_rad_s.
     out.target_velocity = 0;
     out.target_torque = 0;
   }
@@ -65,8 +71,8 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
   for (std::size_t j = 0; j < kJointCount; ++j) {
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
-    s.position_ref_rad = drivers::counts_to_rad(out.target_position);
-    s.velocity_ref_rad_s = drivers::counts_to_rad(out.target_velocity);
+    s.position_ref_rad = reference_rad_[j];
+    s.velocity_ref_rad_s = 0.0;
     s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
     const bool valid = (result.valid & joint_bit(j)) != 0;
     s.reachable = valid;
@@ -120,10 +126,10 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   const bool counting = op_seen_;
   if (result.state == ecat::MasterState::op) op_seen_ = true;
   if (counting) {
-    // A frame that did not come back says nothing about single joints (a late frame on a busy
-    // host): then only what the master has established as out of the exchange counts.
-    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid : result.out;
-    tracker_.on_cycle(result.cycle, now, unreachable);
+    // The master alone decides a loss (ecat/master/link_monitor.hpp): the joints it holds out of
+    // the exchange are reported; a joint merely invalid this cycle (a short working counter being
+    // probed, a late frame) is not.
+    tracker_.on_cycle(result.cycle, now, result.out);
     if (tracker_.reports_sent() != last_reports_sent_) {
       last_reports_sent_ = tracker_.reports_sent();
       HandlerEvent e{};

@@ -7,8 +7,9 @@
 //      stage, its worm gear holding;
 //   2. exchanges one frame with all slaves (drivers::JointBus: the master);
 //   3. publishes every joint's values (seqlock; an unreachable joint keeps its last values);
-//   4. reconfiguration steps 1 and 6 (LostJointTracker): unreachable joints are excluded at once,
-//      reported on a queue to the joint manager, and the healthy branches go on;
+//   4. reconfiguration steps 1 and 6 (LostJointTracker): the joints of the slaves the master took
+//      out of the exchange (its link monitor alone confirms a loss) are excluded at once, reported
+//      on a queue to the joint manager, and the healthy branches go on;
 //   5. its own limit check (decide_safe_stop): any monitored joint over a limit stops the robot
 //      safely, whatever the joint manager does: every drive disabled, worm gears holding;
 //   6. queues what happened (HandlerEvent) for a lower-priority logger to print.
@@ -97,6 +98,7 @@ class EthercatHandler {
   SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
   LostJointTracker tracker_;
   drivers::JointReferences outputs_{};
+  std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   drivers::JointFeedback feedback_{};
   RobotSample sample_{};
   RobotDemand demand_{};

@@ -207,28 +207,7 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
 
-  ControlRequest r;
-  r.type = h.type;
-  r.sender = h.sender;
-  r.sequence = h.sequence;
-  r.joints = m.joints.joints;
-  r.mode = m.joints.mode;
-  if (h.type == MessageType::move_effector) {
-    r.task = m.move.task;
-    r.effector = static_cast<std::uint8_t>(m.move.effector);
-    for (std::size_t i = 0; i < 3; ++i) {
-      r.pose[i] = m.move.position_m[i];
-      r.pose[i + 3] = m.move.rpy_rad[i];
-    }
-  } else if (h.type == MessageType::hand) {
-    r.task = m.hand.task;
-    r.effector = static_cast<std::uint8_t>(m.hand.hand);
-    r.action = static_cast<std::uint8_t>(m.hand.action);
-  } else if (h.type == MessageType::take_owner) {
-    r.task = m.owner.task;
-  }
-  r.reply_address = d.address;
-  r.reply_port = d.port;
+  const ControlRequest r = request_of(m, d.address, d.port);
   if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
     ++counters_.forwarded_dropped;
     refuse(h, protocol::RefusalReason::busy, "the message parser's queue is full; try again", d);
@@ -266,14 +245,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
   if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
   ControlReply reply;
   for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
-    Message m;
-    m.header.type = MessageType::reply;
-    m.reply.request_sequence = reply.request_sequence;
-    m.reply.request_type = reply.request_type;
-    m.reply.outcome = reply.outcome;
-    m.reply.reason = reply.reason;
-    m.reply.refused_joints = reply.refused_joints;
-    m.reply.text = reply.text;
+    Message m = message_of(reply);
     send(m, reply.reply_address, reply.reply_port);
   }
   if (ports_.counters != nullptr) ports_.counters->write(counters_);

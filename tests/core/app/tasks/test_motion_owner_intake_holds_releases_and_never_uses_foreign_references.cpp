@@ -30,7 +30,7 @@ struct Rig {
   void write(std::size_t task, double position, JointMask joints, bool complete = true) {
     ReferenceSpace& space = links->motion.references[task];
     space.begin();
-    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, position, 0.0);
+    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, position);
     links->rc_heartbeat_ns[task].store(now);
     if (!complete) return;
     const std::uint64_t word = links->motion.owner.word();
@@ -138,7 +138,7 @@ TEST(MotionIntake, ANonOwnersReferencesNeverReachAJoint) {
   (void)rig.links->motion.owner.take(1);
   ReferenceSpace& space = rig.links->motion.references[1];
   space.begin();
-  space.set(kElbow, 0.45, 0.0);
+  space.set(kElbow, 0.45);
   space.complete(old_word, 99, kAllJoints, rig.now);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.5);
   EXPECT_EQ(rig.intake.counters().foreign, 2U);
