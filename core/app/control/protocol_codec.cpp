@@ -261,12 +261,22 @@ Status decode_reply(ConstByteSpan payload, Message& m) noexcept {
   return Status::success();
 }
 
+// The 7 bytes after a status, slaves or master answer's first byte: FiguresAge.
+Status read_age(Reader& r, FiguresAge& age) noexcept {
+  const std::uint8_t flags = r.u8();
+  if (!r.zeros(2)) return malformed("reserved bytes not zero");
+  age.age_ms = r.u32();
+  if ((flags & ~kFiguresStale) != 0) return out_of_range("figures flags");
+  age.stale = (flags & kFiguresStale) != 0;
+  return Status::success();
+}
+
 Status decode_status(ConstByteSpan payload, Message& m) noexcept {
   RESCUE_TRY(check_length(payload, kStatusSize));
   Reader r(payload);
   m.status.cycle = r.u64();
   const std::uint8_t count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  RESCUE_TRY(read_age(r, m.status.age));
   if (count != kJointCount) return out_of_range("joint count");
   for (JointStatusRecord& j : m.status.joints) {
     j.state = r.u8();
@@ -288,7 +298,7 @@ Status decode_slaves(ConstByteSpan payload, Message& m) noexcept {
   if (payload.size() < kListHeadSize) return malformed("payload shorter than its list header", payload.size());
   Reader r(payload);
   m.slaves.count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  RESCUE_TRY(read_age(r, m.slaves.age));
   if (m.slaves.count > kMaxSlaves) return out_of_range("slave count");
   RESCUE_TRY(check_length(payload, kListHeadSize + m.slaves.count * kSlaveRecordSize));
   for (std::size_t i = 0; i < m.slaves.count; ++i) {
@@ -308,7 +318,7 @@ Status decode_master(ConstByteSpan payload, Message& m) noexcept {
   RESCUE_TRY(check_length(payload, kMasterSize));
   Reader r(payload);
   m.master.state = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  RESCUE_TRY(read_age(r, m.master.age));
   m.master.cycles = r.u64();
   m.master.frames_sent = r.u64();
   m.master.frames_lost = r.u64();
@@ -568,6 +578,14 @@ void encode_header(const Header& h, std::uint8_t* out) noexcept {
   w.u16(0);
 }
 
+namespace {
+void write_age(Writer& w, const FiguresAge& age) noexcept {
+  w.u8(age.stale ? kFiguresStale : std::uint8_t{0});
+  w.zeros(2);
+  w.u32(age.age_ms);
+}
+}  // namespace
+
 Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
   std::array<std::uint8_t, kMaxPayload> buf{};
   Writer w(buf.data());
@@ -637,7 +655,7 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::status:
       w.u64(m.status.cycle);
       w.u8(static_cast<std::uint8_t>(kJointCount));
-      w.zeros(7);
+      write_age(w, m.status.age);
       for (const JointStatusRecord& j : m.status.joints) {
         w.u8(j.state);
         w.u8(static_cast<std::uint8_t>(j.mode));
@@ -653,7 +671,7 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::slaves: {
       const std::size_t count = m.slaves.count <= kMaxSlaves ? m.slaves.count : kMaxSlaves;
       w.u8(static_cast<std::uint8_t>(count));
-      w.zeros(7);
+      write_age(w, m.slaves.age);
       for (std::size_t i = 0; i < count; ++i) {
         const SlaveRecord& s = m.slaves.slaves[i];
         w.u16(s.position);
@@ -667,7 +685,7 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     }
     case MessageType::master:
       w.u8(m.master.state);
-      w.zeros(7);
+      write_age(w, m.master.age);
       w.u64(m.master.cycles);
       w.u64(m.master.frames_sent);
       w.u64(m.master.frames_lost);

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 
 #include "core/app/config/firmware_config.hpp"
@@ -49,6 +50,10 @@ struct SocketHandlerPorts {
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
+  // The EtherCAT handler's heartbeat (TaskLinks::task_heartbeat_ns, the clock of step()'s `now`):
+  // status, slaves and master answers say how old its figures are, stale past `stale_after`.
+  const std::atomic<std::int64_t>* handler_heartbeat{nullptr};
+  hal::Nanoseconds stale_after{config::kTaskSilentAfterNs};
 };
 
 class SocketHandler {
@@ -84,6 +89,7 @@ class SocketHandler {
   void answer_query(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
+  protocol::FiguresAge handler_figures_age() const noexcept;
 
   SocketHandlerPorts ports_;
   protocol::Key key_;
@@ -96,6 +102,7 @@ class SocketHandler {
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
   std::size_t max_per_wakeup_{0};
+  hal::Nanoseconds now_{0};  // the current wake-up's
 };
 
 }  // namespace rescue::app

@@ -143,6 +143,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
   socket_ports.motion = &links().motion;
+  socket_ports.handler_heartbeat = &links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
+  socket_ports.stale_after = options.task_silent_after;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
