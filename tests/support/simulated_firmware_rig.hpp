@@ -34,10 +34,10 @@ struct SimulatedFirmware {
         demand(links->demand),
         manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand}) {}
 
-  bool bring_up(const ecat::MasterOptions& options = {}) {
+  bool bring_up(const ecat::MasterOptions& options = {}, const MotionIntakeSettings& intake = default_intake_settings()) {
     restored = manager.restore(rig->clock.now()).restored;
     if (!rig->bus.bring_up(options, restored).ok()) return false;
-    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
+    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored, intake);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
