@@ -94,9 +94,10 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
       const bool past_watchdog = c.task == static_cast<std::size_t>(StatTask::ethercat_handler) && c.silent_ns >= config::kDriveWatchdogNs;
       (void)std::printf("[%8.3f s] supervisor: %s runs again after %.1f ms without a period%s\n", at, kWatchedNames[c.task],
                         static_cast<double>(c.silent_ns) / 1e6,
-                        past_watchdog ? ": longer than the drives' watchdog; the handler re-arms them to OP, each drive "
-                                        "holding its actual position, and the joints stay disabled until the operator "
-                                        "enables them (docs/tasks.md \"Liveness\")"
+                        past_watchdog ? ": longer than the drives' watchdog; the handler re-arms them to OP and enables "
+                                        "them again, each holding its actual position; a Motion owner is released, so "
+                                        "the robot moves again only when the operator says (ctl owner N; docs/tasks.md "
+                                        "\"Liveness\")"
                                       : "");
       state.silent_tasks.fetch_and(~(1U << c.task), std::memory_order_relaxed);
     }

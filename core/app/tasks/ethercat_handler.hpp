@@ -54,7 +54,8 @@ class EthercatHandler {
 
   // `links` carries the queues and seqlocks shared with the joint manager; `restored_lost` the
   // joints the error-joints file lists (excluded from the first cycle on).
-  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept;
+  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+                  const MotionIntakeSettings& intake = default_intake_settings()) noexcept;
 
   // One period; call at bus().next_wakeup() once the bus is up.
   drivers::JointCycleResult cycle() noexcept;
@@ -68,6 +69,8 @@ class EthercatHandler {
   // Events for the logger (single consumer).
   [[nodiscard]] bool pop_event(HandlerEvent& out) noexcept { return events_.try_pop(out); }
   std::uint64_t events_dropped() const noexcept { return events_dropped_; }
+  // Motion owners released because the drives' watchdog expired during a silence of this handler.
+  std::uint64_t owners_released_after_watchdog() const noexcept { return owners_released_after_watchdog_; }
 
   const LostJointTracker& tracker() const noexcept { return tracker_; }
   drivers::JointBus& bus() noexcept { return bus_; }
@@ -100,6 +103,7 @@ class EthercatHandler {
   RobotDemand demand_{};
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
+  std::uint64_t owners_released_after_watchdog_{0};
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
   JointMask last_pending_{0};
@@ -108,6 +112,10 @@ class EthercatHandler {
   bool stopping_{false};
   bool drives_disabled_{false};
   bool safe_stopped_{false};
+  // Joints whose drives the SyncManager watchdog stopped during a silence of this handler (a stall
+  // longer than 100 ms): until each drive is enabled again its target is its actual position, so
+  // it comes back holding where it stands (docs/tasks.md "Liveness").
+  JointMask rest_after_watchdog_{0};
 };
 
 }  // namespace rescue::app

@@ -33,27 +33,15 @@ DeadOwnerStop stop_a_moving_joint(const MotionIntakeSettings& intake) {
   DeadOwnerStop out;
   testing::TempStateDir dir;
   SimulatedFirmware fw(dir.path);
-  EXPECT_TRUE(fw.rig->built.ok());
-  EXPECT_TRUE(fw.bring_up({}, intake));
-  fw.run_until_op();
-  fw.initialize_robot();
-  for (int i = 0; i < 100; ++i) fw.period();
-  EXPECT_EQ(fw.manager.statuses()[kElbow].state, fsm::JointState::enabled);
-  RobotSample sample{};
-  EXPECT_TRUE(fw.links->samples.try_read(sample));
-  double position = sample[kElbow].position_ref_rad;
-
+  EXPECT_TRUE(fw.start_enabled(intake));
+  double position = fw.sample_of(kElbow).position_ref_rad;
   // RC task 0 owns the motion and moves l_elbow at 1.2 rad/s for 0.5 s, one period per handler period.
   MotionLinks& motion = fw.links->motion;
   const std::uint64_t word = motion.owner.take(0);
-  ReferenceSpace& space = motion.references[0];
+  RobotSample sample{};
   for (int k = 0; k < 500; ++k) {
-    const hal::Nanoseconds now = fw.rig->bus.next_wakeup() - hal::kNsPerUs * 100;
     position += kSpeed * 0.001;
-    space.begin();
-    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, j == kElbow ? position : 0.0, 0.0);
-    space.complete(word, space.completed() + 1, joint_bit(kElbow), now);
-    fw.links->rc_heartbeat_ns[0].store(now);
+    fw.owner_period(0, word, kElbow, position);
     fw.period();
   }
   out.last_owner_reference = position;
