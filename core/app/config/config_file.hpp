@@ -46,6 +46,7 @@ struct ConfigFile {
   std::uint16_t sensor_port{0};
   bool has_auto_clear_power_cycled{false};
   bool auto_clear_power_cycled{false};  // `run --auto-clear-power-cycled`
+  std::uint32_t task_silent_ms{0};      // 0: not set (config::kTaskSilentAfterNs)
   std::array<ConfigTaskPlacement, kConfigTaskCount> tasks{};  // indexed by TaskId
 };
 
