@@ -9,9 +9,9 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
-#include "core/app/control/ctl_client.hpp"
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/protocol_codec.hpp"
+#include "core/app/operator_protocol/ctl_client.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
