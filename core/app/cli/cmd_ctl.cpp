@@ -118,8 +118,10 @@ void print_slaves(const Message& m, bool json) noexcept {
     print_age_json(m.slaves.age);
     (void)std::printf(",\"slaves\":[");
   }
-  if (!json) print_age_text(m.slaves.age);
-  if (!json) (void)std::printf("%-3s %-7s %-6s %-16s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE");
+  if (!json) {
+    print_age_text(m.slaves.age);
+    (void)std::printf("%-3s %-7s %-6s %-16s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE");
+  }
   for (std::size_t i = 0; i < m.slaves.count; ++i) {
     const protocol::SlaveRecord& s = m.slaves.slaves[i];
     const char* service = (s.flags & protocol::kSlaveLost) != 0            ? "lost"
