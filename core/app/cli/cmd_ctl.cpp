@@ -1,7 +1,11 @@
 // rescue-motion ctl: the operator client (docs/operator.md). Modelled on IgH's `ethercat` tool and
 // ros2_control's CLI: short verbs, readable tables, --json for scripts; exit status 0 only when the
 // robot accepted the command (or answered the query).
+#include <sys/time.h>
+#include <unistd.h>
+
 #include <cinttypes>
+#include <csignal>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +16,7 @@
 #include "core/app/operator_protocol/ctl_client.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
@@ -30,6 +35,7 @@ const OptionSpec kOptions[] = {
     {"port", "PORT", "control UDP port of the motion PC (default 47010)"},
     {"key", "FILE", "pre-shared key file (default <state dir>/operator.key)"},
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
+    {"robot", "ID", "the robot id expected (run's --robot-id); another robot at the address is refused (default: any)"},
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
     {"moved", nullptr, "clear: also confirm joints that returned away from their held position"},
@@ -199,7 +205,21 @@ void print_tasks(const Message& m, bool json) noexcept {
       print_figures_text("wake-up", t.latency);
     }
   }
-  if (json) (void)std::printf("]}\n");
+  // The queues between the tasks: what each dropped (or deferred) so far (docs/tasks.md).
+  if (json) {
+    (void)std::printf("],\"queues\":{");
+    for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+      (void)std::printf("%s\"%s\":%" PRIu64, i == 0 ? "" : ",", i < kDropCounters ? kDropCounterNames[i] : "unknown",
+                        m.tasks.dropped[i]);
+    }
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("queues:");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+    (void)std::printf(" %s %" PRIu64, i < kDropCounters ? kDropCounterNames[i] : "unknown", m.tasks.dropped[i]);
+  }
+  (void)std::printf("\n");
 }
 
 // The slave at the other end of the cable on `slave`'s `port` (ecat::cable_peer on the robot's plan).
@@ -309,6 +329,9 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> sender = args.integer("sender", 1, 1, 0xFFFFFFFFLL);
   if (!sender.ok()) return make_error(Errc::invalid_argument, "--sender must be 1..4294967295");
   t.sender = static_cast<std::uint32_t>(sender.value());
+  const Result<std::int64_t> robot = args.integer("robot", protocol::kAnyRobot, 0, 999'999'999);
+  if (!robot.ok()) return make_error(Errc::invalid_argument, "--robot must be 1..999999999");
+  t.robot = static_cast<std::uint32_t>(robot.value());
   const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
   if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
   t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
@@ -320,9 +343,10 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
     if (!p.ok()) return p.error();
     path = p.value();
   }
-  const Result<protocol::Key> key = protocol::load_key_file(path.c_str());
+  hal::FileProblem why;
+  const Result<protocol::Key> key = protocol::load_key_file(path.c_str(), why);
   if (!key.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: key file %s: %s\n", path.c_str(), key.error().what);
+    (void)std::fprintf(stderr, "rescue-motion ctl: key file refused: %s\n", why.c_str());
     return make_error(key.error().code, "the key file cannot be used");
   }
   t.key = key.value();
@@ -351,7 +375,12 @@ int keygen(const ParsedArgs& args) noexcept {
 int exchange_and_print(const char* verb, const CtlTarget& target, const Message& request, bool json) noexcept {
   const Result<Message> answer = ctl_exchange(target, request);
   if (!answer.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+    if (answer.error().code == Errc::refused) {  // another robot id than --robot
+      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: the robot at that address is robot %u, not robot %u (--robot)\n",
+                         verb, static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
+    } else {
+      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+    }
     return 1;
   }
   const Message& m = answer.value();
@@ -464,9 +493,36 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
   return make_error(Errc::invalid_argument, "unknown verb (see rescue-motion ctl --help)");
 }
 
+// The whole command within --timeout (docs/security.md): the exchange has its own deadline, and
+// this watchdog covers every other phase (the key and configuration files, the state directory),
+// so nothing found at a path and no system call can make ctl wait past it.
+void ctl_deadline_passed(int /*signal*/) {
+  static const char kText[] = "rescue-motion ctl: stopped: no result within --timeout (a file or the network blocked)\n";
+  (void)!::write(STDERR_FILENO, kText, sizeof kText - 1);
+  ::_exit(1);
+}
+
+void arm_ctl_deadline(double seconds) noexcept {
+  struct sigaction action {};
+  action.sa_handler = ctl_deadline_passed;
+  (void)::sigaction(SIGALRM, &action, nullptr);
+  itimerval timer{};
+  const double total = seconds + 0.5;  // the exchange's own deadline comes first
+  timer.it_value.tv_sec = static_cast<time_t>(total);
+  timer.it_value.tv_usec = static_cast<suseconds_t>((total - static_cast<double>(timer.it_value.tv_sec)) * 1e6);
+  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
+}
+
+void disarm_ctl_deadline() noexcept {
+  itimerval timer{};
+  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
+}
+
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
   if (!is_ctl_verb(verb)) return fail("ctl", "unknown verb (see rescue-motion ctl --help)");
+  const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
+  arm_ctl_deadline(deadline.ok() ? deadline.value() : 2.0);
   if (!protocol::init_crypto().ok()) return fail("ctl", "libsodium could not be initialised");
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
   const bool watch = std::strcmp(verb, "watch") == 0;
@@ -476,6 +532,7 @@ int ctl_main(const ParsedArgs& args) {
   if (!target.ok()) return fail("ctl", target.error().what);
   const bool json = args.has("json");
   if (!watch) return exchange_and_print(verb, target.value(), request.value(), json);
+  disarm_ctl_deadline();  // watch runs until --count: each exchange keeps its own deadline
   const Result<std::int64_t> count = args.integer("count", 0, 0, 1'000'000'000);
   const Result<double> interval = args.number("interval", 0.5, 0.05, 3600.0);
   if (!count.ok() || !interval.ok()) return fail("ctl", "watch: --count N and --interval SECONDS");

@@ -22,13 +22,14 @@ constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
 constexpr std::size_t kListHeadSize = 8;
 constexpr std::size_t kSlaveRecordSize = 32;
-constexpr std::size_t kMasterSize = 112;
+constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
+constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
+                  kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
               "every payload fits");
 
@@ -253,7 +254,7 @@ Status decode_reply(ConstByteSpan payload, Message& m) noexcept {
   if (!r.text(m.reply.text)) return malformed("reply text not NUL-terminated");
   if (!is_known(type)) return out_of_range("request type");
   if (outcome > 1) return out_of_range("outcome");
-  if (reason > static_cast<std::uint8_t>(RefusalReason::clear_refused)) return out_of_range("refusal reason");
+  if (reason > static_cast<std::uint8_t>(RefusalReason::sender_table_full)) return out_of_range("refusal reason");
   if ((m.reply.refused_joints & ~kAllJoints) != 0) return out_of_range("refused joint mask");
   m.reply.request_type = static_cast<MessageType>(type);
   m.reply.outcome = static_cast<Outcome>(outcome);
@@ -337,7 +338,11 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
   m.tasks.count = r.u8();
   if (!r.zeros(7)) return malformed("reserved bytes not zero");
   if (m.tasks.count > kMaxTasks) return out_of_range("task count");
-  RESCUE_TRY(check_length(payload, kListHeadSize + m.tasks.count * kTaskRecordSize));
+  const std::size_t drops_at = kListHeadSize + m.tasks.count * kTaskRecordSize;
+  if (payload.size() < drops_at + kListHeadSize) return malformed("payload shorter than its drop counters' header", payload.size());
+  const std::uint8_t drop_count = payload[drops_at];
+  if (drop_count > kMaxDropCounters) return out_of_range("drop counter count");
+  RESCUE_TRY(check_length(payload, drops_at + kListHeadSize + drop_count * 8U));
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     TaskRecord& t = m.tasks.tasks[i];
     if (!r.text(t.name)) return malformed("task name not NUL-terminated");
@@ -357,6 +362,9 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
       f->p9999 = r.u32();
     }
   }
+  m.tasks.drop_count = r.u8();
+  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) m.tasks.dropped[i] = r.u64();
   return Status::success();
 }
 
@@ -396,6 +404,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::get_master: return "get_master";
     case MessageType::get_tasks: return "get_tasks";
     case MessageType::get_diag: return "get_diag";
+    case MessageType::get_epoch: return "get_epoch";
     case MessageType::initialize: return "initialize";
     case MessageType::enable: return "enable";
     case MessageType::disable: return "disable";
@@ -414,6 +423,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::master: return "master";
     case MessageType::tasks: return "tasks";
     case MessageType::diag: return "diag";
+    case MessageType::epoch: return "epoch";
   }
   return "?";
 }
@@ -425,6 +435,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
     case MessageType::initialize:
     case MessageType::enable:
     case MessageType::disable:
@@ -443,6 +454,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::master:
     case MessageType::tasks:
     case MessageType::diag:
+    case MessageType::epoch:
       return true;
   }
   return false;
@@ -466,6 +478,8 @@ const char* to_string(Rejection reason) noexcept {
     case Rejection::replayed: return "replayed";
     case Rejection::out_of_range: return "out_of_range";
     case Rejection::unknown_type: return "unknown_type";
+    case Rejection::wrong_robot: return "wrong_robot";
+    case Rejection::sender_table_full: return "sender_table_full";
   }
   return "?";
 }
@@ -480,6 +494,7 @@ const char* to_string(RefusalReason reason) noexcept {
     case RefusalReason::busy: return "busy";
     case RefusalReason::bad_request: return "bad request";
     case RefusalReason::clear_refused: return "clear refused";
+    case RefusalReason::sender_table_full: return "sender table full";
   }
   return "?";
 }
@@ -508,10 +523,19 @@ Result<FrameView> parse_frame(ConstByteSpan datagram) noexcept {
   if (f.header.version != kVersion) return malformed("unsupported protocol version", f.header.version, kVersion);
   f.header.type = static_cast<MessageType>(p[5]);
   f.header.flags = p[6];
-  if (f.header.flags != 0 || p[7] != 0 || p[22] != 0 || p[23] != 0) return malformed("reserved header bytes not zero");
+  if (f.header.flags != 0 || p[7] != 0) return malformed("reserved header bytes not zero");
+  for (std::size_t i = 34; i < kHeaderSize; ++i) {
+    if (p[i] != 0) return malformed("reserved header bytes not zero");
+  }
   f.header.sender = load_le32(p + 8);
-  f.header.sequence = load_le64(p + 12);
-  f.header.payload_length = load_le16(p + 20);
+  f.header.robot = load_le32(p + 12);
+  f.header.epoch = load_le64(p + 16);
+  f.header.sequence = load_le64(p + 24);
+  f.header.payload_length = load_le16(p + 32);
+  // Only get_epoch may leave the robot and the epoch open; the robot's epoch answer never does.
+  const bool asks_epoch = f.header.type == MessageType::get_epoch;
+  if (asks_epoch && f.header.epoch != 0) return malformed("get_epoch with an epoch");
+  if (!asks_epoch && (f.header.epoch == 0 || f.header.robot == kAnyRobot)) return malformed("no robot id or no epoch");
   if (f.header.payload_length > kMaxPayload) {
     return make_error(Errc::capacity_exceeded, "payload length above the protocol's maximum", f.header.payload_length,
                       static_cast<std::uint32_t>(kMaxPayload));
@@ -538,6 +562,7 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
       s = check_length(payload, 0);
       break;
     case MessageType::initialize:
@@ -560,6 +585,10 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::master: s = decode_master(payload, m); break;
     case MessageType::tasks: s = decode_tasks(payload, m); break;
     case MessageType::diag: s = decode_diag(payload, m); break;
+    case MessageType::epoch:
+      s = check_length(payload, kEpochSize);
+      if (s.ok()) m.epoch.request_sequence = load_le64(payload.data());
+      break;
   }
   if (!s.ok()) return s.error();
   return m;
@@ -573,9 +602,11 @@ void encode_header(const Header& h, std::uint8_t* out) noexcept {
   w.u8(h.flags);
   w.u8(0);
   w.u32(h.sender);
+  w.u32(h.robot);
+  w.u64(h.epoch);
   w.u64(h.sequence);
   w.u16(h.payload_length);
-  w.u16(0);
+  w.zeros(6);
 }
 
 namespace {
@@ -595,6 +626,10 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
+      break;
+    case MessageType::epoch:
+      w.u64(m.epoch.request_sequence);
       break;
     case MessageType::initialize:
     case MessageType::enable:
@@ -718,6 +753,10 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
           w.u32(f->p9999);
         }
       }
+      const std::size_t drops = m.tasks.drop_count <= kMaxDropCounters ? m.tasks.drop_count : kMaxDropCounters;
+      w.u8(static_cast<std::uint8_t>(drops));
+      w.zeros(7);
+      for (std::size_t i = 0; i < drops; ++i) w.u64(m.tasks.dropped[i]);
       break;
     }
     case MessageType::diag: {

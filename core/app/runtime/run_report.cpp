@@ -83,6 +83,9 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
     if (m != 0) (void)std::printf("rescue-motion run: %s missed %" PRIu64 " cycles\n", kJoints[j].name, m);
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  (void)std::printf("rescue-motion run: queues:");
+  for (std::size_t i = 0; i < kDropCounters; ++i) (void)std::printf(" %s %" PRIu64, kDropCounterNames[i], state.dropped[i].load());
+  (void)std::printf("\n");
   print_task_health(operator_port);
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);
@@ -150,6 +153,10 @@ void print_run_summary(const RunSummary& s) noexcept {
   (void)std::printf("task_silences_reported: %" PRIu64 "\n", links().run.silences_reported.load());
   (void)std::printf("task_silence_report_age_max_ms: %.1f\n",
                     static_cast<double>(links().run.silence_report_age_max_ns.load()) / 1e6);
+  // The queues between the tasks: what each dropped (or deferred), run_control.hpp's DropCounter.
+  for (std::size_t i = 0; i < kDropCounters; ++i) {
+    (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], links().run.dropped[i].load(std::memory_order_relaxed));
+  }
   char names[kJointNamesCapacity];
   format_joint_names(s.lost, names, sizeof names);
   std::size_t lost_count = 0;

@@ -71,6 +71,8 @@ class EthercatHandler {
   std::uint64_t events_dropped() const noexcept { return events_dropped_; }
   // Motion owners released because the drives' watchdog expired during a silence of this handler.
   std::uint64_t owners_released_after_watchdog() const noexcept { return owners_released_after_watchdog_; }
+  // "Back after a power cycle" reports a full report queue could not take (no automatic clear then).
+  std::uint64_t power_cycle_reports_dropped() const noexcept { return power_cycle_reports_dropped_; }
 
   const LostJointTracker& tracker() const noexcept { return tracker_; }
   drivers::JointBus& bus() noexcept { return bus_; }
@@ -104,6 +106,7 @@ class EthercatHandler {
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
   std::uint64_t owners_released_after_watchdog_{0};
+  std::uint64_t power_cycle_reports_dropped_{0};
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
   JointMask last_pending_{0};

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/links/run_control.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 
@@ -60,15 +60,13 @@ void expect_rescue_scenario(const std::string& mode_option, const char* tasks_li
     ASSERT_NE(found, std::string::npos) << "missing, or out of order: " << line << "\n" << out.out;
     at = found;
   }
-  // Reconfiguration step 3 made the loss durable: the file in the state directory names the four
-  // joints behind the cut, and nothing else.
-  ErrorJointsFileStorage storage(dir.path.c_str());
-  const ErrorJointsLoad file = storage.load();
-  ASSERT_TRUE(file.file_present) << out.out;
-  EXPECT_TRUE(file.decoded.status.ok()) << out.out;
-  JointMask expected = 0;
-  for (const char* joint : {"l_elbow", "l_wrist_yaw", "l_wrist_pitch", "l_hand"}) expected |= joint_bit(joint_index_by_name(joint));
-  EXPECT_EQ(file.decoded.contents.joints(), expected) << out.out;
+  // The reconfiguration's outcome, as state: the error-joints file on disk holds the joints behind the
+  // cut (the log's "step 6" line goes through a queue that may drop under load; the file does not).
+  ErrorJointsFileStorage files(dir.path.c_str());
+  const ErrorJointsLoad load = files.load();
+  ASSERT_TRUE(load.file_present) << out.out;
+  EXPECT_TRUE(load.decoded.status.ok());
+  EXPECT_EQ(load.decoded.contents.joints(), joints_lost_by_link_failure_at(joint_index_by_name("l_elbow")));
   // The figures: the last lines.
   EXPECT_EQ(value_of(out.out, "clock"), std::string("wall (CLOCK_MONOTONIC); tasks: ") + tasks_line) << out.out;
   // The cut comes 3 s after OP, and the run stops once the rescue motion ended after it.
@@ -80,6 +78,7 @@ void expect_rescue_scenario(const std::string& mode_option, const char* tasks_li
     EXPECT_NE(value_of(out.out, std::string("page_faults_") + task), "") << task;
   }
   EXPECT_EQ(value_of(out.out, "heap_allocations_after_init"), "0") << out.out;
+  for (const char* queue : kDropCounterNames) EXPECT_NE(value_of(out.out, queue), "") << queue << "\n" << out.out;
   EXPECT_EQ(value_of(out.out, "joints_lost"), "4") << out.out;
   EXPECT_EQ(value_of(out.out, "joints_lost_names"), "l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand") << out.out;
   for (const char* reason : {"malformed", "oversized", "unauthenticated", "replayed", "out_of_range", "unknown_type"}) {
