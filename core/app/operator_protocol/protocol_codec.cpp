@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <type_traits>
 
 #include "core/base/le_stream.hpp"
 
@@ -332,13 +333,25 @@ void reply_fields(F& f, M& m) noexcept {
   f.check((m.reply.refused_joints & ~kAllJoints) == 0, "refused joint mask");
 }
 
+// How old a status, slaves or master answer's figures are (FiguresAge): flags (bit 0 stale), 2 reserved
+// bytes, the age in ms; in the 7 bytes after the answer's first field.
+template <typename F, typename A>
+void age_fields(F& f, A& age) noexcept {
+  std::uint8_t flags = age.stale ? kFiguresStale : std::uint8_t{0};
+  f.u8(flags);
+  f.reserved(2);
+  f.u32(age.age_ms);
+  f.check((flags & ~kFiguresStale) == 0, "figures flags");
+  if constexpr (!std::is_const_v<A>) age.stale = (flags & kFiguresStale) != 0;
+}
+
 template <typename F, typename M>
 void status_fields(F& f, M& m) noexcept {
   f.length(kStatusSize);
   f.u64(m.status.cycle);
   std::uint8_t count = kJointCount;  // on the wire for the reader; always every joint
   f.u8(count);
-  f.reserved(7);
+  age_fields(f, m.status.age);
   f.check(count == kJointCount, "joint count");
   for (auto& j : m.status.joints) {
     f.u8(j.state);
@@ -355,22 +368,28 @@ void status_fields(F& f, M& m) noexcept {
   }
 }
 
-// A list's head: its count (at most `max`) and 7 reserved bytes, then `head - 8` more bytes of the
-// caller's. Returns the records to walk; the caller checks the length they make.
+// A list's head: its count (at most `max`) and 7 bytes (`seven`: reserved, or a slaves answer's
+// FiguresAge), then `head - 8` more bytes of the caller's. Returns the records to walk; the caller
+// checks the length they make.
+template <typename F, typename C, typename Seven>
+std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const char* short_what,
+                      const char* count_what, Seven seven) noexcept {
+  f.at_least(head, short_what);
+  f.count(count, max);
+  seven();
+  f.check(count <= max, count_what);
+  return records(count, max);
+}
 template <typename F, typename C>
 std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const char* short_what,
                       const char* count_what) noexcept {
-  f.at_least(head, short_what);
-  f.count(count, max);
-  f.reserved(7);
-  f.check(count <= max, count_what);
-  return records(count, max);
+  return list_head(f, count, max, head, short_what, count_what, [&f] { f.reserved(7); });
 }
 
 template <typename F, typename M>
 void slaves_fields(F& f, M& m) noexcept {
   const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
-                                      "slave count");
+                                      "slave count", [&f, &m] { age_fields(f, m.slaves.age); });
   f.length(kListHeadSize + count * kSlaveRecordSize);
   for (std::size_t i = 0; i < count; ++i) {
     auto& s = m.slaves.slaves[i];
@@ -388,7 +407,7 @@ template <typename F, typename M>
 void master_fields(F& f, M& m) noexcept {
   f.length(kMasterSize);
   f.u8(m.master.state);
-  f.reserved(7);
+  age_fields(f, m.master.age);
   f.u64(m.master.cycles);
   f.u64(m.master.frames_sent);
   f.u64(m.master.frames_lost);

@@ -12,10 +12,11 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 
 }  // namespace
 
-EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept
+EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+                                 const MotionIntakeSettings& intake) noexcept
     : bus_(bus),
       links_(links),
-      intake_(links.motion, links.rc_heartbeat_ns, default_intake_settings()),
+      intake_(links.motion, links.rc_heartbeat_ns, intake),
       report_sink_(links.lost_reports),
       notice_source_(links.notices),
       tracker_(report_sink_, notice_source_, restored_lost) {
@@ -48,6 +49,19 @@ void EthercatHandler::build_outputs() noexcept {
     const drivers::JointInputs& in = feedback_.joints[j];
     const bool valid = (feedback_.valid & joint_bit(j)) != 0;
     const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    if (drive && (rest_after_watchdog_ & joint_bit(j)) != 0) {
+      // Back from the watchdog: enabled again where it stands, not where the reference was.
+      if (drivers::is_enabled(in.statusword)) {
+        rest_after_watchdog_ &= ~joint_bit(j);
+      } else {
+        intake_.rest_at(j, drivers::counts_to_rad(in.position_actual));
+        out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
+        out.target_position = in.position_actual;
+        out.target_velocity = 0;
+        out.target_torque = 0;
+        continue;
+      }
+    }
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
       reference_rad_[j] = references[j];
@@ -111,6 +125,16 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     e.joints = link.joints;
     e.link = link.link;
     post(e);
+    if (link.link.kind == ecat::LinkEventKind::watchdog_expired) {
+      // The drives stopped while this handler was silent longer than their watchdog: they come back
+      // holding their actual position, and the motion waits for the operator (docs/tasks.md
+      // "Liveness"): a Motion owner is released (`ctl owner N` takes it again).
+      rest_after_watchdog_ |= link.joints;
+      const std::uint64_t word = links_.motion.owner.word();
+      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && links_.motion.owner.release(word)) {
+        ++owners_released_after_watchdog_;
+      }
+    }
     if (link.link.kind == ecat::LinkEventKind::recovered && link.link.found[0] == ecat::kRecoveredAfterPowerLoss) {
       LostJointsReport back{};
       back.cycle = result.cycle;

@@ -51,6 +51,18 @@ void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t 
   if (control_.send_to(address, port, ConstByteSpan(out.data(), size.value())).ok()) ++counters_.replies_sent;
 }
 
+protocol::FiguresAge SocketHandler::handler_figures_age() const noexcept {
+  protocol::FiguresAge age;
+  if (ports_.handler_heartbeat == nullptr) return age;
+  const std::int64_t beat = ports_.handler_heartbeat->load(std::memory_order_acquire);
+  if (beat == 0) return age;  // before the handler's first period: no figures to age
+  const hal::Nanoseconds old = now_ > beat ? now_ - beat : 0;
+  const hal::Nanoseconds ms = old / hal::kNsPerMs;
+  age.age_ms = ms > 0xFFFFFFFF ? 0xFFFFFFFFU : static_cast<std::uint32_t>(ms);
+  age.stale = old > ports_.stale_after;
+  return age;
+}
+
 void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram& from) noexcept {
   Message m;
   RobotSample sample{};
@@ -65,6 +77,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_status:
       m.header.type = MessageType::status;
       m.status.cycle = have_master ? master.cycles : 0;
+      m.status.age = handler_figures_age();
       for (std::size_t j = 0; j < kJointCount; ++j) {
         protocol::JointStatusRecord& r = m.status.joints[j];
         if (have_status) {
@@ -89,6 +102,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_slaves:
       m.header.type = MessageType::slaves;
       m.slaves.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+      m.slaves.age = handler_figures_age();
       static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one slaves message");
       for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
         protocol::SlaveRecord& s = m.slaves.slaves[p];
@@ -111,6 +125,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_master:
       m.header.type = MessageType::master;
       m.master.state = master.state;
+      m.master.age = handler_figures_age();
       m.master.cycles = master.cycles;
       m.master.frames_sent = master.frames_sent;
       m.master.frames_lost = master.frames_lost;
@@ -227,6 +242,7 @@ void SocketHandler::refuse(const protocol::Header& request, protocol::RefusalRea
 }
 
 void SocketHandler::step(hal::Nanoseconds now) noexcept {
+  now_ = now;
   ++counters_.wakeups;
   std::size_t handled = 0;
   bool more = true;
