@@ -3,7 +3,10 @@
 #   1. install the Debian packages (toolchain/setup.sh)
 #   1b. README command 1 as a new user runs it: toolchain/run.sh --duration 3 (release build of the
 #      program, 3 s on the simulated robot), so the first command of the README can never break silently
-#   2. debug build + the whole GoogleTest suite through CTest
+#   1c. load: the end-to-end real-time tests (label `serial`: a real `rescue-motion run` on the wall
+#      clock) on the release build (the optimised program: the debug build proves logic, not timing),
+#      while stress-ng loads every CPU at normal priority; stress-ng is started and always stopped here
+#   2. debug build + the GoogleTest suite through CTest (every test but the `serial` ones: stage load)
 #   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
 #   3b. verify: release-flag build with GCC's stack usage and call graph + toolchain/rt_verify.py
 #      (deepest stack of each real-time period function, no allocation/lock/blocking call on it)
@@ -13,11 +16,11 @@
 #   7. aarch64 cross compile of the firmware libraries
 #   8. package: the Debian package (motion-pc preset), its contents, lintian, the installed binary as the
 #      service user on the simulated robot, the systemd unit (toolchain/package-check.sh, docs/deploy.md)
-# Stages can be chosen: toolchain/check.sh [setup] [run] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
+# Stages can be chosen: toolchain/check.sh [setup] [run] [load] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup run test analysis verify tsan asan fuzz cross package)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup run load test analysis verify tsan asan fuzz cross package)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
 
@@ -32,11 +35,33 @@ if want run; then
   bash toolchain/run.sh --duration 3
 fi
 
+if want load; then
+  banner "load: end-to-end real-time tests (serial) on the release build, every CPU loaded by stress-ng"
+  cmake --preset release >/dev/null
+  # The program and the serial tests only (the `serial_tests` target): the rest of the suite proves
+  # logic and runs in the debug stage.
+  cmake --build --preset release -j "$jobs" --target rescue-motion serial_tests
+  # Every CPU busy at normal priority (SCHED_OTHER, nice 0) plus a memory hog, in its own process
+  # group so that it is always stopped, whatever the tests do; --timeout bounds it should this
+  # script be killed before it can stop it.
+  setsid stress-ng --cpu 0 --vm 1 --vm-bytes 256M --timeout 30m --quiet &
+  stress_pid=$!
+  stop_stress() { kill -TERM -- "-$stress_pid" 2>/dev/null || true; wait "$stress_pid" 2>/dev/null || true; }
+  trap stop_stress EXIT
+  load_start=$(date +%s)
+  load_status=0
+  ctest --preset release -L serial || load_status=$?
+  stop_stress
+  trap - EXIT
+  echo "load: serial tests under stress-ng finished in $(( $(date +%s) - load_start )) s (status $load_status)"
+  [ "$load_status" -eq 0 ]
+fi
+
 if want test; then
-  banner "debug build + tests"
+  banner "debug build + tests (the serial ones run in stage load)"
   cmake --preset debug >/dev/null
   cmake --build --preset debug -j "$jobs"
-  ctest --preset debug -j "$jobs"
+  ctest --preset debug -j "$jobs" -LE serial
 fi
 
 if want analysis; then

@@ -47,10 +47,6 @@ constexpr void store_be16(std::uint8_t* p, std::uint16_t v) noexcept {
   p[0] = static_cast<std::uint8_t>(v >> 8);
   p[1] = static_cast<std::uint8_t>(v);
 }
-constexpr void store_be32(std::uint8_t* p, std::uint32_t v) noexcept {
-  store_be16(p, static_cast<std::uint16_t>(v >> 16));
-  store_be16(p + 2, static_cast<std::uint16_t>(v));
-}
 
 // Signed variants: two's complement through the unsigned form (well defined since C++20, and what
 // every supported compiler does in C++17).

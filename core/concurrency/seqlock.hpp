@@ -51,6 +51,11 @@ class Seqlock {
   Seqlock& operator=(Seqlock&&) = delete;
   ~Seqlock() = default;
 
+  // Single writer only: marks a write in progress ahead of write(), for a writer that builds its
+  // snapshot piece by piece. Readers get no snapshot until write() completes it; a writer that dies
+  // in between leaves none (try_read false), never a stale one presented as current.
+  void begin_write() noexcept { seq_.store(seq_.load(std::memory_order_relaxed) | 1U, std::memory_order_relaxed); }
+
   // Single writer only.
   void write(const T& value) noexcept {
     std::array<std::uint64_t, kWords> words{};

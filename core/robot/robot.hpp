@@ -45,6 +45,15 @@ struct JointLimits {
   double torque_max_nm;
 };
 
+// The deceleration a joint's reference may ask for when the joint is brought to rest without the
+// task that moved it (the EtherCAT handler's motion intake after an owner's missed deadline or death,
+// docs/motion-owner.md): from its velocity limit to rest in kStopFromVelocityLimitS. Below what every
+// drive can follow (the simulated drives reach their velocity limit in 0.2 s).
+constexpr double kStopFromVelocityLimitS = 0.25;
+constexpr double deceleration_limit_rad_s2(const JointLimits& limits) noexcept {
+  return limits.velocity_max_rad_s / kStopFromVelocityLimitS;
+}
+
 struct JointInfo {
   const char* name;
   Branch branch;

@@ -228,7 +228,6 @@ class StateMachine {
   bool apply(Command command) noexcept;
   std::uint32_t refused_count() const noexcept { return machine_.refused_count(); }
   std::uint8_t last_transition() const noexcept { return last_transition_; }
-  std::uint16_t previous_controlword() const noexcept { return previous_controlword_; }
   // Guard of transition 15: a fault reset is refused while the fault's cause is still present.
   void set_fault_reset_allowed(bool allowed) noexcept { context_.fault_cause_persists = !allowed; }
 

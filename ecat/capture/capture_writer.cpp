@@ -3,11 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
 
 #include "core/base/endian.hpp"
+#include "core/base/le_stream.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -16,27 +18,16 @@ using namespace capture;  // NOLINT(google-build-using-namespace): the format's 
 
 constexpr std::size_t pad4(std::size_t n) noexcept { return (n + 3) & ~std::size_t{3}; }
 
-// Appends little-endian block fields to a buffer whose capacity the caller has checked.
-class BlockPacker {
+// pcapng blocks on the one little-endian writer (core/base/le_stream.hpp): a block's type and
+// length fields around its body, options, and bytes zero-padded to a multiple of 4. The buffer
+// holds the largest block (kMaxBlockSize), so the writer never fails.
+class BlockPacker : public LeWriter {
  public:
-  explicit BlockPacker(std::uint8_t* out) noexcept : out_(out) {}
-  void u16(std::uint16_t v) noexcept {
-    store_le16(out_ + size_, v);
-    size_ += 2;
-  }
-  void u32(std::uint32_t v) noexcept {
-    store_le32(out_ + size_, v);
-    size_ += 4;
-  }
-  void u64(std::uint64_t v) noexcept {
-    store_le64(out_ + size_, v);
-    size_ += 8;
-  }
+  using LeWriter::LeWriter;
   // Bytes, zero-padded to a multiple of 4.
   void padded(const std::uint8_t* data, std::size_t n) noexcept {
-    if (n > 0) std::memcpy(out_ + size_, data, n);
-    std::memset(out_ + size_ + n, 0, pad4(n) - n);
-    size_ += pad4(n);
+    bytes(data, n);
+    zeros(pad4(n) - n);
   }
   void option(std::uint16_t code, const std::uint8_t* value, std::size_t n) noexcept {
     u16(code);
@@ -45,21 +36,18 @@ class BlockPacker {
   }
   // Starts a block: type and a length placeholder.
   void begin(std::uint32_t type) noexcept {
-    start_ = size_;
+    start_ = size();
     u32(type);
     u32(0);
   }
   // Ends the block: trailing length, and the leading one patched.
   void end() noexcept {
-    const auto total = static_cast<std::uint32_t>(size_ - start_ + kBlockTrailerSize);
+    const auto total = static_cast<std::uint32_t>(size() - start_ + kBlockTrailerSize);
     u32(total);
-    store_le32(out_ + start_ + 4, total);
+    u32_at(start_ + 4, total);
   }
-  std::size_t size() const noexcept { return size_; }
 
  private:
-  std::uint8_t* out_;
-  std::size_t size_{0};
   std::size_t start_{0};
 };
 
@@ -85,7 +73,7 @@ Status CaptureWriter::open(const char* path, const CaptureWriterOptions& options
   good_size_ = 0;
   stats_ = CaptureWriterStats{};
 
-  BlockPacker p(block_.data());
+  BlockPacker p{ByteSpan(block_)};
   p.begin(kBlockSectionHeader);
   p.u32(kByteOrderMagic);
   p.u16(kPcapngMajor);
@@ -108,6 +96,7 @@ Status CaptureWriter::open(const char* path, const CaptureWriterOptions& options
   p.u32(kOptEndOfOptions);
   p.end();
 
+  assert(p.ok());  // block_ holds the largest block
   if (!write_block(p.size())) {
     const int error = stats_.last_errno;
     (void)::close(fd_);
@@ -128,7 +117,7 @@ void CaptureWriter::record(ConstByteSpan frame, hal::Nanoseconds timestamp, Fram
   const hal::Nanoseconds unix_ns = timestamp + offset_;
   const std::uint64_t ts = unix_ns > 0 ? static_cast<std::uint64_t>(unix_ns) : 0;
 
-  BlockPacker p(block_.data());
+  BlockPacker p{ByteSpan(block_)};
   p.begin(kBlockEnhancedPacket);
   p.u32(0);  // interface 0
   p.u32(static_cast<std::uint32_t>(ts >> 32));
@@ -143,6 +132,7 @@ void CaptureWriter::record(ConstByteSpan frame, hal::Nanoseconds timestamp, Fram
     p.u32(kOptEndOfOptions);
   }
   p.end();
+  assert(p.ok());  // block_ holds the largest block
   if (write_block(p.size())) ++stats_.frames_written;
 }
 

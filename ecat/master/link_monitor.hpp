@@ -166,7 +166,6 @@ class LinkMonitor {
   // It could not be brought back to OP: out of the exchange, reported not operational.
   void rearm_failed(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint16_t al_status,
                     std::uint16_t al_code) noexcept;
-  SlaveMask watchdog_checks() const noexcept { return watchdog_check_; }
   // Watchdog checks started, and slaves found in SAFE-OP by their watchdog.
   std::uint64_t watchdog_check_rounds() const noexcept { return watchdog_check_rounds_; }
   std::uint64_t watchdog_expiries() const noexcept { return watchdog_expiries_; }

@@ -209,6 +209,10 @@ class Master {
   // inputs after (only those of `valid` slaves are fresh).
   CycleResult cycle() noexcept;
   hal::Nanoseconds next_wakeup() const noexcept { return next_wakeup_; }
+  // Moves next_wakeup() to the first period start after now, in the same phase, without counting the
+  // periods passed as skipped: call once before the first cycle of a periodic loop that starts some
+  // time after the bring-up (that time is start-up, not missed periods).
+  void realign_schedule() noexcept;
   MasterState state() const noexcept { return state_; }
   std::uint64_t cycles() const noexcept { return cycle_; }
   // Periods that had no cycle: a cycle that ended (or a wake-up that came) after the next period's

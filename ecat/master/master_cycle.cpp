@@ -192,6 +192,12 @@ void Master::step_op_transition(CycleResult& result) noexcept {
   result.state = state_;
 }
 
+void Master::realign_schedule() noexcept {
+  const hal::Nanoseconds now = link_.clock().now();
+  if (next_wakeup_ > now || options_.cycle_time <= 0) return;
+  next_wakeup_ += ((now - next_wakeup_) / options_.cycle_time + 1) * options_.cycle_time;
+}
+
 CycleResult Master::cycle() noexcept {
   CycleResult result;
   result.cycle = ++cycle_;

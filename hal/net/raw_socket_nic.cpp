@@ -248,10 +248,7 @@ Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
     return os_error("recvmsg() on the raw socket failed");
   }
   auto length = static_cast<std::size_t>(got);
-  if (from.sll_pkttype == PACKET_OUTGOING) {
-    ++outgoing_ignored_;
-    return std::size_t{0};
-  }
+  if (from.sll_pkttype == PACKET_OUTGOING) return std::size_t{0};  // our own frame (without PACKET_IGNORE_OUTGOING)
   if (length > buffer.size() || !restore_vlan_tag(message, buffer, length)) {
     ++stats_.frames_dropped;
     return std::size_t{0};

@@ -91,8 +91,6 @@ class RawSocketNic final : public Nic {
   // Changes the receive spin (RawSocketSettings::receive_spin) of an open socket.
   void set_receive_spin(Nanoseconds spin) noexcept { receive_spin_ = spin < 0 ? 0 : spin; }
   Nanoseconds receive_spin() const noexcept { return receive_spin_; }
-  // Our own outgoing frames the kernel still showed us (only without PACKET_IGNORE_OUTGOING).
-  std::uint64_t outgoing_frames_ignored() const noexcept { return outgoing_ignored_; }
 
  private:
   Status configure(const char* interface_name, const RawSocketSettings& settings) noexcept;
@@ -105,7 +103,6 @@ class RawSocketNic final : public Nic {
   std::array<char, 4 + kMaxInterfaceNameLength + 1> name_{};  // "raw:" + interface name
   RawSocketFeatures features_{};
   NicStats stats_{};
-  std::uint64_t outgoing_ignored_{0};
   Nanoseconds receive_spin_{0};
 };
 

@@ -43,10 +43,10 @@ struct SimulatedFirmware {
     return p;
   }
 
-  bool bring_up(const ecat::MasterOptions& options = {}) {
+  bool bring_up(const ecat::MasterOptions& options = {}, const MotionIntakeSettings& intake = default_intake_settings()) {
     restored = manager.restore(rig->clock.now()).restored;
     if (!rig->bus.bring_up(options, restored).ok()) return false;
-    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored);
+    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored, intake);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
@@ -63,6 +63,30 @@ struct SimulatedFirmware {
   }
   void initialize_robot() {
     for (const JointCommand& c : initialize_robot_commands(kAllJoints & ~restored)) ASSERT_TRUE(parser.try_send(c));
+  }
+  // Brought up, in OP, every joint initialized and enabled (100 periods); false when the bring-up failed.
+  bool start_enabled(const MotionIntakeSettings& intake = default_intake_settings()) {
+    if (!rig->built.ok() || !bring_up({}, intake)) return false;
+    run_until_op();
+    initialize_robot();
+    for (int i = 0; i < 100; ++i) period();
+    return true;
+  }
+  // The latest published sample of `joint` (the handler's seqlock).
+  JointSample sample_of(std::size_t joint) const {
+    RobotSample s{};
+    (void)links->samples.try_read(s);
+    return s[joint];
+  }
+  // RC task `task` completes one period under owner word `word` commanding `joint` at `position_rad`,
+  // just before the handler's next period (its heartbeat too).
+  void owner_period(std::size_t task, std::uint64_t word, std::size_t joint, double position_rad) {
+    const hal::Nanoseconds now = rig->bus.next_wakeup() - 100 * hal::kNsPerUs;
+    ReferenceSpace& space = links->motion.references[task];
+    space.begin();
+    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, j == joint ? position_rad : 0.0, 0.0);
+    space.complete(word, space.completed() + 1, joint_bit(joint), now);
+    links->rc_heartbeat_ns[task].store(now);
   }
 
   std::unique_ptr<rescue::testing::SimulatedRobotRig> rig = std::make_unique<rescue::testing::SimulatedRobotRig>();

@@ -69,9 +69,22 @@ const char* master_state_name(std::uint8_t s) noexcept {
   return s <= 4 ? ecat::to_string(static_cast<ecat::MasterState>(s)) : "?";
 }
 
+// The age of the EtherCAT handler's figures (protocol::FiguresAge): JSON members, or a text line when
+// they are stale (the handler completed no period for longer than the liveness limit).
+void print_age_json(const protocol::FiguresAge& age) noexcept {
+  (void)std::printf("\"age_ms\":%" PRIu32 ",\"stale\":%s", age.age_ms, age.stale ? "true" : "false");
+}
+void print_age_text(const protocol::FiguresAge& age) noexcept {
+  if (!age.stale) return;
+  (void)std::printf("STALE: the EtherCAT handler has completed no period for %" PRIu32
+                    " ms; these figures are that old\n", age.age_ms);
+}
+
 void print_status(const Message& m, bool json) noexcept {
   if (json) {
-    (void)std::printf("{\"cycle\":%" PRIu64 ",\"joints\":[", m.status.cycle);
+    (void)std::printf("{\"cycle\":%" PRIu64 ",", m.status.cycle);
+    print_age_json(m.status.age);
+    (void)std::printf(",\"joints\":[");
     for (std::size_t j = 0; j < kJointCount; ++j) {
       const protocol::JointStatusRecord& r = m.status.joints[j];
       (void)std::printf("%s{\"name\":\"%s\",\"state\":\"%s\",\"mode\":\"%s\",\"reachable\":%s,\"lost\":%s,"
@@ -85,6 +98,7 @@ void print_status(const Message& m, bool json) noexcept {
     (void)std::printf("]}\n");
     return;
   }
+  print_age_text(m.status.age);
   (void)std::printf("cycle %" PRIu64 "\n", m.status.cycle);
   (void)std::printf("%-2s %-16s %-10s %-4s %12s %12s %10s  %-24s %s\n", "#", "JOINT", "STATE", "MODE", "POS(rad)",
                     "VEL(rad/s)", "TORQUE(Nm)", "FAULT", "OWNER");
@@ -105,8 +119,15 @@ void print_status(const Message& m, bool json) noexcept {
 }
 
 void print_slaves(const Message& m, bool json) noexcept {
-  if (json) (void)std::printf("{\"slaves\":[");
-  if (!json) (void)std::printf("%-3s %-7s %-6s %-16s %-16s %-12s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE", "RECOVERY", "CHANGED");
+  if (json) {
+    (void)std::printf("{");
+    print_age_json(m.slaves.age);
+    (void)std::printf(",\"slaves\":[");
+  }
+  if (!json) {
+    print_age_text(m.slaves.age);
+    (void)std::printf("%-3s %-7s %-6s %-16s %-16s %-12s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE", "RECOVERY", "CHANGED");
+  }
   for (std::size_t i = 0; i < m.slaves.count; ++i) {
     const protocol::SlaveRecord& s = m.slaves.slaves[i];
     const char* service = (s.flags & protocol::kSlaveLost) != 0            ? "lost"
@@ -135,7 +156,9 @@ void print_slaves(const Message& m, bool json) noexcept {
 void print_master(const Message& m, bool json) noexcept {
   const protocol::MasterPayload& p = m.master;
   if (json) {
-    (void)std::printf("{\"state\":\"%s\",\"cycles\":%" PRIu64 ",\"frames_sent\":%" PRIu64 ",\"frames_lost\":%" PRIu64
+    (void)std::printf("{");
+    print_age_json(p.age);
+    (void)std::printf(",\"state\":\"%s\",\"cycles\":%" PRIu64 ",\"frames_sent\":%" PRIu64 ",\"frames_lost\":%" PRIu64
                       ",\"late_periods\":%" PRIu64 ",\"dc_deviation_ns\":%" PRId64 ",\"dc_max_deviation_ns\":%" PRId64
                       ",\"datagrams_accepted\":%" PRIu64 ",\"rejected\":{",
                       master_state_name(p.state), p.cycles, p.frames_sent, p.frames_lost, p.late_periods,
@@ -147,6 +170,7 @@ void print_master(const Message& m, bool json) noexcept {
     (void)std::printf("}}\n");
     return;
   }
+  print_age_text(p.age);
   (void)std::printf("state: %s\ncycles: %" PRIu64 "\nframes sent: %" PRIu64 "\nframes late or lost: %" PRIu64
                     "\nlate periods: %" PRIu64 "\nDC deviation: %" PRId64 " ns (max %" PRId64 " ns)\n"
                     "datagrams accepted: %" PRIu64 "\n",

@@ -128,6 +128,7 @@ int run_main(const ParsedArgs& args) {
   options.initialize = args.has("initialize");
   options.threads = args.has("threads");
   options.auto_clear_power_cycled = args.has("auto-clear-power-cycled") || g_config.auto_clear_power_cycled;
+  if (g_config.task_silent_ms != 0) options.task_silent_after = static_cast<hal::Nanoseconds>(g_config.task_silent_ms) * hal::kNsPerMs;
   if (args.value("clear-joint") != nullptr) {
     const Result<JointMask> clear = parse_joint_names(args.value("clear-joint"));
     if (!clear.ok()) {

@@ -56,8 +56,8 @@ constexpr TaskSection kSections[] = {
 constexpr const char* kSectionNames =
     "[ethercat_handler], [joint_manager], [rc_tasks], [socket_handler], [message_parser]";
 constexpr const char* kTopKeys =
-    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled (before any "
-    "section)";
+    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled, "
+    "task_silent_ms (before any section)";
 constexpr const char* kCpuRange = "0..1023";
 
 class Parser {
@@ -175,6 +175,13 @@ class Parser {
         return fail(key, "not a boolean", "true or false");
       }
       out_.has_auto_clear_power_cycled = true;
+    } else if (key.equals("task_silent_ms")) {
+      // The supervisor's liveness limit (docs/tasks.md "Liveness"): above host jitter, below the
+      // drives' 100 ms watchdog by default; up to 10 s allowed for slow hosts and debugging.
+      std::int64_t n = 0;
+      if (!first_time(key, seen_.task_silent_ms)) return;
+      if (!parse_integer(value, n) || n < 2 || n > 10000) return fail(key, "not a time in range", "whole ms, 2..10000");
+      out_.task_silent_ms = static_cast<std::uint32_t>(n);
     } else if (key.equals("priority") || key.equals("cpu")) {
       fail(key, "task key outside a task section", kSectionNames);
     } else {
@@ -321,7 +328,8 @@ class Parser {
   const TaskSection* section_{nullptr};
   std::array<bool, kConfigTaskCount> seen_section_{};
   struct Seen {
-    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled;
+    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled,
+        task_silent_ms;
   } seen_{};
 };
 

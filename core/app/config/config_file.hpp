@@ -48,6 +48,7 @@ struct ConfigFile {
   std::uint32_t robot_id{0};  // this robot's identity in every datagram (docs/protocol.md), 1..999999999
   bool has_auto_clear_power_cycled{false};
   bool auto_clear_power_cycled{false};  // `run --auto-clear-power-cycled`
+  std::uint32_t task_silent_ms{0};      // 0: not set (config::kTaskSilentAfterNs)
   std::array<ConfigTaskPlacement, kConfigTaskCount> tasks{};  // indexed by TaskId
 };
 

@@ -82,4 +82,13 @@ constexpr std::int64_t kOwnerReferenceDeadlineNs = 2'000'000;
 // owner's last period), holding position from its first missed deadline on.
 constexpr std::int64_t kOwnerDeadAfterPeriods = 50;
 
+// --- Liveness (docs/tasks.md "Liveness") --------------------------------------------------------
+// The supervisor reports a real-time task that has completed no period for this long (its heartbeat,
+// TaskLinks::task_heartbeat_ns): far above a SCHED_FIFO task's wake-up jitter on a loaded host (a
+// few ms), far below the drives' SyncManager watchdog (kDriveWatchdogNs). `run --config`: the
+// `[supervisor]` section's `task_silent_ms`.
+constexpr std::int64_t kTaskSilentAfterNs = 30'000'000;
+// The drives' SyncManager watchdog: without a frame for this long they disable their outputs.
+constexpr std::int64_t kDriveWatchdogNs = 100'000'000;
+
 }  // namespace rescue::app::config

@@ -12,6 +12,18 @@
 
 namespace rescue::app {
 
+enum class RcInputKind : std::uint8_t { end_effector_target, hand, take_ownership };
+
+// Message parser -> one RC task's input queue.
+struct RcTaskInput {
+  RcInputKind kind{RcInputKind::end_effector_target};
+  std::uint8_t effector{0};        // protocol::Effector
+  std::uint8_t action{0};          // protocol::HandAction
+  std::array<double, 6> pose{};    // x, y, z (m), roll, pitch, yaw (rad), robot base frame
+  std::uint64_t sequence{0};       // the operator's request
+};
+static_assert(std::is_trivially_copyable_v<RcTaskInput>, "queued as bytes");
+
 // An authentic, decoded operator request (socket handler or runtime -> message parser).
 struct ControlRequest {
   protocol::MessageType type{protocol::MessageType::get_status};
@@ -20,9 +32,7 @@ struct ControlRequest {
   JointMask joints{0};
   ControlMode mode{ControlMode::none};
   std::uint8_t task{0};      // RC task index (move, hand, owner)
-  std::uint8_t effector{0};  // protocol::Effector (move: effector; hand: which hand)
-  std::uint8_t action{0};    // protocol::HandAction
-  std::array<double, 6> pose{};  // move: x, y, z (m), roll, pitch, yaw (rad)
+  RcTaskInput rc{};          // move, hand: what the RC task takes (effector, action, pose), passed on whole
   std::uint32_t reply_address{0};  // IPv4, network byte order (0: a local request)
   std::uint16_t reply_port{0};     // host byte order
 };
@@ -41,18 +51,6 @@ struct ControlReply {
   std::array<char, protocol::kReplyTextSize> text{};
 };
 static_assert(std::is_trivially_copyable_v<ControlReply>, "queued as bytes");
-
-enum class RcInputKind : std::uint8_t { end_effector_target, hand, take_ownership };
-
-// Message parser -> one RC task's input queue.
-struct RcTaskInput {
-  RcInputKind kind{RcInputKind::end_effector_target};
-  std::uint8_t effector{0};        // protocol::Effector
-  std::uint8_t action{0};          // protocol::HandAction
-  std::array<double, 6> pose{};    // x, y, z (m), roll, pitch, yaw (rad), robot base frame
-  std::uint64_t sequence{0};       // the operator's request
-};
-static_assert(std::is_trivially_copyable_v<RcTaskInput>, "queued as bytes");
 
 // Seqlock records are trivial (no member initialisers): value-initialise them.
 // Sensor data from the two other robot computers (socket handler -> RC tasks), SI units.
@@ -112,5 +110,47 @@ struct TaskStat {
   std::uint64_t spare;      // 0: makes Seqlock<TaskStat> 128 bytes, so TaskLinks' slots stay cache-line multiples
 };
 static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
+
+// The one conversion each way between the wire's messages and the tasks' records.
+// An authentic, decoded request (`m`) from reply_address:reply_port -> the parser's record; the
+// operator's pose is converted here, once, into the RC task's input form.
+inline ControlRequest request_of(const protocol::Message& m, std::uint32_t reply_address, std::uint16_t reply_port) noexcept {
+  ControlRequest r;
+  r.type = m.header.type;
+  r.sender = m.header.sender;
+  r.sequence = m.header.sequence;
+  r.joints = m.joints.joints;
+  r.mode = m.joints.mode;
+  if (m.header.type == protocol::MessageType::move_effector) {
+    r.task = m.move.task;
+    r.rc.effector = static_cast<std::uint8_t>(m.move.effector);
+    for (std::size_t i = 0; i < 3; ++i) {
+      r.rc.pose[i] = m.move.position_m[i];
+      r.rc.pose[i + 3] = m.move.rpy_rad[i];
+    }
+  } else if (m.header.type == protocol::MessageType::hand) {
+    r.task = m.hand.task;
+    r.rc.effector = static_cast<std::uint8_t>(m.hand.hand);
+    r.rc.action = static_cast<std::uint8_t>(m.hand.action);
+  } else if (m.header.type == protocol::MessageType::take_owner) {
+    r.task = m.owner.task;
+  }
+  r.reply_address = reply_address;
+  r.reply_port = reply_port;
+  return r;
+}
+
+// The parser's answer -> the reply message to send.
+inline protocol::Message message_of(const ControlReply& reply) noexcept {
+  protocol::Message m;
+  m.header.type = protocol::MessageType::reply;
+  m.reply.request_sequence = reply.request_sequence;
+  m.reply.request_type = reply.request_type;
+  m.reply.outcome = reply.outcome;
+  m.reply.reason = reply.reason;
+  m.reply.refused_joints = reply.refused_joints;
+  m.reply.text = reply.text;
+  return m;
+}
 
 }  // namespace rescue::app

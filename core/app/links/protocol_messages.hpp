@@ -195,8 +195,20 @@ constexpr std::uint8_t kFlagLost = 0x04;
 constexpr std::uint8_t kFlagDriveFault = 0x08;
 constexpr std::uint8_t kJointFlagsMask = 0x0F;
 
+// How old the EtherCAT handler's figures of a status, slaves or master answer are: the time since the
+// handler's latest period (its heartbeat, TaskLinks::task_heartbeat_ns) when the socket handler
+// answered, and whether that is past the liveness limit (docs/tasks.md "Liveness"): the handler is
+// silent and the figures are stale. On the wire: flags (bit 0 stale), 2 zero bytes, age in ms (u32,
+// saturated).
+struct FiguresAge {
+  bool stale{false};
+  std::uint32_t age_ms{0};
+};
+constexpr std::uint8_t kFiguresStale = 0x01;
+
 struct StatusPayload {
   std::uint64_t cycle{0};  // the EtherCAT handler cycle of the values
+  FiguresAge age{};
   std::array<JointStatusRecord, kJointCount> joints{};
 };
 
@@ -216,11 +228,13 @@ constexpr std::uint8_t kSlaveFlagsMask = 0x07;
 
 struct SlavesPayload {
   std::uint8_t count{0};
+  FiguresAge age{};
   std::array<SlaveRecord, kMaxSlaves> slaves{};
 };
 
 struct MasterPayload {
   std::uint8_t state{0};               // ecat::MasterState
+  FiguresAge age{};
   std::uint64_t cycles{0};
   std::uint64_t frames_sent{0};
   std::uint64_t frames_lost{0};        // late or lost

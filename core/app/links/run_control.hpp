@@ -78,6 +78,11 @@ struct RunControl {
   std::atomic<std::uint32_t> lost_joints;   // JointMask
   std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
   std::atomic<bool> file_dirty;
+  // Supervisor's liveness watch (runtime/liveness_watch.hpp) -> run summary: the tasks silent now
+  // (bit k = StatTask k), silences reported, and the largest heartbeat age at a report.
+  std::atomic<std::uint32_t> silent_tasks;
+  std::atomic<std::uint64_t> silences_reported;
+  std::atomic<std::int64_t> silence_report_age_max_ns;
   // Socket handler -> supervisor: the most datagrams one wake-up handled (budget: SocketHandler::kBudget).
   std::atomic<std::uint64_t> socket_max_per_wakeup;
   std::array<TaskHealth, kRunHealthSlots> health;         // StatTask order

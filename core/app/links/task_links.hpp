@@ -29,6 +29,10 @@ enum class StatTask : std::uint8_t {
 };
 constexpr std::size_t kTaskStatSlots = 6;
 static_assert(kTaskStatSlots == kRunHealthSlots, "one health slot per StatTask (run_control.hpp)");
+// TaskLinks::task_heartbeat_ns: one slot per StatTask, rounded up to a cache line of int64 (the two
+// spare slots stay 0) so that the queue after it needs no padding.
+constexpr std::size_t kHeartbeatSlots = 8;
+static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
 
 // THE member list of TaskLinks, in layout order: X(name, "who writes -> who reads", type). The
 // record's members, the segment's layout table and hash (core/app/shm/segment_layout.hpp) and the
@@ -40,6 +44,7 @@ static_assert(kTaskStatSlots == kRunHealthSlots, "one health slot per StatTask (
   X(samples, "EtherCAT handler -> joint manager, RC tasks, parser, socket handler", Seqlock<RobotSample>)              \
   X(demand, "joint manager -> EtherCAT handler", Seqlock<RobotDemand>)                                                \
   X(rc_heartbeat_ns, "RC task k -> message parser (monotonic ns of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>) \
+  X(task_heartbeat_ns, "each task its own slot (StatTask) -> supervisor (liveness), socket handler (age of figures) (monotonic ns at the end of its latest period, 0 before its first)", std::array<std::atomic<std::int64_t>, kHeartbeatSlots>) \
   X(lost_reports, "EtherCAT handler -> joint manager (step 1)", SpscQueue<LostJointsReport, kReportQueueDepth>)        \
   X(notices, "joint manager -> EtherCAT handler (step 4)", SpscQueue<JointManagerNotice, kNoticeQueueDepth>)            \
   X(joint_commands, "message parser (only producer) -> joint manager", SpscQueue<JointCommand, kCommandQueueDepth>)    \
@@ -59,7 +64,7 @@ static_assert(kTaskStatSlots == kRunHealthSlots, "one health slot per StatTask (
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 7;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 9;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;

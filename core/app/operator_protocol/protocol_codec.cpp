@@ -1,9 +1,11 @@
 #include "core/app/operator_protocol/protocol_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <iterator>
+#include <type_traits>
 
-#include "core/base/endian.hpp"
+#include "core/base/le_stream.hpp"
 
 namespace rescue::app::protocol {
 namespace {
@@ -35,102 +37,11 @@ static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveR
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Sequential little-endian writer over a buffer whose size the caller checked.
-class Writer {
- public:
-  explicit Writer(std::uint8_t* p) noexcept : p_(p) {}
-  void u8(std::uint8_t v) noexcept { p_[n_++] = v; }
-  void zeros(std::size_t count) noexcept {
-    for (std::size_t i = 0; i < count; ++i) p_[n_++] = 0;
-  }
-  void u16(std::uint16_t v) noexcept {
-    store_le16(p_ + n_, v);
-    n_ += 2;
-  }
-  void u32(std::uint32_t v) noexcept {
-    store_le32(p_ + n_, v);
-    n_ += 4;
-  }
-  void u64(std::uint64_t v) noexcept {
-    store_le64(p_ + n_, v);
-    n_ += 8;
-  }
-  void f64(double v) noexcept {
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &v, sizeof bits);
-    u64(bits);
-  }
-  template <std::size_t N>
-  void text(const std::array<char, N>& t) noexcept {
-    for (std::size_t i = 0; i < N; ++i) p_[n_++] = i + 1 < N ? static_cast<std::uint8_t>(t[i]) : 0;
-  }
-  std::size_t size() const noexcept { return n_; }
-
- private:
-  std::uint8_t* p_;
-  std::size_t n_{0};
-};
-
-// Sequential reader; the caller checked the total length first, so reads stay in bounds.
-class Reader {
- public:
-  explicit Reader(ConstByteSpan bytes) noexcept : b_(bytes) {}
-  std::uint8_t u8() noexcept { return b_[n_++]; }
-  bool zeros(std::size_t count) noexcept {
-    bool all = true;
-    for (std::size_t i = 0; i < count; ++i) all = all && b_[n_++] == 0;
-    return all;
-  }
-  std::uint16_t u16() noexcept {
-    const std::uint16_t v = load_le16(b_.data() + n_);
-    n_ += 2;
-    return v;
-  }
-  std::uint32_t u32() noexcept {
-    const std::uint32_t v = load_le32(b_.data() + n_);
-    n_ += 4;
-    return v;
-  }
-  std::uint64_t u64() noexcept {
-    const std::uint64_t v = load_le64(b_.data() + n_);
-    n_ += 8;
-    return v;
-  }
-  double f64() noexcept {
-    const std::uint64_t bits = u64();
-    double v = 0.0;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  }
-  // A NUL-padded text field: false when its last byte is not NUL.
-  template <std::size_t N>
-  bool text(std::array<char, N>& out) noexcept {
-    for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<char>(b_[n_++]);
-    return out[N - 1] == '\0';
-  }
-
- private:
-  ConstByteSpan b_;
-  std::size_t n_{0};
-};
-
 Error malformed(const char* what, std::size_t d0 = 0, std::size_t d1 = 0) noexcept {
   return make_error(Errc::malformed, what, static_cast<std::uint32_t>(d0), static_cast<std::uint32_t>(d1));
 }
-Error out_of_range(const char* what) noexcept { return make_error(Errc::out_of_range, what); }
 
 bool within(double v, double lo, double hi) noexcept { return std::isfinite(v) && v >= lo && v <= hi; }
-
-Status check_length(ConstByteSpan payload, std::size_t expected) noexcept {
-  if (payload.size() != expected) return malformed("payload length differs from its type's", payload.size(), expected);
-  return Status::success();
-}
-
-Status check_joints(JointMask joints) noexcept {
-  if (joints == 0) return out_of_range("no joint selected");
-  if ((joints & ~kAllJoints) != 0) return out_of_range("joint mask names a joint the robot does not have");
-  return Status::success();
-}
 
 bool valid_mode(std::uint8_t mode) noexcept {
   return mode == static_cast<std::uint8_t>(ControlMode::cyclic_position) ||
@@ -138,321 +49,499 @@ bool valid_mode(std::uint8_t mode) noexcept {
          mode == static_cast<std::uint8_t>(ControlMode::cyclic_torque);
 }
 
-Status decode_joints(const Header& h, ConstByteSpan payload, Message& m) noexcept {
-  const bool with_mode = h.type == MessageType::select_mode;
-  RESCUE_TRY(check_length(payload, with_mode ? kSelectModeSize : kJointsSize));
-  Reader r(payload);
-  m.joints.joints = r.u32();
-  if (with_mode) {
-    const std::uint8_t mode = r.u8();
-    if (!r.zeros(3)) return malformed("reserved bytes not zero");
-    if (!valid_mode(mode)) return out_of_range("mode must be CSP (8), CSV (9) or CST (10)");
-    m.joints.mode = static_cast<ControlMode>(mode);
+// A message's layout is written once, as a function template over the direction (`F`): its fields
+// in wire order, each with its width, and, where a value is known, its checks. EncodeFields writes
+// the fields and ignores the checks; DecodeFields reads them, runs the checks in the same order and
+// keeps the first failure, so a datagram is judged by the first thing wrong with it on the wire.
+// Widths are explicit: a field whose type changes width fails to compile instead of changing the wire.
+class EncodeFields {
+ public:
+  explicit EncodeFields(ByteSpan out) noexcept : w_(out) {}
+  template <typename T>
+  void u8(const T& v) noexcept { put<std::uint8_t>(v); }
+  template <typename T>
+  void u16(const T& v) noexcept { put<std::uint16_t>(v); }
+  template <typename T>
+  void u32(const T& v) noexcept { put<std::uint32_t>(v); }
+  template <typename T>
+  void u64(const T& v) noexcept { put<std::uint64_t>(v); }
+  void f64(double v) noexcept { w_.f64(v); }
+  template <std::size_t N>
+  void f64s(const std::array<double, N>& values) noexcept {
+    for (const double v : values) w_.f64(v);
   }
-  return check_joints(m.joints.joints);
-}
-
-Status decode_move(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kMoveSize));
-  Reader r(payload);
-  m.move.task = r.u8();
-  const std::uint8_t effector = r.u8();
-  if (!r.zeros(6)) return malformed("reserved bytes not zero");
-  for (double& v : m.move.position_m) v = r.f64();
-  for (double& v : m.move.rpy_rad) v = r.f64();
-  if (m.move.task >= kMaxRcTasks) return out_of_range("RC task index");
-  if (effector > 1) return out_of_range("effector");
-  m.move.effector = static_cast<Effector>(effector);
-  for (const double v : m.move.position_m) {
-    if (!within(v, -kMaxReachM, kMaxReachM)) return out_of_range("position beyond the robot's reach");
+  // A NUL-padded text field: the characters, the last byte always NUL.
+  template <std::size_t N>
+  void text(const std::array<char, N>& t, const char* /*unterminated*/) noexcept {
+    w_.chars(t.data(), N - 1);
+    w_.u8(0);
   }
-  for (const double v : m.move.rpy_rad) {
-    if (!within(v, -kPi, kPi)) return out_of_range("orientation angle outside [-pi, pi]");
-  }
-  return Status::success();
-}
+  void reserved(std::size_t count) noexcept { w_.zeros(count); }
+  void magic() noexcept { w_.bytes(kMagic.data(), kMagic.size()); }
+  // A list's record count, at most `max` on the wire.
+  void count(std::uint8_t v, std::size_t max) noexcept { w_.u8(static_cast<std::uint8_t>(v <= max ? v : max)); }
+  // Checks, lengths and looking ahead are the decoder's.
+  void ahead(std::uint8_t /*v*/, std::size_t /*offset*/) noexcept {}
+  void length(std::size_t /*expected*/) noexcept {}
+  void at_least(std::size_t /*head*/, const char* /*what*/) noexcept {}
+  void check(bool /*ok*/, const char* /*what*/) noexcept {}
+  void require(bool /*ok*/, Errc /*code*/, const char* /*what*/, std::size_t /*d0*/ = 0, std::size_t /*d1*/ = 0) noexcept {}
 
-Status decode_hand(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kHandSize));
-  Reader r(payload);
-  m.hand.task = r.u8();
-  const std::uint8_t hand = r.u8();
-  const std::uint8_t action = r.u8();
-  if (!r.zeros(1)) return malformed("reserved bytes not zero");
-  if (m.hand.task >= kMaxRcTasks) return out_of_range("RC task index");
-  if (hand > 1) return out_of_range("hand");
-  if (action > 1) return out_of_range("hand action");
-  m.hand.hand = static_cast<Effector>(hand);
-  m.hand.action = static_cast<HandAction>(action);
-  return Status::success();
-}
+  bool ok() const noexcept { return w_.ok(); }
+  std::size_t size() const noexcept { return w_.size(); }
 
-Status decode_owner(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kOwnerSize));
-  Reader r(payload);
-  m.owner.task = r.u8();
-  if (!r.zeros(3)) return malformed("reserved bytes not zero");
-  if (m.owner.task >= kMaxRcTasks) return out_of_range("RC task index");
-  return Status::success();
-}
-
-Status decode_imu(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kImuSize));
-  Reader r(payload);
-  m.imu.time_unix_ns = r.u64();
-  for (double& v : m.imu.orientation_wxyz) v = r.f64();
-  for (double& v : m.imu.angular_velocity_rad_s) v = r.f64();
-  for (double& v : m.imu.linear_acceleration_m_s2) v = r.f64();
-  double norm2 = 0.0;
-  for (const double v : m.imu.orientation_wxyz) {
-    if (!within(v, -1.0 - kQuaternionNormTolerance, 1.0 + kQuaternionNormTolerance)) {
-      return out_of_range("quaternion component");
+ private:
+  template <typename W, typename T>
+  void put(const T& v) noexcept {
+    static_assert(sizeof(T) == sizeof(W), "a field's type has its wire width");
+    const auto x = static_cast<W>(v);
+    if constexpr (sizeof(W) == 1) {
+      w_.u8(x);
+    } else if constexpr (sizeof(W) == 2) {
+      w_.u16(x);
+    } else if constexpr (sizeof(W) == 4) {
+      w_.u32(x);
+    } else {
+      w_.u64(x);
     }
+  }
+
+  LeWriter w_;
+};
+
+class DecodeFields {
+ public:
+  // `reserved_what`: the error of a reserved byte that is not zero.
+  explicit DecodeFields(ConstByteSpan in, const char* reserved_what = "reserved bytes not zero") noexcept
+      : r_(in), size_(in.size()), reserved_what_(reserved_what) {}
+  template <typename T>
+  void u8(T& v) noexcept { v = get<std::uint8_t, T>(); }
+  template <typename T>
+  void u16(T& v) noexcept { v = get<std::uint16_t, T>(); }
+  template <typename T>
+  void u32(T& v) noexcept { v = get<std::uint32_t, T>(); }
+  template <typename T>
+  void u64(T& v) noexcept { v = get<std::uint64_t, T>(); }
+  void f64(double& v) noexcept { v = r_.f64(); }
+  template <std::size_t N>
+  void f64s(std::array<double, N>& values) noexcept {
+    std::generate(values.begin(), values.end(), [this] { return r_.f64(); });
+  }
+  template <std::size_t N>
+  void text(std::array<char, N>& t, const char* unterminated) noexcept {
+    r_.chars(t.data(), N);
+    require(t[N - 1] == '\0', Errc::malformed, unterminated);
+  }
+  void reserved(std::size_t count) noexcept { require(r_.zeros(count), Errc::malformed, reserved_what_); }
+  void magic() noexcept {
+    bool same = true;
+    for (const std::uint8_t b : kMagic) same = r_.u8() == b && same;
+    require(same, Errc::malformed, "bad magic");
+  }
+  void count(std::uint8_t& v, std::size_t /*max: checked by the layout, after the reserved bytes*/) noexcept { v = r_.u8(); }
+  // A u8 further on, at `offset` from the start (0 when it is not there), read ahead of its turn.
+  void ahead(std::uint8_t& v, std::size_t offset) noexcept { v = r_.peek(offset); }
+  // The payload is exactly `expected` bytes long.
+  void length(std::size_t expected) noexcept {
+    require(size_ == expected, Errc::malformed, "payload length differs from its type's", size_, expected);
+  }
+  // A list's head is there (its count says how long the rest is).
+  void at_least(std::size_t head, const char* what) noexcept { require(size_ >= head, Errc::malformed, what, size_); }
+  // A value inside its documented range.
+  void check(bool ok, const char* what) noexcept { require(ok, Errc::out_of_range, what); }
+  void require(bool ok, Errc code, const char* what, std::size_t d0 = 0, std::size_t d1 = 0) noexcept {
+    if (!ok && status_.ok()) {
+      status_ = make_error(code, what, static_cast<std::uint32_t>(d0), static_cast<std::uint32_t>(d1));
+    }
+  }
+
+  // The first failure; a layout that read other than the whole input is malformed (never, when the
+  // layouts' lengths are right: this is the guard that keeps them so).
+  Status status() noexcept {
+    require(r_.ok() && r_.size() == size_, Errc::malformed, "payload length differs from its fields", size_, r_.size());
+    return status_;
+  }
+
+ private:
+  template <typename W, typename T>
+  T get() noexcept {
+    static_assert(sizeof(T) == sizeof(W), "a field's type has its wire width");
+    if constexpr (sizeof(W) == 1) {
+      return static_cast<T>(r_.u8());
+    } else if constexpr (sizeof(W) == 2) {
+      return static_cast<T>(r_.u16());
+    } else if constexpr (sizeof(W) == 4) {
+      return static_cast<T>(r_.u32());
+    } else {
+      return static_cast<T>(r_.u64());
+    }
+  }
+
+  LeReader r_;
+  std::size_t size_;
+  const char* reserved_what_;
+  Status status_{};
+};
+
+// Records of a list to walk: its count, never more than the protocol holds.
+std::size_t records(std::uint8_t count, std::size_t max) noexcept { return count <= max ? count : max; }
+
+// The header (kHeaderSize bytes), both directions; parse_frame's structure checks, in wire order.
+template <typename F, typename H>
+void header_fields(F& f, H& h) noexcept {
+  f.magic();
+  f.u8(h.version);
+  f.require(h.version == kVersion, Errc::malformed, "unsupported protocol version", h.version, kVersion);
+  f.u8(h.type);
+  f.u8(h.flags);
+  f.require(h.flags == 0, Errc::malformed, "reserved header bytes not zero");
+  f.reserved(1);
+  f.u32(h.sender);
+  f.u32(h.robot);
+  f.u64(h.epoch);
+  f.u64(h.sequence);
+  f.u16(h.payload_length);
+  f.reserved(6);
+  // Only get_epoch may leave the robot and the epoch open; the robot's epoch answer never does.
+  const bool asks_epoch = h.type == MessageType::get_epoch;
+  f.require(!asks_epoch || h.epoch == 0, Errc::malformed, "get_epoch with an epoch");
+  f.require(asks_epoch || (h.epoch != 0 && h.robot != kAnyRobot), Errc::malformed, "no robot id or no epoch");
+  f.require(h.payload_length <= kMaxPayload, Errc::capacity_exceeded, "payload length above the protocol's maximum",
+            h.payload_length, kMaxPayload);
+}
+
+// The payload layouts, one per message (docs/protocol.md), in the order of kLayouts.
+template <typename F, typename M>
+void no_payload(F& f, M& /*m*/) noexcept {
+  f.length(0);
+}
+
+template <typename F>
+void joint_mask_checks(F& f, JointMask joints) noexcept {
+  f.check(joints != 0, "no joint selected");
+  f.check((joints & ~kAllJoints) == 0, "joint mask names a joint the robot does not have");
+}
+
+template <typename F, typename M>
+void joints_fields(F& f, M& m) noexcept {
+  f.length(kJointsSize);
+  f.u32(m.joints.joints);
+  joint_mask_checks(f, m.joints.joints);
+}
+
+template <typename F, typename M>
+void select_mode_fields(F& f, M& m) noexcept {
+  f.length(kSelectModeSize);
+  f.u32(m.joints.joints);
+  f.u8(m.joints.mode);
+  f.reserved(3);
+  f.check(valid_mode(static_cast<std::uint8_t>(m.joints.mode)), "mode must be CSP (8), CSV (9) or CST (10)");
+  joint_mask_checks(f, m.joints.joints);
+}
+
+template <typename F, typename M>
+void move_fields(F& f, M& m) noexcept {
+  f.length(kMoveSize);
+  f.u8(m.move.task);
+  f.u8(m.move.effector);
+  f.reserved(6);
+  f.f64s(m.move.position_m);
+  f.f64s(m.move.rpy_rad);
+  f.check(m.move.task < kMaxRcTasks, "RC task index");
+  f.check(static_cast<std::uint8_t>(m.move.effector) <= 1, "effector");
+  for (const double v : m.move.position_m) f.check(within(v, -kMaxReachM, kMaxReachM), "position beyond the robot's reach");
+  for (const double v : m.move.rpy_rad) f.check(within(v, -kPi, kPi), "orientation angle outside [-pi, pi]");
+}
+
+template <typename F, typename M>
+void hand_fields(F& f, M& m) noexcept {
+  f.length(kHandSize);
+  f.u8(m.hand.task);
+  f.u8(m.hand.hand);
+  f.u8(m.hand.action);
+  f.reserved(1);
+  f.check(m.hand.task < kMaxRcTasks, "RC task index");
+  f.check(static_cast<std::uint8_t>(m.hand.hand) <= 1, "hand");
+  f.check(static_cast<std::uint8_t>(m.hand.action) <= 1, "hand action");
+}
+
+template <typename F, typename M>
+void owner_fields(F& f, M& m) noexcept {
+  f.length(kOwnerSize);
+  f.u8(m.owner.task);
+  f.reserved(3);
+  f.check(m.owner.task < kMaxRcTasks, "RC task index");
+}
+
+template <typename F, typename M>
+void imu_fields(F& f, M& m) noexcept {
+  f.length(kImuSize);
+  f.u64(m.imu.time_unix_ns);
+  f.f64s(m.imu.orientation_wxyz);
+  f.f64s(m.imu.angular_velocity_rad_s);
+  f.f64s(m.imu.linear_acceleration_m_s2);
+  double norm2 = 0.0;
+  bool components = true;
+  for (const double v : m.imu.orientation_wxyz) {
+    components = components && within(v, -1.0 - kQuaternionNormTolerance, 1.0 + kQuaternionNormTolerance);
     norm2 += v * v;
   }
-  if (std::fabs(std::sqrt(norm2) - 1.0) > kQuaternionNormTolerance) return out_of_range("quaternion not of unit norm");
+  f.check(components, "quaternion component");
+  f.check(!components || std::fabs(std::sqrt(norm2) - 1.0) <= kQuaternionNormTolerance, "quaternion not of unit norm");
   for (const double v : m.imu.angular_velocity_rad_s) {
-    if (!within(v, -kMaxAngularVelocityRadS, kMaxAngularVelocityRadS)) return out_of_range("angular velocity");
+    f.check(within(v, -kMaxAngularVelocityRadS, kMaxAngularVelocityRadS), "angular velocity");
   }
   for (const double v : m.imu.linear_acceleration_m_s2) {
-    if (!within(v, -kMaxAccelerationMs2, kMaxAccelerationMs2)) return out_of_range("linear acceleration");
+    f.check(within(v, -kMaxAccelerationMs2, kMaxAccelerationMs2), "linear acceleration");
   }
-  return Status::success();
 }
 
-Status decode_gps(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kGpsSize));
-  Reader r(payload);
-  m.gps.time_unix_ns = r.u64();
-  m.gps.latitude_deg = r.f64();
-  m.gps.longitude_deg = r.f64();
-  m.gps.altitude_m = r.f64();
-  m.gps.horizontal_accuracy_m = r.f64();
-  m.gps.vertical_accuracy_m = r.f64();
-  const std::uint8_t fix = r.u8();
-  m.gps.satellites = r.u8();
-  if (!r.zeros(6)) return malformed("reserved bytes not zero");
-  if (!within(m.gps.latitude_deg, -90.0, 90.0)) return out_of_range("latitude");
-  if (!within(m.gps.longitude_deg, -180.0, 180.0)) return out_of_range("longitude");
-  if (!within(m.gps.altitude_m, -1000.0, 10000.0)) return out_of_range("altitude");
-  if (!within(m.gps.horizontal_accuracy_m, 0.0, 10000.0)) return out_of_range("horizontal accuracy");
-  if (!within(m.gps.vertical_accuracy_m, 0.0, 10000.0)) return out_of_range("vertical accuracy");
-  if (fix > static_cast<std::uint8_t>(GpsFix::rtk)) return out_of_range("fix type");
-  m.gps.fix = static_cast<GpsFix>(fix);
-  return Status::success();
+template <typename F, typename M>
+void gps_fields(F& f, M& m) noexcept {
+  f.length(kGpsSize);
+  f.u64(m.gps.time_unix_ns);
+  f.f64(m.gps.latitude_deg);
+  f.f64(m.gps.longitude_deg);
+  f.f64(m.gps.altitude_m);
+  f.f64(m.gps.horizontal_accuracy_m);
+  f.f64(m.gps.vertical_accuracy_m);
+  f.u8(m.gps.fix);
+  f.u8(m.gps.satellites);
+  f.reserved(6);
+  f.check(within(m.gps.latitude_deg, -90.0, 90.0), "latitude");
+  f.check(within(m.gps.longitude_deg, -180.0, 180.0), "longitude");
+  f.check(within(m.gps.altitude_m, -1000.0, 10000.0), "altitude");
+  f.check(within(m.gps.horizontal_accuracy_m, 0.0, 10000.0), "horizontal accuracy");
+  f.check(within(m.gps.vertical_accuracy_m, 0.0, 10000.0), "vertical accuracy");
+  f.check(static_cast<std::uint8_t>(m.gps.fix) <= static_cast<std::uint8_t>(GpsFix::rtk), "fix type");
 }
 
-Status decode_reply(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kReplySize));
-  Reader r(payload);
-  m.reply.request_sequence = r.u64();
-  const std::uint8_t type = r.u8();
-  const std::uint8_t outcome = r.u8();
-  const std::uint8_t reason = r.u8();
-  if (!r.zeros(1)) return malformed("reserved bytes not zero");
-  m.reply.refused_joints = r.u32();
-  if (!r.text(m.reply.text)) return malformed("reply text not NUL-terminated");
-  if (!is_known(type)) return out_of_range("request type");
-  if (outcome > 1) return out_of_range("outcome");
-  if (reason > static_cast<std::uint8_t>(RefusalReason::sender_table_full)) return out_of_range("refusal reason");
-  if ((m.reply.refused_joints & ~kAllJoints) != 0) return out_of_range("refused joint mask");
-  m.reply.request_type = static_cast<MessageType>(type);
-  m.reply.outcome = static_cast<Outcome>(outcome);
-  m.reply.reason = static_cast<RefusalReason>(reason);
-  return Status::success();
+template <typename F, typename M>
+void reply_fields(F& f, M& m) noexcept {
+  f.length(kReplySize);
+  f.u64(m.reply.request_sequence);
+  f.u8(m.reply.request_type);
+  f.u8(m.reply.outcome);
+  f.u8(m.reply.reason);
+  f.reserved(1);
+  f.u32(m.reply.refused_joints);
+  f.text(m.reply.text, "reply text not NUL-terminated");
+  f.check(is_known(static_cast<std::uint8_t>(m.reply.request_type)), "request type");
+  f.check(static_cast<std::uint8_t>(m.reply.outcome) <= 1, "outcome");
+  f.check(static_cast<std::uint8_t>(m.reply.reason) <= static_cast<std::uint8_t>(RefusalReason::sender_table_full),
+          "refusal reason");
+  f.check((m.reply.refused_joints & ~kAllJoints) == 0, "refused joint mask");
 }
 
-Status decode_status(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kStatusSize));
-  Reader r(payload);
-  m.status.cycle = r.u64();
-  const std::uint8_t count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  if (count != kJointCount) return out_of_range("joint count");
-  for (JointStatusRecord& j : m.status.joints) {
-    j.state = r.u8();
-    j.mode = static_cast<std::int8_t>(r.u8());
-    j.flags = r.u8();
-    j.fault = r.u8();
-    j.owner = r.u8();
-    if (!r.zeros(3)) return malformed("reserved bytes not zero");
-    j.position_rad = r.f64();
-    j.velocity_rad_s = r.f64();
-    j.torque_nm = r.f64();
-    if (j.state > 4 || (j.flags & ~kJointFlagsMask) != 0 || j.fault > 9) return out_of_range("joint status field");
-    if (j.owner != kNoOwner && j.owner >= kMaxRcTasks) return out_of_range("owner");
+// How old a status, slaves or master answer's figures are (FiguresAge): flags (bit 0 stale), 2 reserved
+// bytes, the age in ms; in the 7 bytes after the answer's first field.
+template <typename F, typename A>
+void age_fields(F& f, A& age) noexcept {
+  std::uint8_t flags = age.stale ? kFiguresStale : std::uint8_t{0};
+  f.u8(flags);
+  f.reserved(2);
+  f.u32(age.age_ms);
+  f.check((flags & ~kFiguresStale) == 0, "figures flags");
+  if constexpr (!std::is_const_v<A>) age.stale = (flags & kFiguresStale) != 0;
+}
+
+template <typename F, typename M>
+void status_fields(F& f, M& m) noexcept {
+  f.length(kStatusSize);
+  f.u64(m.status.cycle);
+  std::uint8_t count = kJointCount;  // on the wire for the reader; always every joint
+  f.u8(count);
+  age_fields(f, m.status.age);
+  f.check(count == kJointCount, "joint count");
+  for (auto& j : m.status.joints) {
+    f.u8(j.state);
+    f.u8(j.mode);
+    f.u8(j.flags);
+    f.u8(j.fault);
+    f.u8(j.owner);
+    f.reserved(3);
+    f.f64(j.position_rad);
+    f.f64(j.velocity_rad_s);
+    f.f64(j.torque_nm);
+    f.check(j.state <= 4 && (j.flags & ~kJointFlagsMask) == 0 && j.fault <= 9, "joint status field");
+    f.check(j.owner == kNoOwner || j.owner < kMaxRcTasks, "owner");
   }
-  return Status::success();
 }
 
-Status decode_slaves(ConstByteSpan payload, Message& m) noexcept {
-  if (payload.size() < kListHeadSize) return malformed("payload shorter than its list header", payload.size());
-  Reader r(payload);
-  m.slaves.count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  if (m.slaves.count > kMaxSlaves) return out_of_range("slave count");
-  RESCUE_TRY(check_length(payload, kListHeadSize + m.slaves.count * kSlaveRecordSize));
-  for (std::size_t i = 0; i < m.slaves.count; ++i) {
-    SlaveRecord& s = m.slaves.slaves[i];
-    s.position = r.u16();
-    s.station = r.u16();
-    s.al_state = r.u8();
-    s.flags = r.u8();
-    if (!r.zeros(2)) return malformed("reserved bytes not zero");
-    if (!r.text(s.name)) return malformed("slave name not NUL-terminated");
-    if ((s.flags & ~kSlaveFlagsMask) != 0) return out_of_range("slave flags");
-    s.recovery = r.u8();
-    if (!r.zeros(3)) return malformed("reserved bytes not zero");
-    s.recovery_age_ms = r.u32();
-    if (s.recovery >= kRecoveryStates) return out_of_range("slave recovery state");
+// A list's head: its count (at most `max`) and 7 bytes (`seven`: reserved, or a slaves answer's
+// FiguresAge), then `head - 8` more bytes of the caller's. Returns the records to walk; the caller
+// checks the length they make.
+template <typename F, typename C, typename Seven>
+std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const char* short_what,
+                      const char* count_what, Seven seven) noexcept {
+  f.at_least(head, short_what);
+  f.count(count, max);
+  seven();
+  f.check(count <= max, count_what);
+  return records(count, max);
+}
+template <typename F, typename C>
+std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const char* short_what,
+                      const char* count_what) noexcept {
+  return list_head(f, count, max, head, short_what, count_what, [&f] { f.reserved(7); });
+}
+
+template <typename F, typename M>
+void slaves_fields(F& f, M& m) noexcept {
+  const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
+                                      "slave count", [&f, &m] { age_fields(f, m.slaves.age); });
+  f.length(kListHeadSize + count * kSlaveRecordSize);
+  for (std::size_t i = 0; i < count; ++i) {
+    auto& s = m.slaves.slaves[i];
+    f.u16(s.position);
+    f.u16(s.station);
+    f.u8(s.al_state);
+    f.u8(s.flags);
+    f.reserved(2);
+    f.text(s.name, "slave name not NUL-terminated");
+    f.check((s.flags & ~kSlaveFlagsMask) == 0, "slave flags");
+    f.u8(s.recovery);
+    f.reserved(3);
+    f.u32(s.recovery_age_ms);
+    f.check(s.recovery < kRecoveryStates, "slave recovery state");
   }
-  return Status::success();
 }
 
-Status decode_master(ConstByteSpan payload, Message& m) noexcept {
-  RESCUE_TRY(check_length(payload, kMasterSize));
-  Reader r(payload);
-  m.master.state = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  m.master.cycles = r.u64();
-  m.master.frames_sent = r.u64();
-  m.master.frames_lost = r.u64();
-  m.master.late_periods = r.u64();
-  m.master.dc_deviation_ns = static_cast<std::int64_t>(r.u64());
-  m.master.dc_max_deviation_ns = static_cast<std::int64_t>(r.u64());
-  m.master.datagrams_accepted = r.u64();
-  for (std::uint64_t& v : m.master.rejected) v = r.u64();
-  if (m.master.state > 4) return out_of_range("master state");
-  return Status::success();
+template <typename F, typename M>
+void master_fields(F& f, M& m) noexcept {
+  f.length(kMasterSize);
+  f.u8(m.master.state);
+  age_fields(f, m.master.age);
+  f.u64(m.master.cycles);
+  f.u64(m.master.frames_sent);
+  f.u64(m.master.frames_lost);
+  f.u64(m.master.late_periods);
+  f.u64(m.master.dc_deviation_ns);
+  f.u64(m.master.dc_max_deviation_ns);
+  f.u64(m.master.datagrams_accepted);
+  for (auto& v : m.master.rejected) f.u64(v);
+  f.check(m.master.state <= 4, "master state");
 }
 
-Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
-  if (payload.size() < kListHeadSize) return malformed("payload shorter than its list header", payload.size());
-  Reader r(payload);
-  m.tasks.count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  if (m.tasks.count > kMaxTasks) return out_of_range("task count");
-  const std::size_t drops_at = kListHeadSize + m.tasks.count * kTaskRecordSize;
-  if (payload.size() < drops_at + kListHeadSize) return malformed("payload shorter than its drop counters' header", payload.size());
-  const std::uint8_t drop_count = payload[drops_at];
-  if (drop_count > kMaxDropCounters) return out_of_range("drop counter count");
-  RESCUE_TRY(check_length(payload, drops_at + kListHeadSize + drop_count * 8U));
-  for (std::size_t i = 0; i < m.tasks.count; ++i) {
-    TaskRecord& t = m.tasks.tasks[i];
-    if (!r.text(t.name)) return malformed("task name not NUL-terminated");
-    t.pid = static_cast<std::int32_t>(r.u32());
-    t.cpu = static_cast<std::int16_t>(r.u16());
-    t.priority = static_cast<std::int16_t>(r.u16());
-    t.periods = r.u64();
-    t.missed = r.u64();
-    t.max_execution_ns = r.u64();
-    for (TimingFigures* f : {&t.execution, &t.latency}) {
-      f->min = r.u32();
-      f->mean = r.u32();
-      f->stddev = r.u32();
-      f->max = r.u32();
-      f->p99 = r.u32();
-      f->p999 = r.u32();
-      f->p9999 = r.u32();
+template <typename F, typename M>
+void epoch_fields(F& f, M& m) noexcept {
+  f.length(kEpochSize);
+  f.u64(m.epoch.request_sequence);
+}
+
+template <typename F, typename T>
+void timing_fields(F& f, T& t) noexcept {
+  f.u32(t.min);
+  f.u32(t.mean);
+  f.u32(t.stddev);
+  f.u32(t.max);
+  f.u32(t.p99);
+  f.u32(t.p999);
+  f.u32(t.p9999);
+}
+
+template <typename F, typename M>
+void tasks_fields(F& f, M& m) noexcept {
+  const std::size_t count = list_head(f, m.tasks.count, kMaxTasks, kListHeadSize, "payload shorter than its list header",
+                                      "task count");
+  // The queues' drop counters follow the records: their count is checked before a record is read.
+  const std::size_t drops_at = kListHeadSize + count * kTaskRecordSize;
+  f.at_least(drops_at + kListHeadSize, "payload shorter than its drop counters' header");
+  f.ahead(m.tasks.drop_count, drops_at);
+  f.check(m.tasks.drop_count <= kMaxDropCounters, "drop counter count");
+  const std::size_t drops = records(m.tasks.drop_count, kMaxDropCounters);
+  f.length(drops_at + kListHeadSize + drops * 8);
+  for (std::size_t i = 0; i < count; ++i) {
+    auto& t = m.tasks.tasks[i];
+    f.text(t.name, "task name not NUL-terminated");
+    f.u32(t.pid);
+    f.u16(t.cpu);
+    f.u16(t.priority);
+    f.u64(t.periods);
+    f.u64(t.missed);
+    f.u64(t.max_execution_ns);
+    timing_fields(f, t.execution);
+    timing_fields(f, t.latency);
+  }
+  f.count(m.tasks.drop_count, kMaxDropCounters);
+  f.reserved(7);
+  for (std::size_t i = 0; i < drops; ++i) f.u64(m.tasks.dropped[i]);
+}
+
+template <typename F, typename M>
+void diag_fields(F& f, M& m) noexcept {
+  const std::size_t count = list_head(f, m.diag.count, kMaxSlaves, kDiagHeadSize, "payload shorter than its diag header",
+                                      "slave count");
+  f.length(kDiagHeadSize + count * kDiagRecordSize);
+  f.u64(m.diag.cycle);
+  f.u64(m.diag.sweeps);
+  for (std::size_t i = 0; i < count; ++i) {
+    auto& d = m.diag.slaves[i];
+    for (auto& p : d.ports) {
+      f.u16(p.invalid_frames);
+      f.u16(p.rx_errors);
+      f.u16(p.forwarded_errors);
+      f.u16(p.lost_links);
     }
+    f.u16(d.processing_unit_errors);
+    f.u16(d.pdi_errors);
+    f.u16(d.reads);
+    f.u8(d.warned);
+    f.u8(d.warned_before);
+    f.check(((d.warned | d.warned_before) & ~kDiagWarnedMask) == 0, "warned ports");
   }
-  m.tasks.drop_count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) m.tasks.dropped[i] = r.u64();
-  return Status::success();
 }
 
-Status decode_diag(ConstByteSpan payload, Message& m) noexcept {
-  if (payload.size() < kDiagHeadSize) return malformed("payload shorter than its diag header", payload.size());
-  Reader r(payload);
-  m.diag.count = r.u8();
-  if (!r.zeros(7)) return malformed("reserved bytes not zero");
-  if (m.diag.count > kMaxSlaves) return out_of_range("slave count");
-  RESCUE_TRY(check_length(payload, kDiagHeadSize + m.diag.count * kDiagRecordSize));
-  m.diag.cycle = r.u64();
-  m.diag.sweeps = r.u64();
-  for (std::size_t i = 0; i < m.diag.count; ++i) {
-    DiagSlaveRecord& d = m.diag.slaves[i];
-    for (DiagPortRecord& p : d.ports) {
-      p.invalid_frames = r.u16();
-      p.rx_errors = r.u16();
-      p.forwarded_errors = r.u16();
-      p.lost_links = r.u16();
-    }
-    d.processing_unit_errors = r.u16();
-    d.pdi_errors = r.u16();
-    d.reads = r.u16();
-    d.warned = r.u8();
-    d.warned_before = r.u8();
-    if (((d.warned | d.warned_before) & ~kDiagWarnedMask) != 0) return out_of_range("warned ports");
-  }
-  return Status::success();
+// The table of message layouts: every type the protocol defines, its name and its payload's layout
+// (each function above serves both directions). A new message is a row and a layout.
+struct Layout {
+  MessageType type;
+  const char* name;
+  void (*encode)(EncodeFields&, const Message&) noexcept;
+  void (*decode)(DecodeFields&, Message&) noexcept;
+};
+constexpr Layout kLayouts[] = {
+    {MessageType::get_status, "get_status", no_payload, no_payload},
+    {MessageType::get_slaves, "get_slaves", no_payload, no_payload},
+    {MessageType::get_master, "get_master", no_payload, no_payload},
+    {MessageType::get_tasks, "get_tasks", no_payload, no_payload},
+    {MessageType::get_diag, "get_diag", no_payload, no_payload},
+    {MessageType::get_epoch, "get_epoch", no_payload, no_payload},
+    {MessageType::initialize, "initialize", joints_fields, joints_fields},
+    {MessageType::enable, "enable", joints_fields, joints_fields},
+    {MessageType::disable, "disable", joints_fields, joints_fields},
+    {MessageType::hold, "hold", joints_fields, joints_fields},
+    {MessageType::select_mode, "select_mode", select_mode_fields, select_mode_fields},
+    {MessageType::clear_joints, "clear_joints", joints_fields, joints_fields},
+    {MessageType::clear_moved, "clear_moved", joints_fields, joints_fields},
+    {MessageType::move_effector, "move_effector", move_fields, move_fields},
+    {MessageType::hand, "hand", hand_fields, hand_fields},
+    {MessageType::take_owner, "take_owner", owner_fields, owner_fields},
+    {MessageType::imu, "imu", imu_fields, imu_fields},
+    {MessageType::gps, "gps", gps_fields, gps_fields},
+    {MessageType::reply, "reply", reply_fields, reply_fields},
+    {MessageType::status, "status", status_fields, status_fields},
+    {MessageType::slaves, "slaves", slaves_fields, slaves_fields},
+    {MessageType::master, "master", master_fields, master_fields},
+    {MessageType::tasks, "tasks", tasks_fields, tasks_fields},
+    {MessageType::diag, "diag", diag_fields, diag_fields},
+    {MessageType::epoch, "epoch", epoch_fields, epoch_fields},
+};
+
+const Layout* layout_of(std::uint8_t type) noexcept {
+  const Layout* l = std::find_if(std::begin(kLayouts), std::end(kLayouts),
+                                 [type](const Layout& x) { return static_cast<std::uint8_t>(x.type) == type; });
+  return l != std::end(kLayouts) ? l : nullptr;
 }
 
 }  // namespace
 
 const char* to_string(MessageType type) noexcept {
-  switch (type) {
-    case MessageType::get_status: return "get_status";
-    case MessageType::get_slaves: return "get_slaves";
-    case MessageType::get_master: return "get_master";
-    case MessageType::get_tasks: return "get_tasks";
-    case MessageType::get_diag: return "get_diag";
-    case MessageType::get_epoch: return "get_epoch";
-    case MessageType::initialize: return "initialize";
-    case MessageType::enable: return "enable";
-    case MessageType::disable: return "disable";
-    case MessageType::hold: return "hold";
-    case MessageType::select_mode: return "select_mode";
-    case MessageType::clear_joints: return "clear_joints";
-    case MessageType::clear_moved: return "clear_moved";
-    case MessageType::move_effector: return "move_effector";
-    case MessageType::hand: return "hand";
-    case MessageType::take_owner: return "take_owner";
-    case MessageType::imu: return "imu";
-    case MessageType::gps: return "gps";
-    case MessageType::reply: return "reply";
-    case MessageType::status: return "status";
-    case MessageType::slaves: return "slaves";
-    case MessageType::master: return "master";
-    case MessageType::tasks: return "tasks";
-    case MessageType::diag: return "diag";
-    case MessageType::epoch: return "epoch";
-  }
-  return "?";
+  const Layout* l = layout_of(static_cast<std::uint8_t>(type));
+  return l != nullptr ? l->name : "?";
 }
 
-bool is_known(std::uint8_t type) noexcept {
-  switch (static_cast<MessageType>(type)) {
-    case MessageType::get_status:
-    case MessageType::get_slaves:
-    case MessageType::get_master:
-    case MessageType::get_tasks:
-    case MessageType::get_diag:
-    case MessageType::get_epoch:
-    case MessageType::initialize:
-    case MessageType::enable:
-    case MessageType::disable:
-    case MessageType::hold:
-    case MessageType::select_mode:
-    case MessageType::clear_joints:
-    case MessageType::clear_moved:
-    case MessageType::move_effector:
-    case MessageType::hand:
-    case MessageType::take_owner:
-    case MessageType::imu:
-    case MessageType::gps:
-    case MessageType::reply:
-    case MessageType::status:
-    case MessageType::slaves:
-    case MessageType::master:
-    case MessageType::tasks:
-    case MessageType::diag:
-    case MessageType::epoch:
-      return true;
-  }
-  return false;
-}
+bool is_known(std::uint8_t type) noexcept { return layout_of(type) != nullptr; }
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
@@ -510,30 +599,10 @@ Result<FrameView> parse_frame(ConstByteSpan datagram) noexcept {
                       static_cast<std::uint32_t>(datagram.size()), static_cast<std::uint32_t>(kMaxDatagram));
   }
   if (datagram.size() < kHeaderSize + kTagSize) return malformed("datagram shorter than header and tag", datagram.size());
-  const std::uint8_t* p = datagram.data();
-  if (std::memcmp(p, kMagic.data(), kMagic.size()) != 0) return malformed("bad magic");
   FrameView f;
-  f.header.version = p[4];
-  if (f.header.version != kVersion) return malformed("unsupported protocol version", f.header.version, kVersion);
-  f.header.type = static_cast<MessageType>(p[5]);
-  f.header.flags = p[6];
-  if (f.header.flags != 0 || p[7] != 0) return malformed("reserved header bytes not zero");
-  for (std::size_t i = 34; i < kHeaderSize; ++i) {
-    if (p[i] != 0) return malformed("reserved header bytes not zero");
-  }
-  f.header.sender = load_le32(p + 8);
-  f.header.robot = load_le32(p + 12);
-  f.header.epoch = load_le64(p + 16);
-  f.header.sequence = load_le64(p + 24);
-  f.header.payload_length = load_le16(p + 32);
-  // Only get_epoch may leave the robot and the epoch open; the robot's epoch answer never does.
-  const bool asks_epoch = f.header.type == MessageType::get_epoch;
-  if (asks_epoch && f.header.epoch != 0) return malformed("get_epoch with an epoch");
-  if (!asks_epoch && (f.header.epoch == 0 || f.header.robot == kAnyRobot)) return malformed("no robot id or no epoch");
-  if (f.header.payload_length > kMaxPayload) {
-    return make_error(Errc::capacity_exceeded, "payload length above the protocol's maximum", f.header.payload_length,
-                      static_cast<std::uint32_t>(kMaxPayload));
-  }
+  DecodeFields fields(datagram.first(kHeaderSize), "reserved header bytes not zero");
+  header_fields(fields, f.header);
+  RESCUE_TRY(fields.status());
   if (datagram.size() != kHeaderSize + f.header.payload_length + kTagSize) {
     return malformed("datagram length differs from header + payload + tag", datagram.size(), f.header.payload_length);
   }
@@ -544,238 +613,30 @@ Result<FrameView> parse_frame(ConstByteSpan datagram) noexcept {
 }
 
 Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noexcept {
+  const Layout* layout = layout_of(static_cast<std::uint8_t>(header.type));
+  if (layout == nullptr) return make_error(Errc::unsupported, "unknown message type", static_cast<std::uint8_t>(header.type));
   Message m;
   m.header = header;
-  Status s;
-  if (!is_known(static_cast<std::uint8_t>(header.type))) {
-    return make_error(Errc::unsupported, "unknown message type", static_cast<std::uint8_t>(header.type));
-  }
-  switch (header.type) {
-    case MessageType::get_status:
-    case MessageType::get_slaves:
-    case MessageType::get_master:
-    case MessageType::get_tasks:
-    case MessageType::get_diag:
-    case MessageType::get_epoch:
-      s = check_length(payload, 0);
-      break;
-    case MessageType::initialize:
-    case MessageType::enable:
-    case MessageType::disable:
-    case MessageType::hold:
-    case MessageType::select_mode:
-    case MessageType::clear_joints:
-    case MessageType::clear_moved:
-      s = decode_joints(header, payload, m);
-      break;
-    case MessageType::move_effector: s = decode_move(payload, m); break;
-    case MessageType::hand: s = decode_hand(payload, m); break;
-    case MessageType::take_owner: s = decode_owner(payload, m); break;
-    case MessageType::imu: s = decode_imu(payload, m); break;
-    case MessageType::gps: s = decode_gps(payload, m); break;
-    case MessageType::reply: s = decode_reply(payload, m); break;
-    case MessageType::status: s = decode_status(payload, m); break;
-    case MessageType::slaves: s = decode_slaves(payload, m); break;
-    case MessageType::master: s = decode_master(payload, m); break;
-    case MessageType::tasks: s = decode_tasks(payload, m); break;
-    case MessageType::diag: s = decode_diag(payload, m); break;
-    case MessageType::epoch:
-      s = check_length(payload, kEpochSize);
-      if (s.ok()) m.epoch.request_sequence = load_le64(payload.data());
-      break;
-  }
-  if (!s.ok()) return s.error();
+  DecodeFields fields(payload);
+  layout->decode(fields, m);
+  RESCUE_TRY(fields.status());
   return m;
 }
 
 void encode_header(const Header& h, std::uint8_t* out) noexcept {
-  Writer w(out);
-  for (const std::uint8_t b : kMagic) w.u8(b);
-  w.u8(h.version);
-  w.u8(static_cast<std::uint8_t>(h.type));
-  w.u8(h.flags);
-  w.u8(0);
-  w.u32(h.sender);
-  w.u32(h.robot);
-  w.u64(h.epoch);
-  w.u64(h.sequence);
-  w.u16(h.payload_length);
-  w.zeros(6);
+  EncodeFields fields(ByteSpan(out, kHeaderSize));
+  header_fields(fields, h);
 }
 
 Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
-  std::array<std::uint8_t, kMaxPayload> buf{};
-  Writer w(buf.data());
-  switch (m.header.type) {
-    case MessageType::get_status:
-    case MessageType::get_slaves:
-    case MessageType::get_master:
-    case MessageType::get_tasks:
-    case MessageType::get_diag:
-    case MessageType::get_epoch:
-      break;
-    case MessageType::epoch:
-      w.u64(m.epoch.request_sequence);
-      break;
-    case MessageType::initialize:
-    case MessageType::enable:
-    case MessageType::disable:
-    case MessageType::hold:
-    case MessageType::clear_joints:
-    case MessageType::clear_moved:
-      w.u32(m.joints.joints);
-      break;
-    case MessageType::select_mode:
-      w.u32(m.joints.joints);
-      w.u8(static_cast<std::uint8_t>(m.joints.mode));
-      w.zeros(3);
-      break;
-    case MessageType::move_effector:
-      w.u8(m.move.task);
-      w.u8(static_cast<std::uint8_t>(m.move.effector));
-      w.zeros(6);
-      for (const double v : m.move.position_m) w.f64(v);
-      for (const double v : m.move.rpy_rad) w.f64(v);
-      break;
-    case MessageType::hand:
-      w.u8(m.hand.task);
-      w.u8(static_cast<std::uint8_t>(m.hand.hand));
-      w.u8(static_cast<std::uint8_t>(m.hand.action));
-      w.zeros(1);
-      break;
-    case MessageType::take_owner:
-      w.u8(m.owner.task);
-      w.zeros(3);
-      break;
-    case MessageType::imu:
-      w.u64(m.imu.time_unix_ns);
-      for (const double v : m.imu.orientation_wxyz) w.f64(v);
-      for (const double v : m.imu.angular_velocity_rad_s) w.f64(v);
-      for (const double v : m.imu.linear_acceleration_m_s2) w.f64(v);
-      break;
-    case MessageType::gps:
-      w.u64(m.gps.time_unix_ns);
-      w.f64(m.gps.latitude_deg);
-      w.f64(m.gps.longitude_deg);
-      w.f64(m.gps.altitude_m);
-      w.f64(m.gps.horizontal_accuracy_m);
-      w.f64(m.gps.vertical_accuracy_m);
-      w.u8(static_cast<std::uint8_t>(m.gps.fix));
-      w.u8(m.gps.satellites);
-      w.zeros(6);
-      break;
-    case MessageType::reply:
-      w.u64(m.reply.request_sequence);
-      w.u8(static_cast<std::uint8_t>(m.reply.request_type));
-      w.u8(static_cast<std::uint8_t>(m.reply.outcome));
-      w.u8(static_cast<std::uint8_t>(m.reply.reason));
-      w.zeros(1);
-      w.u32(m.reply.refused_joints);
-      w.text(m.reply.text);
-      break;
-    case MessageType::status:
-      w.u64(m.status.cycle);
-      w.u8(static_cast<std::uint8_t>(kJointCount));
-      w.zeros(7);
-      for (const JointStatusRecord& j : m.status.joints) {
-        w.u8(j.state);
-        w.u8(static_cast<std::uint8_t>(j.mode));
-        w.u8(j.flags);
-        w.u8(j.fault);
-        w.u8(j.owner);
-        w.zeros(3);
-        w.f64(j.position_rad);
-        w.f64(j.velocity_rad_s);
-        w.f64(j.torque_nm);
-      }
-      break;
-    case MessageType::slaves: {
-      const std::size_t count = m.slaves.count <= kMaxSlaves ? m.slaves.count : kMaxSlaves;
-      w.u8(static_cast<std::uint8_t>(count));
-      w.zeros(7);
-      for (std::size_t i = 0; i < count; ++i) {
-        const SlaveRecord& s = m.slaves.slaves[i];
-        w.u16(s.position);
-        w.u16(s.station);
-        w.u8(s.al_state);
-        w.u8(s.flags);
-        w.zeros(2);
-        w.text(s.name);
-        w.u8(s.recovery);
-        w.zeros(3);
-        w.u32(s.recovery_age_ms);
-      }
-      break;
-    }
-    case MessageType::master:
-      w.u8(m.master.state);
-      w.zeros(7);
-      w.u64(m.master.cycles);
-      w.u64(m.master.frames_sent);
-      w.u64(m.master.frames_lost);
-      w.u64(m.master.late_periods);
-      w.u64(static_cast<std::uint64_t>(m.master.dc_deviation_ns));
-      w.u64(static_cast<std::uint64_t>(m.master.dc_max_deviation_ns));
-      w.u64(m.master.datagrams_accepted);
-      for (const std::uint64_t v : m.master.rejected) w.u64(v);
-      break;
-    case MessageType::tasks: {
-      const std::size_t count = m.tasks.count <= kMaxTasks ? m.tasks.count : kMaxTasks;
-      w.u8(static_cast<std::uint8_t>(count));
-      w.zeros(7);
-      for (std::size_t i = 0; i < count; ++i) {
-        const TaskRecord& t = m.tasks.tasks[i];
-        w.text(t.name);
-        w.u32(static_cast<std::uint32_t>(t.pid));
-        w.u16(static_cast<std::uint16_t>(t.cpu));
-        w.u16(static_cast<std::uint16_t>(t.priority));
-        w.u64(t.periods);
-        w.u64(t.missed);
-        w.u64(t.max_execution_ns);
-        for (const TimingFigures* f : {&t.execution, &t.latency}) {
-          w.u32(f->min);
-          w.u32(f->mean);
-          w.u32(f->stddev);
-          w.u32(f->max);
-          w.u32(f->p99);
-          w.u32(f->p999);
-          w.u32(f->p9999);
-        }
-      }
-      const std::size_t drops = m.tasks.drop_count <= kMaxDropCounters ? m.tasks.drop_count : kMaxDropCounters;
-      w.u8(static_cast<std::uint8_t>(drops));
-      w.zeros(7);
-      for (std::size_t i = 0; i < drops; ++i) w.u64(m.tasks.dropped[i]);
-      break;
-    }
-    case MessageType::diag: {
-      const std::size_t count = m.diag.count <= kMaxSlaves ? m.diag.count : kMaxSlaves;
-      w.u8(static_cast<std::uint8_t>(count));
-      w.zeros(7);
-      w.u64(m.diag.cycle);
-      w.u64(m.diag.sweeps);
-      for (std::size_t i = 0; i < count; ++i) {
-        const DiagSlaveRecord& d = m.diag.slaves[i];
-        for (const DiagPortRecord& p : d.ports) {
-          w.u16(p.invalid_frames);
-          w.u16(p.rx_errors);
-          w.u16(p.forwarded_errors);
-          w.u16(p.lost_links);
-        }
-        w.u16(d.processing_unit_errors);
-        w.u16(d.pdi_errors);
-        w.u16(d.reads);
-        w.u8(d.warned);
-        w.u8(d.warned_before);
-      }
-      break;
-    }
-    default:
-      return make_error(Errc::unsupported, "unknown message type", static_cast<std::uint8_t>(m.header.type));
+  const Layout* layout = layout_of(static_cast<std::uint8_t>(m.header.type));
+  if (layout == nullptr) {
+    return make_error(Errc::unsupported, "unknown message type", static_cast<std::uint8_t>(m.header.type));
   }
-  if (w.size() > out.size()) return make_error(Errc::capacity_exceeded, "payload buffer too small");
-  std::memcpy(out.data(), buf.data(), w.size());
-  return w.size();
+  EncodeFields fields(out);
+  layout->encode(fields, m);
+  if (!fields.ok()) return make_error(Errc::capacity_exceeded, "payload buffer too small");
+  return fields.size();
 }
 
 }  // namespace rescue::app::protocol

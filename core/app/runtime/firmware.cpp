@@ -180,6 +180,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.tasks = &links().task_stats;
   socket_ports.drops = &links().run.dropped;
   socket_ports.motion = &links().motion;
+  socket_ports.handler_heartbeat = &links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
+  socket_ports.stale_after = options.task_silent_after;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
                               options.robot_id);
   if (operator_port) {

@@ -21,6 +21,7 @@
 #include "core/app/sim/run_scenario.hpp"
 #include "core/robot/robot.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -46,6 +47,9 @@ struct FirmwareOptions {
   std::uint16_t sensor_port{47011};
   const char* key_path{nullptr};     // nullptr: <state dir>/operator.key; absent there: no socket handler
   std::uint32_t robot_id{1};         // this robot's identity in every datagram (--robot-id, robot_id; docs/protocol.md)
+  // A real-time task that completed no period for this long is reported (docs/tasks.md "Liveness"),
+  // and `ctl status`, `slaves`, `master` mark the handler's figures stale.
+  hal::Nanoseconds task_silent_after{config::kTaskSilentAfterNs};
   struct Report* report{nullptr};    // filled at the end, for in-process tests (may be nullptr)
 };
 

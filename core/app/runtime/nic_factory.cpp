@@ -21,13 +21,11 @@ Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin)
     active_ = &raw_;
     return Status::success();
   }
-  hal::Clock* clock = simulation_clock_ != nullptr ? simulation_clock_ : &g_real_time;
-  drivers::SimulatedRobot& robot = simulated_robot(clock->now());
+  drivers::SimulatedRobot& robot = simulated_robot(g_real_time.now());  // the simulated robot runs on CLOCK_MONOTONIC
   RESCUE_TRY(robot.status());
   simulated_.clear();
-  // The wall clock's simulated robot answers within the model's round trip (the spin); a virtual
-  // clock jumps, so it never spins.
-  active_ = simulated_.emplace_back(robot.segment(), *clock, simulation_clock_ != nullptr ? 0 : receive_spin);
+  // The wall clock's simulated robot answers within the model's round trip (the spin).
+  active_ = simulated_.emplace_back(robot.segment(), g_real_time, receive_spin);
   return Status::success();
 }
 

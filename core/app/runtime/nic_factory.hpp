@@ -23,16 +23,12 @@ class SelectedNic {
   // by reading before it sleeps (the master's default; 0 sleeps at
   // once, as a normally scheduled master like SOEM's does).
   Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
-  // The clock the simulated robot runs on (default: CLOCK_MONOTONIC; a VirtualClock runs it
-  // faster than real time). Set before open().
-  void set_simulation_clock(hal::Clock& clock) noexcept { simulation_clock_ = &clock; }
   // The open NIC; nullptr before a successful open().
   hal::Nic* nic() noexcept { return active_; }
 
  private:
   hal::RawSocketNic raw_;
   FixedVector<drivers::SimulatedNic, 1> simulated_;  // the loopback NIC over the simulated robot
-  hal::Clock* simulation_clock_{nullptr};
   hal::Nic* active_{nullptr};
 };
 

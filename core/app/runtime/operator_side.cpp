@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "core/app/runtime/liveness_watch.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -46,11 +47,70 @@ void announce_scenario(OperatorSide& side) noexcept {
                     kJoints[wanted.cut_joint].name, names);
 }
 
+// The real-time tasks the liveness watch reports (their heartbeats, TaskLinks::task_heartbeat_ns).
+constexpr std::uint32_t kWatchedTasks = (1U << static_cast<unsigned>(StatTask::ethercat_handler)) |
+                                        (1U << static_cast<unsigned>(StatTask::joint_manager)) |
+                                        (1U << static_cast<unsigned>(StatTask::rc_rescue)) |
+                                        (1U << static_cast<unsigned>(StatTask::rc_teleop));
+const char* const kWatchedNames[kTaskStatSlots] = {"ethercat-handler", "joint-manager", "socket-handler",
+                                                   "message-parser",   "rc-rescue",     "rc-teleop"};
+
+// What a silent task means for the robot, and what the firmware does about it (docs/tasks.md
+// "Liveness").
+const char* consequence_of_silence(std::size_t task) noexcept {
+  switch (static_cast<StatTask>(task)) {
+    case StatTask::ethercat_handler:
+      return "no frame reaches the drives: after 100 ms without one their SyncManager watchdog disables their outputs "
+             "and the worm gears hold the joints; `ctl status`, `slaves`, `master` mark the handler's figures stale; "
+             "nothing else may send frames, so the supervisor waits for it (its death ends the run)";
+    case StatTask::joint_manager:
+      return "the EtherCAT handler keeps every drive on its last demand and still stops the robot on any limit; no "
+             "operator command is applied and no loss is recorded until it runs again; the supervisor waits for it "
+             "(its death ends the run)";
+    default:
+      return "if it owns the motion, the EtherCAT handler holds its joints and releases the owner after 50 ms; the "
+             "supervisor waits for it (a dead RC task is restarted)";
+  }
+}
+
+// The supervisor's liveness watch (the logging thread under --threads): one check per pass.
+void liveness_pass(hal::Nanoseconds now) noexcept {
+  static LivenessWatch watch(g_run.tasks.options->task_silent_after, kWatchedTasks);
+  std::array<LivenessChange, kTaskStatSlots> changes{};
+  const std::size_t n = watch.check(now, links().task_heartbeat_ns, changes);
+  RunControl& state = run();
+  for (std::size_t i = 0; i < n; ++i) {
+    const LivenessChange& c = changes[i];
+    const double at = seconds(now - g_run.tasks.start);
+    if (c.kind == LivenessChange::Kind::silent) {
+      (void)std::printf("[%8.3f s] supervisor: %s has completed no period for %.1f ms (silent after %.1f ms): %s\n", at,
+                        kWatchedNames[c.task], static_cast<double>(c.silent_ns) / 1e6,
+                        static_cast<double>(watch.silent_after()) / 1e6, consequence_of_silence(c.task));
+      state.silent_tasks.fetch_or(1U << c.task, std::memory_order_relaxed);
+      state.silences_reported.fetch_add(1, std::memory_order_relaxed);
+      if (c.silent_ns > state.silence_report_age_max_ns.load(std::memory_order_relaxed)) {
+        state.silence_report_age_max_ns.store(c.silent_ns, std::memory_order_relaxed);
+      }
+    } else {
+      const bool past_watchdog = c.task == static_cast<std::size_t>(StatTask::ethercat_handler) && c.silent_ns >= config::kDriveWatchdogNs;
+      (void)std::printf("[%8.3f s] supervisor: %s runs again after %.1f ms without a period%s\n", at, kWatchedNames[c.task],
+                        static_cast<double>(c.silent_ns) / 1e6,
+                        past_watchdog ? ": longer than the drives' watchdog; the handler re-arms them to OP and enables "
+                                        "them again, each holding its actual position; a Motion owner is released, so "
+                                        "the robot moves again only when the operator says (ctl owner N; docs/tasks.md "
+                                        "\"Liveness\")"
+                                      : "");
+      state.silent_tasks.fetch_and(~(1U << c.task), std::memory_order_relaxed);
+    }
+  }
+}
+
 }  // namespace
 
 void operator_side_pass(OperatorSide& side) noexcept {
   hal::Clock& clock = *g_run.tasks.clock;
   const MotionSnapshot motion = read_motion();
+  liveness_pass(clock.now());
   announce_scenario(side);
   const bool op = run().op.load(std::memory_order_acquire);
   // The DFA takes its steps only for reachable joints: wait until the handler's published values

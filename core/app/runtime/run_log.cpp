@@ -29,7 +29,9 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
       if (e.link.kind == ecat::LinkEventKind::watchdog_expired) {
         // Not a link fault: the master itself was silent (host stall) past the SyncManager watchdog.
         (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": SyncManager watchdogs expired after %" PRIu32
-                          " ms without frames (host stall, not a link fault), re-arming: %s\n",
+                          " ms without frames (host stall, not a link fault), re-arming: %s; each comes back "
+                          "holding its actual position, and the motion waits for the operator (a Motion owner is "
+                          "released: ctl owner N moves again)\n",
                           t, e.cycle, e.link.found[0], names);
         break;
       }

@@ -9,6 +9,7 @@
 
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/config/task_table.hpp"
+#include "core/app/runtime/period_schedule.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_timing.hpp"
@@ -97,6 +98,8 @@ class TaskStats {
               hal::Nanoseconds late_after) noexcept {
     recorder_->period(due_ns, woke_ns, tsc_before, tsc_after, late_after);
   }
+  // `count` periods that did not run at all (period_schedule.hpp).
+  void skipped(std::uint64_t count) noexcept { recorder_->skipped(count); }
   // The last publication, when the task ends (its page faults: TaskHealthProbe).
   void publish() noexcept { recorder_->publish(); }
   std::uint64_t missed() const noexcept { return recorder_->missed(); }
@@ -114,21 +117,13 @@ TaskStats start_task(const char* name, TaskId id, StatTask slot) noexcept {
   return stats;
 }
 
-// A periodic task's loop: `work(start)` once every `period` on `clock` until `stop` is set, each
-// period recorded (late when it began more than `late_after` after it was due).
+// A periodic task's loop (period_schedule.hpp): missed periods skipped and counted, its heartbeat
+// published in its slot of TaskLinks::task_heartbeat_ns every period.
 template <typename Work>
 void run_periods(const std::atomic<bool>& stop, hal::Clock& clock, hal::Nanoseconds period,
-                 hal::Nanoseconds late_after, TaskStats& stats, Work work) noexcept {
-  const hal::TscTimer& timer = task_timing().timer;
-  hal::Nanoseconds next = clock.now();
-  while (!stop.load(std::memory_order_acquire)) {
-    const hal::Nanoseconds start = clock.now();
-    const std::uint64_t work_start = timer.start();
-    work(start);
-    stats.period(next, start, work_start, timer.stop(), late_after);
-    next += period;
-    clock.sleep_until(next);
-  }
+                 hal::Nanoseconds late_after, StatTask slot, TaskStats& stats, Work work) noexcept {
+  app::run_periods(stop, clock, task_timing().timer, period, late_after, stats,
+                   links().task_heartbeat_ns[static_cast<std::size_t>(slot)], work);
 }
 
 // A queue's drop counter in the segment (run_control.hpp), written by the task at its producing end:
@@ -199,6 +194,12 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   TaskTiming& timing = task_timing();
   MasterStatus master{};
   std::uint64_t diag_sweeps = 0;
+  std::atomic<std::int64_t>& heartbeat = links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
+  // Periods count from the handler's first period: the time since the bring-up (forking the tasks)
+  // is start-up, not periods missed (period_schedule.hpp).
+  bus.master().realign_schedule();
+  const std::uint64_t skipped_at_start = bus.master().skipped_periods();
+  std::uint64_t skipped_seen = skipped_at_start;
   for (;;) {
     const hal::Nanoseconds release = bus.next_wakeup();
     clock.sleep_until(release);
@@ -209,13 +210,22 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     // Woke at now - the work's duration: no extra clock read.
     const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
     stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
+    heartbeat.store(now, std::memory_order_release);
+    // Periods that had no cycle (the master skipped them to keep the phase after an overrun, a late
+    // wake-up or a stall) are the handler's missed periods too: one figure in `ctl master`, `ctl
+    // tasks` and the run's summary.
+    const std::uint64_t skipped_total = bus.master().skipped_periods();
+    if (skipped_total != skipped_seen) {
+      stats.skipped(skipped_total - skipped_seen);
+      skipped_seen = skipped_total;
+    }
     master.state = static_cast<std::uint8_t>(r.state);
     master.cycles = r.cycle;
     master.frames_sent = r.cycle;
     master.frames_lost = handler.frames_missing();
     // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
     // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
-    master.late_periods = stats.missed() + bus.master().skipped_periods();
+    master.late_periods = stats.missed();
     const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
     master.dc_deviation_ns = dc_error;
     const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
@@ -265,7 +275,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
   }
   state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
-  state.skipped_periods.store(bus.master().skipped_periods(), std::memory_order_relaxed);
+  state.skipped_periods.store(bus.master().skipped_periods() - skipped_at_start, std::memory_order_relaxed);
   state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
   const MotionIntakeCounters intake = handler.motion_intake().counters();
   state.intake_owned_periods.store(intake.owned_periods, std::memory_order_relaxed);
@@ -279,7 +289,7 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   RunControl& state = run();
   TaskStats stats = start_task("joint-manager", TaskId::joint_manager, StatTask::joint_manager);
   TaskHealthProbe health(StatTask::joint_manager);
-  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, stats,
+  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, StatTask::joint_manager, stats,
               [&manager](hal::Nanoseconds start) noexcept {
                 manager.step(start);
                 links().joint_status.write(published_status(manager.statuses()));
@@ -313,7 +323,7 @@ void rc_task(RcTask& task, hal::Clock& clock) noexcept {
   const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
   TaskStats stats = start_task(name, TaskId::rc_tasks, slot);
   TaskHealthProbe health(slot);
-  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, stats,
+  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, slot, stats,
               [&task](hal::Nanoseconds start) noexcept { task.period(start); });
   stats.publish();
   health.report();
@@ -324,7 +334,7 @@ void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
   const RunControl& state = run();
   TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
   TaskHealthProbe health(StatTask::message_parser);
-  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, stats,
+  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, StatTask::message_parser, stats,
               [&parser](hal::Nanoseconds start) noexcept {
                 parser.step(start);
                 publish_drops(DropCounter::replies_dropped, parser.replies_dropped());
@@ -345,6 +355,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
     const std::uint64_t work_start = timer.start();
     socket.step(start);
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
+    links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::socket_handler)].store(clock.now(), std::memory_order_release);
     publish_drops(DropCounter::requests_dropped, socket.counters().forwarded_dropped);
   }
   // A restarted socket handler keeps its predecessors' maximum.

@@ -3,7 +3,8 @@
 // wake-up instants, to its TaskRecorder, which
 //   - records execution time and wake-up latency (release to start) into its PeriodRecorder's fixed
 //     histograms (core/timing/period_recorder.hpp): static storage, no heap, no system call;
-//   - counts periods and late periods (woke more than `late_after` after the release);
+//   - counts periods and missed periods: those that woke more than `late_after` after their release,
+//     and those that did not run at all (skipped after a stall, `skipped`; period_schedule.hpp);
 //   - after periods 1, 10, 100 and 1000, then every kPublishEvery periods, publishes them with the
 //     histograms' min, mean, std, max, p99, p99.9, p99.99 (PeriodRecorder::compact: one pass over the buckets) into the task's TaskStat
 //     seqlock slot (TaskLinks::task_stats), which the socket handler answers `ctl tasks` from, live.
@@ -53,6 +54,9 @@ class TaskRecorder {
       publish();
     }
   }
+  // `count` periods did not run at all (their releases passed during a late or long period, and the
+  // task went on at the next release instead of running them back to back): missed, not run.
+  void skipped(std::uint64_t count) noexcept { stat_.missed += count; }
   // Publishes the figures now (at the end of the task, or for a test).
   void publish() noexcept;
 

@@ -114,11 +114,6 @@ void SegmentOwner::release() noexcept {
   name_ = SegmentName{};
 }
 
-void SegmentOwner::forget() noexcept {
-  name_ = SegmentName{};
-  memory_ = hal::SharedMemory{};
-}
-
 Result<SegmentOwner> SegmentOwner::create(const SegmentName& name, CreateReport* report) noexcept {
   CreateReport local;
   CreateReport& out = report != nullptr ? *report : local;

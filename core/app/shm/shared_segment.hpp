@@ -75,8 +75,6 @@ class SegmentOwner {
   TaskLinks& links() const noexcept { return segment().links; }
   const SegmentName& name() const noexcept { return name_; }
   bool created() const noexcept { return memory_.mapped(); }
-  // Drops ownership without unlinking (a forked child's copy must not unlink the supervisor's name).
-  void forget() noexcept;
 
  private:
   void release() noexcept;

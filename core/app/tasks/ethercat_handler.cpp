@@ -12,10 +12,11 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 
 }  // namespace
 
-EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept
+EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+                                 const MotionIntakeSettings& intake) noexcept
     : bus_(bus),
       links_(links),
-      intake_(links.motion, links.rc_heartbeat_ns, default_intake_settings()),
+      intake_(links.motion, links.rc_heartbeat_ns, intake),
       report_sink_(links.lost_reports),
       notice_source_(links.notices),
       tracker_(report_sink_, notice_source_, restored_lost) {
@@ -48,14 +49,33 @@ void EthercatHandler::build_outputs() noexcept {
     const drivers::JointInputs& in = feedback_.joints[j];
     const bool valid = (feedback_.valid & joint_bit(j)) != 0;
     const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    if (drive && (rest_after_watchdog_ & joint_bit(j)) != 0) {
+      // Back from the watchdog: enabled again where it stands, not where the reference was.
+      if (drivers::is_enabled(in.statusword)) {
+        rest_after_watchdog_ &= ~joint_bit(j);
+      } else {
+        intake_.rest_at(j, drivers::counts_to_rad(in.position_actual));
+        out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
+        out.target_position = in.position_actual;
+        out.target_velocity = 0;
+        out.target_torque = 0;
+        continue;
+      }
+    }
     if (drive) {
       out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
-      out.target_position = drivers::rad_to_counts(references[j]);
+      reference_rad_[j] = references[j];
+      out.target_position = drivers::rad_to_counts(reference_rad_[j]);  // the one conversion, for the wire
     } else {
       out.controlword = drivers::controlword_towards_disabled(in.statusword);
       // A disabled drive's target follows its actual position, so enabling later moves nothing.
-      if (valid) out.target_position = in.position_actual;
+      if (valid) {
+        out.target_position = in.position_actual;
+        reference_rad_[j] = drivers::counts_to_rad(in.position_actual);
+      }
     }
+    // No velocity reference: the joints run in CSP, which takes positions; the fixed mapping's
+    // target velocity (0x60FF, for CSV) is sent 0, and so is the samples' velocity_ref_rad_s.
     out.target_velocity = 0;
     out.target_torque = 0;
   }
@@ -65,8 +85,8 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
   for (std::size_t j = 0; j < kJointCount; ++j) {
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
-    s.position_ref_rad = drivers::counts_to_rad(out.target_position);
-    s.velocity_ref_rad_s = drivers::counts_to_rad(out.target_velocity);
+    s.position_ref_rad = reference_rad_[j];
+    s.velocity_ref_rad_s = 0.0;
     s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
     const bool valid = (result.valid & joint_bit(j)) != 0;
     s.reachable = valid;
@@ -105,6 +125,16 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     e.joints = link.joints;
     e.link = link.link;
     post(e);
+    if (link.link.kind == ecat::LinkEventKind::watchdog_expired) {
+      // The drives stopped while this handler was silent longer than their watchdog: they come back
+      // holding their actual position, and the motion waits for the operator (docs/tasks.md
+      // "Liveness"): a Motion owner is released (`ctl owner N` takes it again).
+      rest_after_watchdog_ |= link.joints;
+      const std::uint64_t word = links_.motion.owner.word();
+      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && links_.motion.owner.release(word)) {
+        ++owners_released_after_watchdog_;
+      }
+    }
     if (link.link.kind == ecat::LinkEventKind::recovered && link.link.found[0] == ecat::kRecoveredAfterPowerLoss) {
       LostJointsReport back{};
       back.cycle = result.cycle;
@@ -144,10 +174,10 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   const bool counting = op_seen_;
   if (result.state == ecat::MasterState::op) op_seen_ = true;
   if (counting) {
-    // A frame that did not come back says nothing about single joints (a late frame on a busy
-    // host): then only what the master has established as out of the exchange counts.
-    const JointMask unreachable = result.frame_received ? kAllJoints & ~result.valid : result.out;
-    tracker_.on_cycle(result.cycle, now, unreachable);
+    // The master alone decides a loss (ecat/master/link_monitor.hpp): the joints it holds out of
+    // the exchange are reported; a joint merely invalid this cycle (a short working counter being
+    // probed, a late frame) is not.
+    tracker_.on_cycle(result.cycle, now, result.out);
     if (tracker_.reports_sent() != last_reports_sent_) {
       last_reports_sent_ = tracker_.reports_sent();
       HandlerEvent e{};

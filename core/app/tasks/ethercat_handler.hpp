@@ -7,8 +7,9 @@
 //      stage, its worm gear holding;
 //   2. exchanges one frame with all slaves (drivers::JointBus: the master);
 //   3. publishes every joint's values (seqlock; an unreachable joint keeps its last values);
-//   4. reconfiguration steps 1 and 6 (LostJointTracker): unreachable joints are excluded at once,
-//      reported on a queue to the joint manager, and the healthy branches go on;
+//   4. reconfiguration steps 1 and 6 (LostJointTracker): the joints of the slaves the master took
+//      out of the exchange (its link monitor alone confirms a loss) are excluded at once, reported
+//      on a queue to the joint manager, and the healthy branches go on;
 //   5. its own limit check (decide_safe_stop): any monitored joint over a limit stops the robot
 //      safely, whatever the joint manager does: every drive disabled, worm gears holding;
 //   6. queues what happened (HandlerEvent) for a lower-priority logger to print.
@@ -56,7 +57,8 @@ class EthercatHandler {
 
   // `links` carries the queues and seqlocks shared with the joint manager; `restored_lost` the
   // joints the error-joints file lists (excluded from the first cycle on).
-  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost) noexcept;
+  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+                  const MotionIntakeSettings& intake = default_intake_settings()) noexcept;
 
   // One period; call at bus().next_wakeup() once the bus is up.
   drivers::JointCycleResult cycle() noexcept;
@@ -70,6 +72,8 @@ class EthercatHandler {
   // Events for the logger (single consumer).
   [[nodiscard]] bool pop_event(HandlerEvent& out) noexcept { return events_.try_pop(out); }
   std::uint64_t events_dropped() const noexcept { return events_dropped_; }
+  // Motion owners released because the drives' watchdog expired during a silence of this handler.
+  std::uint64_t owners_released_after_watchdog() const noexcept { return owners_released_after_watchdog_; }
   // "Back after a power cycle" reports a full report queue could not take (no automatic clear then).
   std::uint64_t power_cycle_reports_dropped() const noexcept { return power_cycle_reports_dropped_; }
 
@@ -99,11 +103,13 @@ class EthercatHandler {
   SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
   LostJointTracker tracker_;
   drivers::JointReferences outputs_{};
+  std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   drivers::JointFeedback feedback_{};
   RobotSample sample_{};
   RobotDemand demand_{};
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
+  std::uint64_t owners_released_after_watchdog_{0};
   std::uint64_t power_cycle_reports_dropped_{0};
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
@@ -115,6 +121,10 @@ class EthercatHandler {
   bool stopping_{false};
   bool drives_disabled_{false};
   bool safe_stopped_{false};
+  // Joints whose drives the SyncManager watchdog stopped during a silence of this handler (a stall
+  // longer than 100 ms): until each drive is enabled again its target is its actual position, so
+  // it comes back holding where it stands (docs/tasks.md "Liveness").
+  JointMask rest_after_watchdog_{0};
 };
 
 }  // namespace rescue::app

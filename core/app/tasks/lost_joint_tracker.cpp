@@ -3,22 +3,12 @@
 namespace rescue::app {
 
 LostJointTracker::LostJointTracker(MessageSink<LostJointsReport>& reports, MessageSource<JointManagerNotice>& notices,
-                                   JointMask restored_lost, std::uint8_t confirm_cycles) noexcept
-    : reports_(reports),
-      notices_(notices),
-      confirm_cycles_(confirm_cycles == 0 ? 1 : confirm_cycles),
-      confirmed_(restored_lost & kAllJoints) {}
+                                   JointMask restored_lost) noexcept
+    : reports_(reports), notices_(notices), confirmed_(restored_lost & kAllJoints) {}
 
-void LostJointTracker::on_cycle(std::uint64_t cycle, hal::Nanoseconds now, JointMask unreachable) noexcept {
-  // Detection: only a loss confirmed over several cycles is reported (one lost frame is not damage).
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((unreachable & joint_bit(j)) == 0) {
-      missed_[j] = 0;
-      continue;
-    }
-    if (missed_[j] < confirm_cycles_) ++missed_[j];
-    if (missed_[j] >= confirm_cycles_ && (excluded() & joint_bit(j)) == 0) unreported_ |= joint_bit(j);
-  }
+void LostJointTracker::on_cycle(std::uint64_t cycle, hal::Nanoseconds now, JointMask out) noexcept {
+  // Detection is the master's (it confirmed the loss over kLossConfirmFrames returned frames).
+  unreported_ |= out & kAllJoints & ~excluded();
 
   // Step 1: report, without waiting. A full queue means: try again next cycle.
   if (unreported_ != 0) {
@@ -46,9 +36,6 @@ void LostJointTracker::on_cycle(std::uint64_t cycle, hal::Nanoseconds now, Joint
       last_answer_cycle_ = notice.cycle;
     } else {
       confirmed_ &= ~joints;
-      for (std::size_t j = 0; j < kJointCount; ++j) {
-        if ((joints & joint_bit(j)) != 0) missed_[j] = 0;
-      }
     }
   }
 }

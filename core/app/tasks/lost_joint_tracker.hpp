@@ -1,16 +1,19 @@
 // The EtherCAT handler's side of reconfiguration (paper IV-C steps 1 and 6), called once per cycle.
-// It never blocks and never touches the disk: it turns the working-counter verdict into a lost-joints
+// It never blocks and never touches the disk: it turns the master's verdict into a lost-joints
 // report on a queue, keeps lost joints out of the commands at once, and reads the joint manager's
 // answer when it comes. The healthy branches keep their cycle throughout.
 //
-//   unreachable for kConfirmCycles cycles in a row  -> `unreported` (excluded at once: held, not commanded)
+// It decides nothing about the network: the master's link monitor alone confirms a loss
+// (ecat/master/link_monitor.hpp, kLossConfirmFrames; docs/master.md), and the joints behind the
+// slaves it took out of the exchange are what this tracker reports, in the cycle they leave it.
+//
+//   out of the exchange (the master says so)        -> `unreported` (excluded at once: held, not commanded)
 //   report queued (try_send succeeded)              -> `pending`    (step 1 done; waiting for the answer)
 //   answer read (lost_joints_recorded)              -> `confirmed`  (step 6: resume with the others)
 //   operator cleared them (joints_cleared)          -> commanded again
 // A full report queue costs nothing but a retry next cycle (counted).
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "core/app/links/joint_messages.hpp"
@@ -22,17 +25,17 @@ namespace rescue::app {
 
 class LostJointTracker {
  public:
-  static constexpr std::uint8_t kDefaultConfirmCycles = 3;
   static constexpr std::size_t kMaxNoticesPerCycle = 4;
 
   // `restored_lost`: the joints the joint manager restored from the error-joints file at start-up;
-  // they are excluded from the first cycle on. `confirm_cycles` >= 1 filters a single lost frame.
+  // they are excluded from the first cycle on.
   LostJointTracker(MessageSink<LostJointsReport>& reports, MessageSource<JointManagerNotice>& notices,
-                   JointMask restored_lost, std::uint8_t confirm_cycles = kDefaultConfirmCycles) noexcept;
+                   JointMask restored_lost) noexcept;
 
-  // Once per cycle. `unreachable`: the joints this cycle's working counters did not confirm. Bounded
-  // work: one try_send, at most kMaxNoticesPerCycle try_receive.
-  void on_cycle(std::uint64_t cycle, hal::Nanoseconds now, JointMask unreachable) noexcept;
+  // Once per cycle. `out`: the joints whose slaves the master holds out of the exchange this cycle
+  // (lost, not operational, restored and not yet re-integrated, held out of service). Bounded work:
+  // one try_send, at most kMaxNoticesPerCycle try_receive.
+  void on_cycle(std::uint64_t cycle, hal::Nanoseconds now, JointMask out) noexcept;
 
   JointMask unreported() const noexcept { return unreported_; }
   JointMask pending() const noexcept { return pending_; }
@@ -49,8 +52,6 @@ class LostJointTracker {
  private:
   MessageSink<LostJointsReport>& reports_;
   MessageSource<JointManagerNotice>& notices_;
-  std::uint8_t confirm_cycles_;
-  std::array<std::uint8_t, kJointCount> missed_{};  // consecutive unreachable cycles, saturating
   JointMask unreported_{0};
   JointMask pending_{0};
   JointMask confirmed_{0};

@@ -72,13 +72,10 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
     reply(request, Outcome::refused, RefusalReason::no_rc_task, 0, text);
     return;
   }
-  RcTaskInput input;
+  RcTaskInput input = request.rc;  // as the socket handler converted it
   input.kind = request.type == MessageType::move_effector ? RcInputKind::end_effector_target
                : request.type == MessageType::hand        ? RcInputKind::hand
                                                           : RcInputKind::take_ownership;
-  input.effector = request.effector;
-  input.action = request.action;
-  input.pose = request.pose;
   input.sequence = request.sequence;
   if (!ports_.rc_inputs[task]->try_send(input)) {
     (void)std::snprintf(text, sizeof text, "RC task %u input queue full", static_cast<unsigned>(task));

@@ -34,24 +34,55 @@ bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t wor
   }
   const double seconds = static_cast<double>(settings_.handler_period_ns) / static_cast<double>(hal::kNsPerSec);
   const JointMask joints = snapshot_.commanded & driven;
+  // The same completed period as the one taken last period (the owner has not completed a new one
+  // yet, or died): its joints are still the owner's, but they keep moving towards rest from their
+  // velocity (bring_to_rest) rather than stop dead on the old reference.
+  const bool repeated = snapshot_.completed_ns == taken_completed_ns_ && word == taken_word_;
+  taken_completed_ns_ = snapshot_.completed_ns;
+  taken_word_ = word;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) == 0) continue;
     const JointLimits& lim = kJoints[j].limits;
     double target = snapshot_.position_rad[j];
     if (!std::isfinite(target)) continue;  // this joint holds
+    driven_by_owner_ |= joint_bit(j);
+    if (repeated) continue;
     if (!kJoints[j].continuous) target = std::clamp(target, lim.position_min_rad, lim.position_max_rad);
     const double step = lim.velocity_max_rad_s * seconds;
     const double limited = std::clamp(target, held_[j] - step, held_[j] + step);
     if (limited != snapshot_.position_rad[j]) ++counters_.clamped;
+    velocity_[j] = (limited - held_[j]) / seconds;
     held_[j] = limited;
-    driven_by_owner_ |= joint_bit(j);
+    fresh_ |= joint_bit(j);
   }
   return true;
+}
+
+void MotionIntake::bring_to_rest(JointMask driven) noexcept {
+  const double seconds = static_cast<double>(settings_.handler_period_ns) / static_cast<double>(hal::kNsPerSec);
+  const JointMask resting = driven & ~fresh_;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((resting & joint_bit(j)) == 0 || velocity_[j] == 0.0) continue;
+    if (!settings_.ramped_hold) {
+      velocity_[j] = 0.0;
+      continue;
+    }
+    const double v = velocity_[j];
+    const double dv = deceleration_limit_rad_s2(kJoints[j].limits) * seconds;
+    const double next = std::fabs(v) <= dv ? 0.0 : v - std::copysign(dv, v);
+    double target = held_[j] + 0.5 * (v + next) * seconds;
+    const JointLimits& lim = kJoints[j].limits;
+    const bool at_limit = !kJoints[j].continuous && (target <= lim.position_min_rad || target >= lim.position_max_rad);
+    if (!kJoints[j].continuous) target = std::clamp(target, lim.position_min_rad, lim.position_max_rad);
+    held_[j] = target;
+    velocity_[j] = at_limit ? 0.0 : next;
+  }
 }
 
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,
                                                             JointMask driven) noexcept {
   decide(now, demand, driven);
+  bring_to_rest(driven);
   links_.owner_joints.store(driven_by_owner_, std::memory_order_relaxed);
   return held_;
 }
@@ -63,12 +94,16 @@ void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, Joint
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const bool drives = (driven & joint_bit(j)) != 0;
     const double manager = demand[j].position_ref_rad;
-    if (!drives || !driven_before_[j] || manager != manager_ref_[j]) held_[j] = manager;
+    if (!drives || !driven_before_[j] || manager != manager_ref_[j]) {
+      held_[j] = manager;
+      velocity_[j] = 0.0;
+    }
     manager_ref_[j] = manager;
     driven_before_[j] = drives;
   }
   driving_ = kNoOwnerTask;
   driven_by_owner_ = 0;
+  fresh_ = 0;
   const std::uint64_t word = links_.owner.word();
   const std::uint8_t task = MotionOwner::task_of(word);
   if (task >= protocol::kMaxRcTasks) {  // kNoOwnerTask (0xFF) included: nobody owns the motion

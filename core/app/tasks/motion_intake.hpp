@@ -4,12 +4,14 @@
 //     current owner word and completed within kOwnerReferenceDeadlineNs; only the joints they
 //     command that the handler drives (enabled, reachable, not excluded) take them, clamped to the
 //     joint's position limits and to its velocity limit from the reference sent last period;
-//   - otherwise the last safe references (hold position), and the period counts as an owner miss;
+//   - otherwise the period counts as an owner miss, and each joint the owner had in motion is brought
+//     to rest from its reference's velocity within its deceleration limit
+//     (deceleration_limit_rad_s2, core/robot/robot.hpp), then holds: no abrupt reference stop;
 //   - an owner whose heartbeat is older than kOwnerDeadAfterPeriods RC periods is released
 //     (compare-exchange on the word it saw) in the period the handler notices it;
-//   - while nobody owns the motion, each joint holds the reference last sent; a joint the joint
-//     manager gives a new reference (set reference, hold, initialize) or does not drive takes the
-//     joint manager's.
+//   - while nobody owns the motion, each joint comes to rest the same way and holds the reference
+//     last sent; a joint the joint manager gives a new reference (set reference, hold, initialize) or
+//     does not drive takes the joint manager's (at once: the joint manager is the authority).
 // A non-owner's reference space is never read. No heap, no locks, bounded work.
 #pragma once
 
@@ -27,6 +29,9 @@ struct MotionIntakeSettings {
   hal::Nanoseconds reference_deadline_ns{0};  // config::kOwnerReferenceDeadlineNs
   hal::Nanoseconds owner_dead_after_ns{0};    // config::kOwnerDeadAfterPeriods * config::kRcTaskPeriodNs
   hal::Nanoseconds handler_period_ns{0};      // the velocity clamp's step
+  // true: a joint the owner no longer drives comes to rest within its deceleration limit; false: its
+  // reference stops where it is (the behaviour before issue 21, kept to measure the difference).
+  bool ramped_hold{true};
 };
 MotionIntakeSettings default_intake_settings() noexcept;
 
@@ -52,6 +57,13 @@ class MotionIntake {
   // drives this period. Returns every joint's position reference (rad).
   const std::array<double, kJointCount>& period(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept;
 
+  // `joint` stands at `position_rad` and is to hold there from now on (a drive enabled again after
+  // its watchdog stopped it): its reference becomes that position, at rest.
+  void rest_at(std::size_t joint, double position_rad) noexcept {
+    held_[joint] = position_rad;
+    velocity_[joint] = 0.0;
+  }
+
   const MotionIntakeCounters& counters() const noexcept { return counters_; }
   // The owner task whose references drove the joints last period (kNoOwnerTask: none, or held).
   std::uint8_t driving_task() const noexcept { return driving_; }
@@ -62,17 +74,23 @@ class MotionIntake {
  private:
   void decide(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept;
   bool take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept;
+  // The driven joints the owner did not drive this period: towards rest within their deceleration.
+  void bring_to_rest(JointMask driven) noexcept;
 
   MotionLinks& links_;
   const Heartbeats& heartbeats_;
   MotionIntakeSettings settings_;
   std::array<double, kJointCount> held_{};          // the references sent last period
+  std::array<double, kJointCount> velocity_{};      // their rate of change last period (rad/s)
   std::array<double, kJointCount> manager_ref_{};   // the joint manager's reference seen last period
   std::array<bool, kJointCount> driven_before_{};
   ReferenceSnapshot snapshot_{};
   MotionIntakeCounters counters_{};
   std::uint64_t consecutive_misses_{0};
   JointMask driven_by_owner_{0};
+  JointMask fresh_{0};                          // joints that took a new owner reference this period
+  hal::Nanoseconds taken_completed_ns_{0};      // the owner period taken last (its completion time)
+  std::uint64_t taken_word_{0};
   std::uint8_t driving_{kNoOwnerTask};
 };
 

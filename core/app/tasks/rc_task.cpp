@@ -285,12 +285,8 @@ JointMask RcTask::commanded() const noexcept {
 
 void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
   ReferenceSpace& space = links_.motion.references[index()];
-  const double dt = seconds(settings_.period_ns);
   space.begin();
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    const auto row = static_cast<Eigen::Index>(j);
-    space.set(j, references_(row), (references_(row) - previous_(row)) / dt);
-  }
+  for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, references_(static_cast<Eigen::Index>(j)));
   space.complete(owns_ ? word : 0, counters_.periods, commanded(), now);
   if (settings_.id == RcTaskId::rescue) measure();
   previous_ = references_;

@@ -79,7 +79,6 @@ class RcTask {
   const RcTaskCounters& counters() const noexcept { return counters_; }
   const kin::JointVector& references() const noexcept { return references_; }
   kin::RescuePhase rescue_phase() const noexcept { return phase_; }
-  const kin::IkStepReport& last_ik_report() const noexcept { return ik_report_; }
 
  private:
   void read_joints() noexcept;

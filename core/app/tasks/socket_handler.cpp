@@ -54,6 +54,18 @@ void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t 
   if (control_.send_to(address, port, ConstByteSpan(out.data(), size.value())).ok()) ++counters_.replies_sent;
 }
 
+protocol::FiguresAge SocketHandler::handler_figures_age() const noexcept {
+  protocol::FiguresAge age;
+  if (ports_.handler_heartbeat == nullptr) return age;
+  const std::int64_t beat = ports_.handler_heartbeat->load(std::memory_order_acquire);
+  if (beat == 0) return age;  // before the handler's first period: no figures to age
+  const hal::Nanoseconds old = now_ > beat ? now_ - beat : 0;
+  const hal::Nanoseconds ms = old / hal::kNsPerMs;
+  age.age_ms = ms > 0xFFFFFFFF ? 0xFFFFFFFFU : static_cast<std::uint32_t>(ms);
+  age.stale = old > ports_.stale_after;
+  return age;
+}
+
 void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram& from) noexcept {
   Message m;
   RobotSample sample{};
@@ -68,6 +80,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_status:
       m.header.type = MessageType::status;
       m.status.cycle = have_master ? master.cycles : 0;
+      m.status.age = handler_figures_age();
       for (std::size_t j = 0; j < kJointCount; ++j) {
         protocol::JointStatusRecord& r = m.status.joints[j];
         if (have_status) {
@@ -92,6 +105,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_slaves:
       m.header.type = MessageType::slaves;
       m.slaves.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+      m.slaves.age = handler_figures_age();
       static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one slaves message");
       for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
         protocol::SlaveRecord& s = m.slaves.slaves[p];
@@ -118,6 +132,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_master:
       m.header.type = MessageType::master;
       m.master.state = master.state;
+      m.master.age = handler_figures_age();
       m.master.cycles = master.cycles;
       m.master.frames_sent = master.frames_sent;
       m.master.frames_lost = master.frames_lost;
@@ -214,28 +229,7 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
 
-  ControlRequest r;
-  r.type = h.type;
-  r.sender = h.sender;
-  r.sequence = h.sequence;
-  r.joints = m.joints.joints;
-  r.mode = m.joints.mode;
-  if (h.type == MessageType::move_effector) {
-    r.task = m.move.task;
-    r.effector = static_cast<std::uint8_t>(m.move.effector);
-    for (std::size_t i = 0; i < 3; ++i) {
-      r.pose[i] = m.move.position_m[i];
-      r.pose[i + 3] = m.move.rpy_rad[i];
-    }
-  } else if (h.type == MessageType::hand) {
-    r.task = m.hand.task;
-    r.effector = static_cast<std::uint8_t>(m.hand.hand);
-    r.action = static_cast<std::uint8_t>(m.hand.action);
-  } else if (h.type == MessageType::take_owner) {
-    r.task = m.owner.task;
-  }
-  r.reply_address = d.address;
-  r.reply_port = d.port;
+  const ControlRequest r = request_of(m, d.address, d.port);
   if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
     ++counters_.forwarded_dropped;
     refuse(h, protocol::RefusalReason::busy, "the message parser's queue is full; try again", d);
@@ -255,6 +249,7 @@ void SocketHandler::refuse(const protocol::Header& request, protocol::RefusalRea
 }
 
 void SocketHandler::step(hal::Nanoseconds now) noexcept {
+  now_ = now;
   ++counters_.wakeups;
   std::size_t handled = 0;
   bool more = true;
@@ -273,14 +268,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
   if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
   ControlReply reply;
   for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
-    Message m;
-    m.header.type = MessageType::reply;
-    m.reply.request_sequence = reply.request_sequence;
-    m.reply.request_type = reply.request_type;
-    m.reply.outcome = reply.outcome;
-    m.reply.reason = reply.reason;
-    m.reply.refused_joints = reply.refused_joints;
-    m.reply.text = reply.text;
+    Message m = message_of(reply);
     send(m, reply.reply_address, reply.reply_port);
   }
   if (ports_.counters != nullptr) ports_.counters->write(counters_);

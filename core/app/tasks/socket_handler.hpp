@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 
 #include "core/app/config/firmware_config.hpp"
@@ -54,6 +55,10 @@ struct SocketHandlerPorts {
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const std::array<std::atomic<std::uint64_t>, kDropCounters>* drops{nullptr};  // the queues' drop counters (ctl tasks)
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
+  // The EtherCAT handler's heartbeat (TaskLinks::task_heartbeat_ns, the clock of step()'s `now`):
+  // status, slaves and master answers say how old its figures are, stale past `stale_after`.
+  const std::atomic<std::int64_t>* handler_heartbeat{nullptr};
+  hal::Nanoseconds stale_after{config::kTaskSilentAfterNs};
 };
 
 class SocketHandler {
@@ -93,6 +98,7 @@ class SocketHandler {
               const hal::UdpDatagram& from) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
+  protocol::FiguresAge handler_figures_age() const noexcept;
 
   SocketHandlerPorts ports_;
   protocol::Key key_;
@@ -106,6 +112,7 @@ class SocketHandler {
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
   std::size_t max_per_wakeup_{0};
+  hal::Nanoseconds now_{0};  // the current wake-up's
 };
 
 }  // namespace rescue::app

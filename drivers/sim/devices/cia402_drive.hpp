@@ -66,7 +66,6 @@ class Cia402Drive {
   cia402::State state() const noexcept { return machine_.state(); }
   const cia402::StateMachine& machine() const noexcept { return machine_; }
   const JointMotorModel& motor() const noexcept { return motor_; }
-  ControlMode active_mode() const noexcept { return mode_; }
   std::uint16_t error_code() const noexcept { return error_code_; }
 
  private:

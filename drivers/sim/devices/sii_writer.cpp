@@ -2,17 +2,19 @@
 
 #include <cstring>
 
-#include "core/base/endian.hpp"
 #include "ecat/codec/registers.hpp"
 
 namespace rescue::drivers {
 namespace {
 
-std::uint8_t* word_at(ByteSpan image, std::uint16_t word) noexcept { return &image[std::size_t{2} * word]; }
+// The categories' writer: the image less the two bytes finish() keeps for the end marker.
+ByteSpan categories_area(ByteSpan image) noexcept {
+  return image.size() >= ecat::sii::kHeaderBytes + 2 ? image.first(image.size() - 2) : ByteSpan{};
+}
 
 }  // namespace
 
-SiiWriter::SiiWriter(ByteSpan image, const SiiHeader& h) noexcept : image_(image), at_(ecat::sii::kHeaderBytes) {
+SiiWriter::SiiWriter(ByteSpan image, const SiiHeader& h) noexcept : image_(image), w_(categories_area(image)) {
   if (image.size() < ecat::sii::kHeaderBytes + 2) {
     status_ = make_error(Errc::capacity_exceeded, "sii image smaller than its header", 0, static_cast<std::uint32_t>(image.size()));
     return;
@@ -20,99 +22,72 @@ SiiWriter::SiiWriter(ByteSpan image, const SiiHeader& h) noexcept : image_(image
   namespace sii = ecat::sii;
   std::memset(image.data(), 0xFF, image.size());
   std::memset(image.data(), 0, sii::kHeaderBytes);
-  store_le16(word_at(image, sii::kPdiControl), h.pdi_control);
-  store_le16(word_at(image, sii::kPdiConfig), h.pdi_config);
-  store_le16(word_at(image, sii::kSyncImpulseLength), h.sync_impulse_length);
-  store_le16(word_at(image, sii::kPdiConfig2), h.pdi_config2);
-  store_le16(word_at(image, sii::kStationAlias), h.station_alias);
-  store_le16(word_at(image, sii::kConfigChecksum), sii::config_area_crc(image.data()));
-  store_le32(word_at(image, sii::kVendorId), h.identity.vendor_id);
-  store_le32(word_at(image, sii::kProductCode), h.identity.product_code);
-  store_le32(word_at(image, sii::kRevision), h.identity.revision);
-  store_le32(word_at(image, sii::kSerial), h.identity.serial_number);
+  // The header's fields at their word addresses.
+  const auto word16 = [&](std::uint16_t word, std::uint16_t v) { w_.u16_at(std::size_t{2} * word, v); };
+  const auto word32 = [&](std::uint16_t word, std::uint32_t v) { w_.u32_at(std::size_t{2} * word, v); };
+  word16(sii::kPdiControl, h.pdi_control);
+  word16(sii::kPdiConfig, h.pdi_config);
+  word16(sii::kSyncImpulseLength, h.sync_impulse_length);
+  word16(sii::kPdiConfig2, h.pdi_config2);
+  word16(sii::kStationAlias, h.station_alias);
+  word16(sii::kConfigChecksum, sii::config_area_crc(image.data()));
+  word32(sii::kVendorId, h.identity.vendor_id);
+  word32(sii::kProductCode, h.identity.product_code);
+  word32(sii::kRevision, h.identity.revision);
+  word32(sii::kSerial, h.identity.serial_number);
   const sii::MailboxArea* areas[] = {&h.bootstrap_mailbox, &h.standard_mailbox};
   const std::uint16_t first_words[] = {sii::kBootRxMailboxOffset, sii::kStdRxMailboxOffset};
   for (std::size_t i = 0; i < 2; ++i) {
-    std::uint8_t* p = word_at(image, first_words[i]);
-    store_le16(p, areas[i]->receive_offset);
-    store_le16(p + 2, areas[i]->receive_size);
-    store_le16(p + 4, areas[i]->send_offset);
-    store_le16(p + 6, areas[i]->send_size);
+    const auto first = first_words[i];
+    word16(first, areas[i]->receive_offset);
+    word16(static_cast<std::uint16_t>(first + 1), areas[i]->receive_size);
+    word16(static_cast<std::uint16_t>(first + 2), areas[i]->send_offset);
+    word16(static_cast<std::uint16_t>(first + 3), areas[i]->send_size);
   }
-  store_le16(word_at(image, sii::kMailboxProtocols), h.mailbox_protocols);
-  store_le16(word_at(image, sii::kEepromSize), h.eeprom_size_word);
-  store_le16(word_at(image, sii::kVersion), h.version);
-}
-
-bool SiiWriter::room_for(std::size_t bytes) noexcept {
-  if (!status_.ok()) return false;
-  // Keep two bytes for the end marker.
-  if (image_.size() - at_ < bytes + 2) {
-    status_ = make_error(Errc::capacity_exceeded, "sii image full", static_cast<std::uint32_t>(at_),
-                         static_cast<std::uint32_t>(bytes));
-    return false;
-  }
-  return true;
+  word16(sii::kMailboxProtocols, h.mailbox_protocols);
+  word16(sii::kEepromSize, h.eeprom_size_word);
+  word16(sii::kVersion, h.version);
+  w_.skip(sii::kHeaderBytes);  // the categories follow the header
 }
 
 void SiiWriter::begin_category(std::uint16_t type) noexcept {
   if (category_start_ != 0) end_category();
-  if (!room_for(4)) return;
-  category_start_ = at_;
-  store_le16(image_.data() + at_, type);
-  store_le16(image_.data() + at_ + 2, 0);
-  at_ += 4;
+  if (!w_.ok()) return;
+  category_start_ = w_.size();
+  w_.u16(type);
+  w_.u16(0);
 }
 
 void SiiWriter::end_category() noexcept {
   if (category_start_ == 0) return;
-  if ((at_ - category_start_) % 2 != 0) u8(0);
-  const std::size_t words = (at_ - category_start_ - 4) / 2;
-  store_le16(image_.data() + category_start_ + 2, static_cast<std::uint16_t>(words));
+  if ((w_.size() - category_start_) % 2 != 0) w_.u8(0);
+  const std::size_t words = (w_.size() - category_start_ - 4) / 2;
+  w_.u16_at(category_start_ + 2, static_cast<std::uint16_t>(words));
   category_start_ = 0;
 }
 
-void SiiWriter::u8(std::uint8_t v) noexcept {
-  if (!room_for(1)) return;
-  image_[at_++] = v;
-}
-
-void SiiWriter::u16(std::uint16_t v) noexcept {
-  if (!room_for(2)) return;
-  store_le16(image_.data() + at_, v);
-  at_ += 2;
-}
-
-void SiiWriter::u32(std::uint32_t v) noexcept {
-  if (!room_for(4)) return;
-  store_le32(image_.data() + at_, v);
-  at_ += 4;
-}
-
-void SiiWriter::zeros(std::size_t count) noexcept {
-  if (!room_for(count)) return;
-  std::memset(image_.data() + at_, 0, count);
-  at_ += count;
-}
+void SiiWriter::u8(std::uint8_t v) noexcept { w_.u8(v); }
+void SiiWriter::u16(std::uint16_t v) noexcept { w_.u16(v); }
+void SiiWriter::u32(std::uint32_t v) noexcept { w_.u32(v); }
+void SiiWriter::zeros(std::size_t count) noexcept { w_.zeros(count); }
 
 void SiiWriter::string(const char* text) noexcept {
   const std::size_t length = std::strlen(text);
   if (length > 255) {
-    if (status_.ok()) status_ = make_error(Errc::invalid_argument, "sii string longer than 255", static_cast<std::uint32_t>(length));
+    if (status_.ok() && w_.ok()) status_ = make_error(Errc::invalid_argument, "sii string longer than 255", static_cast<std::uint32_t>(length));
     return;
   }
-  if (!room_for(1 + length)) return;
-  image_[at_] = static_cast<std::uint8_t>(length);
-  std::memcpy(image_.data() + at_ + 1, text, length);
-  at_ += 1 + length;
+  w_.u8(static_cast<std::uint8_t>(length));
+  w_.chars(text, length);
 }
 
 Result<std::size_t> SiiWriter::finish() noexcept {
   end_category();
   if (!status_.ok()) return status_.error();
-  store_le16(image_.data() + at_, ecat::sii::kCategoryEnd);
-  at_ += 2;
-  return at_;
+  if (!w_.ok()) return make_error(Errc::capacity_exceeded, "sii image full", static_cast<std::uint32_t>(w_.size()));
+  LeWriter end(image_);
+  end.u16_at(w_.size(), ecat::sii::kCategoryEnd);
+  return w_.size() + 2;
 }
 
 void write_general(SiiWriter& w, const SiiGeneral& g) noexcept {

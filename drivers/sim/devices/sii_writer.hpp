@@ -3,13 +3,15 @@
 // end marker; unused EEPROM reads 0xFF. Layout constants are those of ecat/sii/sii.hpp and
 // ecat/codec/registers.hpp, so what this writes is what ecat::sii::Sii::parse reads back.
 //
-// Every write is bounds-checked: a write that does not fit marks the writer failed (the first
-// failure is kept) instead of writing past the buffer; finish() reports it.
+// Every write goes through the bounds-checked little-endian writer (core/base/le_stream.hpp): a
+// write that does not fit marks the writer failed (the first failure is kept) instead of writing
+// past the buffer; finish() reports it.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
+#include "core/base/le_stream.hpp"
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
 #include "ecat/sii/sii.hpp"
@@ -51,10 +53,8 @@ class SiiWriter {
   Result<std::size_t> finish() noexcept;
 
  private:
-  bool room_for(std::size_t bytes) noexcept;
-
   ByteSpan image_;
-  std::size_t at_{0};
+  LeWriter w_;                     // the header's words, then the categories (all but the end marker's 2 bytes)
   std::size_t category_start_{0};  // offset of the open category's header, 0 when none is open
   Status status_{};
 };

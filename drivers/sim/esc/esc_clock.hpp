@@ -40,7 +40,6 @@ class EscLocalClock {
   void set_phase_correction(double budget_ns, double rate) noexcept;
   double speed_correction() const noexcept { return speed_; }
   double phase_budget() const noexcept { return phase_budget_; }
-  double crystal_rate() const noexcept { return crystal_rate_; }
 
  private:
   // Local nanoseconds (with fraction) gained between the reference point and t0 + dt.

@@ -33,7 +33,6 @@ class EscSii {
   std::uint16_t word(std::uint32_t address) const noexcept;
   // Overwrites one EEPROM word (a device of another identity: the simulator's foreign device).
   void set_word(std::uint32_t address, std::uint16_t value) noexcept;
-  std::size_t size_bytes() const noexcept { return size_; }
 
   // The master wrote the interface registers 0x0502..0x050F: `written` holds the new bytes of the
   // 14-byte block, `mask` which of them the datagram wrote. Applied now unless busy.

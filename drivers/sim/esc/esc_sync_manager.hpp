@@ -37,7 +37,6 @@ class EscSyncManager {
   std::uint32_t length() const noexcept { return length_; }
   std::uint8_t control() const noexcept { return control_; }
   bool enabled_by_master() const noexcept { return enabled_; }
-  bool deactivated_by_device() const noexcept { return deactivated_; }
   bool active() const noexcept { return enabled_ && !deactivated_ && length_ > 0; }
   // Guards accesses: enabled by the master and non-empty (active, or locked by the device).
   bool guards(std::uint32_t address) const noexcept {

@@ -24,6 +24,19 @@ TEST(Seqlock, StartsWithAZeroSnapshotAtVersionZero) {
   EXPECT_EQ(lock.version(), 0u);
 }
 
+TEST(Seqlock, ABegunWriteHidesEverySnapshotUntilWriteCompletesIt) {
+  Seqlock<JointState> lock;
+  lock.write(JointState{10, -2, 3, 0x0237, 8});
+  lock.begin_write();  // a writer building its next snapshot (or one that died doing so)
+  JointState out{};
+  EXPECT_FALSE(lock.try_read(out, 4));
+  EXPECT_EQ(out.position, 0) << "left alone";
+  lock.write(JointState{11, -3, 4, 0x0637, 9});
+  ASSERT_TRUE(lock.try_read(out));
+  EXPECT_EQ(out.position, 11);
+  EXPECT_EQ(lock.version(), 2u);
+}
+
 TEST(Seqlock, ReadReturnsTheLatestWrite) {
   Seqlock<JointState> lock;
   lock.write(JointState{10, -2, 3, 0x0237, 8});

@@ -2,7 +2,9 @@
 // the phase with the DC reference: those periods have no cycle, so a 2 s run at 1 ms counts fewer
 // than 2000 cycles. Master::skipped_periods() counts them (the run summary and `ctl master` add them
 // to the late periods), so that cycles() + skipped_periods() is every period since the first cycle.
-// Virtual time: the stalls are exact.
+// The time between the bring-up and the first cycle of the periodic loop (forking the tasks) is
+// start-up, not skipped periods: Master::realign_schedule() moves the first wake-up past it, in phase,
+// without counting. Virtual time: the stalls are exact.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -57,6 +59,21 @@ TEST_F(SkippedPeriods, AStallOfSeveralPeriodsIsCountedAndCyclesPlusSkippedCoverE
   // loop's phase corrections are far below a period).
   const auto periods = static_cast<std::uint64_t>((rig->bus.next_wakeup() - first + period / 2) / period);
   EXPECT_EQ(cycles + rig->bus.master().skipped_periods(), periods);
+}
+
+TEST_F(SkippedPeriods, StartUpBeforeTheLoopIsRealignedNotCountedAsSkipped) {
+  const hal::Nanoseconds period = options.cycle_time;
+  const hal::Nanoseconds due = rig->bus.next_wakeup();
+  const std::uint64_t skipped_before = rig->bus.master().skipped_periods();
+  // The loop starts 114.3 periods after the next wake-up was due (the tasks were being started).
+  rig->clock.sleep_until(due + period * 1143 / 10);
+  rig->bus.master().realign_schedule();
+  const hal::Nanoseconds realigned = rig->bus.next_wakeup();
+  EXPECT_GT(realigned, rig->clock.now());
+  EXPECT_LE(realigned - rig->clock.now(), period);
+  EXPECT_EQ((realigned - due) % period, 0) << "same phase";
+  for (int i = 0; i < 100; ++i) (void)cycle();
+  EXPECT_EQ(rig->bus.master().skipped_periods(), skipped_before);
 }
 
 }  // namespace

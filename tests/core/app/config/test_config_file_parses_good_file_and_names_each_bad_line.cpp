@@ -34,6 +34,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
       "\t sensor_port=47101 \n"
       "robot_id = 42\n"
       "auto_clear_power_cycled = true\n"
+      "task_silent_ms = 45\n"
       "\n"
       "[ethercat_handler]\n"
       "priority = 90\n"
@@ -61,6 +62,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
   EXPECT_EQ(c.robot_id, 42U);
   EXPECT_TRUE(c.has_auto_clear_power_cycled);
   EXPECT_TRUE(c.auto_clear_power_cycled);
+  EXPECT_EQ(c.task_silent_ms, 45U);
   const ConfigTaskPlacement& handler = c.tasks[static_cast<std::size_t>(TaskId::ethercat_handler)];
   EXPECT_TRUE(handler.has_priority);
   EXPECT_EQ(handler.priority, 90);
@@ -111,6 +113,8 @@ TEST(ConfigFile, EachKindOfBadLineIsNamed) {
       {"robot_id = -3\n", 1, "robot_id", "robot id out of range", "1..999999999"},
       {"auto_clear_power_cycled = yes\n", 1, "auto_clear_power_cycled", "not a boolean", "true or false"},
       {"auto_clear_power_cycled = false\nauto_clear_power_cycled = true\n", 2, "auto_clear_power_cycled", "key given twice", "each key once"},
+      {"task_silent_ms = 1\n", 1, "task_silent_ms", "not a time in range", "2..10000"},
+      {"task_silent_ms = 30.5\n", 1, "task_silent_ms", "not a time in range", "whole ms"},
       {"control_port = -5\n", 1, "control_port", "port out of range", "1..65535"},
       {"control_port = 99999999999\n", 1, "control_port", "port out of range", "1..65535"},
       {"[ethercat_handler]\npriority = 0\n", 2, "priority", "priority out of range", "1..99"},

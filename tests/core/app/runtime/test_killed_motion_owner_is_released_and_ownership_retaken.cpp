@@ -282,16 +282,18 @@ class KilledOwner : public ::testing::Test {
     EXPECT_LE(released.owner_releases, before.owner_releases + 1);
     EXPECT_GT(released.cycles, before.cycles) << "the handler's cycles stopped";
 
-    // The robot holds. What the handler sends (the firmware's part): the dead owner's joints keep
-    // the same reference, to the bit, 200 ms apart.
+    // The robot holds. What the handler sends (the firmware's part): the dead owner's joints came to
+    // rest within their deceleration limit (at most kStopFromVelocityLimitS after the owner's last
+    // period, docs/motion-owner.md) and then keep the same reference, to the bit, 200 ms apart.
+    std::this_thread::sleep_for(milliseconds(static_cast<int>(kStopFromVelocityLimitS * 1000.0)));
     const RobotSample sent_first = sample();
     std::this_thread::sleep_for(milliseconds(200));
     const RobotSample sent_second = sample();
     for (const std::size_t j : driven) {
       EXPECT_EQ(sent_second[j].position_ref_rad, sent_first[j].position_ref_rad) << kJoints[j].name;
     }
-    // The joints (the simulated drives' part): a joint stopped at speed overshoots its held
-    // reference and settles on it (about 0.1 rad and 0.45 s from 1.2 rad/s here); once settled,
+    // The joints (the simulated drives' part): a joint brought to rest follows its reference and
+    // settles on it; once settled,
     // two `ctl status` 200 ms apart show them still. Nothing is disabled, lost or faulted, and no
     // joint is driven by an owner.
     settle(driven);

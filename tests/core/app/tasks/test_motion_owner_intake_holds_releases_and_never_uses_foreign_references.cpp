@@ -1,7 +1,8 @@
 // The Motion owner and the EtherCAT handler's intake (core/app/tasks/motion_intake.*, core/app/links/, docs/motion-owner.md), in
 // virtual time, one handler period per millisecond:
 //   the owner takes the motion and its references drive the joints it commands;
-//   a missed deadline holds the last references and is counted;
+//   a missed deadline holds the last references and is counted; a joint the owner had in motion is
+//   brought to rest within its deceleration limit first (no abrupt reference stop);
 //   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken;
 //   a non-owner's references, references of an older owner word, and incomplete (torn) periods
 //   never reach a joint; joints the handler does not drive are never commanded.
@@ -30,7 +31,7 @@ struct Rig {
   void write(std::size_t task, double position, JointMask joints, bool complete = true) {
     ReferenceSpace& space = links->motion.references[task];
     space.begin();
-    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, position, 0.0);
+    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, position);
     links->rc_heartbeat_ns[task].store(now);
     if (!complete) return;
     const std::uint64_t word = links->motion.owner.word();
@@ -71,6 +72,8 @@ TEST(MotionIntake, AMissedDeadlineHoldsTheLastReferencesAndIsCounted) {
   (void)rig.links->motion.owner.take(0);
   rig.write(0, 0.001, kAllJoints);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
   // The owner computes but does not complete its next periods in time: only its heartbeat moves.
   for (int k = 0; k < 5; ++k) {
     rig.links->rc_heartbeat_ns[0].store(rig.now);
@@ -91,6 +94,8 @@ TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken
   Rig rig;
   (void)rig.links->motion.owner.take(0);
   rig.write(0, 0.001, kAllJoints);
+  (void)rig.handler_period();
+  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
   (void)rig.handler_period();
   const hal::Nanoseconds last_beat = rig.now - kMs;
   // Task 0 dies: nothing more from it.
@@ -117,6 +122,61 @@ TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken
   EXPECT_EQ(rig.intake.driving_task(), 1);
 }
 
+// Issue 21 item 6: an owner that dies while its joint moves at 1.2 rad/s. Its references stop; the
+// joint's reference does not stop with them (an abrupt stop, which the drive overshoots) but
+// decelerates at the joint's limit to rest, v^2 / 2a beyond the last reference, then holds.
+TEST(MotionIntake, AJointTheDeadOwnerMovedComesToRestWithinItsDecelerationLimit) {
+  Rig rig;
+  rig.demand[kElbow].position_ref_rad = 0.5;
+  (void)rig.handler_period();
+  (void)rig.links->motion.owner.take(0);
+  constexpr double kSpeed = 1.2;  // rad/s, below l_elbow's 2 rad/s
+  double position = 0.5;
+  for (int k = 0; k < 100; ++k) {
+    position += kSpeed * 0.001;
+    rig.write(0, position, joint_bit(kElbow));
+    EXPECT_NEAR(rig.handler_period()[kElbow], position, 1e-12);
+  }
+  // Dead: nothing more from task 0. The reference slows by at most a * dt each period, never reverses.
+  const double a = deceleration_limit_rad_s2(kJoints[kElbow].limits);
+  double previous = position;
+  double previous_step = kSpeed * 0.001;
+  int moving = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const double ref = rig.handler_period()[kElbow];
+    const double step = ref - previous;
+    EXPECT_GE(step, 0.0) << "never backwards";
+    EXPECT_LE(previous_step - step, a * 0.001 * 0.001 + 1e-12) << "within the deceleration limit, period " << k;
+    if (step > 0.0) ++moving;
+    previous_step = step;
+    previous = ref;
+  }
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "released meanwhile";
+  // At rest after v / a (1.2 / 8 = 0.15 s), v^2 / 2a (0.09 rad) beyond the last reference.
+  EXPECT_NEAR(moving, kSpeed / a * 1000.0, 2.0);
+  EXPECT_NEAR(previous - position, kSpeed * kSpeed / (2.0 * a), 1e-3);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], previous) << "then holds";
+}
+
+TEST(MotionIntake, WithoutTheRampADeadOwnersJointStopsAbruptly) {
+  MotionIntakeSettings abrupt = default_intake_settings();
+  abrupt.ramped_hold = false;
+  Rig rig;
+  MotionIntake intake{rig.links->motion, rig.links->rc_heartbeat_ns, abrupt};
+  rig.demand[kElbow].position_ref_rad = 0.5;
+  (void)intake.period(rig.now, rig.demand, kAllJoints);
+  rig.now += kMs;
+  (void)rig.links->motion.owner.take(0);
+  double position = 0.5;
+  for (int k = 0; k < 10; ++k) {
+    position += 0.0012;
+    rig.write(0, position, joint_bit(kElbow));
+    (void)intake.period(rig.now, rig.demand, kAllJoints);
+    rig.now += kMs;
+  }
+  EXPECT_DOUBLE_EQ(intake.period(rig.now, rig.demand, kAllJoints)[kElbow], position);
+}
+
 TEST(MotionIntake, ANonOwnersReferencesNeverReachAJoint) {
   Rig rig;
   rig.demand[kElbow].position_ref_rad = 0.5;
@@ -138,7 +198,7 @@ TEST(MotionIntake, ANonOwnersReferencesNeverReachAJoint) {
   (void)rig.links->motion.owner.take(1);
   ReferenceSpace& space = rig.links->motion.references[1];
   space.begin();
-  space.set(kElbow, 0.45, 0.0);
+  space.set(kElbow, 0.45);
   space.complete(old_word, 99, kAllJoints, rig.now);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.5);
   EXPECT_EQ(rig.intake.counters().foreign, 2U);
@@ -150,6 +210,8 @@ TEST(MotionIntake, IncompleteOrNeverWrittenReferencesAreNeverUsed) {
   rig.links->rc_heartbeat_ns[0].store(rig.now);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.0) << "never written";
   rig.write(0, 0.001, kAllJoints);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
   // A period begun but never completed (the writer died or is mid-write): the sequence stays odd.
   rig.write(0, 0.0015, kAllJoints, /*complete=*/false);

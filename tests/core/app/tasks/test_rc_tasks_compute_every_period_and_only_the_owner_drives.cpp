@@ -82,17 +82,35 @@ TEST(RcTasks, ADeadOwnerIsReleasedTheJointsHoldAndTeleopTakesOverBumplessly) {
   testing::RcTaskRig rig;
   ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
   rig.steps(400);  // in the approach: the joints are moving
-  const std::array<double, kJointCount> before = rig.sent;
+  std::array<double, kJointCount> previous = rig.sent;
+  std::array<double, kJointCount> step{};  // each joint's reference step last period
+  rig.step();
+  for (std::size_t j = 0; j < kJointCount; ++j) step[j] = rig.sent[j] - previous[j];
+  previous = rig.sent;
   rig.rescue_runs = false;  // the rescue task dies (its process is killed)
   int periods = 0;
   while (rig.links->motion.owner.task() == 0 && periods < 1000) {
     rig.step();
     ++periods;
-    EXPECT_EQ(rig.sent, before) << "hold position from the first missed period on";
+    // From the first missed period on, each joint comes to rest within its deceleration limit: its
+    // reference's step shrinks by at most a * dt^2 a period and never reverses (docs/motion-owner.md).
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const double now_step = rig.sent[j] - previous[j];
+      const double a = deceleration_limit_rad_s2(kJoints[j].limits);
+      EXPECT_LE(std::fabs(now_step), std::fabs(step[j]) + 1e-12) << kJoints[j].name << ": never faster";
+      EXPECT_LE(std::fabs(step[j]) - std::fabs(now_step), a * 1e-6 + 1e-12) << kJoints[j].name << ": within its deceleration";
+      EXPECT_GE(now_step * step[j], 0.0) << kJoints[j].name << ": never backwards";
+      step[j] = now_step;
+    }
+    previous = rig.sent;
   }
   EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
   EXPECT_LE(periods, config::kOwnerDeadAfterPeriods + 1);
   EXPECT_EQ(rig.intake.counters().releases, 1U);
+  rig.steps(300);  // at rest within kStopFromVelocityLimitS (core/robot/robot.hpp)
+  const std::array<double, kJointCount> before = rig.sent;
+  rig.step();
+  EXPECT_EQ(rig.sent, before) << "then the joints hold";
   // The operator hands the motion to teleop: it continues from the references being sent.
   ASSERT_TRUE(rig.send(RcTaskId::teleop, RcInputKind::take_ownership));
   rig.step();
@@ -123,16 +141,17 @@ TEST(RcTasks, ARestartedTaskThatBeatsBeforeTheReleaseFreesItsPredecessorsWord) {
   ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
   rig.steps(400);
   rig.rescue_runs = false;  // killed
-  rig.steps(10);            // the handler holds; not yet released
+  rig.steps(10);            // the handler brings its joints to rest; not yet released
   ASSERT_EQ(rig.links->motion.owner.task(), 0);
-  const std::array<double, kJointCount> held = rig.sent;
   rig.rescue = std::make_unique<RcTask>(*rig.links, testing::short_rescue_settings());
   rig.rescue_runs = true;
   rig.step();
   EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "the predecessor's word is freed at once";
   EXPECT_EQ(rig.rescue->counters().predecessor_releases, 1U);
   const std::uint64_t misses = rig.intake.counters().misses;
-  rig.steps(200);
+  rig.steps(300);  // at rest within kStopFromVelocityLimitS (core/robot/robot.hpp)
+  const std::array<double, kJointCount> held = rig.sent;
+  rig.steps(100);
   EXPECT_EQ(rig.intake.counters().misses, misses) << "nobody owns the motion: no miss";
   EXPECT_EQ(rig.sent, held) << "the joints hold";
   EXPECT_EQ(rig.rescue->mode(), RcMode::idle) << "it waits for the operator";
