@@ -84,7 +84,7 @@ struct SimulatedFirmware {
     const hal::Nanoseconds now = rig->bus.next_wakeup() - 100 * hal::kNsPerUs;
     ReferenceSpace& space = links->motion.references[task];
     space.begin();
-    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, j == joint ? position_rad : 0.0, 0.0);
+    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, j == joint ? position_rad : 0.0);
     space.complete(word, space.completed() + 1, joint_bit(joint), now);
     links->rc_heartbeat_ns[task].store(now);
   }

@@ -57,6 +57,7 @@ void EthercatHandler::build_outputs() noexcept {
         intake_.rest_at(j, drivers::counts_to_rad(in.position_actual));
         out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
         out.target_position = in.position_actual;
+        reference_rad_[j] = drivers::counts_to_rad(in.position_actual);  // the sample says what is sent
         out.target_velocity = 0;
         out.target_torque = 0;
         continue;
