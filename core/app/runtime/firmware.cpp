@@ -242,21 +242,24 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   RunControl& state = run();
   const JointMask lost = state.lost_joints.load();
   const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
-  const std::uint64_t healthy_missed = print_run_figures(options, socket);
+  (void)print_run_figures(options, socket);
   char lost_names[kJointNamesCapacity];
-  format_joint_names(lost, lost_names, sizeof lost_names);
+  format_joint_names(lost | state.lost_since_start.load(), lost_names, sizeof lost_names);
   if (tasks_status != 0) return tasks_status;
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
   }
 
-  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, healthy_missed,
+  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, options.auto_clear_power_cycled,
                                        operator_side.motion.rescue_phase_reached);
   if (verdict == 0 && options.scenario.kind != ScenarioKind::none) {
-    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
-                      options.scenario.name, lost_names, dir.value().path.c_str(),
-                      ErrorJointsFileStorage::kFileName);
+    const JointMask cleared = state.lost_since_start.load() & ~lost;
+    char cleared_names[kJointNamesCapacity];
+    format_joint_names(cleared, cleared_names, sizeof cleared_names);
+    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
+                      options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
+                      cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
   }
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);

@@ -258,6 +258,7 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   stats.publish();
   health.report();
   state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
+  state.lost_since_start.store(manager.lost_since_start(), std::memory_order_relaxed);
   state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
   state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
   state.manager_done.store(true, std::memory_order_release);

@@ -139,12 +139,15 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
 
 void JointManager::step(hal::Nanoseconds now) noexcept {
   (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
-  note_returned_joints(now);
-  auto_clear_returned(now);
+  // Reports first: the handler queues a drive's return after a power cycle before it publishes the
+  // sample that shows the joint reachable, so a returned joint's note knows whether it is cleared
+  // automatically (no "stays in Error" line before "cleared automatically").
   LostJointsReport report;
   for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
     handle_report(report, now);
   }
+  note_returned_joints(now);
+  auto_clear_returned(now);
   flush_notices();
   if (file_dirty_ && now >= next_write_retry_) (void)persist(recorded_, now);
   JointCommand command;
@@ -189,6 +192,7 @@ void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
     returned_ |= bit;
     const double offset = offset_from_held(j);
     const bool moved = offset > kHeldPositionToleranceRad || offset < -kHeldPositionToleranceRad;
+    if (!moved && (auto_clear_pending_ & bit) != 0) continue;  // auto_clear_returned() says it, this step
     JointEvent e = joint_event(moved ? JointEventKind::lost_joint_moved : JointEventKind::lost_joint_returned, j, now);
     e.fault.value = offset;
     e.fault.limit = kHeldPositionToleranceRad;
@@ -252,6 +256,7 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
 
 void JointManager::latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept {
   lost_ |= joint_bit(j);
+  lost_since_start_ |= joint_bit(j);
   Joint& joint = joints_[j];
   joint.held_position_rad = position_rad;
   joint.fault = JointFault{reason, 0.0, 0.0};

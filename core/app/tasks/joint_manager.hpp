@@ -109,6 +109,8 @@ class JointManager {
   std::array<fsm::JointState, kJointCount> states() const noexcept;
   fsm::RobotStatusSummary summary() const noexcept { return fsm::summarize(states()); }
   JointMask lost_joints() const noexcept { return lost_; }
+  // Every joint latched lost since start (restored from the file included), cleared or not.
+  JointMask lost_since_start() const noexcept { return lost_since_start_; }
   const ErrorJointsContents& recorded() const noexcept { return recorded_; }
 
   std::uint32_t refused_commands() const noexcept { return refused_commands_; }
@@ -148,6 +150,7 @@ class JointManager {
   std::array<JointStatus, kJointCount> status_{};
   RobotSample sample_{};                 // the last snapshot read (lost joints keep their last values)
   JointMask lost_{0};                    // loss latched (file or report) until an operator clears it
+  JointMask lost_since_start_{0};        // every loss latched, cleared or not
   JointMask returned_{0};                // lost joints seen answering again (reported once per return)
   bool auto_clear_power_cycled_{false};
   JointMask auto_clear_pending_{0};      // back after a power cycle, to clear once seen reachable
