@@ -249,14 +249,59 @@ void print_diag(const Message& m, bool json) noexcept {
   }
 }
 
+// One blocking joint's detail, as the reply gives it ("enable in Idle", "still unreachable: ...").
+void joint_refusal_detail(const protocol::JointRefusalRecord& jr, char* out, std::size_t capacity) noexcept {
+  if (jr.why == protocol::JointRefusal::state_machine) {
+    (void)std::snprintf(out, capacity, "%s in %s", fsm::to_string(static_cast<fsm::JointInput>(jr.input)),
+                        fsm::to_string(static_cast<fsm::JointState>(jr.state)));
+  } else if (jr.why == protocol::JointRefusal::unreachable) {
+    (void)std::snprintf(out, capacity, "does not answer (only disable and reset are taken)");
+  } else {
+    (void)std::snprintf(out, capacity, "%s", protocol::to_string(jr.why));
+  }
+}
+
+bool has_joint_refusals(const protocol::ReplyPayload& r) noexcept {
+  for (const protocol::JointRefusalRecord& jr : r.joint_refusals) {
+    if (jr.why != protocol::JointRefusal::none) return true;
+  }
+  return false;
+}
+
 int print_reply(const char* verb, const Message& m, bool json) noexcept {
   const protocol::ReplyPayload& r = m.reply;
   const bool accepted = r.outcome == protocol::Outcome::accepted;
+  char detail[96];
   if (json) {
     char names[kJointNamesCapacity];
     format_joint_names(r.refused_joints, names, sizeof names);
-    (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"}\n", verb,
+    (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"", verb,
                       accepted ? "true" : "false", protocol::to_string(r.reason), names, r.text.data());
+    if (!accepted) {
+      // Every blocking joint with its own reason (all or nothing: none of them changed).
+      (void)std::printf(",\"refused\":[");
+      bool first = true;
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        const protocol::JointRefusalRecord& jr = r.joint_refusals[j];
+        if (jr.why == protocol::JointRefusal::none) continue;
+        joint_refusal_detail(jr, detail, sizeof detail);
+        (void)std::printf("%s{\"joint\":\"%s\",\"reason\":\"%s\",\"state\":\"%s\",\"detail\":\"%s\"}",
+                          first ? "" : ",", kJoints[j].name, protocol::to_string(protocol::reason_of(jr.why)),
+                          fsm::to_string(static_cast<fsm::JointState>(jr.state)), detail);
+        first = false;
+      }
+      (void)std::printf("]");
+    }
+    (void)std::printf("}\n");
+  } else if (!accepted && has_joint_refusals(r)) {
+    // One line per blocking joint, each with its own reason.
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const protocol::JointRefusalRecord& jr = r.joint_refusals[j];
+      if (jr.why == protocol::JointRefusal::none) continue;
+      joint_refusal_detail(jr, detail, sizeof detail);
+      (void)std::printf("%s: refused: %s: %s: %s\n", verb, protocol::to_string(protocol::reason_of(jr.why)),
+                        kJoints[j].name, detail);
+    }
   } else if (accepted) {
     if (r.text[0] != '\0') {
       (void)std::printf("%s: accepted (%s)\n", verb, r.text.data());

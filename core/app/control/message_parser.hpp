@@ -13,6 +13,10 @@
 // It is the joint handle queue's only producer. One request is in flight at a time: its steps carry
 // a request id, and the reply (accepted, or refused with the first refused joint and why) is sent
 // once the joint manager has reported every step's outcome, or refused "busy" after kReplyTimeout.
+// An operator's request (from the network) is all or nothing: its steps go to the joint manager as one
+// request that is checked against every named joint first; refused, nothing changes and the reply
+// names every blocking joint with its own reason. The runtime's own requests (start-up initialize,
+// clears, the disable at exit) are applied joint by joint.
 // It talks to the rest only through the ports below (queues and seqlocks of TaskLinks), so the same
 // code runs as a thread or as its own process. No heap, never waits.
 #pragma once
@@ -68,6 +72,7 @@ class MessageParser {
     JointMask applied{0};
     JointMask refused{0};
     JointCommandOutcome first_refusal{};
+    std::array<JointRefusalNote, kJointCount> notes{};  // every refused joint's own reason
     hal::Nanoseconds deadline{0};
     JointMask skipped{0};  // selected but not taken (initialize: unreachable or lost)
   };
@@ -76,7 +81,8 @@ class MessageParser {
   void start_rc_input(const ControlRequest& request) noexcept;
   void finish() noexcept;
   void reply(const ControlRequest& request, protocol::Outcome outcome, protocol::RefusalReason reason,
-             JointMask refused, const char* text) noexcept;
+             JointMask refused, const char* text,
+             const std::array<JointRefusalNote, kJointCount>* notes = nullptr) noexcept;
 
   MessageParserPorts ports_;
   Pending pending_{};

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/base/endian.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 
 namespace rescue::app::protocol {
 namespace {
@@ -16,7 +17,7 @@ constexpr std::size_t kHandSize = 4;
 constexpr std::size_t kOwnerSize = 4;
 constexpr std::size_t kImuSize = 88;
 constexpr std::size_t kGpsSize = 56;
-constexpr std::size_t kReplySize = 16 + kReplyTextSize;
+constexpr std::size_t kReplySize = 16 + kReplyTextSize + 4 * kJointCount;  // + per joint: why, state, input, 0
 constexpr std::size_t kStatusHeadSize = 16;
 constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
@@ -251,6 +252,19 @@ Status decode_reply(ConstByteSpan payload, Message& m) noexcept {
   if (!r.zeros(1)) return malformed("reserved bytes not zero");
   m.reply.refused_joints = r.u32();
   if (!r.text(m.reply.text)) return malformed("reply text not NUL-terminated");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    JointRefusalRecord& jr = m.reply.joint_refusals[j];
+    const std::uint8_t why = r.u8();
+    jr.state = r.u8();
+    jr.input = r.u8();
+    if (!r.zeros(1)) return malformed("reserved bytes not zero");
+    if (why > kJointRefusalLast) return out_of_range("joint refusal");
+    if (jr.state >= fsm::kJointStateCount || jr.input >= fsm::kJointInputCount) return out_of_range("joint state or input");
+    jr.why = static_cast<JointRefusal>(why);
+    if (jr.why != JointRefusal::none && (m.reply.refused_joints & joint_bit(j)) == 0) {
+      return out_of_range("joint refusal of a joint not refused");
+    }
+  }
   if (!is_known(type)) return out_of_range("request type");
   if (outcome > 1) return out_of_range("outcome");
   if (reason > static_cast<std::uint8_t>(RefusalReason::clear_refused)) return out_of_range("refusal reason");
@@ -474,6 +488,34 @@ const char* to_string(RefusalReason reason) noexcept {
   return "?";
 }
 
+const char* to_string(JointRefusal refusal) noexcept {
+  switch (refusal) {
+    case JointRefusal::none: return "none";
+    case JointRefusal::state_machine: return "state machine refusal";
+    case JointRefusal::unreachable: return "unreachable joint";
+    case JointRefusal::bad_mode: return "select_mode needs CSP, CSV or CST";
+    case JointRefusal::not_lost: return "not recorded lost: nothing to clear";
+    case JointRefusal::still_unreachable: return "still unreachable: repair it first";
+    case JointRefusal::moved: return "position differs from the held position: check it, then clear --moved";
+    case JointRefusal::file_not_written: return "the error-joints file could not be written";
+  }
+  return "?";
+}
+
+RefusalReason reason_of(JointRefusal refusal) noexcept {
+  switch (refusal) {
+    case JointRefusal::none: return RefusalReason::none;
+    case JointRefusal::state_machine: return RefusalReason::state_machine;
+    case JointRefusal::unreachable: return RefusalReason::unreachable_joint;
+    case JointRefusal::bad_mode: return RefusalReason::bad_request;
+    case JointRefusal::not_lost:
+    case JointRefusal::still_unreachable:
+    case JointRefusal::moved:
+    case JointRefusal::file_not_written: return RefusalReason::clear_refused;
+  }
+  return RefusalReason::busy;
+}
+
 Rejection rejection_of(const Error& error) noexcept {
   switch (error.code) {
     case Errc::capacity_exceeded: return Rejection::oversized;
@@ -633,6 +675,12 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
       w.zeros(1);
       w.u32(m.reply.refused_joints);
       w.text(m.reply.text);
+      for (const JointRefusalRecord& jr : m.reply.joint_refusals) {
+        w.u8(static_cast<std::uint8_t>(jr.why));
+        w.u8(jr.state);
+        w.u8(jr.input);
+        w.u8(0);
+      }
       break;
     case MessageType::status:
       w.u64(m.status.cycle);

@@ -158,6 +158,29 @@ enum class RefusalReason : std::uint8_t {
 };
 const char* to_string(RefusalReason reason) noexcept;
 
+// Why one joint blocked a refused joint command (a reply names every blocking joint, each with its own).
+enum class JointRefusal : std::uint8_t {
+  none = 0,
+  state_machine = 1,     // the DFA has no transition for `input` in `state`
+  unreachable = 2,       // the joint does not answer (only disable and reset are taken)
+  bad_mode = 3,          // select_mode without CSP, CSV or CST
+  not_lost = 4,          // clear: the joint is not recorded lost
+  still_unreachable = 5, // clear: the joint does not answer yet (repair it first)
+  moved = 6,             // clear: it answers away from its held position (clear --moved after checking)
+  file_not_written = 7,  // clear: the error-joints file could not be written
+};
+constexpr std::uint8_t kJointRefusalLast = 7;
+const char* to_string(JointRefusal refusal) noexcept;
+// The protocol's reason for a joint refusal (state machine, unreachable joint, bad request, clear refused).
+RefusalReason reason_of(JointRefusal refusal) noexcept;
+
+// One joint's part in a refused joint command.
+struct JointRefusalRecord {
+  JointRefusal why{JointRefusal::none};
+  std::uint8_t state{0};  // fsm::JointState when it was judged
+  std::uint8_t input{0};  // fsm::JointInput it refused
+};
+
 struct ReplyPayload {
   std::uint64_t request_sequence{0};
   MessageType request_type{MessageType::get_status};
@@ -165,6 +188,8 @@ struct ReplyPayload {
   RefusalReason reason{RefusalReason::none};
   JointMask refused_joints{0};
   std::array<char, kReplyTextSize> text{};  // NUL-padded; the last byte is always NUL
+  // Refused joint commands: every joint of refused_joints with its own reason (none for the others).
+  std::array<JointRefusalRecord, kJointCount> joint_refusals{};
 };
 
 struct JointStatusRecord {

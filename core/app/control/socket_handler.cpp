@@ -243,6 +243,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
     m.reply.reason = reply.reason;
     m.reply.refused_joints = reply.refused_joints;
     m.reply.text = reply.text;
+    m.reply.joint_refusals = reply.joint_refusals;
     send(m, reply.reply_address, reply.reply_port);
   }
   if (ports_.counters != nullptr) ports_.counters->write(counters_);

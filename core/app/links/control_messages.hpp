@@ -39,6 +39,7 @@ struct ControlReply {
   protocol::RefusalReason reason{protocol::RefusalReason::none};
   JointMask refused_joints{0};
   std::array<char, protocol::kReplyTextSize> text{};
+  std::array<protocol::JointRefusalRecord, kJointCount> joint_refusals{};  // every blocking joint's own reason
 };
 static_assert(std::is_trivially_copyable_v<ControlReply>, "queued as bytes");
 

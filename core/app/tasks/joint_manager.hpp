@@ -128,7 +128,16 @@ class JointManager {
   };
 
   void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
+  void receive_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
   void apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
+  // All or nothing: the whole request in batch_ is tried on copies of the joints first; applied only
+  // when no joint refuses, else every blocking joint is reported with its reason and nothing changes.
+  void apply_request(hal::Nanoseconds now) noexcept;
+  // Why joint j may not be cleared now (none: it may), given the lost joints `lost`.
+  protocol::JointRefusal clear_refusal(std::size_t j, JointMask lost, bool confirmed_moved) const noexcept;
+  // Why joint `joint` (its machine and context as given) refuses `command` now (none: it accepts).
+  protocol::JointRefusal dfa_refusal(std::size_t j, const JointCommand& command, JointMask lost,
+                                     const fsm::JointStatusMachine& machine, fsm::JointContext& context) const noexcept;
   void report_outcome(const JointCommandOutcome& outcome) noexcept;
   void monitor(hal::Nanoseconds now) noexcept;
   void publish() noexcept;
@@ -158,6 +167,7 @@ class JointManager {
   bool file_dirty_{false};
   hal::Nanoseconds next_write_retry_{0};
   FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
+  FixedVector<JointCommand, kMaxRequestSteps> batch_;  // an all-or-nothing request's steps received so far
   std::uint32_t refused_commands_{0};
   std::uint32_t outcomes_dropped_{0};
   std::uint32_t file_writes_{0};
