@@ -314,9 +314,38 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
   return accepted ? 0 : 1;
 }
 
+// The client's own error text when it names what the user typed (one client process: a static buffer).
+char g_error_text[512];
+
+// JOINTS that do not parse: the error names the item and lists the valid names.
+Error bad_joint_names(const char* list, const Error& error, bool all_allowed) noexcept {
+  char names[kJointNamesCapacity];
+  format_joint_names(kAllJoints, names, sizeof names);
+  char item[40] = "";
+  // The item the parser stopped at (error.detail0: 1-based), as typed.
+  const char* begin = list;
+  for (std::uint32_t i = 1; begin != nullptr && i < error.detail0; ++i) {
+    begin = std::strchr(begin, ',');
+    if (begin != nullptr) ++begin;
+  }
+  if (begin != nullptr) {
+    std::size_t n = 0;
+    while (begin[n] != '\0' && begin[n] != ',' && n + 1 < sizeof item) {
+      item[n] = begin[n];
+      ++n;
+    }
+    item[n] = '\0';
+  }
+  (void)std::snprintf(g_error_text, sizeof g_error_text, "%s: '%s' (in '%s'); the joints: %s%s", error.what, item, list, names,
+                      all_allowed ? " (or all)" : "");
+  return make_error(Errc::invalid_argument, g_error_text, error.detail0);
+}
+
 Result<JointMask> joints_argument(const ParsedArgs& args, std::size_t index) noexcept {
   if (args.positional_count() <= index || std::strcmp(args.positional(index), "all") == 0) return kAllJoints;
-  return parse_joint_names(args.positional(index));
+  const Result<JointMask> joints = parse_joint_names(args.positional(index));
+  if (!joints.ok()) return bad_joint_names(args.positional(index), joints.error(), true);
+  return joints;
 }
 
 Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
@@ -410,7 +439,7 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     if (std::strcmp(verb, q.verb) != 0) continue;
     if (q.type == MessageType::clear_joints && n < 2) return make_error(Errc::invalid_argument, "clear JOINTS: name the repaired joints");
     const Result<JointMask> joints = joints_argument(args, 1);
-    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINTS: comma-separated joint names, or all");
+    if (!joints.ok()) return joints.error();
     m.header.type = q.type;
     if (args.has("moved")) {
       if (q.type != MessageType::clear_joints) return make_error(Errc::invalid_argument, "--moved goes with clear JOINTS");
@@ -424,7 +453,7 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
   if (std::strcmp(verb, "mode") == 0) {
     if (n != 3) return make_error(Errc::invalid_argument, "mode JOINT MODE (MODE: csp, csv or cst)");
     const Result<JointMask> joints = parse_joint_names(args.positional(1));
-    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINT: a joint name (or comma-separated names)");
+    if (!joints.ok()) return bad_joint_names(args.positional(1), joints.error(), false);
     const char* mode = args.positional(2);
     m.header.type = MessageType::select_mode;
     m.joints.joints = joints.value();

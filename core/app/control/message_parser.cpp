@@ -78,6 +78,17 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
     reply(request, Outcome::refused, RefusalReason::no_rc_task, 0, text);
     return;
   }
+  if (request.type != MessageType::take_owner && ports_.owner != nullptr) {
+    const std::uint8_t holder = ports_.owner->task();
+    const bool being_taken = taking_task_ == task && now_ - taking_since_ <= kRcTaskSilence;
+    if (holder != task && !being_taken) {
+      char owner[16] = "none";
+      if (holder != kNoOwnerTask) (void)std::snprintf(owner, sizeof owner, "rc%u", static_cast<unsigned>(holder));
+      (void)std::snprintf(text, sizeof text, "not owner (owner: %s)", owner);
+      reply(request, Outcome::refused, RefusalReason::not_owner, 0, text);
+      return;
+    }
+  }
   RcTaskInput input;
   input.kind = request.type == MessageType::move_effector ? RcInputKind::end_effector_target
                : request.type == MessageType::hand        ? RcInputKind::hand
@@ -90,6 +101,10 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
     (void)std::snprintf(text, sizeof text, "RC task %u input queue full", static_cast<unsigned>(task));
     reply(request, Outcome::refused, RefusalReason::busy, 0, text);
     return;
+  }
+  if (request.type == MessageType::take_owner) {
+    taking_task_ = task;
+    taking_since_ = now_;
   }
   (void)std::snprintf(text, sizeof text, "queued to RC task %u", static_cast<unsigned>(task));
   reply(request, Outcome::accepted, RefusalReason::none, 0, text);

@@ -106,6 +106,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   parser_ports.joint_status = &links().joint_status;
   parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
   parser_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
+  parser_ports.owner = &links().motion.owner;
   static MessageParser parser(parser_ports);
 
   if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
