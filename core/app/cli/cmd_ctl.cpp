@@ -7,8 +7,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <unistd.h>
+
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
+#include "core/app/config/config_file.hpp"
 #include "core/app/control/ctl_client.hpp"
 #include "core/app/control/protocol_auth.hpp"
 #include "core/app/control/protocol_codec.hpp"
@@ -16,6 +19,7 @@
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/files/state_dir.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "hal/time/clock.hpp"
 
@@ -26,9 +30,12 @@ using protocol::Message;
 using protocol::MessageType;
 
 const OptionSpec kOptions[] = {
+    {"config", "FILE", "the robot's configuration file, for its key_file, control_port and state_dir (default "
+                       "/etc/rescue-motion/rescue-motion.conf when it exists)"},
     {"host", "ADDR", "IPv4 address of the motion PC (default 127.0.0.1)"},
-    {"port", "PORT", "control UDP port of the motion PC (default 47010)"},
-    {"key", "FILE", "pre-shared key file (default <state dir>/operator.key)"},
+    {"port", "PORT", "control UDP port of the motion PC (default: the configuration's control_port, else 47010)"},
+    {"key", "FILE", "pre-shared key file (default: the configuration's key_file, else <state dir>/operator.key, "
+                    "where run looks without one)"},
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
@@ -315,7 +322,102 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
 }
 
 // The client's own error text when it names what the user typed (one client process: a static buffer).
-char g_error_text[512];
+char g_error_text[2048];
+char g_key_note[640] = "";  // the key used, and why that one
+bool g_json = false;         // --json: ctl's own errors are a JSON object on stdout too
+const char* g_verb = "ctl";  // the verb of this invocation, for those objects
+
+// A JSON string (quotes and backslashes escaped, control characters dropped).
+void print_json_string(const char* s) noexcept {
+  (void)std::putchar('"');
+  for (; *s != '\0'; ++s) {
+    const unsigned char c = static_cast<unsigned char>(*s);
+    if (c == '"' || c == '\\') {
+      (void)std::putchar('\\');
+      (void)std::putchar(c);
+    } else if (c >= 0x20) {
+      (void)std::putchar(c);
+    }
+  }
+  (void)std::putchar('"');
+}
+
+// ctl's own error (before or instead of an answer): one line on stderr, and with --json one object on
+// stdout, {"command":VERB,"ok":false,"error":TEXT}. Exit status 1.
+int ctl_error(const char* text) noexcept {
+  (void)std::fprintf(stderr, "rescue-motion ctl: %s\n", text);
+  if (g_json) {
+    (void)std::printf("{\"command\":");
+    print_json_string(g_verb);
+    (void)std::printf(",\"ok\":false,\"error\":");
+    print_json_string(text);
+    (void)std::printf("}\n");
+  }
+  return 1;
+}
+
+// The configuration file ctl reads (--config FILE, else the package's when it exists): the robot's
+// key_file, control_port and state_dir, so ctl looks where `run --config` does.
+constexpr const char* kPackageConfig = "/etc/rescue-motion/rescue-motion.conf";
+ConfigFile g_ctl_config;
+char g_config_path[kConfigTextCapacity] = "";  // empty: none read
+
+Status read_ctl_config(const ParsedArgs& args) noexcept {
+  const char* path = args.value("config");
+  if (path == nullptr) {
+    if (::access(kPackageConfig, F_OK) != 0) return Status::success();  // not installed: defaults
+    path = kPackageConfig;
+  }
+  const ConfigOutcome loaded = load_config_file(path, g_ctl_config);
+  if (!loaded.ok) {
+    char line[384];
+    (void)format_config_error(path, loaded.error, line, sizeof line);
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "--config %s", line);
+    return make_error(Errc::invalid_argument, g_error_text);
+  }
+  (void)std::snprintf(g_config_path, sizeof g_config_path, "%s", path);
+  return Status::success();
+}
+
+// Where the key is, and why there: --key, the configuration's key_file, or the state directory run
+// uses without one (not created here).
+struct KeyChoice {
+  hal::PathBuffer path;
+  char source[kConfigTextCapacity + 64];
+};
+
+// `make_dir` (keygen): the state directory is created as run creates it.
+Result<KeyChoice> choose_key(const ParsedArgs& args, bool make_dir = false) noexcept {
+  KeyChoice k;
+  if (args.value("key") != nullptr) {
+    (void)std::snprintf(k.path.text.data(), k.path.text.size(), "%s", args.value("key"));
+    (void)std::snprintf(k.source, sizeof k.source, "--key");
+    return k;
+  }
+  if (g_ctl_config.key_file[0] != '\0') {
+    (void)std::snprintf(k.path.text.data(), k.path.text.size(), "%s", g_ctl_config.key_file.data());
+    (void)std::snprintf(k.source, sizeof k.source, "key_file of %.200s, where run --config reads it", g_config_path);
+    return k;
+  }
+  const char* option = g_ctl_config.state_dir[0] != '\0' ? g_ctl_config.state_dir.data() : nullptr;
+  const Result<hal::StateDir> dir =
+      make_dir ? hal::resolve_state_dir(option)
+               : hal::choose_state_dir(option, ::geteuid() == 0,
+                                       std::getenv("XDG_STATE_HOME"),  // NOLINT(concurrency-mt-unsafe)
+                                       std::getenv("HOME"));           // NOLINT(concurrency-mt-unsafe)
+  if (!dir.ok()) return make_error(Errc::not_found, "no default key path: no state directory (give --key FILE)");
+  const Result<hal::PathBuffer> joined = hal::join_path(dir.value().path.c_str(), "operator.key");
+  if (!joined.ok()) return joined.error();
+  k.path = joined.value();
+  if (option != nullptr) {
+    (void)std::snprintf(k.source, sizeof k.source,
+                        "the state directory (state_dir of %.200s), where run looks without --key or key_file", g_config_path);
+  } else {
+    (void)std::snprintf(k.source, sizeof k.source,
+                        "the state directory (%s), where run looks without --key or key_file", dir.value().source);
+  }
+  return k;
+}
 
 // JOINTS that do not parse: the error names the item and lists the valid names.
 Error bad_joint_names(const char* list, const Error& error, bool all_allowed) noexcept {
@@ -362,36 +464,46 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
   if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
   t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
-  hal::PathBuffer path;
-  if (args.value("key") != nullptr) {
-    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
-  } else {
-    const Result<hal::PathBuffer> p = protocol::default_key_path();
-    if (!p.ok()) return p.error();
-    path = p.value();
-  }
+  if (g_ctl_config.has_control_port && args.value("port") == nullptr) t.port = g_ctl_config.control_port;
+  const Result<KeyChoice> choice = choose_key(args);
+  if (!choice.ok()) return choice.error();
+  const hal::PathBuffer& path = choice.value().path;
   const Result<protocol::Key> key = protocol::load_key_file(path.c_str());
   if (!key.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: key file %s: %s\n", path.c_str(), key.error().what);
-    return make_error(key.error().code, "the key file cannot be used");
+    if (key.error().code == Errc::not_found) {
+      (void)std::snprintf(g_error_text, sizeof g_error_text,
+                          "key file %.255s (%.320s): %.100s; the robot's key is its configuration's key_file (run --config), "
+                          "else --key, else <state dir>/operator.key: copy that file here, or make a new one with "
+                          "`rescue-motion ctl keygen --key %.255s` and start run with --key %.255s",
+                          path.c_str(), choice.value().source, key.error().what, path.c_str(), path.c_str());
+    } else {
+      (void)std::snprintf(g_error_text, sizeof g_error_text, "key file %.255s (%.320s): %.100s; the key file cannot be used",
+                          path.c_str(), choice.value().source, key.error().what);
+    }
+    return make_error(key.error().code, g_error_text);
   }
   t.key = key.value();
+  (void)std::snprintf(g_key_note, sizeof g_key_note, "key %.255s from %.320s", path.c_str(), choice.value().source);
   return t;
 }
 
 int keygen(const ParsedArgs& args) noexcept {
-  hal::PathBuffer path;
-  if (args.value("key") != nullptr) {
-    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
-  } else {
-    const Result<hal::PathBuffer> p = protocol::default_key_path();
-    if (!p.ok()) return fail("ctl", "no default key path", p.error());
-    path = p.value();
-  }
+  const Result<KeyChoice> choice = choose_key(args, true);
+  if (!choice.ok()) return ctl_error(choice.error().what);
+  const hal::PathBuffer& path = choice.value().path;
   const Status made = protocol::create_key_file(path.c_str());
   if (!made.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: keygen %s: %s\n", path.c_str(), made.error().what);
-    return 1;
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "keygen %.255s (%.320s): %.100s", path.c_str(), choice.value().source,
+                        made.error().what);
+    return ctl_error(g_error_text);
+  }
+  if (g_json) {
+    (void)std::printf("{\"command\":\"keygen\",\"ok\":true,\"key_file\":");
+    print_json_string(path.c_str());
+    (void)std::printf(",\"mode\":\"0600\",\"bytes\":32,\"source\":");
+    print_json_string(choice.value().source);
+    (void)std::printf("}\n");
+    return 0;
   }
   (void)std::printf("keygen: wrote a new 32-byte key to %s (mode 0600); copy it to the motion PC and every operator station\n",
                     path.c_str());
@@ -401,8 +513,8 @@ int keygen(const ParsedArgs& args) noexcept {
 int exchange_and_print(const char* verb, const CtlTarget& target, const Message& request, bool json) noexcept {
   const Result<Message> answer = ctl_exchange(target, request);
   if (!answer.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
-    return 1;
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: refused: %.200s (%.640s)", verb, answer.error().what, g_key_note);
+    return ctl_error(g_error_text);
   }
   const Message& m = answer.value();
   switch (m.header.type) {
@@ -412,7 +524,7 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::tasks: print_tasks(m, json); return 0;
     case MessageType::diag: print_diag(m, json); return 0;
     case MessageType::reply: return print_reply(verb, m, json);
-    default: return fail("ctl", "unexpected answer type");
+    default: return ctl_error("unexpected answer type");
   }
 }
 
@@ -516,19 +628,23 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
 
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
-  if (!is_ctl_verb(verb)) return fail("ctl", "unknown verb (see rescue-motion ctl --help)");
-  if (!protocol::init_crypto().ok()) return fail("ctl", "libsodium could not be initialised");
+  g_json = args.has("json");
+  g_verb = verb != nullptr ? verb : "ctl";
+  if (!is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
+  if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
+  const Status config = read_ctl_config(args);
+  if (!config.ok()) return ctl_error(config.error().what);
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
   const bool watch = std::strcmp(verb, "watch") == 0;
   const Result<Message> request = build_request(watch ? "status" : verb, args);
-  if (!request.ok()) return fail("ctl", request.error().what);
+  if (!request.ok()) return ctl_error(request.error().what);
   const Result<CtlTarget> target = target_of(args);
-  if (!target.ok()) return fail("ctl", target.error().what);
-  const bool json = args.has("json");
+  if (!target.ok()) return ctl_error(target.error().what);
+  const bool json = g_json;
   if (!watch) return exchange_and_print(verb, target.value(), request.value(), json);
   const Result<std::int64_t> count = args.integer("count", 0, 0, 1'000'000'000);
   const Result<double> interval = args.number("interval", 0.5, 0.05, 3600.0);
-  if (!count.ok() || !interval.ok()) return fail("ctl", "watch: --count N and --interval SECONDS");
+  if (!count.ok() || !interval.ok()) return ctl_error("watch: --count N and --interval SECONDS");
   hal::MonotonicClock clock;
   hal::Nanoseconds next = clock.now();
   for (std::int64_t i = 0; count.value() == 0 || i < count.value(); ++i) {
