@@ -21,6 +21,7 @@
 #include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/files/state_dir.hpp"
 #include "hal/net/udp_socket.hpp"
+#include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -165,19 +166,29 @@ void print_figures_text(const char* what, const protocol::TimingFigures& f) noex
 
 void print_tasks(const Message& m, bool json) noexcept {
   if (json) (void)std::printf("{\"tasks\":[");
-  if (!json) (void)std::printf("%-16s %7s %3s %4s %10s %7s %12s\n", "TASK", "PID", "CPU", "PRIO", "PERIODS", "MISSED", "MAX EXEC(us)");
+  // POLICY, PRIO and CPU are what the kernel reports for the task's thread (the task reads them at each
+  // publication); TABLE is what the task table asked for (priority/CPU on this machine).
+  if (!json) {
+    (void)std::printf("%-16s %7s %-6s %4s %3s %7s %10s %7s %12s\n", "TASK", "PID", "POLICY", "PRIO", "CPU", "TABLE",
+                      "PERIODS", "MISSED", "MAX EXEC(us)");
+  }
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     const protocol::TaskRecord& t = m.tasks.tasks[i];
     if (json) {
-      (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"cpu\":%d,\"priority\":%d,\"periods\":%" PRIu64
-                        ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64,
-                        i == 0 ? "" : ",", t.name.data(), t.pid, t.cpu, t.priority, t.periods, t.missed, t.max_execution_ns);
+      (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"policy\":\"%s\",\"priority\":%d,\"cpu\":%d,"
+                        "\"table_priority\":%d,\"table_cpu\":%d,\"periods\":%" PRIu64 ",\"missed\":%" PRIu64
+                        ",\"max_execution_ns\":%" PRIu64,
+                        i == 0 ? "" : ",", t.name.data(), t.pid, hal::policy_name(t.policy), t.priority, t.cpu,
+                        t.table_priority, t.table_cpu, t.periods, t.missed, t.max_execution_ns);
       print_figures_json("execution_ns", t.execution);
       print_figures_json("wakeup_latency_ns", t.latency);
       (void)std::printf("}");
     } else {
-      (void)std::printf("%-16s %7d %3d %4d %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid, t.cpu, t.priority,
-                        t.periods, t.missed, static_cast<double>(t.max_execution_ns) / 1000.0);
+      char table[16];
+      (void)std::snprintf(table, sizeof table, "%d/%d", t.table_priority, t.table_cpu);
+      (void)std::printf("%-16s %7d %-6s %4d %3d %7s %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid,
+                        hal::policy_name(t.policy), t.priority, t.cpu, table, t.periods, t.missed,
+                        static_cast<double>(t.max_execution_ns) / 1000.0);
       print_figures_text("execution", t.execution);
       print_figures_text("wake-up", t.latency);
     }
@@ -402,7 +413,7 @@ Result<KeyChoice> choose_key(const ParsedArgs& args, bool make_dir = false) noex
   const char* option = g_ctl_config.state_dir[0] != '\0' ? g_ctl_config.state_dir.data() : nullptr;
   const Result<hal::StateDir> dir =
       make_dir ? hal::resolve_state_dir(option)
-               : hal::choose_state_dir(option, ::geteuid() == 0,
+               : hal::choose_state_dir(option, hal::system_state_dir_is_default(),
                                        std::getenv("XDG_STATE_HOME"),  // NOLINT(concurrency-mt-unsafe)
                                        std::getenv("HOME"));           // NOLINT(concurrency-mt-unsafe)
   if (!dir.ok()) return make_error(Errc::not_found, "no default key path: no state directory (give --key FILE)");

@@ -25,7 +25,7 @@ constexpr std::size_t kListHeadSize = 8;
 constexpr std::size_t kSlaveRecordSize = 32;
 constexpr std::size_t kMasterSize = 112;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
-constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
+constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
@@ -348,6 +348,11 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
     t.pid = static_cast<std::int32_t>(r.u32());
     t.cpu = static_cast<std::int16_t>(r.u16());
     t.priority = static_cast<std::int16_t>(r.u16());
+    t.policy = static_cast<std::int8_t>(r.u8());
+    if (!r.zeros(1)) return malformed("reserved bytes not zero");
+    t.table_cpu = static_cast<std::int16_t>(r.u16());
+    t.table_priority = static_cast<std::int16_t>(r.u16());
+    if (!r.zeros(2)) return malformed("reserved bytes not zero");
     t.periods = r.u64();
     t.missed = r.u64();
     t.max_execution_ns = r.u64();
@@ -735,6 +740,11 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
         w.u32(static_cast<std::uint32_t>(t.pid));
         w.u16(static_cast<std::uint16_t>(t.cpu));
         w.u16(static_cast<std::uint16_t>(t.priority));
+        w.u8(static_cast<std::uint8_t>(t.policy));
+        w.zeros(1);
+        w.u16(static_cast<std::uint16_t>(t.table_cpu));
+        w.u16(static_cast<std::uint16_t>(t.table_priority));
+        w.zeros(2);
         w.u64(t.periods);
         w.u64(t.missed);
         w.u64(t.max_execution_ns);

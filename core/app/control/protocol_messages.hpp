@@ -245,8 +245,11 @@ struct MasterPayload {
 struct TaskRecord {
   std::array<char, kNameSize> name{};
   std::int32_t pid{0};
-  std::int16_t cpu{-1};       // -1: any
-  std::int16_t priority{0};   // SCHED_FIFO priority, 0: normal
+  std::int16_t cpu{-1};       // the CPU the kernel reports the task's thread ran on last; -1: unknown
+  std::int16_t priority{0};   // the priority the kernel reports (sched_getparam), 0: a normal policy
+  std::int8_t policy{-1};     // the kernel's policy: SCHED_OTHER 0, SCHED_FIFO 1, SCHED_RR 2, ...; -1 unknown
+  std::int16_t table_cpu{-1};       // what the task table asked for (on this machine)
+  std::int16_t table_priority{0};
   std::uint64_t periods{0};
   std::uint64_t missed{0};
   std::uint64_t max_execution_ns{0};

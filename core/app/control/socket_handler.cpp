@@ -127,8 +127,11 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           protocol::TaskRecord& r = m.tasks.tasks[m.tasks.count++];
           r.name = t.name;
           r.pid = t.pid;
-          r.cpu = t.cpu;
-          r.priority = t.priority;
+          r.cpu = t.kernel_cpu;
+          r.priority = t.kernel_priority;
+          r.policy = t.kernel_policy;
+          r.table_cpu = t.cpu;
+          r.table_priority = t.priority;
           r.periods = t.periods;
           r.missed = t.missed;
           r.max_execution_ns = t.max_execution_ns;
