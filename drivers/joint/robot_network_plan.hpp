@@ -12,11 +12,11 @@
 #include "core/robot/robot.hpp"
 #include "drivers/joint/device_identity.hpp"
 #include "drivers/joint/joint_drive_pdo.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::drivers {
 
-// The robot fits the master's compile-time capacities (ecat/master/master_config.hpp).
+// The robot fits the master's compile-time capacities (ecat/link/master_capacities.hpp).
 static_assert(kSlaveCount == ecat::kMaxSlaves, "the master's plan holds exactly the robot's slaves");
 static_assert(kBranchCount == ecat::kMaxBranches, "one process-data branch per robot branch");
 static_assert(kMasterUpstream == ecat::kMasterUpstream, "the robot's and the master's 'no upstream' agree");

@@ -17,7 +17,7 @@
 #include "core/base/span.hpp"
 #include "core/concurrency/spsc_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
-#include "ecat/master/datagram_link.hpp"
+#include "ecat/link/datagram_link.hpp"
 
 namespace rescue::ecat {
 

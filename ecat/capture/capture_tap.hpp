@@ -13,7 +13,7 @@
 #pragma once
 
 #include "ecat/capture/capture_writer.hpp"
-#include "ecat/master/datagram_link.hpp"
+#include "ecat/link/datagram_link.hpp"
 
 namespace rescue::ecat {
 

@@ -22,7 +22,7 @@
 #include <cstdint>
 
 #include "core/base/result.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::ecat {
 

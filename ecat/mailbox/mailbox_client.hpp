@@ -18,9 +18,9 @@
 
 #include "core/base/result.hpp"
 #include "core/containers/ring_buffer.hpp"
-#include "ecat/master/datagram_link.hpp"
 #include "ecat/codec/frame.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/datagram_link.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -25,7 +25,7 @@
 
 #include "core/containers/ring_buffer.hpp"
 #include "ecat/dc/dc_delay.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/network_plan.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::ecat {

@@ -37,9 +37,9 @@
 #include <array>
 #include <cstdint>
 
-#include "core/containers/ring_buffer.hpp"
 #include "core/base/span.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "core/containers/ring_buffer.hpp"
+#include "ecat/link/network_plan.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::ecat {

@@ -25,18 +25,18 @@
 #include <array>
 #include <cstdint>
 
-#include "core/containers/fixed_vector.hpp"
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
-#include "ecat/master/al_control.hpp"
-#include "ecat/master/datagram_link.hpp"
+#include "core/containers/fixed_vector.hpp"
 #include "ecat/dc/dc_cycle_sync.hpp"
 #include "ecat/dc/dc_delay.hpp"
+#include "ecat/link/datagram_link.hpp"
+#include "ecat/link/network_plan.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/master/al_control.hpp"
 #include "ecat/master/link_diagnostics.hpp"
 #include "ecat/master/link_monitor.hpp"
-#include "ecat/mailbox/mailbox_client.hpp"
 #include "ecat/master/network_match.hpp"
-#include "ecat/master/network_plan.hpp"
 #include "ecat/master/slave_recovery.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
@@ -55,7 +55,14 @@ struct MasterOptions {
   hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
-  unsigned drift_compensation_frames{15000};  // static drift compensation before cycling
+  // Static drift compensation before cycling: FRMW of the reference time back to back, at most
+  // drift_compensation_frames (ETG.1020's 15000), ended early once every DC slave's system time
+  // difference (0x092C) has been at most drift_compensation_target_ns in two checks in a row,
+  // drift_compensation_check_every frames apart: the cyclic FRMW goes on compensating from there.
+  // Target 0: every frame is sent.
+  unsigned drift_compensation_frames{15000};
+  unsigned drift_compensation_check_every{500};
+  std::uint32_t drift_compensation_target_ns{5};
   hal::Nanoseconds sync0_start_margin{10 * hal::kNsPerMs};
   hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
   hal::Nanoseconds op_timeout{3 * hal::kNsPerSec};  // SAFE-OP -> OP while cycling
@@ -100,8 +107,18 @@ struct SlaveSetup {
   bool mailbox{false};                   // standard mailbox present, CoE supported
 };
 
+// Where bring-up time goes: when each step began and how many frames had been exchanged by then.
+struct BringUpStepMark {
+  const char* step{nullptr};
+  hal::Nanoseconds at{0};
+  std::uint64_t frames{0};
+};
+constexpr std::size_t kBringUpSteps = 12;
+
 struct BringUpReport {
   const char* failed_step{nullptr};  // nullptr when bring-up succeeded
+  std::array<BringUpStepMark, kBringUpSteps> steps{};  // in order; steps[step_count - 1] is the last begun
+  std::uint8_t step_count{0};
   Error error{};
   std::uint16_t slaves_counted{0};
   std::uint32_t first_contact_frames{0};  // count BRDs sent until one came back
@@ -113,6 +130,7 @@ struct BringUpReport {
   std::uint32_t startup_sdos_done{0};
   DcDelays delays{};
   std::uint32_t dc_max_difference_ns{0};  // max |0x092C| after static drift compensation
+  std::uint32_t dc_static_frames{0};      // static drift compensation frames sent
   std::uint64_t sync0_start{0};           // system time of the first SYNC0
   hal::Nanoseconds started_at{0};
   hal::Nanoseconds safe_op_at{0};
@@ -307,6 +325,7 @@ class Master {
   std::array<OpStep, kMaxSlaves> op_step_{};
   std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
   hal::Nanoseconds op_deadline_{0};
+  std::uint64_t bring_up_frames_before_{0};  // link exchanges when bring_up began (step marks count from it)
   // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.
   enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
   SlaveMask reintegrating_{0};

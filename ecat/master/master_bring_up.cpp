@@ -77,6 +77,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   report_ = BringUpReport{};
   report_.started_at = link_.clock().now();
   const std::uint64_t frames_before = link_.stats().exchanges;
+  bring_up_frames_before_ = frames_before;
   state_ = MasterState::idle;
   cycle_ = 0;
   // Nothing of an earlier bring-up carries over.
@@ -147,6 +148,9 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
 }
 
 Status Master::check_stop(const char* step) noexcept {
+  if (report_.step_count < report_.steps.size()) {
+    report_.steps[report_.step_count++] = BringUpStepMark{step, link_.clock().now(), link_.stats().exchanges - bring_up_frames_before_};
+  }
   if (options_.stop_requested == nullptr || !options_.stop_requested()) return Status::success();
   return fail(step, make_error(Errc::refused, "stopped on request"));
 }

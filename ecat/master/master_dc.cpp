@@ -93,12 +93,23 @@ Status Master::configure_dc() noexcept {
 
 Status Master::compensate_static_drift() noexcept {
   // The reference's system time, written into every other slave (FRMW 0x0910), many times in a
-  // row: each write is one step of the slaves' drift control loops (ETG.1000.4 9.3.4).
+  // row: each write is one step of the slaves' drift control loops (ETG.1000.4 9.3.4). Every
+  // drift_compensation_check_every frames the slaves' system time differences are read: two
+  // readings in a row within the target end it (one could be a loop passing through zero).
   std::array<std::uint8_t, 8> time{};
   std::uint32_t lost = 0;
-  for (unsigned i = 0; i < options_.drift_compensation_frames; ++i) {
+  unsigned within_target = 0;
+  const unsigned check_every = options_.drift_compensation_check_every == 0 ? 1 : options_.drift_compensation_check_every;
+  unsigned i = 0;
+  for (; i < options_.drift_compensation_frames; ++i) {
     if (i % 256 == 0 && options_.stop_requested != nullptr && options_.stop_requested()) {
       return fail("DC drift", make_error(Errc::refused, "stopped on request"));
+    }
+    if (options_.drift_compensation_target_ns != 0 && i != 0 && i % check_every == 0) {
+      const Result<DcSnapshot> check = read_dc_snapshot();
+      if (!check.ok()) return fail("DC drift", check.error());
+      within_target = check.value().max_difference_ns <= options_.drift_compensation_target_ns ? within_target + 1 : 0;
+      if (within_target >= 2) break;
     }
     const Result<std::uint16_t> wkc = link_.transfer(Command::FRMW, make_address(reference_station_, reg::kDcSystemTime),
                                                      ByteSpan(time), options_.frame_timeout, 1);
@@ -111,6 +122,7 @@ Status Master::compensate_static_drift() noexcept {
     last_reference_time_ = load_le64(time.data());
     last_reference_read_at_ = link_.clock().now();
   }
+  report_.dc_static_frames = i;
   const Result<DcSnapshot> snapshot = read_dc_snapshot();
   if (!snapshot.ok()) return fail("DC drift", snapshot.error());
   report_.dc_max_difference_ns = snapshot.value().max_difference_ns;

@@ -1,4 +1,4 @@
-// Comparing the network the master found with the one it expects (ecat/master/network_plan.hpp), and
+// Comparing the network the master found with the one it expects (ecat/link/network_plan.hpp), and
 // naming every difference: missing, extra, wrong device, wrong position, plus the softer ones
 // (other revision, process data of another size, a slave held out of service that answers).
 //
@@ -25,7 +25,7 @@
 #include <cstdio>
 
 #include "core/containers/fixed_vector.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::ecat {
 

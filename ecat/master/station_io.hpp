@@ -8,8 +8,8 @@
 #include <cstdint>
 
 #include "core/base/result.hpp"
-#include "ecat/master/datagram_link.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/datagram_link.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::ecat {
 

@@ -18,7 +18,7 @@
 
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
-#include "ecat/master/datagram_link.hpp"
+#include "ecat/link/datagram_link.hpp"
 
 namespace rescue::ecat {
 

@@ -5,8 +5,8 @@
 #include <cstring>
 #include <vector>
 
+#include "core/app/config/nic_option.hpp"
 #include "core/app/sim/frame_server.hpp"
-#include "core/app/cli/nic_option.hpp"
 #include "hal/net/raw_socket_nic.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

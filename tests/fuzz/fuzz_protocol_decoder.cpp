@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "core/app/control/protocol_codec.hpp"
-#include "core/app/control/replay_window.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/operator_protocol/replay_window.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rescue;

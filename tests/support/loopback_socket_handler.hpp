@@ -7,9 +7,9 @@
 
 #include <cstdint>
 
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/replay_window.hpp"
-#include "core/app/control/socket_handler.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/replay_window.hpp"
+#include "core/app/tasks/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "hal/time/wall_clock.hpp"
 #include "tests/support/joint_manager_fakes.hpp"

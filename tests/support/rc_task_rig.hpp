@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "core/app/links/task_links.hpp"
-#include "core/app/motion/motion_intake.hpp"
+#include "core/app/tasks/motion_intake.hpp"
 #include "core/app/tasks/rc_task.hpp"
 
 namespace rescue::app::testing {

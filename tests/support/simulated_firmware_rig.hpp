@@ -6,11 +6,11 @@
 #include <memory>
 #include <string>
 
-#include "core/app/control/predefined_messages.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "hal/time/wall_clock.hpp"
 #include "tests/support/simulated_robot_rig.hpp"

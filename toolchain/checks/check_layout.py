@@ -7,6 +7,12 @@ only files that exist.
 
 Include rule: a file in folder A may include a file in folder B only when B is in A's allowed list.
 The most specific folder wins (core/app/ is not core/). Rules are read from top to bottom.
+
+Floor rule: inside core/, core/app/, ecat/, hal/, fsm/, drivers/ and drivers/sim/ the folders are floors,
+listed bottom first (FLOORS); a file includes only its own folder and the floors below it, never one above.
+
+Knot rule: no two folders anywhere include each other, directly or through any path of includes
+(a cycle in the folder graph), whatever the other rules allow.
 """
 import os
 import re
@@ -35,6 +41,18 @@ FORBIDDEN = [
     ("drivers/", "core/app/", "drivers never include the program"),
 ]
 FORBIDDEN_EXCEPT_SIM = ("drivers/", "drivers/sim/", "master-side drivers never include the simulator")
+
+# Floors inside a folder, bottom first: a folder includes only itself and the floors listed before it.
+# docs/architecture.md draws them; a new folder must be given its floor here.
+FLOORS = {
+    "core/": ["base", "containers", "concurrency", "memory", "timing", "robot", "kinematics", "app"],
+    "core/app/": ["config", "links", "shm", "operator_protocol", "tasks", "sim", "runtime", "bench", "cli"],
+    "ecat/": ["codec", "link", "capture", "sii", "mailbox", "dc", "master"],
+    "hal/": ["time", "files", "proc", "rt", "shm", "net"],
+    "fsm/": ["engine", "machines"],
+    "drivers/": ["cia402", "joint", "sim"],
+    "drivers/sim/": ["coe", "devices", "esc", "segment"],
+}
 
 SOURCE_FOLDERS = ("core/", "hal/", "ecat/", "fsm/", "drivers/")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
@@ -77,6 +95,93 @@ def include_findings(files, read):
     return findings
 
 
+def floor_of(path, base):
+    """(index, name) of the floor of `base` that holds `path`, or None when path is not inside one."""
+    if not path.startswith(base):
+        return None
+    rest = path[len(base):]
+    if "/" not in rest:
+        return None  # a file directly in base/ (e.g. a CMakeLists.txt)
+    name = rest.split("/", 1)[0]
+    floors = FLOORS[base]
+    return (floors.index(name), name) if name in floors else (None, name)
+
+
+def floor_findings(files, read):
+    findings = []
+    for path in files:
+        if not path.endswith((".hpp", ".cpp", ".h")):
+            continue
+        for n, line in enumerate(read(path).splitlines(), 1):
+            m = INCLUDE.match(line)
+            if not m:
+                continue
+            target = m.group(1)
+            for base, floors in FLOORS.items():
+                src, dst = floor_of(path, base), floor_of(target, base)
+                if src is None or dst is None or src[1] == dst[1]:
+                    continue
+                if src[0] is None:
+                    findings.append(f"{path}:{n}: folder {base}{src[1]}/ has no floor: add it to FLOORS in {os.path.basename(__file__)}")
+                elif dst[0] is None or dst[0] > src[0]:
+                    findings.append(f"{path}:{n}: includes {target}: {base}{dst[1]}/ is above {base}{src[1]}/ "
+                                    f"(floors of {base}, bottom first: {' < '.join(floors)})")
+    return findings
+
+
+def knot_findings(files, read):
+    """Folders that reach each other through includes (strongly connected components of the folder graph)."""
+    edges = {}
+    example = {}
+    for path in files:
+        if not path.endswith((".hpp", ".cpp", ".h")) or not path.startswith(SOURCE_FOLDERS):
+            continue
+        a = os.path.dirname(path)
+        for n, line in enumerate(read(path).splitlines(), 1):
+            m = INCLUDE.match(line)
+            if not m or not m.group(1).startswith(SOURCE_FOLDERS):
+                continue
+            b = os.path.dirname(m.group(1))
+            if a != b:
+                edges.setdefault(a, set()).add(b)
+                example.setdefault((a, b), f"{path}:{n}")
+    # Tarjan's algorithm, iterative (no recursion limit on a deep graph).
+    index, low, on_stack, stack, knots, counter = {}, {}, set(), [], [], [0]
+    for start in sorted(edges):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(edges.get(start, ()))))]
+        index[start] = low[start] = counter[0]; counter[0] += 1
+        stack.append(start); on_stack.add(start)
+        while work:
+            node, it = work[-1]
+            nxt = next(it, None)
+            if nxt is not None:
+                if nxt not in index:
+                    index[nxt] = low[nxt] = counter[0]; counter[0] += 1
+                    stack.append(nxt); on_stack.add(nxt)
+                    work.append((nxt, iter(sorted(edges.get(nxt, ())))))
+                elif nxt in on_stack:
+                    low[node] = min(low[node], index[nxt])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                comp = []
+                while True:
+                    w = stack.pop(); on_stack.discard(w); comp.append(w)
+                    if w == node:
+                        break
+                if len(comp) > 1:
+                    knots.append(sorted(comp))
+    findings = []
+    for comp in knots:
+        inside = [f"{example[(a, b)]} ({a}/ -> {b}/)" for a in comp for b in sorted(edges.get(a, ())) if b in comp]
+        findings.append(f"knot: folders {', '.join(c + '/' for c in comp)} include each other: {'; '.join(inside)}")
+    return findings
+
+
 # Paths in prose: folder/name.ext for the project's own kinds of file, or a folder path ending in '/'.
 DOC_PATH = re.compile(r"(?<![\w/.-])((?:core|hal|ecat|fsm|drivers|tests|toolchain|docs)/[\w./-]*[\w/])")
 
@@ -106,6 +211,9 @@ def main(argv):
             print(f"{folder:18} -> {'anything' if allowed is None else ' '.join(allowed)}")
         for src, dst, reason in FORBIDDEN + [FORBIDDEN_EXCEPT_SIM]:
             print(f"{src:18} -/-> {dst:14} {reason}")
+        for base, floors in FLOORS.items():
+            print(f"floors of {base:13} {' < '.join(floors)}")
+        print("no knots: no two folders include each other through any path")
         return 0
     root = os.path.abspath(argv[1] if len(argv) > 1 else ".")
     try:
@@ -130,7 +238,8 @@ def main(argv):
             return os.path.isdir(folder) and any(n.startswith(prefix) for n in os.listdir(folder))
         return False
 
-    findings = include_findings(files, read) + doc_findings(files, read, exists)
+    findings = (include_findings(files, read) + floor_findings(files, read) + knot_findings(files, read)
+                + doc_findings(files, read, exists))
     for f in findings:
         print(f)
     print(f"check_layout: {len(findings)} findings over {len(files)} files")

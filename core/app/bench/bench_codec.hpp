@@ -1,6 +1,6 @@
 // `rescue-motion bench codec`: building and decoding the robot's cyclic frame with the codec the
 // master uses, per frame, with the TSC; and the same figures as a fraction of the frame's time on a
-// 100 Mbit/s wire. The frame, as the master's cycle sends it (ecat/master/network_plan.hpp):
+// 100 Mbit/s wire. The frame, as the master's cycle sends it (ecat/link/network_plan.hpp):
 //
 //   FRMW station 0x1000 (junction_a, the DC reference) reg 0x0910, 8 bytes: system time
 //   LRW  torso      region: 3 joints x (13 out + 15 in) =  84 bytes
@@ -14,7 +14,7 @@
 // check each LRW's working counter against 3 per joint, copy the inputs out.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -5,7 +5,7 @@
 // faults that happened after init (both should be 0).
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -5,13 +5,13 @@
 //   rc        the RC task's period (kin::RcPeriod: the rescue motion, one task-priority IK step,
 //             the teleoperation task) from the ready posture, the motion repeating
 // for --periods N periods twice: case `without_affinity` (each thread may run on every CPU), then
-// case `with_affinity` (each thread pinned to its Table I CPU, core/app/runtime/task_table.cpp; a
+// case `with_affinity` (each thread pinned to its Table I CPU, core/app/config/task_table.cpp; a
 // CPU the machine lacks falls back to its last CPU: table_cpu_on_this_machine). Under a background
 // load that is part of the command (--load, default stress,udp):
 //   stress    Debian's stress-ng, one CPU and one memory (vm) stressor, confined with --taskset to
 //             the "basic software" CPU set (Table I CPU 0), for the whole experiment
 //   udp       a sender thread (on the basic software CPU) sending 2000 datagrams/s to a real
-//             SocketHandler (core/app/control/socket_handler.hpp) on a loopback port: authenticated
+//             SocketHandler (core/app/tasks/socket_handler.hpp) on a loopback port: authenticated
 //             status queries (answered) and garbage (rejected and counted); the socket handler's
 //             thread follows the case's affinity (Table I CPU 1 when pinned)
 // Each period's execution time (TSC) and wake-up latency go into a PeriodRecorder per task and case
@@ -23,7 +23,7 @@
 // and each real-time setting applied or refused.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

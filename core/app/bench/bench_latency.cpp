@@ -13,7 +13,7 @@
 
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/config/firmware_config.hpp"
-#include "core/app/runtime/task_table.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"

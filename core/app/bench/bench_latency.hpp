@@ -9,7 +9,7 @@
 // and the real-time settings the OS refused.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -9,9 +9,9 @@
 #include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
-#include "core/app/runtime/nic_factory.hpp"
-#include "core/app/cli/nic_option.hpp"
 #include "core/app/bench/timed_nic.hpp"
+#include "core/app/config/nic_option.hpp"
+#include "core/app/runtime/nic_factory.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
@@ -139,6 +139,11 @@ int bench_master(const ParsedArgs& args) noexcept {
   if (!cycles.ok()) return fail("bench", "--cycles must be 100..1000000", cycles.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "--seed must be 0..1000000", seed.error());
+  const ecat::MasterOptions defaults;
+  const Result<std::int64_t> dc_frames = args.integer("dc-static-frames", defaults.drift_compensation_frames, 0, 1'000'000);
+  if (!dc_frames.ok()) return fail("bench", "--dc-static-frames must be 0..1000000", dc_frames.error());
+  const Result<std::int64_t> dc_target = args.integer("dc-target-ns", defaults.drift_compensation_target_ns, 0, 1'000'000);
+  if (!dc_target.ok()) return fail("bench", "--dc-target-ns must be 0..1000000", dc_target.error());
   const bool simulated = choice.value().kind == NicKind::sim;
   const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
   const bool real_time = std::strcmp(scheduling, "rt") == 0;
@@ -180,8 +185,10 @@ int bench_master(const ParsedArgs& args) noexcept {
   static Enabler enabler;
   hal::Clock& clock = nic.clock();
 
-  // 1. Bring-up with the full static drift compensation, then to OP.
+  // 1. Bring-up (static drift compensation as --dc-static-frames and --dc-target-ns say), then to OP.
   ecat::MasterOptions options;
+  options.drift_compensation_frames = static_cast<unsigned>(dc_frames.value());
+  options.drift_compensation_target_ns = static_cast<std::uint32_t>(dc_target.value());
   const Status up = bus.bring_up(options);
   if (!up.ok()) {
     print_failure(bus.master());
@@ -269,8 +276,17 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));
   (void)std::printf("bring_up_to_op: %.3f ms\n", ms(first.op_at - first.started_at));
   (void)std::printf("bring_up_frames: %" PRIu64 " frames\n", first.frames);
+  // Where bring-up time goes: each step from its start to the next one's (the last to SAFE-OP).
+  for (std::size_t i = 0; i < first.step_count; ++i) {
+    const ecat::BringUpStepMark& mark = first.steps[i];
+    const bool last = i + 1 == first.step_count;
+    const hal::Nanoseconds end = last ? first.safe_op_at : first.steps[i + 1].at;
+    const std::uint64_t frames_end = last ? first.frames : first.steps[i + 1].frames;
+    (void)std::printf("bring_up_step_%s: %.3f ms, %" PRIu64 " frames\n", mark.step, ms(end - mark.at), frames_end - mark.frames);
+  }
   (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
-  (void)std::printf("dc_static_compensation: %u frames\n", options.drift_compensation_frames);
+  (void)std::printf("dc_static_compensation: %u frames (at most %u, until every |0x092C| <= %u ns twice)\n",
+                    first.dc_static_frames, options.drift_compensation_frames, options.drift_compensation_target_ns);
   (void)std::printf("dc_max_difference_after_static: %" PRIu32 " ns\n", first.dc_max_difference_ns);
   if (after_run.ok()) {
     (void)std::printf("dc_max_difference_after_cycles: %" PRIu32 " ns (after %" PRId64 " cycles)\n",

@@ -12,7 +12,7 @@
 //   - heap allocations and page faults after init (the heap guard counts them; must be 0).
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -6,8 +6,8 @@
 #include <cstdio>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/config/nic_option.hpp"
 #include "core/app/runtime/nic_factory.hpp"
-#include "core/app/cli/nic_option.hpp"
 #include "ecat/codec/frame.hpp"
 #include "hal/time/clock.hpp"
 

@@ -4,7 +4,7 @@
 // flight at a time, as in the 1 ms cycle; min, median, 99th percentile and max.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

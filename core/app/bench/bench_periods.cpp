@@ -6,13 +6,13 @@
 #include <cstdlib>
 
 #include "core/app/bench/bench_header.hpp"
-#include "core/app/control/predefined_messages.hpp"
+#include "core/app/links/joint_demand_sink.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
-#include "core/app/links/joint_demand_sink.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"

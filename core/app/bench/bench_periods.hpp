@@ -9,7 +9,7 @@
 // (and not inside the simulated NIC, which stands in for the wire), for instructions per period.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -6,10 +6,10 @@
 
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/config/firmware_config.hpp"
-#include "core/app/runtime/task_table.hpp"
-#include "core/memory/heap_guard.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/kinematics/damped_least_squares.hpp"
 #include "core/kinematics/rc_period.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/tsc_timer.hpp"

@@ -15,7 +15,7 @@
 // and prints the ratios (docs/kinematics.md).
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

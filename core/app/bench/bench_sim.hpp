@@ -7,7 +7,7 @@
 // host seconds an hour of robot time takes. docs/simulator.md, "Speed", quotes the figures.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

@@ -6,12 +6,12 @@
 #include "core/app/bench/bench_fig4.hpp"
 #include "core/app/bench/bench_latency.hpp"
 #include "core/app/bench/bench_master.hpp"
-#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_nic.hpp"
+#include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
 #include "core/app/cli/commands.hpp"
-#include "core/app/cli/nic_option.hpp"
+#include "core/app/config/nic_option.hpp"
 
 namespace rescue::app {
 namespace {
@@ -21,6 +21,8 @@ const OptionSpec kOptions[] = {
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000); periods: measured periods (default 1000)"},
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
+    {"dc-static-frames", "N", "master: at most N static drift compensation frames at bring-up (default 15000)"},
+    {"dc-target-ns", "NS", "master: static drift compensation ends once every slave's |0x092C| <= NS twice in a row (default 5; 0 = send every frame)"},
     {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
     {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the 150 us receive spin (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},

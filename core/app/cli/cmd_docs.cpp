@@ -5,10 +5,10 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/recovery_machine_view.hpp"
-#include "core/app/runtime/task_table.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/shm/segment_layout.hpp"
-#include "fsm/machines/documented_machines.hpp"
 #include "fsm/engine/table_docs.hpp"
+#include "fsm/machines/documented_machines.hpp"
 
 namespace rescue::app {
 namespace {

@@ -3,11 +3,11 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/config/config_file.hpp"
+#include "core/app/config/nic_option.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/runtime/self_check.hpp"
 #include "core/app/runtime/stop_signal.hpp"
-#include "core/app/runtime/task_table.hpp"
-#include "core/app/cli/nic_option.hpp"
 #include "core/app/sim/run_scenario.hpp"
 #include "hal/rt/privileges.hpp"
 

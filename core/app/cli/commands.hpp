@@ -2,7 +2,7 @@
 // is listed once in main.cpp's table.
 #pragma once
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 
 namespace rescue::app {
 

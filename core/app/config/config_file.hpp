@@ -9,8 +9,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/app/cli/nic_option.hpp"
-#include "core/app/runtime/task_table.hpp"
+#include "core/app/config/nic_option.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/base/span.hpp"
 
 namespace rescue::app {

@@ -38,8 +38,23 @@ constexpr std::int64_t kLoggerPeriodNs = 5'000'000;           // drains events a
 constexpr std::size_t kLostReportQueueDepth = 16;  // handler -> joint manager (reconfiguration step 1)
 constexpr std::size_t kNoticeQueueDepth = 16;      // joint manager -> handler (step 4, clears)
 constexpr std::size_t kJointCommandQueueDepth = 64;  // message parser -> joint manager (joint handle queue)
+constexpr std::size_t kOperatorRequestQueueDepth = 16;  // socket handler -> message parser (operator requests)
+constexpr std::size_t kOperatorReplyQueueDepth = 16;    // message parser -> socket handler (replies)
+constexpr std::size_t kCommandOutcomeQueueDepth = 64;   // joint manager -> message parser (command outcomes)
+constexpr std::size_t kRcInputQueueDepth = 8;           // message parser -> each RC task (operator inputs)
 
-// --- The socket handler under a flood (core/app/control/socket_handler.*, docs/protocol.md) -------
+// --- Periods and waits of the non-cyclic tasks ------------------------------------------------------
+constexpr std::int64_t kMessageParserPeriodNs = 1'000'000;  // the parser drains its queues every 1 ms
+constexpr int kSocketWaitMs = 5;  // the socket handler's poll() timeout: how often it looks at the stop word
+// The rescue scenario runs on this long after its motion ended, so the end of the motion is in the log.
+constexpr std::int64_t kRescueSettleNs = 200'000'000;
+// The master's raw socket reads for this long before it sleeps waiting for a frame
+// (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
+// is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
+// CPU per exchange.
+constexpr std::int64_t kMasterReceiveSpinNs = 150'000;
+
+// --- The socket handler under a flood (core/app/tasks/socket_handler.*, docs/protocol.md) ---------
 // Datagrams handled per wake-up, both UDP ports together, whatever is queued: a flood costs the socket
 // handler at most this much work (checks, tag, replay window) before it answers the parser's replies
 // and waits again. The rest stays in the kernel's receive buffer (or is dropped by the kernel).

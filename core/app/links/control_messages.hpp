@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/app/control/protocol_messages.hpp"
+#include "core/app/links/protocol_messages.hpp"
 #include "core/robot/robot.hpp"
 
 namespace rescue::app {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/app/control/protocol_messages.hpp"
+#include "core/app/links/protocol_messages.hpp"
 #include "core/base/result.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "core/robot/robot.hpp"

@@ -13,13 +13,13 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
+#include "core/app/links/motion_links.hpp"
 #include "core/app/links/run_control.hpp"
-#include "core/app/motion/motion_links.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "core/concurrency/spsc_queue.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
-#include "core/concurrency/seqlock.hpp"
-#include "core/concurrency/spsc_queue.hpp"
 
 namespace rescue::app {
 
@@ -63,10 +63,10 @@ struct TaskLinks {
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
-  static constexpr std::size_t kRequestQueueDepth = 16;
-  static constexpr std::size_t kReplyQueueDepth = 16;
-  static constexpr std::size_t kOutcomeQueueDepth = 64;
-  static constexpr std::size_t kRcInputQueueDepth = 8;
+  static constexpr std::size_t kRequestQueueDepth = config::kOperatorRequestQueueDepth;
+  static constexpr std::size_t kReplyQueueDepth = config::kOperatorReplyQueueDepth;
+  static constexpr std::size_t kOutcomeQueueDepth = config::kCommandOutcomeQueueDepth;
+  static constexpr std::size_t kRcInputQueueDepth = config::kRcInputQueueDepth;
 
 #define RESCUE_TASK_LINKS_X(name, who, ...) __VA_ARGS__ name{};
   RESCUE_TASK_LINKS_MEMBERS(RESCUE_TASK_LINKS_X)

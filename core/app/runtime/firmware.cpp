@@ -5,14 +5,11 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "core/app/cli/cli.hpp"
-#include "core/app/control/message_parser.hpp"
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/repaired_joints.hpp"
-#include "core/app/control/replay_window.hpp"
-#include "core/app/control/socket_handler.hpp"
+#include "core/app/config/command_line.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/replay_window.hpp"
 #include "core/app/runtime/instance_setup.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/runtime/operator_side.hpp"
@@ -29,7 +26,10 @@
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/message_parser.hpp"
 #include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/repaired_joints.hpp"
+#include "core/app/tasks/socket_handler.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"

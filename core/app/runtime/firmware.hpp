@@ -17,7 +17,7 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/cli/nic_option.hpp"
+#include "core/app/config/nic_option.hpp"
 #include "core/app/sim/run_scenario.hpp"
 #include "core/robot/robot.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"

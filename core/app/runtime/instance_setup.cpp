@@ -5,7 +5,7 @@
 #include <new>
 #include <utility>
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "hal/files/instance_lock.hpp"
 #include "hal/files/state_dir.hpp"

@@ -25,7 +25,9 @@ Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin)
   drivers::SimulatedRobot& robot = simulated_robot(clock->now());
   RESCUE_TRY(robot.status());
   simulated_.clear();
-  active_ = simulated_.emplace_back(robot.segment(), *clock);
+  // The wall clock's simulated robot answers within the model's round trip (the spin); a virtual
+  // clock jumps, so it never spins.
+  active_ = simulated_.emplace_back(robot.segment(), *clock, simulation_clock_ != nullptr ? 0 : receive_spin);
   return Status::success();
 }
 

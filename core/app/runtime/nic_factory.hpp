@@ -2,26 +2,25 @@
 // the raw socket on a named interface, or the in-process simulated segment.
 #pragma once
 
-#include "core/app/cli/nic_option.hpp"
-#include "core/containers/fixed_vector.hpp"
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/config/nic_option.hpp"
 #include "core/base/result.hpp"
+#include "core/containers/fixed_vector.hpp"
 #include "drivers/sim/segment/simulated_nic.hpp"
-#include "hal/time/clock.hpp"
 #include "hal/net/nic.hpp"
 #include "hal/net/raw_socket_nic.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app {
 
-// The master's raw socket reads for this long before it sleeps waiting for a frame
-// (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
-// is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
-// CPU per exchange.
-constexpr hal::Nanoseconds kMasterReceiveSpin = 150 * hal::kNsPerUs;
+// How long the master's raw socket reads before it sleeps: config::kMasterReceiveSpinNs.
+constexpr hal::Nanoseconds kMasterReceiveSpin = config::kMasterReceiveSpinNs;
 
 class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
-  // `receive_spin`: how long a raw socket reads before it sleeps (the master's default; 0 sleeps at
+  // `receive_spin`: how long a raw socket (or the simulated robot on the wall clock) waits for a frame
+  // by reading before it sleeps (the master's default; 0 sleeps at
   // once, as a normally scheduled master like SOEM's does).
   Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
   // The clock the simulated robot runs on (default: CLOCK_MONOTONIC; a VirtualClock runs it

@@ -6,10 +6,8 @@
 #include <cstddef>
 
 #include "core/app/config/firmware_config.hpp"
-#include "core/app/control/message_parser.hpp"
-#include "core/app/control/replay_window.hpp"
-#include "core/app/control/socket_handler.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/operator_protocol/replay_window.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/shm/shared_segment.hpp"
 #include "core/app/sim/run_scenario.hpp"
@@ -17,7 +15,9 @@
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/message_parser.hpp"
 #include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/socket_handler.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/time/clock.hpp"

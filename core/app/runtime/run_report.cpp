@@ -4,7 +4,7 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/memory/heap_guard.hpp"

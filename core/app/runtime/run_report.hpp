@@ -4,11 +4,11 @@
 
 #include <cstdint>
 
-#include "core/app/control/socket_handler.hpp"
 #include "core/app/links/task_links.hpp"
-#include "core/app/motion/motion_intake.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/sim/run_scenario.hpp"
+#include "core/app/tasks/motion_intake.hpp"
+#include "core/app/tasks/socket_handler.hpp"
 
 namespace rescue::app::runner {
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "core/app/cli/nic_option.hpp"
+#include "core/app/config/nic_option.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {

@@ -3,9 +3,9 @@
 // --clear-joint, and a bring-up that failed or that a signal stopped.
 #pragma once
 
-#include "core/app/control/repaired_joints.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/repaired_joints.hpp"
 #include "drivers/joint/joint_bus.hpp"
 
 namespace rescue::app::runner {

@@ -8,9 +8,9 @@
 #include <cstdio>
 
 #include "core/app/config/firmware_config.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
-#include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -25,9 +25,9 @@ namespace {
 // before the run started), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;
 constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
-constexpr hal::Nanoseconds kParserPeriod = hal::kNsPerMs;
-constexpr int kSocketWaitMs = 5;
-constexpr hal::Nanoseconds kRescueSettle = 200 * hal::kNsPerMs;  // the rescue scenario runs on after the motion ended
+constexpr hal::Nanoseconds kParserPeriod = config::kMessageParserPeriodNs;
+constexpr int kSocketWaitMs = config::kSocketWaitMs;
+constexpr hal::Nanoseconds kRescueSettle = config::kRescueSettleNs;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
 int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }

@@ -10,13 +10,13 @@
 #include <thread>
 #include <utility>
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/supervisor.hpp"
 #include "core/app/runtime/task_loops.hpp"
-#include "core/app/runtime/task_table.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "hal/rt/rt_setup.hpp"

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <thread>
 
-#include "core/app/cli/cli.hpp"
+#include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/task_loops.hpp"

@@ -5,7 +5,7 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "core/app/control/protocol_codec.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
 #include "hal/rt/rt_setup.hpp"
 
 namespace rescue::app {

@@ -18,13 +18,13 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/links/task_links.hpp"
-#include "core/app/motion/motion_intake.hpp"
-#include "core/robot/joint_limits.hpp"
+#include "core/app/tasks/lost_joint_tracker.hpp"
+#include "core/app/tasks/motion_intake.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "core/concurrency/spsc_queue.hpp"
+#include "core/robot/joint_limits.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/master/link_monitor.hpp"
 

@@ -27,8 +27,8 @@
 #include <array>
 #include <cstdint>
 
+#include "core/app/links/motion_links.hpp"
 #include "core/app/links/task_links.hpp"
-#include "core/app/motion/motion_links.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
 #include "hal/time/clock.hpp"

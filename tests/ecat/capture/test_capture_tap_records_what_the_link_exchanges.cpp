@@ -13,10 +13,10 @@
 
 #include "drivers/sim/segment/simulated_nic.hpp"
 #include "ecat/capture/capture_tap.hpp"
-#include "ecat/master/datagram_link.hpp"
 #include "ecat/codec/registers.hpp"
-#include "tests/support/segment_test_support.hpp"
+#include "ecat/link/datagram_link.hpp"
 #include "tests/support/read_frames.hpp"
+#include "tests/support/segment_test_support.hpp"
 
 namespace rescue::ecat {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "drivers/joint/robot_network_plan.hpp"
-#include "ecat/master/network_plan.hpp"
+#include "ecat/link/network_plan.hpp"
 
 namespace rescue::ecat {
 namespace {

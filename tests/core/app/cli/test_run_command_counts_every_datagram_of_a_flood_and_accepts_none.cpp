@@ -25,9 +25,9 @@
 #include <string>
 #include <thread>
 
-#include "core/app/control/protocol_auth.hpp"
-#include "core/app/control/protocol_codec.hpp"
-#include "core/app/control/socket_handler.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/tasks/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "tests/support/operator_run.hpp"
 

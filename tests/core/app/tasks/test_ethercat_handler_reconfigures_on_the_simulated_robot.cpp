@@ -6,18 +6,18 @@
 
 #include <memory>
 
-#include "tests/support/simulated_firmware_rig.hpp"
-#include "tests/support/simulated_robot_rig.hpp"
+#include "core/app/links/task_links.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
-#include "core/app/control/predefined_messages.hpp"
-#include "core/app/links/task_links.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
+#include "drivers/joint/joint_units.hpp"
 #include "hal/time/wall_clock.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
-#include "drivers/joint/joint_units.hpp"
+#include "tests/support/simulated_firmware_rig.hpp"
+#include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::app {
 namespace {

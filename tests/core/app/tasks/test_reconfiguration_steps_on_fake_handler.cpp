@@ -3,9 +3,9 @@
 // error-joints file in a temporary state directory. The link into l_elbow is cut after one second.
 #include <gtest/gtest.h>
 
-#include "drivers/joint/joint_units.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
-#include "core/app/control/predefined_messages.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
+#include "drivers/joint/joint_units.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::app {

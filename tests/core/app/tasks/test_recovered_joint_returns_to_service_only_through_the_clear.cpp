@@ -7,7 +7,7 @@
 // cleared and reset automatically; joints lost through a cable are not.
 #include <gtest/gtest.h>
 
-#include "core/app/control/predefined_messages.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 #include "tests/support/simulated_firmware_rig.hpp"

@@ -1,0 +1,48 @@
+// The motion's part of the shared record (TaskLinks::motion): one reference space per RC task, the
+// Motion owner word, and each RC task's published state. Pointer-free, standard-layout, lock-free
+// atomics only, so it lives in static storage (threads) or in the shared-memory segment (processes).
+// The RC tasks' heartbeats stay TaskLinks::rc_heartbeat_ns (the message parser reads them too).
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <type_traits>
+
+#include "core/app/links/motion_owner.hpp"
+#include "core/app/links/protocol_messages.hpp"
+#include "core/app/links/reference_space.hpp"
+#include "core/concurrency/seqlock.hpp"
+
+namespace rescue::app {
+
+// The RC tasks of `run` (index = the task number of `ctl owner TASK`).
+enum class RcTaskId : std::uint8_t { rescue = 0, teleop = 1 };
+constexpr std::size_t kRcTasksRun = 2;
+
+// What an RC task shows of itself each period (for the log, `ctl status` and tests). Trivial:
+// published through a seqlock as bytes; value-initialise it.
+struct RcTaskState {
+  std::uint8_t mode;            // RcMode (tasks/rc_task.hpp)
+  std::uint8_t phase;           // kin::RescuePhase of the rescue motion
+  bool owns;                    // it held the Motion owner word this period
+  JointMask out_of_service;     // joints it locked (lost, in Error, unreachable)
+  std::uint64_t periods;
+  std::uint64_t kinematics_errors;
+  double position_residual_m[2];  // IK: left, right palm (rescue task)
+};
+static_assert(std::is_trivial_v<RcTaskState>, "published through a seqlock");
+
+struct MotionLinks {
+  std::array<ReferenceSpace, protocol::kMaxRcTasks> references;  // RC task k writes references[k] only
+  MotionOwner owner;                                            // compare-exchange only
+  std::array<Seqlock<RcTaskState>, protocol::kMaxRcTasks> task_state;  // RC task k writes task_state[k]
+  // The EtherCAT handler's intake counters, for `ctl status` and the run's summary.
+  std::atomic<std::uint64_t> owner_misses{0};    // handler periods the owner's references were late or incomplete
+  std::atomic<std::uint64_t> owner_releases{0};  // dead owners released
+  std::atomic<JointMask> owner_joints{0};        // joints the owner's references drove in the handler's last period
+};
+static_assert(std::is_standard_layout_v<MotionLinks>, "shared between processes: standard layout only");
+static_assert(protocol::kNoOwner == kNoOwnerTask, "the wire's 'no owner' is the owner word's");
+
+}  // namespace rescue::app

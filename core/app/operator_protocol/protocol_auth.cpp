@@ -1,0 +1,142 @@
+#include "core/app/operator_protocol/protocol_auth.hpp"
+
+#include <fcntl.h>
+#include <sodium.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "hal/files/state_dir.hpp"
+
+namespace rescue::app::protocol {
+namespace {
+
+static_assert(crypto_auth_BYTES == kTagSize, "the tag is crypto_auth's");
+static_assert(crypto_auth_KEYBYTES == kKeySize, "the key is crypto_auth's");
+
+constexpr std::size_t kKeyHexSize = 2 * kKeySize;
+constexpr std::size_t kKeyFileMaxRead = 256;
+
+Error os_error(const char* what) noexcept { return make_error(Errc::io_error, what, static_cast<std::uint32_t>(errno)); }
+
+class Fd {
+ public:
+  explicit Fd(int fd) noexcept : fd_(fd) {}
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  Fd(Fd&&) = delete;
+  Fd& operator=(Fd&&) = delete;
+  ~Fd() {
+    if (fd_ >= 0) (void)::close(fd_);
+  }
+  int get() const noexcept { return fd_; }
+
+ private:
+  int fd_;
+};
+
+}  // namespace
+
+Status init_crypto() noexcept {
+  if (sodium_init() < 0) return make_error(Errc::unsupported, "libsodium could not be initialised");
+  return Status::success();
+}
+
+Result<std::size_t> seal(const Message& message, const Key& key, ByteSpan out) noexcept {
+  if (out.size() < kHeaderSize + kTagSize) return make_error(Errc::capacity_exceeded, "datagram buffer too small");
+  const Result<std::size_t> payload =
+      encode_payload(message, out.subspan(kHeaderSize, out.size() - kHeaderSize - kTagSize));
+  if (!payload.ok()) return payload.error();
+  Header header = message.header;
+  header.payload_length = static_cast<std::uint16_t>(payload.value());
+  encode_header(header, out.data());
+  const std::size_t signed_size = kHeaderSize + payload.value();
+  (void)crypto_auth(out.data() + signed_size, out.data(), signed_size, key.data());
+  return signed_size + kTagSize;
+}
+
+Status verify_frame(const FrameView& frame, const Key& key) noexcept {
+  if (frame.tag.size() != kTagSize) return make_error(Errc::malformed, "tag length");
+  if (crypto_auth_verify(frame.tag.data(), frame.signed_bytes.data(), frame.signed_bytes.size(), key.data()) != 0) {
+    return make_error(Errc::checksum, "authentication tag does not verify under the key");
+  }
+  return Status::success();
+}
+
+Result<Key> load_key_file(const char* path) noexcept {
+  const Fd fd(::open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY));
+  if (fd.get() < 0) {
+    if (errno == ENOENT) return make_error(Errc::not_found, "key file does not exist (create it with: rescue-motion ctl keygen)");
+    if (errno == EACCES) return make_error(Errc::permission_denied, "key file cannot be opened (no permission)");
+    return os_error("key file cannot be opened");
+  }
+  struct stat st {};
+  if (::fstat(fd.get(), &st) != 0) return os_error("key file cannot be examined");
+  if (!S_ISREG(st.st_mode)) return make_error(Errc::malformed, "key file is not a regular file");
+  if ((st.st_mode & 077U) != 0) {
+    return make_error(Errc::permission_denied, "key file is readable by group or others (chmod 600 it)",
+                      static_cast<std::uint32_t>(st.st_mode & 0777U));
+  }
+  if (st.st_size > static_cast<off_t>(kKeyFileMaxRead)) return make_error(Errc::malformed, "key file too long");
+  std::array<char, kKeyFileMaxRead + 1> text{};
+  std::size_t got = 0;
+  while (got < kKeyFileMaxRead) {
+    const ssize_t n = ::read(fd.get(), text.data() + got, kKeyFileMaxRead - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return os_error("key file cannot be read");
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  std::size_t length = got;
+  while (length > 0 && (text[length - 1] == '\n' || text[length - 1] == '\r')) --length;
+  Key key{};
+  std::size_t decoded = 0;
+  const char* end = nullptr;
+  if (length != kKeyHexSize ||
+      sodium_hex2bin(key.data(), key.size(), text.data(), length, nullptr, &decoded, &end) != 0 ||
+      decoded != kKeySize) {
+    sodium_memzero(text.data(), text.size());
+    return make_error(Errc::malformed, "key file must hold 64 hex digits (create it with: rescue-motion ctl keygen)");
+  }
+  sodium_memzero(text.data(), text.size());
+  return key;
+}
+
+Status create_key_file(const char* path) noexcept {
+  const Fd fd(::open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600));
+  if (fd.get() < 0) {
+    if (errno == EEXIST) return make_error(Errc::busy, "key file already exists; not overwritten");
+    return os_error("key file cannot be created");
+  }
+  if (::fchmod(fd.get(), 0600) != 0) return os_error("key file mode cannot be set to 0600");
+  Key key{};
+  randombytes_buf(key.data(), key.size());
+  std::array<char, kKeyHexSize + 2> text{};
+  (void)sodium_bin2hex(text.data(), text.size(), key.data(), key.size());
+  sodium_memzero(key.data(), key.size());
+  text[kKeyHexSize] = '\n';
+  std::size_t done = 0;
+  while (done < kKeyHexSize + 1) {
+    const ssize_t n = ::write(fd.get(), text.data() + done, kKeyHexSize + 1 - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      sodium_memzero(text.data(), text.size());
+      (void)::unlink(path);
+      return os_error("key file cannot be written");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  sodium_memzero(text.data(), text.size());
+  if (::fsync(fd.get()) != 0) return os_error("key file cannot be synced");
+  return Status::success();
+}
+
+Result<hal::PathBuffer> default_key_path() noexcept {
+  const Result<hal::StateDir> dir = hal::resolve_state_dir(nullptr);
+  if (!dir.ok()) return dir.error();
+  return hal::join_path(dir.value().path.c_str(), "operator.key");
+}
+
+}  // namespace rescue::app::protocol

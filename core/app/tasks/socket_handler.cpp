@@ -1,0 +1,255 @@
+#include "core/app/tasks/socket_handler.hpp"
+
+#include <poll.h>
+
+#include "core/app/operator_protocol/protocol_auth.hpp"
+#include "core/app/operator_protocol/protocol_codec.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/master/master.hpp"
+
+namespace rescue::app {
+namespace {
+
+using protocol::Message;
+using protocol::MessageType;
+using protocol::Rejection;
+
+constexpr std::uint8_t kAlOp = 8;
+constexpr std::uint8_t kAlSafeOp = 4;
+
+}  // namespace
+
+Status SocketHandler::open(const SocketHandlerOptions& options) noexcept {
+  RESCUE_TRY(control_.open(options.listen, options.control_port));
+  RESCUE_TRY(sensor_.open(options.listen, options.sensor_port));
+  return Status::success();
+}
+
+void SocketHandler::wait(int timeout_ms) const noexcept {
+  std::array<pollfd, 2> fds{{{control_.fd(), POLLIN, 0}, {sensor_.fd(), POLLIN, 0}}};
+  (void)::poll(fds.data(), fds.size(), timeout_ms);
+}
+
+std::uint64_t SocketHandler::next_sequence() noexcept {
+  const std::int64_t wall = wall_->unix_time_ns();
+  const std::uint64_t now = wall > 0 ? static_cast<std::uint64_t>(wall) : 0;
+  last_sequence_ = now > last_sequence_ ? now : last_sequence_ + 1;
+  return last_sequence_;
+}
+
+void SocketHandler::reject(Rejection reason) noexcept { ++counters_.rejected[static_cast<std::size_t>(reason)]; }
+
+void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t port) noexcept {
+  message.header.version = protocol::kVersion;
+  message.header.sender = kRobotSenderId;
+  message.header.sequence = next_sequence();
+  std::array<std::uint8_t, protocol::kMaxDatagram> out{};
+  const Result<std::size_t> size = protocol::seal(message, key_, ByteSpan(out));
+  if (!size.ok()) return;
+  if (control_.send_to(address, port, ConstByteSpan(out.data(), size.value())).ok()) ++counters_.replies_sent;
+}
+
+void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram& from) noexcept {
+  Message m;
+  RobotSample sample{};
+  RobotJointStatus status{};
+  MasterStatus master{};
+  const bool have_sample = ports_.samples != nullptr && ports_.samples->try_read(sample);
+  const bool have_status = ports_.joint_status != nullptr && ports_.joint_status->try_read(status);
+  const bool have_master = ports_.master != nullptr && ports_.master->try_read(master);
+  const std::uint8_t owner = ports_.motion != nullptr ? ports_.motion->owner.task() : protocol::kNoOwner;
+  const JointMask owner_joints = ports_.motion != nullptr ? ports_.motion->owner_joints.load(std::memory_order_relaxed) : 0;
+  switch (request.header.type) {
+    case MessageType::get_status:
+      m.header.type = MessageType::status;
+      m.status.cycle = have_master ? master.cycles : 0;
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        protocol::JointStatusRecord& r = m.status.joints[j];
+        if (have_status) {
+          r.state = static_cast<std::uint8_t>(status[j].state);
+          r.mode = static_cast<std::int8_t>(status[j].mode);
+          r.fault = static_cast<std::uint8_t>(status[j].fault);
+          if (status[j].drive_enabled) r.flags |= protocol::kFlagDriveEnabled;
+          if (status[j].lost) r.flags |= protocol::kFlagLost;
+        }
+        if (have_sample) {
+          if (sample[j].reachable) r.flags |= protocol::kFlagReachable;
+          if (sample[j].drive_fault) r.flags |= protocol::kFlagDriveFault;
+          r.position_rad = sample[j].position_rad;
+          r.velocity_rad_s = sample[j].velocity_rad_s;
+          r.torque_nm = sample[j].torque_nm;
+        }
+        // The Motion owner's RC task on the joints its references drove in the handler's last
+        // period; kNoOwner on the others (they hold their reference, or are not driven).
+        r.owner = (owner_joints & joint_bit(j)) != 0 ? owner : protocol::kNoOwner;
+      }
+      break;
+    case MessageType::get_slaves:
+      m.header.type = MessageType::slaves;
+      m.slaves.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+      static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one slaves message");
+      for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
+        protocol::SlaveRecord& s = m.slaves.slaves[p];
+        const ecat::SlavePlan& plan = drivers::kRobotNetworkPlan[p];
+        s.position = static_cast<std::uint16_t>(p);
+        s.station = plan.station_address;
+        const bool in = have_master && (master.in_exchange & (std::uint64_t{1} << p)) != 0;
+        const bool lost = have_master && (master.lost & (std::uint64_t{1} << p)) != 0;
+        if (in) s.flags |= protocol::kSlaveInExchange;
+        if (lost) s.flags |= protocol::kSlaveLost;
+        const std::uint8_t joint = drivers::kJointOfSlave[p];
+        if (joint < kJointCount && have_status && status[joint].lost && !lost) {
+          s.flags |= protocol::kSlaveOutOfService;
+        }
+        const bool op = have_master && master.state == static_cast<std::uint8_t>(ecat::MasterState::op);
+        s.al_state = in ? (op ? kAlOp : kAlSafeOp) : 0;
+        protocol::set_text(s.name, plan.name);
+      }
+      break;
+    case MessageType::get_master:
+      m.header.type = MessageType::master;
+      m.master.state = master.state;
+      m.master.cycles = master.cycles;
+      m.master.frames_sent = master.frames_sent;
+      m.master.frames_lost = master.frames_lost;
+      m.master.late_periods = master.late_periods;
+      m.master.dc_deviation_ns = master.dc_deviation_ns;
+      m.master.dc_max_deviation_ns = master.dc_max_deviation_ns;
+      m.master.datagrams_accepted = counters_.accepted;
+      m.master.rejected = counters_.rejected;
+      break;
+    case MessageType::get_tasks:
+      m.header.type = MessageType::tasks;
+      if (ports_.tasks != nullptr) {
+        for (const Seqlock<TaskStat>& slot : *ports_.tasks) {
+          TaskStat t{};
+          if (!slot.try_read(t) || t.name[0] == '\0') continue;
+          protocol::TaskRecord& r = m.tasks.tasks[m.tasks.count++];
+          r.name = t.name;
+          r.pid = t.pid;
+          r.cpu = t.kernel_cpu;
+          r.priority = t.kernel_priority;
+          r.policy = t.kernel_policy;
+          r.table_cpu = t.cpu;
+          r.table_priority = t.priority;
+          r.periods = t.periods;
+          r.missed = t.missed;
+          r.max_execution_ns = t.max_execution_ns;
+          r.execution = t.execution;
+          r.latency = t.latency;
+        }
+      }
+      break;
+    case MessageType::get_diag:
+      m.header.type = MessageType::diag;
+      if (ports_.diag != nullptr && !ports_.diag->try_read(m.diag)) m.diag = protocol::DiagPayload{};
+      break;
+    default:
+      return;
+  }
+  send(m, from.address, from.port);
+}
+
+void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept {
+  ++counters_.datagrams;
+  if (d.truncated || d.size > protocol::kMaxDatagram) return reject(Rejection::oversized);
+  const Result<protocol::FrameView> frame = protocol::parse_frame(ConstByteSpan(d.bytes.data(), d.size));
+  if (!frame.ok()) return reject(protocol::rejection_of(frame.error()));
+  if (!protocol::verify_frame(frame.value(), key_).ok()) return reject(Rejection::unauthenticated);
+  const protocol::Header& h = frame.value().header;
+  if (h.sender == kRobotSenderId) return reject(Rejection::out_of_range);  // only the robot signs as 0
+  const Status fresh = window_->accept(h.sender, h.sequence);
+  if (!fresh.ok()) {
+    return reject(fresh.error().code == Errc::capacity_exceeded ? Rejection::out_of_range : Rejection::replayed);
+  }
+  const bool allowed = control_port ? protocol::is_control_request(h.type) : protocol::is_sensor_record(h.type);
+  if (!allowed) return reject(Rejection::unknown_type);
+  const Result<Message> decoded = protocol::decode_payload(h, frame.value().payload);
+  if (!decoded.ok()) return reject(protocol::rejection_of(decoded.error()));
+  const Message& m = decoded.value();
+  ++counters_.accepted;
+
+  if (!control_port) {
+    if (h.type == MessageType::imu) {
+      sensor_data_.imu = m.imu;
+      sensor_data_.imu_received_ns = now;
+      ++sensor_data_.imu_records;
+    } else {
+      sensor_data_.gps = m.gps;
+      sensor_data_.gps_received_ns = now;
+      ++sensor_data_.gps_records;
+    }
+    if (ports_.sensors != nullptr) ports_.sensors->write(sensor_data_);
+    return;
+  }
+  if (protocol::is_query(h.type)) return answer_query(m, d);
+
+  ControlRequest r;
+  r.type = h.type;
+  r.sender = h.sender;
+  r.sequence = h.sequence;
+  r.joints = m.joints.joints;
+  r.mode = m.joints.mode;
+  if (h.type == MessageType::move_effector) {
+    r.task = m.move.task;
+    r.effector = static_cast<std::uint8_t>(m.move.effector);
+    for (std::size_t i = 0; i < 3; ++i) {
+      r.pose[i] = m.move.position_m[i];
+      r.pose[i + 3] = m.move.rpy_rad[i];
+    }
+  } else if (h.type == MessageType::hand) {
+    r.task = m.hand.task;
+    r.effector = static_cast<std::uint8_t>(m.hand.hand);
+    r.action = static_cast<std::uint8_t>(m.hand.action);
+  } else if (h.type == MessageType::take_owner) {
+    r.task = m.owner.task;
+  }
+  r.reply_address = d.address;
+  r.reply_port = d.port;
+  if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
+    ++counters_.forwarded_dropped;
+    Message busy;
+    busy.header.type = MessageType::reply;
+    busy.reply.request_sequence = h.sequence;
+    busy.reply.request_type = h.type;
+    busy.reply.outcome = protocol::Outcome::refused;
+    busy.reply.reason = protocol::RefusalReason::busy;
+    protocol::set_text(busy.reply.text, "the message parser's queue is full; try again");
+    send(busy, d.address, d.port);
+  }
+}
+
+void SocketHandler::step(hal::Nanoseconds now) noexcept {
+  ++counters_.wakeups;
+  std::size_t handled = 0;
+  bool more = true;
+  while (more && handled < kBudget) {
+    more = false;
+    for (hal::UdpSocket* socket : {&control_, &sensor_}) {
+      const std::size_t room = kBudget - handled < kBatch ? kBudget - handled : kBatch;
+      const std::size_t got = socket->receive_batch(Span<hal::UdpDatagram>(batch_.data(), room));
+      for (std::size_t i = 0; i < got; ++i) handle(batch_[i], socket == &control_, now);
+      handled += got;
+      if (got == room) more = true;
+      if (handled >= kBudget) break;
+    }
+  }
+  if (handled >= kBudget) ++counters_.budget_exhausted;
+  if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
+  ControlReply reply;
+  for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
+    Message m;
+    m.header.type = MessageType::reply;
+    m.reply.request_sequence = reply.request_sequence;
+    m.reply.request_type = reply.request_type;
+    m.reply.outcome = reply.outcome;
+    m.reply.reason = reply.reason;
+    m.reply.refused_joints = reply.refused_joints;
+    m.reply.text = reply.text;
+    m.reply.joint_refusals = reply.joint_refusals;
+    send(m, reply.reply_address, reply.reply_port);
+  }
+  if (ports_.counters != nullptr) ports_.counters->write(counters_);
+}
+
+}  // namespace rescue::app

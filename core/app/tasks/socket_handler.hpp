@@ -1,0 +1,101 @@
+// The socket handler task (design brief section 3, docs/protocol.md): the operator's UDP control port
+// and the sensor port of the two other robot computers. Per wake-up it handles at most kBudget
+// (config::kSocketDatagramsPerWakeup) datagrams (recvmmsg batches), whatever arrives: a flood costs it bounded work per period, and the
+// real-time tasks never touch a socket. Every datagram is checked in this order, and the first check
+// that fails is counted under its Rejection and the datagram dropped (no reply: an unauthenticated
+// peer learns nothing):
+//   size -> structure (parse_frame) -> tag (crypto_auth) -> replay window -> type for this port ->
+//   payload and ranges (decode_payload)
+// Accepted queries (status, slaves, master, tasks) are answered here from what the tasks publish;
+// accepted commands go to the message parser's bounded queue, and its replies are sent back,
+// authenticated, to the address the command came from. Sensor records are published in a seqlock.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/links/control_messages.hpp"
+#include "core/app/links/joint_messages.hpp"
+#include "core/app/links/protocol_messages.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/operator_protocol/replay_window.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/concurrency/seqlock.hpp"
+#include "hal/net/udp_socket.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/wall_clock.hpp"
+
+namespace rescue::app {
+
+constexpr std::uint16_t kDefaultControlPort = 47010;
+constexpr std::uint16_t kDefaultSensorPort = 47011;
+constexpr std::uint32_t kRobotSenderId = 0;  // the robot signs its replies as sender 0; requests from 0 are refused
+
+struct SocketHandlerOptions {
+  const char* listen{"0.0.0.0"};
+  std::uint16_t control_port{kDefaultControlPort};
+  std::uint16_t sensor_port{kDefaultSensorPort};
+};
+
+struct SocketHandlerPorts {
+  MessageSink<ControlRequest>* requests{nullptr};     // to the message parser
+  MessageSource<ControlReply>* replies{nullptr};      // from the message parser
+  Seqlock<SensorData>* sensors{nullptr};
+  Seqlock<SocketCounters>* counters{nullptr};
+  const Seqlock<RobotSample>* samples{nullptr};
+  const Seqlock<RobotJointStatus>* joint_status{nullptr};
+  const Seqlock<MasterStatus>* master{nullptr};
+  const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
+  const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
+  const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
+};
+
+class SocketHandler {
+ public:
+  static constexpr std::size_t kBatch = config::kSocketRecvBatch;            // datagrams per recvmmsg call
+  static constexpr std::size_t kBudget = config::kSocketDatagramsPerWakeup;  // per wake-up, both ports together
+  static constexpr std::size_t kRepliesPerStep = config::kSocketRepliesPerWakeup;
+  static_assert(kBatch > 0 && kBudget > 0, "a wake-up handles at least one datagram");
+
+  SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
+                hal::WallClock& wall) noexcept
+      : ports_(ports), key_(key), window_(&window), wall_(&wall) {}
+
+  Status open(const SocketHandlerOptions& options) noexcept;
+  std::uint16_t control_port() const noexcept { return control_.local_port(); }
+  std::uint16_t sensor_port() const noexcept { return sensor_.local_port(); }
+
+  // Waits at most `timeout_ms` for a datagram on either port.
+  void wait(int timeout_ms) const noexcept;
+  // One wake-up: at most kBudget datagrams, then the parser's replies.
+  void step(hal::Nanoseconds now) noexcept;
+
+  const SocketCounters& counters() const noexcept { return counters_; }
+  // A restarted socket handler (a new process, docs/tasks.md) counts on from its predecessor's
+  // published counters instead of from zero.
+  void resume_counters(const SocketCounters& published) noexcept { counters_ = published; }
+  // The most datagrams handled in one wake-up so far (never above kBudget).
+  std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
+
+ private:
+  void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
+  void reject(protocol::Rejection reason) noexcept;
+  void answer_query(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
+  std::uint64_t next_sequence() noexcept;
+
+  SocketHandlerPorts ports_;
+  protocol::Key key_;
+  protocol::ReplayWindow* window_;
+  hal::WallClock* wall_;
+  hal::UdpSocket control_;
+  hal::UdpSocket sensor_;
+  std::array<hal::UdpDatagram, kBatch> batch_{};
+  SocketCounters counters_{};
+  SensorData sensor_data_{};
+  std::uint64_t last_sequence_{0};
+  std::size_t max_per_wakeup_{0};
+};
+
+}  // namespace rescue::app

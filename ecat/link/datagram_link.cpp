@@ -1,0 +1,119 @@
+#include "ecat/link/datagram_link.hpp"
+
+#include <cstring>
+
+namespace rescue::ecat {
+namespace {
+
+// The returned frame carries the datagrams that were sent, in order, with the same lengths.
+bool same_datagrams(const FrameView& sent, const FrameView& back) noexcept {
+  if (sent.datagram_count() != back.datagram_count()) return false;
+  auto s = sent.begin();
+  auto b = back.begin();
+  for (std::size_t i = 0; i < sent.datagram_count(); ++i, ++s, ++b) {
+    const DatagramView ds = *s;
+    const DatagramView db = *b;
+    if (ds.command() != db.command() || ds.length() != db.length() || ds.index() != db.index()) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+FrameBuilder& DatagramLink::begin() noexcept {
+  ++index_;
+  builder_.reset(kMasterMac);
+  sent_ = ConstByteSpan{};
+  return builder_;
+}
+
+Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
+  const Status sent = send_frame();
+  if (!sent.ok()) return sent.error();
+  return await_frame(deadline);
+}
+
+Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexcept {
+  const Status sent = send_frame();
+  if (!sent.ok()) return sent.error();
+  // The wait is measured from the moment the frame left: a process preempted between preparing the
+  // exchange and sending it (a slow host, not a slow network) must not use up the frame's timeout.
+  return await_frame(nic_.clock().now() + timeout);
+}
+
+Status DatagramLink::send_frame() noexcept {
+  ++stats_.exchanges;
+  sent_ = builder_.finish();
+  const Result<FrameView> sent_view = FrameView::parse(sent_);
+  if (!sent_view.ok() || sent_view.value().datagram_count() == 0) {
+    return make_error(Errc::invalid_argument, "exchange of an empty frame");
+  }
+  sent_view_ = sent_view.value();
+  if (tap_ != nullptr) tap_(tap_context_, sent_, nic_.clock().now(), TapDirection::outbound);
+  const Status sent = nic_.send(sent_);
+  if (!sent.ok()) {
+    ++stats_.send_errors;
+    return sent.error();
+  }
+  return Status::success();
+}
+
+Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept {
+  for (;;) {
+    const Result<std::size_t> got = nic_.receive(ByteSpan(rx_), deadline);
+    if (!got.ok()) {
+      if (got.error().code == Errc::timeout) ++stats_.timeouts;
+      return got.error();
+    }
+    const ConstByteSpan frame(rx_.data(), got.value());
+    if (tap_ != nullptr) tap_(tap_context_, frame, nic_.clock().now(), TapDirection::inbound);
+    const Result<FrameView> view = FrameView::parse(frame);
+    if (!view.ok()) {
+      ++stats_.malformed;
+      continue;
+    }
+    if (view.value().datagram_count() == 0 || (*view.value().begin()).index() != index_) {
+      ++stats_.stale_frames;
+      continue;
+    }
+    if (!same_datagrams(sent_view_, view.value())) {
+      ++stats_.malformed;
+      return make_error(Errc::malformed, "returned frame differs from the frame sent", index_);
+    }
+    return view.value();
+  }
+}
+
+Result<FrameView> DatagramLink::exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept {
+  Result<FrameView> back = make_error(Errc::timeout, "no frame came back", attempts);
+  for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+    back = exchange_within(timeout);
+    if (back.ok() || back.error().code != Errc::timeout) break;
+  }
+  return back;
+}
+
+Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t address, ByteSpan data,
+                                             hal::Nanoseconds timeout, unsigned attempts) noexcept {
+  if (data.size() > kMaxDatagramDataLength) return make_error(Errc::invalid_argument, "transfer too long");
+  const auto length = static_cast<std::uint16_t>(data.size());
+  Error last = make_error(Errc::timeout, "no frame came back", attempts);
+  for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+    FrameBuilder& frame = begin();
+    const Result<DatagramSlot> slot =
+        frame.add(command, index_, address, length, writes_slave(command) ? ConstByteSpan(data) : ConstByteSpan{});
+    if (!slot.ok()) return slot.error();
+    const Result<FrameView> back = exchange_within(timeout);
+    if (!back.ok()) {
+      last = back.error();
+      if (last.code == Errc::timeout) continue;
+      return last;
+    }
+    const DatagramView d = *back.value().begin();
+    if (reads_slave(command) && length > 0) std::memcpy(data.data(), d.data().data(), length);
+    return d.wkc();
+  }
+  return last;
+}
+
+}  // namespace rescue::ecat

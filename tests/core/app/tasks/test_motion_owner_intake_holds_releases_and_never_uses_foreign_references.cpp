@@ -1,0 +1,207 @@
+// The Motion owner and the EtherCAT handler's intake (core/app/tasks/motion_intake.*, core/app/links/, docs/motion-owner.md), in
+// virtual time, one handler period per millisecond:
+//   the owner takes the motion and its references drive the joints it commands;
+//   a missed deadline holds the last references and is counted;
+//   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken;
+//   a non-owner's references, references of an older owner word, and incomplete (torn) periods
+//   never reach a joint; joints the handler does not drive are never commanded.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/tasks/motion_intake.hpp"
+
+namespace rescue::app {
+namespace {
+
+constexpr hal::Nanoseconds kMs = hal::kNsPerMs;
+const std::size_t kElbow = joint_index_by_name("l_elbow");
+const std::size_t kNeck = joint_index_by_name("neck_pan");
+
+struct Rig {
+  std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
+  MotionIntake intake{links->motion, links->rc_heartbeat_ns, default_intake_settings()};
+  RobotDemand demand{};
+  hal::Nanoseconds now{1000 * kMs};
+
+  // RC task `task` completes one period commanding `joints` at `position` (its heartbeat too).
+  void write(std::size_t task, double position, JointMask joints, bool complete = true) {
+    ReferenceSpace& space = links->motion.references[task];
+    space.begin();
+    for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, position, 0.0);
+    links->rc_heartbeat_ns[task].store(now);
+    if (!complete) return;
+    const std::uint64_t word = links->motion.owner.word();
+    const bool owns = MotionOwner::task_of(word) == task;
+    space.complete(owns ? word : 0, space.completed() + 1, joints, now);
+  }
+  const std::array<double, kJointCount>& handler_period(JointMask driven = kAllJoints) {
+    const auto& refs = intake.period(now, demand, driven);
+    now += kMs;
+    return refs;
+  }
+};
+
+TEST(MotionIntake, WithoutOwnerEveryJointHoldsTheJointManagersReference) {
+  Rig rig;
+  rig.demand[kElbow].position_ref_rad = 0.7;
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.7);
+  EXPECT_EQ(rig.intake.counters().misses, 0U);
+  EXPECT_EQ(rig.intake.driving_task(), kNoOwnerTask);
+}
+
+TEST(MotionIntake, TheOwnersReferencesDriveTheJointsItCommands) {
+  Rig rig;
+  rig.demand[kNeck].position_ref_rad = 0.3;
+  (void)rig.handler_period();
+  const std::uint64_t word = rig.links->motion.owner.take(0);
+  EXPECT_EQ(MotionOwner::task_of(word), 0);
+  rig.write(0, 0.001, joint_bit(kElbow));
+  const auto& refs = rig.handler_period();
+  EXPECT_DOUBLE_EQ(refs[kElbow], 0.001);
+  EXPECT_DOUBLE_EQ(refs[kNeck], 0.3) << "a joint the owner does not command keeps the joint manager's reference";
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+  EXPECT_EQ(rig.intake.counters().used_periods, 1U);
+}
+
+TEST(MotionIntake, AMissedDeadlineHoldsTheLastReferencesAndIsCounted) {
+  Rig rig;
+  (void)rig.links->motion.owner.take(0);
+  rig.write(0, 0.001, kAllJoints);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  // The owner computes but does not complete its next periods in time: only its heartbeat moves.
+  for (int k = 0; k < 5; ++k) {
+    rig.links->rc_heartbeat_ns[0].store(rig.now);
+    const auto& refs = rig.handler_period();
+    EXPECT_DOUBLE_EQ(refs[kElbow], 0.001) << "hold position";
+  }
+  // Deadline 2 ms: the reference completed 1 ms before the first of those periods is still taken.
+  EXPECT_EQ(rig.intake.counters().misses, 3U);
+  EXPECT_EQ(rig.intake.counters().stale, 3U);
+  EXPECT_EQ(rig.links->motion.owner_misses.load(), 3U);
+  EXPECT_EQ(rig.links->motion.owner.task(), 0) << "a late owner is not a dead one";
+  rig.write(0, 0.002, kAllJoints);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.002);
+  EXPECT_EQ(rig.intake.consecutive_misses(), 0U);
+}
+
+TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken) {
+  Rig rig;
+  (void)rig.links->motion.owner.take(0);
+  rig.write(0, 0.001, kAllJoints);
+  (void)rig.handler_period();
+  const hal::Nanoseconds last_beat = rig.now - kMs;
+  // Task 0 dies: nothing more from it.
+  int periods = 0;
+  while (rig.links->motion.owner.task() == 0 && periods < 1000) {
+    EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001) << "held while dead";
+    ++periods;
+  }
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
+  EXPECT_LE(rig.now - kMs - last_beat, (config::kOwnerDeadAfterPeriods + 1) * config::kRcTaskPeriodNs);
+  EXPECT_LE(periods, config::kOwnerDeadAfterPeriods + 1);
+  EXPECT_EQ(rig.intake.counters().releases, 1U);
+  EXPECT_EQ(rig.links->motion.owner_releases.load(), 1U);
+  // Released: no more misses counted, the joints hold.
+  const std::uint64_t misses = rig.intake.counters().misses;
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  EXPECT_EQ(rig.intake.counters().misses, misses);
+  // The restarted task (or another) takes it; its old period's references are never reused.
+  std::uint64_t word = 0;
+  ASSERT_TRUE(rig.links->motion.owner.take_if_free(1, word));
+  EXPECT_FALSE(rig.links->motion.owner.take_if_free(0, word)) << "only a free motion is taken that way";
+  rig.write(1, 0.0015, kAllJoints);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.0015);
+  EXPECT_EQ(rig.intake.driving_task(), 1);
+}
+
+TEST(MotionIntake, ANonOwnersReferencesNeverReachAJoint) {
+  Rig rig;
+  rig.demand[kElbow].position_ref_rad = 0.5;
+  (void)rig.links->motion.owner.take(0);
+  rig.write(0, 0.5, kAllJoints);
+  for (int k = 0; k < 10; ++k) {
+    rig.write(1, 0.4, kAllJoints);  // the teleop task computes every period without owning
+    rig.write(0, 0.5, kAllJoints);
+    EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.5);
+  }
+  EXPECT_EQ(rig.intake.counters().misses, 0U);
+  // References task 1 wrote while task 0 owned are not its own after a handover: never used.
+  (void)rig.links->motion.owner.take(1);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.5);
+  EXPECT_EQ(rig.intake.counters().foreign, 1U);
+  // References of an older word of the same task are not used either.
+  const std::uint64_t old_word = rig.links->motion.owner.word();
+  (void)rig.links->motion.owner.take(0);
+  (void)rig.links->motion.owner.take(1);
+  ReferenceSpace& space = rig.links->motion.references[1];
+  space.begin();
+  space.set(kElbow, 0.45, 0.0);
+  space.complete(old_word, 99, kAllJoints, rig.now);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.5);
+  EXPECT_EQ(rig.intake.counters().foreign, 2U);
+}
+
+TEST(MotionIntake, IncompleteOrNeverWrittenReferencesAreNeverUsed) {
+  Rig rig;
+  (void)rig.links->motion.owner.take(0);
+  rig.links->rc_heartbeat_ns[0].store(rig.now);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.0) << "never written";
+  rig.write(0, 0.001, kAllJoints);
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  // A period begun but never completed (the writer died or is mid-write): the sequence stays odd.
+  rig.write(0, 0.0015, kAllJoints, /*complete=*/false);
+  ReferenceSnapshot copy;
+  EXPECT_FALSE(rig.links->motion.references[0].read(copy));
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  EXPECT_EQ(rig.intake.counters().incomplete, 2U);
+  // The restarted writer completes its next period cleanly.
+  rig.write(0, 0.002, kAllJoints);
+  EXPECT_TRUE(rig.links->motion.references[0].read(copy));
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.002);
+}
+
+TEST(MotionIntake, JointsTheHandlerDoesNotDriveAreNeverCommanded) {
+  Rig rig;
+  rig.demand[kElbow].position_ref_rad = 0.25;  // a lost joint's held reference
+  rig.demand[kNeck].position_ref_rad = 0.259;
+  (void)rig.links->motion.owner.take(0);
+  rig.write(0, 0.26, kAllJoints);
+  const JointMask driven = kAllJoints & ~joint_bit(kElbow);
+  const auto& refs = rig.handler_period(driven);
+  EXPECT_DOUBLE_EQ(refs[kElbow], 0.25);
+  EXPECT_DOUBLE_EQ(refs[kNeck], 0.26);
+}
+
+TEST(MotionIntake, ReferencesAreClampedToPositionAndVelocityLimits) {
+  Rig rig;
+  (void)rig.links->motion.owner.take(0);
+  rig.write(0, 1.0, kAllJoints);  // a jump: 1 rad in one period
+  const auto& refs = rig.handler_period();
+  EXPECT_NEAR(refs[kElbow], kJoints[kElbow].limits.velocity_max_rad_s * 1e-3, 1e-12);
+  EXPECT_GT(rig.intake.counters().clamped, 0U);
+  rig.write(0, 100.0, kAllJoints);
+  for (int k = 0; k < 5000; ++k) {
+    rig.links->rc_heartbeat_ns[0].store(rig.now);
+    rig.write(0, 100.0, kAllJoints);
+    (void)rig.handler_period();
+  }
+  EXPECT_DOUBLE_EQ(rig.intake.period(rig.now, rig.demand, kAllJoints)[kElbow], kJoints[kElbow].limits.position_max_rad);
+}
+
+TEST(MotionOwner, ReleaseNeverUndoesANewerTake) {
+  MotionOwner owner;
+  const std::uint64_t first = owner.take(0);
+  const std::uint64_t second = owner.take(1);
+  EXPECT_NE(first, second);
+  EXPECT_FALSE(owner.release(first));
+  EXPECT_EQ(owner.task(), 1);
+  EXPECT_TRUE(owner.release(second));
+  EXPECT_EQ(owner.task(), kNoOwnerTask);
+  EXPECT_GT(MotionOwner::generation_of(owner.word()), MotionOwner::generation_of(second));
+}
+
+}  // namespace
+}  // namespace rescue::app
