@@ -11,6 +11,7 @@
 #      THE SERVICE USER with only CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK (setpriv) against the
 #      in-process simulated robot: `run --check` (OP and back), then the packaged configuration with
 #      the link-cut scenario, which must reach OP and leave the error-joints file in the state directory
+#      and `bench fig4` of the installed program, run from /, finds /usr/share/rescue-motion/plot_fig4.py
 #   5. the unit: systemd-analyze verify, and systemd-analyze security --offline=true (exposure score)
 #   6. dpkg --purge: the state directory, the key and the user go
 # Usage: toolchain/package-check.sh [JOBS]
@@ -153,6 +154,16 @@ file=/var/lib/rescue-motion/error-joints.bin
 [ -s "$file" ] || fail "no error-joints file in the packaged state directory"
 [ "$(stat -c %U "$file")" = rescue-motion ] || fail "error-joints file not owned by the service user"
 echo "  error-joints file: $file ($(stat -c '%s bytes, %U:%G %a' "$file"))"
+
+echo "installed binary: bench fig4 from / finds its plot script beside the program"
+if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+  (cd / && /usr/bin/rescue-motion bench fig4 --periods 10 --load none --out "$root/fig4" >"$root/fig4.log" 2>&1) ||
+    { tail -n 5 "$root/fig4.log"; fail "bench fig4 of the installed program"; }
+  [ -s "$root/fig4/fig4.png" ] || fail "bench fig4 of the installed program wrote no PNG"
+  echo "  $root/fig4/fig4.png: $(stat -c %s "$root/fig4/fig4.png") bytes (plot script /usr/share/rescue-motion/plot_fig4.py)"
+else
+  echo "  skipped: /usr/bin/python3 cannot import matplotlib here"
+fi
 
 echo "the unit: systemd-analyze verify and security --offline=true"
 unit=/lib/systemd/system/rescue-motion.service
