@@ -128,6 +128,7 @@ sleep 0.3
 ctl status
 
 begin queries
+ctl version
 ctl slaves
 ctl master
 sleep 1  # a second of figures
@@ -153,6 +154,8 @@ ctl --rows 'waist_yaw|l_hand' status
 ctl owner 0
 ctl move left 0.4,0.2,0.3,0,0,0 --task 0
 sleep 0.5
+ctl owner
+ctl --json owner
 ctl --rows 'waist_yaw|neck_pan|l_shoulder|l_elbow' status
 
 begin clear

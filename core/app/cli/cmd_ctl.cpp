@@ -11,10 +11,13 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
+#include "core/app/config/build_info.hpp"
 #include "core/app/config/config_file.hpp"
 #include "core/app/operator_protocol/ctl_client.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/tasks/rc_task.hpp"
+#include "core/kinematics/rescue_motion.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
@@ -194,6 +197,90 @@ void print_tasks(const Message& m, bool json) noexcept {
     }
   }
   if (json) (void)std::printf("]}\n");
+}
+
+void print_json_string(const char* s) noexcept;  // below, with ctl's own errors
+
+// ctl version: the robot's program and this client's, like `ethercat version` and `ros2 --version`.
+void print_version(const Message& m, bool json) noexcept {
+  const protocol::VersionPayload& v = m.version;
+  if (json) {
+    (void)std::printf("{\"robot\":{\"program\":");
+    print_json_string(v.program.data());
+    (void)std::printf(",\"layout_version\":%u,\"layout_hash\":\"0x%08x\",\"build_type\":", v.layout_version, v.layout_hash);
+    print_json_string(v.build_type.data());
+    (void)std::printf("},\"client\":{\"program\":");
+    print_json_string(build_program_version());
+    (void)std::printf(",\"build_type\":");
+    print_json_string(build_type());
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("robot:  rescue-motion %s (%s build), shared-memory layout version %u hash 0x%08x\n", v.program.data(),
+                    v.build_type.data(), v.layout_version, v.layout_hash);
+  (void)std::printf("client: rescue-motion %s (%s build)\n", build_program_version(), build_type());
+}
+
+// ctl owner: which RC task owns the motion, whether each task is alive, its phase (like ros2 control
+// list_controllers).
+void print_owner(const Message& m, bool json) noexcept {
+  const protocol::OwnerStatePayload& o = m.owner_state;
+  static const char* const kTaskNames[] = {"rescue", "teleop", "task2", "task3"};
+  const auto phase_name = [](std::uint8_t p) noexcept {
+    return p <= static_cast<std::uint8_t>(kin::RescuePhase::done) ? kin::to_string(static_cast<kin::RescuePhase>(p)) : "?";
+  };
+  const auto mode_name_of = [](std::uint8_t p) noexcept {
+    return p <= static_cast<std::uint8_t>(RcMode::teleop) ? to_string(static_cast<RcMode>(p)) : "?";
+  };
+  if (json) {
+    (void)std::printf("{\"owner\":");
+    if (o.owner == protocol::kNoOwner) {
+      (void)std::printf("null");
+    } else {
+      (void)std::printf("%u", o.owner);
+    }
+    (void)std::printf(",\"generation\":%" PRIu64 ",\"tasks\":[", o.generation);
+    bool first = true;
+    for (std::size_t k = 0; k < protocol::kMaxRcTasks; ++k) {
+      const protocol::RcTaskRecord& t = o.tasks[k];
+      if (t.present == 0) continue;
+      (void)std::printf("%s{\"task\":%zu,\"name\":\"%s\",\"owns\":%s,\"alive\":%s,\"heartbeat_age_ms\":", first ? "" : ",", k,
+                        kTaskNames[k], o.owner == k ? "true" : "false", t.alive != 0 ? "true" : "false");
+      if (t.heartbeat_age_ms == 0xFFFFFFFFU) {
+        (void)std::printf("null");
+      } else {
+        (void)std::printf("%u", t.heartbeat_age_ms);
+      }
+      (void)std::printf(",\"mode\":\"%s\",\"phase\":", mode_name_of(t.mode));
+      if (k == 0) {
+        (void)std::printf("\"%s\"}", phase_name(t.phase));  // the rescue motion's phase
+      } else {
+        (void)std::printf("null}");
+      }
+      first = false;
+    }
+    (void)std::printf("]}\n");
+    return;
+  }
+  if (o.owner == protocol::kNoOwner) {
+    (void)std::printf("owner: none (generation %" PRIu64 "): the joints hold their references\n", o.generation);
+  } else {
+    (void)std::printf("owner: rc%u (%s), generation %" PRIu64 "\n", o.owner, o.owner < 4 ? kTaskNames[o.owner] : "?",
+                      o.generation);
+  }
+  (void)std::printf("%-4s %-8s %-6s %-6s %-12s %-8s %s\n", "TASK", "NAME", "OWNS", "ALIVE", "HEARTBEAT", "MODE", "PHASE");
+  for (std::size_t k = 0; k < protocol::kMaxRcTasks; ++k) {
+    const protocol::RcTaskRecord& t = o.tasks[k];
+    if (t.present == 0) continue;
+    char beat[24];
+    if (t.heartbeat_age_ms == 0xFFFFFFFFU) {
+      (void)std::snprintf(beat, sizeof beat, "never");
+    } else {
+      (void)std::snprintf(beat, sizeof beat, "%u ms ago", t.heartbeat_age_ms);
+    }
+    (void)std::printf("%-4zu %-8s %-6s %-6s %-12s %-8s %s\n", k, kTaskNames[k], o.owner == k ? "yes" : "no",
+                      t.alive != 0 ? "yes" : "no", beat, mode_name_of(t.mode), k == 0 ? phase_name(t.phase) : "-");
+  }
 }
 
 // The slave at the other end of the cable on `slave`'s `port` (ecat::cable_peer on the robot's plan).
@@ -535,6 +622,8 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::tasks: print_tasks(m, json); return 0;
     case MessageType::diag: print_diag(m, json); return 0;
     case MessageType::reply: return print_reply(verb, m, json);
+    case MessageType::version: print_version(m, json); return 0;
+    case MessageType::owner_state: print_owner(m, json); return 0;
     default: return ctl_error("unexpected answer type");
   }
 }
@@ -623,8 +712,16 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     else return make_error(Errc::invalid_argument, "hand: open or close");
     return m;
   }
+  if (std::strcmp(verb, "owner") == 0 && n == 1) {  // who owns the motion (like list_controllers)
+    m.header.type = MessageType::get_owner;
+    return m;
+  }
+  if (std::strcmp(verb, "version") == 0) {
+    m.header.type = MessageType::get_version;
+    return m;
+  }
   if (std::strcmp(verb, "owner") == 0) {
-    if (n != 2) return make_error(Errc::invalid_argument, "owner TASK (0..3)");
+    if (n != 2) return make_error(Errc::invalid_argument, "owner [TASK] (TASK: 0..3)");
     char* end = nullptr;
     const long t = std::strtol(args.positional(1), &end, 10);
     if (end == args.positional(1) || *end != '\0' || t < 0 || t >= static_cast<long>(protocol::kMaxRcTasks)) {
@@ -686,6 +783,8 @@ const CommandSpec kCtlCommand{
     "  move EFFECTOR POSE                   left|right x,y,z,roll,pitch,yaw to RC task --task\n"
     "  hand left|right open|close           to RC task --task\n"
     "  owner TASK                           RC task TASK takes the motion\n"
+    "  owner                                which RC task owns the motion, each task alive or not, its phase\n"
+    "  version                              the robot's program version, layout and build type, and ctl's own\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status 0 only when the robot accepted the command or answered the query.",
     Span<const OptionSpec>(kOptions), 1, 3, ctl_main};

@@ -38,6 +38,8 @@ enum class MessageType : std::uint8_t {
   get_master = 0x03,
   get_tasks = 0x04,
   get_diag = 0x05,
+  get_version = 0x06,  // the robot's program version, layout and build type (ctl version)
+  get_owner = 0x07,    // which RC task owns the motion, alive, its phase (ctl owner)
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -58,6 +60,8 @@ enum class MessageType : std::uint8_t {
   master = 0x83,
   tasks = 0x84,
   diag = 0x85,
+  version = 0x86,
+  owner_state = 0x87,
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -291,6 +295,29 @@ struct DiagPayload {
 };
 
 // One decoded message: the header and the payload of its type (only that member is meaningful).
+// ctl version: what the robot runs.
+constexpr std::size_t kVersionTextSize = 48;
+struct VersionPayload {
+  std::array<char, kVersionTextSize> program{};     // git describe of the build (NUL-padded)
+  std::uint32_t layout_version{0};                  // TaskLinks::kLayoutVersion
+  std::uint32_t layout_hash{0};                     // the shared-memory layout hash
+  std::array<char, kNameSize> build_type{};         // CMAKE_BUILD_TYPE
+};
+
+// ctl owner: the Motion owner and each RC task's liveness.
+struct RcTaskRecord {
+  std::uint8_t present{0};          // 1: the task exists in this run
+  std::uint8_t alive{0};            // 1: heartbeat younger than 100 ms
+  std::uint8_t phase{0};            // kin::RescuePhase (rescue task)
+  std::uint8_t mode{0};             // RcMode
+  std::uint32_t heartbeat_age_ms{0};  // 0xFFFFFFFF: never beat
+};
+struct OwnerStatePayload {
+  std::uint8_t owner{kNoOwner};     // RC task owning the motion, kNoOwner: nobody
+  std::uint64_t generation{0};      // the owner word's generation (every change counts)
+  std::array<RcTaskRecord, kMaxRcTasks> tasks{};
+};
+
 struct Message {
   Header header{};
   JointsPayload joints{};
@@ -305,6 +332,8 @@ struct Message {
   MasterPayload master{};
   TasksPayload tasks{};
   DiagPayload diag{};
+  VersionPayload version{};
+  OwnerStatePayload owner_state{};
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

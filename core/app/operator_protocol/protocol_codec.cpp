@@ -27,6 +27,9 @@ constexpr std::size_t kMasterSize = 112;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
 constexpr std::size_t kDiagHeadSize = 24;
+constexpr std::size_t kVersionSize = kVersionTextSize + 8 + kNameSize;
+constexpr std::size_t kRcTaskRecordSize = 8;
+constexpr std::size_t kOwnerStateSize = 16 + kMaxRcTasks * kRcTaskRecordSize;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
@@ -369,6 +372,34 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
   return Status::success();
 }
 
+Status decode_version(ConstByteSpan payload, Message& m) noexcept {
+  RESCUE_TRY(check_length(payload, kVersionSize));
+  Reader r(payload);
+  if (!r.text(m.version.program)) return malformed("program version not NUL-terminated");
+  m.version.layout_version = r.u32();
+  m.version.layout_hash = r.u32();
+  if (!r.text(m.version.build_type)) return malformed("build type not NUL-terminated");
+  return Status::success();
+}
+
+Status decode_owner_state(ConstByteSpan payload, Message& m) noexcept {
+  RESCUE_TRY(check_length(payload, kOwnerStateSize));
+  Reader r(payload);
+  m.owner_state.owner = r.u8();
+  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  m.owner_state.generation = r.u64();
+  if (m.owner_state.owner >= kMaxRcTasks && m.owner_state.owner != kNoOwner) return out_of_range("owner task");
+  for (RcTaskRecord& t : m.owner_state.tasks) {
+    t.present = r.u8();
+    t.alive = r.u8();
+    t.phase = r.u8();
+    t.mode = r.u8();
+    t.heartbeat_age_ms = r.u32();
+    if (t.present > 1 || t.alive > 1) return out_of_range("RC task flags");
+  }
+  return Status::success();
+}
+
 Status decode_diag(ConstByteSpan payload, Message& m) noexcept {
   if (payload.size() < kDiagHeadSize) return malformed("payload shorter than its diag header", payload.size());
   Reader r(payload);
@@ -405,6 +436,8 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::get_master: return "get_master";
     case MessageType::get_tasks: return "get_tasks";
     case MessageType::get_diag: return "get_diag";
+    case MessageType::get_version: return "get_version";
+    case MessageType::get_owner: return "get_owner";
     case MessageType::initialize: return "initialize";
     case MessageType::enable: return "enable";
     case MessageType::disable: return "disable";
@@ -423,6 +456,8 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::master: return "master";
     case MessageType::tasks: return "tasks";
     case MessageType::diag: return "diag";
+    case MessageType::version: return "version";
+    case MessageType::owner_state: return "owner_state";
   }
   return "?";
 }
@@ -434,6 +469,8 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_version:
+    case MessageType::get_owner:
     case MessageType::initialize:
     case MessageType::enable:
     case MessageType::disable:
@@ -452,6 +489,8 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::master:
     case MessageType::tasks:
     case MessageType::diag:
+    case MessageType::version:
+    case MessageType::owner_state:
       return true;
   }
   return false;
@@ -459,7 +498,7 @@ bool is_known(std::uint8_t type) noexcept {
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return t >= 0x01 && t <= 0x05;
+  return t >= 0x01 && t <= 0x07;
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
@@ -575,6 +614,8 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_version:
+    case MessageType::get_owner:
       s = check_length(payload, 0);
       break;
     case MessageType::initialize:
@@ -597,6 +638,8 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::master: s = decode_master(payload, m); break;
     case MessageType::tasks: s = decode_tasks(payload, m); break;
     case MessageType::diag: s = decode_diag(payload, m); break;
+    case MessageType::version: s = decode_version(payload, m); break;
+    case MessageType::owner_state: s = decode_owner_state(payload, m); break;
   }
   if (!s.ok()) return s.error();
   return m;
@@ -624,6 +667,26 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_version:
+    case MessageType::get_owner:
+      break;
+    case MessageType::version:
+      w.text(m.version.program);
+      w.u32(m.version.layout_version);
+      w.u32(m.version.layout_hash);
+      w.text(m.version.build_type);
+      break;
+    case MessageType::owner_state:
+      w.u8(m.owner_state.owner);
+      w.zeros(7);
+      w.u64(m.owner_state.generation);
+      for (const RcTaskRecord& t : m.owner_state.tasks) {
+        w.u8(t.present);
+        w.u8(t.alive);
+        w.u8(t.phase);
+        w.u8(t.mode);
+        w.u32(t.heartbeat_age_ms);
+      }
       break;
     case MessageType::initialize:
     case MessageType::enable:

@@ -5,6 +5,7 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
@@ -20,6 +21,7 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_modes.hpp"
 #include "core/app/runtime/task_timing.hpp"
+#include "core/app/shm/segment_layout.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
@@ -144,6 +146,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
   socket_ports.motion = &links().motion;
+  socket_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
+  socket_ports.rc_tasks = kRcTasksRun;
+  static protocol::VersionPayload version;
+  protocol::set_text(version.program, build_program_version());
+  version.layout_version = TaskLinks::kLayoutVersion;
+  version.layout_hash = shm::kLayoutHash;
+  protocol::set_text(version.build_type, build_type());
+  socket_ports.version = &version;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
   if (operator_port) {
     const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));

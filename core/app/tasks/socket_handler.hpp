@@ -49,6 +49,10 @@ struct SocketHandlerPorts {
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
+  // ctl owner: the RC tasks' heartbeats (monotonic ns, 0: never), and how many tasks the run has.
+  const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
+  std::size_t rc_tasks{0};
+  const protocol::VersionPayload* version{nullptr};   // ctl version: what the robot runs
 };
 
 class SocketHandler {
