@@ -28,7 +28,7 @@ the service's configuration (run \-\-config; /usr/share/doc/rescue-motion/config
 the operator's pre-shared key, mode 0600, owner rescue-motion
 .TP
 .I /var/lib/rescue-motion
-the state directory: the error-joints file, the replay window, the instance lock
+the state directory: the error-joints file, the instance lock
 .TP
 .I /lib/systemd/system/rescue-motion.service
 the hardened service (/usr/share/doc/rescue-motion/deploy.md)

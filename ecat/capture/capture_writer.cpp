@@ -76,9 +76,11 @@ Status CaptureWriter::open(const char* path, const CaptureWriterOptions& options
   if (name_length > kMaxInterfaceNameLength) {
     return make_error(Errc::invalid_argument, "interface name too long", static_cast<std::uint32_t>(name_length));
   }
-  const int fd = ::open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);  // NOLINT(cppcoreguidelines-pro-type-vararg)
-  if (fd < 0) return make_error(Errc::io_error, "open capture", static_cast<std::uint32_t>(errno));
-  fd_ = fd;
+  // A regular file only, created or truncated, never through a link; a FIFO or a device at the name
+  // is refused at once (hal/files/trusted_file.hpp): problem() says why.
+  Result<hal::OpenFile> file = hal::open_regular_for_write(path, 0644, problem_);
+  if (!file.ok()) return file.error();
+  fd_ = file.value().release();
   offset_ = options.timestamp_offset;
   good_size_ = 0;
   stats_ = CaptureWriterStats{};

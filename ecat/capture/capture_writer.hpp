@@ -19,6 +19,7 @@
 #include "core/base/span.hpp"
 #include "ecat/capture/capture_format.hpp"
 #include "ecat/codec/frame.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::ecat {
@@ -64,6 +65,8 @@ class CaptureWriter {
   Status close() noexcept;
 
   bool is_open() const noexcept { return fd_ >= 0; }
+  // Why the last open() refused the path (the path, what was there, the fix).
+  const hal::FileProblem& problem() const noexcept { return problem_; }
   const CaptureWriterStats& stats() const noexcept { return stats_; }
 
  private:
@@ -76,6 +79,7 @@ class CaptureWriter {
   bool write_block(std::size_t size) noexcept;
 
   int fd_{-1};
+  hal::FileProblem problem_{};
   hal::Nanoseconds offset_{0};
   std::uint64_t good_size_{0};  // file size after the last complete block
   CaptureWriterStats stats_{};

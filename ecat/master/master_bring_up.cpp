@@ -171,8 +171,8 @@ Status Master::count_and_reset() noexcept {
   if (!counted.ok() && counted.error().code == Errc::timeout) {
     const auto waited_ms = static_cast<std::uint32_t>(options_.first_contact_timeout / hal::kNsPerMs);
     return fail("count", make_error(Errc::timeout,
-                                    "no EtherCAT frame came back (BRDs sent, ms waited): is the segment cabled to "
-                                    "this interface and powered, or `rescue-motion sim --iface` running at its end?",
+                                    "no EtherCAT frame came back: is the segment cabled to this interface and powered, "
+                                    "or `rescue-motion sim --iface` running at its end?",
                                     report_.first_contact_frames, waited_ms));
   }
   if (!counted.ok()) return fail("count", counted.error());

@@ -114,8 +114,11 @@ Status write_file_atomically(const char* dir, const char* name, ConstByteSpan co
   auto temp = join_path(dir, temp_name.c_str());
   if (!temp.ok()) return temp.error();
 
-  // O_TRUNC: a temporary file left by a writer that crashed is simply overwritten.
-  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0644);
+  // Whatever is at the temporary name (a file left by a writer that crashed, or a FIFO, a link, a
+  // directory entry someone put there) is removed, and the file created anew, exclusively: nothing
+  // there can block the open or redirect the write.
+  if (::unlink(temp.value().c_str()) != 0 && errno != ENOENT) return os_error("remove the old temporary file");
+  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
   if (fd < 0) return os_error("create temporary file");
   Status status = write_all(fd, contents);
   if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");

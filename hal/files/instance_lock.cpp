@@ -1,6 +1,7 @@
 #include "hal/files/instance_lock.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/file.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -33,10 +34,16 @@ std::uint32_t read_pid(int fd) noexcept {
 Status lock_state_directory(const char* dir) noexcept {
   auto path = join_path(dir, kStateLockName);
   if (!path.ok()) return path.error();
-  const int fd = ::open(path.value().c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+  // O_NONBLOCK, O_NOFOLLOW and fstat: a FIFO, a device or a link at the lock's name is refused, never waited on.
+  const int fd = ::open(path.value().c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY, 0644);
   if (fd < 0) {
     const std::uint32_t e = errno_u32();
     return make_error(e == EACCES || e == EROFS ? Errc::permission_denied : Errc::io_error, "cannot open the lock file", e);
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return make_error(Errc::invalid_argument, "the lock file is not a regular file");
   }
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
     const std::uint32_t e = errno_u32();

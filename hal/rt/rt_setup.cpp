@@ -136,6 +136,28 @@ Status pin_to_cpu(int cpu) noexcept {
   }
 }
 
+Result<SchedulingState> save_scheduling() noexcept {
+  SchedulingState state;
+  sched_param param{};
+  const int error = pthread_getschedparam(pthread_self(), &state.policy, &param);  // returns the errno
+  if (error != 0) return make_error(Errc::io_error, "pthread_getschedparam failed (errno)", errno_detail(error));
+  state.priority = param.sched_priority;
+  CPU_ZERO(&state.cpus);
+  const int cpus = pthread_getaffinity_np(pthread_self(), sizeof state.cpus, &state.cpus);
+  if (cpus != 0) return make_error(Errc::io_error, "pthread_getaffinity_np failed (errno)", errno_detail(cpus));
+  return state;
+}
+
+Status restore_scheduling(const SchedulingState& state) noexcept {
+  sched_param param{};
+  param.sched_priority = state.priority;
+  const int error = pthread_setschedparam(pthread_self(), state.policy, &param);  // returns the errno
+  if (error != 0) return make_error(Errc::io_error, "pthread_setschedparam failed (errno)", errno_detail(error));
+  const int cpus = pthread_setaffinity_np(pthread_self(), sizeof state.cpus, &state.cpus);
+  if (cpus != 0) return make_error(Errc::io_error, "pthread_setaffinity_np failed (errno)", errno_detail(cpus));
+  return Status::success();
+}
+
 const char* to_string(RtOutcome outcome) noexcept {
   switch (outcome) {
     case RtOutcome::applied: return "applied";

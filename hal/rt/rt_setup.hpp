@@ -11,6 +11,8 @@
 //   rt: DEGRADED: 2 of 4 real-time settings refused; timing figures are not real-time
 #pragma once
 
+#include <sched.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -34,6 +36,16 @@ Status set_fifo_priority(int priority) noexcept;
 
 // Pins the calling thread to one CPU.
 Status pin_to_cpu(int cpu) noexcept;
+
+// The calling thread's scheduling policy, priority and CPUs, saved before it runs real-time work for
+// a while (the bring-up) and given back with restore_scheduling before it forks or runs normal work.
+struct SchedulingState {
+  int policy{SCHED_OTHER};
+  int priority{0};
+  cpu_set_t cpus{};
+};
+Result<SchedulingState> save_scheduling() noexcept;
+Status restore_scheduling(const SchedulingState& state) noexcept;
 
 // Stack each real-time task thread prefaults at start-up (apply_rt_config). The static stack check
 // (toolchain/rt_verify.py, docs/verification.md) reads this line: every task's deepest period path

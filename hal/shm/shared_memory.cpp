@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 namespace rescue::hal {
@@ -23,6 +24,15 @@ Result<void*> map_and_close(int fd, std::size_t size) noexcept {
   (void)::close(fd);
   if (data == MAP_FAILED) return os_error("mmap shared memory", err);
   return data;
+}
+
+// The owner of the segment at `name` when this process may not even open it (Linux keeps POSIX
+// shared memory in /dev/shm): for the refusal's message. 0xFFFFFFFF when unknown.
+std::uint32_t owner_without_opening(const char* name) noexcept {
+  char path[SharedMemory::kMaxNameLength + 16];
+  (void)std::snprintf(path, sizeof path, "/dev/shm%s", name);
+  struct stat st {};
+  return ::lstat(path, &st) == 0 ? static_cast<std::uint32_t>(st.st_uid) : 0xFFFFFFFFU;
 }
 
 }  // namespace
@@ -66,7 +76,8 @@ Result<SharedMemory> SharedMemory::create_exclusive(const char* name, std::size_
     if (errno == EEXIST) return make_error(Errc::busy, "shared-memory name exists");
     return os_error("shm_open (create)", errno);
   }
-  if (::ftruncate(fd, static_cast<off_t>(size)) != 0) {
+  // 0600 whatever the umask: only this user maps it.
+  if (::fchmod(fd, S_IRUSR | S_IWUSR) != 0 || ::ftruncate(fd, static_cast<off_t>(size)) != 0) {
     const int err = errno;
     (void)::close(fd);
     (void)::shm_unlink(name);
@@ -88,6 +99,7 @@ Result<SharedMemory> SharedMemory::open_existing(const char* name) noexcept {
   const int fd = ::shm_open(name, O_RDWR | O_CLOEXEC, 0);
   if (fd < 0) {
     if (errno == ENOENT) return make_error(Errc::not_found, "no shared-memory segment of that name");
+    if (errno == EACCES) return make_error(Errc::permission_denied, kForeignSegment, owner_without_opening(name));
     return os_error("shm_open (attach)", errno);
   }
   struct stat st {};
@@ -95,6 +107,10 @@ Result<SharedMemory> SharedMemory::open_existing(const char* name) noexcept {
     const int err = errno;
     (void)::close(fd);
     return os_error("fstat shared memory", err);
+  }
+  if (st.st_uid != ::geteuid()) {  // never trusted, never mapped, never unlinked (not even by root)
+    (void)::close(fd);
+    return make_error(Errc::permission_denied, kForeignSegment, static_cast<std::uint32_t>(st.st_uid));
   }
   if (st.st_size <= 0) {
     (void)::close(fd);

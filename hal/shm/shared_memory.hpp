@@ -3,7 +3,8 @@
 //
 //   create_exclusive  shm_open(O_CREAT | O_EXCL | O_RDWR, 0600), ftruncate to the size, mmap
 //                     MAP_SHARED: the pages read zero. Fails with busy when the name exists.
-//   open_existing     shm_open(O_RDWR), its size from fstat, mmap MAP_SHARED.
+//   open_existing     shm_open(O_RDWR), its owner and size from fstat, mmap MAP_SHARED; a segment
+//                     another user owns is refused (kForeignSegment), never mapped.
 //   lock              mlock of the mapping (no page fault once the tasks run).
 //   unlink            shm_unlink: the name goes, mappings stay valid until unmapped.
 //
@@ -17,6 +18,9 @@
 #include "core/base/result.hpp"
 
 namespace rescue::hal {
+
+// The error's `what` for a segment another user owns (detail0: its uid, 0xFFFFFFFF when unknown).
+constexpr const char* kForeignSegment = "shared-memory segment owned by another user";
 
 class SharedMemory {
  public:
@@ -32,7 +36,8 @@ class SharedMemory {
   // Errors: invalid_argument "shared-memory name" (not "/x", too long or with a second '/'),
   // busy "shared-memory name exists", permission_denied / io_error with errno in detail0.
   static Result<SharedMemory> create_exclusive(const char* name, std::size_t size) noexcept;
-  // Errors: not_found "no shared-memory segment of that name", permission_denied, io_error (errno).
+  // Errors: not_found "no shared-memory segment of that name", permission_denied kForeignSegment
+  // (owned by another user: detail0 its uid), permission_denied / io_error (errno).
   static Result<SharedMemory> open_existing(const char* name) noexcept;
   // Errors: not_found when the name does not exist, io_error (errno in detail0).
   static Status unlink(const char* name) noexcept;

@@ -2,15 +2,21 @@
 // table, an event recorder and a storage whose writes can be made to fail.
 #pragma once
 
+#include <atomic>
+#include <condition_variable>
 #include <cstdio>
 #include <deque>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <vector>
 
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/joint_events.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/concurrency/message_port.hpp"
+#include "core/concurrency/spsc_message_port.hpp"
 #include "drivers/joint/joint_units.hpp"
 
 namespace rescue::app::testing {
@@ -110,6 +116,99 @@ class FlakyStorage final : public ErrorJointsStorage {
   ErrorJointsStorage& inner_;
 };
 
+// The storage worker (core/app/tasks/error_joints_worker.hpp) run inline, for tests on one thread: a
+// request is saved as it is sent (or, while `paused`, when finish() is called: a disk that takes its
+// time), and its outcome waits in the results queue for the joint manager's next read. The firmware
+// runs the same ErrorJointsStorageWorker on its own thread.
+class InlineStorageWorker final : public MessageSink<ErrorJointsSaveRequest>, public MessageSource<ErrorJointsSaveResult> {
+ public:
+  explicit InlineStorageWorker(ErrorJointsStorage& storage) : worker_(requests_, results_, storage) {}
+  bool try_send(const ErrorJointsSaveRequest& request) noexcept override {
+    if (!requests_.try_send(request)) return false;
+    ++requests;
+    if (!paused) (void)worker_.serve_one();
+    return true;
+  }
+  bool try_receive(ErrorJointsSaveResult& out) noexcept override { return results_.try_receive(out); }
+  // Saves every request waiting (the paused disk is done).
+  void finish() {
+    while (worker_.serve_one()) {
+    }
+  }
+  std::size_t waiting() const { return requests_.size(); }
+  bool paused{false};
+  int requests{0};
+
+ private:
+  FakeQueue<ErrorJointsSaveRequest> requests_{2};
+  FakeQueue<ErrorJointsSaveResult> results_{2};
+  ErrorJointsStorageWorker worker_;
+};
+
+// save() blocks until released (a disk that takes its time), then saves for real.
+class BlockingDisk final : public ErrorJointsStorage {
+ public:
+  explicit BlockingDisk(ErrorJointsStorage& inner) : inner_(inner) {}
+  ErrorJointsLoad load() noexcept override { return inner_.load(); }
+  Status save(const ErrorJointsContents& c) noexcept override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    in_save.store(true);
+    released_.wait(lock, [this] { return release_; });
+    const Status saved = inner_.save(c);
+    saves_returned.fetch_add(1);
+    in_save.store(false);
+    return saved;
+  }
+  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
+  void release() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    release_ = true;
+    released_.notify_all();
+  }
+  std::atomic<bool> in_save{false};
+  std::atomic<int> saves_returned{0};
+
+ private:
+  ErrorJointsStorage& inner_;
+  std::mutex mutex_;
+  std::condition_variable released_;
+  bool release_{false};
+};
+
+// The storage worker as `run` wires it: over SpscQueues, on a thread of its own (until stop()).
+class ThreadedStorageWorker {
+ public:
+  explicit ThreadedStorageWorker(ErrorJointsStorage& storage)
+      : worker_(worker_requests_, worker_results_, storage), thread_([this] {
+          while (!stop_.load()) {
+            if (!worker_.serve_one()) std::this_thread::yield();
+          }
+        }) {}
+  ~ThreadedStorageWorker() { stop(); }
+  ThreadedStorageWorker(const ThreadedStorageWorker&) = delete;
+  ThreadedStorageWorker& operator=(const ThreadedStorageWorker&) = delete;
+  // The joint manager's ends of the two queues.
+  void wire(JointManagerPorts& ports) {
+    ports.save_requests = &requests_;
+    ports.save_results = &results_;
+  }
+  void stop() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  SpscQueue<ErrorJointsSaveRequest, 2> request_queue_;
+  SpscQueue<ErrorJointsSaveResult, 2> result_queue_;
+  SpscMessageSink<ErrorJointsSaveRequest, 2> requests_{request_queue_};
+  SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests_{request_queue_};
+  SpscMessageSink<ErrorJointsSaveResult, 2> worker_results_{result_queue_};
+  SpscMessageSource<ErrorJointsSaveResult, 2> results_{result_queue_};
+  ErrorJointsStorageWorker worker_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
 // A fresh temporary state directory, removed at the end.
 class TempStateDir {
  public:
@@ -124,9 +223,12 @@ class TempStateDir {
 
 // Everything a JointManager needs, wired to fakes.
 struct Rig {
-  explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in) {}
+  explicit Rig(ErrorJointsStorage& storage_in) : storage(storage_in), worker(storage_in) {}
   JointManagerPorts ports() {
-    return JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
+    JointManagerPorts p{&reports, &notices, &commands, &samples, &storage, &wall, &log, nullptr};
+    p.save_requests = &worker;
+    p.save_results = &worker;
+    return p;
   }
   void command(JointMask joints, fsm::JointInput input, ControlMode mode = ControlMode::none) {
     ASSERT_TRUE(commands.try_send(JointCommand{joints, input, mode, JointCommandKind::dfa_input}));
@@ -136,6 +238,7 @@ struct Rig {
   FakeQueue<JointCommand> commands{64};
   FakeSamples samples;
   ErrorJointsStorage& storage;
+  InlineStorageWorker worker;
   hal::ManualWallClock wall{1'700'000'000'000'000'000LL};
   EventLog log;
 };

@@ -1,6 +1,6 @@
-// A socket handler on 127.0.0.1 (ephemeral control and sensor ports), its replay window in a
-// temporary state directory at a manual wall clock, and a client socket to talk to it: the rig of
-// the socket handler's unit tests.
+// A socket handler on 127.0.0.1 (ephemeral control and sensor ports), its replay window in epoch
+// kEpoch, a manual wall clock, and a client socket to talk to it: the rig of the socket handler's
+// unit tests. for_robot() addresses a message as a station that asked the epoch would.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -12,17 +12,17 @@
 #include "core/app/tasks/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "hal/time/wall_clock.hpp"
-#include "tests/support/joint_manager_fakes.hpp"
 
 namespace rescue::test {
 namespace protocol = app::protocol;
 
 struct LoopbackSocketHandler {
   static constexpr std::int64_t kNow = 1'700'000'000'000'000'000LL;  // the wall clock's reading
+  static constexpr std::uint64_t kEpoch = 0x0123456789ABCDEFULL;
 
   LoopbackSocketHandler(const app::SocketHandlerPorts& ports, const protocol::Key& k)
-      : store(dir.path.c_str()), window(store), wall(kNow), key(k), handler(ports, key, window, wall) {
-    (void)window.restore(static_cast<std::uint64_t>(kNow) - 1'000'000'000ULL);
+      : wall(kNow), key(k), handler(ports, key, window, wall) {
+    window.begin_epoch(kEpoch);
     app::SocketHandlerOptions options;
     options.listen = "127.0.0.1";
     options.control_port = 0;
@@ -32,8 +32,14 @@ struct LoopbackSocketHandler {
     loopback = hal::parse_ipv4("127.0.0.1").value();
   }
 
-  app::testing::TempStateDir dir;
-  protocol::FileReplayStore store;
+  // `m` for this robot in its current epoch.
+  protocol::Message for_robot(protocol::Message m) const {
+    m.header.version = protocol::kVersion;
+    m.header.robot = handler.robot_id();
+    m.header.epoch = window.epoch();
+    return m;
+  }
+
   protocol::ReplayWindow window;
   hal::ManualWallClock wall;
   protocol::Key key;  // before the handler, which copies it

@@ -13,6 +13,7 @@
 #include "core/app/tasks/predefined_messages.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "hal/time/wall_clock.hpp"
+#include "tests/support/joint_manager_fakes.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::app {
@@ -32,7 +33,15 @@ struct SimulatedFirmware {
         parser(links->joint_commands),
         samples(links->samples),
         demand(links->demand),
-        manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand}) {}
+        worker(storage),
+        manager(ports()) {}
+
+  JointManagerPorts ports() {
+    JointManagerPorts p{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand};
+    p.save_requests = &worker;
+    p.save_results = &worker;
+    return p;
+  }
 
   bool bring_up(const ecat::MasterOptions& options = {}) {
     restored = manager.restore(rig->clock.now()).restored;
@@ -67,6 +76,7 @@ struct SimulatedFirmware {
   SeqlockDemandSink demand;
   hal::ManualWallClock wall;
   NoEvents events;
+  rescue::app::testing::InlineStorageWorker worker;  // the storage worker, inline (joint_manager_fakes.hpp)
   JointManager manager;
   std::unique_ptr<EthercatHandler> handler;
   JointMask restored{0};

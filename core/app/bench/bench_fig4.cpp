@@ -220,7 +220,7 @@ std::uint64_t unix_ns() noexcept {
 }
 
 // UDP load on the basic software CPU: three authenticated status queries, then one garbage datagram.
-void udp_sender_thread(std::uint16_t port, const protocol::Key& key) noexcept {
+void udp_sender_thread(std::uint16_t port, const protocol::Key& key, std::uint64_t epoch) noexcept {
   (void)set_affinity(table_cpu_on_this_machine(task_spec(TaskId::basic_software).cpu));
   hal::UdpSocket out;
   if (!out.open("127.0.0.1", 0).ok()) return;
@@ -241,6 +241,8 @@ void udp_sender_thread(std::uint16_t port, const protocol::Key& key) noexcept {
       protocol::Message m;
       m.header.type = protocol::MessageType::get_status;
       m.header.sender = 1;
+      m.header.robot = protocol::kDefaultRobotId;
+      m.header.epoch = epoch;
       const std::uint64_t now_ns = unix_ns();
       sequence = now_ns > sequence ? now_ns : sequence + 1;
       m.header.sequence = sequence;
@@ -510,12 +512,9 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   // The socket handler (real code) on a loopback port with a fresh key.
   protocol::Key key{};
   for (std::size_t i = 0; i < key.size(); ++i) key[i] = static_cast<std::uint8_t>(i * 37 + 11);
-  char state_dir[] = "/tmp/rescue-bench-fig4-XXXXXX";
-  if (mkdtemp(state_dir) == nullptr) return fail("bench", "cannot create a temporary state directory");
-  static protocol::FileReplayStore replay_store(state_dir);
-  static protocol::ReplayWindow replay(replay_store);
+  static protocol::ReplayWindow replay;
   static hal::SystemWallClock wall;
-  (void)replay.restore(static_cast<std::uint64_t>(wall.unix_time_ns()) - hal::kNsPerSec);
+  replay.begin_epoch(protocol::new_epoch());
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> requests(g_links.control_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> replies(g_links.control_replies);
   SocketHandlerPorts ports;
@@ -559,7 +558,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   std::thread sender;
   if (want_udp) {
     socket_task = std::thread(socket_thread, std::ref(socket));
-    sender = std::thread(udp_sender_thread, socket.control_port(), key);
+    sender = std::thread(udp_sender_thread, socket.control_port(), key, replay.epoch());
   }
   while (g_shared.ready.load() < kTasks && !g_shared.failed.load()) {
     struct timespec ms{0, 1'000'000};
@@ -583,7 +582,6 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   if (socket_task.joinable()) socket_task.join();
   if (sender.joinable()) sender.join();
   stop_child(stress);
-  (void)std::remove(state_dir);
   if (g_shared.failed.load()) return fail("bench", "the network did not reach OP");
 
   // ---- report ----

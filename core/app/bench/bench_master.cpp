@@ -20,6 +20,7 @@
 #include "drivers/sim/segment/simulated_nic.hpp"
 #include "drivers/sim/segment/simulated_robot.hpp"
 #include "drivers/sim/segment/simulated_segment.hpp"
+#include "ecat/master/bring_up_report.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/tsc_timer.hpp"
 
@@ -115,20 +116,7 @@ int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexce
   return bus.master().state() == ecat::MasterState::op ? 0 : 1;
 }
 
-void print_failure(const ecat::Master& master) noexcept {
-  const ecat::BringUpReport& r = master.report();
-  (void)std::fprintf(stderr, "bring-up failed at %s: %s (%u, %u)\n", r.failed_step != nullptr ? r.failed_step : "?",
-                     r.error.what, r.error.detail0, r.error.detail1);
-  ecat::print_differences(stderr, r.match, master.plan(), r.found.span());
-  const ecat::LinkStats& link = const_cast<ecat::Master&>(master).link().stats();  // NOLINT(cppcoreguidelines-pro-type-const-cast)
-  (void)std::fprintf(stderr, "link: %" PRIu64 " exchanges, %" PRIu64 " timeouts, %" PRIu64 " late frames, %" PRIu64 " malformed\n",
-                     link.exchanges, link.timeouts, link.stale_frames, link.malformed);
-  if (r.al_failure.position != ecat::kNoPosition) {
-    std::array<char, 256> line{};
-    (void)ecat::describe(r.al_failure, master.plan(), line.data(), line.size());
-    (void)std::fprintf(stderr, "%s\n", line.data());
-  }
-}
+void print_failure(ecat::Master& master) noexcept { ecat::print_bring_up_failure(stderr, "", "", master); }
 
 }  // namespace
 

@@ -84,7 +84,18 @@ int bench_periods(const ParsedArgs& args) noexcept {
   static hal::ManualWallClock wall;
   static NoEvents events;
   static SeqlockDemandSink demand(g_links.demand);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand});
+  // The storage worker runs between the periods here (in `run` it is a thread of its own).
+  static SpscQueue<ErrorJointsSaveRequest, 2> save_request_queue;
+  static SpscQueue<ErrorJointsSaveResult, 2> save_result_queue;
+  static SpscMessageSink<ErrorJointsSaveRequest, 2> save_requests(save_request_queue);
+  static SpscMessageSource<ErrorJointsSaveResult, 2> save_results(save_result_queue);
+  static SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(save_request_queue);
+  static SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(save_result_queue);
+  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
+  JointManagerPorts manager_ports{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand};
+  manager_ports.save_requests = &save_requests;
+  manager_ports.save_results = &save_results;
+  static JointManager manager(manager_ports);
   (void)manager.restore(g_clock.now());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
@@ -110,6 +121,7 @@ int bench_periods(const ParsedArgs& args) noexcept {
       manager.step(g_clock.now());
     }
     const std::uint64_t t3 = timer.stop();
+    (void)storage_worker.serve_one();
     const double t_s = static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001;
     const std::uint64_t t4 = timer.start();
     if (record) {

@@ -1,7 +1,11 @@
 // rescue-motion ctl: the operator client (docs/operator.md). Modelled on IgH's `ethercat` tool and
 // ros2_control's CLI: short verbs, readable tables, --json for scripts; exit status 0 only when the
 // robot accepted the command (or answered the query).
+#include <sys/time.h>
+#include <unistd.h>
+
 #include <cinttypes>
+#include <csignal>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +22,7 @@
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/rc_task.hpp"
 #include "core/kinematics/rescue_motion.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
@@ -41,6 +46,7 @@ const OptionSpec kOptions[] = {
     {"key", "FILE", "pre-shared key file (default: the configuration's key_file, else <state dir>/operator.key, "
                     "where run looks without one)"},
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
+    {"robot", "ID", "the robot id expected (run's --robot-id); another robot at the address is refused (default: any)"},
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
     {"moved", nullptr, "clear: also confirm joints that returned away from their held position"},
@@ -196,7 +202,21 @@ void print_tasks(const Message& m, bool json) noexcept {
       print_figures_text("wake-up", t.latency);
     }
   }
-  if (json) (void)std::printf("]}\n");
+  // The queues between the tasks: what each dropped (or deferred) so far (docs/tasks.md).
+  if (json) {
+    (void)std::printf("],\"queues\":{");
+    for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+      (void)std::printf("%s\"%s\":%" PRIu64, i == 0 ? "" : ",", i < kDropCounters ? kDropCounterNames[i] : "unknown",
+                        m.tasks.dropped[i]);
+    }
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("queues:");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) {
+    (void)std::printf(" %s %" PRIu64, i < kDropCounters ? kDropCounterNames[i] : "unknown", m.tasks.dropped[i]);
+  }
+  (void)std::printf("\n");
 }
 
 void print_json_string(const char* s) noexcept;  // below, with ctl's own errors
@@ -559,6 +579,9 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> sender = args.integer("sender", 1, 1, 0xFFFFFFFFLL);
   if (!sender.ok()) return make_error(Errc::invalid_argument, "--sender must be 1..4294967295");
   t.sender = static_cast<std::uint32_t>(sender.value());
+  const Result<std::int64_t> robot = args.integer("robot", protocol::kAnyRobot, 0, 999'999'999);
+  if (!robot.ok()) return make_error(Errc::invalid_argument, "--robot must be 1..999999999");
+  t.robot = static_cast<std::uint32_t>(robot.value());
   const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
   if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
   t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
@@ -566,17 +589,18 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<KeyChoice> choice = choose_key(args);
   if (!choice.ok()) return choice.error();
   const hal::PathBuffer& path = choice.value().path;
-  const Result<protocol::Key> key = protocol::load_key_file(path.c_str());
+  hal::FileProblem why;
+  const Result<protocol::Key> key = protocol::load_key_file(path.c_str(), why);
   if (!key.ok()) {
     if (key.error().code == Errc::not_found) {
       (void)std::snprintf(g_error_text, sizeof g_error_text,
                           "key file %.255s (%.320s): %.100s; the robot's key is its configuration's key_file (run --config), "
                           "else --key, else <state dir>/operator.key: copy that file here, or make a new one with "
                           "`rescue-motion ctl keygen --key %.255s` and start run with --key %.255s",
-                          path.c_str(), choice.value().source, key.error().what, path.c_str(), path.c_str());
+                          path.c_str(), choice.value().source, why.c_str(), path.c_str(), path.c_str());
     } else {
-      (void)std::snprintf(g_error_text, sizeof g_error_text, "key file %.255s (%.320s): %.100s; the key file cannot be used",
-                          path.c_str(), choice.value().source, key.error().what);
+      (void)std::snprintf(g_error_text, sizeof g_error_text, "key file refused: %.400s (%.320s); the key file cannot be used",
+                          why.c_str(), choice.value().source);
     }
     return make_error(key.error().code, g_error_text);
   }
@@ -611,7 +635,14 @@ int keygen(const ParsedArgs& args) noexcept {
 int exchange_and_print(const char* verb, const CtlTarget& target, const Message& request, bool json) noexcept {
   const Result<Message> answer = ctl_exchange(target, request);
   if (!answer.ok()) {
-    (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: refused: %.200s (%.640s)", verb, answer.error().what, g_key_note);
+    if (answer.error().code == Errc::refused) {  // another robot id than --robot
+      (void)std::snprintf(g_error_text, sizeof g_error_text,
+                          "%.32s: refused: the robot at that address is robot %u, not robot %u (--robot)", verb,
+                          static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
+    } else {
+      (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: refused: %.200s (%.640s)", verb, answer.error().what,
+                          g_key_note);
+    }
     return ctl_error(g_error_text);
   }
   const Message& m = answer.value();
@@ -734,11 +765,38 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
   return make_error(Errc::invalid_argument, "unknown verb (see rescue-motion ctl --help)");
 }
 
+// The whole command within --timeout (docs/security.md): the exchange has its own deadline, and
+// this watchdog covers every other phase (the key and configuration files, the state directory),
+// so nothing found at a path and no system call can make ctl wait past it.
+void ctl_deadline_passed(int /*signal*/) {
+  static const char kText[] = "rescue-motion ctl: stopped: no result within --timeout (a file or the network blocked)\n";
+  (void)!::write(STDERR_FILENO, kText, sizeof kText - 1);
+  ::_exit(1);
+}
+
+void arm_ctl_deadline(double seconds) noexcept {
+  struct sigaction action {};
+  action.sa_handler = ctl_deadline_passed;
+  (void)::sigaction(SIGALRM, &action, nullptr);
+  itimerval timer{};
+  const double total = seconds + 0.5;  // the exchange's own deadline comes first
+  timer.it_value.tv_sec = static_cast<time_t>(total);
+  timer.it_value.tv_usec = static_cast<suseconds_t>((total - static_cast<double>(timer.it_value.tv_sec)) * 1e6);
+  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
+}
+
+void disarm_ctl_deadline() noexcept {
+  itimerval timer{};
+  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
+}
+
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
   g_json = args.has("json");
   g_verb = verb != nullptr ? verb : "ctl";
   if (!is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
+  const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
+  arm_ctl_deadline(deadline.ok() ? deadline.value() : 2.0);
   if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
   const Status config = read_ctl_config(args);
   if (!config.ok()) return ctl_error(config.error().what);
@@ -750,6 +808,7 @@ int ctl_main(const ParsedArgs& args) {
   if (!target.ok()) return ctl_error(target.error().what);
   const bool json = g_json;
   if (!watch) return exchange_and_print(verb, target.value(), request.value(), json);
+  disarm_ctl_deadline();  // watch runs until --count: each exchange keeps its own deadline
   const Result<std::int64_t> count = args.integer("count", 0, 0, 1'000'000'000);
   const Result<double> interval = args.number("interval", 0.5, 0.05, 3600.0);
   if (!count.ok() || !interval.ok()) return ctl_error("watch: --count N and --interval SECONDS");

@@ -1,10 +1,13 @@
 // rescue-motion run: the firmware (core/app/runtime/firmware.hpp).
 #include <cstdio>
+#include <cstring>
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/config/config_file.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/config/task_table.hpp"
+#include "core/app/links/protocol_messages.hpp"
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/runtime/self_check.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -16,10 +19,10 @@ namespace {
 
 const OptionSpec kOptions[] = {
     {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
-    {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line"},
+    {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line (and the bring-up report when bring-up fails); takes only --config, --nic and --capture"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
     {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP)"},
-    {"duration", "SECONDS", "stop after this long, decimal, above 0, at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
+    {"duration", "SECONDS", "stop after this long, decimal, at least 0.001 (one period), at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},
     {"timing-out", "DIR", "write each real-time task's per-period execution time and wake-up latency there at the end (timing.csv, timing-histogram.txt)"},
     {"state-dir", "DIR", "directory of the error-joints file (default /var/lib/rescue-motion, or per user)"},
@@ -32,6 +35,7 @@ const OptionSpec kOptions[] = {
     {"control-port", "PORT", "operator control UDP port (default 47010)"},
     {"sensor-port", "PORT", "IMU/GPS sensor UDP port (default 47011)"},
     {"key", "FILE", "pre-shared key file (default <state dir>/operator.key; made by: rescue-motion ctl keygen)"},
+    {"robot-id", "N", "this robot's identity in every datagram, 1..999999999 (default 1; give each robot its own)"},
 };
 
 // The configuration file, when --config names one (static: its texts outlive the run).
@@ -65,7 +69,7 @@ int run_main(const ParsedArgs& args) {
   if (args.value("config") != nullptr) {
     const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
     if (!loaded.ok) {
-      char line[512];
+      char line[1024];
       (void)format_config_error(args.value("config"), loaded.error, line, sizeof line);
       (void)std::fprintf(stderr, "rescue-motion run: --config %s\n", line);
       return 1;
@@ -78,10 +82,21 @@ int run_main(const ParsedArgs& args) {
   options.nic = nic.value();
   if (nic_text != nullptr) options.nic_text = nic_text;
   if (args.has("check")) {
+    // --check takes the NIC (and --config, --capture); the options of a running robot mean nothing to
+    // it and are refused by name rather than silently dropped.
+    for (const OptionSpec& o : kOptions) {
+      const bool applies = std::strcmp(o.name, "check") == 0 || std::strcmp(o.name, "config") == 0 ||
+                           std::strcmp(o.name, "nic") == 0 || std::strcmp(o.name, "capture") == 0;
+      if (!applies && args.has(o.name)) {
+        (void)std::fprintf(stderr, "rescue-motion run: --%s does not apply to --check (it takes --config, --nic and --capture)\n", o.name);
+        return 1;
+      }
+    }
     if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
     SelfCheckOptions check;
     check.nic = options.nic;
     check.nic_text = options.nic_text;
+    check.capture_path = args.value("capture");
     return run_self_check(check, stdout, nullptr);
   }
   report_privileges(options.nic);
@@ -98,6 +113,10 @@ int run_main(const ParsedArgs& args) {
     return fail("run", "--duration SECONDS: must be above 0 (leave it out to run until SIGINT/SIGTERM)");
   }
   options.duration = static_cast<hal::Nanoseconds>(duration.value() * static_cast<double>(hal::kNsPerSec));
+  // Below one period no cycle would run (and a duration that rounds to 0 ns would mean "forever").
+  if ((args.has("duration") || g_config.has_duration) && options.duration < config::kEthercatHandlerPeriodNs) {
+    return fail("run", "--duration SECONDS: must be at least one period of the EtherCAT handler (0.001 s)");
+  }
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
   options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);
@@ -125,6 +144,10 @@ int run_main(const ParsedArgs& args) {
   if (control_port.value() == sensor_port.value()) return fail("run", "--control-port and --sensor-port must differ");
   options.control_port = static_cast<std::uint16_t>(control_port.value());
   options.sensor_port = static_cast<std::uint16_t>(sensor_port.value());
+  const Result<std::int64_t> robot_id =
+      args.integer("robot-id", g_config.has_robot_id ? g_config.robot_id : protocol::kDefaultRobotId, 1, 999'999'999);
+  if (!robot_id.ok()) return fail("run", "--robot-id N (1..999999999)", robot_id.error());
+  options.robot_id = static_cast<std::uint32_t>(robot_id.value());
   if (option_or_file(args, "listen", g_config.listen) != nullptr) options.listen = option_or_file(args, "listen", g_config.listen);
   options.key_path = option_or_file(args, "key", g_config.key_file);
   return run_firmware(options);

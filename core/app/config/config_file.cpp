@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "hal/files/trusted_file.hpp"
+
 namespace rescue::app {
 namespace {
 
@@ -54,7 +56,8 @@ constexpr TaskSection kSections[] = {
 constexpr const char* kSectionNames =
     "[ethercat_handler], [joint_manager], [rc_tasks], [socket_handler], [message_parser]";
 constexpr const char* kTopKeys =
-    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled (before any section)";
+    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled (before any "
+    "section)";
 constexpr const char* kCpuRange = "0..1023";
 
 class Parser {
@@ -147,14 +150,21 @@ class Parser {
       }
     } else if (key.equals("duration")) {
       if (!first_time(key, seen_.duration)) return;
-      if (!parse_seconds(value, out_.duration_s) || !(out_.duration_s > 0.0) || out_.duration_s > 604800.0) {
-        return fail(key, "not a duration in range", "decimal seconds above 0, at most 604800 (leave it out: run until SIGTERM)");
+      if (!parse_seconds(value, out_.duration_s) || !(out_.duration_s >= 0.001) || out_.duration_s > 604800.0) {
+        return fail(key, "not a duration in range",
+                    "decimal seconds, at least 0.001 (one period), at most 604800 (leave it out: run until SIGTERM)");
       }
       out_.has_duration = true;
     } else if (key.equals("control_port")) {
       if (first_time(key, seen_.control_port) && port(key, value, out_.control_port)) out_.has_control_port = true;
     } else if (key.equals("sensor_port")) {
       if (first_time(key, seen_.sensor_port) && port(key, value, out_.sensor_port)) out_.has_sensor_port = true;
+    } else if (key.equals("robot_id")) {
+      if (!first_time(key, seen_.robot_id)) return;
+      std::int64_t n = 0;
+      if (!parse_integer(value, n) || n < 1) return fail(key, "robot id out of range", "1..999999999");
+      out_.robot_id = static_cast<std::uint32_t>(n);
+      out_.has_robot_id = true;
     } else if (key.equals("auto_clear_power_cycled")) {
       if (!first_time(key, seen_.auto_clear_power_cycled)) return;
       if (value.equals("true")) {
@@ -311,7 +321,7 @@ class Parser {
   const TaskSection* section_{nullptr};
   std::array<bool, kConfigTaskCount> seen_section_{};
   struct Seen {
-    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, auto_clear_power_cycled;
+    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled;
   } seen_{};
 };
 
@@ -325,35 +335,38 @@ ConfigOutcome parse_config(Span<const std::uint8_t> bytes, ConfigFile& out) noex
 ConfigOutcome load_config_file(const char* path, ConfigFile& out) noexcept {
   ConfigOutcome outcome;
   outcome.ok = false;
-  outcome.error.allowed = "a readable regular file of at most 65536 bytes";
-  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    outcome.error.os_errno = static_cast<std::uint32_t>(errno);
-    outcome.error.what = "cannot open the file";
+  outcome.error.allowed =
+      "a regular file of at most 65536 bytes, it and the directories above it owned by this user or root and not "
+      "writable by group or others";
+  // StrictModes (docs/security.md): the file decides the key file and the state directory, so
+  // another user must not be able to write it; and nothing at its name may hang start-up.
+  hal::FileProblem why;
+  const Result<hal::OpenFile> file = hal::open_trusted_for_read(path, hal::Secrecy::public_file, why);
+  if (!file.ok()) {
+    if (file.error().code == Errc::not_found && file.error().detail0 != 0) {
+      outcome.error.os_errno = file.error().detail0;
+      outcome.error.what = "cannot open the file";
+      return outcome;
+    }
+    outcome.error.what = "refused";
+    outcome.error.detail = why.text;
     return outcome;
   }
+  const int fd = file.value().fd();
   static std::array<std::uint8_t, kConfigMaxBytes + 1> buffer;  // start-up only; one more byte detects a larger file
   std::size_t size = 0;
-  struct stat info{};
-  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-    outcome.error.what = "not a regular file";
-    (void)::close(fd);
-    return outcome;
-  }
   for (;;) {
     const ssize_t n = ::read(fd, buffer.data() + size, buffer.size() - size);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       outcome.error.os_errno = static_cast<std::uint32_t>(errno);
       outcome.error.what = "cannot read the file";
-      (void)::close(fd);
       return outcome;
     }
     if (n == 0) break;
     size += static_cast<std::size_t>(n);
     if (size == buffer.size()) break;
   }
-  (void)::close(fd);
   return parse_config(Span<const std::uint8_t>(buffer.data(), size), out);
 }
 
@@ -369,7 +382,8 @@ std::size_t format_config_error(const char* file, const ConfigError& e, char* ou
     // GNU strerror_r (thread-safe): returns the text, in `reason` or a static string.
     (void)std::snprintf(os, sizeof os, " (%s)", strerror_r(static_cast<int>(e.os_errno), reason, sizeof reason));
   }
-  const int n = std::snprintf(out, size, "%s%s:%s %s%s (allowed: %s)", file, where, key, e.what, os, e.allowed);
+  const int n = e.detail[0] != '\0' ? std::snprintf(out, size, "%s: %s", file, e.detail.data())
+                                     : std::snprintf(out, size, "%s%s:%s %s%s (allowed: %s)", file, where, key, e.what, os, e.allowed);
   if (n < 0) return 0;
   return static_cast<std::size_t>(n) < size ? static_cast<std::size_t>(n) : size - 1;
 }

@@ -44,6 +44,8 @@ struct ConfigFile {
   std::uint16_t control_port{0};
   bool has_sensor_port{false};
   std::uint16_t sensor_port{0};
+  bool has_robot_id{false};
+  std::uint32_t robot_id{0};  // this robot's identity in every datagram (docs/protocol.md), 1..999999999
   bool has_auto_clear_power_cycled{false};
   bool auto_clear_power_cycled{false};  // `run --auto-clear-power-cycled`
   std::array<ConfigTaskPlacement, kConfigTaskCount> tasks{};  // indexed by TaskId
@@ -57,6 +59,7 @@ struct ConfigError {
   const char* what{""};
   const char* allowed{""};
   std::uint32_t os_errno{0};
+  std::array<char, 768> detail{};  // a refused file (hal/files/trusted_file.hpp): the path, what is wrong, the fix
 };
 
 struct ConfigOutcome {

@@ -30,6 +30,9 @@ constexpr std::int64_t kEthercatHandlerPeriodNs = 1'000'000;  // 1 kHz: the netw
 constexpr std::int64_t kJointManagerPeriodNs = 1'000'000;
 constexpr std::int64_t kRcTaskPeriodNs = 1'000'000;
 constexpr std::int64_t kLoggerPeriodNs = 5'000'000;           // drains events and capture frames
+// The error-joints storage worker (core/app/tasks/error_joints_worker.hpp), normal priority: polls
+// its request queue this often when idle.
+constexpr std::int64_t kStorageWorkerPollNs = 1'000'000;
 
 // The stack each real-time thread prefaults at start-up is hal::kTaskStackPrefaultBytes
 // (hal/rt/rt_setup.hpp), where toolchain/rt_verify.py reads it to check the deepest stack path.
@@ -64,6 +67,10 @@ constexpr std::size_t kSocketRepliesPerWakeup = 16;   // parser replies sent per
 
 // --- Time limits ----------------------------------------------------------------------------------
 constexpr std::int64_t kDisableTimeoutNs = 500'000'000;  // stop: drives disabled within this, or give up
+// stop: the joint manager, past its last period, waits this long at most for a write of the
+// error-joints file still in flight (or failing) before it reports the file not written. Below the
+// supervisor's stop limit for a task (5 s, task_processes.cpp).
+constexpr std::int64_t kFileDrainLimitNs = 3'000'000'000;
 constexpr std::int64_t kScenarioRunOnNs = 1'000'000'000; // a scenario without --duration runs on this long
 
 // --- The Motion owner (docs/motion-owner.md) ------------------------------------------------------

@@ -20,7 +20,7 @@ TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variab
    "the run ends; even on SIGKILL the EtherCAT handler gets SIGTERM (disables every drive, then ends) and the others SIGKILL (PR_SET_PDEATHSIG); the next run replaces the stale segment"},
   {TaskId::socket_handler, "socket handler", config::kSocketHandlerPriority, config::kSocketHandlerCpu, 0,
    "partly (sensor data)", "UDP from the operator and the other two computers; every datagram validated", "tasks/socket_handler.cpp",
-   "its own (with a key file)", 4, 2, "restarted after a back-off (100 ms doubling to 5 s), logged; replay windows re-read from their file"},
+   "its own (with a key file)", 4, 2, "restarted after a back-off (100 ms doubling to 5 s), logged; a new replay epoch (datagrams of the old one are refused)"},
   {TaskId::message_parser, "message parser", config::kMessageParserPriority, config::kMessageParserCpu, 0,
    "no (queues)", "operator messages to the joint handle queue and the RC tasks' inputs", "tasks/message_parser.cpp",
    "its own", 3, 2, "restarted after a back-off (100 ms doubling to 5 s), logged"},

@@ -76,6 +76,7 @@ struct SocketCounters {
   std::uint64_t wakeups;
   std::uint64_t budget_exhausted;  // wake-ups that stopped at the per-wake-up budget
   std::uint64_t forwarded_dropped; // control requests the parser's full queue could not take
+  std::array<std::uint64_t, 6> spare;  // 0: Seqlock<SocketCounters> 168 bytes keeps the next member on its cache line (TaskLinks' padding)
 };
 static_assert(std::is_trivial_v<SocketCounters>, "published through a seqlock");
 

@@ -15,18 +15,21 @@
 namespace rescue::app::protocol {
 
 constexpr std::array<std::uint8_t, 4> kMagic{{0x52, 0x4D, 0x43, 0x50}};  // "RMCP"
-constexpr std::uint8_t kVersion = 1;
-constexpr std::size_t kHeaderSize = 24;
+constexpr std::uint8_t kVersion = 2;             // 2: the robot id and the epoch in the header (issue 23)
+constexpr std::size_t kHeaderSize = 40;
 constexpr std::size_t kTagSize = 32;             // crypto_auth_BYTES (HMAC-SHA-512-256)
 constexpr std::size_t kKeySize = 32;             // crypto_auth_KEYBYTES
 constexpr std::size_t kMaxPayload = 1024;
-constexpr std::size_t kMaxDatagram = kHeaderSize + kMaxPayload + kTagSize;  // 1080 bytes
+constexpr std::size_t kMaxDatagram = kHeaderSize + kMaxPayload + kTagSize;  // 1096 bytes
 constexpr std::size_t kNameSize = 24;            // slave and task names, ASCII, NUL-padded
 constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NUL-padded
 constexpr std::size_t kMaxSlaves = 23;
-constexpr std::size_t kMaxTasks = 8;
+constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 120 bytes and the drop counters fill a payload)
+constexpr std::size_t kMaxDropCounters = 12;  // after the task records: the queues' drop counters
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
+constexpr std::uint32_t kAnyRobot = 0;          // robot id of a get_epoch that asks whichever robot answers
+constexpr std::uint32_t kDefaultRobotId = 1;
 
 using Key = std::array<std::uint8_t, kKeySize>;
 using rescue::TimingFigures;
@@ -38,8 +41,9 @@ enum class MessageType : std::uint8_t {
   get_master = 0x03,
   get_tasks = 0x04,
   get_diag = 0x05,
-  get_version = 0x06,  // the robot's program version, layout and build type (ctl version)
-  get_owner = 0x07,    // which RC task owns the motion, alive, its phase (ctl owner)
+  get_epoch = 0x06,  // the robot's current epoch (docs/protocol.md "Replay protection"); the only request with epoch 0
+  get_version = 0x07,  // the robot's program version, layout and build type (ctl version)
+  get_owner = 0x08,    // which RC task owns the motion, alive, its phase (ctl owner)
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -60,8 +64,9 @@ enum class MessageType : std::uint8_t {
   master = 0x83,
   tasks = 0x84,
   diag = 0x85,
-  version = 0x86,
-  owner_state = 0x87,
+  epoch = 0x86,  // the answer to get_epoch: the epoch and robot id are its header's
+  version = 0x87,
+  owner_state = 0x88,
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -78,8 +83,10 @@ enum class Rejection : std::uint8_t {
   replayed = 3,         // authentic, but its sequence was seen or is older than the window
   out_of_range = 4,     // a field's value outside its documented range (NaN included)
   unknown_type = 5,     // a type this version does not define, or not accepted on this port
+  wrong_robot = 6,      // authentic, but it names another robot (its robot id is not ours)
+  sender_table_full = 7,  // authentic and current, from a sender the full sender table has no room for
 };
-constexpr std::size_t kRejectionCount = 6;
+constexpr std::size_t kRejectionCount = 8;
 const char* to_string(Rejection reason) noexcept;
 
 struct Header {
@@ -87,6 +94,8 @@ struct Header {
   MessageType type{MessageType::get_status};
   std::uint8_t flags{0};       // reserved, 0
   std::uint32_t sender{0};     // who signed it; the replay window is per sender
+  std::uint32_t robot{0};      // the robot it is for (or from): run's robot_id; kAnyRobot only in get_epoch
+  std::uint64_t epoch{0};      // the robot's epoch it belongs to (random, new at every socket handler start); 0 only in get_epoch
   std::uint64_t sequence{0};   // strictly increasing per sender: its Unix time in ns
   std::uint16_t payload_length{0};
 };
@@ -159,6 +168,7 @@ enum class RefusalReason : std::uint8_t {
   busy = 5,               // a queue was full or the robot did not answer in time
   bad_request = 6,        // e.g. a mode that is not CSP, CSV or CST, no joint selected
   clear_refused = 7,      // clear after repair refused (joint still unreachable, not lost, file not written)
+  sender_table_full = 8,  // the robot's sender table has no room for this sender (docs/protocol.md "Senders")
 };
 const char* to_string(RefusalReason reason) noexcept;
 
@@ -264,6 +274,10 @@ struct TaskRecord {
 struct TasksPayload {
   std::uint8_t count{0};
   std::array<TaskRecord, kMaxTasks> tasks{};
+  // What each bounded queue between the tasks dropped (or deferred), in the order of
+  // core/app/links/run_control.hpp's kDropCounterNames.
+  std::uint8_t drop_count{0};
+  std::array<std::uint64_t, kMaxDropCounters> dropped{};
 };
 
 // Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each
@@ -292,6 +306,11 @@ struct DiagPayload {
   std::uint8_t count;
   std::array<DiagSlaveRecord, kMaxSlaves> slaves;
   std::uint64_t spare;       // not on the wire; 0: makes Seqlock<DiagPayload> 960 bytes, a cache-line multiple (TaskLinks' padding)
+};
+
+// The answer to get_epoch: the request's sequence echoed (the robot's epoch and id are in the header).
+struct EpochPayload {
+  std::uint64_t request_sequence{0};
 };
 
 // One decoded message: the header and the payload of its type (only that member is meaningful).
@@ -332,6 +351,7 @@ struct Message {
   MasterPayload master{};
   TasksPayload tasks{};
   DiagPayload diag{};
+  EpochPayload epoch{};
   VersionPayload version{};
   OwnerStatePayload owner_state{};
 };

@@ -23,6 +23,28 @@ struct TaskHealth {
   std::atomic<bool> reported;                       // the figures above are final
 };
 
+// Every bounded queue between the tasks that may drop (or defer) a message, with its counter here,
+// live: written only by the task at the queue's producing end, read by `ctl tasks` and the run's
+// summary (docs/tasks.md, "Queues and what they drop"). Nothing the robot's correctness depends on
+// travels through a queue that drops: these carry log lines, replies the operator is told to retry
+// (busy), and the power-cycle hint the operator's clear replaces.
+enum class DropCounter : std::uint8_t {
+  events_dropped,               // EtherCAT handler -> its logger: handler events (log lines)
+  reports_dropped,              // master's link monitor -> handler: link reports (log lines; the masks are state)
+  warnings_dropped,             // master's link diagnostics -> handler: port warnings (log lines; ctl diag has the counters)
+  capture_frames_dropped,       // handler's capture tap -> logger (--capture)
+  power_cycle_reports_dropped,  // handler -> joint manager: "back after a power cycle" (no automatic clear; the operator's stays)
+  joint_events_dropped,         // joint manager -> its logger: joint events (log lines; the states are in ctl status)
+  outcomes_deferred,            // joint manager -> message parser: never dropped, kept and resent (commands wait)
+  replies_dropped,              // message parser -> socket handler / runtime: replies (the operator's ctl times out)
+  requests_dropped,             // socket handler -> message parser: requests answered busy
+  local_requests_dropped,       // runtime (start-up, exit) -> message parser: said on stdout
+};
+constexpr std::size_t kDropCounters = 10;
+constexpr const char* kDropCounterNames[kDropCounters] = {
+    "events_dropped",       "reports_dropped",      "warnings_dropped", "capture_frames_dropped", "power_cycle_reports_dropped",
+    "joint_events_dropped", "outcomes_deferred",    "replies_dropped",  "requests_dropped",       "local_requests_dropped"};
+
 // One per StatTask (links/task_links.hpp): EtherCAT handler, joint manager, socket handler, message
 // parser, RC rescue, RC teleop.
 constexpr std::size_t kRunHealthSlots = 6;
@@ -60,6 +82,7 @@ struct RunControl {
   // Socket handler -> supervisor: the most datagrams one wake-up handled (budget: SocketHandler::kBudget).
   std::atomic<std::uint64_t> socket_max_per_wakeup;
   std::array<TaskHealth, kRunHealthSlots> health;         // StatTask order
+  std::array<std::atomic<std::uint64_t>, kDropCounters> dropped;  // DropCounter order; live, one writer each
 };
 
 }  // namespace rescue::app

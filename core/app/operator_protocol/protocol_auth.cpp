@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "hal/files/state_dir.hpp"
+#include "hal/files/trusted_file.hpp"
 
 namespace rescue::app::protocol {
 namespace {
@@ -65,25 +66,35 @@ Status verify_frame(const FrameView& frame, const Key& key) noexcept {
   return Status::success();
 }
 
-Result<Key> load_key_file(const char* path) noexcept {
-  const Fd fd(::open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY));
-  if (fd.get() < 0) {
-    if (errno == ENOENT) return make_error(Errc::not_found, "key file does not exist (create it with: rescue-motion ctl keygen)");
-    if (errno == EACCES) return make_error(Errc::permission_denied, "key file cannot be opened (no permission)");
-    return os_error("key file cannot be opened");
+std::uint64_t new_epoch() noexcept {
+  std::uint64_t epoch = 0;
+  while (epoch == 0) randombytes_buf(&epoch, sizeof epoch);
+  return epoch;
+}
+
+Result<Key> load_key_file(const char* path, hal::FileProblem& why) noexcept {
+  // StrictModes (docs/security.md): the key, and every directory above it, ours or root's and
+  // writable by nobody else; the key readable by nobody else; a link only to such a target; nothing
+  // at the name can hang the open (O_NONBLOCK, fstat before reading).
+  const Result<hal::OpenFile> opened = hal::open_trusted_for_read(path, hal::Secrecy::secret, why);
+  if (!opened.ok()) {
+    if (opened.error().code == Errc::not_found && opened.error().detail0 != 0) {
+      hal::set_problem(why, "%s: key file does not exist (create it with: rescue-motion ctl keygen)", path);
+      return make_error(Errc::not_found, "key file does not exist (create it with: rescue-motion ctl keygen)");
+    }
+    return make_error(opened.error().code, "the key file cannot be used", opened.error().detail0);
   }
+  const int fd = opened.value().fd();
   struct stat st {};
-  if (::fstat(fd.get(), &st) != 0) return os_error("key file cannot be examined");
-  if (!S_ISREG(st.st_mode)) return make_error(Errc::malformed, "key file is not a regular file");
-  if ((st.st_mode & 077U) != 0) {
-    return make_error(Errc::permission_denied, "key file is readable by group or others (chmod 600 it)",
-                      static_cast<std::uint32_t>(st.st_mode & 0777U));
+  if (::fstat(fd, &st) != 0) return os_error("key file cannot be examined");
+  if (st.st_size > static_cast<off_t>(kKeyFileMaxRead)) {
+    hal::set_problem(why, "%s: key file too long (create it with: rescue-motion ctl keygen)", path);
+    return make_error(Errc::malformed, "key file too long");
   }
-  if (st.st_size > static_cast<off_t>(kKeyFileMaxRead)) return make_error(Errc::malformed, "key file too long");
   std::array<char, kKeyFileMaxRead + 1> text{};
   std::size_t got = 0;
   while (got < kKeyFileMaxRead) {
-    const ssize_t n = ::read(fd.get(), text.data() + got, kKeyFileMaxRead - got);
+    const ssize_t n = ::read(fd, text.data() + got, kKeyFileMaxRead - got);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) return os_error("key file cannot be read");
     if (n == 0) break;
@@ -98,6 +109,7 @@ Result<Key> load_key_file(const char* path) noexcept {
       sodium_hex2bin(key.data(), key.size(), text.data(), length, nullptr, &decoded, &end) != 0 ||
       decoded != kKeySize) {
     sodium_memzero(text.data(), text.size());
+    hal::set_problem(why, "%s: key file must hold 64 hex digits (create it with: rescue-motion ctl keygen)", path);
     return make_error(Errc::malformed, "key file must hold 64 hex digits (create it with: rescue-motion ctl keygen)");
   }
   sodium_memzero(text.data(), text.size());

@@ -10,6 +10,7 @@
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
 #include "hal/files/durable_file.hpp"
+#include "hal/files/trusted_file.hpp"
 
 namespace rescue::app::protocol {
 
@@ -23,9 +24,15 @@ Result<std::size_t> seal(const Message& message, const Key& key, ByteSpan out) n
 // The tag of a parsed frame, in constant time. Error checksum: it does not verify.
 Status verify_frame(const FrameView& frame, const Key& key) noexcept;
 
-// Reads a key file. Errors name the cause: not_found, permission_denied ("readable by group or
-// others"; detail0 = the mode bits), malformed (not 64 hex digits), io_error (errno in detail0).
-Result<Key> load_key_file(const char* path) noexcept;
+// A new epoch for the replay window (replay_window.hpp): 64 random bits (randombytes_buf), never 0.
+std::uint64_t new_epoch() noexcept;
+
+// Reads a key file, trusted only as OpenSSH's StrictModes would (hal/files/trusted_file.hpp): it and
+// every directory above it owned by this user or root, not writable by group or others, the key not
+// readable by them; a regular file (a FIFO or device is refused at once). Errors: not_found,
+// permission_denied, invalid_argument (not a regular file), malformed (not 64 hex digits),
+// io_error; `why` then holds one sentence naming the path, the cause and the fix.
+Result<Key> load_key_file(const char* path, hal::FileProblem& why) noexcept;
 
 // Creates a new key file with a random key (randombytes_buf), mode 0600; refuses to overwrite
 // (Errc::busy when the file exists).

@@ -23,7 +23,8 @@ constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
 constexpr std::size_t kListHeadSize = 8;
 constexpr std::size_t kSlaveRecordSize = 32;
-constexpr std::size_t kMasterSize = 112;
+constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
+constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
 constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
 constexpr std::size_t kDiagHeadSize = 24;
@@ -32,7 +33,7 @@ constexpr std::size_t kRcTaskRecordSize = 8;
 constexpr std::size_t kOwnerStateSize = 16 + kMaxRcTasks * kRcTaskRecordSize;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxTasks * kTaskRecordSize <= kMaxPayload &&
+                  kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
               "every payload fits");
 
@@ -270,7 +271,7 @@ Status decode_reply(ConstByteSpan payload, Message& m) noexcept {
   }
   if (!is_known(type)) return out_of_range("request type");
   if (outcome > 1) return out_of_range("outcome");
-  if (reason > static_cast<std::uint8_t>(RefusalReason::clear_refused)) return out_of_range("refusal reason");
+  if (reason > static_cast<std::uint8_t>(RefusalReason::sender_table_full)) return out_of_range("refusal reason");
   if ((m.reply.refused_joints & ~kAllJoints) != 0) return out_of_range("refused joint mask");
   m.reply.request_type = static_cast<MessageType>(type);
   m.reply.outcome = static_cast<Outcome>(outcome);
@@ -344,7 +345,11 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
   m.tasks.count = r.u8();
   if (!r.zeros(7)) return malformed("reserved bytes not zero");
   if (m.tasks.count > kMaxTasks) return out_of_range("task count");
-  RESCUE_TRY(check_length(payload, kListHeadSize + m.tasks.count * kTaskRecordSize));
+  const std::size_t drops_at = kListHeadSize + m.tasks.count * kTaskRecordSize;
+  if (payload.size() < drops_at + kListHeadSize) return malformed("payload shorter than its drop counters' header", payload.size());
+  const std::uint8_t drop_count = payload[drops_at];
+  if (drop_count > kMaxDropCounters) return out_of_range("drop counter count");
+  RESCUE_TRY(check_length(payload, drops_at + kListHeadSize + drop_count * 8U));
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     TaskRecord& t = m.tasks.tasks[i];
     if (!r.text(t.name)) return malformed("task name not NUL-terminated");
@@ -369,6 +374,9 @@ Status decode_tasks(ConstByteSpan payload, Message& m) noexcept {
       f->p9999 = r.u32();
     }
   }
+  m.tasks.drop_count = r.u8();
+  if (!r.zeros(7)) return malformed("reserved bytes not zero");
+  for (std::size_t i = 0; i < m.tasks.drop_count; ++i) m.tasks.dropped[i] = r.u64();
   return Status::success();
 }
 
@@ -436,6 +444,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::get_master: return "get_master";
     case MessageType::get_tasks: return "get_tasks";
     case MessageType::get_diag: return "get_diag";
+    case MessageType::get_epoch: return "get_epoch";
     case MessageType::get_version: return "get_version";
     case MessageType::get_owner: return "get_owner";
     case MessageType::initialize: return "initialize";
@@ -456,6 +465,7 @@ const char* to_string(MessageType type) noexcept {
     case MessageType::master: return "master";
     case MessageType::tasks: return "tasks";
     case MessageType::diag: return "diag";
+    case MessageType::epoch: return "epoch";
     case MessageType::version: return "version";
     case MessageType::owner_state: return "owner_state";
   }
@@ -469,6 +479,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
     case MessageType::get_version:
     case MessageType::get_owner:
     case MessageType::initialize:
@@ -489,6 +500,7 @@ bool is_known(std::uint8_t type) noexcept {
     case MessageType::master:
     case MessageType::tasks:
     case MessageType::diag:
+    case MessageType::epoch:
     case MessageType::version:
     case MessageType::owner_state:
       return true;
@@ -498,7 +510,7 @@ bool is_known(std::uint8_t type) noexcept {
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return t >= 0x01 && t <= 0x07;
+  return (t >= 0x01 && t <= 0x05) || t == 0x07 || t == 0x08;  // get_epoch (0x06) is answered before any query
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
@@ -514,6 +526,8 @@ const char* to_string(Rejection reason) noexcept {
     case Rejection::replayed: return "replayed";
     case Rejection::out_of_range: return "out_of_range";
     case Rejection::unknown_type: return "unknown_type";
+    case Rejection::wrong_robot: return "wrong_robot";
+    case Rejection::sender_table_full: return "sender_table_full";
   }
   return "?";
 }
@@ -528,6 +542,7 @@ const char* to_string(RefusalReason reason) noexcept {
     case RefusalReason::busy: return "busy";
     case RefusalReason::bad_request: return "bad request";
     case RefusalReason::clear_refused: return "clear refused";
+    case RefusalReason::sender_table_full: return "sender table full";
   }
   return "?";
 }
@@ -584,10 +599,19 @@ Result<FrameView> parse_frame(ConstByteSpan datagram) noexcept {
   if (f.header.version != kVersion) return malformed("unsupported protocol version", f.header.version, kVersion);
   f.header.type = static_cast<MessageType>(p[5]);
   f.header.flags = p[6];
-  if (f.header.flags != 0 || p[7] != 0 || p[22] != 0 || p[23] != 0) return malformed("reserved header bytes not zero");
+  if (f.header.flags != 0 || p[7] != 0) return malformed("reserved header bytes not zero");
+  for (std::size_t i = 34; i < kHeaderSize; ++i) {
+    if (p[i] != 0) return malformed("reserved header bytes not zero");
+  }
   f.header.sender = load_le32(p + 8);
-  f.header.sequence = load_le64(p + 12);
-  f.header.payload_length = load_le16(p + 20);
+  f.header.robot = load_le32(p + 12);
+  f.header.epoch = load_le64(p + 16);
+  f.header.sequence = load_le64(p + 24);
+  f.header.payload_length = load_le16(p + 32);
+  // Only get_epoch may leave the robot and the epoch open; the robot's epoch answer never does.
+  const bool asks_epoch = f.header.type == MessageType::get_epoch;
+  if (asks_epoch && f.header.epoch != 0) return malformed("get_epoch with an epoch");
+  if (!asks_epoch && (f.header.epoch == 0 || f.header.robot == kAnyRobot)) return malformed("no robot id or no epoch");
   if (f.header.payload_length > kMaxPayload) {
     return make_error(Errc::capacity_exceeded, "payload length above the protocol's maximum", f.header.payload_length,
                       static_cast<std::uint32_t>(kMaxPayload));
@@ -614,6 +638,7 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
     case MessageType::get_version:
     case MessageType::get_owner:
       s = check_length(payload, 0);
@@ -638,6 +663,10 @@ Result<Message> decode_payload(const Header& header, ConstByteSpan payload) noex
     case MessageType::master: s = decode_master(payload, m); break;
     case MessageType::tasks: s = decode_tasks(payload, m); break;
     case MessageType::diag: s = decode_diag(payload, m); break;
+    case MessageType::epoch:
+      s = check_length(payload, kEpochSize);
+      if (s.ok()) m.epoch.request_sequence = load_le64(payload.data());
+      break;
     case MessageType::version: s = decode_version(payload, m); break;
     case MessageType::owner_state: s = decode_owner_state(payload, m); break;
   }
@@ -653,9 +682,11 @@ void encode_header(const Header& h, std::uint8_t* out) noexcept {
   w.u8(h.flags);
   w.u8(0);
   w.u32(h.sender);
+  w.u32(h.robot);
+  w.u64(h.epoch);
   w.u64(h.sequence);
   w.u16(h.payload_length);
-  w.u16(0);
+  w.zeros(6);
 }
 
 Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
@@ -667,6 +698,10 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
     case MessageType::get_master:
     case MessageType::get_tasks:
     case MessageType::get_diag:
+    case MessageType::get_epoch:
+      break;
+    case MessageType::epoch:
+      w.u64(m.epoch.request_sequence);
     case MessageType::get_version:
     case MessageType::get_owner:
       break;
@@ -821,6 +856,10 @@ Result<std::size_t> encode_payload(const Message& m, ByteSpan out) noexcept {
           w.u32(f->p9999);
         }
       }
+      const std::size_t drops = m.tasks.drop_count <= kMaxDropCounters ? m.tasks.drop_count : kMaxDropCounters;
+      w.u8(static_cast<std::uint8_t>(drops));
+      w.zeros(7);
+      for (std::size_t i = 0; i < drops; ++i) w.u64(m.tasks.dropped[i]);
       break;
     }
     case MessageType::diag: {

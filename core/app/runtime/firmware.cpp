@@ -2,11 +2,14 @@
 // objects; the runner's other pieces are in this folder (docs/firmware.md, "Code").
 #include "core/app/runtime/firmware.hpp"
 
+#include <sys/stat.h>
+
 #include <cinttypes>
 #include <cstdio>
 
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -24,6 +27,7 @@
 #include "core/app/shm/segment_layout.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_event_queue.hpp"
@@ -38,12 +42,16 @@
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/files/state_dir.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/wall_clock.hpp"
 
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
+
+// The joint manager has one write in flight at a time (tasks/error_joints_worker.hpp): two slots.
+constexpr std::size_t kSaveQueueDepth = 2;
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -70,6 +78,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (!dir.ok()) return fail("run", "cannot use the state directory", dir.error());
   (void)std::printf("rescue-motion run: nic %s, scenario %s, state directory %s (%s)\n", options.nic_text,
                     options.scenario.name, dir.value().path.c_str(), dir.value().source);
+  // StrictModes (docs/security.md): the state directory holds the key, the lock and the error-joints
+  // file; it and every directory above it must be ours or root's and writable by nobody else.
+  hal::FileProblem dir_problem;
+  if (!hal::check_trusted_directory(dir.value().path.c_str(), dir_problem).ok()) {
+    (void)std::fprintf(stderr, "rescue-motion run: state directory refused: %s\n", dir_problem.c_str());
+    return 1;
+  }
+  if (options.timing_out != nullptr) {
+    // Checked now, not after the run: a FIFO or a file given as the directory fails at once.
+    struct stat timing_dir {};
+    if (::stat(options.timing_out, &timing_dir) != 0 || !S_ISDIR(timing_dir.st_mode)) {
+      (void)std::fprintf(stderr, "rescue-motion run: --timing-out %s: not a directory (give an existing directory)\n",
+                         options.timing_out);
+      return 1;
+    }
+  }
   const int lock_status = take_instance_locks(options, dir.value().path.c_str());
   if (lock_status != 0) return lock_status;
   const int segment_status = create_segment(options, dir.value().path.c_str());
@@ -81,8 +105,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SeqlockSampleSource samples(links().samples);
   static SeqlockDemandSink demand_sink(links().demand);
   static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
-  static JointManager manager(JointManagerPorts{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
-                                                &demand_sink, &outcomes});
+  // The storage worker (a normal-priority thread of the joint manager's process) writes the file off
+  // the joint manager's period: one request in flight, its outcome back (tasks/error_joints_worker.hpp).
+  static SpscQueue<ErrorJointsSaveRequest, kSaveQueueDepth> save_request_queue;
+  static SpscQueue<ErrorJointsSaveResult, kSaveQueueDepth> save_result_queue;
+  static SpscMessageSink<ErrorJointsSaveRequest, kSaveQueueDepth> save_requests(save_request_queue);
+  static SpscMessageSource<ErrorJointsSaveResult, kSaveQueueDepth> save_results(save_result_queue);
+  static SpscMessageSource<ErrorJointsSaveRequest, kSaveQueueDepth> worker_requests(save_request_queue);
+  static SpscMessageSink<ErrorJointsSaveResult, kSaveQueueDepth> worker_results(save_result_queue);
+  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
+  JointManagerPorts manager_ports{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
+                                  &demand_sink, &outcomes};
+  manager_ports.save_requests = &save_requests;
+  manager_ports.save_results = &save_results;
+  static JointManager manager(manager_ports);
   manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
@@ -120,19 +156,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     if (!joined.ok()) return fail("run", "key file path", joined.error());
     key_path = joined.value();
   }
-  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str());
+  hal::FileProblem key_problem;
+  const Result<protocol::Key> key = protocol::load_key_file(key_path.c_str(), key_problem);
   const bool operator_port = key.ok();
   if (!key.ok()) {
     if (options.key_path != nullptr || key.error().code != Errc::not_found) {
-      (void)std::fprintf(stderr, "rescue-motion run: key file %s: %s\n", key_path.c_str(), key.error().what);
+      (void)std::fprintf(stderr, "rescue-motion run: key file refused: %s\n", key_problem.c_str());
       return 1;
     }
     (void)std::printf("rescue-motion run: no key file %s: operator and sensor ports closed "
                       "(create one with: rescue-motion ctl keygen --key %s)\n",
                       key_path.c_str(), key_path.c_str());
   }
-  static protocol::FileReplayStore replay_store(dir.value().path.c_str());
-  static protocol::ReplayWindow replay(replay_store);
+  static protocol::ReplayWindow replay;
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
@@ -145,6 +181,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.master = &links().master_status;
   socket_ports.diag = &links().link_diag;
   socket_ports.tasks = &links().task_stats;
+  socket_ports.drops = &links().run.dropped;
   socket_ports.motion = &links().motion;
   socket_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
   socket_ports.rc_tasks = kRcTasksRun;
@@ -154,22 +191,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   version.layout_hash = shm::kLayoutHash;
   protocol::set_text(version.build_type, build_type());
   socket_ports.version = &version;
-  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock);
+  static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
+                              options.robot_id);
   if (operator_port) {
-    const protocol::RestoreOutcome window = replay.restore(static_cast<std::uint64_t>(wall_clock.unix_time_ns()));
-    if (!window.file_status.ok() && window.file_status.error().code != Errc::not_found) {
-      (void)std::printf("rescue-motion run: replay-window file not used: %s; every sender starts at the robot's clock\n",
-                        window.file_status.error().what);
-    }
+    // A new epoch: every datagram made before this start is refused (docs/protocol.md "Replay protection").
+    replay.begin_epoch(protocol::new_epoch());
     SocketHandlerOptions socket_options;
     socket_options.listen = options.listen;
     socket_options.control_port = options.control_port;
     socket_options.sensor_port = options.sensor_port;
     const Status opened_ports = socket.open(socket_options);
     if (!opened_ports.ok()) return fail("run", "cannot open the UDP ports", opened_ports.error());
-    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s)\n", options.listen,
-                      static_cast<unsigned>(socket.control_port()), options.listen,
-                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str());
+    (void)std::printf("rescue-motion run: operator control port %s:%u, sensor port %s:%u (key %s, robot id %u)\n",
+                      options.listen, static_cast<unsigned>(socket.control_port()), options.listen,
+                      static_cast<unsigned>(socket.sensor_port()), key_path.c_str(), static_cast<unsigned>(options.robot_id));
   }
 
   static SelectedNic selected;
@@ -203,7 +238,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     ecat::CaptureWriterOptions capture_options;
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);
     const Status capture = g_run.capture.open(options.capture_path, capture_options);
-    if (!capture.ok()) return fail("run", "cannot open the capture file", capture.error());
+    if (!capture.ok()) {
+      (void)std::fprintf(stderr, "rescue-motion run: --capture: %s\n", g_run.capture.problem().c_str());
+      return fail("run", "cannot open the capture file", capture.error());
+    }
     bus.master().set_tap(ecat::capture_tap, &g_run.capture);  // bring-up: this thread writes directly
   }
   ecat::MasterOptions master_options;
@@ -212,7 +250,17 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
+  // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
+  // not stretch it (every frame of it waits for the one before); then this thread is given back its
+  // normal scheduling before it forks the tasks and supervises them.
+  const Result<hal::SchedulingState> normal = hal::save_scheduling();
+  const int handler_priority = runner_priority(TaskId::ethercat_handler);
+  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
+  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   const Status up = bus.bring_up(master_options, out_of_service);
+  if (raised && !hal::restore_scheduling(normal.value()).ok()) {
+    return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
+  }
   if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
   if (!up.ok()) {
     if (to_clear != 0) {
@@ -244,7 +292,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
   g_run.tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
                     &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
-                    &events,   &event_printer};
+                    &events,   &event_printer, &storage_worker};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);

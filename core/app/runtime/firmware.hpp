@@ -43,6 +43,7 @@ struct FirmwareOptions {
   std::uint16_t control_port{47010};
   std::uint16_t sensor_port{47011};
   const char* key_path{nullptr};     // nullptr: <state dir>/operator.key; absent there: no socket handler
+  std::uint32_t robot_id{1};         // this robot's identity in every datagram (--robot-id, robot_id; docs/protocol.md)
   struct Report* report{nullptr};    // filled at the end, for in-process tests (may be nullptr)
 };
 
@@ -53,7 +54,7 @@ struct Report {
   std::uint64_t frames_missing{0};   // frames late or lost (host jitter)
   std::uint64_t datagrams{0};
   std::uint64_t accepted{0};
-  std::array<std::uint64_t, 6> rejected{};
+  std::array<std::uint64_t, 8> rejected{};  // per protocol::Rejection
   std::uint16_t control_port{0};
   std::uint16_t sensor_port{0};
 };

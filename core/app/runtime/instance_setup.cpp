@@ -66,7 +66,7 @@ int create_segment(const FirmwareOptions& options, const char* state_dir) noexce
   shm::CreateReport report;
   Result<shm::SegmentOwner> created = shm::SegmentOwner::create(name, &report);
   if (!created.ok()) {
-    char line[256];
+    char line[512];
     (void)shm::describe_segment_error(name, created.error(), line, sizeof line);
     (void)std::fprintf(stderr, "rescue-motion run: %s; not starting\n", line);
     return 1;

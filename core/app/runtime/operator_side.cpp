@@ -14,6 +14,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
   request.type = type;
   request.joints = joints;
   if (links().local_requests.try_push(request)) return true;
+  run().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
   (void)std::printf("operator: request queue full, %s dropped\n", protocol::to_string(type));
   return false;
 }
@@ -73,7 +74,10 @@ void operator_side_pass(OperatorSide& side) noexcept {
       ControlRequest take;
       take.type = protocol::MessageType::take_owner;
       take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
-      if (!links().local_requests.try_push(take)) (void)std::printf("operator: request queue full, owner dropped\n");
+      if (!links().local_requests.try_push(take)) {
+        run().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
+        (void)std::printf("operator: request queue full, owner dropped\n");
+      }
     }
   }
   print_local_replies(clock.now() - g_run.tasks.start);

@@ -3,6 +3,7 @@
 // report. Only core/app/runtime/*.cpp include it.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 
 #include "core/app/config/firmware_config.hpp"
@@ -11,6 +12,7 @@
 #include "core/app/runtime/firmware.hpp"
 #include "core/app/shm/shared_segment.hpp"
 #include "core/app/sim/run_scenario.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_event_printer.hpp"
 #include "core/app/tasks/joint_event_queue.hpp"
@@ -48,6 +50,8 @@ struct TaskSet {
   hal::Nanoseconds start;
   JointEventQueue* joint_events;          // the joint manager's events (its process's or thread's)
   JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
+  // The error-joints file's writer: a normal-priority thread of the joint manager's process.
+  ErrorJointsStorageWorker* storage_worker;
 };
 
 struct RunContext {
@@ -61,6 +65,8 @@ struct RunContext {
   // may block, the 1 ms cycle must not).
   ecat::CaptureQueue capture_queue;
   TaskSet tasks{};
+  // Joint manager -> its storage worker (same process): end once the last write is done.
+  std::atomic<bool> storage_stop{false};
 };
 // Process-wide on purpose: a forked task process finds it at the same address, and the task entry
 // points (std::thread's, the supervisor's) take no argument. Defined in run_context.cpp.

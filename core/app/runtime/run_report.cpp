@@ -95,6 +95,9 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
                                   : "");
   }
   (void)std::printf("rescue-motion run: heap allocations after init: %" PRIu64 "\n", heap.allocations);
+  (void)std::printf("rescue-motion run: queues:");
+  for (std::size_t i = 0; i < kDropCounters; ++i) (void)std::printf(" %s %" PRIu64, kDropCounterNames[i], state.dropped[i].load());
+  (void)std::printf("\n");
   print_task_health(operator_port);
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);
@@ -167,6 +170,10 @@ void print_run_summary(const RunSummary& s) noexcept {
     (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, health.page_faults.load());
   }
   (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
+  // The queues between the tasks: what each dropped (or deferred), run_control.hpp's DropCounter.
+  for (std::size_t i = 0; i < kDropCounters; ++i) {
+    (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], links().run.dropped[i].load(std::memory_order_relaxed));
+  }
   char names[kJointNamesCapacity];
   format_joint_names(s.lost, names, sizeof names);
   std::size_t lost_count = 0;

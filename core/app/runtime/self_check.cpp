@@ -4,7 +4,10 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "drivers/cia402/cia402.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "ecat/capture/capture_tap.hpp"
+#include "ecat/capture/capture_writer.hpp"
 #include "ecat/master/al_control.hpp"
+#include "ecat/master/bring_up_report.hpp"
 #include "hal/files/instance_lock.hpp"
 
 namespace rescue::app {
@@ -40,15 +43,29 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
   hal::Clock& clock = selected.nic()->clock();
   static drivers::JointBus bus(*selected.nic());
+  // --capture: every frame of the check, written by this thread as it goes (nothing here is periodic).
+  static ecat::CaptureWriter capture;
+  if (options.capture_path != nullptr) {
+    ecat::CaptureWriterOptions capture_options;
+    capture_options.timestamp_offset = ecat::unix_time_offset(clock);
+    if (!capture.open(options.capture_path, capture_options).ok()) {
+      return failed(out, "cannot open the capture file", capture.problem().c_str());
+    }
+    bus.master().set_tap(ecat::capture_tap, &capture);
+  }
+  struct CaptureCloser {
+    ~CaptureCloser() {
+      if (capture.is_open()) (void)capture.close();
+    }
+  } const closer;
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
   const hal::Nanoseconds start = clock.now();
   const Status up = bus.bring_up(master_options);
   if (!up.ok()) {
-    const ecat::BringUpReport& b = bus.master().report();
-    char detail[160];
-    (void)std::snprintf(detail, sizeof detail, "at %s: %s", b.failed_step != nullptr ? b.failed_step : "?", b.error.what);
-    return failed(out, "bring-up", detail);
+    // The FAILED line is the report's first; the report's other lines follow it (bring_up_report.hpp).
+    ecat::print_bring_up_failure(out, "rescue-motion run --check: FAILED: ", "rescue-motion run --check: ", bus.master());
+    return 1;
   }
   r.slaves = bus.master().report().slaves_counted;
 

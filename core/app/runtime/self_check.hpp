@@ -1,6 +1,8 @@
 // `rescue-motion run --check` (docs/deploy.md): brings the EtherCAT network up to OP, exchanges
 // frames for a short while with every output zero (controlword 0: no drive is ever enabled), sends
-// every slave back to INIT, and prints one line saying what it saw. Exit status 0 when the network
+// every slave back to INIT, and prints one line saying what it saw; a failed bring-up's line is
+// followed by the rest of its report (ecat/master/bring_up_report.hpp: the network's differences from
+// the plan, the slave that refused a state and its AL status code, a refused SDO, the link's counters). Exit status 0 when the network
 // reached OP, no drive reported Operation enabled, and every slave answered INIT; 1 otherwise. A raw
 // interface is locked first (hal/files/instance_lock.hpp): a running service keeps it, and the check refuses.
 #pragma once
@@ -18,6 +20,7 @@ struct SelfCheckOptions {
   const char* nic_text{"sim"};
   hal::Nanoseconds op_timeout{5 * hal::kNsPerSec};      // from SAFE-OP to OP
   hal::Nanoseconds hold_in_op{200 * hal::kNsPerMs};     // frames exchanged in OP before going back
+  const char* capture_path{nullptr};  // every frame of the check recorded there (pcapng), when given
 };
 
 struct SelfCheckReport {

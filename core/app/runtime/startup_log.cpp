@@ -7,14 +7,12 @@
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "ecat/master/bring_up_report.hpp"
 
 namespace rescue::app::runner {
 
 int report_bring_up_failure(drivers::JointBus& bus) noexcept {
-  const ecat::BringUpReport& report = bus.master().report();
-  (void)std::fprintf(stderr, "rescue-motion run: bring-up failed at %s: %s (%s)\n",
-                     report.failed_step != nullptr ? report.failed_step : "?", report.error.what,
-                     to_string(report.error.code));
+  ecat::print_bring_up_failure(stderr, "rescue-motion run: ", "rescue-motion run: ", bus.master());
   return 1;
 }
 

@@ -28,6 +28,8 @@ constexpr hal::Nanoseconds kJointManagerPeriod = config::kJointManagerPeriodNs;
 constexpr hal::Nanoseconds kParserPeriod = config::kMessageParserPeriodNs;
 constexpr int kSocketWaitMs = config::kSocketWaitMs;
 constexpr hal::Nanoseconds kRescueSettle = config::kRescueSettleNs;
+constexpr hal::Nanoseconds kFileDrainLimit = config::kFileDrainLimitNs;
+constexpr hal::Nanoseconds kStorageWorkerPoll = config::kStorageWorkerPollNs;
 
 // The CPU a task asks for, or the machine's last one when it has fewer (announced by the RT report).
 int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
@@ -136,6 +138,26 @@ void run_periods(const std::atomic<bool>& stop, hal::Clock& clock, hal::Nanoseco
   }
 }
 
+// A queue's drop counter in the segment (run_control.hpp), written by the task at its producing end:
+// what this process's object counted since it last published (a restarted task process adds its own).
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): one writer per entry, the producing task
+std::array<std::uint64_t, kDropCounters> g_drops_published{};
+void publish_drops(DropCounter which, std::uint64_t count) noexcept {
+  const auto i = static_cast<std::size_t>(which);
+  if (count == g_drops_published[i]) return;
+  run().dropped[i].fetch_add(count - g_drops_published[i], std::memory_order_relaxed);
+  g_drops_published[i] = count;
+}
+
+void publish_handler_drops(EthercatHandler& handler) noexcept {
+  const ecat::Master& master = handler.bus().master();
+  publish_drops(DropCounter::events_dropped, handler.events_dropped());
+  publish_drops(DropCounter::reports_dropped, master.monitor().reports_dropped());
+  publish_drops(DropCounter::warnings_dropped, master.diagnostics().warnings_dropped());
+  publish_drops(DropCounter::capture_frames_dropped, g_run.capture_queue.stats().frames_dropped);
+  publish_drops(DropCounter::power_cycle_reports_dropped, handler.power_cycle_reports_dropped());
+}
+
 std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
 
 // The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
@@ -209,6 +231,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     master.lost = bus.master().monitor().lost();
     links().master_status.write(master);
     publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
+    publish_handler_drops(handler);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     state.late_periods.store(master.late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
@@ -259,9 +282,19 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
               [&manager](hal::Nanoseconds start) noexcept {
                 manager.step(start);
                 links().joint_status.write(published_status(manager.statuses()));
+                publish_drops(DropCounter::joint_events_dropped, g_run.tasks.joint_events->dropped());
+                publish_drops(DropCounter::outcomes_deferred, manager.outcomes_deferred());
               });
-  manager.step(clock.now());  // the last answers and marks
-  links().joint_status.write(published_status(manager.statuses()));
+  // The last answers and marks. The periods are over: a write of the file still in flight (or failing)
+  // is waited for here, within kFileDrainLimit, so the run's end says whether the file is current.
+  const hal::Nanoseconds drain_until = clock.now() + kFileDrainLimit;
+  for (;;) {
+    manager.step(clock.now());
+    links().joint_status.write(published_status(manager.statuses()));
+    if (!manager.file_dirty() || clock.now() >= drain_until) break;
+    clock.sleep_until(clock.now() + kJointManagerPeriod);
+  }
+  g_run.storage_stop.store(true, std::memory_order_release);
   stats.publish();
   health.report();
   state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
@@ -292,7 +325,10 @@ void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
   TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
   TaskHealthProbe health(StatTask::message_parser);
   run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, stats,
-              [&parser](hal::Nanoseconds start) noexcept { parser.step(start); });
+              [&parser](hal::Nanoseconds start) noexcept {
+                parser.step(start);
+                publish_drops(DropCounter::replies_dropped, parser.replies_dropped());
+              });
   stats.publish();
   health.report();
 }
@@ -309,6 +345,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
     const std::uint64_t work_start = timer.start();
     socket.step(start);
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
+    publish_drops(DropCounter::requests_dropped, socket.counters().forwarded_dropped);
   }
   // A restarted socket handler keeps its predecessors' maximum.
   std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
@@ -329,5 +366,16 @@ void run_parser() noexcept { parser_task(*g_run.tasks.parser, *g_run.tasks.opera
 void run_socket() noexcept { socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock); }
 void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock); }
 void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock); }
+
+void run_storage_worker() noexcept {
+  ErrorJointsStorageWorker& worker = *g_run.tasks.storage_worker;
+  hal::MonotonicClock clock;  // a normal-priority thread: it may wait, for the disk and here
+  for (;;) {
+    const bool stopping = g_run.storage_stop.load(std::memory_order_acquire);
+    if (worker.serve_one()) continue;
+    if (stopping && !worker.holding()) break;
+    clock.sleep_until(clock.now() + kStorageWorkerPoll);
+  }
+}
 
 }  // namespace rescue::app::runner

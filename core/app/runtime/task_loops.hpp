@@ -14,5 +14,8 @@ void run_socket() noexcept;
 // The RC tasks on the handler's clock (the heartbeats and reference times its intake compares).
 void run_rc_rescue() noexcept;
 void run_rc_teleop() noexcept;
+// The error-joints storage worker (tasks/error_joints_worker.hpp) at normal priority, in the joint
+// manager's process (or the one process with --threads): until the joint manager ended.
+void run_storage_worker() noexcept;
 
 }  // namespace rescue::app::runner

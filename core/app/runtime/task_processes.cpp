@@ -12,6 +12,7 @@
 
 #include "core/app/config/command_line.hpp"
 #include "core/app/config/task_table.hpp"
+#include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -36,7 +37,7 @@ int attach_task_process(const char* task) noexcept {
   hal::MonotonicClock clock;
   const Result<shm::SegmentAttachment> attached = shm::SegmentAttachment::attach(g_run.segment.name(), clock, kAttachLimit);
   if (!attached.ok()) {
-    char line[256];
+    char line[512];
     (void)shm::describe_segment_error(g_run.segment.name(), attached.error(), line, sizeof line);
     (void)std::fprintf(stderr, "rescue-motion run: %s: %s\n", task, line);
     return 5;
@@ -80,17 +81,25 @@ int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
+// The joint manager's process also runs its storage worker, a thread at normal priority created
+// here (before the task's thread takes its real-time priority): the file is written off the period.
 int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("joint-manager", "joint-manager", run_manager, manager_side_pass);
+  g_run.storage_stop.store(false, std::memory_order_relaxed);
+  std::thread storage(run_storage_worker);
+  const int status = task_process("joint-manager", "joint-manager", run_manager, manager_side_pass);
+  g_run.storage_stop.store(true, std::memory_order_release);  // also when the task did not run
+  storage.join();
+  return status;
 }
 int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return task_process("message-parser", "message-parser", run_parser, nullptr);
 }
 int socket_process(void* /*context*/, unsigned incarnation) noexcept {
-  // A restarted socket handler reads the persisted replay windows again: no old message reopens.
-  // It also counts on from the counters its predecessor published.
+  // A restarted socket handler begins a new epoch: its predecessor's replay windows died with it, so
+  // every datagram of the old epoch is refused (docs/protocol.md "Replay protection"). It counts on
+  // from the counters its predecessor published.
   if (incarnation > 0) {
-    (void)g_run.tasks.replay->restore(static_cast<std::uint64_t>(g_run.tasks.wall_clock->unix_time_ns()));
+    g_run.tasks.replay->begin_epoch(protocol::new_epoch());
     SocketCounters published{};
     if (links().socket_counters.try_read(published)) g_run.tasks.socket->resume_counters(published);
   }

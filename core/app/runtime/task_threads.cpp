@@ -18,6 +18,8 @@ int run_task_threads(OperatorSide& side) noexcept {
   start_task_timing();
   (void)std::fflush(stdout);
   RunControl& state = run();
+  g_run.storage_stop.store(false, std::memory_order_relaxed);
+  std::thread storage_thread(run_storage_worker);  // normal priority: created by this (normal) thread
   std::thread manager_thread(run_manager);
   std::thread handler_thread(run_handler);
   std::thread parser_thread(run_parser);
@@ -50,6 +52,7 @@ int run_task_threads(OperatorSide& side) noexcept {
   teleop_thread.join();
   state.manager_stop.store(true, std::memory_order_release);
   manager_thread.join();
+  storage_thread.join();  // ends once the joint manager ended (storage_stop)
   handler_side_pass();
   manager_side_pass();
   if (g_run.tasks.options->capture_path != nullptr) {

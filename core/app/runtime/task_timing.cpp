@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/rt/rt_setup.hpp"
 
 namespace rescue::app {
@@ -63,8 +64,16 @@ Status write_file(const char* dir, const char* name, bool (*write)(std::FILE*, S
   char path[512];
   const int n = std::snprintf(path, sizeof path, "%s/%s", dir, name);
   if (n < 0 || static_cast<std::size_t>(n) >= sizeof path) return make_error(Errc::invalid_argument, "--timing-out path too long");
-  std::FILE* out = std::fopen(path, "w");
-  if (out == nullptr) return make_error(Errc::io_error, "cannot create the timing file (does the directory exist?)");
+  // A regular file only, never through a link, never a FIFO or device (hal/files/trusted_file.hpp).
+  hal::FileProblem why;
+  Result<hal::OpenFile> file = hal::open_regular_for_write(path, 0644, why);
+  if (!file.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion run: --timing-out: %s\n", why.c_str());
+    return make_error(Errc::io_error, "cannot create the timing file (does the directory exist?)");
+  }
+  std::FILE* out = ::fdopen(file.value().fd(), "w");
+  if (out == nullptr) return make_error(Errc::io_error, "cannot create the timing file");
+  (void)file.value().release();  // the FILE owns it now
   const PeriodRecorder* recorders[kMaxRecorders] = {};
   const std::size_t count = recorders_that_ran(recorders);
   const bool written = write(out, Span<const PeriodRecorder* const>(recorders, count));

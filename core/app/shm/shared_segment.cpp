@@ -1,5 +1,7 @@
 #include "core/app/shm/shared_segment.hpp"
 
+#include <unistd.h>
+
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -215,6 +217,10 @@ std::size_t describe_segment_error(const SegmentName& name, const Error& error, 
   } else if (error.code == Errc::busy) {
     n = std::snprintf(buffer, size, "segment %s is in use by a running process (pid %" PRIu32 "); not replaced",
                       name.c_str(), error.detail0);
+  } else if (error.code == Errc::permission_denied && std::strcmp(error.what, hal::kForeignSegment) == 0) {
+    n = std::snprintf(buffer, size, "segment %s is owned by uid %" PRIu32 ", not ours (uid %u); refused, left as it is "
+                      "(remove it as that user or root: rm /dev/shm%s; or use another --segment)",
+                      name.c_str(), error.detail0, static_cast<unsigned>(::geteuid()), name.c_str());
   } else if (error.code == Errc::timeout) {
     n = std::snprintf(buffer, size, "segment %s: %s (%s)", name.c_str(), error.what,
                       error.detail0 != 0 ? "it exists but its ready word is not set" : "no segment of that name");

@@ -109,7 +109,8 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       back.cycle = result.cycle;
       back.detected_at = now;
       back.back_after_power_cycle = link.joints;
-      (void)report_sink_.try_send(back);  // full queue: no automatic clear, the operator's stays possible
+      // Full queue: counted; no automatic clear then, the operator's stays possible.
+      if (!report_sink_.try_send(back)) ++power_cycle_reports_dropped_;
     }
   }
   // After the reports above: a joint back after a power cycle is queued before it shows reachable.

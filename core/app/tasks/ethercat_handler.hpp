@@ -68,6 +68,8 @@ class EthercatHandler {
   // Events for the logger (single consumer).
   [[nodiscard]] bool pop_event(HandlerEvent& out) noexcept { return events_.try_pop(out); }
   std::uint64_t events_dropped() const noexcept { return events_dropped_; }
+  // "Back after a power cycle" reports a full report queue could not take (no automatic clear then).
+  std::uint64_t power_cycle_reports_dropped() const noexcept { return power_cycle_reports_dropped_; }
 
   const LostJointTracker& tracker() const noexcept { return tracker_; }
   drivers::JointBus& bus() noexcept { return bus_; }
@@ -100,6 +102,7 @@ class EthercatHandler {
   RobotDemand demand_{};
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
+  std::uint64_t power_cycle_reports_dropped_{0};
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
   JointMask last_pending_{0};

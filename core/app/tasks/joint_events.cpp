@@ -81,8 +81,12 @@ std::size_t format_event(const JointEvent& e, char* out, std::size_t capacity) n
                         static_cast<unsigned long long>(e.count), e.joints != 0 ? ", adding " : "", e.joints != 0 ? names : "");
       break;
     case JointEventKind::reconfiguration_step:
-      n = std::snprintf(out, capacity, "reconfiguration step %s: %s",
-                        e.step < sizeof kStepWhat / sizeof kStepWhat[0] ? kStepWhat[e.step] : "?", names);
+      n = e.error.code == Errc::ok
+              ? std::snprintf(out, capacity, "reconfiguration step %s: %s",
+                              e.step < sizeof kStepWhat / sizeof kStepWhat[0] ? kStepWhat[e.step] : "?", names)
+              : std::snprintf(out, capacity, "reconfiguration step %s: %s (the error-joints file does NOT hold them "
+                                             "yet: %s; retrying)",
+                              e.step < sizeof kStepWhat / sizeof kStepWhat[0] ? kStepWhat[e.step] : "?", names, e.error.what);
       break;
     case JointEventKind::file_written:
       n = std::snprintf(out, capacity, "error-joints file written (sequence %llu): %s",

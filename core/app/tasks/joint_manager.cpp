@@ -34,7 +34,7 @@ JointEvent joint_event(JointEventKind kind, std::size_t joint, hal::Nanoseconds 
 JointManager::JointManager(const JointManagerPorts& ports) noexcept : ports_(ports) {
   assert(ports.reports != nullptr && ports.notices != nullptr && ports.commands != nullptr &&
          ports.samples != nullptr && ports.storage != nullptr && ports.wall_clock != nullptr &&
-         ports.events != nullptr);
+         ports.events != nullptr && ports.save_requests != nullptr && ports.save_results != nullptr);
   publish();
 }
 
@@ -56,6 +56,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   report.file_status = decoded.status;
   report.records_dropped = decoded.records_rejected;
   recorded_ = decoded.contents;
+  durable_joints_ = recorded_.joints();
   const bool damaged = !decoded.status.ok();
   if (damaged) report.salvaged = recorded_.joints();
   bool rewrite = false;
@@ -127,7 +128,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
     }
     rewrite = true;
   }
-  if (rewrite && !recorded_.records.empty()) (void)persist(recorded_, now);
+  if (rewrite && !recorded_.records.empty()) write_at_start_up(now);
   if (report.restored != 0 || decoded.status.ok()) {
     JointEvent e = event(JointEventKind::file_restored, now);
     e.joints = report.restored;
@@ -147,13 +148,21 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
     handle_report(report, now);
   }
   note_returned_joints(now);
+  collect_file_results(now);
   auto_clear_returned(now);
   flush_notices();
-  if (file_dirty_ && now >= next_write_retry_) (void)persist(recorded_, now);
+  flush_outcome();
+  continue_request(now);  // the steps of an all-or-nothing request behind a clear, once it is durable
+  // The joint handle queue in order: the commands behind a clear wait for its durable write (a reset
+  // after a clear needs the loss unlatched), and none is taken while an outcome waits for room.
   JointCommand command;
-  for (std::size_t n = 0; n < kMaxCommandsPerStep && ports_.commands->try_receive(command); ++n) {
+  for (std::size_t n = 0; n < kMaxCommandsPerStep && !clear_.active && !outcome_deferred_ &&
+                          ports_.commands->try_receive(command);
+       ++n) {
     receive_command(command, now);
   }
+  send_file_write(now);
+  collect_file_results(now);  // a write already durable is answered in this period
   monitor(now);
   publish();
 }
@@ -167,16 +176,15 @@ double JointManager::offset_from_held(std::size_t j) const noexcept {
 
 void JointManager::auto_clear_returned(hal::Nanoseconds now) noexcept {
   auto_clear_pending_ &= lost_;
+  if (clear_.active) return;  // one clear at a time: these wait for the one in flight
   JointMask ready = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((auto_clear_pending_ & joint_bit(j)) != 0 && sample_[j].reachable) ready |= joint_bit(j);
   }
   if (ready == 0) return;
   auto_clear_pending_ &= ~ready;
-  (void)clear_lost_joints(ready, now, 0, true);  // refusals (e.g. moved from the held position) are logged
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((ready & joint_bit(j)) != 0 && (lost_ & joint_bit(j)) == 0) (void)dispatch(j, JointInput::reset, now);
-  }
+  // Refusals (e.g. moved from the held position) are logged; the reset follows the durable write.
+  (void)clear_lost_joints(ready, now, 0, true);
 }
 
 void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
@@ -218,40 +226,60 @@ void JointManager::handle_report(const LostJointsReport& report, hal::Nanosecond
   emit_step(2, fresh, now);
 
   // Step 3: the file lists every joint lost so far, not only this report's, so no joint's record is
-  // ever dropped by a later write.
-  Status file = file_dirty_ ? Status(make_error(Errc::io_error, "error-joints file not yet written")) : Status::success();
-  if (fresh != 0) {
-    ErrorJointsContents next = recorded_;
+  // ever dropped by a later write. The storage worker writes it (send_file_write); steps 3 and 4
+  // complete when it reports the write durable (on_durable).
+  const JointMask to_record = reported & ~recorded_.joints();
+  if (to_record != 0) {
     const std::int64_t wall = ports_.wall_clock->unix_time_ns();
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((fresh & joint_bit(j)) == 0) continue;
+      if ((to_record & joint_bit(j)) == 0) continue;
       LostJointRecord r;
       r.joint = static_cast<std::uint8_t>(j);
       r.reason = FaultReason::comm_lost;
       r.last_position_counts = drivers::rad_to_counts(last_position[j]);  // the file keeps the encoder's count
       r.time_unix_ns = wall;
       r.cycle = report.cycle;
-      (void)next.records.push_back(r);  // cannot fail: fresh joints are not recorded yet
+      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
     }
-    file = persist(next, now);
-    if (!file.ok()) recorded_ = next;  // memory holds the truth; persist() retries later
+    ++intent_version_;
   }
-  emit_step(3, fresh, now);
+  if (clear_.active && (clear_.joints & reported) != 0) {
+    // Lost again while its clear is being written: it stays lost, and the next write keeps it.
+    clear_.joints &= ~reported;
+    ++intent_version_;
+  }
+  // Step 4: answer now when the file already holds them durably, else once it does.
+  if ((reported & ~durable_joints_) == 0 && !file_dirty()) {
+    answer(reported, report.cycle, Error{}, now);
+  } else if (!answers_.push_back(PendingAnswer{reported, report.cycle, intent_version_, false})) {
+    PendingAnswer& last = answers_.back();  // full: folded into the last one, no joint forgotten
+    last.joints |= reported;
+    last.cycle = report.cycle;
+    last.version = intent_version_;
+  }
 
-  // Step 4: answer, with whether the file holds them.
-  JointManagerNotice answer;
-  answer.kind = NoticeKind::lost_joints_recorded;
-  answer.joints = reported;
-  answer.cycle = report.cycle;
-  answer.file_status = file.ok() ? Errc::ok : file.error().code;
-  send_notice(answer, now);
-  emit_step(4, reported, now);
-
-  // Step 5: comm_lost into each DFA (safety does not wait for the disk: a failed write changes nothing here).
+  // Step 5: comm_lost into each DFA at once (safety does not wait for the disk).
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((fresh & joint_bit(j)) != 0) latch_loss(j, FaultReason::comm_lost, last_position[j], now);
   }
   emit_step(5, fresh, now);
+}
+
+// Steps 3 and 4 for `joints`: with `file` ok, the file holds them durably; else the answer says why
+// it does not yet (the write is retried, and answered again once durable).
+void JointManager::answer(JointMask joints, std::uint64_t cycle, const Error& file, hal::Nanoseconds now) noexcept {
+  if (file.code == Errc::ok) emit_step(3, joints, now);
+  JointManagerNotice notice;
+  notice.kind = NoticeKind::lost_joints_recorded;
+  notice.joints = joints;
+  notice.cycle = cycle;
+  notice.file_status = file.code;
+  send_notice(notice, now);
+  JointEvent e = event(JointEventKind::reconfiguration_step, now);
+  e.step = 4;
+  e.joints = joints;
+  e.error = file;
+  emit(e);
 }
 
 void JointManager::latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept {
@@ -283,24 +311,25 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
   if (command.kind == JointCommandKind::clear_lost || command.kind == JointCommandKind::clear_lost_moved) {
     const JointMask joints = command.joints & kAllJoints;
     const JointMask confirmed = command.kind == JointCommandKind::clear_lost_moved ? joints : 0;
-    // Each joint's reason, judged before the clear (which changes lost_).
+    // Each joint's reason, judged before the clear starts (a refused joint is named with its own).
     std::array<protocol::JointRefusal, kJointCount> why{};
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if ((joints & joint_bit(j)) != 0) why[j] = clear_refusal(j, lost_, (confirmed & joint_bit(j)) != 0);
     }
-    const Status cleared = clear_lost_joints(joints, now, confirmed);
+    (void)clear_lost_joints(joints, now, confirmed);  // each refusal is logged
+    const JointMask accepted = clear_.active ? clear_.requested : 0;
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((joints & joint_bit(j)) == 0) continue;
-      if (why[j] != protocol::JointRefusal::none) {
-        refuse(j, CommandRefusal::clear_refused, why[j]);
-      } else if ((lost_ & joint_bit(j)) != 0) {  // judged clearable, yet not cleared: the file write failed
-        refuse(j, CommandRefusal::clear_refused, protocol::JointRefusal::file_not_written);
-      } else {
-        outcome.applied |= joint_bit(j);
-      }
+      if ((joints & ~accepted & joint_bit(j)) == 0) continue;
+      refuse(j, CommandRefusal::clear_refused,
+             why[j] != protocol::JointRefusal::none ? why[j] : protocol::JointRefusal::file_not_written);
     }
-    if (!cleared.ok()) ++refused_commands_;
-    report_outcome(outcome);
+    if (accepted == 0) {
+      ++refused_commands_;
+      report_outcome(outcome);
+      return;
+    }
+    clear_.has_outcome = true;  // reported when the write is durable (finish_clear)
+    clear_.outcome = outcome;
     return;
   }
   for (std::size_t j = 0; j < kJointCount; ++j) {
@@ -344,7 +373,6 @@ void JointManager::receive_command(const JointCommand& command, hal::Nanoseconds
     if (command.all_or_nothing && command.request != 0 && command.steps <= 1) {
       (void)batch_.push_back(command);
       apply_request(now);
-      batch_.clear();
       return;
     }
     apply_command(command, now);
@@ -360,7 +388,6 @@ void JointManager::receive_command(const JointCommand& command, hal::Nanoseconds
   (void)batch_.push_back(command);
   if (batch_.size() < command.steps) return;  // the rest follows
   apply_request(now);
-  batch_.clear();
 }
 
 protocol::JointRefusal JointManager::clear_refusal(std::size_t j, JointMask lost, bool confirmed_moved) const noexcept {
@@ -389,6 +416,17 @@ protocol::JointRefusal JointManager::dfa_refusal(std::size_t j, const JointComma
   context.requested_mode = command.mode;
   context.actual_position_rad = sample_[j].position_rad;
   return machine.accepts(context, command.input) ? protocol::JointRefusal::none : protocol::JointRefusal::state_machine;
+}
+
+void JointManager::continue_request(hal::Nanoseconds now) noexcept {
+  // A clear is durable only once the storage worker has written it: the steps behind it wait.
+  if (!batch_running_) return;
+  while (batch_next_ < batch_.size() && !clear_.active) apply_command(batch_[batch_next_++], now);
+  if (batch_next_ >= batch_.size()) {
+    batch_.clear();
+    batch_next_ = 0;
+    batch_running_ = false;
+  }
 }
 
 void JointManager::apply_request(hal::Nanoseconds now) noexcept {
@@ -437,7 +475,9 @@ void JointManager::apply_request(hal::Nanoseconds now) noexcept {
     lost &= ~cleared;
   }
   if (refusal.refused == 0) {
-    for (const JointCommand& command : batch_) apply_command(command, now);
+    batch_next_ = 0;
+    batch_running_ = true;
+    continue_request(now);
     return;
   }
   // Refused: nothing changes. The log names each blocking joint; the parser gets one outcome per step.
@@ -458,12 +498,22 @@ void JointManager::apply_request(hal::Nanoseconds now) noexcept {
     nothing.kind = batch_[s].kind;
     report_outcome(nothing);
   }
+  batch_.clear();
 }
 
 void JointManager::report_outcome(const JointCommandOutcome& outcome) noexcept {
   if (outcome.request == 0 || ports_.outcomes == nullptr) return;
-  // The parser times a request out when an outcome never comes: a full queue loses nothing else.
-  if (!ports_.outcomes->try_send(outcome)) ++outcomes_dropped_;
+  if (!outcome_deferred_ && ports_.outcomes->try_send(outcome)) return;
+  // Full: kept and resent; no further command is applied until it went (so there is only ever one).
+  deferred_outcome_ = outcome;
+  outcome_deferred_ = true;
+  ++outcomes_deferred_;
+}
+
+void JointManager::flush_outcome() noexcept {
+  if (outcome_deferred_ && ports_.outcomes != nullptr && ports_.outcomes->try_send(deferred_outcome_)) {
+    outcome_deferred_ = false;
+  }
 }
 
 Status JointManager::dispatch(std::size_t j, JointInput input, hal::Nanoseconds now) noexcept {
@@ -527,18 +577,16 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, J
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) == 0) continue;
     Error refusal{};
-    switch (clear_refusal(j, lost_, (confirmed_moved & joint_bit(j)) != 0)) {
-      case protocol::JointRefusal::not_lost:
-        refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
-        break;
-      case protocol::JointRefusal::still_unreachable:
-        refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
-        break;
-      case protocol::JointRefusal::moved:
-        refusal = make_error(Errc::refused, "position differs from the held position in the file: confirm the clear",
-                             static_cast<std::uint32_t>(j));
-        break;
-      default: break;
+    if (clear_.active) {
+      refusal = make_error(Errc::refused, "another clear is being written", static_cast<std::uint32_t>(j));
+    } else if ((lost_ & joint_bit(j)) == 0) {
+      refusal = make_error(Errc::refused, "joint is not recorded as lost", static_cast<std::uint32_t>(j));
+    } else if (!sample_[j].reachable) {
+      refusal = make_error(Errc::refused, "joint still unreachable: repair it first", static_cast<std::uint32_t>(j));
+    } else if ((confirmed_moved & joint_bit(j)) == 0 &&
+               (offset_from_held(j) > kHeldPositionToleranceRad || offset_from_held(j) < -kHeldPositionToleranceRad)) {
+      refusal = make_error(Errc::refused, "position differs from the held position in the file: confirm the clear",
+                           static_cast<std::uint32_t>(j));
     }
     if (refusal.code == Errc::ok) {
       accepted |= joint_bit(j);
@@ -554,57 +602,158 @@ Status JointManager::clear_lost_joints(JointMask joints, hal::Nanoseconds now, J
                                           : Status(make_error(Errc::invalid_argument, "no joint to clear"));
   }
 
-  ErrorJointsContents next;
-  next.sequence = recorded_.sequence;
-  for (const LostJointRecord& r : recorded_.records) {
-    if ((accepted & joint_bit(r.joint)) == 0) (void)next.records.push_back(r);
-  }
-  const Status saved = persist(next, now);  // durable first: a clear that is not on disk did not happen
-  if (!saved.ok()) {
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((accepted & joint_bit(j)) == 0) continue;
-      JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
-      e.error = saved.error();
-      emit(e);
-    }
-    return saved;
-  }
-  lost_ &= ~accepted;
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((accepted & joint_bit(j)) == 0) continue;
-    joints_[j].context.loss_latched = false;
-    emit(joint_event(automatic ? JointEventKind::auto_cleared : JointEventKind::operator_cleared, j, now));
-  }
-  JointManagerNotice notice;
-  notice.kind = NoticeKind::joints_cleared;
-  notice.joints = accepted;
-  send_notice(notice, now);
-  publish();
-  if (first_refusal.code != Errc::ok) return first_refusal;  // the others were cleared
+  // Durable first: a clear that is not on disk did not happen. The joints leave the file with the
+  // next write; finish_clear unlatches them once the worker reports it durable.
+  clear_ = PendingClear{};
+  clear_.active = true;
+  clear_.requested = accepted;
+  clear_.joints = accepted;
+  clear_.automatic = automatic;
+  clear_.version = ++intent_version_;
+  if (first_refusal.code != Errc::ok) return first_refusal;  // the others are being cleared
   return Status::success();
 }
 
-Status JointManager::persist(const ErrorJointsContents& next, hal::Nanoseconds now) noexcept {
-  ErrorJointsContents numbered = next;
+void JointManager::finish_clear(const Error& file, hal::Nanoseconds now) noexcept {
+  const JointMask cleared = file.code == Errc::ok ? clear_.joints : 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((clear_.requested & ~cleared & joint_bit(j)) == 0) continue;
+    JointEvent e = joint_event(JointEventKind::operator_clear_refused, j, now);
+    e.error = file.code != Errc::ok ? file
+                                    : make_error(Errc::refused, "lost again before the clear was written",
+                                                 static_cast<std::uint32_t>(j));
+    emit(e);
+  }
+  if (cleared != 0) {
+    ErrorJointsContents kept;
+    kept.sequence = recorded_.sequence;
+    for (const LostJointRecord& r : recorded_.records) {
+      if ((cleared & joint_bit(r.joint)) == 0) (void)kept.records.push_back(r);
+    }
+    recorded_ = kept;
+    lost_ &= ~cleared;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((cleared & joint_bit(j)) == 0) continue;
+      joints_[j].context.loss_latched = false;
+      emit(joint_event(clear_.automatic ? JointEventKind::auto_cleared : JointEventKind::operator_cleared, j, now));
+    }
+    JointManagerNotice notice;
+    notice.kind = NoticeKind::joints_cleared;
+    notice.joints = cleared;
+    send_notice(notice, now);
+    if (clear_.automatic) {
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        if ((cleared & joint_bit(j)) != 0) (void)dispatch(j, JointInput::reset, now);
+      }
+    }
+  }
+  if (clear_.has_outcome) {
+    JointCommandOutcome outcome = clear_.outcome;
+    outcome.applied |= cleared;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((clear_.requested & ~cleared & joint_bit(j)) == 0) continue;
+      if (outcome.refused == 0) {
+        outcome.first_reason = CommandRefusal::clear_refused;
+        outcome.first_joint = static_cast<std::uint8_t>(j);
+        outcome.first_state = joints_[j].machine.state();
+      }
+      outcome.refused |= joint_bit(j);
+      outcome.notes[j] = JointRefusalNote{protocol::JointRefusal::file_not_written, joints_[j].machine.state(), outcome.input};
+    }
+    if (outcome.refused != 0) ++refused_commands_;
+    report_outcome(outcome);
+  }
+  clear_ = PendingClear{};
+  publish();
+}
+
+// Sends what the file must hold now (every joint recorded lost, less those whose clear is pending)
+// when it changed, no write is in flight, and a failed write's retry period has passed.
+void JointManager::send_file_write(hal::Nanoseconds now) noexcept {
+  if (in_flight_ || !file_dirty() || now < next_write_retry_) return;
+  const JointMask clearing = clear_.active ? clear_.joints : 0;
+  ErrorJointsContents next;
+  next.sequence = recorded_.sequence + 1;
+  for (const LostJointRecord& r : recorded_.records) {
+    if ((clearing & joint_bit(r.joint)) == 0) (void)next.records.push_back(r);
+  }
+  if (!ports_.save_requests->try_send(ErrorJointsSaveRequest::of(next))) return;  // cannot be full: one in flight
+  in_flight_ = true;
+  in_flight_version_ = intent_version_;
+  in_flight_sequence_ = next.sequence;
+  in_flight_joints_ = next.joints();
+}
+
+void JointManager::collect_file_results(hal::Nanoseconds now) noexcept {
+  ErrorJointsSaveResult result;
+  while (ports_.save_results->try_receive(result)) {
+    if (!in_flight_ || result.sequence != in_flight_sequence_) continue;  // not ours (cannot happen)
+    in_flight_ = false;
+    if (result.error.code == Errc::ok) {
+      on_durable(now);
+    } else {
+      on_write_failed(result.error, now);
+    }
+  }
+}
+
+void JointManager::on_durable(hal::Nanoseconds now) noexcept {
+  durable_version_ = in_flight_version_;
+  durable_joints_ = in_flight_joints_;
+  recorded_.sequence = in_flight_sequence_;
+  rewrite_ = false;
+  ++file_writes_;
+  JointEvent e = event(JointEventKind::file_written, now);
+  e.joints = durable_joints_;
+  e.count = in_flight_sequence_;
+  emit(e);
+  while (!answers_.empty() && answers_[0].version <= durable_version_) {
+    answer(answers_[0].joints, answers_[0].cycle, Error{}, now);
+    answers_.erase_at(0);
+  }
+  if (clear_.active && clear_.version <= durable_version_) finish_clear(Error{}, now);
+}
+
+void JointManager::on_write_failed(const Error& error, hal::Nanoseconds now) noexcept {
+  next_write_retry_ = now + kWriteRetryPeriod;
+  ++file_write_failures_;
+  JointEvent e = event(JointEventKind::file_write_failed, now);
+  e.error = error;
+  emit(e);
+  // The handler hears that the file does not hold them yet (once); it is answered again when it does.
+  for (PendingAnswer& a : answers_) {
+    if (a.version > in_flight_version_ || a.told_failure) continue;
+    a.told_failure = true;
+    answer(a.joints, a.cycle, error, now);
+  }
+  if (clear_.active && clear_.version <= in_flight_version_) finish_clear(error, now);  // the joints stay lost
+  // Nothing left to write when the file already holds every joint recorded lost (a refused clear).
+  if (recorded_.joints() == durable_joints_ && !rewrite_ && answers_.empty() && !clear_.active) {
+    durable_version_ = intent_version_;
+  }
+}
+
+void JointManager::write_at_start_up(hal::Nanoseconds now) noexcept {
+  ErrorJointsContents numbered = recorded_;
   numbered.sequence = recorded_.sequence + 1;
   const Status status = ports_.storage->save(numbered);
   if (status.ok()) {
     recorded_ = numbered;
-    file_dirty_ = false;
+    durable_joints_ = recorded_.joints();
     ++file_writes_;
     JointEvent e = event(JointEventKind::file_written, now);
     e.joints = recorded_.joints();
     e.count = recorded_.sequence;
     emit(e);
-    return status;
+    return;
   }
-  file_dirty_ = true;
-  next_write_retry_ = now + kWriteRetryPeriod;
+  // The first periods send it to the storage worker (retried like any failed write).
+  rewrite_ = true;
+  ++intent_version_;
   ++file_write_failures_;
   JointEvent e = event(JointEventKind::file_write_failed, now);
   e.error = status.error();
   emit(e);
-  return status;
 }
 
 void JointManager::send_notice(const JointManagerNotice& notice, hal::Nanoseconds now) noexcept {

@@ -3,20 +3,27 @@
 //
 // It runs as a high-priority periodic task (CPU thread 2). Everything it talks to is an interface
 // (JointManagerPorts), so the same code runs in the firmware (shared-memory queues and snapshots),
-// on threads of one process, and in tests on virtual time. It holds no locks and never waits. The
-// one slow operation, the durable file write, happens here, on the joint manager's own thread. The
-// EtherCAT handler only queues a report and reads the answer later (core/app/tasks/lost_joint_tracker.hpp),
-// so the file write never blocks it.
+// on threads of one process, and in tests on virtual time. It holds no locks and never waits, not even
+// for the disk: the durable write of the error-joints file runs in the storage worker
+// (error_joints_worker.hpp, a thread at normal priority), fed by a bounded queue. The period sends the
+// file's new contents there and goes on checking limits and driving the state machines; the write's
+// outcome comes back on a second queue. The EtherCAT handler only queues a report and reads the
+// answer later (core/app/tasks/lost_joint_tracker.hpp), so it never waits either.
 //
 // Per period, step(now):
 //   1. read the handler's latest joint values (one consistent snapshot);
-//   2. reconfigure for each lost-joints report (paper steps 1-5: report, read last state, write the
-//      file, answer, mark comm_lost);
-//   3. resend deferred notices, and retry a failed file write;
-//   4. apply queued joint commands (the message parser's joint handle queue) to the DFAs;
-//   5. limit monitoring: drive fault, actual position/velocity/torque, and for Enabled joints the
+//   2. take the storage worker's outcomes: a durable write completes reconfiguration steps 3-4 (the
+//      answer to the handler) and operator clears; a failed one is reported and retried;
+//   3. reconfigure for each lost-joints report (paper steps 1, 2 and 5 at once: report, read last
+//      state, mark comm_lost; the file's new contents go to the worker);
+//   4. resend deferred notices and outcomes;
+//   5. apply queued joint commands (the message parser's joint handle queue) to the DFAs; a clear
+//      waits for its durable write, and the commands behind it wait in the queue;
+//   6. send the file's new contents to the worker when they changed and no write is in flight (a
+//      failed write: at most once per kWriteRetryPeriod), and take an outcome that is already there;
+//   7. limit monitoring: drive fault, actual position/velocity/torque, and for Enabled joints the
 //      commanded values -> `fault` with the reason recorded;
-//   6. publish each joint's status (statuses()) for the shared memory.
+//   8. publish each joint's status (statuses()) for the shared memory.
 // Bounded: at most kMaxReportsPerStep reports and kMaxCommandsPerStep commands per step. No heap.
 #pragma once
 
@@ -24,6 +31,7 @@
 #include <cstdint>
 
 #include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/joint_events.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/joint_sample_source.hpp"
@@ -43,11 +51,14 @@ struct JointManagerPorts {
   MessageSink<JointManagerNotice>* notices;    // to the EtherCAT handler (step 4, operator clears)
   MessageSource<JointCommand>* commands;       // the joint handle queue, from the message parser
   JointSampleSource* samples;                  // the handler's published joint values (step 2, monitoring)
-  ErrorJointsStorage* storage;                 // the error-joints file (step 3, start-up)
+  ErrorJointsStorage* storage;                 // the error-joints file at start-up (restore(), never step())
   hal::WallClock* wall_clock;                  // Unix time for the file's records
   JointEventSink* events;                      // what happened, for the log
   JointDemandSink* demand{nullptr};            // its drive demand, after every step (nullptr: not published)
   MessageSink<JointCommandOutcome>* outcomes{nullptr};  // to the message parser (commands with a request id)
+  // The storage worker (error_joints_worker.hpp): the file's new contents out, the write's outcome back.
+  MessageSink<ErrorJointsSaveRequest>* save_requests{nullptr};
+  MessageSource<ErrorJointsSaveResult>* save_results{nullptr};
 };
 
 // JointStatus, what it publishes per joint, is in core/app/links/joint_messages.hpp.
@@ -72,6 +83,7 @@ class JointManager {
   static constexpr std::size_t kMaxReportsPerStep = 4;
   static constexpr std::size_t kMaxCommandsPerStep = 32;
   static constexpr std::size_t kMaxDeferredNotices = 8;
+  static constexpr std::size_t kMaxPendingAnswers = 8;
   static constexpr hal::Nanoseconds kWriteRetryPeriod = 100 * hal::kNsPerMs;
 
   // Every port must be non-null.
@@ -90,10 +102,12 @@ class JointManager {
 
   // Operator action after a repair, logged: the joint must be reachable again. It is removed from the
   // error-joints file (durably, or the clear is refused), its loss is unlatched and the handler told;
-  // the joint stays in Error until a `reset` command.
+  // the joint stays in Error until a `reset` command. Success means accepted: the clear completes
+  // (clear_pending() false, the joint no longer lost) once the storage worker made the file durable.
   Status clear_lost_joint(std::size_t joint, hal::Nanoseconds now) noexcept;
   // The same for a set of joints (the operator's `clear_lost` command): each joint is judged alone and
   // logged; those that may be cleared leave the file in one write. The first refusal is returned.
+  // One clear at a time: refused while another one's write is in flight.
   // A joint that answers again away from the held position recorded in the file (more than
   // kHeldPositionToleranceRad) is refused unless `confirmed_moved` holds it.
   Status clear_lost_joints(JointMask joints, hal::Nanoseconds now, JointMask confirmed_moved = 0,
@@ -116,8 +130,12 @@ class JointManager {
   std::uint32_t refused_commands() const noexcept { return refused_commands_; }
   std::uint32_t file_writes() const noexcept { return file_writes_; }
   std::uint32_t file_write_failures() const noexcept { return file_write_failures_; }
-  bool file_dirty() const noexcept { return file_dirty_; }
-  std::uint32_t outcomes_dropped() const noexcept { return outcomes_dropped_; }
+  // The file does not hold yet what memory holds (a write in flight, failed, or not yet sent).
+  bool file_dirty() const noexcept { return intent_version_ != durable_version_; }
+  bool write_in_flight() const noexcept { return in_flight_; }
+  bool clear_pending() const noexcept { return clear_.active; }
+  // An outcome the full queue could not take: kept, resent, and no command is applied meanwhile.
+  std::uint32_t outcomes_deferred() const noexcept { return outcomes_deferred_; }
 
  private:
   struct Joint {
@@ -133,6 +151,8 @@ class JointManager {
   // All or nothing: the whole request in batch_ is tried on copies of the joints first; applied only
   // when no joint refuses, else every blocking joint is reported with its reason and nothing changes.
   void apply_request(hal::Nanoseconds now) noexcept;
+  // The checked request's next steps, each once no clear is being written.
+  void continue_request(hal::Nanoseconds now) noexcept;
   // Why joint j may not be cleared now (none: it may), given the lost joints `lost`.
   protocol::JointRefusal clear_refusal(std::size_t j, JointMask lost, bool confirmed_moved) const noexcept;
   // Why joint `joint` (its machine and context as given) refuses `command` now (none: it accepts).
@@ -143,9 +163,16 @@ class JointManager {
   void publish() noexcept;
   void note_returned_joints(hal::Nanoseconds now) noexcept;
   void auto_clear_returned(hal::Nanoseconds now) noexcept;
-  // Saves `next` as the file's new contents (sequence + 1). Success: recorded_ = next. Failure: the file
-  // is marked dirty and the caller decides what recorded_ holds; step() retries a dirty file.
-  Status persist(const ErrorJointsContents& next, hal::Nanoseconds now) noexcept;
+  // restore() only (start-up, before any period): saves recorded_ synchronously (sequence + 1).
+  void write_at_start_up(hal::Nanoseconds now) noexcept;
+  // The storage worker's side (steps 2 and 6 of the period).
+  void collect_file_results(hal::Nanoseconds now) noexcept;
+  void send_file_write(hal::Nanoseconds now) noexcept;
+  void on_durable(hal::Nanoseconds now) noexcept;
+  void on_write_failed(const Error& error, hal::Nanoseconds now) noexcept;
+  void answer(JointMask joints, std::uint64_t cycle, const Error& file, hal::Nanoseconds now) noexcept;
+  void finish_clear(const Error& file, hal::Nanoseconds now) noexcept;
+  void flush_outcome() noexcept;
   void send_notice(const JointManagerNotice& notice, hal::Nanoseconds now) noexcept;
   void flush_notices() noexcept;
   // Dispatches `input` to joint j with its guard facts refreshed; logs the transition or the refusal.
@@ -163,13 +190,46 @@ class JointManager {
   JointMask returned_{0};                // lost joints seen answering again (reported once per return)
   bool auto_clear_power_cycled_{false};
   JointMask auto_clear_pending_{0};      // back after a power cycle, to clear once seen reachable
-  ErrorJointsContents recorded_;         // what the error-joints file holds (or must hold: file_dirty_)
-  bool file_dirty_{false};
+  // The error-joints file. recorded_: every joint recorded lost (a joint being cleared stays in it until
+  // its clear is durable); its sequence is the file's on disk. Each change of what the file must hold
+  // is a new version; the worker makes versions durable, one write in flight at a time.
+  ErrorJointsContents recorded_;
+  std::uint64_t intent_version_{0};
+  std::uint64_t durable_version_{0};
+  bool in_flight_{false};
+  std::uint64_t in_flight_version_{0};
+  std::uint64_t in_flight_sequence_{0};
+  JointMask in_flight_joints_{0};
+  JointMask durable_joints_{0};          // the joints the file holds durably
+  bool rewrite_{false};                  // restore()'s rewrite failed: write even if the joints match
   hal::Nanoseconds next_write_retry_{0};
+  // Reconfiguration step 4, waiting for the write that holds the joints (version).
+  struct PendingAnswer {
+    JointMask joints{0};
+    std::uint64_t cycle{0};
+    std::uint64_t version{0};
+    bool told_failure{false};
+  };
+  FixedVector<PendingAnswer, kMaxPendingAnswers> answers_;
+  // The clear waiting for its write: `joints` leave the file with version `version`.
+  struct PendingClear {
+    bool active{false};
+    JointMask requested{0};  // accepted when asked
+    JointMask joints{0};     // still to clear (a joint lost again meanwhile is not)
+    bool automatic{false};
+    bool has_outcome{false};
+    JointCommandOutcome outcome{};
+    std::uint64_t version{0};
+  };
+  PendingClear clear_{};
   FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
   FixedVector<JointCommand, kMaxRequestSteps> batch_;  // an all-or-nothing request's steps received so far
+  std::size_t batch_next_{0};      // its next step to apply (a clear's durable write holds the rest)
+  bool batch_running_{false};      // checked and being applied
+  JointCommandOutcome deferred_outcome_{};
+  bool outcome_deferred_{false};
   std::uint32_t refused_commands_{0};
-  std::uint32_t outcomes_dropped_{0};
+  std::uint32_t outcomes_deferred_{0};
   std::uint32_t file_writes_{0};
   std::uint32_t file_write_failures_{0};
 };

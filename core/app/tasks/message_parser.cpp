@@ -156,7 +156,8 @@ void MessageParser::start(const ControlRequest& request, hal::Nanoseconds now) n
   pending_.request = request;
   pending_.id = next_id_++;
   if (next_id_ == 0) next_id_ = 1;
-  pending_.deadline = now + kReplyTimeout;
+  const bool clear = steps[0].kind == JointCommandKind::clear_lost || steps[0].kind == JointCommandKind::clear_lost_moved;
+  pending_.deadline = now + (clear ? kClearReplyTimeout : kReplyTimeout);
   pending_.skipped = skipped;
   const bool local = request.reply_address == 0 && request.reply_port == 0;
   std::uint8_t index = 0;

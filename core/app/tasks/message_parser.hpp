@@ -53,6 +53,9 @@ struct MessageParserPorts {
 class MessageParser {
  public:
   static constexpr hal::Nanoseconds kReplyTimeout = 500 * hal::kNsPerMs;
+  // A clear is answered once the error-joints file is durable (the storage worker's time, a slow disk
+  // included), so its request waits longer before it is called busy.
+  static constexpr hal::Nanoseconds kClearReplyTimeout = 5 * hal::kNsPerSec;
   static constexpr hal::Nanoseconds kRcTaskSilence = 100 * hal::kNsPerMs;  // heartbeat older: not running
   static constexpr std::size_t kMaxRequestsPerStep = 8;
 

@@ -42,6 +42,8 @@ void SocketHandler::reject(Rejection reason) noexcept { ++counters_.rejected[sta
 void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t port) noexcept {
   message.header.version = protocol::kVersion;
   message.header.sender = kRobotSenderId;
+  message.header.robot = robot_id_;
+  message.header.epoch = window_->epoch();
   message.header.sequence = next_sequence();
   std::array<std::uint8_t, protocol::kMaxDatagram> out{};
   const Result<std::size_t> size = protocol::seal(message, key_, ByteSpan(out));
@@ -139,6 +141,11 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           r.latency = t.latency;
         }
       }
+      if (ports_.drops != nullptr) {
+        static_assert(kDropCounters <= protocol::kMaxDropCounters, "every drop counter fits the tasks message");
+        m.tasks.drop_count = static_cast<std::uint8_t>(kDropCounters);
+        for (std::size_t i = 0; i < kDropCounters; ++i) m.tasks.dropped[i] = (*ports_.drops)[i].load(std::memory_order_relaxed);
+      }
       break;
     case MessageType::get_diag:
       m.header.type = MessageType::diag;
@@ -182,10 +189,29 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   if (!frame.ok()) return reject(protocol::rejection_of(frame.error()));
   if (!protocol::verify_frame(frame.value(), key_).ok()) return reject(Rejection::unauthenticated);
   const protocol::Header& h = frame.value().header;
+  const bool asks_epoch = h.type == MessageType::get_epoch;
+  // For this robot (a get_epoch may ask whichever robot answers).
+  if (h.robot != robot_id_ && !(asks_epoch && h.robot == protocol::kAnyRobot)) return reject(Rejection::wrong_robot);
   if (h.sender == kRobotSenderId) return reject(Rejection::out_of_range);  // only the robot signs as 0
+  if (asks_epoch) {
+    if (!control_port) return reject(Rejection::unknown_type);
+    ++counters_.accepted;
+    Message answer;
+    answer.header.type = MessageType::epoch;
+    answer.epoch.request_sequence = h.sequence;
+    return send(answer, d.address, d.port);
+  }
+  // Of this epoch: a datagram of an earlier epoch (recorded before a restart) is a replay.
+  if (h.epoch != window_->epoch()) return reject(Rejection::replayed);
   const Status fresh = window_->accept(h.sender, h.sequence);
   if (!fresh.ok()) {
-    return reject(fresh.error().code == Errc::capacity_exceeded ? Rejection::out_of_range : Rejection::replayed);
+    if (fresh.error().code != Errc::capacity_exceeded) return reject(Rejection::replayed);
+    reject(Rejection::sender_table_full);
+    if (control_port) {
+      refuse(h, protocol::RefusalReason::sender_table_full,
+             "16 senders this epoch: restart the robot to retire them", d);
+    }
+    return;
   }
   const bool allowed = control_port ? protocol::is_control_request(h.type) : protocol::is_sensor_record(h.type);
   if (!allowed) return reject(Rejection::unknown_type);
@@ -233,15 +259,20 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   r.reply_port = d.port;
   if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
     ++counters_.forwarded_dropped;
-    Message busy;
-    busy.header.type = MessageType::reply;
-    busy.reply.request_sequence = h.sequence;
-    busy.reply.request_type = h.type;
-    busy.reply.outcome = protocol::Outcome::refused;
-    busy.reply.reason = protocol::RefusalReason::busy;
-    protocol::set_text(busy.reply.text, "the message parser's queue is full; try again");
-    send(busy, d.address, d.port);
+    refuse(h, protocol::RefusalReason::busy, "the message parser's queue is full; try again", d);
   }
+}
+
+void SocketHandler::refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
+                           const hal::UdpDatagram& from) noexcept {
+  Message m;
+  m.header.type = MessageType::reply;
+  m.reply.request_sequence = request.sequence;
+  m.reply.request_type = request.type;
+  m.reply.outcome = protocol::Outcome::refused;
+  m.reply.reason = reason;
+  protocol::set_text(m.reply.text, text);
+  send(m, from.address, from.port);
 }
 
 void SocketHandler::step(hal::Nanoseconds now) noexcept {

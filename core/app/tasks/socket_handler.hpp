@@ -4,8 +4,12 @@
 // real-time tasks never touch a socket. Every datagram is checked in this order, and the first check
 // that fails is counted under its Rejection and the datagram dropped (no reply: an unauthenticated
 // peer learns nothing):
-//   size -> structure (parse_frame) -> tag (crypto_auth) -> replay window -> type for this port ->
-//   payload and ranges (decode_payload)
+//   size -> structure (parse_frame) -> tag (crypto_auth) -> robot id -> sender -> epoch -> replay
+//   window (sender table) -> type for this port -> payload and ranges (decode_payload)
+// get_epoch (any robot id, epoch 0) is answered right after the sender check, with the epoch and the
+// robot id in the answer's header and the request's sequence echoed; it takes no sender slot.
+// A sender the full sender table has no room for is counted (sender_table_full) and, on the
+// control port, told so in a refusal reply: never a silent lockout.
 // Accepted queries (status, slaves, master, tasks) are answered here from what the tasks publish;
 // accepted commands go to the message parser's bounded queue, and its replies are sent back,
 // authenticated, to the address the command came from. Sensor records are published in a seqlock.
@@ -48,6 +52,7 @@ struct SocketHandlerPorts {
   const Seqlock<MasterStatus>* master{nullptr};
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
+  const std::array<std::atomic<std::uint64_t>, kDropCounters>* drops{nullptr};  // the queues' drop counters (ctl tasks)
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
   // ctl owner: the RC tasks' heartbeats (monotonic ns, 0: never), and how many tasks the run has.
   const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
@@ -62,9 +67,11 @@ class SocketHandler {
   static constexpr std::size_t kRepliesPerStep = config::kSocketRepliesPerWakeup;
   static_assert(kBatch > 0 && kBudget > 0, "a wake-up handles at least one datagram");
 
+  // `robot_id`: this robot's identity (run's robot_id): datagrams naming another are refused.
   SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
-                hal::WallClock& wall) noexcept
-      : ports_(ports), key_(key), window_(&window), wall_(&wall) {}
+                hal::WallClock& wall, std::uint32_t robot_id = protocol::kDefaultRobotId) noexcept
+      : ports_(ports), key_(key), window_(&window), wall_(&wall), robot_id_(robot_id) {}
+  std::uint32_t robot_id() const noexcept { return robot_id_; }
 
   Status open(const SocketHandlerOptions& options) noexcept;
   std::uint16_t control_port() const noexcept { return control_.local_port(); }
@@ -86,6 +93,8 @@ class SocketHandler {
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
   void reject(protocol::Rejection reason) noexcept;
   void answer_query(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
+              const hal::UdpDatagram& from) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
 
@@ -93,6 +102,7 @@ class SocketHandler {
   protocol::Key key_;
   protocol::ReplayWindow* window_;
   hal::WallClock* wall_;
+  std::uint32_t robot_id_;
   hal::UdpSocket control_;
   hal::UdpSocket sensor_;
   std::array<hal::UdpDatagram, kBatch> batch_{};

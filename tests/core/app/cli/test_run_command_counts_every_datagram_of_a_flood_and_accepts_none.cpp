@@ -29,6 +29,7 @@
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "hal/net/udp_socket.hpp"
+#include "tests/support/authentic_answer.hpp"
 #include "tests/support/operator_run.hpp"
 
 namespace rescue::app {
@@ -85,13 +86,19 @@ std::uint64_t unix_ns() {
   return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
 }
 
-std::size_t seal_status_request(const protocol::Key& key, std::uint32_t sender, std::uint64_t sequence,
-                                std::array<std::uint8_t, protocol::kMaxDatagram>& out) {
+// Every authentic request is two datagrams, both accepted: get_epoch, then the request itself
+// (docs/protocol.md "Replay protection").
+constexpr std::uint64_t kDatagramsPerRequest = 2;
+
+std::size_t seal_status_request(const protocol::Key& key, const protocol::Header& robot, std::uint32_t sender,
+                                std::uint64_t sequence, std::array<std::uint8_t, protocol::kMaxDatagram>& out) {
   protocol::Message m;
   m.header.version = protocol::kVersion;
   m.header.type = protocol::MessageType::get_status;
   m.header.sender = sender;
   m.header.sequence = sequence;
+  m.header.robot = robot.robot;
+  m.header.epoch = robot.epoch;
   const Result<std::size_t> size = protocol::seal(m, key, ByteSpan(out));
   return size.ok() ? size.value() : 0;
 }
@@ -107,16 +114,34 @@ struct Sent {
 // The flood's sender and what it needs: the key, a socket, one authentic datagram accepted once.
 struct Flooder {
   explicit Flooder(const OperatorRun& run_in) : run(run_in) {
-    const Result<protocol::Key> loaded = protocol::load_key_file(run.key.c_str());
+    hal::FileProblem why;
+    const Result<protocol::Key> loaded = protocol::load_key_file(run.key.c_str(), why);
     if (loaded.ok()) key = loaded.value();
     other = key;
     other[0] ^= 0xFF;
     opened = socket.open("127.0.0.1", 0).ok();
     loopback = hal::parse_ipv4("127.0.0.1").value();
   }
-  // Sends the datagram to replay later; true when the robot answered it (accepted once).
+  // Asks the robot's epoch and id (get_epoch), as ctl does; true when it answered.
+  bool learn_epoch() {
+    protocol::Message ask;
+    ask.header.type = protocol::MessageType::get_epoch;
+    ask.header.sender = 9;
+    ask.header.sequence = unix_ns();
+    std::array<std::uint8_t, protocol::kMaxDatagram> out{};
+    const Result<std::size_t> n = protocol::seal(ask, key, ByteSpan(out));
+    protocol::Message answer;
+    if (!opened || !n.ok() || !socket.send_to(loopback, run.control_port, ConstByteSpan(out.data(), n.value())).ok() ||
+        !test::receive_authentic(socket, key, 5000, answer) || answer.header.type != protocol::MessageType::epoch) {
+      return false;
+    }
+    robot = answer.header;
+    return true;
+  }
+  // Sends the datagram to replay later (after get_epoch); true when the robot answered it (accepted once).
   bool record() {
-    recorded_size = seal_status_request(key, 9, unix_ns(), recorded);
+    if (!learn_epoch()) return false;
+    recorded_size = seal_status_request(key, robot, 9, unix_ns(), recorded);
     return opened && recorded_size > 0 &&
            socket.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok() &&
            socket.wait_readable(5000);
@@ -138,7 +163,7 @@ struct Flooder {
       if (socket.send_to(loopback, run.control_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
       if (socket.send_to(loopback, run.sensor_port, ConstByteSpan(junk)).ok()) ++sent.malformed;
       if (socket.send_to(loopback, run.control_port, ConstByteSpan(big)).ok()) ++sent.oversized;
-      const std::size_t n = seal_status_request(other, 9, ++sequence, forged);
+      const std::size_t n = seal_status_request(other, robot, 9, ++sequence, forged);
       if (socket.send_to(loopback, run.control_port, ConstByteSpan(forged.data(), n)).ok()) ++sent.unauthenticated;
       if (socket.send_to(loopback, run.control_port, ConstByteSpan(recorded.data(), recorded_size)).ok()) ++sent.replayed;
     }
@@ -156,6 +181,7 @@ struct Flooder {
   std::uint32_t loopback{0};
   std::array<std::uint8_t, protocol::kMaxDatagram> recorded{};
   std::size_t recorded_size{0};
+  protocol::Header robot{};  // the epoch answer's header: the robot's id and epoch
 };
 
 TEST(RunCommandFlood, EveryBadDatagramIsCountedNoneAcceptedValidCommandsAnswered) {
@@ -207,8 +233,8 @@ TEST(RunCommandFlood, EveryBadDatagramIsCountedNoneAcceptedValidCommandsAnswered
   const std::uint64_t accepted = number_after(out, ", accepted ");
   const std::uint64_t most = number_after(out, "most datagrams in one wake-up ");
   // Everything sent reached the socket handler or the kernel's drop counter.
-  EXPECT_EQ(datagrams + drops, sent.total() + valid) << out;
-  EXPECT_EQ(accepted, valid) << "a bad datagram was accepted\n" << out;
+  EXPECT_EQ(datagrams + drops, sent.total() + kDatagramsPerRequest * valid) << out;
+  EXPECT_EQ(accepted, kDatagramsPerRequest * valid) << "a bad datagram was accepted\n" << out;
   EXPECT_LE(most, SocketHandler::kBudget) << out;
   if (drops == 0) {
     EXPECT_EQ(number_after(out, ", malformed "), sent.malformed) << out;
@@ -247,8 +273,8 @@ TEST(RunCommandFlood, UnpacedFloodIsAccountedForAndNoneAccepted) {
   ASSERT_EQ(run.stop(), 0) << run.output();
   const std::string out = run.output();
   const std::uint64_t valid = 3;  // init, the recorded original, status
-  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + valid) << out;
-  EXPECT_EQ(number_after(out, ", accepted "), valid) << out;
+  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + kDatagramsPerRequest * valid) << out;
+  EXPECT_EQ(number_after(out, ", accepted "), kDatagramsPerRequest * valid) << out;
   EXPECT_LE(number_after(out, "most datagrams in one wake-up "), SocketHandler::kBudget) << out;
   std::printf("flood (unpaced): sent %" PRIu64 ", kernel drops %" PRIu64 "\nflood (unpaced): %s\nflood (unpaced): %s\n",
               sent.total(), drops, line_with(out, "rescue-motion run: datagrams ").c_str(),
@@ -438,8 +464,8 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
     EXPECT_GE(2 * driven, samples) << "l_hand not driven by the RC task in more than half the samples";
   }
   // None accepted, each counted under its reason.
-  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + valid) << out;
-  EXPECT_EQ(number_after(out, ", accepted "), valid) << "a bad datagram was accepted\n" << out;
+  EXPECT_EQ(number_after(out, "rescue-motion run: datagrams ") + drops, sent.total() + kDatagramsPerRequest * valid) << out;
+  EXPECT_EQ(number_after(out, ", accepted "), kDatagramsPerRequest * valid) << "a bad datagram was accepted\n" << out;
   if (drops == 0) {
     EXPECT_EQ(number_after(out, ", malformed "), sent.malformed) << out;
     EXPECT_EQ(number_after(out, ", unauthenticated "), sent.unauthenticated) << out;

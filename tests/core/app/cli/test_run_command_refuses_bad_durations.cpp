@@ -22,6 +22,17 @@ TEST(RunDuration, ZeroIsRefusedAndSaysHowToRunForever) {
   EXPECT_TRUE(contains(out.out, "must be above 0 (leave it out to run until SIGINT/SIGTERM)")) << out.out;
 }
 
+// Issue 21 item 8: below one period of the EtherCAT handler no cycle would run, and 1e-10 s rounded to
+// 0 ns ran until SIGTERM. Refused with the reason and the exit status of any other bad option.
+TEST(RunDuration, BelowOnePeriodIsRefusedWithTheReason) {
+  for (const char* value : {"0.0000000001", "0.0009"}) {
+    const test::CommandOutput out = run(std::string("run --duration ") + value);
+    EXPECT_EQ(out.exit_status, 1) << value << "\n" << out.out;
+    EXPECT_TRUE(contains(out.out, "must be at least one period of the EtherCAT handler (0.001 s)")) << out.out;
+    EXPECT_FALSE(contains(out.out, "bringing the EtherCAT network up")) << out.out;
+  }
+}
+
 TEST(RunDuration, HexadecimalIsRefused) {
   const test::CommandOutput out = run("run --duration 0x10");
   EXPECT_EQ(out.exit_status, 1) << out.out;

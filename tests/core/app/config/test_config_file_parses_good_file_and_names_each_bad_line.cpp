@@ -32,6 +32,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
       "duration = 1.5\n"
       "control_port = 47100\n"
       "\t sensor_port=47101 \n"
+      "robot_id = 42\n"
       "auto_clear_power_cycled = true\n"
       "\n"
       "[ethercat_handler]\n"
@@ -56,6 +57,8 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
   EXPECT_DOUBLE_EQ(c.duration_s, 1.5);
   EXPECT_EQ(c.control_port, 47100);
   EXPECT_EQ(c.sensor_port, 47101);
+  EXPECT_TRUE(c.has_robot_id);
+  EXPECT_EQ(c.robot_id, 42U);
   EXPECT_TRUE(c.has_auto_clear_power_cycled);
   EXPECT_TRUE(c.auto_clear_power_cycled);
   const ConfigTaskPlacement& handler = c.tasks[static_cast<std::size_t>(TaskId::ethercat_handler)];
@@ -97,12 +100,15 @@ TEST(ConfigFile, EachKindOfBadLineIsNamed) {
       {"nic = tap:eth0\n", 1, "nic", "", "sim or raw:IFACE"},
       {"state_dir = var/lib\n", 1, "state_dir", "not an absolute path", "absolute path"},
       {"listen = 300.1.1.1\n", 1, "listen", "not an IPv4 address", "dotted IPv4"},
-      {"duration = 0\n", 1, "duration", "not a duration in range", "above 0"},
+      {"duration = 0\n", 1, "duration", "not a duration in range", "at least 0.001"},
+      {"duration = 0.0000000001\n", 1, "duration", "not a duration in range", "at least 0.001 (one period)"},
       {"duration = 604801\n", 1, "duration", "not a duration in range", "at most 604800"},
       {"duration = 1e3\n", 1, "duration", "not a duration in range", "decimal seconds"},
       {"duration = 1.\n", 1, "duration", "not a duration in range", "decimal seconds"},
       {"control_port = 0\n", 1, "control_port", "port out of range", "1..65535"},
       {"sensor_port = 65536\n", 1, "sensor_port", "port out of range", "1..65535"},
+      {"robot_id = 0\n", 1, "robot_id", "robot id out of range", "1..999999999"},
+      {"robot_id = -3\n", 1, "robot_id", "robot id out of range", "1..999999999"},
       {"auto_clear_power_cycled = yes\n", 1, "auto_clear_power_cycled", "not a boolean", "true or false"},
       {"auto_clear_power_cycled = false\nauto_clear_power_cycled = true\n", 2, "auto_clear_power_cycled", "key given twice", "each key once"},
       {"control_port = -5\n", 1, "control_port", "port out of range", "1..65535"},

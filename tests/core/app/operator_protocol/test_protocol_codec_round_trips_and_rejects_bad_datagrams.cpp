@@ -31,6 +31,16 @@ Sealed seal_ok(const Message& m, const Key& k) {
   return s;
 }
 
+// A message for robot 3 in epoch 0x1122334455667788, as a station that asked the epoch sends it.
+constexpr std::uint32_t kRobot = 3;
+constexpr std::uint64_t kEpoch = 0x1122334455667788ULL;
+Message addressed() {
+  Message m;
+  m.header.robot = kRobot;
+  m.header.epoch = kEpoch;
+  return m;
+}
+
 // Parse, verify and decode like the socket handler; the rejection or nothing.
 int judge(const Sealed& s, const Key& k, Message* out = nullptr) {
   const Result<FrameView> f = parse_frame(ConstByteSpan(s.bytes.data(), s.size));
@@ -45,7 +55,7 @@ int judge(const Sealed& s, const Key& k, Message* out = nullptr) {
 TEST(ProtocolCodec, EveryTypeRoundTrips) {
   ASSERT_TRUE(init_crypto().ok());
   const Key k = key_of(1);
-  Message m;
+  Message m = addressed();
   m.header.sender = 7;
   m.header.sequence = 0x0102030405060708ULL;
   for (const MessageType t : {MessageType::get_status, MessageType::get_slaves, MessageType::get_master, MessageType::get_tasks}) {
@@ -55,6 +65,8 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
     EXPECT_EQ(back.header.type, t);
     EXPECT_EQ(back.header.sequence, m.header.sequence);
     EXPECT_EQ(back.header.sender, 7U);
+    EXPECT_EQ(back.header.robot, kRobot);
+    EXPECT_EQ(back.header.epoch, kEpoch);
   }
   m.header.type = MessageType::select_mode;
   m.joints.joints = joint_bit(6) | joint_bit(2);
@@ -140,9 +152,19 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   EXPECT_EQ(back.tasks.tasks[1].latency.min, 8U);
   EXPECT_EQ(back.tasks.tasks[1].latency.p999, 13U);
   EXPECT_EQ(back.tasks.tasks[1].latency.p9999, 0xFFFFFFFFU);
-  m.tasks.count = kMaxTasks;  // the largest tasks answer still fits one datagram
+  m.tasks.drop_count = 3;  // the queues' drop counters follow the task records
+  m.tasks.dropped[0] = 5;
+  m.tasks.dropped[2] = 0x0102030405060708ULL;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.tasks.drop_count, 3U);
+  EXPECT_EQ(back.tasks.dropped[0], 5U);
+  EXPECT_EQ(back.tasks.dropped[1], 0U);
+  EXPECT_EQ(back.tasks.dropped[2], 0x0102030405060708ULL);
+  m.tasks.count = kMaxTasks;  // the largest tasks answer (every task, every drop counter) still fits one datagram
+  m.tasks.drop_count = kMaxDropCounters;
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_EQ(back.tasks.count, kMaxTasks);
+  EXPECT_EQ(back.tasks.drop_count, kMaxDropCounters);
 }
 
 // ctl diag's answer (get_diag/diag): the largest answer (23 slaves) fits one datagram and every
@@ -151,7 +173,7 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
 TEST(ProtocolCodec, DiagRoundTripsAndMalformedDiagIsRejected) {
   ASSERT_TRUE(init_crypto().ok());
   const Key k = key_of(1);
-  Message m;
+  Message m = addressed();
   m.header.sender = 7;
   m.header.type = MessageType::get_diag;
   Message back;
@@ -225,7 +247,7 @@ TEST(ProtocolCodec, DiagRoundTripsAndMalformedDiagIsRejected) {
 TEST(ProtocolCodec, EachRejectionReason) {
   ASSERT_TRUE(init_crypto().ok());
   const Key k = key_of(1);
-  Message m;
+  Message m = addressed();
   m.header.type = MessageType::enable;
   m.joints.joints = kAllJoints;
   const Sealed good = seal_ok(m, k);
@@ -238,8 +260,8 @@ TEST(ProtocolCodec, EachRejectionReason) {
   s.bytes[0] = 'X';
   EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::malformed)) << "magic";
   s = good;
-  s.bytes[4] = 2;
-  EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::malformed)) << "version";
+  s.bytes[4] = 1;
+  EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::malformed)) << "version 1 (no robot id, no epoch)";
   s = good;
   s.size -= 1;
   EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::malformed)) << "length";
@@ -247,8 +269,8 @@ TEST(ProtocolCodec, EachRejectionReason) {
   s.size = kMaxDatagram + 1;
   EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::oversized));
   s = good;
-  s.bytes[20] = 0xFF;
-  s.bytes[21] = 0xFF;
+  s.bytes[32] = 0xFF;
+  s.bytes[33] = 0xFF;
   EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::oversized)) << "payload length";
   s = good;
   s.bytes[s.size - 1] ^= 1U;
@@ -276,6 +298,65 @@ TEST(ProtocolCodec, EachRejectionReason) {
   ASSERT_TRUE(f.ok());
   EXPECT_EQ(static_cast<int>(rejection_of(decode_payload(f.value().header, f.value().payload).error())),
             static_cast<int>(Rejection::unknown_type));
+}
+
+// The header of version 2 (docs/protocol.md "Datagram"): the robot id and the epoch sit at their
+// offsets, little-endian, inside the authenticated bytes; only get_epoch may leave the epoch 0 (and
+// name no robot); the robot's epoch answer echoes the request's sequence; reserved bytes are 0.
+TEST(ProtocolCodec, TheRobotIdAndTheEpochAreAuthenticatedHeaderFields) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(1);
+  Message m = addressed();
+  m.header.type = MessageType::get_status;
+  m.header.sender = 0x0A0B0C0D;
+  m.header.sequence = 0x0102030405060708ULL;
+  const Sealed good = seal_ok(m, k);
+  ASSERT_EQ(good.size, kHeaderSize + kTagSize);
+  EXPECT_EQ(kHeaderSize, 40U);
+  EXPECT_EQ(good.bytes[4], 2) << "version 2";
+  EXPECT_EQ(good.bytes[8], 0x0D);
+  EXPECT_EQ(good.bytes[12], kRobot);
+  EXPECT_EQ(good.bytes[16], 0x88);
+  EXPECT_EQ(good.bytes[23], 0x11);
+  EXPECT_EQ(good.bytes[24], 0x08);
+  EXPECT_EQ(good.bytes[32], 0) << "payload length";
+  // Changing the robot id or the epoch breaks the tag: they are authenticated.
+  for (const std::size_t at : {std::size_t{12}, std::size_t{16}, std::size_t{23}}) {
+    Sealed s = good;
+    s.bytes[at] ^= 0x40;
+    EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::unauthenticated)) << at;
+  }
+  for (std::size_t at = 34; at < kHeaderSize; ++at) {
+    Sealed s = good;
+    s.bytes[at] = 1;
+    EXPECT_EQ(judge(s, k), static_cast<int>(Rejection::malformed)) << "reserved byte " << at;
+  }
+  // No robot id, or no epoch, outside get_epoch: malformed.
+  Message bad = m;
+  bad.header.robot = kAnyRobot;
+  EXPECT_EQ(judge(seal_ok(bad, k), k), static_cast<int>(Rejection::malformed));
+  bad = m;
+  bad.header.epoch = 0;
+  EXPECT_EQ(judge(seal_ok(bad, k), k), static_cast<int>(Rejection::malformed));
+  // get_epoch: epoch 0, any robot; one with an epoch is malformed.
+  Message ask;
+  ask.header.type = MessageType::get_epoch;
+  ask.header.sender = 4;
+  ask.header.sequence = 99;
+  Message back;
+  EXPECT_EQ(judge(seal_ok(ask, k), k, &back), -1);
+  EXPECT_EQ(back.header.type, MessageType::get_epoch);
+  EXPECT_TRUE(is_control_request(MessageType::get_epoch));
+  ask.header.epoch = kEpoch;
+  EXPECT_EQ(judge(seal_ok(ask, k), k), static_cast<int>(Rejection::malformed));
+  // The answer: the robot's epoch and id in its header, the request's sequence echoed.
+  Message answer = addressed();
+  answer.header.type = MessageType::epoch;
+  answer.epoch.request_sequence = 99;
+  ASSERT_EQ(judge(seal_ok(answer, k), k, &back), -1);
+  EXPECT_EQ(back.epoch.request_sequence, 99U);
+  EXPECT_EQ(back.header.epoch, kEpoch);
+  EXPECT_EQ(back.header.robot, kRobot);
 }
 
 }  // namespace

@@ -7,7 +7,9 @@
 #include <dirent.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <fstream>
+#include <thread>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -57,7 +59,17 @@ std::string task_object(const std::string& json, const std::string& name) {
 TEST(TaskNamesAndSchedule, EveryTaskProcessAndThreadIsNamedAndCtlTasksShowsTheKernelsView) {
   OperatorRun run;
   ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
-  const testing::CommandResult tasks = run.ctl({"--json", "tasks"});
+  // Each task publishes its figures once it is past its set-up: ask until all six have.
+  testing::CommandResult tasks;
+  for (int i = 0; i < 100; ++i) {
+    tasks = run.ctl({"--json", "tasks"});
+    if (tasks.status == 0 && task_object(tasks.out, "joint-manager") != "" && task_object(tasks.out, "rc-teleop") != "" &&
+        task_object(tasks.out, "message-parser") != "" && task_object(tasks.out, "socket-handler") != "" &&
+        task_object(tasks.out, "rc-rescue") != "" && task_object(tasks.out, "ethercat") != "") {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
   ASSERT_EQ(tasks.status, 0) << tasks.out;
   for (const char* name : {"ethercat", "joint-manager", "message-parser", "socket-handler", "rc-rescue", "rc-teleop"}) {
     const std::string object = task_object(tasks.out, name);

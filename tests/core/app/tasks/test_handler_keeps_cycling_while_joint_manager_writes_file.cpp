@@ -1,14 +1,12 @@
 // The handler is never blocked by the error-joints file write: the joint manager runs on its own
-// thread and its write is held open (a disk that takes forever) while the handler's thread runs
-// thousands of further cycles with the lost joints pending and every other joint commanded. Only when
-// the write is released does the answer arrive. If the handler waited for the write, this test would
+// thread, its storage worker on another, and the write is held open (a disk that takes forever) while
+// the handler's thread runs thousands of further cycles with the lost joints pending and every other
+// joint commanded. Only when the write is released does the answer arrive. If the handler waited for the write, this test would
 // hang (and CTest's timeout would fail it). No sleeps and no timing: progress is observed via atomics.
 // The threads share what the firmware's tasks share: lock-free SPSC queues and the seqlocked samples.
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 
 #include "core/app/tasks/lost_joint_tracker.hpp"
@@ -20,32 +18,6 @@ namespace {
 
 const JointMask kElbowCut = joints_lost_by_link_failure_at(joint_index_by_name("l_elbow"));
 
-// save() blocks until released.
-class StuckDisk final : public ErrorJointsStorage {
- public:
-  explicit StuckDisk(ErrorJointsStorage& inner) : inner_(inner) {}
-  ErrorJointsLoad load() noexcept override { return inner_.load(); }
-  Status save(const ErrorJointsContents& c) noexcept override {
-    std::unique_lock<std::mutex> lock(mutex_);
-    in_save.store(true);
-    released_.wait(lock, [this] { return release_; });
-    return inner_.save(c);
-  }
-  Result<std::uint32_t> set_aside() noexcept override { return inner_.set_aside(); }
-  void release() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    release_ = true;
-    released_.notify_all();
-  }
-  std::atomic<bool> in_save{false};
-
- private:
-  ErrorJointsStorage& inner_;
-  std::mutex mutex_;
-  std::condition_variable released_;
-  bool release_{false};
-};
-
 class NullLog final : public JointEventSink {
  public:
   void on_event(const JointEvent&) noexcept override {}
@@ -54,7 +26,8 @@ class NullLog final : public JointEventSink {
 TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   testing::TempStateDir dir;
   ErrorJointsFileStorage files(dir.path.c_str());
-  StuckDisk disk(files);
+  testing::BlockingDisk disk(files);
+  testing::ThreadedStorageWorker storage(disk);
   SpscQueue<LostJointsReport, 16> report_queue;
   SpscQueue<JointManagerNotice, 16> notice_queue;
   SpscQueue<JointCommand, 16> command_queue;
@@ -67,7 +40,9 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   SeqlockSampleSource samples(published);
   hal::ManualWallClock wall(1'700'000'000'000'000'000LL);
   NullLog log;
-  JointManager manager(JointManagerPorts{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr});
+  JointManagerPorts ports{&report_source, &notice_sink, &commands, &samples, &disk, &wall, &log, nullptr};
+  storage.wire(ports);
+  JointManager manager(ports);
 
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> handler_cycles{0};
@@ -105,6 +80,7 @@ TEST(HandlerDuringFileWrite, KeepsCyclingAndIsAnsweredWhenTheWriteCompletes) {
   stop.store(true);
   handler.join();
   joint_manager.join();
+  storage.stop();
 
   EXPECT_EQ(commanded_healthy_cycles.load(), handler_cycles.load());  // every cycle of the healthy joints
   EXPECT_EQ(files.load().decoded.contents.joints(), kElbowCut);

@@ -88,10 +88,11 @@ TEST_F(Reconfiguration, CutReportFileAnswerMarkAndTheHealthyJointsNeverMissACycl
   EXPECT_EQ(rig.reports.size(), 1u);
   EXPECT_EQ(manager.statuses()[kElbow].state, JointState::enabled);  // not yet marked
 
-  run(1);  // the joint manager handles the report (steps 1-5) in one step
+  run(1);  // the joint manager handles the report in one step; the (inline) storage worker writes at once
   std::vector<int> steps;
   for (const JointEvent& e : rig.log.of(JointEventKind::reconfiguration_step)) steps.push_back(e.step);
-  EXPECT_EQ(steps, (std::vector<int>{1, 2, 3, 4, 5}));
+  // Step 5 (Error) does not wait for the disk; steps 3-4 complete when the worker reports it durable.
+  EXPECT_EQ(steps, (std::vector<int>{1, 2, 5, 3, 4}));
   run(1);  // step 6: the handler reads the answer and resumes with the others
   EXPECT_EQ(handler.tracker.pending(), 0u);
   EXPECT_EQ(handler.tracker.confirmed(), kElbowCut);
@@ -183,7 +184,12 @@ TEST_F(Reconfiguration, OperatorClearsARepairedJointExplicitlyAndItComesBackThro
   handler.cut = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) rig.samples.robot[j].reachable = true;
   run(1);
-  ASSERT_TRUE(manager.clear_lost_joint(hand, clock.now()).ok());
+  ASSERT_TRUE(manager.clear_lost_joint(hand, clock.now()).ok());  // accepted: done once durable
+  EXPECT_TRUE(manager.clear_pending());
+  EXPECT_FALSE(rig.log.contains("l_hand: cleared by operator after repair"));
+  EXPECT_EQ(manager.lost_joints() & joint_bit(hand), joint_bit(hand));
+  run(1);  // the write goes to the storage worker, which reports it durable
+  EXPECT_FALSE(manager.clear_pending());
   EXPECT_TRUE(rig.log.contains("l_hand: cleared by operator after repair"));
   EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(hand));  // durably out of the file
   EXPECT_EQ(manager.statuses()[hand].state, JointState::error);     // still Error until reset
@@ -214,6 +220,7 @@ TEST_F(Reconfiguration, AJointThatReturnsAwayFromItsHeldPositionStaysOutUntilThe
 
   EXPECT_FALSE(manager.clear_lost_joints(joint_bit(hand) | joint_bit(wrist), clock.now()).ok());
   EXPECT_TRUE(rig.log.contains("l_hand: operator clear refused: position differs from the held position"));
+  run(1);  // the wrist's clear: durable
   EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(wrist)) << "the wrist was cleared, the hand kept";
   EXPECT_EQ(manager.lost_joints() & joint_bit(hand), joint_bit(hand));
 
@@ -222,7 +229,7 @@ TEST_F(Reconfiguration, AJointThatReturnsAwayFromItsHeldPositionStaysOutUntilThe
   const JointCommandSequence confirm = clear_repaired_joints_commands(joint_bit(hand), true);
   ASSERT_EQ(confirm[0].kind, JointCommandKind::clear_lost_moved);
   for (const JointCommand& c : confirm) ASSERT_TRUE(rig.commands.try_send(c));
-  run(1);
+  run(2);  // the clear, durable; then the reset behind it
   EXPECT_EQ(manager.lost_joints() & joint_bit(hand), 0u);
   EXPECT_EQ(manager.statuses()[hand].state, JointState::idle);
   EXPECT_EQ(file_on_disk().joints(), kElbowCut & ~joint_bit(hand) & ~joint_bit(wrist));
@@ -281,12 +288,22 @@ TEST_F(Reconfiguration, FailedWriteStillMarksTheJointsTellsTheHandlerAndRetries)
   EXPECT_TRUE(manager.file_dirty());
   EXPECT_TRUE(rig.log.contains("error-joints file NOT written: write temporary file (I/O error, errno 28); will retry"));
   EXPECT_FALSE(storage.load().file_present);
+  // Issue 21: a failed write is never followed by a line saying it was written (step 3, "file
+  // written"); the answer's line says the file does not hold them yet.
+  EXPECT_TRUE(rig.log.of(JointEventKind::file_written).empty());
+  EXPECT_FALSE(rig.log.contains("reconfiguration step 3 wrote the error-joints file"));
+  EXPECT_TRUE(rig.log.contains("reconfiguration step 4 answered the handler: l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand "
+                               "(the error-joints file does NOT hold them yet: write temporary file; retrying)"));
+  run(50);  // within the retry period: one attempt so far
+  EXPECT_EQ(flaky.saves, 1);
 
   flaky.fail_saves = false;
   run(150);  // past the retry period
   EXPECT_FALSE(manager.file_dirty());
   EXPECT_EQ(file_on_disk().joints(), kElbowCut);
   EXPECT_EQ(manager.file_write_failures(), 1u);  // no retry storm: one attempt per retry period
+  EXPECT_TRUE(rig.log.contains("reconfiguration step 3 wrote the error-joints file: l_elbow"));  // once durable
+  EXPECT_EQ(handler.tracker.last_file_status(), Errc::ok);  // answered again, with the file's ok
 }
 
 TEST_F(Reconfiguration, ClearThatCannotBeWrittenIsRefusedAndNothingChanges) {
@@ -297,10 +314,21 @@ TEST_F(Reconfiguration, ClearThatCannotBeWrittenIsRefusedAndNothingChanges) {
   for (std::size_t j = 0; j < kJointCount; ++j) rig.samples.robot[j].reachable = true;
   run(1);
   flaky.fail_saves = true;
-  EXPECT_FALSE(manager.clear_lost_joint(kElbow, clock.now()).ok());
-  EXPECT_FALSE(manager.clear_lost_joints(kElbowCut, clock.now()).ok());  // the set: each joint refused
-  EXPECT_TRUE(rig.log.contains("l_wrist_yaw: operator clear refused: write temporary file"));
+  EXPECT_TRUE(manager.clear_lost_joint(kElbow, clock.now()).ok());  // accepted: it waits for the write
+  EXPECT_FALSE(manager.clear_lost_joints(kElbowCut, clock.now()).ok());  // one clear at a time
+  run(1);  // the write fails
+  EXPECT_TRUE(rig.log.contains("l_elbow: operator clear refused: write temporary file"));
+  EXPECT_FALSE(manager.clear_pending());
+  EXPECT_FALSE(manager.file_dirty());  // the file on disk still holds every lost joint: nothing to retry
   EXPECT_EQ(manager.lost_joints(), kElbowCut);  // a clear that is not on disk did not happen
+  EXPECT_EQ(file_on_disk().joints(), kElbowCut);
+
+  // The operator's clear command for the set: refused for each joint.
+  for (const JointCommand& c : clear_repaired_joints_commands(kElbowCut)) ASSERT_TRUE(rig.commands.try_send(c));
+  run(110);  // the next write waits for the failed one's retry period (no retry storm)
+  EXPECT_TRUE(rig.log.contains("l_wrist_yaw: operator clear refused: write temporary file"));
+  EXPECT_EQ(manager.lost_joints(), kElbowCut);
+  EXPECT_EQ(manager.statuses()[kElbow].state, JointState::error);  // the reset behind it: refused (loss latched)
   EXPECT_EQ(file_on_disk().joints(), kElbowCut);
 }
 

@@ -26,7 +26,7 @@ struct Bench : test::LoopbackSocketHandler {
     request.header.sender = 3;
     request.header.sequence = sequence;
     std::array<std::uint8_t, protocol::kMaxDatagram> out{};
-    const Result<std::size_t> size = protocol::seal(request, key, ByteSpan(out));
+    const Result<std::size_t> size = protocol::seal(for_robot(request), key, ByteSpan(out));
     EXPECT_TRUE(size.ok());
     EXPECT_TRUE(client.send_to(loopback, handler.control_port(), ConstByteSpan(out.data(), size.value())).ok());
     handler.step(0);

@@ -1,0 +1,79 @@
+// `run --check` over a veth pair prints the whole bring-up report after its FAILED line, the same
+// report `run` and `bench master` print (ecat/master/bring_up_report.hpp), every number filled in
+// and nothing cut: a silent segment says how many BRDs it sent and how long it waited; a wrong device
+// is named with what it is and what the plan expected; a missing slave is named. Exit status 1.
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/child_process.hpp"
+#include "tests/support/netns_veth.hpp"
+
+namespace rescue::app {
+namespace {
+
+using rescue::testing::ChildProcess;
+using rescue::testing::VethPair;
+
+const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
+constexpr int kStartTimeoutMs = 10000;
+const std::string kFailed = "rescue-motion run --check: FAILED: bring-up failed at ";
+const std::string kLine = "rescue-motion run --check: ";
+
+class RunCheckReport : public rescue::testing::NetnsTest {
+ protected:
+  // `run --check` on the master's end; returns its exit status, its output in `out`.
+  int check(std::string& out) {
+    ChildProcess run;
+    EXPECT_TRUE(run.start({kBinary, "run", "--check", "--nic", std::string("raw:") + VethPair::kMasterInterface},
+                          veth_->master_ns()));
+    const int status = run.wait_exit();
+    out = run.output();
+    return status;
+  }
+
+  // The simulator on the slaves' end, with `fault` applied before the check.
+  void start_sim_with(const std::string& fault) {
+    ASSERT_TRUE(sim_.start({kBinary, "sim", "--iface", VethPair::kSlaveInterface}, veth_->slave_ns()));
+    ASSERT_TRUE(sim_.wait_for_output("serving 23 slaves", kStartTimeoutMs)) << sim_.output();
+    ASSERT_TRUE(sim_.write_input(fault + "\n"));
+    ASSERT_TRUE(sim_.wait_for_output("fault: ok " + fault, kStartTimeoutMs)) << sim_.output();
+  }
+
+  ChildProcess sim_;
+};
+
+TEST_F(RunCheckReport, ASilentSegmentSaysHowManyBrdsItSentAndHowLongItWaited) {
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_TRUE(std::regex_search(out, std::regex(kFailed + "count: no EtherCAT frame came back: is the segment cabled "
+                                                "to this interface and powered, or `rescue-motion sim --iface` "
+                                                "running at its end\\? \\([1-9][0-9]* BRDs sent, 5000 ms waited\\)\n")))
+      << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "link: [1-9][0-9]* exchanges, [1-9][0-9]* timeouts, 0 late frames, 0 malformed\n")))
+      << out;
+}
+
+TEST_F(RunCheckReport, AWrongDeviceIsNamedWithWhatItIsAndWhatWasExpected) {
+  start_sim_with("foreign r_elbow");
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_NE(out.find(kFailed + "compare: network differs from the plan (1 differences that stop the bring-up, 23 slaves found)\n"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find(kLine + "23 slaves answer\n"), std::string::npos) << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "wrong device: position [0-9]+ holds .* where r_elbow expects .*\n"))) << out;
+}
+
+TEST_F(RunCheckReport, AMissingSlaveIsNamed) {
+  start_sim_with("cut r_hand");
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_NE(out.find(kFailed + "compare: network differs from the plan"), std::string::npos) << out;
+  EXPECT_NE(out.find(kLine + "22 slaves answer\n"), std::string::npos) << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "missing: r_hand .*\n"))) << out;
+}
+
+}  // namespace
+}  // namespace rescue::app
