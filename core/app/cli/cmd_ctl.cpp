@@ -4,14 +4,13 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <csignal>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-
-#include <unistd.h>
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
@@ -225,11 +224,11 @@ void print_json_string(const char* s) noexcept;  // below, with ctl's own errors
 void print_version(const Message& m, bool json) noexcept {
   const protocol::VersionPayload& v = m.version;
   if (json) {
-    (void)std::printf("{\"robot\":{\"program\":");
+    (void)std::printf(R"({"robot":{"program":)");
     print_json_string(v.program.data());
-    (void)std::printf(",\"layout_version\":%u,\"layout_hash\":\"0x%08x\",\"build_type\":", v.layout_version, v.layout_hash);
+    (void)std::printf(R"(,"layout_version":%u,"layout_hash":"0x%08x","build_type":)", v.layout_version, v.layout_hash);
     print_json_string(v.build_type.data());
-    (void)std::printf("},\"client\":{\"program\":");
+    (void)std::printf(R"(},"client":{"program":)");
     print_json_string(build_program_version());
     (void)std::printf(",\"build_type\":");
     print_json_string(build_type());
@@ -264,14 +263,14 @@ void print_owner(const Message& m, bool json) noexcept {
     for (std::size_t k = 0; k < protocol::kMaxRcTasks; ++k) {
       const protocol::RcTaskRecord& t = o.tasks[k];
       if (t.present == 0) continue;
-      (void)std::printf("%s{\"task\":%zu,\"name\":\"%s\",\"owns\":%s,\"alive\":%s,\"heartbeat_age_ms\":", first ? "" : ",", k,
+      (void)std::printf(R"(%s{"task":%zu,"name":"%s","owns":%s,"alive":%s,"heartbeat_age_ms":)", first ? "" : ",", k,
                         kTaskNames[k], o.owner == k ? "true" : "false", t.alive != 0 ? "true" : "false");
       if (t.heartbeat_age_ms == 0xFFFFFFFFU) {
         (void)std::printf("null");
       } else {
         (void)std::printf("%u", t.heartbeat_age_ms);
       }
-      (void)std::printf(",\"mode\":\"%s\",\"phase\":", mode_name_of(t.mode));
+      (void)std::printf(R"(,"mode":"%s","phase":)", mode_name_of(t.mode));
       if (k == 0) {
         (void)std::printf("\"%s\"}", phase_name(t.phase));  // the rescue motion's phase
       } else {
@@ -387,10 +386,8 @@ void joint_refusal_detail(const protocol::JointRefusalRecord& jr, char* out, std
 }
 
 bool has_joint_refusals(const protocol::ReplyPayload& r) noexcept {
-  for (const protocol::JointRefusalRecord& jr : r.joint_refusals) {
-    if (jr.why != protocol::JointRefusal::none) return true;
-  }
-  return false;
+  return std::any_of(r.joint_refusals.begin(), r.joint_refusals.end(),
+                     [](const protocol::JointRefusalRecord& jr) noexcept { return jr.why != protocol::JointRefusal::none; });
 }
 
 int print_reply(const char* verb, const Message& m, bool json) noexcept {
@@ -400,7 +397,7 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
   if (json) {
     char names[kJointNamesCapacity];
     format_joint_names(r.refused_joints, names, sizeof names);
-    (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"", verb,
+    (void)std::printf(R"({"command":"%s","accepted":%s,"reason":"%s","joints":"%s","detail":"%s")", verb,
                       accepted ? "true" : "false", protocol::to_string(r.reason), names, r.text.data());
     if (!accepted) {
       // Every blocking joint with its own reason (all or nothing: none of them changed).
@@ -410,7 +407,7 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
         const protocol::JointRefusalRecord& jr = r.joint_refusals[j];
         if (jr.why == protocol::JointRefusal::none) continue;
         joint_refusal_detail(jr, detail, sizeof detail);
-        (void)std::printf("%s{\"joint\":\"%s\",\"reason\":\"%s\",\"state\":\"%s\",\"detail\":\"%s\"}",
+        (void)std::printf(R"(%s{"joint":"%s","reason":"%s","state":"%s","detail":"%s"})",
                           first ? "" : ",", kJoints[j].name, protocol::to_string(protocol::reason_of(jr.why)),
                           fsm::to_string(static_cast<fsm::JointState>(jr.state)), detail);
         first = false;
@@ -449,7 +446,7 @@ const char* g_verb = "ctl";  // the verb of this invocation, for those objects
 void print_json_string(const char* s) noexcept {
   (void)std::putchar('"');
   for (; *s != '\0'; ++s) {
-    const unsigned char c = static_cast<unsigned char>(*s);
+    const auto c = static_cast<unsigned char>(*s);
     if (c == '"' || c == '\\') {
       (void)std::putchar('\\');
       (void)std::putchar(c);
@@ -467,7 +464,7 @@ int ctl_error(const char* text) noexcept {
   if (g_json) {
     (void)std::printf("{\"command\":");
     print_json_string(g_verb);
-    (void)std::printf(",\"ok\":false,\"error\":");
+    (void)std::printf(R"(,"ok":false,"error":)");
     print_json_string(text);
     (void)std::printf("}\n");
   }
@@ -563,7 +560,7 @@ Error bad_joint_names(const char* list, const Error& error, bool all_allowed) no
 
 Result<JointMask> joints_argument(const ParsedArgs& args, std::size_t index) noexcept {
   if (args.positional_count() <= index || std::strcmp(args.positional(index), "all") == 0) return kAllJoints;
-  const Result<JointMask> joints = parse_joint_names(args.positional(index));
+  Result<JointMask> joints = parse_joint_names(args.positional(index));
   if (!joints.ok()) return bad_joint_names(args.positional(index), joints.error(), true);
   return joints;
 }
@@ -620,9 +617,9 @@ int keygen(const ParsedArgs& args) noexcept {
     return ctl_error(g_error_text);
   }
   if (g_json) {
-    (void)std::printf("{\"command\":\"keygen\",\"ok\":true,\"key_file\":");
+    (void)std::printf(R"({"command":"keygen","ok":true,"key_file":)");
     print_json_string(path.c_str());
-    (void)std::printf(",\"mode\":\"0600\",\"bytes\":32,\"source\":");
+    (void)std::printf(R"(,"mode":"0600","bytes":32,"source":)");
     print_json_string(choice.value().source);
     (void)std::printf("}\n");
     return 0;
@@ -794,7 +791,7 @@ int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
   g_json = args.has("json");
   g_verb = verb != nullptr ? verb : "ctl";
-  if (!is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
+  if (verb == nullptr || !is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
   const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
   arm_ctl_deadline(deadline.ok() ? deadline.value() : 2.0);
   if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
