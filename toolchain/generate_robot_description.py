@@ -6,97 +6,184 @@
 The build runs it (core/kinematics/CMakeLists.txt, add_custom_command) whenever the URDF or this
 script changes; the firmware parses nothing at run time. Standard library only.
 
-It refuses (exit status 1, one line saying why) a URDF outside the model's assumptions:
-  - one tree rooted at base_link, every link reached once;
-  - joint origins without rotation (rpy 0) and axes along +-x, +-y or +-z of the parent link;
-  - revolute, continuous or fixed joints only.
+It refuses (exit status 1, one line `URDF:LINE: what: why`) whatever the model cannot represent
+exactly, rather than rounding it:
+  - one tree rooted at base_link, every link reached once (a link with two parents is a loop);
+  - joint origins without rotation (rpy 0) and axes exactly along +-x, +-y or +-z of the parent
+    link (a tilted or non-unit axis is refused, never rounded);
+  - revolute, continuous or fixed joints only; revolute limits with lower <= upper;
+  - every link a moving joint carries, and base_link, has an <inertial> with a mass (massless frames
+    only behind fixed joints), its frame not rotated;
+  - every moving joint's <limit> has velocity, effort and acceleration (rad/s^2, an attribute this
+    model adds to URDF's <limit>; urdfdom and kdl_parser ignore it), all positive.
 The limits are written as the URDF gives them; core/kinematics/kinematic_model.hpp checks at
 compile time that they equal core/robot/robot.hpp's kJoints (one source of truth).
 """
 import sys
 import xml.etree.ElementTree as ET
+import xml.parsers.expat
 
-AXES = {(1, 0, 0): (0, 1.0), (-1, 0, 0): (0, -1.0), (0, 1, 0): (1, 1.0), (0, -1, 0): (1, -1.0),
-        (0, 0, 1): (2, 1.0), (0, 0, -1): (2, -1.0)}
+AXES = {(1.0, 0.0, 0.0): (0, 1.0), (-1.0, 0.0, 0.0): (0, -1.0), (0.0, 1.0, 0.0): (1, 1.0),
+        (0.0, -1.0, 0.0): (1, -1.0), (0.0, 0.0, 1.0): (2, 1.0), (0.0, 0.0, -1.0): (2, -1.0)}
 
 
 class ModelError(Exception):
-    pass
+    def __init__(self, line, message):
+        super().__init__(message)
+        self.line = line
 
 
-def floats(text, count, what):
-    values = [float(v) for v in (text or "").split()]
+LINES = {}  # element -> line in the URDF where it starts
+
+
+def read_with_lines(path):
+    """The URDF's element tree, each element's line in LINES (ElementTree keeps none)."""
+    builder = ET.TreeBuilder()
+    parser = xml.parsers.expat.ParserCreate()
+
+    def start(tag, attrs):
+        LINES[builder.start(tag, attrs)] = parser.CurrentLineNumber
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = builder.end
+    try:
+        with open(path, "rb") as f:
+            parser.ParseFile(f)
+    except xml.parsers.expat.ExpatError as e:
+        raise ModelError(e.lineno, f"not well-formed XML: {xml.parsers.expat.ErrorString(e.code)}") from e
+    return builder.close()
+
+
+def fail(element, message):
+    raise ModelError(LINES.get(element, 0), message)
+
+
+def floats(element, attribute, default, count, what):
+    text = element.get(attribute, default) if element is not None else default
+    try:
+        values = [float(v) for v in (text or "").split()]
+    except ValueError:
+        values = []
     if len(values) != count:
-        raise ModelError(f"{what}: expected {count} numbers, got '{text}'")
+        fail(element, f"{what}: expected {count} numbers in {attribute}, got '{text}'")
     return values
+
+
+def number(element, attribute, what, positive=False):
+    text = element.get(attribute)
+    if text is None:
+        fail(element, f"{what}: no {attribute}")
+    try:
+        value = float(text)
+    except ValueError:
+        fail(element, f"{what}: {attribute} '{text}' is not a number")
+    if value != value or value in (float("inf"), float("-inf")) or (positive and value <= 0.0):
+        fail(element, f"{what}: {attribute} {text} must be a finite{' positive' if positive else ''} number")
+    return value
 
 
 def parse(path):
     """Returns (links, joints, support) in tree order (parents before children)."""
-    root = ET.parse(path).getroot()
+    root = read_with_lines(path)
     if root.tag != "robot":
-        raise ModelError("root element is not <robot>")
+        fail(root, "root element is not <robot>")
     links = {}
     for link in root.findall("link"):
         name = link.get("name")
-        mass, com, inertia, box = 0.0, [0.0, 0.0, 0.0], [0.0] * 6, None
+        if name in links:
+            fail(link, f"link {name}: defined twice")
+        mass, com, inertia, box, has_inertial = 0.0, [0.0, 0.0, 0.0], [0.0] * 6, None, False
         inertial = link.find("inertial")
         if inertial is not None:
-            mass = float(inertial.find("mass").get("value"))
+            has_inertial = True
+            mass_element = inertial.find("mass")
+            if mass_element is None:
+                fail(inertial, f"link {name}: <inertial> without <mass>")
+            mass = number(mass_element, "value", f"link {name} mass")
+            if mass < 0.0:
+                fail(mass_element, f"link {name}: negative mass {mass}")
             origin = inertial.find("origin")
             if origin is not None:
-                com = floats(origin.get("xyz", "0 0 0"), 3, f"{name} inertial origin")
-                if any(abs(v) > 0 for v in floats(origin.get("rpy", "0 0 0"), 3, name)):
-                    raise ModelError(f"{name}: rotated inertial frame")
+                com = floats(origin, "xyz", "0 0 0", 3, f"link {name} inertial origin")
+                if any(v != 0.0 for v in floats(origin, "rpy", "0 0 0", 3, f"link {name} inertial rpy")):
+                    fail(origin, f"link {name}: rotated inertial frame (the model keeps inertias in the link frame)")
             i = inertial.find("inertia")
-            inertia = [float(i.get(k)) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+            if i is None:
+                fail(inertial, f"link {name}: <inertial> without <inertia>")
+            inertia = [number(i, k, f"link {name} inertia") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
         collision = link.find("collision")
         if collision is not None and collision.find("geometry/box") is not None:
-            size = floats(collision.find("geometry/box").get("size"), 3, f"{name} box")
-            centre = floats(collision.find("origin").get("xyz", "0 0 0"), 3, f"{name} box origin")
+            box_element = collision.find("geometry/box")
+            size = floats(box_element, "size", None, 3, f"link {name} collision box")
+            centre = floats(collision.find("origin"), "xyz", "0 0 0", 3, f"link {name} collision origin")
             box = (centre, size)
-        links[name] = {"name": name, "mass": mass, "com": com, "inertia": inertia, "box": box}
+        links[name] = {"name": name, "mass": mass, "com": com, "inertia": inertia, "box": box,
+                       "has_inertial": has_inertial, "element": link}
     joints = {}
     for joint in root.findall("joint"):
         name, kind = joint.get("name"), joint.get("type")
+        what = f"joint {name}"
+        if name in joints:
+            fail(joint, f"{what}: defined twice")
         if kind not in ("revolute", "continuous", "fixed"):
-            raise ModelError(f"{name}: joint type {kind} is not supported")
+            fail(joint, f"{what}: joint type '{kind}' cannot be represented (revolute, continuous or fixed only)")
+        parent, child = joint.find("parent"), joint.find("child")
+        if parent is None or child is None or parent.get("link") not in links or child.get("link") not in links:
+            fail(joint, f"{what}: parent or child is not a link of this robot")
         origin = joint.find("origin")
-        xyz = floats(origin.get("xyz", "0 0 0"), 3, f"{name} origin") if origin is not None else [0.0] * 3
-        rpy = floats(origin.get("rpy", "0 0 0"), 3, f"{name} rpy") if origin is not None else [0.0] * 3
+        xyz = floats(origin, "xyz", "0 0 0", 3, f"{what} origin")
+        rpy = floats(origin, "rpy", "0 0 0", 3, f"{what} origin")
         if any(v != 0.0 for v in rpy):
-            raise ModelError(f"{name}: joint origin has a rotation (rpy must be 0 0 0)")
+            fail(origin, f"{what}: joint origin has a rotation (rpy must be 0 0 0 in this model)")
         axis, sign = 0, 1.0
-        lower = upper = velocity = effort = 0.0
+        lower = upper = velocity = effort = acceleration = 0.0
         if kind != "fixed":
             a = joint.find("axis")
-            vec = tuple(int(round(v)) for v in floats(a.get("xyz") if a is not None else "1 0 0", 3, f"{name} axis"))
+            vec = tuple(floats(a, "xyz", "1 0 0", 3, f"{what} axis"))
+            norm = sum(v * v for v in vec) ** 0.5
+            if abs(norm - 1.0) > 1e-12:
+                fail(a if a is not None else joint, f"{what}: axis {' '.join(repr(v) for v in vec)} is not a unit vector "
+                     f"(norm {norm:.6g})")
             if vec not in AXES:
-                raise ModelError(f"{name}: axis {vec} is not along +-x, +-y or +-z")
+                fail(a, f"{what}: axis {' '.join(repr(v) for v in vec)} is not exactly along +-x, +-y or +-z "
+                     "(the model cannot represent a tilted axis; it is refused, not rounded)")
             axis, sign = AXES[vec]
             limit = joint.find("limit")
             if limit is None:
-                raise ModelError(f"{name}: no <limit>")
-            velocity, effort = float(limit.get("velocity")), float(limit.get("effort"))
+                fail(joint, f"{what}: no <limit>")
+            velocity = number(limit, "velocity", what, positive=True)
+            effort = number(limit, "effort", what, positive=True)
+            acceleration = number(limit, "acceleration", what, positive=True)
             if kind == "revolute":
-                lower, upper = float(limit.get("lower")), float(limit.get("upper"))
-        joints[name] = {"name": name, "kind": kind, "parent": joint.find("parent").get("link"),
-                        "child": joint.find("child").get("link"), "xyz": xyz, "axis": axis, "sign": sign,
-                        "lower": lower, "upper": upper, "velocity": velocity, "effort": effort}
+                lower, upper = number(limit, "lower", what), number(limit, "upper", what)
+                if lower > upper:
+                    fail(limit, f"{what}: lower limit {lower} is above upper limit {upper}")
+            if not links[child.get("link")]["has_inertial"]:
+                fail(links[child.get("link")]["element"],
+                     f"link {child.get('link')}: no <inertial> on a link the moving joint {name} carries")
+        joints[name] = {"name": name, "kind": kind, "parent": parent.get("link"), "child": child.get("link"),
+                        "xyz": xyz, "axis": axis, "sign": sign, "lower": lower, "upper": upper,
+                        "velocity": velocity, "effort": effort, "acceleration": acceleration, "element": joint}
     by_child = {}
     for j in joints.values():
         if j["child"] in by_child:
-            raise ModelError(f"link {j['child']} has two parents")
+            fail(j["element"], f"joint {j['name']}: link {j['child']} already has the parent joint "
+                 f"{by_child[j['child']]['name']} (a kinematic loop or a second parent: the model is a tree)")
         by_child[j["child"]] = j
-    if "base_link" not in links or "base_link" in by_child:
-        raise ModelError("base_link must exist and be the root")
+    if "base_link" not in links:
+        fail(root, "no base_link")
+    if "base_link" in by_child:
+        fail(by_child["base_link"]["element"], f"joint {by_child['base_link']['name']}: base_link must be the root")
+    if not links["base_link"]["has_inertial"]:
+        fail(links["base_link"]["element"], "link base_link: no <inertial>")
     ordered, todo = [], ["base_link"]
     while todo:
         name = todo.pop(0)
         ordered.append(name)
         todo.extend(j["child"] for j in joints.values() if j["parent"] == name)
     if len(ordered) != len(links):
-        raise ModelError("not every link is reached from base_link")
+        orphan = next(l for l in links.values() if l["name"] not in ordered)
+        fail(orphan["element"], f"link {orphan['name']}: not reached from base_link (a loop or a second tree)")
     support = support_polygon(links, joints, by_child)
     return [links[n] for n in ordered], by_child, support
 
@@ -116,7 +203,7 @@ def support_polygon(links, joints, by_child):
     xs, ys = [], []
     for track in ("l_track_link", "r_track_link"):
         if track not in links or links[track]["box"] is None:
-            raise ModelError(f"{track} with a collision box is needed for the support polygon")
+            raise ModelError(0, f"{track} with a collision box is needed for the support polygon")
         centre, size = links[track]["box"]
         o = origin_in_base(track, by_child)
         xs += [o[0] + centre[0] - size[0] / 2, o[0] + centre[0] + size[0] / 2]
@@ -146,6 +233,7 @@ def render(links, by_child, support, source):
            "  double origin[3];       // joint frame in the parent link (no rotation)",
            "  double lower, upper;    // rad (0, 0 for continuous and fixed)",
            "  double velocity, effort;  // rad/s, N m",
+           "  double acceleration;    // rad/s^2 (the <limit acceleration> this model adds to URDF)",
            "  double mass;            // kg",
            "  double com[3];          // centre of mass in the link frame",
            "  double inertia[6];      // ixx ixy ixz iyy iyz izz about the com",
@@ -159,7 +247,7 @@ def render(links, by_child, support, source):
         jname = f'"{j["name"]}"' if j else '""'
         kind = j["kind"] if j else "fixed"
         xyz = ", ".join(num(v) for v in (j["xyz"] if j else [0, 0, 0]))
-        vals = (j["lower"], j["upper"], j["velocity"], j["effort"]) if j else (0, 0, 0, 0)
+        vals = (j["lower"], j["upper"], j["velocity"], j["effort"], j["acceleration"]) if j else (0, 0, 0, 0, 0)
         out.append(f'  {{"{l["name"]}", {parent}, {jname}, JointType::{kind}, {j["axis"] if j else 0}, '
                    f'{num(j["sign"] if j else 1)}, {{{xyz}}}, {", ".join(num(v) for v in vals)}, {num(l["mass"])}, '
                    f'{{{", ".join(num(v) for v in l["com"])}}}, {{{", ".join(num(v) for v in l["inertia"])}}}}},')
@@ -178,8 +266,8 @@ def main(argv):
         return 2
     try:
         links, by_child, support = parse(argv[1])
-    except (ModelError, ET.ParseError, AttributeError, TypeError, ValueError) as e:
-        print(f"generate_robot_description: {argv[1]}: {e}", file=sys.stderr)
+    except ModelError as e:
+        print(f"{argv[1]}:{e.line}: {e}", file=sys.stderr)
         return 1
     text = render(links, by_child, support, "core/robot/rescue_robot.urdf")
     try:

@@ -17,6 +17,8 @@ packages=(
   stress-ng                                          # bench fig4: CPU and memory load on the basic software CPU
   liburdfdom-tools                                   # check_urdf: the robot description is valid URDF
   liborocos-kdl-dev                                  # Orocos KDL: kinematics oracle in tests and bench rc (never firmware)
+  libkdl-parser-dev liburdfdom-dev                   # the oracle's KDL trees and inertials read from the URDF file (tests only)
+  libfcl-dev                                         # FCL: self-collision of the rescue motion in the URDF's collision geometry (tests only)
   binutils                                           # readelf: vtables for toolchain/rt_verify.py
   rt-tests                                           # cyclictest: the OS latency floor (bench latency)
   valgrind                                           # callgrind: instructions per period (toolchain/instructions.sh)

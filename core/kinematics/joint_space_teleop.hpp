@@ -1,6 +1,7 @@
 // The second RC task: joint-space teleoperation. Every period it integrates the operator's joint
 // velocity commands into its own reference space (clamped to each joint's velocity and position
-// limits, joints out of service held), whether or not it owns the motion. When the operator hands
+// limits, reached and left at most at its acceleration limit, braking before a position limit;
+// joints out of service held), whether or not it owns the motion. When the operator hands
 // it the motion, it first takes over the references being sent (bumpless), so ownership changes
 // never make the robot jump.
 #pragma once
@@ -28,6 +29,7 @@ class JointSpaceTeleop {
 
  private:
   JointVector references_;
+  JointVector velocities_;  // last period's, for the acceleration limits
   double dt_s_;
   bool owns_motion_{false};
 };

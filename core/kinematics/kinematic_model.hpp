@@ -55,6 +55,18 @@ constexpr std::array<std::size_t, kLinkCount> make_link_joints() {
 }
 constexpr std::array<std::size_t, kLinkCount> kLinkJoint = make_link_joints();
 
+// Acceleration limit of each joint (kJoints order), rad/s^2: the URDF's <limit acceleration>, which
+// only the model has (core/robot/robot.hpp's kJoints has no acceleration). Every RC task's
+// references respect it (docs/kinematics.md).
+constexpr std::array<double, kJointCount> make_joint_accelerations() {
+  std::array<double, kJointCount> accelerations{};
+  for (std::size_t i = 0; i < kLinkCount; ++i) {
+    if (kLinkJoint[i] != kNoIndex) accelerations[kLinkJoint[i]] = desc::kLinks[i].acceleration;
+  }
+  return accelerations;
+}
+constexpr std::array<double, kJointCount> kJointAcceleration = make_joint_accelerations();
+
 // ---- one source of truth: the URDF's joints are kJoints, with the same limits ----
 namespace model_checks {
 constexpr bool urdf_joints_are_kjoints() {
@@ -69,6 +81,7 @@ constexpr bool urdf_joints_are_kjoints() {
     const JointInfo& info = kJoints[j];
     if (info.continuous != (link.type == desc::JointType::continuous)) return false;
     if (link.velocity != info.limits.velocity_max_rad_s || link.effort != info.limits.torque_max_nm) return false;
+    if (!(link.acceleration > 0.0)) return false;
     if (!info.continuous &&
         (link.lower != info.limits.position_min_rad || link.upper != info.limits.position_max_rad)) {
       return false;

@@ -19,4 +19,12 @@ Pose interpolate_pose(const Pose& from, const Pose& to, double s) noexcept {
   return pose;
 }
 
+Vector6 interpolation_twist(const Pose& from, const Pose& to, double ds_dt) noexcept {
+  Vector6 twist;
+  twist.head<3>() = ds_dt * (to.p - from.p);
+  // R(s) = R0 exp(s w), w = log(R0^T R1): the angular velocity is R(s) w ds/dt = R0 w ds/dt.
+  twist.tail<3>() = ds_dt * (from.R * rotation_log(from.R.transpose() * to.R));
+  return twist;
+}
+
 }  // namespace rescue::kin

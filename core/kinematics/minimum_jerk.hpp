@@ -19,4 +19,7 @@ MinimumJerkProfile minimum_jerk(double tau) noexcept;
 // Pose at fraction s (0 -> from, 1 -> to).
 Pose interpolate_pose(const Pose& from, const Pose& to, double s) noexcept;
 
+// Twist [v; w] (base_link) of that interpolation when s changes at ds_dt per second.
+Vector6 interpolation_twist(const Pose& from, const Pose& to, double ds_dt) noexcept;
+
 }  // namespace rescue::kin

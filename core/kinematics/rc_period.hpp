@@ -3,8 +3,11 @@
 // references and writes the new ones into its reference space; the joint-space teleoperation task
 // computes its own references in the same period. When the set of joints out of service changes,
 // the lost capability is analysed once (an SVD per arm) and kept for the operator's view.
+// The IK steps from its own plan (the joints it computed last period); the rescue references are
+// that plan through the acceleration limiter (unchanged while the plan is within the limits).
 #pragma once
 
+#include "core/kinematics/acceleration_limiter.hpp"
 #include "core/kinematics/joint_space_teleop.hpp"
 #include "core/kinematics/lost_capability.hpp"
 #include "core/kinematics/rescue_motion.hpp"
@@ -20,7 +23,9 @@ class RcPeriod {
   // Period at time t_s of the motion; `teleop_velocity` is the operator's joint-space command.
   Result<IkStepReport> run(double t_s, JointMask out_of_service, const JointVector& teleop_velocity) noexcept;
 
-  const JointVector& rescue_references() const noexcept { return references_; }
+  const JointVector& rescue_references() const noexcept { return limiter_.position(); }
+  const JointVector& rescue_velocities() const noexcept { return limiter_.velocity(); }
+  const JointVector& planned() const noexcept { return planned_; }  // the IK's joints before the limiter
   const JointVector& teleop_references() const noexcept { return teleop_.references(); }
   JointSpaceTeleop& teleop() noexcept { return teleop_; }
   const RescueMotion& motion() const noexcept { return motion_; }
@@ -32,8 +37,9 @@ class RcPeriod {
   TaskPriorityIk ik_;
   RescueMotion motion_;
   JointSpaceTeleop teleop_;
-  JointVector references_;
+  JointVector planned_;
   JointVector next_;
+  AccelerationLimiter limiter_;
   RescueSample sample_;
   LostCapability lost_;
   JointMask out_of_service_{0};

@@ -52,9 +52,12 @@ RescueSample RescueMotion::sample(double t_s) const noexcept {
   for (std::size_t k = 0; k < 3; ++k) {
     const double length = config_.phase_s[k];
     if (t_s < start + length) {
-      const double s = minimum_jerk((t_s - start) / length).s;
+      const MinimumJerkProfile profile = minimum_jerk((t_s - start) / length);
+      const double s = profile.s;
       out.left = interpolate_pose(left_[k], left_[k + 1], s);
       out.right = interpolate_pose(right_[k], right_[k + 1], s);
+      out.left_twist = interpolation_twist(left_[k], left_[k + 1], profile.ds / length);
+      out.right_twist = interpolation_twist(right_[k], right_[k + 1], profile.ds / length);
       out.phase = static_cast<RescuePhase>(k);
       out.payload_kg = k == 2 ? s * config_.person_kg : 0.0;
       return out;

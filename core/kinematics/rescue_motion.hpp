@@ -29,6 +29,8 @@ struct RescueMotionConfig {
 struct RescueSample {
   Pose left;
   Pose right;
+  Vector6 left_twist{Vector6::Zero()};   // the palms' velocities [v; w] (base_link, per second)
+  Vector6 right_twist{Vector6::Zero()};
   double payload_kg{0.0};
   RescuePhase phase{RescuePhase::lowering};
 };

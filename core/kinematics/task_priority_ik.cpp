@@ -48,7 +48,8 @@ TaskPriorityIk::TaskPriorityIk(const IkSettings& settings) noexcept
 Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets& targets, JointMask out_of_service,
                                           JointVector& q_next) noexcept {
   if (!q.allFinite()) return make_error(Errc::invalid_argument, "joint positions are not finite");
-  if (!finite(targets.left) || !finite(targets.right) || !std::isfinite(targets.payload_kg) ||
+  if (!finite(targets.left) || !finite(targets.right) || !targets.left_twist.allFinite() ||
+      !targets.right_twist.allFinite() || !std::isfinite(targets.payload_kg) ||
       targets.payload_kg < 0.0) {
     return make_error(Errc::invalid_argument, "targets are not finite");
   }
@@ -73,10 +74,14 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     clamp_norm(e1.segment<3>(at), s.max_linear_step_m);
     clamp_norm(e1.segment<3>(at + 3), s.max_angular_step_rad);
   }
+  // The trajectory's own motion is fed forward; the pose error is fed back with feedback_gain.
+  e1 *= s.feedback_gain;
+  e1.head<6>() += s.dt_s * targets.left_twist;
+  e1.tail<6>() += s.dt_s * targets.right_twist;
 
   // ---- sub-tasks: forearms level, COM over the support centre ----
-  Jacobian4 j2 = Jacobian4::Zero();
-  Eigen::Vector4d e2 = Eigen::Vector4d::Zero();
+  SubJacobian j2 = SubJacobian::Zero();
+  SubVector e2 = SubVector::Zero();
   j2.row(0) = forearm_level_row(poses_, kLeftForearm, report.forearm_tilt[0]);
   j2.row(1) = forearm_level_row(poses_, kRightForearm, report.forearm_tilt[1]);
   if (s.forearm_task) {
@@ -92,7 +97,16 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     IkJacobian3 jcom;
     centre_of_mass_jacobian(poses_, targets.payload_kg, jcom);
     j2.bottomRows<2>() = jcom.topRows<2>();
-    e2.tail<2>() = s.com_gain * (support_centre() - com.position.head<2>());
+    e2.segment<2>(2) = s.com_gain * (support_centre() - com.position.head<2>());
+  }
+  // Waist posture: the waist back to its centre, weighted. In the main task's one-dimensional
+  // null space the forearm rows alone have an asymmetric optimum when the forearms are tilted
+  // (turning the waist levels one forearm at the other's cost): without this row a symmetric
+  // motion left symmetry with the waist's speed doubling every 10 ms. With it, the symmetric
+  // posture is the sub-tasks' optimum and stays stable.
+  if (s.waist_weight > 0.0) {
+    j2(4, 0) = s.waist_weight;
+    e2(4) = -s.waist_weight * s.waist_gain * q(static_cast<Eigen::Index>(kIkJoints[0]));
   }
 
   // ---- locked columns: out of service, then joints held at a position limit ----
@@ -105,7 +119,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   for (int pass = 0; pass < 3; ++pass) {
     report.passes = pass + 1;
     Jacobian12 j1m = j1;
-    Jacobian4 j2m = j2;
+    SubJacobian j2m = j2;
     for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
       if (!locked[c]) continue;
       j1m.col(static_cast<Eigen::Index>(c)).setZero();
@@ -145,11 +159,11 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     const Jacobian12 x = llt.solve_columns(j1m);
     const IkVector dq1 = x.transpose() * e1r;
     const Matrix13 n1 = Matrix13::Identity() - x.transpose().lazyProduct(j1m);
-    const Jacobian4 j2n = j2m.lazyProduct(n1);
-    const Eigen::Vector4d e2r = e2 - j2 * (dq_fixed + dq1);
-    SmallCholesky<4> sub;
+    const SubJacobian j2n = j2m.lazyProduct(n1);
+    const SubVector e2r = e2 - j2 * (dq_fixed + dq1);
+    SmallCholesky<kSubRows> sub;
     if (!sub.compute(j2n.lazyProduct(j2n.transpose()) +
-                     s.subtask_damping * s.subtask_damping * Eigen::Matrix4d::Identity())) {
+                     s.subtask_damping * s.subtask_damping * Eigen::Matrix<double, kSubRows, kSubRows>::Identity())) {
       return make_error(Errc::invalid_argument, "sub-task matrix is not positive definite");
     }
     const IkVector dq2 = j2n.transpose() * sub.solve(e2r);
@@ -205,6 +219,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     if (step_rad > reach) scale = std::min(scale, reach / step_rad);
   }
   report.velocity_scale = scale;
+  dq *= scale;
 
   q_next = q;
   for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
@@ -212,8 +227,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     if ((out_of_service & joint_bit(j)) != 0) continue;
     const auto row = static_cast<Eigen::Index>(j);
     const JointLimits& lim = kJoints[j].limits;
-    q_next(row) = std::clamp(q(row) + scale * dq(static_cast<Eigen::Index>(c)), lim.position_min_rad,
-                             lim.position_max_rad);
+    q_next(row) = std::clamp(q(row) + dq(static_cast<Eigen::Index>(c)), lim.position_min_rad, lim.position_max_rad);
   }
   return report;
 }

@@ -30,6 +30,7 @@ namespace rescue::kin {
 
 struct IkSettings {
   double dt_s{0.001};                 // the RC period
+  double feedback_gain{1.0};          // share of the (clamped) palm pose error corrected per step
   double max_linear_step_m{0.004};    // main-task error used per step (position), m
   double max_angular_step_rad{0.02};  // main-task error used per step (rotation), rad
   double singular_threshold{0.08};    // sigma_min below which damping starts
@@ -38,6 +39,8 @@ struct IkSettings {
   double subtask_damping{0.05};       // lambda of the sub-task solve
   double forearm_gain{0.05};          // share of the forearm level error corrected per step
   double com_gain{0.02};              // share of the COM error corrected per step
+  double waist_gain{0.02};            // share of the waist's distance from its centre corrected per step
+  double waist_weight{1.0};           // weight of the waist posture row among the sub-tasks (0: off)
   double limit_margin_rad{1e-3};      // joints stop this far inside their position limits
   bool forearm_task{true};
   bool com_task{true};
@@ -47,6 +50,10 @@ struct IkTargets {
   Pose left;
   Pose right;
   double payload_kg{0.0};
+  // The targets' velocities (twists [v; w] in base_link, per second): the feed-forward of a
+  // trajectory. The step is twist * dt + feedback_gain * (clamped) pose error.
+  Vector6 left_twist{Vector6::Zero()};
+  Vector6 right_twist{Vector6::Zero()};
 };
 
 struct IkStepReport {
@@ -82,7 +89,9 @@ class TaskPriorityIk {
   using Matrix12 = Eigen::Matrix<double, 12, 12>;
   using Vector12 = Eigen::Matrix<double, 12, 1>;
   using Jacobian12 = Eigen::Matrix<double, 12, kIkDof>;
-  using Jacobian4 = Eigen::Matrix<double, 4, kIkDof>;
+  static constexpr int kSubRows = 5;  // forearms level (2), COM x y (2), waist posture (1)
+  using SubJacobian = Eigen::Matrix<double, kSubRows, kIkDof>;
+  using SubVector = Eigen::Matrix<double, kSubRows, 1>;
   using Matrix13 = Eigen::Matrix<double, kIkDof, kIkDof>;
 
   IkSettings settings_;

@@ -13,6 +13,7 @@
 #include "core/app/links/protocol_messages.hpp"
 #include "core/app/links/reference_space.hpp"
 #include "core/concurrency/seqlock.hpp"
+#include "core/robot/robot.hpp"
 
 namespace rescue::app {
 
@@ -30,6 +31,17 @@ struct RcTaskState {
   std::uint64_t periods;
   std::uint64_t kinematics_errors;
   double position_residual_m[2];  // IK: left, right palm (rescue task)
+  double rotation_residual_rad[2];
+  // The rescue task's own figures over the motion it drove (approach, rescue motion, targets), for
+  // the run's report (`run --scenario rescue`): per joint the largest speed and acceleration of its
+  // references (joints out of service left out from the period they were lost), the largest
+  // difference of mirrored arm joints and |waist| while no joint was out of service, the smallest
+  // COM support margin.
+  double max_speed_rad_s[kJointCount];
+  double max_acceleration_rad_s2[kJointCount];
+  double symmetry_error_rad;
+  double max_abs_waist_rad;
+  double min_support_margin_m;
 };
 static_assert(std::is_trivial_v<RcTaskState>, "published through a seqlock");
 

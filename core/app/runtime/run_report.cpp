@@ -20,6 +20,19 @@ int exit_status_for(fsm::RobotCondition condition) noexcept {
 namespace rescue::app::runner {
 namespace {
 
+// `run --scenario rescue`: an arm with every joint in service ends this close to its target.
+constexpr double kRescueResidualM = 0.005;
+constexpr double kRescueResidualRad = 0.02;
+
+// Every reference the rescue RC task drove within each joint's speed and acceleration limits.
+bool rescue_within_limits(const RcTaskState& rescue) noexcept {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if (rescue.max_speed_rad_s[j] > kJoints[j].limits.velocity_max_rad_s * (1.0 + 1e-9)) return false;
+    if (rescue.max_acceleration_rad_s2[j] > kin::kJointAcceleration[j] * (1.0 + 1e-6)) return false;
+  }
+  return true;
+}
+
 // The one line saying where a signal stopped the run.
 void print_stop_line(const RunControl& state, bool drives_disabled, bool file_dirty) noexcept {
   (void)std::printf("rescue-motion run: stopped by signal %d %s, after %" PRIu64 " cycles; drives %s; error-joints "
@@ -148,6 +161,19 @@ int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask 
     if (rescue_phase_reached != static_cast<std::uint8_t>(kin::RescuePhase::done)) {
       return fail("run", "the rescue motion did not reach its end before the stop");
     }
+    RcTaskState rescue{};
+    if (!links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+      return fail("run", "the rescue RC task's figures could not be read");
+    }
+    if (!rescue_within_limits(rescue)) return fail("run", "a rescue reference exceeded a joint's speed or acceleration limit");
+    // An arm with every joint in service ends on its target; a lost arm's residual is only reported.
+    for (int arm = 0; arm < 2; ++arm) {
+      if ((rescue.out_of_service & joints_of_branch(arm == 0 ? Branch::left_arm : Branch::right_arm)) != 0) continue;
+      if (rescue.position_residual_m[arm] > kRescueResidualM || rescue.rotation_residual_rad[arm] > kRescueResidualRad) {
+        return fail("run", "an arm with every joint in service did not reach its target");
+      }
+    }
+    if (!(rescue.min_support_margin_m > 0.0)) return fail("run", "the centre of mass left the support polygon");
   }
   return 0;
 }
@@ -193,6 +219,18 @@ void print_run_summary(const RunSummary& s) noexcept {
   if (links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
     (void)std::printf("rescue_residual_left_m: %.4f\n", rescue.position_residual_m[0]);
     (void)std::printf("rescue_residual_right_m: %.4f\n", rescue.position_residual_m[1]);
+    (void)std::printf("rescue_residual_left_rad: %.4f\n", rescue.rotation_residual_rad[0]);
+    (void)std::printf("rescue_residual_right_rad: %.4f\n", rescue.rotation_residual_rad[1]);
+    (void)std::printf("rescue_symmetry_error_rad: %.6f\n", rescue.symmetry_error_rad);
+    (void)std::printf("rescue_max_abs_waist_rad: %.6f\n", rescue.max_abs_waist_rad);
+    (void)std::printf("rescue_min_support_margin_m: %.4f\n", rescue.min_support_margin_m);
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      (void)std::printf("rescue_max_speed_rad_s_%s: %.4f (limit %.4g)\n", kJoints[j].name, rescue.max_speed_rad_s[j],
+                        kJoints[j].limits.velocity_max_rad_s);
+      (void)std::printf("rescue_max_acceleration_rad_s2_%s: %.4f (limit %.4g)\n", kJoints[j].name,
+                        rescue.max_acceleration_rad_s2[j], kin::kJointAcceleration[j]);
+    }
+    (void)std::printf("rescue_joint_limits: %s\n", rescue_within_limits(rescue) ? "within" : "exceeded");
   }
 }
 

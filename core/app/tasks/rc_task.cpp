@@ -1,5 +1,8 @@
 #include "core/app/tasks/rc_task.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Geometry>
 
 #include "core/app/config/firmware_config.hpp"
@@ -69,13 +72,57 @@ RcTask::RcTask(TaskLinks& links, const RcTaskSettings& settings) noexcept
       rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
       ik_(ik_settings(settings.period_ns)),
       teleop_(kin::JointVector::Zero(), seconds(settings.period_ns)),
+      limiter_(kin::JointVector::Zero(), seconds(settings.period_ns)),
+      wanted_(kin::JointVector::Zero()),
       references_(kin::JointVector::Zero()),
       previous_(kin::JointVector::Zero()),
       sent_(kin::JointVector::Zero()),
       approach_from_(kin::JointVector::Zero()),
       next_(kin::JointVector::Zero()),
       teleop_velocity_(kin::JointVector::Zero()),
-      mode_(settings.id == RcTaskId::teleop ? RcMode::teleop : RcMode::idle) {}
+      speed_(kin::JointVector::Zero()),
+      mode_(settings.id == RcTaskId::teleop ? RcMode::teleop : RcMode::idle) {
+  figures_.min_support_margin_m = 1e9;
+}
+
+void RcTask::measure() noexcept {
+  const bool driving = owns_ && mode_ != RcMode::idle && mode_ != RcMode::teleop;
+  const double dt = seconds(settings_.period_ns);
+  JointMask measured = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const auto row = static_cast<Eigen::Index>(j);
+    const double speed = (references_(row) - previous_(row)) / dt;
+    if (driving && (out_of_service_ & joint_bit(j)) == 0) {
+      measured |= joint_bit(j);
+      figures_.max_speed_rad_s[j] = std::max(figures_.max_speed_rad_s[j], std::fabs(speed));
+      if ((measured_ & joint_bit(j)) != 0) {
+        figures_.max_acceleration_rad_s2[j] =
+            std::max(figures_.max_acceleration_rad_s2[j], std::fabs(speed - speed_(row)) / dt);
+      }
+    }
+    speed_(row) = speed;
+  }
+  measured_ = measured;
+  if (!driving) return;
+  if (out_of_service_ == 0) {
+    // Mirrored in base_link's x-z plane: pitch and elbow angles equal, roll and yaw opposite.
+    constexpr std::size_t kMirrored[6][2] = {
+        {kin::joint_index("l_shoulder_pitch"), kin::joint_index("r_shoulder_pitch")},
+        {kin::joint_index("l_shoulder_roll"), kin::joint_index("r_shoulder_roll")},
+        {kin::joint_index("l_shoulder_yaw"), kin::joint_index("r_shoulder_yaw")},
+        {kin::joint_index("l_elbow"), kin::joint_index("r_elbow")},
+        {kin::joint_index("l_wrist_yaw"), kin::joint_index("r_wrist_yaw")},
+        {kin::joint_index("l_wrist_pitch"), kin::joint_index("r_wrist_pitch")}};
+    constexpr double kSign[6] = {1.0, -1.0, -1.0, 1.0, -1.0, 1.0};
+    for (std::size_t m = 0; m < 6; ++m) {
+      const double left = references_(static_cast<Eigen::Index>(kMirrored[m][0]));
+      const double right = references_(static_cast<Eigen::Index>(kMirrored[m][1]));
+      figures_.symmetry_error_rad = std::max(figures_.symmetry_error_rad, std::fabs(left - kSign[m] * right));
+    }
+    figures_.max_abs_waist_rad = std::max(
+        figures_.max_abs_waist_rad, std::fabs(references_(static_cast<Eigen::Index>(kin::joint_index("waist_yaw")))));
+  }
+}
 
 void RcTask::read_joints() noexcept {
   if (links_.samples.version() == 0) return;  // the handler has published nothing yet
@@ -109,6 +156,16 @@ void RcTask::on_take(hal::Nanoseconds now) noexcept {
     return;
   }
   approach_from_ = sent_;
+  wanted_ = sent_;
+  limiter_.reset(sent_);
+  // Minimum jerk over D peaks at 1.875 D / T in speed and 5.77 D / T^2 in acceleration.
+  approach_s_ = settings_.approach_s;
+  const kin::JointVector ready = kin::ready_posture();
+  for (const std::size_t j : kin::kIkJoints) {
+    const double distance = std::fabs(ready(static_cast<Eigen::Index>(j)) - sent_(static_cast<Eigen::Index>(j)));
+    approach_s_ = std::max({approach_s_, 1.875 * distance / kJoints[j].limits.velocity_max_rad_s,
+                            std::sqrt(5.7735 * distance / kin::kJointAcceleration[j])});
+  }
   mode_ = RcMode::approach;
   phase_ = kin::RescuePhase::lowering;
 }
@@ -124,6 +181,7 @@ void RcTask::start_target(const RcTaskInput& input) noexcept {
   } else {
     targets_.right = pose_of(input.pose);
   }
+  wanted_ = references_;
   mode_ = RcMode::target;
 }
 
@@ -170,16 +228,19 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
     case RcMode::idle:
     case RcMode::teleop:
       references_ = sent_;  // ready to take over from where the joints are
+      wanted_ = sent_;
+      limiter_.reset(sent_);
       return;
     case RcMode::approach: {
-      const double tau = seconds(now - mode_since_) / settings_.approach_s;
+      const double tau = seconds(now - mode_since_) / approach_s_;
       const double s = kin::minimum_jerk(tau).s;
       const kin::JointVector ready = kin::ready_posture();
       for (const std::size_t j : kin::kIkJoints) {
         const auto row = static_cast<Eigen::Index>(j);
-        references_(row) = (out_of_service_ & joint_bit(j)) != 0 ? sent_(row)
-                                                                 : approach_from_(row) + s * (ready(row) - approach_from_(row));
+        wanted_(row) = (out_of_service_ & joint_bit(j)) != 0 ? sent_(row)
+                                                             : approach_from_(row) + s * (ready(row) - approach_from_(row));
       }
+      references_ = limiter_.step(wanted_, out_of_service_);
       if (tau >= 1.0) {
         rescue_ = kin::RcPeriod(references_, ik_settings(settings_.period_ns), settings_.motion);
         mode_ = RcMode::rescue_motion;
@@ -192,21 +253,25 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
           rescue_.run(seconds(now - mode_since_), out_of_service_, kin::JointVector::Zero());
       if (report.ok()) {
         ik_report_ = report.value();
+        if (owns_) figures_.min_support_margin_m = std::min(figures_.min_support_margin_m, ik_report_.support_margin_m);
       } else {
         ++counters_.kinematics_errors;
       }
-      references_ = rescue_.rescue_references();
+      wanted_ = rescue_.rescue_references();
+      references_ = limiter_.step(wanted_, out_of_service_);
       phase_ = rescue_.last_sample().phase;
       return;
     }
     case RcMode::target: {
-      const Result<kin::IkStepReport> report = ik_.step(references_, targets_, out_of_service_, next_);
+      // The IK steps from its own plan; the limiter turns the plan into references.
+      const Result<kin::IkStepReport> report = ik_.step(wanted_, targets_, out_of_service_, next_);
       if (report.ok()) {
         ik_report_ = report.value();
-        references_ = next_;
+        wanted_ = next_;
       } else {
         ++counters_.kinematics_errors;
       }
+      references_ = limiter_.step(wanted_, out_of_service_);
       return;
     }
   }
@@ -227,6 +292,7 @@ void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
     space.set(j, references_(row), (references_(row) - previous_(row)) / dt);
   }
   space.complete(owns_ ? word : 0, counters_.periods, commanded(), now);
+  if (settings_.id == RcTaskId::rescue) measure();
   previous_ = references_;
 }
 
@@ -271,7 +337,7 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
   } else {
     ++counters_.no_samples;
   }
-  RcTaskState state{};
+  RcTaskState state = figures_;
   state.mode = static_cast<std::uint8_t>(mode_);
   state.phase = static_cast<std::uint8_t>(phase_);
   state.owns = owns_;
@@ -280,6 +346,8 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
   state.kinematics_errors = counters_.kinematics_errors;
   state.position_residual_m[0] = ik_report_.position_residual_m[0];
   state.position_residual_m[1] = ik_report_.position_residual_m[1];
+  state.rotation_residual_rad[0] = ik_report_.rotation_residual_rad[0];
+  state.rotation_residual_rad[1] = ik_report_.rotation_residual_rad[1];
   links_.motion.task_state[index()].write(state);
   links_.rc_heartbeat_ns[index()].store(now, std::memory_order_release);
 }

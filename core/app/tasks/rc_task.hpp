@@ -12,6 +12,8 @@
 //                palm held. Joints out of service are locked and left out of the solution.
 //        teleop  joint-space teleoperation (kin::JointSpaceTeleop): the hands open or close at a
 //                fixed speed; taking the motion continues from the references being sent.
+//      Every reference respects the joints' velocity and acceleration limits (the rescue task's
+//      through kin::AccelerationLimiter, teleoperation's in kin::JointSpaceTeleop).
 //   4. writes them into its own reference space (TaskLinks::motion.references[task]) under the
 //      Motion owner word it holds (0 when it does not own the motion) and beats its heartbeat.
 // Ownership: `ctl owner TASK` takes the motion (from whoever holds it). If the EtherCAT handler
@@ -29,6 +31,7 @@
 
 #include "core/app/links/motion_links.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/kinematics/acceleration_limiter.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
 #include "hal/time/clock.hpp"
@@ -41,7 +44,8 @@ const char* to_string(RcMode mode) noexcept;
 struct RcTaskSettings {
   RcTaskId id{RcTaskId::rescue};
   hal::Nanoseconds period_ns{0};           // config::kRcTaskPeriodNs
-  double approach_s{1.6};                   // rescue: joint-space move to the ready posture
+  double approach_s{1.6};                   // rescue: joint-space move to the ready posture (at least;
+                                            // longer when a joint's limits need it)
   kin::RescueMotionConfig motion{};         // rescue: the phases
   double hand_speed_rad_s{0.5};             // teleop: hands open / close at this speed
 };
@@ -84,6 +88,7 @@ class RcTask {
   void start_target(const RcTaskInput& input) noexcept;
   void compute(hal::Nanoseconds now) noexcept;
   void publish(hal::Nanoseconds now, std::uint64_t word) noexcept;
+  void measure() noexcept;
   JointMask commanded() const noexcept;
 
   TaskLinks& links_;
@@ -91,6 +96,9 @@ class RcTask {
   kin::RcPeriod rescue_;
   kin::TaskPriorityIk ik_;
   kin::JointSpaceTeleop teleop_;
+  kin::AccelerationLimiter limiter_;  // rescue: every mode's references within the joints' limits
+  kin::JointVector wanted_;           // rescue: what the mode computed, before the limiter
+  double approach_s_{0.0};            // rescue: this approach's duration (the limits may lengthen it)
   kin::JointVector references_;
   kin::JointVector previous_;
   kin::JointVector sent_;        // what the handler sends (samples' position_ref_rad)
@@ -102,6 +110,9 @@ class RcTask {
   RobotSample sample_{};
   RobotJointStatus status_{};
   RcTaskCounters counters_{};
+  RcTaskState figures_{};             // rescue: speeds, accelerations, symmetry, COM margin (measure())
+  kin::JointVector speed_;            // last period's reference speeds
+  JointMask measured_{0};             // joints whose speed was measured last period
   hal::Nanoseconds mode_since_{0};
   JointMask out_of_service_{0};
   RcMode mode_{RcMode::idle};

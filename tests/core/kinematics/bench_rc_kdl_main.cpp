@@ -64,6 +64,18 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc && count < 16; ++i) args[count++] = argv[i];
   auto parsed = app::parse_args(app::kBenchCommand, count, args);
   if (!parsed.ok()) return app::fail("rescue-bench-rc-kdl", "options", parsed.error());
+  if (parsed.value().help_requested()) {
+    std::printf(
+        "usage: rescue-bench-rc-kdl [--periods N]\n\n"
+        "`rescue-motion bench rc` (the RC tasks' kinematics: FK, Jacobian and DLS of the 7-joint left arm,\n"
+        "FK of all links, the task-priority IK step, the whole RC period; median / p99 / max in ns) plus\n"
+        "Orocos KDL's ChainFkSolverPos_recursive, ChainJntToJacSolver and ChainIkSolverVel_wdls on the same\n"
+        "chain and configurations in the same process, with the ratios KDL / ours (docs/kinematics.md).\n"
+        "Not firmware and never installed: rescue-motion does not link KDL.\n\n"
+        "  --periods N   samples per kernel (as `rescue-motion bench rc`)\n"
+        "  --help        this text\n");
+    return 0;
+  }
   static KdlKernels kernels(kin::test::make_kdl_chain(kin::kLeftArm));
   const app::RcComparison kdl{"kdl", &kernels, kdl_fk, kdl_jacobian, kdl_velocity_ik};
   const int status = app::run_bench_rc(parsed.value(), &kdl);

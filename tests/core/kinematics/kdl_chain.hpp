@@ -1,6 +1,7 @@
-// Test/bench support: the KDL chain of one of our arm chains, built from the same generated
-// description (core/robot/robot_description.hpp, from the URDF), and conversions between KDL and
-// Eigen. KDL is the independent oracle: it composes frames its own way (Joint::pose * f_tip).
+// Bench support (rescue-bench-rc-kdl only): the KDL chain of one of our arm chains, built from the
+// generated description (core/robot/robot_description.hpp), so KDL times exactly our chain (seven
+// segments, no fixed palm segment). Not an oracle: the tests build KDL from the URDF file with
+// kdl_parser instead (urdf_oracle.hpp), sharing nothing with the generated table.
 #pragma once
 
 #include <kdl/chain.hpp>
@@ -10,6 +11,7 @@
 
 #include "core/kinematics/kinematic_model.hpp"
 #include "core/kinematics/pose.hpp"
+#include "tests/core/kinematics/kdl_conversions.hpp"
 
 namespace rescue::kin::test {
 
@@ -46,26 +48,9 @@ inline KDL::Chain make_kdl_chain(const Chain& chain) {
   return out;
 }
 
-inline Pose to_pose(const KDL::Frame& f) {
-  Pose pose;
-  for (int r = 0; r < 3; ++r) {
-    pose.p(r) = f.p(r);
-    for (int c = 0; c < 3; ++c) pose.R(r, c) = f.M(r, c);
-  }
-  return pose;
-}
-
 inline KDL::JntArray to_kdl(const ArmVector& q) {
   KDL::JntArray out(kArmJoints);
   for (int i = 0; i < kArmJoints; ++i) out(static_cast<unsigned>(i)) = q(i);
-  return out;
-}
-
-inline ArmJacobian to_eigen(const KDL::Jacobian& j) {
-  ArmJacobian out;
-  for (int r = 0; r < 6; ++r) {
-    for (int c = 0; c < kArmJoints; ++c) out(r, c) = j(static_cast<unsigned>(r), static_cast<unsigned>(c));
-  }
   return out;
 }
 

@@ -8,34 +8,52 @@
 
 #include "core/kinematics/centre_of_mass.hpp"
 #include "core/kinematics/jacobian.hpp"
-#include "tests/core/kinematics/kdl_chain.hpp"
 #include "tests/core/kinematics/random_configurations.hpp"
+#include "tests/core/kinematics/urdf_oracle.hpp"
 
 namespace rescue::kin {
 namespace {
 
 constexpr int kConfigurations = 5000;
 
-void expect_chain_jacobian_matches_kdl(const Chain& chain, std::uint64_t seed) {
-  const KDL::Chain kdl = test::make_kdl_chain(chain);
+// Largest difference between our chain Jacobian and KDL's ChainJntToJacSolver on the chain that
+// kdl_parser built from the URDF text.
+double worst_difference(const std::string& urdf, const Chain& chain, const char* tip, std::uint64_t seed,
+                        int configurations) {
+  const test::UrdfOracle oracle(urdf);
+  EXPECT_TRUE(oracle.ok());
+  const KDL::Chain kdl = oracle.chain(tip);
+  EXPECT_EQ(kdl.getNrOfJoints(), static_cast<unsigned>(kArmJoints));
   KDL::ChainJntToJacSolver solver(kdl);
   KDL::Jacobian kdl_jacobian(kdl.getNrOfJoints());
   std::mt19937_64 rng(seed);
   double worst = 0.0;
-  for (int n = 0; n < kConfigurations; ++n) {
-    const ArmVector q = chain_joint_values(chain, test::random_configuration(rng));
-    ASSERT_GE(solver.JntToJac(test::to_kdl(q), kdl_jacobian), 0);
+  for (int n = 0; n < configurations; ++n) {
+    const JointVector q_all = test::random_configuration(rng);
+    EXPECT_GE(solver.JntToJac(test::UrdfOracle::chain_joints(kdl, q_all), kdl_jacobian), 0);
     ArmJacobian j;
-    Pose tip;
-    chain_jacobian(chain, q, j, tip);
+    Pose pose;
+    chain_jacobian(chain, chain_joint_values(chain, q_all), j, pose);
     worst = std::max(worst, (j - test::to_eigen(kdl_jacobian)).cwiseAbs().maxCoeff());
   }
+  return worst;
+}
+
+TEST(Jacobian, LeftArmMatchesKdlBuiltFromTheUrdf) {
+  const double worst = worst_difference(test::robot_urdf_text(), kLeftArm, "l_ee", 3, kConfigurations);
   EXPECT_LT(worst, 1e-9) << "worst difference " << worst;
 }
 
-TEST(Jacobian, LeftArmMatchesKdlOnRandomConfigurations) { expect_chain_jacobian_matches_kdl(kLeftArm, 3); }
+TEST(Jacobian, RightArmMatchesKdlBuiltFromTheUrdf) {
+  const double worst = worst_difference(test::robot_urdf_text(), kRightArm, "r_ee", 4, kConfigurations);
+  EXPECT_LT(worst, 1e-9) << "worst difference " << worst;
+}
 
-TEST(Jacobian, RightArmMatchesKdlOnRandomConfigurations) { expect_chain_jacobian_matches_kdl(kRightArm, 4); }
+TEST(Jacobian, AMutantUrdfMakesTheOracleDisagree) {
+  const std::string tilted = test::mutate(test::robot_urdf_text(), "<axis xyz=\"0 -1 0\"/>", "<axis xyz=\"0.34 -0.94 0\"/>");
+  ASSERT_FALSE(tilted.empty());
+  EXPECT_GT(worst_difference(tilted, kLeftArm, "l_ee", 3, 50), 1e-3) << "the tilted elbow axis is seen";
+}
 
 // Column c of a frame Jacobian by central differences: [dp; w] with [w]x = dR R^T.
 IkJacobian6 finite_difference_jacobian(const JointVector& q, std::size_t frame) {

@@ -3,6 +3,9 @@
 // task directions of each palm the remaining joints can no longer move.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+
 #include <cstring>
 
 #include "core/kinematics/jacobian.hpp"
@@ -71,6 +74,42 @@ TEST(OutOfService, OneLostJointIsCoveredByTheSevenJointArmsRedundancy) {
   const LostCapability cap = analyse_lost_capability(ready_posture(), mask_of({"l_elbow"}));
   EXPECT_EQ(cap.arms[0].lost_directions, 0);
   EXPECT_EQ(cap.arms[1].lost_directions, 0);
+}
+
+TEST(OutOfService, ALockedElbowFixesTheWristDistanceAndTheReachItCosts) {
+  // Elbow locked at pi/2 (the ready posture): the palm keeps its six directions there, but the
+  // distance from the shoulder yaw joint to the wrist is fixed at sqrt(0.30^2 + 0.35^2).
+  const JointMask lost = mask_of({"l_elbow"});
+  const LostCapability cap = analyse_lost_capability(ready_posture(), lost);
+  EXPECT_EQ(cap.arms[0].lost_directions, 0);
+  EXPECT_TRUE(cap.arms[0].reach_fixed);
+  EXPECT_FALSE(cap.arms[1].reach_fixed);
+  EXPECT_NEAR(cap.arms[0].wrist_distance_m, std::sqrt(0.30 * 0.30 + 0.35 * 0.35), 1e-12);
+  EXPECT_NEAR(cap.arms[0].wrist_distance_max_m, 0.65, 1e-12);  // elbow straight
+  EXPECT_NEAR(cap.arms[0].wrist_distance_min_m,
+              std::sqrt(0.30 * 0.30 + 0.35 * 0.35 + 2 * 0.30 * 0.35 * std::cos(2.5)), 1e-12);  // elbow at 2.5 rad
+  // A target the fixed distance cannot reach (the palm 0.2 m further forward, the arm would have
+  // to stretch) leaves a residual although no direction is lost; with its elbow the arm reaches it.
+  JointVector q = ready_posture();
+  LinkPoses poses;
+  forward_kinematics(q, poses);
+  IkTargets targets{poses[kLeftEe], poses[kRightEe], 0.0};
+  targets.left.p += Vector3(0.2, 0.0, 0.0);
+  targets.right.p += Vector3(0.2, 0.0, 0.0);
+  TaskPriorityIk ik;
+  const Result<IkStepReport> r = ik.solve(q, targets, lost, 6000, 1e-6, 1e-5);
+  ASSERT_TRUE(r.ok());
+  std::printf("locked elbow: left residual %.4f m %.4f rad, right residual %.2e m\n", r.value().position_residual_m[0],
+              r.value().rotation_residual_rad[0], r.value().position_residual_m[1]);
+  EXPECT_GT(r.value().position_residual_m[0] + r.value().rotation_residual_rad[0], 0.01);
+  // The waist, shared, is pulled towards the unreachable left target: the right palm pays a few mm.
+  EXPECT_LT(r.value().position_residual_m[1], 0.005);
+  const JointVector healthy_start = ready_posture();
+  JointVector healthy = healthy_start;
+  TaskPriorityIk healthy_ik;
+  const Result<IkStepReport> h = healthy_ik.solve(healthy, targets, 0, 6000, 1e-6, 1e-5);
+  ASSERT_TRUE(h.ok());
+  EXPECT_LT(h.value().position_residual_m[0], 1e-4) << "with its elbow the arm reaches it";
 }
 
 TEST(OutOfService, LostElbowAndWaistCostTheLeftPalmOneDirection) {

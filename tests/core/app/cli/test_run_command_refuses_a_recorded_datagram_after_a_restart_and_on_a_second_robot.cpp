@@ -113,7 +113,11 @@ struct Recorder {
     loopback = hal::parse_ipv4("127.0.0.1").value();
   }
   // The next authentic datagram from the robot at `port` within 500 ms.
-  bool answer(std::uint16_t port, protocol::Message& out) { return test::receive_authentic(socket, key, 500, out, port); }
+  // An answer that must come waits long (a loaded host delays the robot's socket handler, which runs at
+  // normal priority); one that must not come is waited for 1 s.
+  bool answer(std::uint16_t port, protocol::Message& out, int timeout_ms = 5000) {
+    return test::receive_authentic(socket, key, timeout_ms, out, port);
+  }
   bool send(std::uint16_t port, ConstByteSpan bytes) { return socket.send_to(loopback, port, bytes).ok(); }
   std::array<std::uint8_t, protocol::kMaxDatagram> seal(const protocol::Message& m, std::size_t& size) const {
     std::array<std::uint8_t, protocol::kMaxDatagram> out{};
@@ -145,7 +149,7 @@ struct Recorder {
   // Sends the recorded datagram again; true when the robot answered it (it must not).
   bool replay(std::uint16_t port) {
     protocol::Message m;
-    return send(port, ConstByteSpan(recorded.data(), recorded_size)) && answer(port, m);
+    return send(port, ConstByteSpan(recorded.data(), recorded_size)) && answer(port, m, 1000);
   }
 
   protocol::Key key{};

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/app/links/run_control.hpp"
+#include "core/robot/robot.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 
@@ -86,6 +87,15 @@ void expect_rescue_scenario(const std::string& mode_option, const char* tasks_li
   EXPECT_EQ(value_of(out.out, "rescue_phase_reached"), "done") << out.out;
   EXPECT_NE(value_of(out.out, "rescue_residual_left_m"), "") << out.out;
   EXPECT_LT(std::atof(value_of(out.out, "rescue_residual_right_m").c_str()), 0.01) << "the intact arm reaches its target";
+  EXPECT_NE(value_of(out.out, "rescue_residual_left_rad"), "") << out.out;
+  // Every reference within the joints' speed and acceleration limits, each joint's figures printed.
+  EXPECT_EQ(value_of(out.out, "rescue_joint_limits"), "within") << out.out;
+  for (const rescue::JointInfo& joint : rescue::kJoints) {
+    EXPECT_NE(value_of(out.out, std::string("rescue_max_speed_rad_s_") + joint.name), "") << joint.name;
+    EXPECT_NE(value_of(out.out, std::string("rescue_max_acceleration_rad_s2_") + joint.name), "") << joint.name;
+  }
+  EXPECT_NE(value_of(out.out, "rescue_symmetry_error_rad"), "") << out.out;
+  EXPECT_GT(std::atof(value_of(out.out, "rescue_min_support_margin_m").c_str()), 0.0) << out.out;
   // Every healthy joint answered every cycle (frames, not host scheduling: docs/firmware.md).
   EXPECT_TRUE(contains(out.out, "healthy joints missed 0 cycles")) << out.out;
 }
