@@ -113,7 +113,6 @@ std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
 drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   build_outputs();
   const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
-  publish_sample(result);
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
 
   // Master's link events (lost, restored, not operational), for the log.
@@ -145,6 +144,8 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       if (!report_sink_.try_send(back)) ++power_cycle_reports_dropped_;
     }
   }
+  // After the reports above: a joint back after a power cycle is queued before it shows reachable.
+  publish_sample(result);
 
   // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,
   // and the cycle that first reports OP carries inputs from before the switch; so from the next.
