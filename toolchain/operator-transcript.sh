@@ -9,8 +9,12 @@
 #   ...
 #   <!-- END TRANSCRIPT NAME -->
 # of docs/operator.md with section NAME of the transcript. The prose around the blocks is left alone.
+# Every command must end as the page says: a ctl without --refused must exit 0, one with --refused must
+# exit 1; otherwise the script fails (exit 1) and the page is not rewritten. Then the examples of
+# docs/firmware.md run (the link-cut, power-cycle with and without the automatic clear, and
+# cable-damage scenarios) and each must exit 0.
 # Usage: bash toolchain/operator-transcript.sh [BUILD_DIR]   (default build/debug; the program must be built)
-# Takes about 25 s. The figures (cycles, PIDs, times) are those of this run: they change every time.
+# Takes about 45 s. The figures (cycles, PIDs, times) are those of this run: they change every time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${1:-build/debug}"
@@ -53,17 +57,27 @@ emit() {
 # ctl [--rows REGEX] [--cut N] ARGS...: runs `rescue-motion ctl --key D/operator.key --port P ARGS`,
 # shows `rescue-motion ctl ARGS`, its output (--rows: only the first two lines and the rows matching
 # REGEX; --cut: lines cut to N characters) and its exit status when not 0.
+failures=0
+# expect STATUS WANTED WHAT: counts a command that did not end as the page says.
+expect() {
+  if [ "$1" -ne "$2" ]; then
+    echo "operator-transcript: FAILED: '$3' exited $1, the page says $2" >&2
+    failures=$((failures + 1))
+  fi
+}
 ctl() {
-  local rows="" cut="" note=""
+  local rows="" cut="" note="" wanted=0
   while :; do
     case "$1" in
       --rows) rows="$2"; shift 2 ;;
       --cut) cut="$2"; shift 2 ;;
+      --refused) wanted=1; shift ;;
       *) break ;;
     esac
   done
   local out status=0
   out="$("$program" ctl --key "$key" --port "$control_port" "$@" 2>&1)" || status=$?
+  expect "$status" "$wanted" "ctl $*"
   [ -n "$rows" ] && { out="$(printf '%s\n' "$out" | awk -v re="$rows" 'NR <= 2 || $0 ~ re')"; note="  (rows: $rows)"; }
   [ -n "$cut" ] && { out="$(printf '%s\n' "$out" | cut -c "1-$cut")..."; note="  (first $cut characters)"; }
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
@@ -73,6 +87,7 @@ ctl() {
 ctl_raw() {
   local out status=0
   out="$("$program" ctl "$@" 2>&1)" || status=$?
+  expect "$status" 1 "ctl $*"
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
   printf '%s\n' "$out" | emit "rescue-motion ctl $*"
 }
@@ -113,6 +128,7 @@ sleep 0.3
 ctl status
 
 begin queries
+ctl version
 ctl slaves
 ctl master
 sleep 1  # a second of figures
@@ -138,11 +154,13 @@ ctl --rows 'waist_yaw|l_hand' status
 ctl owner 0
 ctl move left 0.4,0.2,0.3,0,0,0 --task 0
 sleep 0.5
+ctl owner
+ctl --json owner
 ctl --rows 'waist_yaw|neck_pan|l_shoulder|l_elbow' status
 
 begin clear
-ctl clear l_hand
-ctl clear l_hand --moved
+ctl --refused clear l_hand
+ctl --refused clear l_hand --moved
 
 begin json
 ctl --cut 300 --json status
@@ -150,10 +168,17 @@ ctl --cut 300 --json tasks
 ctl --rows 'waist_yaw|neck_pan' watch --count 1
 
 begin refusals
-ctl enable l_elbow
-ctl mode l_elbow csv
-ctl owner 3
-ctl move left 0.4,0.2,0.3,0,0,0 --task 2
+ctl --refused enable l_elbow
+ctl --refused mode l_elbow csv
+ctl --refused owner 3
+ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 2
+ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 1
+ctl disable l_hand,r_hand
+ctl --refused enable l_hand,r_hand,l_elbow
+ctl --rows 'l_elbow|l_hand|r_hand' status
+ctl --refused --json enable l_hand,l_elbow
+ctl enable l_hand,r_hand
+ctl --refused enable l_elbow,tail
 
 begin bad-key
 "$program" ctl keygen --key "$dir/other.key" >/dev/null
@@ -175,9 +200,9 @@ wait_log "link lost"
 sleep 0.5
 run_lines 'cut the link|link lost|reconfiguration step|--comm_lost-->'
 ctl --rows 'l_shoulder_yaw|l_elbow|l_wrist|l_hand' status
-ctl enable l_hand
-ctl init l_elbow,l_hand
-ctl clear l_elbow
+ctl --refused enable l_hand
+ctl --refused init l_elbow,l_hand
+ctl --refused clear l_elbow
 stop_run
 
 begin diag
@@ -190,6 +215,21 @@ ctl diag
 sleep 4
 ctl --rows 'l_shoulder|l_elbow|l_wrist|l_hand|warning' diag
 stop_run
+
+# The examples of docs/firmware.md: each must exit 0.
+for example in "--scenario link-cut" "--scenario power-cycle --duration 4" \
+               "--scenario power-cycle --duration 4 --auto-clear-power-cycled" "--scenario cable-damage --duration 3"; do
+  rm -rf "$dir/firmware"
+  status=0
+  # shellcheck disable=SC2086  # the example's words
+  "$program" run $example --state-dir "$dir/firmware" >"$dir/firmware.log" 2>&1 || status=$?
+  expect "$status" 0 "run $example (docs/firmware.md)"
+  [ "$status" -eq 0 ] || tail -n 5 "$dir/firmware.log" >&2
+done
+if [ "$failures" -ne 0 ]; then
+  echo "operator-transcript: $failures command(s) did not end as the pages say; $doc not rewritten" >&2
+  exit 1
+fi
 
 # Rewrites each block of the page with its section; a block without a section (or the reverse) is an error.
 python3 - "$doc" "$dir/sections" <<'PY'

@@ -4,11 +4,14 @@
 #   2. checks its metadata (dpkg-deb -I) and contents (dpkg-deb -c)
 #   3. lintian: no error, no warning (the info tags left are justified in docs/deploy.md)
 #   4. installs it with dpkg -i into a throw-away root: overlays of this machine's /etc, /usr, /var in
+#      which a root run of the built program first left its files in /var/lib/rescue-motion (postinst
+#      must hand them to the service user);
 #      a private mount namespace (CI is root without a booted systemd; this machine never changes), so
 #      postinst really runs (service user, state directory, key 0600); runs the installed binary AS
 #      THE SERVICE USER with only CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK (setpriv) against the
 #      in-process simulated robot: `run --check` (OP and back), then the packaged configuration with
 #      the link-cut scenario, which must reach OP and leave the error-joints file in the state directory
+#      and `bench fig4` of the installed program, run from /, finds /usr/share/rescue-motion/plot_fig4.py
 #   5. the unit: systemd-analyze verify, and systemd-analyze security --offline=true (exposure score)
 #   6. dpkg --purge: the state directory, the key and the user go
 # Usage: toolchain/package-check.sh [JOBS]
@@ -58,6 +61,14 @@ for path in ./usr/bin/rescue-motion ./lib/systemd/system/rescue-motion.service .
     ./usr/share/doc/rescue-motion/configuration.md; do
   echo "$contents" | grep -q " $path\$" || fail "package lacks $path"
 done
+# Every docs page: the program's help and the man page name them (docs/NAME.md).
+for page in docs/*.md; do
+  echo "$contents" | grep -q " ./usr/share/doc/rescue-motion/$(basename "$page")\$" || fail "package lacks the page $page"
+done
+man_text=$(dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/share/man/man1/rescue-motion.1.gz | gzip -dc)
+for section in "EXIT STATUS" "EXAMPLES"; do
+  echo "$man_text" | grep -qE "^\.SH \"?$section\"?\$" || fail "the man page has no $section section"
+done
 echo "$contents" | grep -q "operator.key" && fail "the package ships a key (it must be made at install)"
 echo "$contents" | grep " ./usr/bin/rescue-motion$" | grep -q "^-rwxr-xr-x root/root" || fail "binary mode/owner"
 echo "$(echo "$contents" | grep -vc '/$') files, all present"
@@ -85,6 +96,7 @@ for d in etc usr var; do mkdir -p "$root/up/$d" "$root/work/$d"; done
 : >"$root/up/etc/shadow"; : >"$root/up/etc/gshadow"
 chmod 0640 "$root/up/etc/shadow" "$root/up/etc/gshadow"; chgrp shadow "$root/up/etc/shadow" "$root/up/etc/gshadow"
 cp "$deb" "$root/rescue-motion.deb"
+cp "$build/rescue-motion" "$root/rescue-motion-built"
 port=$((20000 + RANDOM % 20000))  # free UDP ports on loopback (other runs may share this machine)
 cat >"$root/inside.sh" <<'INSIDE'
 set -euo pipefail
@@ -95,8 +107,20 @@ done
 mount -t tmpfs tmpfs /run
 fail() { echo "package-check: FAILED: $*" >&2; exit 1; }
 
+# A machine where the program once ran as root on the system state directory (a hand run, an older
+# package): its lock and error-joints file stay behind, root's. The service user must get them.
+echo "a root run of the built program on /var/lib/rescue-motion first (its files stay, root's):"
+"$root/rescue-motion-built" run --state-dir /var/lib/rescue-motion --scenario link-cut >"$root/root-run.log" 2>&1 ||
+  { tail -n 20 "$root/root-run.log"; fail "the root run"; }
+left=$(find /var/lib/rescue-motion -mindepth 1 -user root | wc -l)
+[ "$left" -gt 0 ] || fail "the root run left no file to take over"
+echo "  $left file(s) owned by root: $(find /var/lib/rescue-motion -mindepth 1 -user root -printf '%f ')"
+
 echo "dpkg -i:"
 dpkg -i "$root/rescue-motion.deb" 2>&1 | sed 's/^/  /'
+not_taken=$(find /var/lib/rescue-motion ! -user rescue-motion -printf '%p ')
+[ -z "$not_taken" ] || fail "postinst left files the service user does not own: $not_taken"
+echo "  postinst: every file in /var/lib/rescue-motion is the service user's now"
 dpkg-query -W -f='  installed: ${Package} ${Version} ${db:Status-Abbrev}\n' rescue-motion
 dpkg-query -W -f='${Conffiles}\n' rescue-motion | grep -q /etc/rescue-motion/rescue-motion.conf || fail "conffile not registered"
 id rescue-motion >/dev/null || fail "postinst made no service user"
@@ -124,10 +148,22 @@ echo "$out" | grep -q "network in OP" || fail "the installed binary did not reac
 echo "$out" | grep -q "privileges: not root; CAP_NET_RAW held, CAP_SYS_NICE held, CAP_IPC_LOCK held" ||
   fail "the service user's privileges are not what the unit grants"
 echo "$out" | grep -q "state directory /var/lib/rescue-motion" || fail "not the packaged state directory"
+echo "$out" | grep -q "restored lost joints l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand" ||
+  fail "the service did not read the error-joints file the root run left"
 file=/var/lib/rescue-motion/error-joints.bin
 [ -s "$file" ] || fail "no error-joints file in the packaged state directory"
 [ "$(stat -c %U "$file")" = rescue-motion ] || fail "error-joints file not owned by the service user"
 echo "  error-joints file: $file ($(stat -c '%s bytes, %U:%G %a' "$file"))"
+
+echo "installed binary: bench fig4 from / finds its plot script beside the program"
+if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+  (cd / && /usr/bin/rescue-motion bench fig4 --periods 10 --load none --out "$root/fig4" >"$root/fig4.log" 2>&1) ||
+    { tail -n 5 "$root/fig4.log"; fail "bench fig4 of the installed program"; }
+  [ -s "$root/fig4/fig4.png" ] || fail "bench fig4 of the installed program wrote no PNG"
+  echo "  $root/fig4/fig4.png: $(stat -c %s "$root/fig4/fig4.png") bytes (plot script /usr/share/rescue-motion/plot_fig4.py)"
+else
+  echo "  skipped: /usr/bin/python3 cannot import matplotlib here"
+fi
 
 echo "the unit: systemd-analyze verify and security --offline=true"
 unit=/lib/systemd/system/rescue-motion.service

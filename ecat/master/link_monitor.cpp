@@ -100,6 +100,7 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
   cycle_ = cycle;
   time_ = time;
   valid_ = 0;
+  probed_silent_ = probed_in_op_ = 0;
   pending_lost_ = pending_restored_ = 0;
   pending_detected_ = cycle;
   if (pending_rearmed_ != 0) {
@@ -157,6 +158,7 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
     }
     std::uint8_t& silent = silent_frames_[probe.position];
     if (probe.status_wkc == 0) {
+      probed_silent_ |= bit;
       // A check that did not reach a slave the counters do not doubt: checked again next frame.
       if ((suspect_ & bit) == 0) return false;
       // Silent once more. The counter that raised the suspicion was the first such frame.
@@ -189,6 +191,7 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
       }
       return false;
     }
+    if ((probe.al_status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op)) probed_in_op_ |= bit;
     if ((probe.al_status & reg::kAlStateMask) != static_cast<std::uint16_t>(reg::AlState::op)) {
       rearming_ &= ~bit;
       rearm_requests_ &= ~bit;
@@ -274,7 +277,14 @@ void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>
     // Short: probe every present slave of the branch. Only whole multiples of 3 say how many
     // slaves from the start of the branch were reached in OP (a link cut); any other shortfall
     // (a slave out of OP adds 1) cannot be placed, so nothing on the branch is trusted this cycle.
-    std::uint16_t fine = wkc % kLrwWkcPerSlave == 0 ? static_cast<std::uint16_t>(wkc / kLrwWkcPerSlave) : 0;
+    // When this frame's probes reached every present slave of the branch, they place the shortfall:
+    // the slaves found in OP are the ones counted, if the counter says exactly that many (a single
+    // slave out mid-branch, e.g. its drive power-cycled, leaves the slaves behind it in the exchange).
+    const SlaveMask in_op = present & probed_in_op_;
+    const bool placed = ((probed_silent_ | probed_in_op_) & present) == present &&
+                        wkc == kLrwWkcPerSlave * popcount(in_op);
+    if (placed) valid_ |= in_op;
+    std::uint16_t fine = !placed && wkc % kLrwWkcPerSlave == 0 ? static_cast<std::uint16_t>(wkc / kLrwWkcPerSlave) : 0;
     for (std::size_t i = 0; i < branch.slave_count; ++i) {
       const std::size_t p = branch.slaves[i];
       if ((present & slave_bit(p)) == 0) continue;

@@ -212,6 +212,10 @@ class LinkMonitor {
   SlaveMask fmmus_cleared_{0}; // out slaves whose FMMU activation is confirmed off
   SlaveMask suspect_{0};       // to probe next frame
   SlaveMask valid_{0};
+  // This frame's probes of slaves in the exchange: found silent, found reachable in OP. They place a
+  // short working counter: a single slave out mid-branch (its drive power-cycled) is not a cut.
+  SlaveMask probed_silent_{0};
+  SlaveMask probed_in_op_{0};
   SlaveMask recovering_{0};    // online recovery works on them: no restoration probes
   SlaveMask watchdog_check_{0};  // in the exchange, to probe once after the master's silence (item 5)
   SlaveMask rearm_requests_{0};  // found in SAFE-OP by their watchdog, not yet taken by the master

@@ -37,14 +37,35 @@ Result<StateDir> choose_state_dir(const char* option, bool privileged, const cha
   return make_error(Errc::not_found, "no state directory: not root, and neither XDG_STATE_HOME nor HOME is set");
 }
 
+bool is_installed_program_path(const char* exe) noexcept {
+  return exe != nullptr && std::strncmp(exe, "/usr/", 5) == 0;
+}
+
+bool system_state_dir_is_default() noexcept {
+  if (::geteuid() != 0) return false;
+  char exe[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return false;
+  exe[n] = '\0';
+  return is_installed_program_path(exe);
+}
+
 Result<StateDir> resolve_state_dir(const char* option) noexcept {
-  const bool privileged = ::geteuid() == 0;
+  const bool privileged = system_state_dir_is_default();
   // Start-up only, before any thread exists.
   const char* xdg = std::getenv("XDG_STATE_HOME");  // NOLINT(concurrency-mt-unsafe)
   const char* home = std::getenv("HOME");           // NOLINT(concurrency-mt-unsafe)
   auto dir = choose_state_dir(option, privileged, xdg, home);
   if (!dir.ok()) return dir;
-  const bool per_user = std::strcmp(dir.value().source, "$XDG_STATE_HOME") == 0 || std::strcmp(dir.value().source, "$HOME") == 0;
+  if (option == nullptr && !privileged && ::geteuid() == 0) {
+    // Said at start ("state directory D (SOURCE)"), so root knows why not the system directory.
+    dir.value().source = std::strcmp(dir.value().source, "$XDG_STATE_HOME") == 0
+                             ? "$XDG_STATE_HOME: root, but not the installed /usr/bin/rescue-motion; --state-dir "
+                               "/var/lib/rescue-motion to use the system directory"
+                             : "$HOME: root, but not the installed /usr/bin/rescue-motion; --state-dir "
+                               "/var/lib/rescue-motion to use the system directory";
+  }
+  const bool per_user = dir.value().source[0] == '$';  // "$XDG_STATE_HOME...", "$HOME..."
   const Status made = make_directories(dir.value().path.c_str(), per_user ? 0700U : 0755U);
   if (!made.ok()) return made.error();
   return dir;

@@ -1,5 +1,7 @@
 // Where the firmware keeps state that must outlive it (the error-joints file): --state-dir when given;
-// otherwise /var/lib/rescue-motion for root (the motion PC); otherwise a per-user directory, following
+// otherwise /var/lib/rescue-motion for root running the installed program (/usr/bin/rescue-motion of
+// the package: the motion PC); otherwise (a user, or root running a build from the source tree, so a
+// source-tree run never leaves root's files in the package's directory) a per-user directory, following
 // the XDG base-directory convention: $XDG_STATE_HOME/rescue-motion (absolute paths only), else
 // $HOME/.local/state/rescue-motion. The directory is created when missing.
 #pragma once
@@ -24,6 +26,12 @@ Result<StateDir> choose_state_dir(const char* option, bool privileged, const cha
 // choose_state_dir with this process's privileges and environment, then creates the directory (0755
 // for the system default, 0700 for per-user ones).
 Result<StateDir> resolve_state_dir(const char* option) noexcept;
+
+// Whether the system directory is the default for this process: root, running the installed program
+// (its executable under /usr/, as the package installs it). The `privileged` of choose_state_dir.
+bool system_state_dir_is_default() noexcept;
+// Whether an executable path is an installed program's (under /usr/): testable without installing.
+bool is_installed_program_path(const char* exe) noexcept;
 
 // Whether this process may create files in `dir` (access W_OK with the effective ids; a read-only
 // mount says so too). permission_denied (detail0 = errno) when it may not: a loss could not be recorded.

@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -229,5 +230,36 @@ void RtReport::print(std::FILE* out) const noexcept {
 
 PageFaults page_faults_of_process() noexcept { return page_faults_of(RUSAGE_SELF); }
 PageFaults page_faults_of_thread() noexcept { return page_faults_of(RUSAGE_THREAD); }
+
+Status name_this_thread(const char* name) noexcept {
+  if (name == nullptr || name[0] == '\0') return make_error(Errc::invalid_argument, "empty thread name");
+  if (::prctl(PR_SET_NAME, name, 0, 0, 0) != 0) {
+    return make_error(Errc::io_error, "prctl PR_SET_NAME refused", static_cast<std::uint32_t>(errno));
+  }
+  return Status::success();
+}
+
+ThreadSchedule thread_schedule() noexcept {
+  ThreadSchedule s;
+  s.policy = ::sched_getscheduler(0);
+  sched_param param{};
+  if (::sched_getparam(0, &param) == 0) s.priority = param.sched_priority;
+  s.cpu = ::sched_getcpu();
+  return s;
+}
+
+const char* policy_name(int policy) noexcept {
+  switch (policy) {
+    case SCHED_OTHER: return "OTHER";
+    case SCHED_FIFO: return "FIFO";
+    case SCHED_RR: return "RR";
+    case SCHED_BATCH: return "BATCH";
+    case SCHED_IDLE: return "IDLE";
+#ifdef SCHED_DEADLINE
+    case SCHED_DEADLINE: return "DEADLINE";
+#endif
+    default: return "?";
+  }
+}
 
 }  // namespace rescue::hal

@@ -94,4 +94,19 @@ struct PageFaults {
 PageFaults page_faults_of_process() noexcept;
 PageFaults page_faults_of_thread() noexcept;
 
+// Names the calling thread (prctl PR_SET_NAME, at most 15 characters kept): `ps -eLo comm`, `top -H`
+// and /proc/PID/task/TID/comm show it. A process's main thread names the process too.
+Status name_this_thread(const char* name) noexcept;
+
+// What the kernel reports for the calling thread: its scheduling policy (sched_getscheduler),
+// priority (sched_getparam) and the CPU it runs on now (sched_getcpu). -1 where the call failed.
+struct ThreadSchedule {
+  int policy{-1};    // SCHED_OTHER 0, SCHED_FIFO 1, SCHED_RR 2, SCHED_BATCH 3, SCHED_IDLE 5, SCHED_DEADLINE 6
+  int priority{-1};  // 0 for the normal policies
+  int cpu{-1};
+};
+ThreadSchedule thread_schedule() noexcept;
+// "FIFO", "RR", "OTHER", "BATCH", "IDLE", "DEADLINE", or "?".
+const char* policy_name(int policy) noexcept;
+
 }  // namespace rescue::hal

@@ -285,6 +285,49 @@ void stop_child(pid_t pid) noexcept {
   (void)::waitpid(pid, &status, 0);
 }
 
+// The plot script: --plot-script, else beside the program: the package's
+// <prefix>/share/rescue-motion/plot_fig4.py (/usr/bin/rescue-motion -> /usr/share/rescue-motion/), else the
+// source tree's toolchain/plot_fig4.py (build/PRESET/rescue-motion -> toolchain/). Empty when none exists;
+// `looked` lists where it looked.
+bool find_plot_script(const char* option, char* out, std::size_t size, char* looked, std::size_t looked_size) noexcept {
+  looked[0] = '\0';
+  if (option != nullptr) {
+    (void)std::snprintf(out, size, "%s", option);
+    (void)std::snprintf(looked, looked_size, "%s (--plot-script)", option);
+    return ::access(option, R_OK) == 0;
+  }
+  char exe[512];
+  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return false;
+  exe[n] = '\0';
+  char* slash = std::strrchr(exe, '/');
+  if (slash == nullptr) return false;
+  *slash = '\0';  // the program's directory
+  const char* const candidates[] = {"../share/rescue-motion/plot_fig4.py", "../../toolchain/plot_fig4.py"};
+  std::size_t used = 0;
+  for (const char* relative : candidates) {
+    (void)std::snprintf(out, size, "%s/%s", exe, relative);
+    const int w = std::snprintf(looked + used, looked_size - used, "%s%s", used == 0 ? "" : ", ", out);
+    if (w > 0 && used + static_cast<std::size_t>(w) < looked_size) used += static_cast<std::size_t>(w);
+    if (::access(out, R_OK) == 0) return true;
+  }
+  out[0] = '\0';
+  return false;
+}
+
+// Whether /usr/bin/python3 can import matplotlib (Debian's python3-matplotlib).
+bool matplotlib_available() noexcept {
+  char python[] = "/usr/bin/python3";
+  char dash_c[] = "-c";
+  char import[] = "import matplotlib";
+  char* argv[] = {python, dash_c, import, nullptr};
+  pid_t pid = -1;
+  if (::access(python, X_OK) != 0 || posix_spawn(&pid, python, nullptr, nullptr, argv, environ) != 0) return false;
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
 int run_plot(const char* script, const char* csv, const char* png) noexcept {
   char python[] = "/usr/bin/python3";  // Debian's, with python3-matplotlib
   char* argv[] = {python, const_cast<char*>(script), const_cast<char*>(csv), const_cast<char*>(png), nullptr};  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
@@ -424,8 +467,18 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     return fail("bench", "--load must be none, stress, udp or stress,udp");
   }
   const char* out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-fig4";
-  const char* script = args.value("plot-script") != nullptr ? args.value("plot-script") : "toolchain/plot_fig4.py";
   const bool plot = !args.has("no-plot");
+  // The plot's prerequisites first, each failure with its own cause, before minutes of measuring.
+  char script[640];
+  char looked[1400];
+  if (plot && !find_plot_script(args.value("plot-script"), script, sizeof script, looked, sizeof looked)) {
+    (void)std::fprintf(stderr, "rescue-motion bench: fig4: no plot script (looked: %s); give --plot-script PATH or --no-plot\n",
+                       looked);
+    return 1;
+  }
+  if (plot && !matplotlib_available()) {
+    return fail("bench", "fig4: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
+  }
   if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "cannot create the --out directory");
 
   print_bench_header(stdout, "fig4");
@@ -568,7 +621,11 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     char png[512];
     (void)std::snprintf(png, sizeof png, "%s/fig4.png", out_dir);
     const int plotted = run_plot(script, csv, png);
-    if (plotted != 0) return fail("bench", "the plot script failed (python3-matplotlib? --plot-script PATH)");
+    if (plotted != 0) {
+      (void)std::fprintf(stderr, "rescue-motion bench: fig4: the plot script %s exited %d (its error above); the CSV files are written\n",
+                         script, plotted);
+      return 1;
+    }
     (void)std::printf("png: %s\n", png);
   }
   return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");

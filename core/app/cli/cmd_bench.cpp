@@ -29,34 +29,100 @@ const OptionSpec kOptions[] = {
     {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000)"},
     {"load", "LIST", "fig4: background load: stress,udp (default), stress, udp or none"},
     {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4)"},
-    {"plot-script", "PATH", "fig4: the matplotlib script (default toolchain/plot_fig4.py, from the source tree)"},
+    {"plot-script", "PATH", "fig4: the matplotlib script (default plot_fig4.py beside the program: <prefix>/share/rescue-motion/ when installed, toolchain/ of the source tree for a build)"},
     {"no-plot", nullptr, "fig4: write the CSV files only"},
 };
 
 struct Bench {
   const char* name;
   int (*run)(const ParsedArgs& args) noexcept;
+  const char* what;     // bench NAME --help
+  const char* options;  // the options it takes, space-separated ("" none)
 };
 
 const Bench kBenches[] = {
-    {"nic", bench_nic},
-    {"core", bench_core},
-    {"codec", bench_codec},
-    {"master", bench_master},
-    {"sim", bench_sim},
-    {"rc", bench_rc},
-    {"latency", bench_latency},
-    {"periods", bench_periods},
-    {"fig4", bench_fig4},
+    {"nic", bench_nic, "round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)",
+     "nic frames"},
+    {"core", bench_core, "TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init", ""},
+    {"codec", bench_codec, "build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time", "frames"},
+    {"master", bench_master, "EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init",
+     "nic cycles dc-static-frames dc-target-ns seed scheduling"},
+    {"sim", bench_sim, "simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
+     "cycles motion seed"},
+    {"rc", bench_rc, "RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step, whole RC period (median/p99/max ns), heap after init", "periods"},
+    {"latency", bench_latency, "wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio", "periods"},
+    {"periods", bench_periods, "the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time", "cycles seed"},
+    {"fig4", bench_fig4, "the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
+     "periods load out plot-script no-plot"},
 };
 
+const Bench* find_bench(const char* name) noexcept {
+  for (const Bench& bench : kBenches) {
+    if (name != nullptr && std::strcmp(bench.name, name) == 0) return &bench;
+  }
+  return nullptr;
+}
+
+// Whether `option` is a word of `list` (space-separated).
+bool takes(const Bench& bench, const char* option) noexcept {
+  const std::size_t n = std::strlen(option);
+  for (const char* at = std::strstr(bench.options, option); at != nullptr; at = std::strstr(at + 1, option)) {
+    const bool starts = at == bench.options || at[-1] == ' ';
+    const bool ends = at[n] == '\0' || at[n] == ' ';
+    if (starts && ends) return true;
+  }
+  return false;
+}
+
+int unknown_bench(const char* name) noexcept {
+  (void)std::fprintf(stderr, "rescue-motion bench: unknown benchmark '%s' (known: nic, core, codec, master, sim, rc, latency, periods, fig4)\n",
+                     name != nullptr ? name : "");
+  return 2;
+}
+
 int bench_main(const ParsedArgs& args) {
+  const Bench* bench = find_bench(args.positional(0));
+  if (bench == nullptr) return unknown_bench(args.positional(0));
+  // An option the benchmark does not take is refused, not silently ignored.
+  for (const OptionSpec& option : kOptions) {
+    if (!args.has(option.name) || takes(*bench, option.name)) continue;
+    (void)std::fprintf(stderr, "rescue-motion bench %s: --%s does not apply to %s (it takes: %s; see rescue-motion bench %s --help)\n",
+                       bench->name, option.name, bench->name, bench->options[0] != '\0' ? bench->options : "no option",
+                       bench->name);
+    return 2;
+  }
   const Result<NicChoice> nic = parse_nic_option(args.value("nic"));
   if (!nic.ok()) return fail("bench", nic.error().what);
-  for (const Bench& bench : kBenches) {
-    if (std::strcmp(bench.name, args.positional(0)) == 0) return bench.run(args);
+  return bench->run(args);
+}
+
+// bench --help: the command's; bench NAME --help: that benchmark's own description and options.
+int bench_help(const ParsedArgs& args) {
+  if (args.positional_count() == 0) {
+    print_command_help(stdout, kBenchCommand);
+    return 0;
   }
-  return fail("bench", "unknown benchmark (see rescue-motion bench --help)");
+  const Bench* bench = find_bench(args.positional(0));
+  if (bench == nullptr) return unknown_bench(args.positional(0));
+  (void)std::printf("usage: rescue-motion bench %s [OPTIONS]\n\n%s\n\nOptions:\n", bench->name, bench->what);
+  bool any = false;
+  for (const OptionSpec& option : kOptions) {
+    if (!takes(*bench, option.name)) continue;
+    // An option described per benchmark ("rc: ...; fig4: ...") is shown only in the rows that name this one.
+    char own[24];
+    (void)std::snprintf(own, sizeof own, "%s:", bench->name);
+    const char* colon = std::strchr(option.help, ':');
+    const bool per_bench = colon != nullptr && std::strchr(option.help, ' ') > colon;
+    if (per_bench && std::strstr(option.help, own) == nullptr) continue;
+    char left[64];
+    (void)std::snprintf(left, sizeof left, "--%s%s%s", option.name, option.value_name != nullptr ? " " : "",
+                        option.value_name != nullptr ? option.value_name : "");
+    (void)std::printf("  %-28s %s\n", left, option.help);
+    any = true;
+  }
+  if (!any) (void)std::printf("  (none)\n");
+  (void)std::printf("  %-28s %s\n", "-h, --help", "show this help and exit");
+  return 0;
 }
 
 }  // namespace
@@ -74,6 +140,6 @@ const CommandSpec kBenchCommand{
     "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
     "  periods the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time (toolchain/instructions.sh)\n"
     "  fig4   the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
-    Span<const OptionSpec>(kOptions), 1, 1, bench_main};
+    Span<const OptionSpec>(kOptions), 1, 1, bench_main, bench_help};
 
 }  // namespace rescue::app

@@ -4,6 +4,7 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <csignal>
 #include <cerrno>
@@ -13,15 +14,21 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
+#include "core/app/config/build_info.hpp"
+#include "core/app/config/config_file.hpp"
 #include "core/app/operator_protocol/ctl_client.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/tasks/rc_task.hpp"
+#include "core/kinematics/rescue_motion.hpp"
 #include "core/app/links/run_control.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
+#include "hal/files/state_dir.hpp"
 #include "hal/net/udp_socket.hpp"
+#include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -31,9 +38,12 @@ using protocol::Message;
 using protocol::MessageType;
 
 const OptionSpec kOptions[] = {
+    {"config", "FILE", "the robot's configuration file, for its key_file, control_port and state_dir (default "
+                       "/etc/rescue-motion/rescue-motion.conf when it exists)"},
     {"host", "ADDR", "IPv4 address of the motion PC (default 127.0.0.1)"},
-    {"port", "PORT", "control UDP port of the motion PC (default 47010)"},
-    {"key", "FILE", "pre-shared key file (default <state dir>/operator.key)"},
+    {"port", "PORT", "control UDP port of the motion PC (default: the configuration's control_port, else 47010)"},
+    {"key", "FILE", "pre-shared key file (default: the configuration's key_file, else <state dir>/operator.key, "
+                    "where run looks without one)"},
     {"sender", "ID", "this operator's sender id, 1..4294967295 (default 1); one per operator station"},
     {"robot", "ID", "the robot id expected (run's --robot-id); another robot at the address is refused (default: any)"},
     {"task", "N", "RC task for move, hand (default 0)"},
@@ -195,19 +205,29 @@ void print_figures_text(const char* what, const protocol::TimingFigures& f) noex
 
 void print_tasks(const Message& m, bool json) noexcept {
   if (json) (void)std::printf("{\"tasks\":[");
-  if (!json) (void)std::printf("%-16s %7s %3s %4s %10s %7s %12s\n", "TASK", "PID", "CPU", "PRIO", "PERIODS", "MISSED", "MAX EXEC(us)");
+  // POLICY, PRIO and CPU are what the kernel reports for the task's thread (the task reads them at each
+  // publication); TABLE is what the task table asked for (priority/CPU on this machine).
+  if (!json) {
+    (void)std::printf("%-16s %7s %-6s %4s %3s %7s %10s %7s %12s\n", "TASK", "PID", "POLICY", "PRIO", "CPU", "TABLE",
+                      "PERIODS", "MISSED", "MAX EXEC(us)");
+  }
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     const protocol::TaskRecord& t = m.tasks.tasks[i];
     if (json) {
-      (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"cpu\":%d,\"priority\":%d,\"periods\":%" PRIu64
-                        ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64,
-                        i == 0 ? "" : ",", t.name.data(), t.pid, t.cpu, t.priority, t.periods, t.missed, t.max_execution_ns);
+      (void)std::printf("%s{\"name\":\"%s\",\"pid\":%d,\"policy\":\"%s\",\"priority\":%d,\"cpu\":%d,"
+                        "\"table_priority\":%d,\"table_cpu\":%d,\"periods\":%" PRIu64 ",\"missed\":%" PRIu64
+                        ",\"max_execution_ns\":%" PRIu64,
+                        i == 0 ? "" : ",", t.name.data(), t.pid, hal::policy_name(t.policy), t.priority, t.cpu,
+                        t.table_priority, t.table_cpu, t.periods, t.missed, t.max_execution_ns);
       print_figures_json("execution_ns", t.execution);
       print_figures_json("wakeup_latency_ns", t.latency);
       (void)std::printf("}");
     } else {
-      (void)std::printf("%-16s %7d %3d %4d %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid, t.cpu, t.priority,
-                        t.periods, t.missed, static_cast<double>(t.max_execution_ns) / 1000.0);
+      char table[16];
+      (void)std::snprintf(table, sizeof table, "%d/%d", t.table_priority, t.table_cpu);
+      (void)std::printf("%-16s %7d %-6s %4d %3d %7s %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid,
+                        hal::policy_name(t.policy), t.priority, t.cpu, table, t.periods, t.missed,
+                        static_cast<double>(t.max_execution_ns) / 1000.0);
       print_figures_text("execution", t.execution);
       print_figures_text("wake-up", t.latency);
     }
@@ -227,6 +247,90 @@ void print_tasks(const Message& m, bool json) noexcept {
     (void)std::printf(" %s %" PRIu64, i < kDropCounters ? kDropCounterNames[i] : "unknown", m.tasks.dropped[i]);
   }
   (void)std::printf("\n");
+}
+
+void print_json_string(const char* s) noexcept;  // below, with ctl's own errors
+
+// ctl version: the robot's program and this client's, like `ethercat version` and `ros2 --version`.
+void print_version(const Message& m, bool json) noexcept {
+  const protocol::VersionPayload& v = m.version;
+  if (json) {
+    (void)std::printf(R"({"robot":{"program":)");
+    print_json_string(v.program.data());
+    (void)std::printf(R"(,"layout_version":%u,"layout_hash":"0x%08x","build_type":)", v.layout_version, v.layout_hash);
+    print_json_string(v.build_type.data());
+    (void)std::printf(R"(},"client":{"program":)");
+    print_json_string(build_program_version());
+    (void)std::printf(",\"build_type\":");
+    print_json_string(build_type());
+    (void)std::printf("}}\n");
+    return;
+  }
+  (void)std::printf("robot:  rescue-motion %s (%s build), shared-memory layout version %u hash 0x%08x\n", v.program.data(),
+                    v.build_type.data(), v.layout_version, v.layout_hash);
+  (void)std::printf("client: rescue-motion %s (%s build)\n", build_program_version(), build_type());
+}
+
+// ctl owner: which RC task owns the motion, whether each task is alive, its phase (like ros2 control
+// list_controllers).
+void print_owner(const Message& m, bool json) noexcept {
+  const protocol::OwnerStatePayload& o = m.owner_state;
+  static const char* const kTaskNames[] = {"rescue", "teleop", "task2", "task3"};
+  const auto phase_name = [](std::uint8_t p) noexcept {
+    return p <= static_cast<std::uint8_t>(kin::RescuePhase::done) ? kin::to_string(static_cast<kin::RescuePhase>(p)) : "?";
+  };
+  const auto mode_name_of = [](std::uint8_t p) noexcept {
+    return p <= static_cast<std::uint8_t>(RcMode::teleop) ? to_string(static_cast<RcMode>(p)) : "?";
+  };
+  if (json) {
+    (void)std::printf("{\"owner\":");
+    if (o.owner == protocol::kNoOwner) {
+      (void)std::printf("null");
+    } else {
+      (void)std::printf("%u", o.owner);
+    }
+    (void)std::printf(",\"generation\":%" PRIu64 ",\"tasks\":[", o.generation);
+    bool first = true;
+    for (std::size_t k = 0; k < protocol::kMaxRcTasks; ++k) {
+      const protocol::RcTaskRecord& t = o.tasks[k];
+      if (t.present == 0) continue;
+      (void)std::printf(R"(%s{"task":%zu,"name":"%s","owns":%s,"alive":%s,"heartbeat_age_ms":)", first ? "" : ",", k,
+                        kTaskNames[k], o.owner == k ? "true" : "false", t.alive != 0 ? "true" : "false");
+      if (t.heartbeat_age_ms == 0xFFFFFFFFU) {
+        (void)std::printf("null");
+      } else {
+        (void)std::printf("%u", t.heartbeat_age_ms);
+      }
+      (void)std::printf(R"(,"mode":"%s","phase":)", mode_name_of(t.mode));
+      if (k == 0) {
+        (void)std::printf("\"%s\"}", phase_name(t.phase));  // the rescue motion's phase
+      } else {
+        (void)std::printf("null}");
+      }
+      first = false;
+    }
+    (void)std::printf("]}\n");
+    return;
+  }
+  if (o.owner == protocol::kNoOwner) {
+    (void)std::printf("owner: none (generation %" PRIu64 "): the joints hold their references\n", o.generation);
+  } else {
+    (void)std::printf("owner: rc%u (%s), generation %" PRIu64 "\n", o.owner, o.owner < 4 ? kTaskNames[o.owner] : "?",
+                      o.generation);
+  }
+  (void)std::printf("%-4s %-8s %-6s %-6s %-12s %-8s %s\n", "TASK", "NAME", "OWNS", "ALIVE", "HEARTBEAT", "MODE", "PHASE");
+  for (std::size_t k = 0; k < protocol::kMaxRcTasks; ++k) {
+    const protocol::RcTaskRecord& t = o.tasks[k];
+    if (t.present == 0) continue;
+    char beat[24];
+    if (t.heartbeat_age_ms == 0xFFFFFFFFU) {
+      (void)std::snprintf(beat, sizeof beat, "never");
+    } else {
+      (void)std::snprintf(beat, sizeof beat, "%u ms ago", t.heartbeat_age_ms);
+    }
+    (void)std::printf("%-4zu %-8s %-6s %-6s %-12s %-8s %s\n", k, kTaskNames[k], o.owner == k ? "yes" : "no",
+                      t.alive != 0 ? "yes" : "no", beat, mode_name_of(t.mode), k == 0 ? phase_name(t.phase) : "-");
+  }
 }
 
 // The slave at the other end of the cable on `slave`'s `port` (ecat::cable_peer on the robot's plan).
@@ -300,14 +404,57 @@ void print_diag(const Message& m, bool json) noexcept {
   }
 }
 
+// One blocking joint's detail, as the reply gives it ("enable in Idle", "still unreachable: ...").
+void joint_refusal_detail(const protocol::JointRefusalRecord& jr, char* out, std::size_t capacity) noexcept {
+  if (jr.why == protocol::JointRefusal::state_machine) {
+    (void)std::snprintf(out, capacity, "%s in %s", fsm::to_string(static_cast<fsm::JointInput>(jr.input)),
+                        fsm::to_string(static_cast<fsm::JointState>(jr.state)));
+  } else if (jr.why == protocol::JointRefusal::unreachable) {
+    (void)std::snprintf(out, capacity, "does not answer (only disable and reset are taken)");
+  } else {
+    (void)std::snprintf(out, capacity, "%s", protocol::to_string(jr.why));
+  }
+}
+
+bool has_joint_refusals(const protocol::ReplyPayload& r) noexcept {
+  return std::any_of(r.joint_refusals.begin(), r.joint_refusals.end(),
+                     [](const protocol::JointRefusalRecord& jr) noexcept { return jr.why != protocol::JointRefusal::none; });
+}
+
 int print_reply(const char* verb, const Message& m, bool json) noexcept {
   const protocol::ReplyPayload& r = m.reply;
   const bool accepted = r.outcome == protocol::Outcome::accepted;
+  char detail[96];
   if (json) {
     char names[kJointNamesCapacity];
     format_joint_names(r.refused_joints, names, sizeof names);
-    (void)std::printf("{\"command\":\"%s\",\"accepted\":%s,\"reason\":\"%s\",\"joints\":\"%s\",\"detail\":\"%s\"}\n", verb,
+    (void)std::printf(R"({"command":"%s","accepted":%s,"reason":"%s","joints":"%s","detail":"%s")", verb,
                       accepted ? "true" : "false", protocol::to_string(r.reason), names, r.text.data());
+    if (!accepted) {
+      // Every blocking joint with its own reason (all or nothing: none of them changed).
+      (void)std::printf(",\"refused\":[");
+      bool first = true;
+      for (std::size_t j = 0; j < kJointCount; ++j) {
+        const protocol::JointRefusalRecord& jr = r.joint_refusals[j];
+        if (jr.why == protocol::JointRefusal::none) continue;
+        joint_refusal_detail(jr, detail, sizeof detail);
+        (void)std::printf(R"(%s{"joint":"%s","reason":"%s","state":"%s","detail":"%s"})",
+                          first ? "" : ",", kJoints[j].name, protocol::to_string(protocol::reason_of(jr.why)),
+                          fsm::to_string(static_cast<fsm::JointState>(jr.state)), detail);
+        first = false;
+      }
+      (void)std::printf("]");
+    }
+    (void)std::printf("}\n");
+  } else if (!accepted && has_joint_refusals(r)) {
+    // One line per blocking joint, each with its own reason.
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const protocol::JointRefusalRecord& jr = r.joint_refusals[j];
+      if (jr.why == protocol::JointRefusal::none) continue;
+      joint_refusal_detail(jr, detail, sizeof detail);
+      (void)std::printf("%s: refused: %s: %s: %s\n", verb, protocol::to_string(protocol::reason_of(jr.why)),
+                        kJoints[j].name, detail);
+    }
   } else if (accepted) {
     if (r.text[0] != '\0') {
       (void)std::printf("%s: accepted (%s)\n", verb, r.text.data());
@@ -320,9 +467,133 @@ int print_reply(const char* verb, const Message& m, bool json) noexcept {
   return accepted ? 0 : 1;
 }
 
+// The client's own error text when it names what the user typed (one client process: a static buffer).
+char g_error_text[2048];
+char g_key_note[640] = "";  // the key used, and why that one
+bool g_json = false;         // --json: ctl's own errors are a JSON object on stdout too
+const char* g_verb = "ctl";  // the verb of this invocation, for those objects
+
+// A JSON string (quotes and backslashes escaped, control characters dropped).
+void print_json_string(const char* s) noexcept {
+  (void)std::putchar('"');
+  for (; *s != '\0'; ++s) {
+    const auto c = static_cast<unsigned char>(*s);
+    if (c == '"' || c == '\\') {
+      (void)std::putchar('\\');
+      (void)std::putchar(c);
+    } else if (c >= 0x20) {
+      (void)std::putchar(c);
+    }
+  }
+  (void)std::putchar('"');
+}
+
+// ctl's own error (before or instead of an answer): one line on stderr, and with --json one object on
+// stdout, {"command":VERB,"ok":false,"error":TEXT}. Exit status 1.
+int ctl_error(const char* text) noexcept {
+  (void)std::fprintf(stderr, "rescue-motion ctl: %s\n", text);
+  if (g_json) {
+    (void)std::printf("{\"command\":");
+    print_json_string(g_verb);
+    (void)std::printf(R"(,"ok":false,"error":)");
+    print_json_string(text);
+    (void)std::printf("}\n");
+  }
+  return 1;
+}
+
+// The configuration file ctl reads (--config FILE, else the package's when it exists): the robot's
+// key_file, control_port and state_dir, so ctl looks where `run --config` does.
+constexpr const char* kPackageConfig = "/etc/rescue-motion/rescue-motion.conf";
+ConfigFile g_ctl_config;
+char g_config_path[kConfigTextCapacity] = "";  // empty: none read
+
+Status read_ctl_config(const ParsedArgs& args) noexcept {
+  const char* path = args.value("config");
+  if (path == nullptr) {
+    if (::access(kPackageConfig, F_OK) != 0) return Status::success();  // not installed: defaults
+    path = kPackageConfig;
+  }
+  const ConfigOutcome loaded = load_config_file(path, g_ctl_config);
+  if (!loaded.ok) {
+    char line[384];
+    (void)format_config_error(path, loaded.error, line, sizeof line);
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "--config %s", line);
+    return make_error(Errc::invalid_argument, g_error_text);
+  }
+  (void)std::snprintf(g_config_path, sizeof g_config_path, "%s", path);
+  return Status::success();
+}
+
+// Where the key is, and why there: --key, the configuration's key_file, or the state directory run
+// uses without one (not created here).
+struct KeyChoice {
+  hal::PathBuffer path;
+  char source[kConfigTextCapacity + 64];
+};
+
+// `make_dir` (keygen): the state directory is created as run creates it.
+Result<KeyChoice> choose_key(const ParsedArgs& args, bool make_dir = false) noexcept {
+  KeyChoice k;
+  if (args.value("key") != nullptr) {
+    (void)std::snprintf(k.path.text.data(), k.path.text.size(), "%s", args.value("key"));
+    (void)std::snprintf(k.source, sizeof k.source, "--key");
+    return k;
+  }
+  if (g_ctl_config.key_file[0] != '\0') {
+    (void)std::snprintf(k.path.text.data(), k.path.text.size(), "%s", g_ctl_config.key_file.data());
+    (void)std::snprintf(k.source, sizeof k.source, "key_file of %.200s, where run --config reads it", g_config_path);
+    return k;
+  }
+  const char* option = g_ctl_config.state_dir[0] != '\0' ? g_ctl_config.state_dir.data() : nullptr;
+  const Result<hal::StateDir> dir =
+      make_dir ? hal::resolve_state_dir(option)
+               : hal::choose_state_dir(option, hal::system_state_dir_is_default(),
+                                       std::getenv("XDG_STATE_HOME"),  // NOLINT(concurrency-mt-unsafe)
+                                       std::getenv("HOME"));           // NOLINT(concurrency-mt-unsafe)
+  if (!dir.ok()) return make_error(Errc::not_found, "no default key path: no state directory (give --key FILE)");
+  const Result<hal::PathBuffer> joined = hal::join_path(dir.value().path.c_str(), "operator.key");
+  if (!joined.ok()) return joined.error();
+  k.path = joined.value();
+  if (option != nullptr) {
+    (void)std::snprintf(k.source, sizeof k.source,
+                        "the state directory (state_dir of %.200s), where run looks without --key or key_file", g_config_path);
+  } else {
+    (void)std::snprintf(k.source, sizeof k.source,
+                        "the state directory (%s), where run looks without --key or key_file", dir.value().source);
+  }
+  return k;
+}
+
+// JOINTS that do not parse: the error names the item and lists the valid names.
+Error bad_joint_names(const char* list, const Error& error, bool all_allowed) noexcept {
+  char names[kJointNamesCapacity];
+  format_joint_names(kAllJoints, names, sizeof names);
+  char item[40] = "";
+  // The item the parser stopped at (error.detail0: 1-based), as typed.
+  const char* begin = list;
+  for (std::uint32_t i = 1; begin != nullptr && i < error.detail0; ++i) {
+    begin = std::strchr(begin, ',');
+    if (begin != nullptr) ++begin;
+  }
+  if (begin != nullptr) {
+    std::size_t n = 0;
+    while (begin[n] != '\0' && begin[n] != ',' && n + 1 < sizeof item) {
+      item[n] = begin[n];
+      ++n;
+    }
+    item[n] = '\0';
+  }
+  (void)std::snprintf(g_error_text, sizeof g_error_text, "%s: '%s' (in '%s'); the joints: %s%s", error.what, item, list, names,
+                      all_allowed ? " (or all)" : "");
+  return make_error(Errc::invalid_argument, g_error_text, error.detail0);
+}
+
 Result<JointMask> joints_argument(const ParsedArgs& args, std::size_t index) noexcept {
   if (args.positional_count() <= index || std::strcmp(args.positional(index), "all") == 0) return kAllJoints;
-  return parse_joint_names(args.positional(index));
+  Result<JointMask> joints = parse_joint_names(args.positional(index));
+  if (!joints.ok()) return bad_joint_names(args.positional(index), joints.error(), true);
+  return joints;
 }
 
 Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
@@ -342,37 +613,47 @@ Result<CtlTarget> target_of(const ParsedArgs& args) noexcept {
   const Result<double> timeout = args.number("timeout", 2.0, 0.01, 60.0);
   if (!timeout.ok()) return make_error(Errc::invalid_argument, "--timeout must be 0.01..60 seconds");
   t.timeout_ms = static_cast<int>(timeout.value() * 1000.0);
-  hal::PathBuffer path;
-  if (args.value("key") != nullptr) {
-    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
-  } else {
-    const Result<hal::PathBuffer> p = protocol::default_key_path();
-    if (!p.ok()) return p.error();
-    path = p.value();
-  }
+  if (g_ctl_config.has_control_port && args.value("port") == nullptr) t.port = g_ctl_config.control_port;
+  const Result<KeyChoice> choice = choose_key(args);
+  if (!choice.ok()) return choice.error();
+  const hal::PathBuffer& path = choice.value().path;
   hal::FileProblem why;
   const Result<protocol::Key> key = protocol::load_key_file(path.c_str(), why);
   if (!key.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: key file refused: %s\n", why.c_str());
-    return make_error(key.error().code, "the key file cannot be used");
+    if (key.error().code == Errc::not_found) {
+      (void)std::snprintf(g_error_text, sizeof g_error_text,
+                          "key file %.255s (%.320s): %.100s; the robot's key is its configuration's key_file (run --config), "
+                          "else --key, else <state dir>/operator.key: copy that file here, or make a new one with "
+                          "`rescue-motion ctl keygen --key %.255s` and start run with --key %.255s",
+                          path.c_str(), choice.value().source, why.c_str(), path.c_str(), path.c_str());
+    } else {
+      (void)std::snprintf(g_error_text, sizeof g_error_text, "key file refused: %.400s (%.320s); the key file cannot be used",
+                          why.c_str(), choice.value().source);
+    }
+    return make_error(key.error().code, g_error_text);
   }
   t.key = key.value();
+  (void)std::snprintf(g_key_note, sizeof g_key_note, "key %.255s from %.320s", path.c_str(), choice.value().source);
   return t;
 }
 
 int keygen(const ParsedArgs& args) noexcept {
-  hal::PathBuffer path;
-  if (args.value("key") != nullptr) {
-    (void)std::snprintf(path.text.data(), path.text.size(), "%s", args.value("key"));
-  } else {
-    const Result<hal::PathBuffer> p = protocol::default_key_path();
-    if (!p.ok()) return fail("ctl", "no default key path", p.error());
-    path = p.value();
-  }
+  const Result<KeyChoice> choice = choose_key(args, true);
+  if (!choice.ok()) return ctl_error(choice.error().what);
+  const hal::PathBuffer& path = choice.value().path;
   const Status made = protocol::create_key_file(path.c_str());
   if (!made.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion ctl: keygen %s: %s\n", path.c_str(), made.error().what);
-    return 1;
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "keygen %.255s (%.320s): %.100s", path.c_str(), choice.value().source,
+                        made.error().what);
+    return ctl_error(g_error_text);
+  }
+  if (g_json) {
+    (void)std::printf(R"({"command":"keygen","ok":true,"key_file":)");
+    print_json_string(path.c_str());
+    (void)std::printf(R"(,"mode":"0600","bytes":32,"source":)");
+    print_json_string(choice.value().source);
+    (void)std::printf("}\n");
+    return 0;
   }
   (void)std::printf("keygen: wrote a new 32-byte key to %s (mode 0600); copy it to the motion PC and every operator station\n",
                     path.c_str());
@@ -383,12 +664,14 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
   const Result<Message> answer = ctl_exchange(target, request);
   if (!answer.ok()) {
     if (answer.error().code == Errc::refused) {  // another robot id than --robot
-      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: the robot at that address is robot %u, not robot %u (--robot)\n",
-                         verb, static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
+      (void)std::snprintf(g_error_text, sizeof g_error_text,
+                          "%.32s: refused: the robot at that address is robot %u, not robot %u (--robot)", verb,
+                          static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
     } else {
-      (void)std::fprintf(stderr, "rescue-motion ctl: %s: refused: %s\n", verb, answer.error().what);
+      (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: refused: %.200s (%.640s)", verb, answer.error().what,
+                          g_key_note);
     }
-    return 1;
+    return ctl_error(g_error_text);
   }
   const Message& m = answer.value();
   switch (m.header.type) {
@@ -398,7 +681,9 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::tasks: print_tasks(m, json); return 0;
     case MessageType::diag: print_diag(m, json); return 0;
     case MessageType::reply: return print_reply(verb, m, json);
-    default: return fail("ctl", "unexpected answer type");
+    case MessageType::version: print_version(m, json); return 0;
+    case MessageType::owner_state: print_owner(m, json); return 0;
+    default: return ctl_error("unexpected answer type");
   }
 }
 
@@ -425,7 +710,7 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     if (std::strcmp(verb, q.verb) != 0) continue;
     if (q.type == MessageType::clear_joints && n < 2) return make_error(Errc::invalid_argument, "clear JOINTS: name the repaired joints");
     const Result<JointMask> joints = joints_argument(args, 1);
-    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINTS: comma-separated joint names, or all");
+    if (!joints.ok()) return joints.error();
     m.header.type = q.type;
     if (args.has("moved")) {
       if (q.type != MessageType::clear_joints) return make_error(Errc::invalid_argument, "--moved goes with clear JOINTS");
@@ -439,7 +724,7 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
   if (std::strcmp(verb, "mode") == 0) {
     if (n != 3) return make_error(Errc::invalid_argument, "mode JOINT MODE (MODE: csp, csv or cst)");
     const Result<JointMask> joints = parse_joint_names(args.positional(1));
-    if (!joints.ok()) return make_error(Errc::invalid_argument, "JOINT: a joint name (or comma-separated names)");
+    if (!joints.ok()) return bad_joint_names(args.positional(1), joints.error(), false);
     const char* mode = args.positional(2);
     m.header.type = MessageType::select_mode;
     m.joints.joints = joints.value();
@@ -486,8 +771,16 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
     else return make_error(Errc::invalid_argument, "hand: open or close");
     return m;
   }
+  if (std::strcmp(verb, "owner") == 0 && n == 1) {  // who owns the motion (like list_controllers)
+    m.header.type = MessageType::get_owner;
+    return m;
+  }
+  if (std::strcmp(verb, "version") == 0) {
+    m.header.type = MessageType::get_version;
+    return m;
+  }
   if (std::strcmp(verb, "owner") == 0) {
-    if (n != 2) return make_error(Errc::invalid_argument, "owner TASK (0..3)");
+    if (n != 2) return make_error(Errc::invalid_argument, "owner [TASK] (TASK: 0..3)");
     char* end = nullptr;
     const long t = std::strtol(args.positional(1), &end, 10);
     if (end == args.positional(1) || *end != '\0' || t < 0 || t >= static_cast<long>(protocol::kMaxRcTasks)) {
@@ -527,22 +820,26 @@ void disarm_ctl_deadline() noexcept {
 
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
-  if (!is_ctl_verb(verb)) return fail("ctl", "unknown verb (see rescue-motion ctl --help)");
+  g_json = args.has("json");
+  g_verb = verb != nullptr ? verb : "ctl";
+  if (verb == nullptr || !is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
   const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
   arm_ctl_deadline(deadline.ok() ? deadline.value() : 2.0);
-  if (!protocol::init_crypto().ok()) return fail("ctl", "libsodium could not be initialised");
+  if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
+  const Status config = read_ctl_config(args);
+  if (!config.ok()) return ctl_error(config.error().what);
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
   const bool watch = std::strcmp(verb, "watch") == 0;
   const Result<Message> request = build_request(watch ? "status" : verb, args);
-  if (!request.ok()) return fail("ctl", request.error().what);
+  if (!request.ok()) return ctl_error(request.error().what);
   const Result<CtlTarget> target = target_of(args);
-  if (!target.ok()) return fail("ctl", target.error().what);
-  const bool json = args.has("json");
+  if (!target.ok()) return ctl_error(target.error().what);
+  const bool json = g_json;
   if (!watch) return exchange_and_print(verb, target.value(), request.value(), json);
   disarm_ctl_deadline();  // watch runs until --count: each exchange keeps its own deadline
   const Result<std::int64_t> count = args.integer("count", 0, 0, 1'000'000'000);
   const Result<double> interval = args.number("interval", 0.5, 0.05, 3600.0);
-  if (!count.ok() || !interval.ok()) return fail("ctl", "watch: --count N and --interval SECONDS");
+  if (!count.ok() || !interval.ok()) return ctl_error("watch: --count N and --interval SECONDS");
   hal::MonotonicClock clock;
   hal::Nanoseconds next = clock.now();
   for (std::int64_t i = 0; count.value() == 0 || i < count.value(); ++i) {
@@ -573,6 +870,8 @@ const CommandSpec kCtlCommand{
     "  move EFFECTOR POSE                   left|right x,y,z,roll,pitch,yaw to RC task --task\n"
     "  hand left|right open|close           to RC task --task\n"
     "  owner TASK                           RC task TASK takes the motion\n"
+    "  owner                                which RC task owns the motion, each task alive or not, its phase\n"
+    "  version                              the robot's program version, layout and build type, and ctl's own\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status 0 only when the robot accepted the command or answered the query.",
     Span<const OptionSpec>(kOptions), 1, 3, ctl_main};

@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (parsed.value().help_requested()) {
+      if (cmd->help != nullptr) return cmd->help(parsed.value());
       rescue::app::print_command_help(stdout, *cmd);
       return 0;
     }

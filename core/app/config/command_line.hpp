@@ -31,6 +31,9 @@ struct CommandSpec {
   std::size_t min_positionals;
   std::size_t max_positionals;
   int (*main)(const ParsedArgs& args);
+  // --help with these arguments, when the command describes more than its spec (bench NAME --help);
+  // nullptr: print_command_help.
+  int (*help)(const ParsedArgs& args){nullptr};
 };
 
 class ParsedArgs {

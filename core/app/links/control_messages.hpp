@@ -49,6 +49,7 @@ struct ControlReply {
   protocol::RefusalReason reason{protocol::RefusalReason::none};
   JointMask refused_joints{0};
   std::array<char, protocol::kReplyTextSize> text{};
+  std::array<protocol::JointRefusalRecord, kJointCount> joint_refusals{};  // every blocking joint's own reason
 };
 static_assert(std::is_trivially_copyable_v<ControlReply>, "queued as bytes");
 
@@ -100,14 +101,20 @@ static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
 struct TaskStat {
   std::array<char, protocol::kNameSize> name;
   std::int32_t pid;
-  std::int16_t cpu;
-  std::int16_t priority;
+  std::int16_t cpu;       // the task table's (the CPU it asked for, on this machine)
+  std::int16_t priority;  // the task table's (SCHED_FIFO priority it asked for, 0: normal)
   std::uint64_t periods;
   std::uint64_t missed;
   std::uint64_t max_execution_ns;
   TimingFigures execution;  // the task's PeriodRecorder, published every few periods
   TimingFigures latency;
-  std::uint64_t spare;      // 0: makes Seqlock<TaskStat> 128 bytes, so TaskLinks' slots stay cache-line multiples
+  // What the kernel reports for the task's thread, read by the task itself at each publication
+  // (hal::thread_schedule): these 8 bytes keep Seqlock<TaskStat> at 128 bytes (cache-line multiples).
+  std::int8_t kernel_policy;     // SCHED_OTHER 0, SCHED_FIFO 1, ...; -1 unknown
+  std::int8_t reserved;
+  std::int16_t kernel_priority;  // sched_getparam
+  std::int16_t kernel_cpu;       // sched_getcpu: where it ran at the publication
+  std::int16_t reserved2;
 };
 static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
 
@@ -150,6 +157,7 @@ inline protocol::Message message_of(const ControlReply& reply) noexcept {
   m.reply.reason = reply.reason;
   m.reply.refused_joints = reply.refused_joints;
   m.reply.text = reply.text;
+  m.reply.joint_refusals = reply.joint_refusals;
   return m;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/links/protocol_messages.hpp"
 #include "core/base/result.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "core/robot/robot.hpp"
@@ -53,7 +54,13 @@ struct JointCommand {
   ControlMode mode{ControlMode::none};  // the mode for select_mode
   JointCommandKind kind{JointCommandKind::dfa_input};
   std::uint32_t request{0};             // the parser's request id; 0: nobody waits for the outcome
+  // All or nothing (operator requests): the request's `steps` commands (this one is number `step`)
+  // are checked together against every joint first; if any joint must refuse, none is applied.
+  bool all_or_nothing{false};
+  std::uint8_t step{0};
+  std::uint8_t steps{1};
 };
+constexpr std::size_t kMaxRequestSteps = 5;  // the longest request: initialize (3 select_mode, set_reference, enable)
 
 // Why the joint manager did not apply a command to a joint.
 enum class CommandRefusal : std::uint8_t {
@@ -62,6 +69,13 @@ enum class CommandRefusal : std::uint8_t {
   unreachable,    // the joint does not answer (only disable and reset are taken)
   bad_mode,       // select_mode without CSP, CSV or CST
   clear_refused,  // clear_lost refused (still unreachable, not recorded lost, or file not written)
+};
+
+// Joint manager -> message parser: one joint's refusal, as the operator's reply names it.
+struct JointRefusalNote {
+  protocol::JointRefusal why{protocol::JointRefusal::none};
+  fsm::JointState state{fsm::JointState::idle};
+  fsm::JointInput input{fsm::JointInput::disable};
 };
 
 // Joint manager -> message parser: what became of a command that carried a request id.
@@ -74,6 +88,7 @@ struct JointCommandOutcome {
   fsm::JointState first_state{fsm::JointState::idle};
   fsm::JointInput input{fsm::JointInput::disable};
   JointCommandKind kind{JointCommandKind::dfa_input};
+  std::array<JointRefusalNote, kJointCount> notes{};  // every refused joint's own reason
 };
 
 // What the joint manager publishes about one joint (shared memory, read by the handler, the RC

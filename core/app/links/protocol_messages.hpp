@@ -26,7 +26,7 @@ constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NU
 constexpr std::size_t kMaxSlaves = 23;
 constexpr std::uint8_t kRecoveryStates = 15;  // ecat::kRecoveryStateCount (checked where both are seen)
 constexpr std::uint32_t kRecoveryAgeNever = 0xFFFFFFFFU;  // SlaveRecord: not changed since bring-up
-constexpr std::size_t kMaxTasks = 8;
+constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 120 bytes and the drop counters fill a payload)
 constexpr std::size_t kMaxDropCounters = 12;  // after the task records: the queues' drop counters
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
@@ -44,6 +44,8 @@ enum class MessageType : std::uint8_t {
   get_tasks = 0x04,
   get_diag = 0x05,
   get_epoch = 0x06,  // the robot's current epoch (docs/protocol.md "Replay protection"); the only request with epoch 0
+  get_version = 0x07,  // the robot's program version, layout and build type (ctl version)
+  get_owner = 0x08,    // which RC task owns the motion, alive, its phase (ctl owner)
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -65,6 +67,8 @@ enum class MessageType : std::uint8_t {
   tasks = 0x84,
   diag = 0x85,
   epoch = 0x86,  // the answer to get_epoch: the epoch and robot id are its header's
+  version = 0x87,
+  owner_state = 0x88,
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -170,6 +174,29 @@ enum class RefusalReason : std::uint8_t {
 };
 const char* to_string(RefusalReason reason) noexcept;
 
+// Why one joint blocked a refused joint command (a reply names every blocking joint, each with its own).
+enum class JointRefusal : std::uint8_t {
+  none = 0,
+  state_machine = 1,     // the DFA has no transition for `input` in `state`
+  unreachable = 2,       // the joint does not answer (only disable and reset are taken)
+  bad_mode = 3,          // select_mode without CSP, CSV or CST
+  not_lost = 4,          // clear: the joint is not recorded lost
+  still_unreachable = 5, // clear: the joint does not answer yet (repair it first)
+  moved = 6,             // clear: it answers away from its held position (clear --moved after checking)
+  file_not_written = 7,  // clear: the error-joints file could not be written
+};
+constexpr std::uint8_t kJointRefusalLast = 7;
+const char* to_string(JointRefusal refusal) noexcept;
+// The protocol's reason for a joint refusal (state machine, unreachable joint, bad request, clear refused).
+RefusalReason reason_of(JointRefusal refusal) noexcept;
+
+// One joint's part in a refused joint command.
+struct JointRefusalRecord {
+  JointRefusal why{JointRefusal::none};
+  std::uint8_t state{0};  // fsm::JointState when it was judged
+  std::uint8_t input{0};  // fsm::JointInput it refused
+};
+
 struct ReplyPayload {
   std::uint64_t request_sequence{0};
   MessageType request_type{MessageType::get_status};
@@ -177,6 +204,8 @@ struct ReplyPayload {
   RefusalReason reason{RefusalReason::none};
   JointMask refused_joints{0};
   std::array<char, kReplyTextSize> text{};  // NUL-padded; the last byte is always NUL
+  // Refused joint commands: every joint of refused_joints with its own reason (none for the others).
+  std::array<JointRefusalRecord, kJointCount> joint_refusals{};
 };
 
 struct JointStatusRecord {
@@ -248,8 +277,11 @@ struct MasterPayload {
 struct TaskRecord {
   std::array<char, kNameSize> name{};
   std::int32_t pid{0};
-  std::int16_t cpu{-1};       // -1: any
-  std::int16_t priority{0};   // SCHED_FIFO priority, 0: normal
+  std::int16_t cpu{-1};       // the CPU the kernel reports the task's thread ran on last; -1: unknown
+  std::int16_t priority{0};   // the priority the kernel reports (sched_getparam), 0: a normal policy
+  std::int8_t policy{-1};     // the kernel's policy: SCHED_OTHER 0, SCHED_FIFO 1, SCHED_RR 2, ...; -1 unknown
+  std::int16_t table_cpu{-1};       // what the task table asked for (on this machine)
+  std::int16_t table_priority{0};
   std::uint64_t periods{0};
   std::uint64_t missed{0};
   std::uint64_t max_execution_ns{0};
@@ -300,6 +332,29 @@ struct EpochPayload {
 };
 
 // One decoded message: the header and the payload of its type (only that member is meaningful).
+// ctl version: what the robot runs.
+constexpr std::size_t kVersionTextSize = 48;
+struct VersionPayload {
+  std::array<char, kVersionTextSize> program{};     // git describe of the build (NUL-padded)
+  std::uint32_t layout_version{0};                  // TaskLinks::kLayoutVersion
+  std::uint32_t layout_hash{0};                     // the shared-memory layout hash
+  std::array<char, kNameSize> build_type{};         // CMAKE_BUILD_TYPE
+};
+
+// ctl owner: the Motion owner and each RC task's liveness.
+struct RcTaskRecord {
+  std::uint8_t present{0};          // 1: the task exists in this run
+  std::uint8_t alive{0};            // 1: heartbeat younger than 100 ms
+  std::uint8_t phase{0};            // kin::RescuePhase (rescue task)
+  std::uint8_t mode{0};             // RcMode
+  std::uint32_t heartbeat_age_ms{0};  // 0xFFFFFFFF: never beat
+};
+struct OwnerStatePayload {
+  std::uint8_t owner{kNoOwner};     // RC task owning the motion, kNoOwner: nobody
+  std::uint64_t generation{0};      // the owner word's generation (every change counts)
+  std::array<RcTaskRecord, kMaxRcTasks> tasks{};
+};
+
 struct Message {
   Header header{};
   JointsPayload joints{};
@@ -315,6 +370,8 @@ struct Message {
   TasksPayload tasks{};
   DiagPayload diag{};
   EpochPayload epoch{};
+  VersionPayload version{};
+  OwnerStatePayload owner_state{};
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

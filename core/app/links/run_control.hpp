@@ -76,6 +76,7 @@ struct RunControl {
   // Joint manager -> supervisor, final once manager_done.
   std::atomic<bool> manager_done;
   std::atomic<std::uint32_t> lost_joints;   // JointMask
+  std::atomic<std::uint32_t> lost_since_start;  // JointMask: every joint marked lost, cleared since or not
   std::atomic<std::uint8_t> condition;      // fsm::RobotCondition
   std::atomic<bool> file_dirty;
   // Supervisor's liveness watch (runtime/liveness_watch.hpp) -> run summary: the tasks silent now

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "core/base/le_stream.hpp"
+#include "fsm/machines/joint_status_dfa.hpp"
 
 namespace rescue::app::protocol {
 namespace {
@@ -18,7 +19,7 @@ constexpr std::size_t kHandSize = 4;
 constexpr std::size_t kOwnerSize = 4;
 constexpr std::size_t kImuSize = 88;
 constexpr std::size_t kGpsSize = 56;
-constexpr std::size_t kReplySize = 16 + kReplyTextSize;
+constexpr std::size_t kReplySize = 16 + kReplyTextSize + 4 * kJointCount;  // + per joint: why, state, input, 0
 constexpr std::size_t kStatusHeadSize = 16;
 constexpr std::size_t kJointRecordSize = 32;
 constexpr std::size_t kStatusSize = kStatusHeadSize + kJointCount * kJointRecordSize;
@@ -27,8 +28,11 @@ constexpr std::size_t kSlaveRecordSize = 40;
 constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
 constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
-constexpr std::size_t kTaskRecordSize = 56 + 2 * kTimingFiguresSize;
+constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
 constexpr std::size_t kDiagHeadSize = 24;
+constexpr std::size_t kVersionSize = kVersionTextSize + 8 + kNameSize;
+constexpr std::size_t kRcTaskRecordSize = 8;
+constexpr std::size_t kOwnerStateSize = 16 + kMaxRcTasks * kRcTaskRecordSize;
 constexpr std::size_t kDiagRecordSize = 40;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
@@ -326,6 +330,16 @@ void reply_fields(F& f, M& m) noexcept {
   f.reserved(1);
   f.u32(m.reply.refused_joints);
   f.text(m.reply.text, "reply text not NUL-terminated");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    auto& jr = m.reply.joint_refusals[j];
+    f.u8(jr.why);
+    f.u8(jr.state);
+    f.u8(jr.input);
+    f.reserved(1);
+    f.check(static_cast<std::uint8_t>(jr.why) <= kJointRefusalLast, "joint refusal");
+    f.check(jr.state < fsm::kJointStateCount && jr.input < fsm::kJointInputCount, "joint state or input");
+    f.check(jr.why == JointRefusal::none || (m.reply.refused_joints & joint_bit(j)) != 0, "joint refusal of a joint not refused");
+  }
   f.check(is_known(static_cast<std::uint8_t>(m.reply.request_type)), "request type");
   f.check(static_cast<std::uint8_t>(m.reply.outcome) <= 1, "outcome");
   f.check(static_cast<std::uint8_t>(m.reply.reason) <= static_cast<std::uint8_t>(RefusalReason::sender_table_full),
@@ -457,6 +471,11 @@ void tasks_fields(F& f, M& m) noexcept {
     f.u32(t.pid);
     f.u16(t.cpu);
     f.u16(t.priority);
+    f.u8(t.policy);
+    f.reserved(1);
+    f.u16(t.table_cpu);
+    f.u16(t.table_priority);
+    f.reserved(2);
     f.u64(t.periods);
     f.u64(t.missed);
     f.u64(t.max_execution_ns);
@@ -492,6 +511,32 @@ void diag_fields(F& f, M& m) noexcept {
   }
 }
 
+template <typename F, typename M>
+void version_fields(F& f, M& m) noexcept {
+  f.length(kVersionSize);
+  f.text(m.version.program, "program version not NUL-terminated");
+  f.u32(m.version.layout_version);
+  f.u32(m.version.layout_hash);
+  f.text(m.version.build_type, "build type not NUL-terminated");
+}
+
+template <typename F, typename M>
+void owner_state_fields(F& f, M& m) noexcept {
+  f.length(kOwnerStateSize);
+  f.u8(m.owner_state.owner);
+  f.reserved(7);
+  f.u64(m.owner_state.generation);
+  f.check(m.owner_state.owner < kMaxRcTasks || m.owner_state.owner == kNoOwner, "owner task");
+  for (auto& t : m.owner_state.tasks) {
+    f.u8(t.present);
+    f.u8(t.alive);
+    f.u8(t.phase);
+    f.u8(t.mode);
+    f.u32(t.heartbeat_age_ms);
+    f.check(t.present <= 1 && t.alive <= 1, "RC task flags");
+  }
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -507,6 +552,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::get_tasks, "get_tasks", no_payload, no_payload},
     {MessageType::get_diag, "get_diag", no_payload, no_payload},
     {MessageType::get_epoch, "get_epoch", no_payload, no_payload},
+    {MessageType::get_version, "get_version", no_payload, no_payload},
+    {MessageType::get_owner, "get_owner", no_payload, no_payload},
     {MessageType::initialize, "initialize", joints_fields, joints_fields},
     {MessageType::enable, "enable", joints_fields, joints_fields},
     {MessageType::disable, "disable", joints_fields, joints_fields},
@@ -526,6 +573,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::tasks, "tasks", tasks_fields, tasks_fields},
     {MessageType::diag, "diag", diag_fields, diag_fields},
     {MessageType::epoch, "epoch", epoch_fields, epoch_fields},
+    {MessageType::version, "version", version_fields, version_fields},
+    {MessageType::owner_state, "owner_state", owner_state_fields, owner_state_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {
@@ -545,7 +594,7 @@ bool is_known(std::uint8_t type) noexcept { return layout_of(type) != nullptr; }
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return t >= 0x01 && t <= 0x05;
+  return (t >= 0x01 && t <= 0x05) || t == 0x07 || t == 0x08;  // get_epoch (0x06) is answered before any query
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
@@ -580,6 +629,34 @@ const char* to_string(RefusalReason reason) noexcept {
     case RefusalReason::sender_table_full: return "sender table full";
   }
   return "?";
+}
+
+const char* to_string(JointRefusal refusal) noexcept {
+  switch (refusal) {
+    case JointRefusal::none: return "none";
+    case JointRefusal::state_machine: return "state machine refusal";
+    case JointRefusal::unreachable: return "unreachable joint";
+    case JointRefusal::bad_mode: return "select_mode needs CSP, CSV or CST";
+    case JointRefusal::not_lost: return "not recorded lost: nothing to clear";
+    case JointRefusal::still_unreachable: return "still unreachable: repair it first";
+    case JointRefusal::moved: return "position differs from the held position: check it, then clear --moved";
+    case JointRefusal::file_not_written: return "the error-joints file could not be written";
+  }
+  return "?";
+}
+
+RefusalReason reason_of(JointRefusal refusal) noexcept {
+  switch (refusal) {
+    case JointRefusal::none: return RefusalReason::none;
+    case JointRefusal::state_machine: return RefusalReason::state_machine;
+    case JointRefusal::unreachable: return RefusalReason::unreachable_joint;
+    case JointRefusal::bad_mode: return RefusalReason::bad_request;
+    case JointRefusal::not_lost:
+    case JointRefusal::still_unreachable:
+    case JointRefusal::moved:
+    case JointRefusal::file_not_written: return RefusalReason::clear_refused;
+  }
+  return RefusalReason::busy;
 }
 
 Rejection rejection_of(const Error& error) noexcept {

@@ -7,6 +7,7 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
 #include "core/app/config/task_table.hpp"
 #include "core/app/links/joint_sample_source.hpp"
@@ -23,6 +24,7 @@
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_modes.hpp"
 #include "core/app/runtime/task_timing.hpp"
+#include "core/app/shm/segment_layout.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/error_joints_worker.hpp"
@@ -142,6 +144,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   parser_ports.joint_status = &links().joint_status;
   parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
   parser_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
+  parser_ports.owner = &links().motion.owner;
   static MessageParser parser(parser_ports);
 
   if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
@@ -182,6 +185,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.motion = &links().motion;
   socket_ports.handler_heartbeat = &links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
   socket_ports.stale_after = options.task_silent_after;
+  socket_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
+  socket_ports.rc_tasks = kRcTasksRun;
+  static protocol::VersionPayload version;
+  protocol::set_text(version.program, build_program_version());
+  version.layout_version = TaskLinks::kLayoutVersion;
+  version.layout_hash = shm::kLayoutHash;
+  protocol::set_text(version.build_type, build_type());
+  socket_ports.version = &version;
   static SocketHandler socket(socket_ports, operator_port ? key.value() : protocol::Key{}, replay, wall_clock,
                               options.robot_id);
   if (operator_port) {
@@ -306,21 +317,24 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   RunControl& state = run();
   const JointMask lost = state.lost_joints.load();
   const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
-  const std::uint64_t healthy_missed = print_run_figures(options, socket);
+  (void)print_run_figures(options, socket);
   char lost_names[kJointNamesCapacity];
-  format_joint_names(lost, lost_names, sizeof lost_names);
+  format_joint_names(lost | state.lost_since_start.load(), lost_names, sizeof lost_names);
   if (tasks_status != 0) return tasks_status;
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());
   }
 
-  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, healthy_missed,
+  const int verdict = scenario_verdict(options.scenario, state, lost, restored.restored, options.auto_clear_power_cycled,
                                        operator_side.motion.rescue_phase_reached);
   if (verdict == 0 && options.scenario.kind != ScenarioKind::none) {
-    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s\n",
-                      options.scenario.name, lost_names, dir.value().path.c_str(),
-                      ErrorJointsFileStorage::kFileName);
+    const JointMask cleared = state.lost_since_start.load() & ~lost;
+    char cleared_names[kJointNamesCapacity];
+    format_joint_names(cleared, cleared_names, sizeof cleared_names);
+    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
+                      options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
+                      cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
   }
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);

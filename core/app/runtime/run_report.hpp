@@ -18,8 +18,9 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
 
 // A scenario's checks once the run stopped: 0, or the exit status after saying what failed.
 // What the tasks reported is read from the segment (run_control.hpp): threads or processes alike.
+// Exit status of a scenario's run: 0 when it did what the scenario promises (run_scenario.hpp).
 int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
-                     std::uint64_t healthy_missed, std::uint8_t rescue_phase_reached) noexcept;
+                     bool auto_clear_power_cycled, std::uint8_t rescue_phase_reached) noexcept;
 
 // The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
 // Per task: what it published in its timing slot and its health slot (run_control.hpp).

@@ -36,6 +36,13 @@ constexpr hal::Nanoseconds kStorageWorkerPoll = config::kStorageWorkerPollNs;
 int cpu_for(int wanted) noexcept { return table_cpu_on_this_machine(wanted); }
 
 void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
+  // Its name on its thread (and its process, when the task is one): ps -eLo comm, top -H, chrt.
+  const Status named = hal::name_this_thread(task);
+  if (!named.ok()) (void)std::printf("%s: thread not named: %s\n", task, named.error().what);
+  if (cpu_for(cpu) != cpu) {
+    (void)std::printf("%s: CPU %d is not on this machine (%ld online): running on CPU %d, the last one\n", task, cpu,
+                      sysconf(_SC_NPROCESSORS_ONLN), cpu_for(cpu));
+  }
   hal::RtConfig rt;
   rt.lock_memory = g_run.task_processes;  // a forked child does not inherit mlockall; threads: done once
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
@@ -309,6 +316,7 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
   stats.publish();
   health.report();
   state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
+  state.lost_since_start.store(manager.lost_since_start(), std::memory_order_relaxed);
   state.condition.store(static_cast<std::uint8_t>(manager.summary().condition), std::memory_order_relaxed);
   state.file_dirty.store(manager.file_dirty(), std::memory_order_relaxed);
   state.manager_done.store(true, std::memory_order_release);

@@ -20,6 +20,7 @@
 #include "core/app/runtime/task_loops.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "hal/rt/rt_setup.hpp"
 #include "hal/time/wall_clock.hpp"
 
 namespace rescue::app::runner {
@@ -51,7 +52,10 @@ int attach_task_process(const char* task) noexcept {
 
 // The body of every task process: attach, then the task on its own thread while this one prints
 // (stdout is the process's own buffer now) and, in the handler's process, runs its side of the logger.
-int task_process(const char* name, void (*task)() noexcept, void (*log_pass)() noexcept) noexcept {
+// The process carries the task's name (`comm`, at most 15 characters: ps, top, chrt tell the task
+// processes apart); the task's thread names itself the same (task_loops.cpp).
+int task_process(const char* name, const char* comm, void (*task)() noexcept, void (*log_pass)() noexcept) noexcept {
+  (void)hal::name_this_thread(comm);
   const int attached = attach_task_process(name);
   if (attached != 0) return attached;
   declare_init_complete(HeapGuardMode::count);  // each task counts from its own init (TaskHealthProbe)
@@ -73,7 +77,7 @@ int task_process(const char* name, void (*task)() noexcept, void (*log_pass)() n
 }
 
 int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  const int status = task_process("ethercat-handler", run_handler, handler_side_pass);
+  const int status = task_process("ethercat-handler", "ethercat", run_handler, handler_side_pass);
   if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
@@ -82,13 +86,13 @@ int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
 int manager_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   g_run.storage_stop.store(false, std::memory_order_relaxed);
   std::thread storage(run_storage_worker);
-  const int status = task_process("joint-manager", run_manager, manager_side_pass);
+  const int status = task_process("joint-manager", "joint-manager", run_manager, manager_side_pass);
   g_run.storage_stop.store(true, std::memory_order_release);  // also when the task did not run
   storage.join();
   return status;
 }
 int parser_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("message-parser", run_parser, nullptr);
+  return task_process("message-parser", "message-parser", run_parser, nullptr);
 }
 int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   // A restarted socket handler begins a new epoch: its predecessor's replay windows died with it, so
@@ -99,15 +103,15 @@ int socket_process(void* /*context*/, unsigned incarnation) noexcept {
     SocketCounters published{};
     if (links().socket_counters.try_read(published)) g_run.tasks.socket->resume_counters(published);
   }
-  return task_process("socket-handler", run_socket, nullptr);
+  return task_process("socket-handler", "socket-handler", run_socket, nullptr);
 }
 // An RC task restarted after a crash starts from its initial state; its owner word, if it held it,
 // was released by the handler's intake once its heartbeat stopped (docs/motion-owner.md).
 int rc_rescue_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("rc-rescue", run_rc_rescue, nullptr);
+  return task_process("rc-rescue", "rc-rescue", run_rc_rescue, nullptr);
 }
 int rc_teleop_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
-  return task_process("rc-teleop", run_rc_teleop, nullptr);
+  return task_process("rc-teleop", "rc-teleop", run_rc_teleop, nullptr);
 }
 
 bool handler_finished() noexcept { return run().handler_done.load(std::memory_order_acquire); }

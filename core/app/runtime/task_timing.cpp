@@ -7,6 +7,7 @@
 
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "hal/files/trusted_file.hpp"
+#include "hal/rt/rt_setup.hpp"
 
 namespace rescue::app {
 
@@ -17,6 +18,9 @@ void TaskRecorder::start(Seqlock<TaskStat>& slot, const char* name, int cpu, int
   stat_.pid = static_cast<std::int32_t>(::getpid());
   stat_.cpu = static_cast<std::int16_t>(cpu);
   stat_.priority = static_cast<std::int16_t>(priority);
+  stat_.kernel_policy = -1;
+  stat_.kernel_priority = -1;
+  stat_.kernel_cpu = -1;
   recorder_.configure(name, ns_per_tick);
   recorder_.reset();
   until_publish_ = 1;
@@ -28,6 +32,11 @@ void TaskRecorder::publish() noexcept {
   stat_.execution = PeriodRecorder::compact(recorder_.execution());
   stat_.latency = PeriodRecorder::compact(recorder_.latency());
   stat_.max_execution_ns = recorder_.execution().max();
+  // What the kernel says of this thread now, not the table's wish (ctl tasks shows both).
+  const hal::ThreadSchedule kernel = hal::thread_schedule();
+  stat_.kernel_policy = static_cast<std::int8_t>(kernel.policy);
+  stat_.kernel_priority = static_cast<std::int16_t>(kernel.priority);
+  stat_.kernel_cpu = static_cast<std::int16_t>(kernel.cpu);
   slot_->write(stat_);
 }
 

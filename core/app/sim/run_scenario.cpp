@@ -42,6 +42,9 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.expected_lost = row.lost == Lost::the_joint            ? joint_bit(scenario.cut_joint)
                              : row.lost == Lost::its_branch_from_it ? joints_lost_by_link_failure_at(scenario.cut_joint)
                                                                     : JointMask{0};
+    if (row.kind == ScenarioKind::power_cycle) {
+      scenario.may_miss_first_frame = joints_lost_by_link_failure_at(scenario.cut_joint) & ~joint_bit(scenario.cut_joint);
+    }
     scenario.run_on = row.run_on;
     if (row.kind == ScenarioKind::rescue) {
       scenario.rescue_motion = true;

@@ -36,6 +36,10 @@ struct Scenario {
   std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
   JointMask expected_lost{0};           // link_cut: what the firmware must report
+  // power_cycle: the joints behind the power-cycled drive on its branch may miss the one frame that
+  // first showed the shortfall: a working counter short by one slave cannot tell a slave out
+  // mid-branch from a cut behind the last but one (the next frame's probes place it).
+  JointMask may_miss_first_frame{0};
   hal::Nanoseconds run_on{0};           // after acting, the run goes on at most this long (without --duration)
   bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
   std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)

@@ -57,6 +57,7 @@ void EthercatHandler::build_outputs() noexcept {
         intake_.rest_at(j, drivers::counts_to_rad(in.position_actual));
         out.controlword = drivers::controlword_towards_enabled(in.statusword, out.controlword);
         out.target_position = in.position_actual;
+        reference_rad_[j] = drivers::counts_to_rad(in.position_actual);  // the sample says what is sent
         out.target_velocity = 0;
         out.target_torque = 0;
         continue;
@@ -112,7 +113,6 @@ std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
 drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   build_outputs();
   const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
-  publish_sample(result);
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
 
   // Master's link events (lost, restored, not operational), for the log.
@@ -144,6 +144,8 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       if (!report_sink_.try_send(back)) ++power_cycle_reports_dropped_;
     }
   }
+  // After the reports above: a joint back after a power cycle is queued before it shows reachable.
+  publish_sample(result);
 
   // Never silent before OP: about once a second, which slaves are not in OP yet and why.
   if (result.state != ecat::MasterState::op && !op_seen_) {

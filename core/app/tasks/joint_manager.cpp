@@ -140,22 +140,26 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
 
 void JointManager::step(hal::Nanoseconds now) noexcept {
   (void)ports_.samples->read(sample_);  // false: keep the previous snapshot
-  note_returned_joints(now);
-  collect_file_results(now);
-  auto_clear_returned(now);
+  // Reports first: the handler queues a drive's return after a power cycle before it publishes the
+  // sample that shows the joint reachable, so a returned joint's note knows whether it is cleared
+  // automatically (no "stays in Error" line before "cleared automatically").
   LostJointsReport report;
   for (std::size_t n = 0; n < kMaxReportsPerStep && ports_.reports->try_receive(report); ++n) {
     handle_report(report, now);
   }
+  note_returned_joints(now);
+  collect_file_results(now);
+  auto_clear_returned(now);
   flush_notices();
   flush_outcome();
+  continue_request(now);  // the steps of an all-or-nothing request behind a clear, once it is durable
   // The joint handle queue in order: the commands behind a clear wait for its durable write (a reset
   // after a clear needs the loss unlatched), and none is taken while an outcome waits for room.
   JointCommand command;
   for (std::size_t n = 0; n < kMaxCommandsPerStep && !clear_.active && !outcome_deferred_ &&
                           ports_.commands->try_receive(command);
        ++n) {
-    apply_command(command, now);
+    receive_command(command, now);
   }
   send_file_write(now);
   collect_file_results(now);  // a write already durable is answered in this period
@@ -196,6 +200,7 @@ void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
     returned_ |= bit;
     const double offset = offset_from_held(j);
     const bool moved = offset > kHeldPositionToleranceRad || offset < -kHeldPositionToleranceRad;
+    if (!moved && (auto_clear_pending_ & bit) != 0) continue;  // auto_clear_returned() says it, this step
     JointEvent e = joint_event(moved ? JointEventKind::lost_joint_moved : JointEventKind::lost_joint_returned, j, now);
     e.fault.value = offset;
     e.fault.limit = kHeldPositionToleranceRad;
@@ -279,6 +284,7 @@ void JointManager::answer(JointMask joints, std::uint64_t cycle, const Error& fi
 
 void JointManager::latch_loss(std::size_t j, FaultReason reason, double position_rad, hal::Nanoseconds now) noexcept {
   lost_ |= joint_bit(j);
+  lost_since_start_ |= joint_bit(j);
   Joint& joint = joints_[j];
   joint.held_position_rad = position_rad;
   joint.fault = JointFault{reason, 0.0, 0.0};
@@ -293,21 +299,29 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
   outcome.request = command.request;
   outcome.input = command.input;
   outcome.kind = command.kind;
-  const auto refuse = [&outcome, this](std::size_t j, CommandRefusal why) noexcept {
+  const auto refuse = [&outcome, &command, this](std::size_t j, CommandRefusal why, protocol::JointRefusal note) noexcept {
     if (outcome.refused == 0) {
       outcome.first_reason = why;
       outcome.first_joint = static_cast<std::uint8_t>(j);
       outcome.first_state = joints_[j].machine.state();
     }
     outcome.refused |= joint_bit(j);
+    outcome.notes[j] = JointRefusalNote{note, joints_[j].machine.state(), command.input};
   };
   if (command.kind == JointCommandKind::clear_lost || command.kind == JointCommandKind::clear_lost_moved) {
     const JointMask joints = command.joints & kAllJoints;
     const JointMask confirmed = command.kind == JointCommandKind::clear_lost_moved ? joints : 0;
+    // Each joint's reason, judged before the clear starts (a refused joint is named with its own).
+    std::array<protocol::JointRefusal, kJointCount> why{};
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((joints & joint_bit(j)) != 0) why[j] = clear_refusal(j, lost_, (confirmed & joint_bit(j)) != 0);
+    }
     (void)clear_lost_joints(joints, now, confirmed);  // each refusal is logged
     const JointMask accepted = clear_.active ? clear_.requested : 0;
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((joints & ~accepted & joint_bit(j)) != 0) refuse(j, CommandRefusal::clear_refused);
+      if ((joints & ~accepted & joint_bit(j)) == 0) continue;
+      refuse(j, CommandRefusal::clear_refused,
+             why[j] != protocol::JointRefusal::none ? why[j] : protocol::JointRefusal::file_not_written);
     }
     if (accepted == 0) {
       ++refused_commands_;
@@ -333,7 +347,7 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     }
     if (precondition.code != Errc::ok) {
       ++refused_commands_;
-      refuse(j, why);
+      refuse(j, why, why == CommandRefusal::bad_mode ? protocol::JointRefusal::bad_mode : protocol::JointRefusal::unreachable);
       JointEvent e = joint_event(JointEventKind::refused, j, now);
       e.from = joints_[j].machine.state();
       e.input = command.input;
@@ -345,12 +359,146 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
     joints_[j].context.actual_position_rad = sample_[j].position_rad;
     if (dispatch(j, command.input, now).ok()) {
       outcome.applied |= joint_bit(j);
-    } else {  // a refused input leaves the state as it was
+    } else {  // a refused input leaves the state as it was (refuse() reads the state: unchanged)
       ++refused_commands_;
-      refuse(j, CommandRefusal::state_machine);
+      refuse(j, CommandRefusal::state_machine, protocol::JointRefusal::state_machine);
     }
   }
   report_outcome(outcome);
+}
+
+void JointManager::receive_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  if (!command.all_or_nothing || command.request == 0 || command.steps <= 1 || command.steps > kMaxRequestSteps) {
+    batch_.clear();
+    if (command.all_or_nothing && command.request != 0 && command.steps <= 1) {
+      (void)batch_.push_back(command);
+      apply_request(now);
+      return;
+    }
+    apply_command(command, now);
+    return;
+  }
+  // The steps of one request follow each other on the queue; a partial request whose rest never came
+  // (the parser's queue was full: it answers busy) is dropped by the next one.
+  if (!batch_.empty() && batch_[0].request != command.request) batch_.clear();
+  if (command.step != batch_.size()) {
+    batch_.clear();
+    return;
+  }
+  (void)batch_.push_back(command);
+  if (batch_.size() < command.steps) return;  // the rest follows
+  apply_request(now);
+}
+
+protocol::JointRefusal JointManager::clear_refusal(std::size_t j, JointMask lost, bool confirmed_moved) const noexcept {
+  if ((lost & joint_bit(j)) == 0) return protocol::JointRefusal::not_lost;
+  if (!sample_[j].reachable) return protocol::JointRefusal::still_unreachable;
+  const double offset = offset_from_held(j);
+  if (!confirmed_moved && (offset > kHeldPositionToleranceRad || offset < -kHeldPositionToleranceRad)) {
+    return protocol::JointRefusal::moved;
+  }
+  return protocol::JointRefusal::none;
+}
+
+protocol::JointRefusal JointManager::dfa_refusal(std::size_t j, const JointCommand& command, JointMask lost,
+                                                 const fsm::JointStatusMachine& machine,
+                                                 fsm::JointContext& context) const noexcept {
+  if (command.input == JointInput::select_mode && !valid_mode(command.mode)) return protocol::JointRefusal::bad_mode;
+  if (!sample_[j].reachable && command.input != JointInput::disable && command.input != JointInput::reset) {
+    return protocol::JointRefusal::unreachable;
+  }
+  // The guard's facts as dispatch() sets them.
+  JointFault present = check_drive_fault(sample_[j]);
+  if (!present.active()) present = check_actual_limits(sample_[j], kJoints[j]);
+  context.reachable = sample_[j].reachable;
+  context.fault_present = sample_[j].reachable && present.active();
+  context.loss_latched = (lost & joint_bit(j)) != 0;
+  context.requested_mode = command.mode;
+  context.actual_position_rad = sample_[j].position_rad;
+  return machine.accepts(context, command.input) ? protocol::JointRefusal::none : protocol::JointRefusal::state_machine;
+}
+
+void JointManager::continue_request(hal::Nanoseconds now) noexcept {
+  // A clear is durable only once the storage worker has written it: the steps behind it wait.
+  if (!batch_running_) return;
+  while (batch_next_ < batch_.size() && !clear_.active) apply_command(batch_[batch_next_++], now);
+  if (batch_next_ >= batch_.size()) {
+    batch_.clear();
+    batch_next_ = 0;
+    batch_running_ = false;
+  }
+}
+
+void JointManager::apply_request(hal::Nanoseconds now) noexcept {
+  // The trial: every step on copies of the machines, in order, as the real application would go.
+  std::array<fsm::JointStatusMachine, kJointCount> machines{};
+  std::array<fsm::JointContext, kJointCount> contexts{};
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    machines[j] = joints_[j].machine;
+    contexts[j] = joints_[j].context;
+  }
+  JointMask lost = lost_;
+  JointCommandOutcome refusal;
+  refusal.request = batch_[0].request;
+  refusal.input = batch_[0].input;
+  refusal.kind = batch_[0].kind;
+  for (const JointCommand& command : batch_) {
+    const bool clear = command.kind != JointCommandKind::dfa_input;
+    JointMask cleared = 0;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((command.joints & joint_bit(j)) == 0 || (refusal.refused & joint_bit(j)) != 0) continue;
+      const protocol::JointRefusal why =
+          clear ? clear_refusal(j, lost, command.kind == JointCommandKind::clear_lost_moved)
+                : dfa_refusal(j, command, lost, machines[j], contexts[j]);
+      if (why != protocol::JointRefusal::none) {
+        if (refusal.refused == 0) {
+          refusal.first_reason = why == protocol::JointRefusal::state_machine ? CommandRefusal::state_machine
+                                 : why == protocol::JointRefusal::unreachable ? CommandRefusal::unreachable
+                                 : why == protocol::JointRefusal::bad_mode    ? CommandRefusal::bad_mode
+                                                                              : CommandRefusal::clear_refused;
+          refusal.first_joint = static_cast<std::uint8_t>(j);
+          refusal.first_state = machines[j].state();
+          refusal.input = command.input;
+          refusal.kind = command.kind;
+        }
+        refusal.refused |= joint_bit(j);
+        refusal.notes[j] = JointRefusalNote{why, machines[j].state(), command.input};
+        continue;
+      }
+      if (clear) {
+        cleared |= joint_bit(j);
+        contexts[j].loss_latched = false;
+      } else {
+        (void)machines[j].dispatch(contexts[j], command.input);
+      }
+    }
+    lost &= ~cleared;
+  }
+  if (refusal.refused == 0) {
+    batch_next_ = 0;
+    batch_running_ = true;
+    continue_request(now);
+    return;
+  }
+  // Refused: nothing changes. The log names each blocking joint; the parser gets one outcome per step.
+  ++refused_commands_;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((refusal.refused & joint_bit(j)) == 0) continue;
+    JointEvent e = joint_event(JointEventKind::refused, j, now);
+    e.from = refusal.notes[j].state;
+    e.input = refusal.notes[j].input;
+    e.error = make_error(Errc::refused, protocol::to_string(refusal.notes[j].why));
+    emit(e);
+  }
+  report_outcome(refusal);
+  for (std::size_t s = 1; s < batch_.size(); ++s) {
+    JointCommandOutcome nothing;
+    nothing.request = batch_[s].request;
+    nothing.input = batch_[s].input;
+    nothing.kind = batch_[s].kind;
+    report_outcome(nothing);
+  }
+  batch_.clear();
 }
 
 void JointManager::report_outcome(const JointCommandOutcome& outcome) noexcept {
@@ -510,6 +658,7 @@ void JointManager::finish_clear(const Error& file, hal::Nanoseconds now) noexcep
         outcome.first_state = joints_[j].machine.state();
       }
       outcome.refused |= joint_bit(j);
+      outcome.notes[j] = JointRefusalNote{protocol::JointRefusal::file_not_written, joints_[j].machine.state(), outcome.input};
     }
     if (outcome.refused != 0) ++refused_commands_;
     report_outcome(outcome);

@@ -123,6 +123,8 @@ class JointManager {
   std::array<fsm::JointState, kJointCount> states() const noexcept;
   fsm::RobotStatusSummary summary() const noexcept { return fsm::summarize(states()); }
   JointMask lost_joints() const noexcept { return lost_; }
+  // Every joint latched lost since start (restored from the file included), cleared or not.
+  JointMask lost_since_start() const noexcept { return lost_since_start_; }
   const ErrorJointsContents& recorded() const noexcept { return recorded_; }
 
   std::uint32_t refused_commands() const noexcept { return refused_commands_; }
@@ -144,7 +146,18 @@ class JointManager {
   };
 
   void handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept;
+  void receive_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
   void apply_command(const JointCommand& command, hal::Nanoseconds now) noexcept;
+  // All or nothing: the whole request in batch_ is tried on copies of the joints first; applied only
+  // when no joint refuses, else every blocking joint is reported with its reason and nothing changes.
+  void apply_request(hal::Nanoseconds now) noexcept;
+  // The checked request's next steps, each once no clear is being written.
+  void continue_request(hal::Nanoseconds now) noexcept;
+  // Why joint j may not be cleared now (none: it may), given the lost joints `lost`.
+  protocol::JointRefusal clear_refusal(std::size_t j, JointMask lost, bool confirmed_moved) const noexcept;
+  // Why joint `joint` (its machine and context as given) refuses `command` now (none: it accepts).
+  protocol::JointRefusal dfa_refusal(std::size_t j, const JointCommand& command, JointMask lost,
+                                     const fsm::JointStatusMachine& machine, fsm::JointContext& context) const noexcept;
   void report_outcome(const JointCommandOutcome& outcome) noexcept;
   void monitor(hal::Nanoseconds now) noexcept;
   void publish() noexcept;
@@ -173,6 +186,7 @@ class JointManager {
   std::array<JointStatus, kJointCount> status_{};
   RobotSample sample_{};                 // the last snapshot read (lost joints keep their last values)
   JointMask lost_{0};                    // loss latched (file or report) until an operator clears it
+  JointMask lost_since_start_{0};        // every loss latched, cleared or not
   JointMask returned_{0};                // lost joints seen answering again (reported once per return)
   bool auto_clear_power_cycled_{false};
   JointMask auto_clear_pending_{0};      // back after a power cycle, to clear once seen reachable
@@ -209,6 +223,9 @@ class JointManager {
   };
   PendingClear clear_{};
   FixedVector<JointManagerNotice, kMaxDeferredNotices> deferred_notices_;
+  FixedVector<JointCommand, kMaxRequestSteps> batch_;  // an all-or-nothing request's steps received so far
+  std::size_t batch_next_{0};      // its next step to apply (a clear's durable write holds the rest)
+  bool batch_running_{false};      // checked and being applied
   JointCommandOutcome deferred_outcome_{};
   bool outcome_deferred_{false};
   std::uint32_t refused_commands_{0};

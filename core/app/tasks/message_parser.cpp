@@ -45,7 +45,7 @@ JointCommandSequence steps_of(const ControlRequest& r, JointMask joints) noexcep
 }  // namespace
 
 void MessageParser::reply(const ControlRequest& request, Outcome outcome, RefusalReason reason, JointMask refused,
-                          const char* text) noexcept {
+                          const char* text, const std::array<JointRefusalNote, kJointCount>* notes) noexcept {
   ControlReply r;
   r.reply_address = request.reply_address;
   r.reply_port = request.reply_port;
@@ -56,6 +56,12 @@ void MessageParser::reply(const ControlRequest& request, Outcome outcome, Refusa
   r.reason = reason;
   r.refused_joints = refused;
   protocol::set_text(r.text, text);
+  for (std::size_t j = 0; notes != nullptr && j < kJointCount; ++j) {
+    if ((refused & joint_bit(j)) == 0) continue;
+    r.joint_refusals[j].why = (*notes)[j].why;
+    r.joint_refusals[j].state = static_cast<std::uint8_t>((*notes)[j].state);
+    r.joint_refusals[j].input = static_cast<std::uint8_t>((*notes)[j].input);
+  }
   MessageSink<ControlReply>* sink = request.reply_address == 0 && request.reply_port == 0 ? ports_.local_replies
                                                                                           : ports_.network_replies;
   if (sink == nullptr || !sink->try_send(r)) ++replies_dropped_;
@@ -72,6 +78,17 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
     reply(request, Outcome::refused, RefusalReason::no_rc_task, 0, text);
     return;
   }
+  if (request.type != MessageType::take_owner && ports_.owner != nullptr) {
+    const std::uint8_t holder = ports_.owner->task();
+    const bool being_taken = taking_task_ == task && now_ - taking_since_ <= kRcTaskSilence;
+    if (holder != task && !being_taken) {
+      char owner[16] = "none";
+      if (holder != kNoOwnerTask) (void)std::snprintf(owner, sizeof owner, "rc%u", static_cast<unsigned>(holder));
+      (void)std::snprintf(text, sizeof text, "not owner (owner: %s)", owner);
+      reply(request, Outcome::refused, RefusalReason::not_owner, 0, text);
+      return;
+    }
+  }
   RcTaskInput input = request.rc;  // as the socket handler converted it
   input.kind = request.type == MessageType::move_effector ? RcInputKind::end_effector_target
                : request.type == MessageType::hand        ? RcInputKind::hand
@@ -81,6 +98,10 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
     (void)std::snprintf(text, sizeof text, "RC task %u input queue full", static_cast<unsigned>(task));
     reply(request, Outcome::refused, RefusalReason::busy, 0, text);
     return;
+  }
+  if (request.type == MessageType::take_owner) {
+    taking_task_ = task;
+    taking_since_ = now_;
   }
   (void)std::snprintf(text, sizeof text, "queued to RC task %u", static_cast<unsigned>(task));
   reply(request, Outcome::accepted, RefusalReason::none, 0, text);
@@ -135,8 +156,13 @@ void MessageParser::start(const ControlRequest& request, hal::Nanoseconds now) n
   const bool clear = steps[0].kind == JointCommandKind::clear_lost || steps[0].kind == JointCommandKind::clear_lost_moved;
   pending_.deadline = now + (clear ? kClearReplyTimeout : kReplyTimeout);
   pending_.skipped = skipped;
+  const bool local = request.reply_address == 0 && request.reply_port == 0;
+  std::uint8_t index = 0;
   for (JointCommand command : steps) {
     command.request = pending_.id;
+    command.all_or_nothing = !local;
+    command.step = index++;
+    command.steps = static_cast<std::uint8_t>(steps.size());
     if (!ports_.joint_commands->try_send(command)) break;  // the reply times out as busy
     ++pending_.steps;
   }
@@ -149,13 +175,18 @@ void MessageParser::finish() noexcept {
   if (pending_.refused != 0) {
     const JointCommandOutcome& f = pending_.first_refusal;
     const std::size_t j = f.first_joint < kJointCount ? f.first_joint : 0;
-    if (f.first_reason == CommandRefusal::state_machine) {
-      (void)std::snprintf(text, sizeof text, "%.20s: %.16s in %.12s", kJoints[j].name, fsm::to_string(f.input),
-                          fsm::to_string(f.first_state));
+    const JointRefusalNote& note = pending_.notes[j];
+    std::size_t others = 0;
+    for (std::size_t k = 0; k < kJointCount; ++k) others += k != j && (pending_.refused & joint_bit(k)) != 0 ? 1U : 0U;
+    char more[16] = "";
+    if (others != 0) (void)std::snprintf(more, sizeof more, " (+%u more)", static_cast<unsigned>(others % 100U));
+    if (note.why == protocol::JointRefusal::state_machine) {
+      (void)std::snprintf(text, sizeof text, "%.18s: %.16s in %.10s%.12s", kJoints[j].name, fsm::to_string(note.input),
+                          fsm::to_string(note.state), more);
     } else {
-      (void)std::snprintf(text, sizeof text, "%.20s: %.40s", kJoints[j].name, protocol::to_string(reason_of(f.first_reason)));
+      (void)std::snprintf(text, sizeof text, "%.18s: %.30s%.12s", kJoints[j].name, protocol::to_string(note.why), more);
     }
-    reply(request, Outcome::refused, reason_of(f.first_reason), pending_.refused, text);
+    reply(request, Outcome::refused, reason_of(f.first_reason), pending_.refused, text, &pending_.notes);
   } else if (pending_.outcomes < pending_.steps || pending_.steps == 0) {
     reply(request, Outcome::refused, RefusalReason::busy, 0, "the joint manager did not answer in time");
   } else if (pending_.skipped != 0) {
@@ -178,6 +209,9 @@ void MessageParser::step(hal::Nanoseconds now) noexcept {
     ++pending_.outcomes;
     pending_.applied |= outcome.applied;
     if (outcome.refused != 0 && pending_.refused == 0) pending_.first_refusal = outcome;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((outcome.refused & ~pending_.refused & joint_bit(j)) != 0) pending_.notes[j] = outcome.notes[j];
+    }
     pending_.refused |= outcome.refused;
   }
   if (pending_.active && (pending_.outcomes >= pending_.steps || now >= pending_.deadline)) finish();

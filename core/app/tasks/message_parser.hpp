@@ -9,10 +9,15 @@
 //                   stops where it stands (worm gears hold during the step) and holds that position
 //       clear       clear_lost (the repaired joints leave the error-joints file), reset
 //   - RC-task inputs (move, hand, owner) -> that RC task's input queue, or refused "no RC task
-//     running" while its heartbeat is silent.
+//     running" while its heartbeat is silent; move and hand are refused "not owner (owner: rcN)"
+//     unless that task owns the motion (or an `owner` for it was just queued).
 // It is the joint handle queue's only producer. One request is in flight at a time: its steps carry
 // a request id, and the reply (accepted, or refused with the first refused joint and why) is sent
 // once the joint manager has reported every step's outcome, or refused "busy" after kReplyTimeout.
+// An operator's request (from the network) is all or nothing: its steps go to the joint manager as one
+// request that is checked against every named joint first; refused, nothing changes and the reply
+// names every blocking joint with its own reason. The runtime's own requests (start-up initialize,
+// clears, the disable at exit) are applied joint by joint.
 // It talks to the rest only through the ports below (queues and seqlocks of TaskLinks), so the same
 // code runs as a thread or as its own process. No heap, never waits.
 #pragma once
@@ -23,6 +28,7 @@
 
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
+#include "core/app/links/motion_owner.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/robot/joint_limits.hpp"
@@ -41,6 +47,7 @@ struct MessageParserPorts {
   const Seqlock<RobotJointStatus>* joint_status{nullptr};
   std::array<MessageSink<RcTaskInput>*, protocol::kMaxRcTasks> rc_inputs{};
   const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
+  const MotionOwner* owner{nullptr};  // move and hand for a task that does not own the motion: "not owner"
 };
 
 class MessageParser {
@@ -71,6 +78,7 @@ class MessageParser {
     JointMask applied{0};
     JointMask refused{0};
     JointCommandOutcome first_refusal{};
+    std::array<JointRefusalNote, kJointCount> notes{};  // every refused joint's own reason
     hal::Nanoseconds deadline{0};
     JointMask skipped{0};  // selected but not taken (initialize: unreachable or lost)
   };
@@ -79,7 +87,8 @@ class MessageParser {
   void start_rc_input(const ControlRequest& request) noexcept;
   void finish() noexcept;
   void reply(const ControlRequest& request, protocol::Outcome outcome, protocol::RefusalReason reason,
-             JointMask refused, const char* text) noexcept;
+             JointMask refused, const char* text,
+             const std::array<JointRefusalNote, kJointCount>* notes = nullptr) noexcept;
 
   MessageParserPorts ports_;
   Pending pending_{};
@@ -87,6 +96,10 @@ class MessageParser {
   std::uint64_t requests_{0};
   std::uint64_t replies_dropped_{0};
   hal::Nanoseconds now_{0};
+  // The last `owner TASK` queued: the RC task takes the word in its next period, so a move or hand
+  // right behind it (within kRcTaskSilence) is its owner's.
+  std::uint8_t taking_task_{kNoOwnerTask};
+  hal::Nanoseconds taking_since_{0};
 };
 
 }  // namespace rescue::app

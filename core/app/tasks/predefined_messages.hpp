@@ -18,7 +18,7 @@
 namespace rescue::app {
 
 // At most one select_mode per control mode, then set_reference and enable.
-constexpr std::size_t kMaxInitializeSteps = 5;
+constexpr std::size_t kMaxInitializeSteps = kMaxRequestSteps;
 using JointCommandSequence = FixedVector<JointCommand, kMaxInitializeSteps>;
 
 JointCommandSequence initialize_robot_commands(JointMask joints) noexcept;

@@ -151,8 +151,11 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
           protocol::TaskRecord& r = m.tasks.tasks[m.tasks.count++];
           r.name = t.name;
           r.pid = t.pid;
-          r.cpu = t.cpu;
-          r.priority = t.priority;
+          r.cpu = t.kernel_cpu;
+          r.priority = t.kernel_priority;
+          r.policy = t.kernel_policy;
+          r.table_cpu = t.cpu;
+          r.table_priority = t.priority;
           r.periods = t.periods;
           r.missed = t.missed;
           r.max_execution_ns = t.max_execution_ns;
@@ -170,6 +173,31 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.header.type = MessageType::diag;
       if (ports_.diag != nullptr && !ports_.diag->try_read(m.diag)) m.diag = protocol::DiagPayload{};
       break;
+    case MessageType::get_version:
+      m.header.type = MessageType::version;
+      if (ports_.version != nullptr) m.version = *ports_.version;
+      break;
+    case MessageType::get_owner: {
+      m.header.type = MessageType::owner_state;
+      const std::uint64_t word = ports_.motion != nullptr ? ports_.motion->owner.word() : MotionOwner::kNobody;
+      m.owner_state.owner = MotionOwner::task_of(word);
+      m.owner_state.generation = MotionOwner::generation_of(word);
+      const hal::Nanoseconds mono = hal::MonotonicClock().now();
+      for (std::size_t k = 0; k < ports_.rc_tasks && k < protocol::kMaxRcTasks; ++k) {
+        protocol::RcTaskRecord& t = m.owner_state.tasks[k];
+        t.present = 1;
+        const std::int64_t beat = ports_.rc_heartbeat_ns != nullptr ? (*ports_.rc_heartbeat_ns)[k].load(std::memory_order_acquire) : 0;
+        const std::int64_t age = beat > 0 ? mono - beat : -1;
+        t.heartbeat_age_ms = age < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::min<std::int64_t>(age / hal::kNsPerMs, 0xFFFFFFFE));
+        t.alive = age >= 0 && age <= 100 * hal::kNsPerMs ? 1 : 0;  // the message parser's kRcTaskSilence
+        RcTaskState state{};
+        if (ports_.motion != nullptr && ports_.motion->task_state[k].try_read(state)) {
+          t.phase = state.phase;
+          t.mode = state.mode;
+        }
+      }
+      break;
+    }
     default:
       return;
   }

@@ -59,6 +59,10 @@ struct SocketHandlerPorts {
   // status, slaves and master answers say how old its figures are, stale past `stale_after`.
   const std::atomic<std::int64_t>* handler_heartbeat{nullptr};
   hal::Nanoseconds stale_after{config::kTaskSilentAfterNs};
+  // ctl owner: the RC tasks' heartbeats (monotonic ns, 0: never), and how many tasks the run has.
+  const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
+  std::size_t rc_tasks{0};
+  const protocol::VersionPayload* version{nullptr};   // ctl version: what the robot runs
 };
 
 class SocketHandler {

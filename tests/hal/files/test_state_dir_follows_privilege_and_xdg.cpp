@@ -34,6 +34,22 @@ TEST(StateDir, UsersGetXdgStateHomeOrHomeLocalState) {
   EXPECT_EQ(chosen(nullptr, false, "", "/home/u"), "/home/u/.local/state/rescue-motion <- $HOME");
 }
 
+// Root gets the system directory only as the installed program: a build run from the source tree (as
+// this test is) keeps its state per user, so it never leaves root's files in the package's directory.
+TEST(StateDir, OnlyTheInstalledProgramDefaultsToTheSystemDirectory) {
+  EXPECT_TRUE(is_installed_program_path("/usr/bin/rescue-motion"));
+  EXPECT_FALSE(is_installed_program_path("/work/rescue-motion/build/release/rescue-motion"));
+  EXPECT_FALSE(is_installed_program_path("/usr"));
+  EXPECT_FALSE(is_installed_program_path(nullptr));
+  EXPECT_FALSE(system_state_dir_is_default()) << "this test runs from the build tree";
+  const char* home = std::getenv("HOME");  // NOLINT(concurrency-mt-unsafe)
+  if (home != nullptr && home[0] == '/') {
+    auto dir = resolve_state_dir(nullptr);
+    ASSERT_TRUE(dir.ok()) << dir.error().what;
+    EXPECT_STRNE(dir.value().path.c_str(), kSystemStateDir);
+  }
+}
+
 TEST(StateDir, UserWithoutHomeGetsAClearError) {
   auto dir = choose_state_dir(nullptr, false, nullptr, nullptr);
   ASSERT_FALSE(dir.ok());

@@ -1,0 +1,105 @@
+// Issue 24: each task's process and real-time thread carries its task's name (prctl PR_SET_NAME), so
+// `ps -eLo comm`, `top -H` and `chrt` tell them apart; `ctl tasks` shows the policy, priority and CPU the
+// kernel reports for that thread (the task reads them itself and publishes them), beside the task
+// table's wish; a CPU the machine lacks is replaced by its last one and announced
+// (docs/configuration.md). Against a real `rescue-motion run` (processes mode).
+#include <gtest/gtest.h>
+#include <dirent.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/operator_run.hpp"
+
+namespace rescue::app {
+namespace {
+
+using testing::OperatorRun;
+
+std::string first_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// The threads of `pid` whose comm is `name`: their /proc/PID/task/TID/stat.
+std::vector<std::string> threads_named(int pid, const std::string& name) {
+  std::vector<std::string> stats;
+  const std::string dir = "/proc/" + std::to_string(pid) + "/task";
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return stats;
+  while (const dirent* e = ::readdir(d)) {
+    if (e->d_name[0] == '.') continue;
+    if (first_line(dir + "/" + e->d_name + "/comm") == name) stats.push_back(first_line(dir + "/" + e->d_name + "/stat"));
+  }
+  (void)::closedir(d);
+  return stats;
+}
+
+// Field n (1-based, as proc(5) numbers them) of a stat line, after the "(comm)".
+long stat_field(const std::string& stat, int n) {
+  std::istringstream rest(stat.substr(stat.rfind(')') + 2));
+  std::string field;
+  for (int i = 3; i <= n; ++i) rest >> field;
+  return std::stol(field);
+}
+
+// The object of task `name` in `ctl --json tasks`.
+std::string task_object(const std::string& json, const std::string& name) {
+  const std::size_t at = json.find("{\"name\":\"" + name + "\"");
+  return at == std::string::npos ? "" : json.substr(at, json.find("\"execution_ns\"", at) - at);
+}
+
+TEST(TaskNamesAndSchedule, EveryTaskProcessAndThreadIsNamedAndCtlTasksShowsTheKernelsView) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  // Each task publishes its figures once it is past its set-up: ask until all six have.
+  testing::CommandResult tasks;
+  for (int i = 0; i < 100; ++i) {
+    tasks = run.ctl({"--json", "tasks"});
+    if (tasks.status == 0 && task_object(tasks.out, "joint-manager") != "" && task_object(tasks.out, "rc-teleop") != "" &&
+        task_object(tasks.out, "message-parser") != "" && task_object(tasks.out, "socket-handler") != "" &&
+        task_object(tasks.out, "rc-rescue") != "" && task_object(tasks.out, "ethercat") != "") {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(tasks.status, 0) << tasks.out;
+  for (const char* name : {"ethercat", "joint-manager", "message-parser", "socket-handler", "rc-rescue", "rc-teleop"}) {
+    const std::string object = task_object(tasks.out, name);
+    ASSERT_FALSE(object.empty()) << name << " in " << tasks.out;
+    const int pid = std::stoi(testing::json_field(object, "pid"));
+    EXPECT_EQ(first_line("/proc/" + std::to_string(pid) + "/comm"), name) << "the process carries its task's name";
+    const std::vector<std::string> threads = threads_named(pid, name);
+    ASSERT_GE(threads.size(), 2U) << name << ": the process and its task thread";
+    // The task thread: the one whose policy the task reported (the process's main thread is the logger).
+    const std::string policy = testing::json_field(object, "policy");
+    const long want_policy = policy == "FIFO" ? 1 : policy == "RR" ? 2 : policy == "OTHER" ? 0 : -1;
+    bool matched = false;
+    for (const std::string& stat : threads) {
+      // proc(5): 40 rt_priority, 41 policy.
+      if (stat_field(stat, 41) == want_policy && stat_field(stat, 40) == std::stol(testing::json_field(object, "priority"))) matched = true;
+    }
+    EXPECT_TRUE(matched) << name << ": " << object;
+    const long cpus = ::sysconf(_SC_NPROCESSORS_ONLN);
+    const int table_cpu = std::stoi(testing::json_field(object, "table_cpu"));
+    EXPECT_LT(table_cpu, cpus) << name << ": the CPU asked for exists on this machine";
+    if (policy == "FIFO") {
+      EXPECT_EQ(testing::json_field(object, "cpu"), std::to_string(table_cpu)) << name << " pinned";
+    }
+  }
+  // The table asks for CPUs 2 and 3: on a machine with fewer, each substitution is announced.
+  if (::sysconf(_SC_NPROCESSORS_ONLN) < 4) {
+    EXPECT_NE(run.output().find("ethercat: CPU 3 is not on this machine"), std::string::npos) << run.output();
+  }
+  EXPECT_EQ(run.stop(), 0) << run.output();
+}
+
+}  // namespace
+}  // namespace rescue::app
