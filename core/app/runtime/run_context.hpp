@@ -54,12 +54,12 @@ struct TaskSet {
   ErrorJointsStorageWorker* storage_worker;
 };
 
-struct RunContext {
+// One instance in the whole program (g_run): its padding costs some bytes once, and the members stay in
+// the order that explains them.
+struct RunContext {  // NOLINT(clang-analyzer-optin.performance.Padding)
   // What the tasks share lives in the shared-memory segment (docs/shared-memory.md), created once per
   // process at start-up (a second run_firmware in the same process, as tests do, reuses it).
   shm::SegmentOwner segment;
-  // Whether the tasks run as processes (the default) or threads of one process (--threads).
-  bool task_processes{false};
   ecat::CaptureWriter capture;
   // The handler's tap only copies frames into this queue; the logger thread writes them (the disk
   // may block, the 1 ms cycle must not).
@@ -67,6 +67,8 @@ struct RunContext {
   TaskSet tasks{};
   // Joint manager -> its storage worker (same process): end once the last write is done.
   std::atomic<bool> storage_stop{false};
+  // Whether the tasks run as processes (the default) or threads of one process (--threads).
+  bool task_processes{false};
 };
 // Process-wide on purpose: a forked task process finds it at the same address, and the task entry
 // points (std::thread's, the supervisor's) take no argument. Defined in run_context.cpp.

@@ -54,6 +54,11 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
     bus.master().set_tap(ecat::capture_tap, &capture);
   }
   struct CaptureCloser {
+    CaptureCloser() = default;
+    CaptureCloser(const CaptureCloser&) = delete;
+    CaptureCloser& operator=(const CaptureCloser&) = delete;
+    CaptureCloser(CaptureCloser&&) = delete;
+    CaptureCloser& operator=(CaptureCloser&&) = delete;
     ~CaptureCloser() {
       if (capture.is_open()) (void)capture.close();
     }
