@@ -22,7 +22,7 @@ cd "$(dirname "$0")/.."
 stages=("$@")
 [ "${#stages[@]}" -gt 0 ] || stages=(setup run load test analysis verify tsan asan fuzz cross package)
 jobs=$(nproc)
-fuzz_seconds=${RESCUE_FUZZ_SECONDS:-30}
+fuzz_seconds=${RESCUE_FUZZ_SECONDS:-20}  # the short CI form; a full run: RESCUE_FUZZ_SECONDS=600 bash toolchain/check.sh fuzz
 
 want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 banner() { printf '\n==== %s ====\n' "$*"; }
