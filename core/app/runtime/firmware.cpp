@@ -172,6 +172,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
   SocketHandlerPorts socket_ports;
+  static SpscMessageSink<SdoLinkRequest, config::kSdoQueueDepth> sdo_requests(links().sdo_requests);
+  static SpscMessageSource<SdoLinkResult, config::kSdoQueueDepth> sdo_results(links().sdo_results);
+  socket_ports.sdo_requests = &sdo_requests;
+  socket_ports.sdo_results = &sdo_results;
   socket_ports.requests = &socket_requests;
   socket_ports.replies = &socket_replies;
   socket_ports.sensors = &links().sensors;

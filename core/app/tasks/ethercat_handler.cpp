@@ -19,7 +19,8 @@ EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, Joint
       intake_(links.motion, links.rc_heartbeat_ns, intake),
       report_sink_(links.lost_reports),
       notice_source_(links.notices),
-      tracker_(report_sink_, notice_source_, restored_lost) {
+      tracker_(report_sink_, notice_source_, restored_lost),
+      sdo_relay_(bus, links.sdo_requests, links.sdo_results) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
   }
@@ -243,6 +244,9 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       post(e);
     }
   }
+
+  // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
+  sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
   return result;
 }
 
