@@ -20,14 +20,14 @@ enum class ValueType : std::uint8_t { none, u8, u16, u32, i8, i16, i32, string, 
 
 struct TypeName {
   const char* name;
-  ValueType type;
   std::size_t size;  // 0: any
+  ValueType type;
   bool is_signed;
 };
 constexpr TypeName kTypes[] = {
-    {"u8", ValueType::u8, 1, false},   {"u16", ValueType::u16, 2, false}, {"u32", ValueType::u32, 4, false},
-    {"i8", ValueType::i8, 1, true},    {"i16", ValueType::i16, 2, true},  {"i32", ValueType::i32, 4, true},
-    {"string", ValueType::string, 0, false}, {"hex", ValueType::hex, 0, false},
+    {"u8", 1, ValueType::u8, false},   {"u16", 2, ValueType::u16, false}, {"u32", 4, ValueType::u32, false},
+    {"i8", 1, ValueType::i8, true},    {"i16", 2, ValueType::i16, true},  {"i32", 4, ValueType::i32, true},
+    {"string", 0, ValueType::string, false}, {"hex", 0, ValueType::hex, false},
 };
 
 const TypeName* type_named(const char* name) noexcept {
@@ -186,23 +186,27 @@ std::int64_t signed_number(std::uint32_t raw, std::size_t size) noexcept {
   }
 }
 
+// One character of a JSON string: quotes and backslashes escaped, anything but printable ASCII as \u00XX.
+void print_json_char(unsigned c) noexcept {
+  if (c == '"' || c == '\\') {
+    (void)std::printf(R"(\%c)", c);
+  } else if (c < 0x20 || c > 0x7E) {
+    (void)std::printf(R"(\u%04x)", c);
+  } else {
+    (void)std::putchar(static_cast<int>(c));
+  }
+}
+
 void print_string_json(const std::uint8_t* data, std::size_t n) noexcept {
   (void)std::putchar('"');
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t c = data[i];
-    if (c == '"' || c == '\\') {
-      (void)std::printf("\\%c", c);
-    } else if (c < 0x20 || c > 0x7E) {
-      (void)std::printf("\\u%04x", c);
-    } else {
-      (void)std::putchar(c);
-    }
-  }
+  for (std::size_t i = 0; i < n; ++i) print_json_char(data[i]);
   (void)std::putchar('"');
 }
 
 void print_text_json(const char* s) noexcept {
-  print_string_json(reinterpret_cast<const std::uint8_t*>(s), std::strlen(s));
+  (void)std::putchar('"');
+  for (; *s != '\0'; ++s) print_json_char(static_cast<unsigned char>(*s));
+  (void)std::putchar('"');
 }
 
 void print_hex_bytes(const protocol::SdoResultPayload& r, const char* separator) noexcept {
@@ -217,13 +221,14 @@ void print_value(const protocol::SdoResultPayload& r, bool json) noexcept {
   const ValueType shown = shown_as(r);
   const TypeName* t = type_of(shown);
   if (json) {
-    (void)std::printf(",\"type\":\"%s\",\"value\":", t != nullptr ? t->name : "hex");
+    (void)std::printf(R"(,"type":"%s","value":)", t != nullptr ? t->name : "hex");
   }
   if (shown == ValueType::string) {
     if (json) {
       print_string_json(r.data.data(), r.size);
     } else {
-      (void)std::printf("%.*s\n", static_cast<int>(r.size), reinterpret_cast<const char*>(r.data.data()));
+      for (std::size_t i = 0; i < r.size; ++i) (void)std::putchar(r.data[i]);
+      (void)std::putchar('\n');
     }
   } else if (shown == ValueType::hex || t == nullptr) {
     if (json) {
@@ -306,20 +311,19 @@ int print_sdo_result(const Message& answer, bool json) noexcept {
   const char* joint = r.joint < kJointCount ? kJoints[r.joint].name : "?";
   const bool upload = r.request_type == MessageType::sdo_upload;
   if (json) {
-    (void)std::printf("{\"command\":\"%s\",\"ok\":%s,\"joint\":\"%s\",\"index\":\"0x%04X\",\"subindex\":\"0x%02X\","
-                      "\"status\":\"%s\"",
+    (void)std::printf(R"({"command":"%s","ok":%s,"joint":"%s","index":"0x%04X","subindex":"0x%02X","status":"%s")",
                       verb_of(r), ok ? "true" : "false", joint, r.index, r.subindex, protocol::to_string(r.status));
     if (ok) {
-      (void)std::printf(",\"segmented\":%s,\"exchanges\":%" PRIu32, (r.flags & protocol::kSdoSegmented) != 0 ? "true" : "false",
+      (void)std::printf(R"(,"segmented":%s,"exchanges":%)" PRIu32, (r.flags & protocol::kSdoSegmented) != 0 ? "true" : "false",
                         r.exchanges);
       if (upload) {
-        (void)std::printf(",\"size\":%u", static_cast<unsigned>(r.size));
+        (void)std::printf(R"(,"size":%u)", static_cast<unsigned>(r.size));
         print_value(r, true);
       }
     } else {
-      if (r.status == SdoStatus::aborted) (void)std::printf(",\"abort_code\":\"0x%08" PRIX32 "\"", r.abort_code);
-      if (r.status == SdoStatus::mailbox_error) (void)std::printf(",\"mailbox_error\":\"0x%04X\"", r.mailbox_error);
-      (void)std::printf(",\"reason\":");
+      if (r.status == SdoStatus::aborted) (void)std::printf(R"(,"abort_code":"0x%08)" PRIX32 "\"", r.abort_code);
+      if (r.status == SdoStatus::mailbox_error) (void)std::printf(R"(,"mailbox_error":"0x%04X")", r.mailbox_error);
+      (void)std::printf(R"(,"reason":)");
       print_text_json(r.text.data());
     }
     (void)std::printf("}\n");

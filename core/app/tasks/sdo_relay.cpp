@@ -1,5 +1,6 @@
 #include "core/app/tasks/sdo_relay.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -18,10 +19,8 @@ static_assert(protocol::kSdoDataSize == ecat::kMaxSdoData, "the wire carries eve
 
 template <std::size_t N>
 bool mapped(const std::array<drivers::PdoMappingEntry, N>& mapping, std::uint16_t index, std::uint8_t subindex) noexcept {
-  for (const drivers::PdoMappingEntry& e : mapping) {
-    if (e.index == index && e.subindex == subindex) return true;
-  }
-  return false;
+  return std::any_of(mapping.begin(), mapping.end(),
+                     [&](const drivers::PdoMappingEntry& e) { return e.index == index && e.subindex == subindex; });
 }
 
 SdoStatus status_of(ecat::SdoOutcome outcome) noexcept {
