@@ -1,5 +1,6 @@
 #include "ecat/mailbox/mailbox_client.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "ecat/mailbox/coe.hpp"
@@ -47,7 +48,7 @@ SdoRequest sdo_download_bytes(std::uint8_t position, std::uint16_t index, std::u
   r.index = index;
   r.subindex = subindex;
   const std::size_t n = bytes.size() < kMaxSdoData ? bytes.size() : kMaxSdoData;
-  if (n > 0) std::memcpy(r.data.data(), bytes.data(), n);
+  std::copy_n(bytes.data(), n, r.data.data());
   r.size = static_cast<std::uint16_t>(n);
   r.tag = tag;
   return r;
