@@ -6,6 +6,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <thread>
 
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
@@ -20,6 +21,7 @@
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/run_report.hpp"
+#include "core/app/runtime/sii_cache_file.hpp"
 #include "core/app/runtime/startup_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_modes.hpp"
@@ -264,8 +266,21 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     (void)std::fflush(stdout);
   };
 
+  // Whole SII images of the devices seen at earlier starts (docs/master.md "SII cache"): each slave's
+  // identity and serial number are read every time, the rest comes from the cache when they match.
+  static ecat::SiiCache sii_cache;
+  const Status cache_loaded = load_sii_cache(dir.value().path.c_str(), sii_cache);
+  if (!cache_loaded.ok() && cache_loaded.error().code != Errc::not_found) {
+    (void)std::printf("rescue-motion run: SII cache %s/%s ignored (%s): every slave's SII is read whole\n",
+                      dir.value().path.c_str(), kSiiCacheFileName, cache_loaded.error().what);
+  }
+  master_options.sii_cache = &sii_cache;
+
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
+  // The tasks' TSC timer is calibrated (a 20 ms busy-wait) on another thread while the bring-up runs,
+  // not after it: time to OP does not wait for it.
+  std::thread calibration(start_task_timing);
   // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
   // not stretch it (every frame of it waits for the one before); then this thread is given back its
   // normal scheduling before it forks the tasks and supervises them.
@@ -274,6 +289,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
   if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   const Status up = bus.bring_up(master_options, out_of_service);
+  calibration.join();
   if (raised && !hal::restore_scheduling(normal.value()).ok()) {
     return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
   }
@@ -289,6 +305,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: %u slaves found, SAFE-OP after %.3f s, distributed clocks within %u ns\n",
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
+  if (sii_cache.changed()) {
+    // Only when a device was new or changed: a durable write of about 30 KiB before the tasks start.
+    const Status saved = save_sii_cache(dir.value().path.c_str(), sii_cache);
+    if (!saved.ok()) {
+      (void)std::printf("rescue-motion run: SII cache not saved to %s/%s: %s\n", dir.value().path.c_str(),
+                        kSiiCacheFileName, saved.error().what);
+    }
+  }
 
   // 4. The tasks. From now on the handler only queues captured frames.
   if (!g_run.task_processes && !options.threads) {
@@ -349,9 +373,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   summary.intake.releases = state.intake_releases.load();
   summary.rescue_phase_reached = operator_side.motion.rescue_phase_reached;
   summary.processes = g_run.task_processes;
+  summary.start = start;
+  summary.bring_up = &bring_up;
   print_run_summary(summary);
   if (verdict != 0) return verdict;
   return robot_exit(condition);
 }
 
 }  // namespace rescue::app
+
