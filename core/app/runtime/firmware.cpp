@@ -2,11 +2,11 @@
 // objects; the runner's other pieces are in this folder (docs/firmware.md, "Code").
 #include "core/app/runtime/firmware.hpp"
 
+#include <pthread.h>
 #include <sys/stat.h>
 
 #include <cinttypes>
 #include <cstdio>
-#include <thread>
 
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
@@ -51,6 +51,43 @@
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
+
+namespace {
+
+// start_task_timing() on a thread of its own with a 64 KiB stack (pthread: std::thread cannot size
+// its stack); if the thread cannot be created, join() calibrates on the caller's thread.
+class TaskTimingCalibration {
+ public:
+  TaskTimingCalibration() noexcept {
+    pthread_attr_t attr;
+    started_ = pthread_attr_init(&attr) == 0;
+    if (!started_) return;
+    started_ = pthread_attr_setstacksize(&attr, kStackBytes) == 0 && pthread_create(&thread_, &attr, &run, nullptr) == 0;
+    (void)pthread_attr_destroy(&attr);
+  }
+  TaskTimingCalibration(const TaskTimingCalibration&) = delete;
+  TaskTimingCalibration& operator=(const TaskTimingCalibration&) = delete;
+  TaskTimingCalibration(TaskTimingCalibration&&) = delete;
+  TaskTimingCalibration& operator=(TaskTimingCalibration&&) = delete;
+  ~TaskTimingCalibration() { join(); }
+  void join() noexcept {
+    if (joined_) return;
+    joined_ = true;
+    if (!started_ || pthread_join(thread_, nullptr) != 0) start_task_timing();
+  }
+
+ private:
+  static constexpr std::size_t kStackBytes = std::size_t{64} * 1024;
+  static void* run(void* /*unused*/) noexcept {
+    start_task_timing();
+    return nullptr;
+  }
+  pthread_t thread_{};
+  bool started_{false};
+  bool joined_{false};
+};
+
+}  // namespace
 
 // The joint manager has one write in flight at a time (tasks/error_joints_worker.hpp): two slots.
 constexpr std::size_t kSaveQueueDepth = 2;
@@ -279,8 +316,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
   // The tasks' TSC timer is calibrated (a 20 ms busy-wait) on another thread while the bring-up runs,
-  // not after it: time to OP does not wait for it.
-  std::thread calibration(start_task_timing);
+  // not after it: time to OP does not wait for it. Its stack is small: memory is locked, so every
+  // page of a new thread's stack is populated when it is created (8 MiB by default, ~2 ms).
+  TaskTimingCalibration calibration;
   // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
   // not stretch it (every frame of it waits for the one before); then this thread is given back its
   // normal scheduling before it forks the tasks and supervises them.
