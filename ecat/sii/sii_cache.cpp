@@ -100,20 +100,20 @@ Status SiiCache::decode(ConstByteSpan in) noexcept {
   if (crc32(ConstByteSpan(in.data(), body)) != load_le32(in.data() + body)) return refuse("SII cache file: CRC-32 of the file", body);
   if (std::memcmp(in.data(), kMagic.data(), kMagic.size()) != 0) return refuse("SII cache file: magic", 0);
   LeReader r(ConstByteSpan(in.data(), body));
-  std::array<std::uint8_t, kMagic.size()> magic{};
-  for (std::uint8_t& b : magic) b = r.u8();
+  std::array<char, kMagic.size()> magic{};  // checked above
+  r.chars(magic.data(), magic.size());
   const std::uint32_t count = r.u32();
   if (count > kSiiCacheCapacity) return refuse("SII cache file: more entries than the cache holds", kMagic.size());
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::size_t at = r.size();
-    const std::uint16_t size = r.u16();
-    if (!r.ok() || size < kSiiIdentityBytes || size > kSiiImageCapacity || body - r.size() < std::size_t{size} + 4) {
+    const std::uint16_t image_size = r.u16();
+    if (!r.ok() || image_size < kSiiIdentityBytes || image_size > kSiiImageCapacity || body - r.size() < std::size_t{image_size} + 4) {
       return refuse("SII cache file: entry size", at);
     }
     SiiImage& e = entries_[count_];
     e = SiiImage{};
-    r.chars(reinterpret_cast<char*>(e.bytes.data()), size);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): bytes as bytes
-    e.size = size;
+    r.chars(reinterpret_cast<char*>(e.bytes.data()), image_size);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): bytes as bytes
+    e.size = image_size;
     e.complete = true;
     if (r.u32() != crc32(e.view())) return refuse("SII cache file: entry CRC-32", at);
     if (!cacheable(e.view())) return refuse("SII cache file: entry is not a valid SII image with a serial number", at);
