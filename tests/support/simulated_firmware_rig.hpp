@@ -29,11 +29,8 @@ struct SimulatedFirmware {
       : storage(state_dir.c_str()), parser(*ports->message_parser().joint_commands), worker(storage), manager(manager_ports()) {}
 
   JointManagerPorts manager_ports() {
-    JointManagerPorts p = ports->joint_manager();
-    p.storage = &storage;
-    p.wall_clock = &wall;
-    p.events = &events;
-    p.save_requests = &worker;
+    JointManagerPorts p = ports->joint_manager(storage, wall, events);
+    p.save_requests = &worker;  // the storage worker, inline
     p.save_results = &worker;
     return p;
   }

@@ -12,7 +12,6 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/predefined_messages.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -79,20 +78,8 @@ int bench_periods(const ParsedArgs& args) noexcept {
   static hal::ManualWallClock wall;
   static NoEvents events;
   // The storage worker runs between the periods here (in `run` it is a thread of its own).
-  static SpscQueue<ErrorJointsSaveRequest, 2> save_request_queue;
-  static SpscQueue<ErrorJointsSaveResult, 2> save_result_queue;
-  static SpscMessageSink<ErrorJointsSaveRequest, 2> save_requests(save_request_queue);
-  static SpscMessageSource<ErrorJointsSaveResult, 2> save_results(save_result_queue);
-  static SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(save_request_queue);
-  static SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(save_result_queue);
-  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
-  JointManagerPorts manager_ports = ports.joint_manager();
-  manager_ports.storage = &storage;
-  manager_ports.wall_clock = &wall;
-  manager_ports.events = &events;
-  manager_ports.save_requests = &save_requests;
-  manager_ports.save_results = &save_results;
-  static JointManager manager(manager_ports);
+  static ErrorJointsStorageWorker storage_worker(ports.storage_worker_requests(), ports.storage_worker_results(), storage);
+  static JointManager manager(ports.joint_manager(storage, wall, events));
   (void)manager.restore(g_clock.now());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());

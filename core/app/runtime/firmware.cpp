@@ -36,7 +36,6 @@
 #include "core/app/tasks/rc_task.hpp"
 #include "core/app/tasks/repaired_joints.hpp"
 #include "core/app/tasks/socket_handler.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/capture/capture_tap.hpp"
@@ -49,9 +48,6 @@
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
-
-// The joint manager has one write in flight at a time (tasks/error_joints_worker.hpp): two slots.
-constexpr std::size_t kSaveQueueDepth = 2;
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -104,20 +100,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
   // The storage worker (a normal-priority thread of the joint manager's process) writes the file off
   // the joint manager's period: one request in flight, its outcome back (tasks/error_joints_worker.hpp).
-  static SpscQueue<ErrorJointsSaveRequest, kSaveQueueDepth> save_request_queue;
-  static SpscQueue<ErrorJointsSaveResult, kSaveQueueDepth> save_result_queue;
-  static SpscMessageSink<ErrorJointsSaveRequest, kSaveQueueDepth> save_requests(save_request_queue);
-  static SpscMessageSource<ErrorJointsSaveResult, kSaveQueueDepth> save_results(save_result_queue);
-  static SpscMessageSource<ErrorJointsSaveRequest, kSaveQueueDepth> worker_requests(save_request_queue);
-  static SpscMessageSink<ErrorJointsSaveResult, kSaveQueueDepth> worker_results(save_result_queue);
-  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
-  JointManagerPorts manager_ports = ports.joint_manager();
-  manager_ports.storage = &storage;
-  manager_ports.wall_clock = &wall_clock;
-  manager_ports.events = &events;
-  manager_ports.save_requests = &save_requests;
-  manager_ports.save_results = &save_results;
-  static JointManager manager(manager_ports);
+  static ErrorJointsStorageWorker storage_worker(ports.storage_worker_requests(), ports.storage_worker_results(), storage);
+  static JointManager manager(ports.joint_manager(storage, wall_clock, events));
   manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a

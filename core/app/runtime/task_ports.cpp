@@ -27,6 +27,10 @@ TaskPorts::TaskPorts(TaskLinks& links) noexcept
       parser_outcomes_(links.command_outcomes),
       manager_samples_(links.samples),
       manager_demand_(links.demand),
+      save_requests_(save_request_queue_),
+      save_results_(save_result_queue_),
+      worker_requests_(save_request_queue_),
+      worker_results_(save_result_queue_),
       socket_requests_(links.control_requests),
       parser_network_(links.control_requests),
       parser_local_(links.local_requests),
@@ -81,8 +85,13 @@ MessageParserPorts TaskPorts::message_parser() noexcept {
   return p;
 }
 
-JointManagerPorts TaskPorts::joint_manager() noexcept {
+JointManagerPorts TaskPorts::joint_manager(ErrorJointsStorage& storage, hal::WallClock& wall, JointEventSink& events) noexcept {
   JointManagerPorts p{};
+  p.storage = &storage;
+  p.wall_clock = &wall;
+  p.events = &events;
+  p.save_requests = &save_requests_;
+  p.save_results = &save_results_;
   p.reports = &manager_reports_;
   p.notices = &manager_notices_;
   p.commands = &manager_commands_;

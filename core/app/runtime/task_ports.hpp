@@ -13,6 +13,8 @@
 #include "core/app/links/joint_demand_sink.hpp"
 #include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/error_joints_worker.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/message_parser.hpp"
@@ -20,6 +22,8 @@
 #include "core/app/tasks/rc_task.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
+#include "core/concurrency/spsc_queue.hpp"
+#include "hal/time/wall_clock.hpp"
 
 namespace rescue::app {
 
@@ -39,9 +43,13 @@ class TaskPorts {
   EthercatHandlerPorts ethercat_handler() noexcept;
   RcTaskPorts rc_task(RcTaskId task) noexcept;
   MessageParserPorts message_parser() noexcept;
-  // What the joint manager reaches of TaskLinks; its storage, wall clock, events and storage worker
-  // (not shared between tasks) are the caller's to add.
-  JointManagerPorts joint_manager() noexcept;
+  // The joint manager's ports: TaskLinks', the queues to its storage worker (here too: the worker is a
+  // thread of the joint manager's process, tasks/error_joints_worker.hpp), and what is its own: the
+  // error-joints file's storage, Unix time, its events.
+  JointManagerPorts joint_manager(ErrorJointsStorage& storage, hal::WallClock& wall, JointEventSink& events) noexcept;
+  // The storage worker's ends of those queues.
+  MessageSource<ErrorJointsSaveRequest>& storage_worker_requests() noexcept { return worker_requests_; }
+  MessageSink<ErrorJointsSaveResult>& storage_worker_results() noexcept { return worker_results_; }
   // What the socket handler reaches of TaskLinks; stale_after, rc_tasks and version (the run's
   // settings, not shared state) are the caller's to add.
   SocketHandlerPorts socket_handler() noexcept;
@@ -51,8 +59,12 @@ class TaskPorts {
   using Sink = SpscMessageSink<T, N>;
   template <typename T, std::size_t N>
   using Source = SpscMessageSource<T, N>;
-  using RcInputs = SpscQueue<RcTaskInput, TaskLinks::kRcInputQueueDepth>;
+  // The joint manager has one write in flight at a time: two slots.
+  static constexpr std::size_t kSaveQueueDepth = 2;
 
+  // Largest and most aligned first: the storage worker's queues (their indices on cache lines of their own).
+  SpscQueue<ErrorJointsSaveRequest, kSaveQueueDepth> save_request_queue_;
+  SpscQueue<ErrorJointsSaveResult, kSaveQueueDepth> save_result_queue_;
   TaskLinks& links_;
   // EtherCAT handler <-> joint manager (reconfiguration steps 1 and 4).
   Sink<LostJointsReport, TaskLinks::kReportQueueDepth> handler_reports_;
@@ -66,6 +78,11 @@ class TaskPorts {
   Source<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes_;
   SeqlockSampleSource manager_samples_;
   SeqlockDemandSink manager_demand_;
+  // Joint manager <-> its storage worker.
+  Sink<ErrorJointsSaveRequest, kSaveQueueDepth> save_requests_;
+  Source<ErrorJointsSaveResult, kSaveQueueDepth> save_results_;
+  Source<ErrorJointsSaveRequest, kSaveQueueDepth> worker_requests_;
+  Sink<ErrorJointsSaveResult, kSaveQueueDepth> worker_results_;
   // Socket handler and runtime -> message parser, and back.
   Sink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests_;
   Source<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network_;
