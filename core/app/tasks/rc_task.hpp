@@ -27,6 +27,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 
 #include "core/app/links/control_messages.hpp"
@@ -34,10 +35,10 @@
 #include "core/app/links/motion_links.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
-#include "core/robot/joint_sample.hpp"
 #include "core/kinematics/acceleration_limiter.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
+#include "core/robot/joint_sample.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
