@@ -50,15 +50,16 @@ SdoStatus judge_sdo_download(std::uint16_t index, std::uint8_t subindex, bool op
 
 void SdoRelay::answer(const SdoLinkResult& result) noexcept {
   // step() answers only with no answer waiting, so one slot is enough.
-  if (!results_.try_push(result)) {
+  if (!results_->try_send(result)) {
     waiting_ = result;  // the socket handler has not taken the earlier answers yet
     has_waiting_ = true;
   }
 }
 
 void SdoRelay::step(JointMask unreachable, bool op) noexcept {
+  if (requests_ == nullptr || results_ == nullptr) return;
   if (has_waiting_) {
-    if (!results_.try_push(waiting_)) return;  // nothing new taken while an answer waits: none lost
+    if (!results_->try_send(waiting_)) return;  // nothing new taken while an answer waits: none lost
     has_waiting_ = false;
   }
 
@@ -82,7 +83,7 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
   }
 
   SdoLinkRequest request;
-  if (!requests_.try_pop(request)) return;
+  if (!requests_->try_receive(request)) return;
   SdoLinkResult result;
   result.id = request.id;
   protocol::SdoResultPayload& r = result.result;

@@ -19,8 +19,7 @@
 
 #include "core/app/links/protocol_messages.hpp"
 #include "core/app/links/sdo_messages.hpp"
-#include "core/concurrency/spsc_queue.hpp"
-#include "core/app/config/firmware_config.hpp"
+#include "core/concurrency/message_port.hpp"
 #include "core/robot/robot.hpp"
 #include "drivers/joint/joint_bus.hpp"
 
@@ -32,10 +31,8 @@ protocol::SdoStatus judge_sdo_download(std::uint16_t index, std::uint8_t subinde
 
 class SdoRelay {
  public:
-  using RequestQueue = SpscQueue<SdoLinkRequest, config::kSdoQueueDepth>;
-  using ResultQueue = SpscQueue<SdoLinkResult, config::kSdoQueueDepth>;
-
-  SdoRelay(drivers::JointBus& bus, RequestQueue& requests, ResultQueue& results) noexcept
+  // `requests`, `results`: the ends of TaskLinks::sdo_requests / sdo_results (both null: step() does nothing).
+  SdoRelay(drivers::JointBus& bus, MessageSource<SdoLinkRequest>* requests, MessageSink<SdoLinkResult>* results) noexcept
       : bus_(bus), requests_(requests), results_(results) {}
 
   // One period: `unreachable` the joints out of the exchange or recorded lost; `op` the master
@@ -49,8 +46,8 @@ class SdoRelay {
   void answer(const SdoLinkResult& result) noexcept;
 
   drivers::JointBus& bus_;
-  RequestQueue& requests_;
-  ResultQueue& results_;
+  MessageSource<SdoLinkRequest>* requests_;
+  MessageSink<SdoLinkResult>* results_;
   SdoLinkResult current_{};   // the request in flight (its address), then its answer
   SdoLinkResult waiting_{};   // an answer the result queue had no room for
   bool in_flight_{false};
