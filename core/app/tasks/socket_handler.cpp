@@ -21,6 +21,17 @@ using protocol::Rejection;
 constexpr std::uint8_t kAlOp = 8;
 constexpr std::uint8_t kAlSafeOp = 4;
 
+// The answer to an SDO transfer that ends here, without the EtherCAT handler's result.
+protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayload& sdo, protocol::SdoStatus status) noexcept {
+  protocol::SdoResultPayload r;
+  r.request_type = type;
+  r.joint = sdo.joint;
+  r.index = sdo.index;
+  r.subindex = sdo.subindex;
+  r.status = status;
+  return r;
+}
+
 }  // namespace
 
 Status SocketHandler::open(const SocketHandlerOptions& options) noexcept {
@@ -248,14 +259,9 @@ void SocketHandler::forward_sdo(const Message& request, const hal::UdpDatagram& 
   const bool download = request.header.type == MessageType::sdo_download;
   if (sdo_.active || ports_.sdo_requests == nullptr) {
     // One transfer at a time: this one is refused at once, never queued behind and never lost.
-    protocol::SdoResultPayload busy;
-    busy.request_type = request.header.type;
-    busy.joint = request.sdo.joint;
-    busy.index = request.sdo.index;
-    busy.subindex = request.sdo.subindex;
-    busy.status = ports_.sdo_requests == nullptr ? protocol::SdoStatus::no_answer : protocol::SdoStatus::busy;
-    ++counters_.forwarded_dropped;
-    return answer_sdo(busy, request.header.sequence, from.address, from.port);
+    const auto status = ports_.sdo_requests == nullptr ? protocol::SdoStatus::no_answer : protocol::SdoStatus::busy;
+    return answer_sdo(sdo_refusal(request.header.type, request.sdo, status), request.header.sequence, from.address,
+                      from.port);
   }
   SdoLinkRequest r;
   r.id = ++sdo_ids_;
@@ -263,14 +269,9 @@ void SocketHandler::forward_sdo(const Message& request, const hal::UdpDatagram& 
   r.sdo = request.sdo;
   if (!download) r.sdo.size = 0;
   if (!ports_.sdo_requests->try_send(r)) {
-    protocol::SdoResultPayload busy;
-    busy.request_type = request.header.type;
-    busy.joint = request.sdo.joint;
-    busy.index = request.sdo.index;
-    busy.subindex = request.sdo.subindex;
-    busy.status = protocol::SdoStatus::busy;
-    ++counters_.forwarded_dropped;
-    return answer_sdo(busy, request.header.sequence, from.address, from.port);
+    ++counters_.forwarded_dropped;  // cannot happen with one in flight and two slots; counted if it does
+    return answer_sdo(sdo_refusal(request.header.type, request.sdo, protocol::SdoStatus::busy), request.header.sequence,
+                      from.address, from.port);
   }
   sdo_.active = true;
   sdo_.id = r.id;
@@ -291,13 +292,8 @@ void SocketHandler::collect_sdo_result() noexcept {
   }
   if (sdo_.active && now_ > sdo_.deadline) {
     sdo_.active = false;
-    protocol::SdoResultPayload late;
-    late.request_type = sdo_.type;
-    late.joint = sdo_.sdo.joint;
-    late.index = sdo_.sdo.index;
-    late.subindex = sdo_.sdo.subindex;
-    late.status = protocol::SdoStatus::no_answer;
-    answer_sdo(late, sdo_.request_sequence, sdo_.address, sdo_.port);
+    answer_sdo(sdo_refusal(sdo_.type, sdo_.sdo, protocol::SdoStatus::no_answer), sdo_.request_sequence, sdo_.address,
+               sdo_.port);
   }
 }
 
