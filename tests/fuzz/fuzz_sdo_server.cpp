@@ -4,7 +4,8 @@
 // bytes as a sequence of mailbox messages (each one length byte, then that many bytes) served in
 // turn with one segmented-transfer state, as the drive serves them: initiates followed by upload and
 // download segments (toggle, sizes, the value collected) reach the segmented paths; every answer
-// must fit SM1 there too, and a transfer's offset never passes its size.
+// must fit SM1 there too, and a transfer's offset never passes its size. Seeds (seeds-fuzz_sdo_server/):
+// a segmented upload of 0x100A and a segmented download of 0x2010 in a 128-byte mailbox.
 #include <array>
 #include <cstddef>
 #include <cstdint>
