@@ -169,7 +169,7 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
 std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<const FoundSlave> found, char* out,
                      std::size_t size) noexcept {
   if (size == 0) return 0;
-  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, 0, 0, false, false};
+  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, 0, 0, false, false, nullptr};
   static const FoundSlave kNoDevice{};
   const SlavePlan& s = d.planned < kMaxSlaves ? plan[d.planned] : kNoSlave;
   const FoundSlave& f = d.found < found.size() ? found[d.found] : kNoDevice;

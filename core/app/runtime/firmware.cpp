@@ -273,6 +273,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const int handler_priority = runner_priority(TaskId::ethercat_handler);
   const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
   if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
+  if (options.scenario.mapping_fault) {
+    // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
+    ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr);
+    const Status faulted = first.before_bring_up();
+    if (!faulted.ok()) return fail("run", "the scenario's mapping fault could not be applied", faulted.error());
+  }
   const Status up = bus.bring_up(master_options, out_of_service);
   if (raised && !hal::restore_scheduling(normal.value()).ok()) {
     return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");

@@ -23,7 +23,7 @@ struct Verb {
   bool needs_port{false};
 };
 
-constexpr std::array<Verb, 15> kVerbs{{
+constexpr std::array<Verb, 17> kVerbs{{
     {"cut", FaultKind::cut, true, false},
     {"restore", FaultKind::restore, true, false},
     {"freeze", FaultKind::freeze, true, false},
@@ -39,6 +39,8 @@ constexpr std::array<Verb, 15> kVerbs{{
     {"original", FaultKind::original, true, false},
     {"corrupt-port", FaultKind::corrupt_port, true, true, true},
     {"safe-op", FaultKind::safe_op, true, true},
+    {"half-mapped", FaultKind::half_mapped, true, false},
+    {"foreign-mapping", FaultKind::foreign_mapping, true, false},
 }};
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
@@ -160,6 +162,8 @@ Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segmen
     case FaultKind::original: return segment.plug_device(command.position, false, now);
     case FaultKind::corrupt_port: return segment.corrupt_port(command.position, command.port, command.value);
     case FaultKind::safe_op: return segment.drop_to_safe_op(command.position, static_cast<std::uint16_t>(command.value));
+    case FaultKind::half_mapped: return segment.corrupt_pdo_mapping(command.position, PdoMappingFault::half_written);
+    case FaultKind::foreign_mapping: return segment.corrupt_pdo_mapping(command.position, PdoMappingFault::foreign_default);
   }
   return make_error(Errc::invalid_argument, "fault kind");
 }

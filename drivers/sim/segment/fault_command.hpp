@@ -15,6 +15,9 @@
 //   foreign SLAVE        a device of another type (other SII product code) plugged in SLAVE's place
 //   original SLAVE       the planned device plugged back in SLAVE's place
 //   corrupt-port SLAVE PORT N   damage the next N frames received on SLAVE's PORT (0..3): error counters
+//   half-mapped SLAVE    SLAVE's RxPDO mapping left half-written (0x1600 entries written, 0x1600:00 = 0),
+//                        kept through power cycles: SAFE-OP is refused (0x0025) until a master rewrites it
+//   foreign-mapping SLAVE  SLAVE's PDO mapping reset to another drive's default (2 entries each way)
 //   safe-op SLAVE CODE   SLAVE's application drops it from OP to SAFE-OP with AL status code CODE
 //                        (error bit set), e.g. 0x001A synchronisation error; it still exchanges process data
 //
@@ -46,6 +49,8 @@ enum class FaultKind : std::uint8_t {
   original,
   corrupt_port,
   safe_op,
+  half_mapped,
+  foreign_mapping,
 };
 
 struct FaultCommand {

@@ -316,4 +316,11 @@ Status SimulatedSegment::inject_device_fault(std::size_t position, std::uint16_t
   return Status::success();
 }
 
+Status SimulatedSegment::corrupt_pdo_mapping(std::size_t position, PdoMappingFault fault) noexcept {
+  if (position >= count_ || slaves_[position].device == nullptr) {
+    return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  }
+  return slaves_[position].device->corrupt_pdo_mapping(fault);
+}
+
 }  // namespace rescue::drivers
