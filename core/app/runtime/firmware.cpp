@@ -295,6 +295,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: %u slaves found, SAFE-OP after %.3f s, distributed clocks within %u ns\n",
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
+  if (bring_up.pdo_rewritten != 0) {
+    char rewritten[kJointNamesCapacity];
+    format_joint_names(drivers::joints_of_slaves(bring_up.pdo_rewritten), rewritten, sizeof rewritten);
+    (void)std::printf("rescue-motion run: PDO mapping rewritten (it differed from the plan): %s (%u SDO writes)\n", rewritten,
+                      static_cast<unsigned>(bring_up.pdo_writes));
+  }
 
   // 4. The tasks. From now on the handler only queues captured frames.
   if (!g_run.task_processes && !options.threads) {
