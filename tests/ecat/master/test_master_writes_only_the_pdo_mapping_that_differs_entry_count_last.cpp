@@ -165,7 +165,9 @@ TEST(MasterPdoMappingAtBringUp, AMappingTheDriveRefusesFailsTheBringUpNamingTheD
   print_bring_up_failure(out, "", "  ", *master);
   (void)std::fclose(out);
   const std::string report(text);
-  EXPECT_NE(report.find("bring-up failed at PRE-OP SDO: PDO mapping not set"), std::string::npos) << report;
+  EXPECT_NE(report.find("bring-up failed at PRE-OP SDO: PDO mapping not set (refused: slave at position 5, object 0x1600:04)\n"),
+            std::string::npos)
+      << report;
   EXPECT_NE(report.find("start-up SDO download 0x1600:04 to r_elbow: aborted, abort code 0x06040041 object cannot be mapped to the PDO"),
             std::string::npos)
       << report;
