@@ -13,8 +13,9 @@ SimulatedRobot::SimulatedRobot(const RobotSegmentOptions& options, hal::Nanoseco
   spare.esc = junction_esc_config();
   spare.link_delay_ns = kPhyPairDelayNs + 5;
   spare.device = &spare_;
-  if (status_.ok()) status_ = segment_.build(Span<const SegmentSlave>(slaves), now);
-  if (status_.ok()) status_ = segment_.set_power(kSparePosition, false, now);
+  const std::size_t count = options.spare_slave ? kSlaveCount + 1 : kSlaveCount;
+  if (status_.ok()) status_ = segment_.build(Span<const SegmentSlave>(slaves.data(), count), now);
+  if (status_.ok() && options.spare_slave) status_ = segment_.set_power(kSparePosition, false, now);
 }
 
 }  // namespace rescue::drivers

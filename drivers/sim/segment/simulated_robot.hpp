@@ -31,8 +31,9 @@ class SimulatedRobot {
   const SimulatedSegment& segment() const noexcept { return segment_; }
   // The drive of joint `joint` (index into kJoints).
   JointDriveDevice& drive(std::size_t joint) noexcept { return devices_.drive_of_joint(joint); }
-  // The spare slave: a junction cabled behind the last slave of the segment (port 1), powered off:
-  // the segment is the robot's. Powering it on (`extra-slave`) adds one device at the chain's end.
+  // The spare slave (RobotSegmentOptions::spare_slave): a junction cabled behind the last slave of
+  // the segment (port 1), powered off: the segment is the robot's. Powering it on (`extra-slave`)
+  // adds one device at the chain's end.
   static constexpr std::size_t kSparePosition = kSlaveCount;
   static constexpr const char* kSpareName = "spare";
   static constexpr std::uint32_t kSpareSerial = 0x00005EA5;
