@@ -340,19 +340,19 @@ Status Master::set_up_pdo_mappings() noexcept {
       if (done.request.position < kMaxSlaves) pdo_setup_[done.request.position].on_completion(done);
     }
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-      const PdoSetup& setup = pdo_setup_[p];
+      const PdoSetup& mapping = pdo_setup_[p];
       if ((busy & slave_bit(p)) == 0) continue;
-      if (setup.failed()) {
-        report_.failed_sdo = setup.failure();
-        const SdoRequest& r = setup.failure().request;
+      if (mapping.failed()) {
+        report_.failed_sdo = mapping.failure();
+        const SdoRequest& r = mapping.failure().request;
         return fail("PRE-OP SDO", make_error(Errc::refused, "PDO mapping not set", u32(p),
                                              (static_cast<std::uint32_t>(r.index) << 8U) | r.subindex));
       }
-      if (setup.finished()) {
+      if (mapping.finished()) {
         busy &= ~slave_bit(p);
-        report_.pdo_reads += setup.reads();
-        report_.pdo_writes += setup.writes();
-        if (setup.writes() != 0) report_.pdo_rewritten |= slave_bit(p);
+        report_.pdo_reads += mapping.reads();
+        report_.pdo_writes += mapping.writes();
+        if (mapping.writes() != 0) report_.pdo_rewritten |= slave_bit(p);
       }
     }
     if (!ran.ok()) return fail("PRE-OP SDO", ran.error());

@@ -113,16 +113,16 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
 void Master::feed_recovery_sdos(std::size_t p) noexcept {
   Recovery& r = recovery_[p];
   if (r.state != RecoveryState::startup_sdos || r.sdo_refused || r.sdos_pending != 0 || mailbox_.free_slots() == 0) return;
-  PdoSetup& setup = pdo_setup_[p];
-  if (setup.failed()) {
+  PdoSetup& mapping = pdo_setup_[p];
+  if (mapping.failed()) {
     r.sdo_refused = true;
     return;
   }
   SdoRequest request;
   bool have = false;
-  if (!setup.finished()) {
-    if (setup.pending()) return;
-    have = setup.next(request);
+  if (!mapping.finished()) {
+    if (mapping.pending()) return;
+    have = mapping.next(request);
   } else {
     while (!have && r.sdo_next < options_.startup_sdos.size()) {
       request = options_.startup_sdos[r.sdo_next++];
@@ -134,7 +134,7 @@ void Master::feed_recovery_sdos(std::size_t p) noexcept {
   if (!have) return;
   const std::size_t ahead = MailboxClient::kQueueCapacity - mailbox_.free_slots();
   if (!mailbox_.submit(request)) {
-    if (!setup.finished()) setup.unsubmit();
+    if (!mapping.finished()) mapping.unsubmit();
     if ((request.tag & kPdoSetupTagBit) == 0 && r.sdo_next > 0) --r.sdo_next;
     return;  // waits its turn
   }

@@ -118,6 +118,13 @@ int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexce
 
 void print_failure(ecat::Master& master) noexcept { ecat::print_bring_up_failure(stderr, "", "", master); }
 
+// The start-up SDOs of the bring-up: the master's PDO mapping set-up, then the owner's.
+void print_startup_sdos(const ecat::BringUpReport& r) noexcept {
+  (void)std::printf("startup_sdos_pdo_mapping: %" PRIu32 " reads, %" PRIu32 " writes (%d drives rewritten)\n", r.pdo_reads,
+                    r.pdo_writes, ecat::popcount(r.pdo_rewritten));
+  (void)std::printf("startup_sdos_owner: %" PRIu32 " downloads\n", r.startup_sdos_done);
+}
+
 }  // namespace
 
 int bench_master(const ParsedArgs& args) noexcept {
@@ -272,9 +279,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     const std::uint64_t frames_end = last ? first.frames : first.steps[i + 1].frames;
     (void)std::printf("bring_up_step_%s: %.3f ms, %" PRIu64 " frames\n", mark.step, ms(end - mark.at), frames_end - mark.frames);
   }
-  (void)std::printf("startup_sdos_pdo_mapping: %" PRIu32 " reads, %" PRIu32 " writes (%d drives rewritten)\n", first.pdo_reads,
-                    first.pdo_writes, ecat::popcount(first.pdo_rewritten));
-  (void)std::printf("startup_sdos_owner: %" PRIu32 " downloads\n", first.startup_sdos_done);
+  print_startup_sdos(first);
   (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
   (void)std::printf("dc_static_compensation: %u frames (at most %u, until every |0x092C| <= %u ns twice)\n",
                     first.dc_static_frames, options.drift_compensation_frames, options.drift_compensation_target_ns);
