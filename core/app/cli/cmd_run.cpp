@@ -21,7 +21,7 @@ const OptionSpec kOptions[] = {
     {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
     {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line (and the bring-up report when bring-up fails); takes only --config, --nic and --capture"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
-    {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP)"},
+    {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP), flaky-cable (that damage again every 2 s)"},
     {"duration", "SECONDS", "stop after this long, decimal, at least 0.001 (one period), at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"first-contact-limit", "SECONDS", "give the bring-up up (exit status 1) when no frame has come back for this long, decimal, at most 604800; 0: keep trying until SIGINT/SIGTERM (default 5); meanwhile the wait is reported every second"},
     {"capture", "FILE", "record every frame sent and received to a pcapng file"},

@@ -12,7 +12,7 @@ namespace rescue::app {
 
 inline constexpr const char* kCtlVerbs[] = {
     "keygen", "status", "slaves", "master", "tasks", "diag", "watch", "init",
-    "enable", "disable", "hold",  "mode",   "clear", "move",  "hand", "owner", "version",
+    "enable", "disable", "hold",  "mode",   "clear", "move",  "hand", "owner", "version", "graph",
 };
 
 inline bool is_ctl_verb(const char* verb) noexcept {

@@ -180,6 +180,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   socket_ports.joint_status = &links().joint_status;
   socket_ports.master = &links().master_status;
   socket_ports.diag = &links().link_diag;
+  socket_ports.slave_info = &links().slave_info;
+  socket_ports.diag_reset = &links().diag_reset;
   socket_ports.tasks = &links().task_stats;
   socket_ports.drops = &links().run.dropped;
   socket_ports.motion = &links().motion;

@@ -18,12 +18,16 @@ struct ScenarioRow {
   hal::Nanoseconds run_on;   // after acting, without --duration
   ScenarioKind kind;
   Lost lost;                 // what the firmware must report lost
+  hal::Nanoseconds repeat_every{0};  // cable damage again this often after the first (0: once)
 };
 
 constexpr ScenarioRow kScenarios[] = {
     {"link-cut", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::link_cut, Lost::its_branch_from_it},
     {"power-cycle", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint},
     {"cable-damage", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing},
+    // flaky-cable: the damage of cable-damage, again every 2 s (a cable that goes on failing: ctl diag
+    // --reset, then the counters rise again; or, after swapping it, they stay at 0).
+    {"flaky-cable", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing, 2 * hal::kNsPerSec},
     // rescue: run_on only bounds the run; it stops 0.2 s after the rescue motion ended (task_loops.cpp).
     {"rescue", 3 * hal::kNsPerSec, 10 * hal::kNsPerSec, ScenarioKind::rescue, Lost::its_branch_from_it},
 };
@@ -46,16 +50,21 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
       scenario.may_miss_first_frame = joints_lost_by_link_failure_at(scenario.cut_joint) & ~joint_bit(scenario.cut_joint);
     }
     scenario.run_on = row.run_on;
+    scenario.repeat_every = row.repeat_every;
     if (row.kind == ScenarioKind::rescue) {
       scenario.rescue_motion = true;
       scenario.motion_phase_s = {1.0, 1.0, 1.0};  // lowering, forwarding, backwarding
     }
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, cable-damage)");
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, cable-damage, flaky-cable)");
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
+  if (acted_ && scenario_.repeat_every > 0 && segment_ != nullptr && now - last_repeat_ >= scenario_.repeat_every) {
+    last_repeat_ = now;  // flaky-cable: damaged again, silently (the first action is the one reported)
+    (void)segment_->corrupt_port(slave_position_of_joint(scenario_.cut_joint), 0, kDamagedFrames);
+  }
   if (scenario_.kind == ScenarioKind::none || acted_) return false;
   if (op_at_ < 0) {
     if (!network_op) return false;
@@ -64,6 +73,7 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
   if (now - op_at_ < scenario_.cut_after_op) return false;
   acted_ = true;
   acted_at_ = now;
+  last_repeat_ = now;
   if (segment_ == nullptr) {
     action_status_ = make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
     return true;

@@ -41,6 +41,7 @@ struct Scenario {
   // mid-branch from a cut behind the last but one (the next frame's probes place it).
   JointMask may_miss_first_frame{0};
   hal::Nanoseconds run_on{0};           // after acting, the run goes on at most this long (without --duration)
+  hal::Nanoseconds repeat_every{0};     // flaky-cable: the cable damaged again this often (0: once)
   bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
   std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
 };
@@ -68,6 +69,7 @@ class ScenarioRunner {
   hal::Nanoseconds op_at_{-1};
   bool acted_{false};
   hal::Nanoseconds acted_at_{0};
+  hal::Nanoseconds last_repeat_{0};
   Status action_status_{};
 };
 
