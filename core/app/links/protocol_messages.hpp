@@ -304,7 +304,7 @@ struct TasksPayload {
 };
 
 // Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each
-// slave, accumulated since bring-up, saturated at 65535 on the wire.
+// slave, accumulated since bring-up (or the last diag_reset of that slave), saturated at 65535 on the wire.
 constexpr std::size_t kDiagPorts = 4;
 constexpr std::uint8_t kDiagWarnedMask = 0x0F;  // one bit per port
 struct DiagPortRecord {

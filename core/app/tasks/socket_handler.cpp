@@ -168,7 +168,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         protocol::RcTaskRecord& t = m.owner_state.tasks[k];
         t.present = 1;
         const std::int64_t beat = ports_.rc_heartbeat_ns != nullptr ? (*ports_.rc_heartbeat_ns)[k].load(std::memory_order_acquire) : 0;
-        const std::int64_t age = beat > 0 ? mono - beat : -1;
+        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never".
+        const std::int64_t age = beat > 0 ? (mono > beat ? mono - beat : 0) : -1;
         t.heartbeat_age_ms = age < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::min<std::int64_t>(age / hal::kNsPerMs, 0xFFFFFFFE));
         t.alive = age >= 0 && age <= 100 * hal::kNsPerMs ? 1 : 0;  // the message parser's kRcTaskSilence
         RcTaskState state{};
