@@ -2,7 +2,8 @@
 // --scenario flaky-cable` (5 frames damaged on the cable into l_elbow 1 s after OP and again every 2
 // s), the counters are non-zero, `diag --reset` zeroes every slave's counters and warnings (the reply
 // comes once the EtherCAT handler applied it, so the next `ctl diag` shows zeros), the damage then
-// counts again, and `diag --reset SLAVE` zeroes that slave only. Every answer through --json, parsed.
+// counts again, and `diag --reset SLAVE` zeroes that slave only; the run allocates nothing after init
+// meanwhile. Every answer through --json, parsed.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -97,6 +98,8 @@ TEST_F(DiagReset, ZeroesEveryCounterThenTheDamageCountsAgainAndOneSlaveIsResetAl
   EXPECT_EQ(run.ctl({"status", "--reset"}).status, 1) << "--reset goes with diag only";
 
   EXPECT_EQ(run.stop(), 0) << run.output();
+  // The resets went through the real-time handler without a heap allocation (the run's heap guard).
+  EXPECT_NE(run.output().find("rescue-motion run: heap allocations after init: 0\n"), std::string::npos) << run.output();
 }
 
 }  // namespace
