@@ -684,7 +684,7 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
 
 Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept {
   // slaves -v, graph, diag --reset (ctl_network.cpp); the rest here.
-  const Result<Message> network = build_network_request(verb, args);
+  Result<Message> network = build_network_request(verb, args);
   if (network.ok() || network.error().code != Errc::not_found) return network;
   Message m;
   const std::size_t n = args.positional_count();

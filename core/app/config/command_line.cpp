@@ -107,11 +107,9 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
       continue;
     }
     if (!options_ended && arg[0] == '-' && arg[1] != '-' && arg[1] != '\0' && arg[2] == '\0') {
-      const OptionSpec* opt = nullptr;
-      for (const OptionSpec& o : spec.options) {
-        if (o.short_name != '\0' && o.short_name == arg[1]) opt = &o;
-      }
-      if (opt != nullptr && opt->value_name == nullptr) {  // one-letter flags only
+      const OptionSpec* opt = std::find_if(spec.options.begin(), spec.options.end(),
+                                           [arg](const OptionSpec& o) { return o.short_name != '\0' && o.short_name == arg[1]; });
+      if (opt != spec.options.end() && opt->value_name == nullptr) {  // one-letter flags only
         if (!parsed.options_.push_back(ParsedArgs::Entry{opt->name, nullptr})) {
           return make_error(Errc::capacity_exceeded, "too many options", index);
         }

@@ -2,6 +2,8 @@
 // (each slave's state now), ctl graph (the tree and each slave's state), ctl slaves -v (SII identity
 // and AL status code, as the EtherCAT handler published them), and ctl diag --reset (posted to the
 // EtherCAT handler through TaskLinks::diag_reset, answered once the handler applied it).
+#include <algorithm>
+
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
@@ -94,14 +96,9 @@ void SocketHandler::reply_to(const protocol::Header& request, protocol::Outcome 
 
 void SocketHandler::post_diag_reset(const Message& request, const hal::UdpDatagram& from) noexcept {
   const protocol::Header& h = request.header;
-  PendingReset* slot = nullptr;
-  for (PendingReset& p : pending_resets_) {
-    if (!p.active) {
-      slot = &p;
-      break;
-    }
-  }
-  if (ports_.diag_reset == nullptr || slot == nullptr) {
+  const auto slot =
+      std::find_if(pending_resets_.begin(), pending_resets_.end(), [](const PendingReset& p) { return !p.active; });
+  if (ports_.diag_reset == nullptr || slot == pending_resets_.end()) {
     return reply_to(h, protocol::Outcome::refused, protocol::RefusalReason::busy,
                     ports_.diag_reset == nullptr ? "no EtherCAT handler to reset the counters" : "resets waiting; try again",
                     from.address, from.port);

@@ -412,9 +412,9 @@ bool Esc::trigger_writes(std::uint32_t address, const std::uint8_t* frame, std::
   // ignored): a write to any of 0x0300-0x030B clears all twelve RX and forwarded RX counters, to
   // 0x030C or 0x030D that counter, to any of 0x0310-0x0313 all four lost-link counters, to any of
   // 0x0442-0x0443 both watchdog counters. The PDI error code (0x030E) is read-only.
-  const auto clear_group = [&](std::uint32_t first, std::uint32_t length) {
-    if (!overlaps(address, end, first, length)) return;
-    for (std::uint32_t a = first; a < first + length; ++a) memory_.set_u8(a, 0);
+  const auto clear_group = [&](std::uint32_t reg_first, std::uint32_t reg_count) {
+    if (!overlaps(address, end, reg_first, reg_count)) return;
+    for (std::uint32_t a = reg_first; a < reg_first + reg_count; ++a) memory_.set_u8(a, 0);
     accepted = true;
   };
   clear_group(reg::kRxErrorCounter, 0x0C);
