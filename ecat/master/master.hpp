@@ -333,6 +333,9 @@ class Master {
   void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
   void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
   void finish_reintegration_step() noexcept;
+  // An answer of FPRD 0x0130 (AL status, reserved, AL status code) from slave `p`: kept for identity()'s
+  // neighbours last_al_status / last_al_status_code (ctl slaves -v).
+  void note_al_status(std::size_t p, const std::uint8_t* data) noexcept;
   // Re-arming slaves the watchdog check found in SAFE-OP by their watchdog (same steps, from the
   // acknowledge; they stay in the exchange meanwhile).
   void start_rearm(SlaveMask slaves) noexcept;

@@ -152,11 +152,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         r.status_wkc = d.wkc();
         r.al_status = load_le16(data);
         r.al_status_code = load_le16(data + 4);
-        if (d.wkc() == 1 && r.position < kMaxSlaves) {
-          al_status_[r.position] = r.al_status;
-          al_code_[r.position] = r.al_status_code;
-          al_read_ |= slave_bit(r.position);
-        }
+        if (d.wkc() == 1) note_al_status(r.position, data);
         break;
       }
       case Role::probe_clear:
@@ -174,9 +170,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         if (d.wkc() != 1) break;
         op_al_status_[p] = status;
         op_al_code_[p] = load_le16(data + 4);
-        al_status_[p] = status;
-        al_code_[p] = op_al_code_[p];
-        al_read_ |= slave_bit(p);
+        note_al_status(p, data);
         if ((status & reg::kAlErrorBit) == 0 && (status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op)) {
           op_pending_ &= ~slave_bit(p);
         } else if ((status & reg::kAlErrorBit) != 0) {
@@ -241,6 +235,13 @@ void Master::step_op_transition(CycleResult& result) noexcept {
     op_deadline_ = now + options_.op_timeout;
   }
   result.state = state_;
+}
+
+void Master::note_al_status(std::size_t p, const std::uint8_t* data) noexcept {
+  if (p >= kMaxSlaves) return;
+  al_status_[p] = load_le16(data);
+  al_code_[p] = load_le16(data + 4);
+  al_read_ |= slave_bit(p);
 }
 
 void Master::reset_diagnostics(SlaveMask slaves) noexcept {

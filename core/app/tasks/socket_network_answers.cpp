@@ -96,7 +96,7 @@ void SocketHandler::reply_to(const protocol::Header& request, protocol::Outcome 
 
 void SocketHandler::post_diag_reset(const Message& request, const hal::UdpDatagram& from) noexcept {
   const protocol::Header& h = request.header;
-  const auto slot =
+  auto* const slot =
       std::find_if(pending_resets_.begin(), pending_resets_.end(), [](const PendingReset& p) { return !p.active; });
   if (ports_.diag_reset == nullptr || slot == pending_resets_.end()) {
     return reply_to(h, protocol::Outcome::refused, protocol::RefusalReason::busy,
