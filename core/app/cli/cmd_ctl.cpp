@@ -858,10 +858,10 @@ const CommandSpec kCtlCommand{
     "ctl", "ctl [OPTIONS] VERB [ARGS]", "operator client: query and command a running firmware (docs/operator.md)",
     "Verbs:\n"
     "  status | slaves | master | tasks     the robot's joints, EtherCAT slaves, master counters, tasks\n"
-    "  slaves -v                            each slave's SII identity (vendor, product, revision, serial), AL status code\n"
+    "  slaves -v                            per slave: SII vendor, product, revision, serial; AL status code\n"
     "  diag                                 link-quality counters per slave and port, warnings naming the cable\n"
     "  diag --reset [SLAVE]                 zero the link error counters (all slaves, or SLAVE: name or position)\n"
-    "  graph [--format dot]                 the topology now: junction ports, chains, joints behind each cable, states\n"
+    "  graph [--format dot]                 the topology now: chains on junction ports, joints behind each cable\n"
     "  watch                                status, refreshed in place (--interval, --count)\n"
     "  init [JOINTS]                        'initialize robot': mode, reference := position, enable\n"
     "  enable [JOINTS] | disable [JOINTS]   DFA enable / disable (JOINTS: comma-separated names or all)\n"
