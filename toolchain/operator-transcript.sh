@@ -16,11 +16,12 @@
 # docs/firmware.md run (the link-cut, power-cycle with and without the automatic clear, and
 # cable-damage scenarios) and each must exit 0.
 # Check (the default): each block must equal its section but for the volatile figures: both are
-# normalised (every decimal number -> '#', the program's version and layout hash, the scheduling
-# policy the kernel granted, runs of blanks -> one blank; a line cut by --cut compared up to the
-# shorter of the two; the lines a run logs, from several processes at once, in any order) and
-# compared; a difference in anything else (a word, a state, a name, a row, a
-# line) fails with a unified diff of the normalised block. The page is never written in this mode.
+# normalised (every decimal number -> '#'; the program's version, layout hash and segment name; the
+# scheduling policy the kernel granted; a status row's OWNER and a JSON joint's owner, which are the
+# last period's; runs of blanks -> one blank; a line cut by --cut compared up to the shorter of the
+# two; the lines a run logs, from several processes at once, in any order) and compared; a
+# difference in anything else (a word, a state, a name, a row, a line) fails with a unified diff of
+# the normalised block, and the runs' logs are kept. The page is never written in this mode.
 # --write: the blocks are replaced by this run's sections (after a code change that alters an output).
 # Usage: bash toolchain/operator-transcript.sh [--write] [BUILD_DIR]   (default build/debug; built)
 # Takes about 60 s; run it under the serial lock (flock /tmp/rescue-serial.lock) on a shared machine.
@@ -89,6 +90,7 @@ ctl() {
   local out status=0
   out="$("$program" ctl --key "$key" --port "$control_port" "$@" 2>&1)" || status=$?
   expect "$status" "$wanted" "ctl $*"
+  [ "$status" -eq "$wanted" ] || printf '%s\n' "$out" | sed 's/^/    /' >&2
   [ -n "$rows" ] && { out="$(printf '%s\n' "$out" | awk -v re="$rows" 'NR <= 2 || $0 ~ re')"; note="  (rows: $rows)"; }
   [ -n "$cut" ] && { out="$(printf '%s\n' "$out" | cut -c "1-$cut")..."; note="  (first $cut characters)"; }
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
@@ -108,6 +110,7 @@ start_run() {
   local args=(run --state-dir "$state" --key "$key" --listen 127.0.0.1 --control-port "$control_port"
     --sensor-port "$sensor_port" "$@")
   printf '    $ rescue-motion %s &\n' "${args[*]}" | tidy >>"$section"
+  : >"$state/run.log"  # there before the background run's own redirect, for the grep below
   "$program" "${args[@]}" >"$state/run.log" 2>&1 &
   run_pid=$!
   for _ in $(seq 300); do
@@ -248,18 +251,19 @@ for example in "--scenario link-cut" "--scenario power-cycle --duration 4" \
   expect "$status" 0 "run $example (docs/firmware.md)"
   [ "$status" -eq 0 ] || tail -n 5 "$dir/firmware.log" >&2
 done
-if [ "$failures" -ne 0 ]; then
-  echo "operator-transcript: $failures command(s) did not end as the pages say; $doc not rewritten" >&2
-  exit 1
-fi
-
-# Check: each block against its section, normalised; --write: each block replaced by its section.
-# A block without a section (or the reverse) is an error in both modes.
 logs="${TMPDIR:-/tmp}/rescue-operator-transcript-logs"
 keep_logs() {  # the runs' logs of a failed check, for its reader
   rm -rf "$logs" && mkdir -p "$logs" && cp "$dir/run.log" "$logs/session.log" && cp "$dir/link-cut/run.log" "$logs/link-cut.log" &&
     cp "$dir/cable-damage/run.log" "$logs/cable-damage.log" && echo "operator-transcript: the runs' logs are in $logs" >&2
 }
+if [ "$failures" -ne 0 ]; then
+  echo "operator-transcript: $failures command(s) did not end as the pages say; $doc not rewritten" >&2
+  keep_logs
+  exit 1
+fi
+
+# Check: each block against its section, normalised; --write: each block replaced by its section.
+# A block without a section (or the reverse) is an error in both modes.
 python3 - "$mode" "$doc" "$dir/sections" <<'PY' || { keep_logs; exit 1; }
 import difflib, os, re, sys
 mode, path, sections = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -283,7 +287,9 @@ def normalise(line):
     line = re.sub(r"/rescue-motion-[0-9a-f]+", "/rescue-motion-SEGMENT", line)       # shared-memory segment name
     line = re.sub(r'"owner":null', '"owner":#', line)                                # owner in the last period
     line = re.sub(r"(?<![0-9A-Za-z_x])[-+]?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?", "#", line)  # every decimal figure
-    return re.sub(r"\s+", " ", line).strip()
+    line = re.sub(r"\s+", " ", line).strip()
+    # A status row's OWNER: the RC task whose references drove the joint in the last period (or -).
+    return re.sub(r"^(# [a-z_]+ .* (CSP|CSV|CST|-) # # # \S+) (rc[0-9]|-)$", r"\1 OWNER", line)
 
 def lines_of(block):
     # The lines a run logs after a shown `run ... &` or `kill` come from several processes at once:
