@@ -1,22 +1,34 @@
 #!/usr/bin/env bash
-# Regenerates the example outputs of docs/operator.md from the program, so they cannot drift: starts
-# `rescue-motion run` on the simulated robot (default processes mode, a temporary state directory, its
-# own key made by `ctl keygen`, free UDP ports of 127.0.0.1), runs every `ctl` verb against it in the
-# order an operator would (and a refused command of each reachable kind), then a second short run with
-# `--scenario link-cut` for the unreachable-joint refusals and a third with `--scenario cable-damage`
-# for `ctl diag` with a damaged cable, and rewrites each block
+# Runs every example of docs/operator.md against the program and checks that the page still says what
+# the program does; with --write, rewrites the page's example outputs instead. Starts `rescue-motion
+# run` on the simulated robot (default processes mode, a temporary state directory, its own key made
+# by `ctl keygen`, free UDP ports of 127.0.0.1), runs every `ctl` verb against it in the order an
+# operator would (and a refused command of each reachable kind), then a second short run with
+# `--scenario link-cut` for the unreachable-joint refusals and the graph of a cut, and a third with
+# `--scenario cable-damage` for `ctl diag` with a damaged cable and its reset. Each section NAME of the
+# transcript belongs to the block
 #   <!-- BEGIN TRANSCRIPT NAME -->
 #   ...
 #   <!-- END TRANSCRIPT NAME -->
-# of docs/operator.md with section NAME of the transcript. The prose around the blocks is left alone.
+# of docs/operator.md. The prose around the blocks is left alone.
 # Every command must end as the page says: a ctl without --refused must exit 0, one with --refused must
 # exit 1; otherwise the script fails (exit 1) and the page is not rewritten. Then the examples of
 # docs/firmware.md run (the link-cut, power-cycle with and without the automatic clear, and
 # cable-damage scenarios) and each must exit 0.
-# Usage: bash toolchain/operator-transcript.sh [BUILD_DIR]   (default build/debug; the program must be built)
-# Takes about 45 s. The figures (cycles, PIDs, times) are those of this run: they change every time.
+# Check (the default): each block must equal its section but for the volatile figures: both are
+# normalised (every decimal number -> '#'; the program's version, layout hash and segment name; the
+# scheduling policy the kernel granted; a status row's OWNER and a JSON joint's owner, which are the
+# last period's; runs of blanks -> one blank; a line cut by --cut compared up to the shorter of the
+# two; the lines a run logs, from several processes at once, in any order) and compared; a
+# difference in anything else (a word, a state, a name, a row, a line) fails with a unified diff of
+# the normalised block, and the runs' logs are kept. The page is never written in this mode.
+# --write: the blocks are replaced by this run's sections (after a code change that alters an output).
+# Usage: bash toolchain/operator-transcript.sh [--write] [BUILD_DIR]   (default build/debug; built)
+# Takes about 60 s; run it under the serial lock (flock /tmp/rescue-serial.lock) on a shared machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+mode=check
+if [ "${1:-}" = "--write" ]; then mode=write; shift; fi
 build="${1:-build/debug}"
 program="$(cd "$build" 2>/dev/null && pwd)/rescue-motion"
 [ -x "$program" ] || { echo "operator-transcript: $build/rescue-motion not built"; exit 1; }
@@ -78,6 +90,7 @@ ctl() {
   local out status=0
   out="$("$program" ctl --key "$key" --port "$control_port" "$@" 2>&1)" || status=$?
   expect "$status" "$wanted" "ctl $*"
+  [ "$status" -eq "$wanted" ] || printf '%s\n' "$out" | sed 's/^/    /' >&2
   [ -n "$rows" ] && { out="$(printf '%s\n' "$out" | awk -v re="$rows" 'NR <= 2 || $0 ~ re')"; note="  (rows: $rows)"; }
   [ -n "$cut" ] && { out="$(printf '%s\n' "$out" | cut -c "1-$cut")..."; note="  (first $cut characters)"; }
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
@@ -97,6 +110,7 @@ start_run() {
   local args=(run --state-dir "$state" --key "$key" --listen 127.0.0.1 --control-port "$control_port"
     --sensor-port "$sensor_port" "$@")
   printf '    $ rescue-motion %s &\n' "${args[*]}" | tidy >>"$section"
+  : >"$state/run.log"  # there before the background run's own redirect, for the grep below
   "$program" "${args[@]}" >"$state/run.log" 2>&1 &
   run_pid=$!
   for _ in $(seq 300); do
@@ -149,6 +163,11 @@ ctl --refused --json download l_elbow 0x6040:00 0x0f --type u16
 ctl --refused download l_elbow 0x1C12:00 0 --type u8
 ctl --refused upload l_elbow 0x5FFF:00
 ctl --refused download l_elbow 0x1008:00 RM-JD403
+begin network
+ctl slaves -v
+ctl --cut 300 --json slaves -v
+ctl graph
+ctl --rows 'digraph|s1[89]|^}' graph --format dot
 
 begin joints
 ctl disable l_hand
@@ -219,6 +238,8 @@ ctl --refused enable l_hand
 ctl --refused init l_elbow,l_hand
 ctl --refused clear l_elbow
 ctl --refused upload l_hand 0x603F:00
+begin graph-cut
+ctl graph
 stop_run
 
 begin diag
@@ -230,6 +251,9 @@ run_lines 'receive errors'
 ctl diag
 sleep 4
 ctl --rows 'l_shoulder|l_elbow|l_wrist|l_hand|warning' diag
+ctl diag --reset
+ctl --rows 'l_shoulder_yaw|l_elbow|l_wrist_yaw|warning' diag
+ctl --json diag --reset l_elbow
 stop_run
 
 # The examples of docs/firmware.md: each must exit 0.
@@ -242,30 +266,88 @@ for example in "--scenario link-cut" "--scenario power-cycle --duration 4" \
   expect "$status" 0 "run $example (docs/firmware.md)"
   [ "$status" -eq 0 ] || tail -n 5 "$dir/firmware.log" >&2
 done
+logs="${TMPDIR:-/tmp}/rescue-operator-transcript-logs"
+keep_logs() {  # the runs' logs of a failed check, for its reader
+  rm -rf "$logs" && mkdir -p "$logs" && cp "$dir/run.log" "$logs/session.log" && cp "$dir/link-cut/run.log" "$logs/link-cut.log" &&
+    cp "$dir/cable-damage/run.log" "$logs/cable-damage.log" && echo "operator-transcript: the runs' logs are in $logs" >&2
+}
 if [ "$failures" -ne 0 ]; then
   echo "operator-transcript: $failures command(s) did not end as the pages say; $doc not rewritten" >&2
+  keep_logs
   exit 1
 fi
 
-# Rewrites each block of the page with its section; a block without a section (or the reverse) is an error.
-python3 - "$doc" "$dir/sections" <<'PY'
-import os, re, sys
-path, sections = sys.argv[1], sys.argv[2]
+# Check: each block against its section, normalised; --write: each block replaced by its section.
+# A block without a section (or the reverse) is an error in both modes.
+python3 - "$mode" "$doc" "$dir/sections" <<'PY' || { keep_logs; exit 1; }
+import difflib, os, re, sys
+mode, path, sections = sys.argv[1], sys.argv[2], sys.argv[3]
 text = open(path).read()
 made = {name: open(os.path.join(sections, name)).read() for name in os.listdir(sections)}
 pattern = re.compile(r"(<!-- BEGIN TRANSCRIPT (\S+) -->\n)(.*?)(<!-- END TRANSCRIPT \2 -->)", re.S)
-used = set()
-def regenerate(m):
-    name = m.group(2)
-    if name not in made:
-        sys.exit(f"operator-transcript: {path} has a block {name} the script does not make")
-    used.add(name)
-    return m.group(1) + "\n" + made[name] + "\n" + m.group(4)
-new = pattern.sub(regenerate, text)
-missing = sorted(set(made) - used)
+blocks = {m.group(2): m.group(3) for m in pattern.finditer(text)}
+unknown = sorted(set(blocks) - set(made))
+missing = sorted(set(made) - set(blocks))
+if unknown:
+    sys.exit(f"operator-transcript: {path} has blocks the script does not make: {', '.join(unknown)}")
 if missing:
     sys.exit(f"operator-transcript: {path} has no block for: {', '.join(missing)}")
-if new != text:
-    open(path, "w").write(new)
-print(f"operator-transcript: rewrote {len(used)} blocks of {path}")
+
+def normalise(line):
+    line = re.sub(r"rescue-motion [^ ]+ \(", "rescue-motion VERSION (", line)       # ctl version (git describe)
+    line = re.sub(r'"program":"[^"]*"', '"program":"VERSION"', line)
+    line = re.sub(r"hash 0x[0-9a-f]+", "hash 0xHASH", line)                          # layout hash (per layout)
+    line = re.sub(r'"layout_hash":"0x[0-9a-f]+"', '"layout_hash":"0xHASH"', line)
+    line = re.sub(r"\b(OTHER|FIFO|RR|BATCH|IDLE)\b", "POLICY", line)                   # what the kernel granted
+    line = re.sub(r"/rescue-motion-[0-9a-f]+", "/rescue-motion-SEGMENT", line)       # shared-memory segment name
+    line = re.sub(r'"owner":null', '"owner":#', line)                                # owner in the last period
+    line = re.sub(r"(?<![0-9A-Za-z_x])[-+]?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?", "#", line)  # every decimal figure
+    line = re.sub(r"\s+", " ", line).strip()
+    # A status row's OWNER: the RC task whose references drove the joint in the last period (or -).
+    return re.sub(r"^(# [a-z_]+ .* (CSP|CSV|CST|-) # # # \S+) (rc[0-9]|-)$", r"\1 OWNER", line)
+
+def lines_of(block):
+    # The lines a run logs after a shown `run ... &` or `kill` come from several processes at once:
+    # their order varies, so such a segment is compared as a sorted list.
+    out, segment = [], None
+    for raw in block.strip("\n").split("\n"):
+        line = normalise(raw)
+        if line.startswith("$ "):
+            if segment is not None:
+                out.extend(sorted(segment))
+            out.append(line)
+            segment = None if line.startswith("$ rescue-motion ctl") else []
+        elif segment is not None:
+            segment.append(line)
+        else:
+            out.append(line)
+    if segment is not None:
+        out.extend(sorted(segment))
+    return out
+
+if mode == "write":
+    new = pattern.sub(lambda m: m.group(1) + "\n" + made[m.group(2)] + "\n" + m.group(4), text)
+    if new != text:
+        open(path, "w").write(new)
+    print(f"operator-transcript: rewrote {len(made)} blocks of {path}")
+    sys.exit(0)
+
+differ = 0
+for name in sorted(made):
+    page, now = lines_of(blocks[name]), lines_of(made[name])
+    # A line cut by --cut ends in "...": compared up to the shorter of the two (figures change its length).
+    for i in range(min(len(page), len(now))):
+        if page[i].endswith("...") and now[i].endswith("..."):
+            n = min(len(page[i]), len(now[i])) - 3
+            page[i], now[i] = page[i][:n], now[i][:n]
+    if page != now:
+        differ += 1
+        sys.stderr.write(f"operator-transcript: block {name} of {path} differs from the program's output "
+                         "(figures normalised to '#'):\n")
+        sys.stderr.writelines(l + "\n" for l in difflib.unified_diff(
+            page, now, f"{path} ({name})", f"program now ({name})", lineterm="", n=2))
+if differ:
+    sys.exit(f"operator-transcript: {differ} block(s) differ; if the change is intended: "
+             "bash toolchain/operator-transcript.sh --write, and commit the page")
+print(f"operator-transcript: {len(made)} blocks of {path} match the program (figures aside)")
 PY

@@ -26,6 +26,17 @@ void LinkDiagnostics::reset() noexcept {
   }
 }
 
+void LinkDiagnostics::reset_slaves(SlaveMask slaves) noexcept {
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((slaves & slave_bit(p)) == 0) continue;
+    counters_[p] = SlaveErrorCounters{};
+    score_[p].fill(0);
+    warned_[p].fill(false);
+    ever_warned_[p] = 0;
+  }
+  ++resets_;
+}
+
 std::size_t LinkDiagnostics::next(SlaveMask candidates) noexcept {
   for (std::size_t i = 0; i < kMaxSlaves; ++i) {
     const std::size_t p = (rotate_ + i) % kMaxSlaves;

@@ -69,6 +69,11 @@ class LinkDiagnostics {
   explicit LinkDiagnostics(const NetworkPlan& plan) noexcept : plan_(plan) {}
 
   void reset() noexcept;
+  // Zeroes the counters, scores and warnings (current and earlier) of `slaves` (ctl diag --reset);
+  // the sweeps and the round robin go on. Warnings queued for them are kept (already raised).
+  void reset_slaves(SlaveMask slaves) noexcept;
+  // Resets done (reset_slaves calls): a new table to publish at once.
+  std::uint64_t resets() const noexcept { return resets_; }
   // The slave to read next among `candidates` (round robin), or kMaxSlaves when none.
   std::size_t next(SlaveMask candidates) noexcept;
   // An answer of FPRW 0x0300 (kReadLength bytes, working counter 3 expected).
@@ -96,6 +101,7 @@ class LinkDiagnostics {
   std::array<std::uint8_t, kMaxSlaves> ever_warned_{};  // bit n: port n
   std::size_t rotate_{0};
   std::uint64_t sweeps_{0};
+  std::uint64_t resets_{0};
   RingBuffer<PortErrorWarning, kWarningCapacity> warnings_{};
   std::uint64_t warnings_dropped_{0};
 };

@@ -259,6 +259,20 @@ class Master {
   // Link diagnostics: error counters per slave and port (accumulated since bring-up). A rising
   // port is reported as a `port_errors` link report (found = port, peer slave, errors).
   const LinkDiagnostics& diagnostics() const noexcept { return diagnostics_; }
+  // Zeroes the link-diagnostics table of `slaves` now (between cycles, the owner's thread) and clears
+  // their ESC error counters (0x0300-0x0313, written as a real ESC wants) with datagrams of the next
+  // cyclic frames (sent again when a frame is lost): never blocks, no frame of its own.
+  void reset_diagnostics(SlaveMask slaves) noexcept;
+  // Slaves whose ESC counters still wait for their clearing write (0 once the writes were answered).
+  SlaveMask diagnostics_clear_pending() const noexcept { return diag_clear_pending_ | diag_clear_in_flight_; }
+
+  // ctl slaves -v: the identity a planned slave's SII gave at bring-up (nullptr when it did not
+  // answer at its planned place), and the AL status register and code the master read last from it
+  // (al_status_read(position): false when none was read since bring-up).
+  const FoundSlave* identity(std::size_t position) const noexcept;
+  bool al_status_read(std::size_t position) const noexcept { return (al_read_ & slave_bit(position)) != 0; }
+  std::uint16_t last_al_status(std::size_t position) const noexcept { return al_status_[position]; }
+  std::uint16_t last_al_status_code(std::size_t position) const noexcept { return al_code_[position]; }
 
   // Lost / restored / not operational reports, oldest first.
   [[nodiscard]] bool pop_report(LinkReport& out) noexcept { return monitor_.pop_report(out); }
@@ -330,6 +344,9 @@ class Master {
   void add_reintegration_datagrams(FrameBuilder& frame) noexcept;
   void on_reintegration_datagram(std::size_t position, const DatagramView& datagram) noexcept;
   void finish_reintegration_step() noexcept;
+  // An answer of FPRD 0x0130 (AL status, reserved, AL status code) from slave `p`: kept for identity()'s
+  // neighbours last_al_status / last_al_status_code (ctl slaves -v).
+  void note_al_status(std::size_t p, const std::uint8_t* data) noexcept;
   // Re-arming slaves the watchdog check found in SAFE-OP by their watchdog (same steps, from the
   // acknowledge; they stay in the exchange meanwhile).
   void start_rearm(SlaveMask slaves) noexcept;
@@ -346,6 +363,7 @@ class Master {
     recovery,
     search,
     diagnostics,
+    diagnostics_clear,  // param: the slave, or kMaxSlaves for a broadcast write to every slave
   };
   struct Planned {
     Role role;
@@ -383,6 +401,14 @@ class Master {
   std::array<std::uint8_t, kMaxSlaves> op_refusals_{};
   std::array<std::uint16_t, kMaxSlaves> op_al_status_{};
   std::array<std::uint16_t, kMaxSlaves> op_al_code_{};
+  // The AL status and code last read from each slave (probes, the OP transition), al_read_: read once.
+  std::array<std::uint16_t, kMaxSlaves> al_status_{};
+  std::array<std::uint16_t, kMaxSlaves> al_code_{};
+  SlaveMask al_read_{0};
+  // reset_diagnostics: slaves whose ESC counters wait for their clearing write, and those written
+  // in the frame under way (back to pending when it is lost or a write is not answered).
+  SlaveMask diag_clear_pending_{0};
+  SlaveMask diag_clear_in_flight_{0};
   hal::Nanoseconds op_deadline_{0};
   std::uint64_t bring_up_frames_before_{0};  // link exchanges when bring_up began (step marks count from it)
   // Re-integration, per slave: FMMUs, AL status, acknowledge, OP request.

@@ -17,6 +17,14 @@ constexpr std::size_t kMailboxReserve = 2 * kDatagramOverhead + 1 + 256;
 constexpr std::size_t kDiagnosticsBytes = kDatagramOverhead + LinkDiagnostics::kReadLength;
 constexpr std::uint16_t kReadWriteWkc = 3;  // FPRW: read (1) + write (2)
 constexpr std::array<std::uint8_t, LinkDiagnostics::kReadLength> kCounterClear{};
+// ctl diag --reset: one slave's counters cleared by FPWR, more than this many by one BWR to every slave.
+constexpr int kMaxClearWritesPerFrame = 3;
+
+int count_bits(SlaveMask m) noexcept {
+  int n = 0;
+  for (; m != 0; m &= m - 1) ++n;
+  return n;
+}
 
 }  // namespace
 
@@ -67,6 +75,29 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
     probe_count_ = kept;  // the rest are asked for again next cycle
     add_reintegration_datagrams(frame);
     add_recovery_datagrams(frame);
+    // ctl diag --reset: the ESC counters of the reset slaves are cleared by writing them (ET1100
+    // datasheet: a write to any of 0x0300-0x030B clears those twelve, to 0x0310-0x0313 the lost-link
+    // counters, to 0x030C / 0x030D that counter), ahead of the round robin's read in the same frame.
+    diag_clear_pending_ |= diag_clear_in_flight_;  // the last frame's writes were not all answered
+    diag_clear_in_flight_ = 0;
+    if (count_bits(diag_clear_pending_) > kMaxClearWritesPerFrame) {
+      if (fits(kDiagnosticsBytes)) {
+        note(Role::diagnostics_clear, kMaxSlaves,
+             frame.add(Command::BWR, index, make_address(0, reg::kRxErrorCounter), LinkDiagnostics::kReadLength,
+                       ConstByteSpan(kCounterClear)).ok());
+        diag_clear_in_flight_ = diag_clear_pending_;
+        diag_clear_pending_ = 0;
+      }
+    } else {
+      for (std::size_t p = 0; p < kMaxSlaves && diag_clear_pending_ != 0; ++p) {
+        if ((diag_clear_pending_ & slave_bit(p)) == 0 || !fits(kDiagnosticsBytes)) continue;
+        note(Role::diagnostics_clear, p,
+             frame.add(Command::FPWR, index, make_address(plan_[p].station_address, reg::kRxErrorCounter),
+                       LinkDiagnostics::kReadLength, ConstByteSpan(kCounterClear)).ok());
+        diag_clear_in_flight_ |= slave_bit(p);
+        diag_clear_pending_ &= ~slave_bit(p);
+      }
+    }
     if (options_.diag_interval_cycles != 0 && cycle_ % options_.diag_interval_cycles == 0 && fits(kDiagnosticsBytes)) {
       const std::size_t p = diagnostics_.next(monitor_.in_exchange());
       if (p < kMaxSlaves) {
@@ -121,6 +152,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         r.status_wkc = d.wkc();
         r.al_status = load_le16(data);
         r.al_status_code = load_le16(data + 4);
+        if (d.wkc() == 1) note_al_status(r.position, data);
         break;
       }
       case Role::probe_clear:
@@ -138,6 +170,7 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         if (d.wkc() != 1) break;
         op_al_status_[p] = status;
         op_al_code_[p] = load_le16(data + 4);
+        note_al_status(p, data);
         if ((status & reg::kAlErrorBit) == 0 && (status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op)) {
           op_pending_ &= ~slave_bit(p);
         } else if ((status & reg::kAlErrorBit) != 0) {
@@ -159,7 +192,19 @@ void Master::evaluate_cycle_frame(const FrameView& frame, CycleResult& result) n
         on_search_datagram(what.param, d);
         break;
       case Role::diagnostics:
-        if (d.wkc() == kReadWriteWkc) diagnostics_.observe(what.param, data, cycle_, link_.clock().now());
+        // A slave reset but not yet cleared in its ESC: its answer holds errors from before the reset.
+        if (d.wkc() == kReadWriteWkc && (diag_clear_pending_ & slave_bit(what.param)) == 0) {
+          diagnostics_.observe(what.param, data, cycle_, link_.clock().now());
+        }
+        break;
+      case Role::diagnostics_clear:
+        // Written: done. Not answered (a lost slave, a cut): written again next frame, unless the
+        // slave is out of the exchange (it is cleared when it is read again after its recovery).
+        if (what.param >= kMaxSlaves) {
+          if (d.wkc() != 0) diag_clear_in_flight_ = 0;
+        } else if (d.wkc() != 0 || (monitor_.in_exchange() & slave_bit(what.param)) == 0) {
+          diag_clear_in_flight_ &= ~slave_bit(what.param);
+        }
         break;
     }
   }
@@ -190,6 +235,27 @@ void Master::step_op_transition(CycleResult& result) noexcept {
     op_deadline_ = now + options_.op_timeout;
   }
   result.state = state_;
+}
+
+void Master::note_al_status(std::size_t p, const std::uint8_t* data) noexcept {
+  if (p >= kMaxSlaves) return;
+  al_status_[p] = load_le16(data);
+  al_code_[p] = load_le16(data + 4);
+  al_read_ |= slave_bit(p);
+}
+
+void Master::reset_diagnostics(SlaveMask slaves) noexcept {
+  SlaveMask planned = 0;
+  for (std::size_t p = 0; p < plan_.size() && p < kMaxSlaves; ++p) planned |= slave_bit(p);
+  slaves &= planned;
+  diagnostics_.reset_slaves(slaves);
+  diag_clear_pending_ |= slaves;
+}
+
+const FoundSlave* Master::identity(std::size_t position) const noexcept {
+  if (position >= kMaxSlaves || (report_.match.present & slave_bit(position)) == 0) return nullptr;
+  const std::uint8_t found = report_.match.found_of_slot[position];
+  return found < report_.found.size() ? &report_.found[found] : nullptr;
 }
 
 void Master::realign_schedule() noexcept {

@@ -472,6 +472,7 @@ void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept
       return;
     }
     const std::uint16_t status = load_le16(data);
+    note_al_status(p, data);
     const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state));
     if ((status & reg::kAlErrorBit) != 0) {
       r.acknowledge = true;  // acknowledge and ask again

@@ -91,6 +91,7 @@ void Master::on_reintegration_datagram(std::size_t p, const DatagramView& d) noe
       break;
     case ReStep::status: {
       const std::uint16_t status = load_le16(d.data().data());
+      note_al_status(p, d.data().data());
       const std::uint16_t al_state = status & reg::kAlStateMask;
       if ((status & reg::kAlErrorBit) == 0 && al_state == kOp && rearm) {
         rearming_ &= ~slave_bit(p);

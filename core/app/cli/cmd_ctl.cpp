@@ -14,6 +14,7 @@
 
 #include "core/app/cli/commands.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
+#include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/config_file.hpp"
@@ -55,6 +56,9 @@ const OptionSpec kOptions[] = {
     {"interval", "SECONDS", "watch: refresh period (default 0.5)"},
     {"type", "TYPE", "upload, download: the value's type: u8, u16, u32, i8, i16, i32, string or hex "
                      "(default: by the object's size)"},
+    {"verbose", nullptr, "slaves: each slave's identity (SII: vendor, product, revision, serial) and AL status code", 'v'},
+    {"format", "FORMAT", "graph: text (default) or dot (Graphviz)"},
+    {"reset", nullptr, "diag: zero the link error counters (all slaves, or SLAVE)"},
 };
 
 const char* state_name(std::uint8_t s) noexcept {
@@ -65,16 +69,6 @@ const char* mode_name(std::int8_t m) noexcept {
     case 8: return "CSP";
     case 9: return "CSV";
     case 10: return "CST";
-    default: return "-";
-  }
-}
-const char* al_name(std::uint8_t s) noexcept {
-  switch (s) {
-    case 1: return "INIT";
-    case 2: return "PREOP";
-    case 3: return "BOOT";
-    case 4: return "SAFEOP";
-    case 8: return "OP";
     default: return "-";
   }
 }
@@ -143,10 +137,7 @@ void print_slaves(const Message& m, bool json) noexcept {
   }
   for (std::size_t i = 0; i < m.slaves.count; ++i) {
     const protocol::SlaveRecord& s = m.slaves.slaves[i];
-    const char* service = (s.flags & protocol::kSlaveLost) != 0            ? "lost"
-                          : (s.flags & protocol::kSlaveOutOfService) != 0  ? "out of service"
-                          : (s.flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
-                                                                           : "not in exchange";
+    const char* service = slave_service_name(s.flags);
     const char* recovery = ecat::to_string(static_cast<ecat::RecoveryState>(s.recovery));
     char changed[24] = "never";
     if (s.recovery_age_ms != protocol::kRecoveryAgeNever) {
@@ -157,10 +148,10 @@ void print_slaves(const Message& m, bool json) noexcept {
       if (s.recovery_age_ms != protocol::kRecoveryAgeNever) (void)std::snprintf(age, sizeof age, "%u", static_cast<unsigned>(s.recovery_age_ms));
       (void)std::printf(R"(%s{"position":%u,"station":%u,"al_state":"%s","name":"%s","service":"%s","recovery":"%s","recovery_changed_ms_ago":%s})",
                         i == 0 ? "" : ",", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
-                        al_name(s.al_state), s.name.data(), service, recovery, age);
+                        al_state_name(s.al_state), s.name.data(), service, recovery, age);
     } else {
       (void)std::printf("%-3u 0x%04x  %-6s %-16s %-16s %-12s %s\n", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
-                        al_name(s.al_state), s.name.data(), service, recovery, changed);
+                        al_state_name(s.al_state), s.name.data(), service, recovery, changed);
     }
   }
   if (json) (void)std::printf("]}\n");
@@ -475,6 +466,7 @@ char g_error_text[2048];
 char g_key_note[640] = "";  // the key used, and why that one
 bool g_json = false;         // --json: ctl's own errors are a JSON object on stdout too
 const char* g_verb = "ctl";  // the verb of this invocation, for those objects
+const char* g_format = nullptr;  // graph --format (text or dot)
 
 // A JSON string (quotes and backslashes escaped, control characters dropped).
 void print_json_string(const char* s) noexcept {
@@ -683,7 +675,10 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::master: print_master(m, json); return 0;
     case MessageType::tasks: print_tasks(m, json); return 0;
     case MessageType::diag: print_diag(m, json); return 0;
-    case MessageType::reply: return print_reply(verb, m, json);
+    case MessageType::reply:
+      return request.header.type == MessageType::diag_reset ? print_diag_reset_reply(request, m, json) : print_reply(verb, m, json);
+    case MessageType::slave_info: return print_slave_info(m, json);
+    case MessageType::graph: return print_graph(m, json, g_format);
     case MessageType::version: print_version(m, json); return 0;
     case MessageType::owner_state: print_owner(m, json); return 0;
     case MessageType::sdo_result: return print_sdo_result(m, json);
@@ -692,6 +687,9 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
 }
 
 Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept {
+  // slaves -v, graph, diag --reset (ctl_network.cpp); the rest here.
+  Result<Message> network = build_network_request(verb, args);
+  if (network.ok() || network.error().code != Errc::not_found) return network;
   Message m;
   const std::size_t n = args.positional_count();
   struct Simple {
@@ -825,6 +823,7 @@ void disarm_ctl_deadline() noexcept {
 int ctl_main(const ParsedArgs& args) {
   const char* verb = args.positional(0);
   g_json = args.has("json");
+  g_format = args.value("format");
   g_verb = verb != nullptr ? verb : "ctl";
   if (verb == nullptr || !is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
   const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
@@ -832,6 +831,11 @@ int ctl_main(const ParsedArgs& args) {
   if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
   const Status config = read_ctl_config(args);
   if (!config.ok()) return ctl_error(config.error().what);
+  for (const CtlVerbOption& o : kCtlVerbOptions) {
+    const bool belongs = std::any_of(std::begin(o.verbs), std::end(o.verbs),
+                                     [verb](const char* v) { return v != nullptr && std::strcmp(v, verb) == 0; });
+    if (args.has(o.option) && !belongs) return ctl_error(o.error);
+  }
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
   if (is_sdo_verb(verb)) {
     const Result<CtlTarget> sdo_target = target_of(args);
@@ -870,7 +874,10 @@ const CommandSpec kCtlCommand{
     "ctl", "ctl [OPTIONS] VERB [ARGS]", "operator client: query and command a running firmware (docs/operator.md)",
     "Verbs:\n"
     "  status | slaves | master | tasks     the robot's joints, EtherCAT slaves, master counters, tasks\n"
+    "  slaves -v                            per slave: SII vendor, product, revision, serial; AL status code\n"
     "  diag                                 link-quality counters per slave and port, warnings naming the cable\n"
+    "  diag --reset [SLAVE]                 zero the link error counters (all slaves, or SLAVE: name or position)\n"
+    "  graph [--format dot]                 the topology now: chains on junction ports, joints behind each cable\n"
     "  watch                                status, refreshed in place (--interval, --count)\n"
     "  init [JOINTS]                        'initialize robot': mode, reference := position, enable\n"
     "  enable [JOINTS] | disable [JOINTS]   DFA enable / disable (JOINTS: comma-separated names or all)\n"

@@ -12,8 +12,21 @@ namespace rescue::app {
 
 inline constexpr const char* kCtlVerbs[] = {
     "keygen", "status", "slaves", "master", "tasks", "diag", "watch", "init",
-    "enable", "disable", "hold",  "mode",   "clear", "move",  "hand", "owner", "version",
+    "enable", "disable", "hold",  "mode",   "clear", "move",  "hand", "owner", "version", "graph",
     "upload", "download",
+};
+
+// Options that belong to some verbs only: given to another verb, ctl refuses them by name.
+struct CtlVerbOption {
+  const char* option;
+  const char* verbs[2];
+  const char* error;
+};
+inline constexpr CtlVerbOption kCtlVerbOptions[] = {
+    {"verbose", {"slaves", nullptr}, "-v, --verbose goes with slaves"},
+    {"format", {"graph", nullptr}, "--format goes with graph"},
+    {"reset", {"diag", nullptr}, "--reset goes with diag"},
+    {"type", {"upload", "download"}, "--type goes with upload and download"},
 };
 
 inline bool is_ctl_verb(const char* verb) noexcept {

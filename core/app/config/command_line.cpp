@@ -106,6 +106,16 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
       }
       continue;
     }
+    if (!options_ended && arg[0] == '-' && arg[1] != '-' && arg[1] != '\0' && arg[2] == '\0') {
+      const OptionSpec* opt = std::find_if(spec.options.begin(), spec.options.end(),
+                                           [arg](const OptionSpec& o) { return o.short_name != '\0' && o.short_name == arg[1]; });
+      if (opt != spec.options.end() && opt->value_name == nullptr) {  // one-letter flags only
+        if (!parsed.options_.push_back(ParsedArgs::Entry{opt->name, nullptr})) {
+          return make_error(Errc::capacity_exceeded, "too many options", index);
+        }
+        continue;
+      }
+    }
     if (!options_ended && arg[0] == '-' && arg[1] != '\0') {
       return make_error(Errc::invalid_argument, "unknown option", index);
     }
@@ -129,7 +139,11 @@ void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept {
     if (opt.value_name != nullptr) {
       (void)std::snprintf(left, sizeof left, "--%s %s", opt.name, opt.value_name);  // truncation only narrows the column
     } else {
-      (void)std::snprintf(left, sizeof left, "--%s", opt.name);
+      if (opt.short_name != '\0') {
+        (void)std::snprintf(left, sizeof left, "-%c, --%s", opt.short_name, opt.name);
+      } else {
+        (void)std::snprintf(left, sizeof left, "--%s", opt.name);
+      }
     }
     std::fprintf(out, "  %-28s %s\n", left, opt.help);
   }

@@ -18,6 +18,7 @@ struct OptionSpec {
   const char* name;        // long name without the leading "--"
   const char* value_name;  // nullptr for a flag without a value
   const char* help;
+  char short_name{'\0'};  // a one-letter alias ("-v"), '\0': none
 };
 
 class ParsedArgs;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <type_traits>
 
@@ -98,6 +99,21 @@ struct MasterStatus {
   std::uint64_t spare;  // 0: Seqlock<MasterStatus> grew by 128 bytes (2 cache lines), so TaskLinks keeps its members on their lines
 };
 static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
+
+// ctl diag --reset (TaskLinks::diag_reset): the socket handler (its only writer) posts a request, the
+// EtherCAT handler polls it once per period (a load, never a wait), zeroes the counters of those
+// slaves in its master, publishes the zeroed table and then stores the request's generation in
+// `done`: the socket handler answers the operator when `done` reaches it.
+struct DiagResetLink {
+  static constexpr std::uint64_t kMaskBits = 0xFFFFFFFFU;
+  // (generation << 32) | slave mask; generation 0: nothing asked yet. A request the handler has not
+  // taken yet is widened (its mask ORed in), never lost.
+  std::atomic<std::uint64_t> requested;
+  std::atomic<std::uint64_t> done;  // generation of the latest request applied and published
+  static constexpr std::uint64_t generation_of(std::uint64_t word) noexcept { return word >> 32; }
+  static constexpr std::uint32_t slaves_of(std::uint64_t word) noexcept { return static_cast<std::uint32_t>(word & kMaskBits); }
+};
+static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "shared between processes");
 
 // One task's timing (each task writes its own).
 struct TaskStat {

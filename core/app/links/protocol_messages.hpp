@@ -47,6 +47,8 @@ enum class MessageType : std::uint8_t {
   get_epoch = 0x06,  // the robot's current epoch (docs/protocol.md "Replay protection"); the only request with epoch 0
   get_version = 0x07,  // the robot's program version, layout and build type (ctl version)
   get_owner = 0x08,    // which RC task owns the motion, alive, its phase (ctl owner)
+  get_graph = 0x09,    // the topology as the robot sees it now (ctl graph)
+  get_slave_info = 0x0A,  // each slave's SII identity and AL status code (ctl slaves -v)
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -54,11 +56,12 @@ enum class MessageType : std::uint8_t {
   select_mode = 0x14,
   clear_joints = 0x15,
   clear_moved = 0x16,  // clear_joints, and the operator confirms the joints' moved positions
+  diag_reset = 0x17,   // zero the link-quality counters of some slaves (ctl diag --reset), answered by a reply
+  sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
+  sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
-  sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
-  sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
   // robot computers -> robot, sensor port
   imu = 0x40,
   gps = 0x41,
@@ -72,6 +75,8 @@ enum class MessageType : std::uint8_t {
   epoch = 0x86,  // the answer to get_epoch: the epoch and robot id are its header's
   version = 0x87,
   owner_state = 0x88,
+  graph = 0x89,
+  slave_info = 0x8A,
   sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
 };
 
@@ -303,7 +308,7 @@ struct TasksPayload {
 };
 
 // Link-quality diagnostics (ecat/master/link_diagnostics.hpp): the ESC error counters of each
-// slave, accumulated since bring-up, saturated at 65535 on the wire.
+// slave, accumulated since bring-up (or the last diag_reset of that slave), saturated at 65535 on the wire.
 constexpr std::size_t kDiagPorts = 4;
 constexpr std::uint8_t kDiagWarnedMask = 0x0F;  // one bit per port
 struct DiagPortRecord {
@@ -359,6 +364,62 @@ struct OwnerStatePayload {
   std::array<RcTaskRecord, kMaxRcTasks> tasks{};
 };
 
+// ctl slaves -v: per slave its identity from its SII as the master read it at bring-up, and the AL
+// status register and AL status code (0x0130, 0x0134) the master read last. Also the record the
+// EtherCAT handler publishes (TaskLinks::slave_info): trivial, pointer-free: value-initialise it.
+struct SlaveInfoRecord {
+  std::uint16_t position;
+  std::uint16_t station;
+  std::uint32_t vendor_id;
+  std::uint32_t product_code;
+  std::uint32_t revision;
+  std::uint32_t serial_number;
+  std::uint16_t al_status;       // register 0x0130: state (low 4 bits) and error bit 0x10
+  std::uint16_t al_status_code;  // register 0x0134
+  std::uint8_t flags;            // kSlaveInfo*
+};
+constexpr std::uint8_t kSlaveInfoIdentity = 0x01;  // the slave answered at bring-up: its identity is its SII's
+constexpr std::uint8_t kSlaveInfoAlRead = 0x02;    // the master has read its AL status since bring-up
+constexpr std::uint8_t kSlaveInfoFlagsMask = 0x03;
+struct SlaveInfoTable {
+  std::uint64_t cycle;  // the handler cycle of the publication, 0: none yet
+  std::uint8_t count;
+  std::array<SlaveInfoRecord, kMaxSlaves> slaves;
+  std::array<std::uint64_t, 3> spare;  // not on the wire; 0: with TaskLinks::diag_reset, whole cache lines
+};
+static_assert(std::is_trivial_v<SlaveInfoTable>, "published through a seqlock");
+struct SlaveInfoPayload {
+  std::uint8_t count{0};
+  FiguresAge age{};
+  std::array<SlaveInfoRecord, kMaxSlaves> slaves{};
+};
+
+// ctl graph: the network's tree (each slave's upstream slave and the port of it the cable leaves
+// from), each slave's joint and branch, and its state now (as in a slaves answer).
+constexpr std::uint8_t kGraphNone = 0xFF;  // no upstream (the master), no joint, no branch
+struct GraphRecord {
+  std::uint8_t position{0};
+  std::uint8_t upstream{kGraphNone};   // kGraphNone: cabled to the master
+  std::uint8_t upstream_port{0};       // port of the upstream slave (0..3)
+  std::uint8_t kind{0};                // 0 junction, 1 joint drive
+  std::uint16_t station{0};
+  std::uint8_t joint{kGraphNone};      // index into the robot's joints
+  std::uint8_t branch{kGraphNone};     // process-data branch
+  std::uint8_t al_state{0};            // as SlaveRecord
+  std::uint8_t flags{0};               // kSlave*
+  std::uint8_t recovery{0};            // ecat::RecoveryState
+};
+struct GraphPayload {
+  std::uint8_t count{0};
+  FiguresAge age{};
+  std::array<GraphRecord, kMaxSlaves> slaves{};
+};
+
+// diag_reset: the slaves whose link-quality counters are zeroed (bit = position; never 0).
+struct DiagResetPayload {
+  std::uint32_t slaves{0};
+};
+
 struct Message {
   Header header{};
   JointsPayload joints{};
@@ -378,6 +439,9 @@ struct Message {
   OwnerStatePayload owner_state{};
   SdoPayload sdo{};               // sdo_upload, sdo_download
   SdoResultPayload sdo_result{};  // sdo_result
+  SlaveInfoPayload slave_info{};
+  GraphPayload graph{};
+  DiagResetPayload diag_reset{};
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

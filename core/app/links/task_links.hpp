@@ -52,6 +52,8 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(joint_status, "joint manager -> socket handler (status), message parser", Seqlock<RobotJointStatus>)               \
   X(master_status, "EtherCAT handler -> socket handler", Seqlock<MasterStatus>)                                       \
   X(link_diag, "EtherCAT handler (once per diagnostics sweep) -> socket handler (ctl diag)", Seqlock<protocol::DiagPayload>) \
+  X(slave_info, "EtherCAT handler (at OP and when a slave's AL status changes) -> socket handler (ctl slaves -v)", Seqlock<protocol::SlaveInfoTable>) \
+  X(diag_reset, "socket handler (ctl diag --reset) -> EtherCAT handler (polled once per period) -> done", DiagResetLink) \
   X(sensors, "socket handler -> RC tasks (IMU, GPS)", Seqlock<SensorData>)                                            \
   X(socket_counters, "socket handler -> status, run summary", Seqlock<SocketCounters>)                                \
   X(task_stats, "each task its own slot (StatTask) -> socket handler (ctl tasks)", std::array<Seqlock<TaskStat>, kTaskStatSlots>) \
@@ -67,7 +69,7 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 9;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 10;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;
@@ -81,5 +83,7 @@ struct TaskLinks {
 #undef RESCUE_TASK_LINKS_X
 };
 static_assert(std::is_standard_layout_v<TaskLinks>, "shared between processes: standard layout only");
+static_assert((sizeof(Seqlock<protocol::SlaveInfoTable>) + sizeof(DiagResetLink)) % 64 == 0,
+              "slave_info and diag_reset together fill whole cache lines (no padding after them)");
 
 }  // namespace rescue::app

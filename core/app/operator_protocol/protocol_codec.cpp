@@ -37,9 +37,14 @@ constexpr std::size_t kDiagRecordSize = 40;
 constexpr std::size_t kSdoUploadSize = 8;
 constexpr std::size_t kSdoDownloadSize = 8 + kSdoDataSize;
 constexpr std::size_t kSdoResultSize = 32 + kSdoTextSize + kSdoDataSize;
+constexpr std::size_t kSlaveInfoRecordSize = 28;
+constexpr std::size_t kGraphRecordSize = 12;
+constexpr std::size_t kDiagResetSize = 4;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
-                  kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload,
+                  kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
+                  kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
+                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -414,13 +419,19 @@ std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const c
   return list_head(f, count, max, head, short_what, count_what, [&f] { f.reserved(7); });
 }
 
+// A list of slaves with the handler's FiguresAge in its head (slaves, slave_info, graph): `each`
+// reads or writes one record of `record_size` bytes.
+template <typename F, typename P, typename Each>
+void slave_list_fields(F& f, P& payload, std::size_t record_size, Each each) noexcept {
+  const std::size_t count = list_head(f, payload.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
+                                      "slave count", [&f, &payload] { age_fields(f, payload.age); });
+  f.length(kListHeadSize + count * record_size);
+  for (std::size_t i = 0; i < count; ++i) each(payload.slaves[i]);
+}
+
 template <typename F, typename M>
 void slaves_fields(F& f, M& m) noexcept {
-  const std::size_t count = list_head(f, m.slaves.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
-                                      "slave count", [&f, &m] { age_fields(f, m.slaves.age); });
-  f.length(kListHeadSize + count * kSlaveRecordSize);
-  for (std::size_t i = 0; i < count; ++i) {
-    auto& s = m.slaves.slaves[i];
+  slave_list_fields(f, m.slaves, kSlaveRecordSize, [&f](auto& s) {
     f.u16(s.position);
     f.u16(s.station);
     f.u8(s.al_state);
@@ -432,7 +443,7 @@ void slaves_fields(F& f, M& m) noexcept {
     f.reserved(3);
     f.u32(s.recovery_age_ms);
     f.check(s.recovery < kRecoveryStates, "slave recovery state");
-  }
+  });
 }
 
 template <typename F, typename M>
@@ -608,6 +619,55 @@ void sdo_result_fields(F& f, M& m) noexcept {
   f.check((r.flags & ~kSdoSegmented) == 0, "sdo result flags");
 }
 
+template <typename F, typename M>
+void slave_info_fields(F& f, M& m) noexcept {
+  slave_list_fields(f, m.slave_info, kSlaveInfoRecordSize, [&f](auto& s) {
+    f.u16(s.position);
+    f.u16(s.station);
+    f.u32(s.vendor_id);
+    f.u32(s.product_code);
+    f.u32(s.revision);
+    f.u32(s.serial_number);
+    f.u16(s.al_status);
+    f.u16(s.al_status_code);
+    f.u8(s.flags);
+    f.reserved(3);
+    f.check(s.position < kMaxSlaves, "slave position");
+    f.check((s.flags & ~kSlaveInfoFlagsMask) == 0, "slave info flags");
+  });
+}
+
+template <typename F, typename M>
+void graph_fields(F& f, M& m) noexcept {
+  slave_list_fields(f, m.graph, kGraphRecordSize, [&f](auto& g) {
+    f.u8(g.position);
+    f.u8(g.upstream);
+    f.u8(g.upstream_port);
+    f.u8(g.kind);
+    f.u16(g.station);
+    f.u8(g.joint);
+    f.u8(g.branch);
+    f.u8(g.al_state);
+    f.u8(g.flags);
+    f.u8(g.recovery);
+    f.reserved(1);
+    f.check(g.position < kMaxSlaves, "slave position");
+    f.check(g.upstream == kGraphNone || g.upstream < g.position, "upstream slave (comes earlier in frame order)");
+    f.check(g.upstream_port < kDiagPorts && g.kind <= 1, "upstream port or slave kind");
+    f.check(g.joint == kGraphNone || g.joint < kJointCount, "joint index");
+    f.check((g.flags & ~kSlaveFlagsMask) == 0, "slave flags");
+    f.check(g.recovery < kRecoveryStates, "slave recovery state");
+  });
+}
+
+template <typename F, typename M>
+void diag_reset_fields(F& f, M& m) noexcept {
+  f.length(kDiagResetSize);
+  f.u32(m.diag_reset.slaves);
+  f.check(m.diag_reset.slaves != 0, "no slave selected");
+  f.check((m.diag_reset.slaves >> kMaxSlaves) == 0, "slave mask names a slave the robot does not have");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -625,6 +685,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::get_epoch, "get_epoch", no_payload, no_payload},
     {MessageType::get_version, "get_version", no_payload, no_payload},
     {MessageType::get_owner, "get_owner", no_payload, no_payload},
+    {MessageType::get_graph, "get_graph", no_payload, no_payload},
+    {MessageType::get_slave_info, "get_slave_info", no_payload, no_payload},
     {MessageType::initialize, "initialize", joints_fields, joints_fields},
     {MessageType::enable, "enable", joints_fields, joints_fields},
     {MessageType::disable, "disable", joints_fields, joints_fields},
@@ -632,6 +694,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::select_mode, "select_mode", select_mode_fields, select_mode_fields},
     {MessageType::clear_joints, "clear_joints", joints_fields, joints_fields},
     {MessageType::clear_moved, "clear_moved", joints_fields, joints_fields},
+    {MessageType::diag_reset, "diag_reset", diag_reset_fields, diag_reset_fields},
     {MessageType::move_effector, "move_effector", move_fields, move_fields},
     {MessageType::hand, "hand", hand_fields, hand_fields},
     {MessageType::take_owner, "take_owner", owner_fields, owner_fields},
@@ -649,6 +712,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::version, "version", version_fields, version_fields},
     {MessageType::owner_state, "owner_state", owner_state_fields, owner_state_fields},
     {MessageType::sdo_result, "sdo_result", sdo_result_fields, sdo_result_fields},
+    {MessageType::graph, "graph", graph_fields, graph_fields},
+    {MessageType::slave_info, "slave_info", slave_info_fields, slave_info_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {
@@ -668,7 +733,7 @@ bool is_known(std::uint8_t type) noexcept { return layout_of(type) != nullptr; }
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return (t >= 0x01 && t <= 0x05) || t == 0x07 || t == 0x08;  // get_epoch (0x06) is answered before any query
+  return (t >= 0x01 && t <= 0x05) || (t >= 0x07 && t <= 0x0A);  // get_epoch (0x06) is answered before any query
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);

@@ -157,9 +157,12 @@ std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::u
 
 // The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
 // 23 reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB.
-void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps) noexcept {
-  if (d.sweeps() == published_sweeps) return;
+// A reset (ctl diag --reset) publishes the zeroed table at once.
+void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps,
+                       std::uint64_t& published_resets) noexcept {
+  if (d.sweeps() == published_sweeps && d.resets() == published_resets) return;
   published_sweeps = d.sweeps();
+  published_resets = d.resets();
   protocol::DiagPayload out{};
   out.cycle = cycle;
   out.sweeps = d.sweeps();
@@ -184,6 +187,53 @@ void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std:
   links().link_diag.write(out);
 }
 
+// ctl diag --reset: a request the socket handler posted (TaskLinks::diag_reset) is taken here, once
+// per period, by one atomic load: the master zeroes those slaves' counters (and clears their ESCs'
+// in the next frames), the zeroed table is published, then the request is marked done.
+void take_diag_reset(ecat::Master& master, std::uint64_t cycle, std::uint64_t& published_sweeps,
+                     std::uint64_t& published_resets) noexcept {
+  DiagResetLink& link = links().diag_reset;
+  const std::uint64_t word = link.requested.load(std::memory_order_acquire);
+  const std::uint64_t generation = DiagResetLink::generation_of(word);
+  if (generation == 0 || generation == link.done.load(std::memory_order_relaxed)) return;
+  master.reset_diagnostics(DiagResetLink::slaves_of(word));
+  publish_link_diag(master.diagnostics(), cycle, published_sweeps, published_resets);
+  link.done.store(generation, std::memory_order_release);
+}
+
+// ctl slaves -v: each slave's SII identity (bring-up) and the AL status and code the master read
+// last, published when one of them changed (never per period: the copy is ~700 bytes).
+void publish_slave_info(const ecat::Master& master, std::uint64_t cycle, protocol::SlaveInfoTable& published) noexcept {
+  constexpr std::size_t kCount = drivers::kRobotNetworkPlan.size();
+  static_assert(kCount <= protocol::kMaxSlaves, "every slave fits one slave_info message");
+  bool changed = published.cycle == 0;
+  for (std::size_t p = 0; p < kCount && !changed; ++p) {
+    const protocol::SlaveInfoRecord& r = published.slaves[p];
+    changed = r.al_status != master.last_al_status(p) || r.al_status_code != master.last_al_status_code(p) ||
+              ((r.flags & protocol::kSlaveInfoAlRead) != 0) != master.al_status_read(p);
+  }
+  if (!changed) return;
+  published.cycle = cycle == 0 ? 1 : cycle;
+  published.count = static_cast<std::uint8_t>(kCount);
+  for (std::size_t p = 0; p < kCount; ++p) {
+    protocol::SlaveInfoRecord& r = published.slaves[p];
+    r = protocol::SlaveInfoRecord{};
+    r.position = static_cast<std::uint16_t>(p);
+    r.station = drivers::kRobotNetworkPlan[p].station_address;
+    if (const ecat::FoundSlave* id = master.identity(p); id != nullptr) {
+      r.vendor_id = id->vendor_id;
+      r.product_code = id->product_code;
+      r.revision = id->revision;
+      r.serial_number = id->serial_number;
+      r.flags |= protocol::kSlaveInfoIdentity;
+    }
+    r.al_status = master.last_al_status(p);
+    r.al_status_code = master.last_al_status_code(p);
+    if (master.al_status_read(p)) r.flags |= protocol::kSlaveInfoAlRead;
+  }
+  links().slave_info.write(published);
+}
+
 // The rescue RC task (task 0) published that its rescue motion reached its end.
 bool rescue_motion_done() noexcept {
   RcTaskState rescue{};
@@ -201,6 +251,8 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   TaskTiming& timing = task_timing();
   MasterStatus master{};
   std::uint64_t diag_sweeps = 0;
+  std::uint64_t diag_resets = 0;
+  protocol::SlaveInfoTable slave_info{};
   std::atomic<std::int64_t>& heartbeat = links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
   // Periods count from the handler's first period: the time since the bring-up (forking the tasks)
   // is start-up, not periods missed (period_schedule.hpp).
@@ -248,7 +300,9 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       master.recovery_age_ms[p] = age_ms < 0 || age_ms >= protocol::kRecoveryAgeNever ? protocol::kRecoveryAgeNever : static_cast<std::uint32_t>(age_ms);
     }
     links().master_status.write(master);
-    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps);
+    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps, diag_resets);
+    take_diag_reset(bus.master(), r.cycle, diag_sweeps, diag_resets);
+    publish_slave_info(bus.master(), r.cycle, slave_info);
     publish_handler_drops(handler);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     state.late_periods.store(master.late_periods, std::memory_order_relaxed);

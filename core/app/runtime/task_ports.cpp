@@ -117,6 +117,8 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.joint_status = &links_.joint_status;
   p.master = &links_.master_status;
   p.diag = &links_.link_diag;
+  p.slave_info = &links_.slave_info;
+  p.diag_reset = &links_.diag_reset;
   p.tasks = &links_.task_stats;
   p.drops = &links_.run.dropped;
   p.motion = &links_.motion;

@@ -20,6 +20,7 @@ struct ScenarioRow {
   Lost lost;                 // what the firmware must report lost
   bool mapping_fault{false};
   drivers::PdoMappingFault fault{drivers::PdoMappingFault::half_written};
+  hal::Nanoseconds repeat_every{0};  // cable damage again this often after the first (0: once)
 };
 
 constexpr ScenarioRow kScenarios[] = {
@@ -30,6 +31,10 @@ constexpr ScenarioRow kScenarios[] = {
     {"foreign-mapping", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint, true,
      drivers::PdoMappingFault::foreign_default},
     {"cable-damage", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing},
+    // flaky-cable: the damage of cable-damage, again every 2 s (a cable that goes on failing: ctl diag
+    // --reset, then the counters rise again; or, after swapping it, they stay at 0).
+    {"flaky-cable", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing, false,
+     drivers::PdoMappingFault::half_written, 2 * hal::kNsPerSec},
     // rescue: run_on only bounds the run; it stops 0.2 s after the rescue motion ended (task_loops.cpp).
     {"rescue", 3 * hal::kNsPerSec, 10 * hal::kNsPerSec, ScenarioKind::rescue, Lost::its_branch_from_it},
 };
@@ -54,13 +59,15 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     scenario.run_on = row.run_on;
     scenario.mapping_fault = row.mapping_fault;
     scenario.fault = row.fault;
+    scenario.repeat_every = row.repeat_every;
     if (row.kind == ScenarioKind::rescue) {
       scenario.rescue_motion = true;
       scenario.motion_phase_s = {1.0, 1.0, 1.0};  // lowering, forwarding, backwarding
     }
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, half-mapped, foreign-mapping, cable-damage)");
+  return make_error(Errc::invalid_argument,
+                    "unknown scenario (known: none, link-cut, rescue, power-cycle, half-mapped, foreign-mapping, cable-damage, flaky-cable)");
 }
 
 Status ScenarioRunner::before_bring_up() noexcept {
@@ -70,6 +77,10 @@ Status ScenarioRunner::before_bring_up() noexcept {
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
+  if (acted_ && scenario_.repeat_every > 0 && segment_ != nullptr && now - last_repeat_ >= scenario_.repeat_every) {
+    last_repeat_ = now;  // flaky-cable: damaged again, silently (the first action is the one reported)
+    (void)segment_->corrupt_port(slave_position_of_joint(scenario_.cut_joint), 0, kDamagedFrames);
+  }
   if (scenario_.kind == ScenarioKind::none || acted_) return false;
   if (op_at_ < 0) {
     if (!network_op) return false;
@@ -78,6 +89,7 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
   if (now - op_at_ < scenario_.cut_after_op) return false;
   acted_ = true;
   acted_at_ = now;
+  last_repeat_ = now;
   if (segment_ == nullptr) {
     action_status_ = make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
     return true;

@@ -50,6 +50,7 @@ struct Scenario {
   bool mapping_fault{false};
   drivers::PdoMappingFault fault{drivers::PdoMappingFault::half_written};
   hal::Nanoseconds run_on{0};           // after acting, the run goes on at most this long (without --duration)
+  hal::Nanoseconds repeat_every{0};     // flaky-cable: the cable damaged again this often (0: once)
   bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
   std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
 };
@@ -79,6 +80,7 @@ class ScenarioRunner {
   hal::Nanoseconds op_at_{-1};
   bool acted_{false};
   hal::Nanoseconds acted_at_{0};
+  hal::Nanoseconds last_repeat_{0};
   Status action_status_{};
 };
 

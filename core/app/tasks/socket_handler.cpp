@@ -106,25 +106,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.slaves.age = handler_figures_age();
       static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one slaves message");
       for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
-        protocol::SlaveRecord& s = m.slaves.slaves[p];
-        const ecat::SlavePlan& plan = drivers::kRobotNetworkPlan[p];
-        s.position = static_cast<std::uint16_t>(p);
-        s.station = plan.station_address;
-        const bool in = have_master && (master.in_exchange & (std::uint64_t{1} << p)) != 0;
-        const bool lost = have_master && (master.lost & (std::uint64_t{1} << p)) != 0;
-        if (in) s.flags |= protocol::kSlaveInExchange;
-        if (lost) s.flags |= protocol::kSlaveLost;
-        const std::uint8_t joint = drivers::kJointOfSlave[p];
-        if (joint < kJointCount && have_status && status[joint].lost && !lost) {
-          s.flags |= protocol::kSlaveOutOfService;
-        }
-        const bool op = have_master && master.state == static_cast<std::uint8_t>(ecat::MasterState::op);
-        s.al_state = in ? (op ? kAlOp : kAlSafeOp) : 0;
-        if (have_master) {
-          s.recovery = master.recovery[p] < protocol::kRecoveryStates ? master.recovery[p] : 0;
-          s.recovery_age_ms = master.recovery_age_ms[p];
-        }
-        protocol::set_text(s.name, plan.name);
+        m.slaves.slaves[p] = slave_record_of(p, have_master ? &master : nullptr, have_status ? &status : nullptr);
       }
       break;
     case MessageType::get_master:
@@ -157,6 +139,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.header.type = MessageType::version;
       if (ports_.version != nullptr) m.version = *ports_.version;
       break;
+    case MessageType::get_graph: return answer_graph(from);
+    case MessageType::get_slave_info: return answer_slave_info(from);
     case MessageType::get_owner: {
       m.header.type = MessageType::owner_state;
       const std::uint64_t word = ports_.motion != nullptr ? ports_.motion->owner.word() : MotionOwner::kNobody;
@@ -167,7 +151,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         protocol::RcTaskRecord& t = m.owner_state.tasks[k];
         t.present = 1;
         const std::int64_t beat = ports_.rc_heartbeat_ns != nullptr ? (*ports_.rc_heartbeat_ns)[k].load(std::memory_order_acquire) : 0;
-        const std::int64_t age = beat > 0 ? mono - beat : -1;
+        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never".
+        const std::int64_t age = beat > 0 ? (mono > beat ? mono - beat : 0) : -1;
         t.heartbeat_age_ms = age < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::min<std::int64_t>(age / hal::kNsPerMs, 0xFFFFFFFE));
         t.alive = age >= 0 && age <= 100 * hal::kNsPerMs ? 1 : 0;  // the message parser's kRcTaskSilence
         RcTaskState state{};
@@ -237,6 +222,7 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
   if (h.type == MessageType::sdo_upload || h.type == MessageType::sdo_download) return forward_sdo(m, d);
+  if (h.type == MessageType::diag_reset) return post_diag_reset(m, d);  // for the EtherCAT handler, not the parser
 
   const ControlRequest r = request_of(m, d.address, d.port);
   if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
@@ -299,14 +285,7 @@ void SocketHandler::collect_sdo_result() noexcept {
 
 void SocketHandler::refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
                            const hal::UdpDatagram& from) noexcept {
-  Message m;
-  m.header.type = MessageType::reply;
-  m.reply.request_sequence = request.sequence;
-  m.reply.request_type = request.type;
-  m.reply.outcome = protocol::Outcome::refused;
-  m.reply.reason = reason;
-  protocol::set_text(m.reply.text, text);
-  send(m, from.address, from.port);
+  reply_to(request, protocol::Outcome::refused, reason, text, from.address, from.port);
 }
 
 void SocketHandler::step(hal::Nanoseconds now) noexcept {
@@ -327,6 +306,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
   }
   if (handled >= kBudget) ++counters_.budget_exhausted;
   if (handled > max_per_wakeup_) max_per_wakeup_ = handled;
+  finish_diag_resets();
   ControlReply reply;
   for (std::size_t n = 0; n < kRepliesPerStep && ports_.replies != nullptr && ports_.replies->try_receive(reply); ++n) {
     Message m = message_of(reply);

@@ -69,7 +69,14 @@ struct SocketHandlerPorts {
   const protocol::VersionPayload* version{nullptr};   // ctl version: what the robot runs
   MessageSink<SdoLinkRequest>* sdo_requests{nullptr};  // ctl upload/download, to the EtherCAT handler
   MessageSource<SdoLinkResult>* sdo_results{nullptr};  // and their results
+  const Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};  // ctl slaves -v: SII identity, AL status code
+  DiagResetLink* diag_reset{nullptr};                 // ctl diag --reset: posted here, taken by the EtherCAT handler
 };
+
+// A slave's record of a slaves answer (its state now: in the exchange, lost, out of service, AL
+// state, recovery) from the handler's and the joint manager's publications (nullptr: none read).
+protocol::SlaveRecord slave_record_of(std::size_t position, const MasterStatus* master,
+                                      const RobotJointStatus* status) noexcept;
 
 class SocketHandler {
  public:
@@ -107,6 +114,15 @@ class SocketHandler {
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
   void reject(protocol::Rejection reason) noexcept;
   void answer_query(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  // socket_network_answers.cpp: ctl graph, ctl slaves -v, ctl diag --reset.
+  void answer_graph(const hal::UdpDatagram& from) noexcept;
+  void answer_slave_info(const hal::UdpDatagram& from) noexcept;
+  // Posts a diag_reset to the EtherCAT handler (TaskLinks::diag_reset); the reply follows when the
+  // handler has applied it (finish_diag_resets, each wake-up), or a refusal after kDiagResetTimeout.
+  void post_diag_reset(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void finish_diag_resets() noexcept;
+  void reply_to(const protocol::Header& request, protocol::Outcome outcome, protocol::RefusalReason reason,
+                const char* text, std::uint32_t address, std::uint16_t port) noexcept;
   void refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
               const hal::UdpDatagram& from) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
@@ -143,6 +159,18 @@ class SocketHandler {
   };
   SdoInFlight sdo_{};
   std::uint32_t sdo_ids_{0};
+  // diag_reset requests waiting for the EtherCAT handler (a few operators at once; more: busy).
+  struct PendingReset {
+    bool active{false};
+    std::uint64_t generation{0};
+    protocol::Header request{};
+    std::uint32_t address{0};
+    std::uint16_t port{0};
+    hal::Nanoseconds posted{0};
+  };
+  static constexpr std::size_t kPendingResets = 4;
+  static constexpr hal::Nanoseconds kDiagResetTimeout = 500 * hal::kNsPerMs;
+  std::array<PendingReset, kPendingResets> pending_resets_{};
 };
 
 }  // namespace rescue::app

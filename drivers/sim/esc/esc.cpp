@@ -408,12 +408,20 @@ bool Esc::trigger_writes(std::uint32_t address, const std::uint8_t* frame, std::
       accepted = true;
     }
   }
-  if (overlaps(address, end, reg::kRxErrorCounter, 0x14) || overlaps(address, end, 0x0442, 2)) {
-    for (std::uint32_t a = address; a < end; ++a) {
-      if ((a >= reg::kRxErrorCounter && a < reg::kRxErrorCounter + 0x14U) || a == 0x0442 || a == 0x0443) memory_.set_u8(a, 0);
-    }
+  // Error and watchdog counters, cleared as the ET1100/ET1200 datasheet says (the value written is
+  // ignored): a write to any of 0x0300-0x030B clears all twelve RX and forwarded RX counters, to
+  // 0x030C or 0x030D that counter, to any of 0x0310-0x0313 all four lost-link counters, to any of
+  // 0x0442-0x0443 both watchdog counters. The PDI error code (0x030E) is read-only.
+  const auto clear_group = [&](std::uint32_t reg_first, std::uint32_t reg_count) {
+    if (!overlaps(address, end, reg_first, reg_count)) return;
+    for (std::uint32_t a = reg_first; a < reg_first + reg_count; ++a) memory_.set_u8(a, 0);
     accepted = true;
-  }
+  };
+  clear_group(reg::kRxErrorCounter, 0x0C);
+  clear_group(reg::kRxErrorCounter + 0x0CU, 1);
+  clear_group(reg::kRxErrorCounter + 0x0DU, 1);
+  clear_group(reg::kRxErrorCounter + 0x10U, 4);
+  clear_group(0x0442, 2);
   if (overlaps(address, end, reg::kSiiControl, 14)) {
     std::array<std::uint8_t, 14> bytes{};
     std::array<bool, 14> mask{};

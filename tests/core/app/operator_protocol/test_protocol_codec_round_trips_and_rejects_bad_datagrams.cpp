@@ -257,6 +257,120 @@ TEST(ProtocolCodec, DiagRoundTripsAndMalformedDiagIsRejected) {
   EXPECT_EQ(rejection_of(decode(1).error()), Rejection::malformed);
 }
 
+// ctl graph, ctl slaves -v and ctl diag --reset (get_graph/graph, get_slave_info/slave_info,
+// diag_reset): the largest answers (23 slaves) fit one datagram and every field comes back; values
+// outside their ranges, wrong lengths and reserved bytes are rejected under their reason.
+TEST(ProtocolCodec, GraphSlaveInfoAndDiagResetRoundTripAndBadOnesAreRejected) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(1);
+  Message m = addressed();
+  m.header.sender = 7;
+  Message back;
+  for (const MessageType t : {MessageType::get_graph, MessageType::get_slave_info}) {
+    m.header.type = t;
+    ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+    EXPECT_EQ(back.header.type, t);
+    EXPECT_TRUE(is_query(t));
+    EXPECT_TRUE(is_control_request(t));
+  }
+  EXPECT_EQ(static_cast<int>(MessageType::get_graph), 0x09);
+  EXPECT_EQ(static_cast<int>(MessageType::graph), 0x89);
+  EXPECT_EQ(static_cast<int>(MessageType::get_slave_info), 0x0A);
+  EXPECT_EQ(static_cast<int>(MessageType::slave_info), 0x8A);
+  EXPECT_EQ(static_cast<int>(MessageType::diag_reset), 0x17);
+
+  m.header.type = MessageType::diag_reset;
+  m.diag_reset.slaves = 1U << 19;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.diag_reset.slaves, 1U << 19);
+  EXPECT_TRUE(is_control_request(MessageType::diag_reset));
+  EXPECT_FALSE(is_query(MessageType::diag_reset));
+  m.diag_reset.slaves = 0;  // no slave
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.diag_reset.slaves = 1U << kMaxSlaves;  // a 24th slave
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
+  m.header.type = MessageType::slave_info;
+  m.slave_info.count = static_cast<std::uint8_t>(kMaxSlaves);
+  m.slave_info.age = FiguresAge{true, 1234};
+  SlaveInfoRecord& elbow = m.slave_info.slaves[19];
+  elbow = SlaveInfoRecord{19, 0x1013, 0x00000a5c, 0x4a443432, 0x00010000, 0x52460013, 0x0014, 0x001B,
+                          kSlaveInfoIdentity | kSlaveInfoAlRead};
+  Sealed good = seal_ok(m, k);
+  EXPECT_EQ(good.size, kHeaderSize + 8 + kMaxSlaves * 28 + kTagSize);
+  ASSERT_EQ(judge(good, k, &back), -1);
+  EXPECT_EQ(back.slave_info.count, kMaxSlaves);
+  EXPECT_TRUE(back.slave_info.age.stale);
+  EXPECT_EQ(back.slave_info.age.age_ms, 1234U);
+  const SlaveInfoRecord& e = back.slave_info.slaves[19];
+  EXPECT_EQ(e.position, 19U);
+  EXPECT_EQ(e.station, 0x1013U);
+  EXPECT_EQ(e.vendor_id, 0x00000a5cU);
+  EXPECT_EQ(e.product_code, 0x4a443432U);
+  EXPECT_EQ(e.revision, 0x00010000U);
+  EXPECT_EQ(e.serial_number, 0x52460013U);
+  EXPECT_EQ(e.al_status, 0x0014U);
+  EXPECT_EQ(e.al_status_code, 0x001BU);
+  EXPECT_EQ(e.flags, kSlaveInfoIdentity | kSlaveInfoAlRead);
+  elbow.flags = 0x04;  // no such flag
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  elbow.flags = kSlaveInfoIdentity;
+  elbow.position = static_cast<std::uint16_t>(kMaxSlaves);
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  elbow.position = 19;
+
+  m.header.type = MessageType::graph;
+  m.graph.count = static_cast<std::uint8_t>(kMaxSlaves);
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    m.graph.slaves[p].position = static_cast<std::uint8_t>(p);
+    m.graph.slaves[p].upstream = p == 0 ? kGraphNone : static_cast<std::uint8_t>(p - 1);
+  }
+  GraphRecord& g = m.graph.slaves[19];
+  g = GraphRecord{19, 18, 1, 1, 0x1013, 6, 1, 0, kSlaveLost, 3};
+  good = seal_ok(m, k);
+  EXPECT_EQ(good.size, kHeaderSize + 8 + kMaxSlaves * 12 + kTagSize);
+  ASSERT_EQ(judge(good, k, &back), -1);
+  const GraphRecord& b = back.graph.slaves[19];
+  EXPECT_EQ(b.upstream, 18U);
+  EXPECT_EQ(b.upstream_port, 1U);
+  EXPECT_EQ(b.kind, 1U);
+  EXPECT_EQ(b.station, 0x1013U);
+  EXPECT_EQ(b.joint, 6U);
+  EXPECT_EQ(b.branch, 1U);
+  EXPECT_EQ(b.flags, kSlaveLost);
+  EXPECT_EQ(b.recovery, 3U);
+  EXPECT_EQ(back.graph.slaves[0].upstream, kGraphNone);
+  g.upstream = 19;  // a slave downstream of itself: not a tree
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  g.upstream = 18;
+  g.upstream_port = 4;  // a fifth port
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  g.upstream_port = 1;
+  g.joint = static_cast<std::uint8_t>(kJointCount);
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  g.joint = 6;
+  g.recovery = kRecoveryStates;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  g.recovery = 3;
+
+  // Lengths and reserved bytes, on the payload alone.
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  const Result<std::size_t> n = encode_payload(m, ByteSpan(payload));
+  ASSERT_TRUE(n.ok());
+  Header h;
+  h.type = MessageType::graph;
+  const auto decode = [&](std::size_t length) { return decode_payload(h, ConstByteSpan(payload.data(), length)); };
+  ASSERT_TRUE(decode(n.value()).ok());
+  for (const std::size_t length : {std::size_t{0}, std::size_t{7}, std::size_t{8}, n.value() - 1}) {
+    ASSERT_FALSE(decode(length).ok()) << length;
+    EXPECT_EQ(rejection_of(decode(length).error()), Rejection::malformed) << length;
+  }
+  payload[8 + 19 * 12 + 11] = 1;  // the record's reserved byte
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::malformed);
+  h.type = MessageType::get_graph;  // no payload
+  EXPECT_EQ(rejection_of(decode(1).error()), Rejection::malformed);
+}
+
 TEST(ProtocolCodec, EachRejectionReason) {
   ASSERT_TRUE(init_crypto().ok());
   const Key k = key_of(1);

@@ -107,6 +107,8 @@ TEST(TaskPorts, TheSocketHandlerAndTheParserMeetOnTheRequestAndReplyQueues) {
   reply.request_sequence = 5;
   EXPECT_EQ(through(parser.network_replies, socket.replies, reply).request_sequence, 5U);
   EXPECT_EQ(socket.master, &rig.links->master_status);
+  EXPECT_EQ(socket.slave_info, &rig.links->slave_info);  // ctl slaves -v: what the handler publishes
+  EXPECT_EQ(socket.diag_reset, &rig.links->diag_reset);  // ctl diag --reset: what the handler polls
   EXPECT_EQ(socket.handler_heartbeat,
             &rig.links->task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)]);
 }

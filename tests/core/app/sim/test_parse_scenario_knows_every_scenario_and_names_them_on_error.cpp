@@ -36,6 +36,7 @@ TEST(ParseScenario, EveryKnownScenarioActsOnTheLeftElbow) {
       {"link-cut", ScenarioKind::link_cut, hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), config::kScenarioRunOnNs, false},
       {"power-cycle", ScenarioKind::power_cycle, hal::kNsPerSec, joint_bit(elbow), config::kScenarioRunOnNs, false},
       {"cable-damage", ScenarioKind::cable_damage, hal::kNsPerSec, 0, config::kScenarioRunOnNs, false},
+      {"flaky-cable", ScenarioKind::cable_damage, hal::kNsPerSec, 0, config::kScenarioRunOnNs, false},
       {"rescue", ScenarioKind::rescue, 3 * hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), 10 * hal::kNsPerSec, true},
   };
   for (const Expected& e : expected) {
@@ -48,6 +49,7 @@ TEST(ParseScenario, EveryKnownScenarioActsOnTheLeftElbow) {
     EXPECT_EQ(s.value().expected_lost, e.lost) << e.name;
     EXPECT_EQ(s.value().run_on, e.run_on) << e.name;
     EXPECT_EQ(s.value().rescue_motion, e.rescue_motion) << e.name;
+    EXPECT_EQ(s.value().repeat_every, std::strcmp(e.name, "flaky-cable") == 0 ? 2 * hal::kNsPerSec : 0) << e.name;
     const std::array<double, 3> phases = e.rescue_motion ? std::array<double, 3>{1.0, 1.0, 1.0} : std::array<double, 3>{};
     EXPECT_EQ(s.value().motion_phase_s, phases) << e.name;
   }
@@ -58,7 +60,7 @@ TEST(ParseScenario, AnUnknownNameIsAnErrorNamingTheKnownOnes) {
   const Result<Scenario> s = parse_scenario("earthquake");
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code, Errc::invalid_argument);
-  for (const char* known : {"none", "link-cut", "rescue", "power-cycle", "cable-damage"}) {
+  for (const char* known : {"none", "link-cut", "rescue", "power-cycle", "cable-damage", "flaky-cable"}) {
     EXPECT_NE(std::strstr(s.error().what, known), nullptr) << known;
   }
 }

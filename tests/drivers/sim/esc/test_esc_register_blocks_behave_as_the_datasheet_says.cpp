@@ -74,6 +74,33 @@ TEST_F(Registers, LostLinkCounterCountsAndClearsOnWrite) {
   EXPECT_EQ(rig->read(Command::FPRD, 0x1003, static_cast<std::uint16_t>(reg::kLostLinkCounter + 1), 1).data[0], 0);
 }
 
+// ET1100/ET1200 datasheet, error counters: a write to any of 0x0300-0x030B clears all twelve RX and
+// forwarded RX error counters (the value written is ignored), a write to 0x0310-0x0313 all four
+// lost-link counters; each group only by a write inside it (ctl diag --reset writes them).
+TEST_F(Registers, ErrorCountersAreClearedByGroupAsTheDatasheetSays) {
+  const std::size_t elbow = 19;  // l_elbow; l_wrist_yaw (20) behind it sees forwarded errors
+  ASSERT_TRUE(rig->segment.corrupt_port(elbow, 0, 3).ok());
+  ASSERT_TRUE(rig->segment.cut_link(elbow + 1).ok());
+  ASSERT_TRUE(rig->segment.restore_link(elbow + 1).ok());
+  for (int i = 0; i < 4; ++i) (void)rig->read(Command::BRD, 0, reg::kType, 1);
+  const auto counters = [&](std::uint16_t station) {
+    return rig->read(Command::FPRD, station, reg::kRxErrorCounter, reg::kErrorCountersLength).data;
+  };
+  const std::uint16_t station = 0x1013;
+  std::vector<std::uint8_t> before = counters(station);
+  ASSERT_EQ(before[0], 3) << "invalid frames on port 0";
+  ASSERT_EQ(before[0x09], 3) << "forwarded errors on port 1 (the damaged frames coming back)";
+  ASSERT_NE(before[0x11], 0) << "lost link on port 1";
+  // One byte written in the RX group (forwarded counter of port 3, value ignored): the whole group.
+  EXPECT_EQ(rig->write(Command::FPWR, station, static_cast<std::uint16_t>(reg::kForwardedRxErrorCounter + 3), {0x55}).wkc, 1);
+  std::vector<std::uint8_t> after = counters(station);
+  for (std::size_t i = 0; i < 0x0C; ++i) EXPECT_EQ(after[i], 0) << "0x03" << std::hex << i;
+  EXPECT_EQ(after[0x11], before[0x11]) << "the lost-link counters are another group";
+  EXPECT_EQ(rig->write(Command::FPWR, station, static_cast<std::uint16_t>(reg::kLostLinkCounter + 2), {0}).wkc, 1);
+  after = counters(station);
+  for (std::size_t i = 0x10; i < 0x14; ++i) EXPECT_EQ(after[i], 0) << "0x03" << std::hex << i;
+}
+
 TEST_F(Registers, WatchdogRegistersHoldTheirResetValuesAndAreWritable) {
   EXPECT_EQ(rig->read16(0x1002, reg::kWatchdogDivider), 0x09C2);
   EXPECT_EQ(rig->read16(0x1002, reg::kWatchdogTimePdi), 1000);

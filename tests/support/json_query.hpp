@@ -1,0 +1,35 @@
+// `ctl --json` answers parsed for real in end-to-end tests: the text goes through Python's json module
+// (python3, already a build dependency: toolchain/operator-transcript.sh), and a Python expression over
+// the parsed object `d` is printed (json.dumps of it), so a test asserts on values, not substrings.
+// An answer that is not exactly one JSON object makes the query return "INVALID JSON: ...".
+#pragma once
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace rescue::app::testing {
+
+// json.dumps(EXPR) for `d` = json.loads(text); `dir`: a writable directory for the two files.
+inline std::string json_query(const std::string& dir, const std::string& text, const std::string& expr) {
+  const std::string data = dir + "/answer.json";
+  const std::string script = dir + "/query.py";
+  std::ofstream(data) << text;
+  std::ofstream(script) << "import json, sys\n"
+                           "try:\n"
+                           "    d = json.loads(open(sys.argv[1]).read())\n"
+                           "except ValueError as e:\n"
+                           "    print('INVALID JSON: ' + str(e)); sys.exit(0)\n"
+                           "print(json.dumps(" << expr << "))\n";
+  std::string out;
+  std::FILE* p = ::popen(("python3 '" + script + "' '" + data + "' 2>&1").c_str(), "r");
+  if (p == nullptr) return "popen failed";
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
+  (void)::pclose(p);
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+}  // namespace rescue::app::testing
