@@ -118,6 +118,52 @@ int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexce
 
 void print_failure(ecat::Master& master) noexcept { ecat::print_bring_up_failure(stderr, "", "", master); }
 
+// --receive-wait and --receive-spin-us (raw NIC); --scheduling normal sleeps at once, as SOEM's test
+// program does. False (after saying why) on a bad value.
+bool parse_receive_wait(const ParsedArgs& args, bool real_time, ReceiveWaitChoice& wait) noexcept {
+  const char* text = args.value("receive-wait");
+  if (text != nullptr) {
+    if (std::strcmp(text, "spin") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::spin;
+    } else if (std::strcmp(text, "adaptive") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::adaptive;
+    } else if (std::strcmp(text, "sleep") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;
+    } else {
+      (void)fail("bench", "--receive-wait must be spin, adaptive or sleep");
+      return false;
+    }
+  }
+  const Result<std::int64_t> spin_us = args.integer("receive-spin-us", kMasterReceiveSpin / 1000, 0, 1000);
+  if (!spin_us.ok()) {
+    (void)fail("bench", "--receive-spin-us must be 0..1000", spin_us.error());
+    return false;
+  }
+  wait.spin = spin_us.value() * 1000;
+  if (!real_time) {
+    wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;
+    wait.spin = 0;
+  }
+  return true;
+}
+
+void print_scheduling(bool real_time, const ReceiveWaitChoice& wait) noexcept {
+  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1)" : "normal (default scheduler, any CPU)");
+  (void)std::printf("receive_wait: %s, spin at most %" PRId64 " us%s\n", hal::to_string(wait.wait), wait.spin / 1000,
+                    wait.wait == hal::RawSocketSettings::ReceiveWait::adaptive ? ", from 20 us before the learnt round trip" : "");
+}
+
+// The receive wait's figures of the raw socket (nothing for the simulated robot).
+void print_receive_wait(const SelectedNic& selected) noexcept {
+  const hal::RawSocketNic* raw = selected.raw();
+  if (raw == nullptr) return;
+  const hal::ReceiveWaitStats& w = raw->wait_stats();
+  (void)std::printf("receive_wait_frames: %" PRIu64 " at once, %" PRIu64 " woke the sleep, %" PRIu64 " while spinning, %" PRIu64
+                    " after the spin (whole run, bring-up included)\n",
+                    w.at_once, w.while_asleep, w.while_spinning, w.after_spin);
+  (void)std::printf("receive_wait_round_trip: %.2f us (learnt, adaptive only)\n", us(static_cast<std::uint64_t>(raw->expected_round_trip())));
+}
+
 }  // namespace
 
 int bench_master(const ParsedArgs& args) noexcept {
@@ -137,25 +183,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   const bool real_time = std::strcmp(scheduling, "rt") == 0;
   if (!real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
   ReceiveWaitChoice wait;
-  const char* wait_text = args.value("receive-wait");
-  if (wait_text != nullptr) {
-    if (std::strcmp(wait_text, "spin") == 0) {
-      wait.wait = hal::RawSocketSettings::ReceiveWait::spin;
-    } else if (std::strcmp(wait_text, "adaptive") == 0) {
-      wait.wait = hal::RawSocketSettings::ReceiveWait::adaptive;
-    } else if (std::strcmp(wait_text, "sleep") == 0) {
-      wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;
-    } else {
-      return fail("bench", "--receive-wait must be spin, adaptive or sleep");
-    }
-  }
-  const Result<std::int64_t> spin_us = args.integer("receive-spin-us", kMasterReceiveSpin / 1000, 0, 1000);
-  if (!spin_us.ok()) return fail("bench", "--receive-spin-us must be 0..1000", spin_us.error());
-  wait.spin = spin_us.value() * 1000;
-  if (!real_time) {
-    wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;  // as SOEM's test program: no spin
-    wait.spin = 0;
-  }
+  if (!parse_receive_wait(args, real_time, wait)) return 1;
 
   // Init: everything that may allocate or fault. The EtherCAT handler's real-time set-up
   // (docs/hal.md): memory locked, stack prefaulted, SCHED_FIFO 80 on CPU 1, each one announced.
@@ -167,9 +195,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   rt.fifo_priority = real_time ? 80 : 0;
   rt.cpu = real_time ? 1 : -1;
   hal::apply_rt_config(rt).print(stdout);
-  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1)" : "normal (default scheduler, any CPU)");
-  (void)std::printf("receive_wait: %s, spin at most %" PRId64 " us%s\n", hal::to_string(wait.wait), wait.spin / 1000,
-                    wait.wait == hal::RawSocketSettings::ReceiveWait::adaptive ? ", from 20 us before the learnt round trip" : "");
+  print_scheduling(real_time, wait);
   g_master_ns.reset();
   g_nic_ns.reset();
   g_latch_spread_ns.reset();
@@ -333,13 +359,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("master_cycle_cpu_max: %.2f us\n", us(master.max));
   const HistogramSummary wire = g_nic_ns.summary();
   (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), simulated ? "the simulator processing the frame" : "send + wait for the frame");
-  if (const hal::RawSocketNic* raw = selected.raw(); raw != nullptr) {
-    const hal::ReceiveWaitStats& w = raw->wait_stats();
-    (void)std::printf("receive_wait_frames: %" PRIu64 " at once, %" PRIu64 " woke the sleep, %" PRIu64 " while spinning, %" PRIu64
-                      " after the spin (whole run, bring-up included)\n",
-                      w.at_once, w.while_asleep, w.while_spinning, w.after_spin);
-    (void)std::printf("receive_wait_round_trip: %.2f us (learnt, adaptive only)\n", us(static_cast<std::uint64_t>(raw->expected_round_trip())));
-  }
+  print_receive_wait(selected);
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations (cyclic run %" PRIu64 ")\n", heap.allocations,
                     heap_after_run.allocations);
