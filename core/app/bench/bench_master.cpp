@@ -153,8 +153,11 @@ void print_scheduling(bool real_time, const ReceiveWaitChoice& wait) noexcept {
                     wait.wait == hal::RawSocketSettings::ReceiveWait::adaptive ? ", from 20 us before the learnt round trip" : "");
 }
 
-// The receive wait's figures of the raw socket (nothing for the simulated robot).
-void print_receive_wait(const SelectedNic& selected) noexcept {
+// The cyclic run's frames that missed their deadline, and how many of them came back later (a stale
+// frame in a later cycle: late, not lost); then the raw socket's receive-wait figures.
+void print_receive_wait(const SelectedNic& selected, const ecat::LinkStats& before, const ecat::LinkStats& after) noexcept {
+  (void)std::printf("cyclic_frames_timed_out: %" PRIu64 " frames (%" PRIu64 " came back after their deadline)\n",
+                    after.timeouts - before.timeouts, after.stale_frames - before.stale_frames);
   const hal::RawSocketNic* raw = selected.raw();
   if (raw == nullptr) return;
   const hal::ReceiveWaitStats& w = raw->wait_stats();
@@ -185,10 +188,8 @@ int bench_master(const ParsedArgs& args) noexcept {
   ReceiveWaitChoice wait;
   if (!parse_receive_wait(args, real_time, wait)) return 1;
 
-  // Init: everything that may allocate or fault. The EtherCAT handler's real-time set-up
-  // (docs/hal.md): memory locked, stack prefaulted, SCHED_FIFO 80 on CPU 1, each one announced.
-  // --scheduling normal (comparisons only, docs/master.md): the default scheduler on any CPU and a
-  // receive that sleeps at once, as SOEM's test program runs.
+  // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
+  // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
   print_bench_header(stdout, "master");
   hal::RtConfig rt;
   rt.prefault_stack_bytes = std::size_t{256} * 1024;
@@ -239,6 +240,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   // 2. The cyclic run, init complete: every allocation from here on is counted.
   const hal::PageFaults faults_at_init = hal::page_faults_of_process();
   declare_init_complete(HeapGuardMode::count);
+  const ecat::LinkStats link_before = bus.master().link().stats();
   std::int64_t all_valid = 0;
   std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
@@ -266,6 +268,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     }
   }
   const HeapGuardCounters heap_after_run = heap_guard_counters();
+  const ecat::LinkStats link_after = bus.master().link().stats();
   const hal::PageFaults faults_after_run = hal::page_faults_of_process();
   const Result<ecat::DcSnapshot> after_run = bus.master().read_dc_snapshot();
   const std::int64_t true_offset_after_run = simulated ? true_max_offset_ns() : -1;
@@ -359,7 +362,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("master_cycle_cpu_max: %.2f us\n", us(master.max));
   const HistogramSummary wire = g_nic_ns.summary();
   (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), simulated ? "the simulator processing the frame" : "send + wait for the frame");
-  print_receive_wait(selected);
+  print_receive_wait(selected, link_before, link_after);
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations (cyclic run %" PRIu64 ")\n", heap.allocations,
                     heap_after_run.allocations);
