@@ -44,8 +44,8 @@ TaskCpuSample read_task_cpu(Span<const int> pids, hal::Nanoseconds now) noexcept
 void print_task_cpu(std::FILE* out, const char* phase, const TaskCpuSample& from, const TaskCpuSample& to) noexcept;
 
 // The run's two phases, sampled by the logger's (threads) or supervisor's (processes) loop:
-// idle = init complete to the scenario's action (the motion starts), or to the end without one;
-// moving = the action to the handler's last period (its stop excluded).
+// idle = init complete to the first period an RC task's references drive joints (the Motion owner's),
+// or to the end without one; moving = from there to the handler's last period (its stop excluded).
 class TaskCpuMeter {
  public:
   // One pass of the loop: `moving` once the motion started, `done` once the handler ended.
