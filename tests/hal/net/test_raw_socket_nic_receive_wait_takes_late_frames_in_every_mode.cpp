@@ -2,7 +2,8 @@
 // still receives a frame that comes back long after its spin or its learnt round trip, and counts
 // where it found it (ReceiveWaitStats); the adaptive wait learns the round trip from the frames; a
 // frame that never comes is a timeout. Over a veth pair in namespaces, an echo responder on the
-// other end. No duration is asserted: the late frame's delay only has to exceed the spin.
+// other end. No duration is asserted: the late frame's delay only has to exceed the spin. The
+// exchange (send, the wait in each mode, the adaptive learning) allocates nothing after init.
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/memory/heap_guard.hpp"
 #include "hal/net/raw_socket_nic.hpp"
 #include "tests/support/netns_veth.hpp"
 #include "tests/support/test_frames.hpp"
@@ -91,6 +93,23 @@ TEST_P(ReceiveWaitOverVeth, AFrameThatNeverComesIsATimeout) {
   ASSERT_FALSE(lost.ok());
   EXPECT_EQ(lost.error().code, Errc::timeout);
   EXPECT_EQ(master_.stats().receive_timeouts, 1U);
+}
+
+TEST_P(ReceiveWaitOverVeth, TheExchangeAllocatesNothingAfterInit) {
+  // One thread plays both ends (the responder answers before the master waits), so nothing but the
+  // exchange runs while the heap guard counts.
+  const auto sent = rescue::testing::make_brd_frame(master_.features().hardware_address, 7);
+  std::array<std::uint8_t, 1514> buffer{};
+  declare_init_complete(HeapGuardMode::count);
+  const std::uint64_t before = heap_guard_counters().allocations;
+  for (unsigned i = 0; i < kAdaptiveLearnFrames + 4; ++i) {
+    ASSERT_TRUE(master_.send(ConstByteSpan(sent.data(), sent.size())).ok());
+    const Result<std::size_t> at_slaves = slaves_.receive(ByteSpan(buffer), slaves_.clock().now() + kGenerous);
+    ASSERT_TRUE(at_slaves.ok());
+    ASSERT_TRUE(slaves_.send(ConstByteSpan(buffer.data(), at_slaves.value())).ok());
+    ASSERT_TRUE(master_.receive(ByteSpan(buffer), master_.clock().now() + kGenerous).ok());
+  }
+  EXPECT_EQ(heap_guard_counters().allocations - before, 0U);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryWait, ReceiveWaitOverVeth, ::testing::Values(Wait::spin, Wait::adaptive, Wait::sleep),
