@@ -38,6 +38,7 @@
 #include "ecat/master/link_monitor.hpp"
 #include "ecat/master/network_match.hpp"
 #include "ecat/master/slave_recovery.hpp"
+#include "ecat/sii/sii_cache.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
 namespace rescue::ecat {
@@ -68,6 +69,11 @@ struct MasterOptions {
   hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
+  // Whole SII images of devices seen before (ecat/sii/sii_cache.hpp): a slave whose first 32 EEPROM
+  // bytes (configuration area, vendor, product, revision, serial) equal a cached image's is not read
+  // further; every image read whole that parses is taken in (its owner saves the cache where it
+  // likes). nullptr: every image is read whole.
+  SiiCache* sii_cache{nullptr};
   // Static drift compensation before cycling: FRMW of the reference time back to back, at most
   // drift_compensation_frames (ETG.1020's 15000), ended early once every DC slave's system time
   // difference (0x092C) has been at most drift_compensation_target_ns in two checks in a row,

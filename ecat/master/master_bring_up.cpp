@@ -211,7 +211,7 @@ Status Master::count_and_reset() noexcept {
 
 Status Master::identify() noexcept {
   const std::size_t n = std::min<std::size_t>(report_.slaves_counted, kMaxFoundSlaves);
-  const Result<SiiReadStats> read = read_sii_images(link_, Span<SiiImage>(sii_.data(), n), options_.sii);
+  const Result<SiiReadStats> read = read_sii_images(link_, Span<SiiImage>(sii_.data(), n), options_.sii, options_.sii_cache);
   if (!read.ok()) return fail("identify", read.error());
   report_.sii = read.value();
   std::array<SlaveSetup, kMaxFoundSlaves> found_setup{};
@@ -224,6 +224,7 @@ Status Master::identify() noexcept {
       e.detail0 = u32(a);  // which slave; the parser's `what` names the field
       return fail("identify", e);
     }
+    if (!sii_[a].from_cache && options_.sii_cache != nullptr) (void)options_.sii_cache->remember(sii_[a]);  // a full cache reads whole
     const sii::Sii& info = parsed.value();
     FoundSlave f;
     f.vendor_id = info.identity.vendor_id;
