@@ -17,6 +17,7 @@
 #include "core/app/links/task_links.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/runtime/period_schedule.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
@@ -240,7 +241,8 @@ int bench_latency(const ParsedArgs& args) noexcept {
   static drivers::JointBus bus(*selected.nic());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
-  static EthercatHandler handler(bus, links, 0);
+  static TaskPorts task_ports(links);  // as `run` wires the tasks (runtime/task_ports.hpp)
+  static EthercatHandler handler(bus, task_ports.ethercat_handler(), 0);
   hal::RtReport report;
   std::thread loop(our_loop, std::ref(handler), std::ref(selected.nic()->clock()), periods, cpu, &setup, &report);
   loop.join();
