@@ -182,6 +182,18 @@ bool parse_receive_wait(const ParsedArgs& args, bool real_time, ReceiveWaitChoic
   return true;
 }
 
+// The EtherCAT handler's real-time set-up as `run` applies it (memory locked, stack prefaulted,
+// SCHED_FIFO 80 on CPU 1, timer slack 1 ns, the PM QoS request), or none (--scheduling normal).
+hal::RtConfig master_rt_config(bool real_time) noexcept {
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  rt.fifo_priority = real_time ? 80 : 0;
+  rt.cpu = real_time ? 1 : -1;
+  rt.timer_slack_ns = real_time ? config::kTaskTimerSlackNs : 0;
+  rt.cpu_wakeup_latency_us = real_time ? config::kCpuWakeupLatencyUs : -1;
+  return rt;
+}
+
 void print_scheduling(bool real_time, const ReceiveWaitChoice& wait) noexcept {
   (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1)" : "normal (default scheduler, any CPU)");
   (void)std::printf("receive_wait: %s, spin at most %" PRId64 " us%s\n", hal::to_string(wait.wait), wait.spin / 1000,
@@ -281,11 +293,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
   // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
   print_bench_header(stdout, "master");
-  hal::RtConfig rt;
-  rt.prefault_stack_bytes = std::size_t{256} * 1024;
-  rt.fifo_priority = real_time ? 80 : 0;
-  rt.cpu = real_time ? 1 : -1;
-  hal::apply_rt_config(rt).print(stdout);
+  hal::apply_rt_config(master_rt_config(real_time)).print(stdout);
   print_scheduling(real_time, wait);
   g_master_ns.reset();
   g_nic_ns.reset();
