@@ -214,6 +214,13 @@ void print_receive_wait(const SelectedNic& selected, const ecat::LinkStats& befo
   (void)std::printf("receive_wait_round_trip: %.2f us (learnt, adaptive only)\n", us(static_cast<std::uint64_t>(raw->expected_round_trip())));
 }
 
+// The start-up SDOs of the bring-up: the master's PDO mapping set-up, then the owner's.
+void print_startup_sdos(const ecat::BringUpReport& r) noexcept {
+  (void)std::printf("startup_sdos_pdo_mapping: %" PRIu32 " reads, %" PRIu32 " writes (%d drives rewritten)\n", r.pdo_reads,
+                    r.pdo_writes, ecat::popcount(r.pdo_rewritten));
+  (void)std::printf("startup_sdos_owner: %" PRIu32 " downloads\n", r.startup_sdos_done);
+}
+
 // The cold start's convergence: max |0x092C| after the first cycle's time distribution, the cycles
 // to < 100 ns and to < 20 ns (-1: not reached), the last figure.
 struct ColdFigures {
@@ -409,6 +416,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("bring_up_to_op: %.3f ms\n", ms(first.op_at - first.started_at));
   (void)std::printf("bring_up_frames: %" PRIu64 " frames\n", first.frames);
   print_steps("bring_up_step_", first);
+  print_startup_sdos(first);
   (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
   (void)std::printf("sii_cache_hits: %" PRIu32 " of %u slaves (%s)\n", first.sii.cache_hits,
                     static_cast<unsigned>(first.slaves_counted), cache_dir != nullptr ? "--sii-cache-dir" : "cache in memory, empty at start");

@@ -272,6 +272,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const int handler_priority = runner_priority(TaskId::ethercat_handler);
   const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
   if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
+  if (options.scenario.mapping_fault) {
+    // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
+    ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr);
+    const Status faulted = first.before_bring_up();
+    if (!faulted.ok()) return fail("run", "the scenario's mapping fault could not be applied", faulted.error());
+  }
   const Status up = bus.bring_up(master_options, out_of_service);
   calibration.join();
   if (raised && !hal::restore_scheduling(normal.value()).ok()) {
@@ -289,6 +295,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: %u slaves found, SAFE-OP after %.3f s, distributed clocks within %u ns\n",
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
+  if (bring_up.pdo_rewritten != 0) {
+    char rewritten[kJointNamesCapacity];
+    format_joint_names(drivers::joints_of_slaves(bring_up.pdo_rewritten), rewritten, sizeof rewritten);
+    (void)std::printf("rescue-motion run: PDO mapping rewritten (it differed from the plan): %s (%u SDO writes)\n", rewritten,
+                      static_cast<unsigned>(bring_up.pdo_writes));
+  }
   if (sii_cache.changed()) {
     // Only when a device was new or changed: a durable write of about 30 KiB before the tasks start.
     const Status saved = save_sii_cache(dir.value().path.c_str(), sii_cache);
