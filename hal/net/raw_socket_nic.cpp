@@ -133,6 +133,7 @@ Status RawSocketNic::open(const char* interface_name, const RawSocketSettings& s
     return status;
   }
   set_receive_spin(settings.receive_spin);
+  set_receive_wait(settings.receive_wait, settings.adaptive_lead);
   std::memcpy(name_.data(), "raw:", 4);
   std::memcpy(name_.data() + 4, interface_name, length + 1);
   return Status::success();
@@ -217,6 +218,8 @@ Status RawSocketNic::send(ConstByteSpan frame) noexcept {
     const ssize_t sent = ::send(fd_, frame.data(), frame.size(), MSG_DONTWAIT);
     if (sent == static_cast<ssize_t>(frame.size())) {
       ++stats_.frames_sent;
+      // The adaptive wait measures the round trip from here (one clock read, only in that mode).
+      if (receive_wait_ == RawSocketSettings::ReceiveWait::adaptive) sent_at_ = clock_.now();
       return Status::success();
     }
     if (sent < 0 && errno == EINTR) continue;
@@ -261,9 +264,53 @@ Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
   return length;
 }
 
+const char* to_string(RawSocketSettings::ReceiveWait wait) noexcept {
+  switch (wait) {
+    case RawSocketSettings::ReceiveWait::spin: return "spin";
+    case RawSocketSettings::ReceiveWait::adaptive: return "adaptive";
+    case RawSocketSettings::ReceiveWait::sleep: return "sleep";
+  }
+  return "?";
+}
+
+void RawSocketNic::learn_round_trip(Nanoseconds now) noexcept {
+  if (sent_at_ < 0) return;
+  const Nanoseconds sample = now - sent_at_;
+  sent_at_ = -1;
+  if (sample <= 0) return;
+  if (learnt_frames_ == 0) {
+    round_trip_ns_ = sample;
+  } else {
+    // An outlier (a late frame, a preempted thread) moves the mean by at most 1/16 of its excess.
+    round_trip_ns_ += (sample - round_trip_ns_) / (Nanoseconds{1} << kAdaptiveWeightShift);
+  }
+  if (learnt_frames_ < kAdaptiveLearnFrames) ++learnt_frames_;
+}
+
+Status RawSocketNic::sleep_for_frame(Nanoseconds now, Nanoseconds until) noexcept {
+  pollfd waiting{fd_, POLLIN, 0};
+  const timespec timeout = to_timespec(until > now ? until - now : 0);
+  if (::ppoll(&waiting, 1, &timeout, nullptr) < 0 && errno != EINTR) return os_error("ppoll() on the raw socket failed");
+  if ((waiting.revents & (POLLERR | POLLNVAL)) != 0) {
+    // E.g. ENETDOWN when the interface went down or away; reading SO_ERROR also clears it.
+    int pending = 0;
+    socklen_t pending_size = sizeof pending;
+    (void)::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &pending, &pending_size);
+    return make_error(Errc::io_error, "raw socket error (interface down or removed?)",
+                      static_cast<std::uint32_t>(pending));
+  }
+  return Status::success();
+}
+
 Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline) noexcept {
   if (fd_ < 0) return make_error(Errc::invalid_argument, "raw socket NIC not open");
-  Nanoseconds spin_until = -1;  // set on the first empty read
+  using Wait = RawSocketSettings::ReceiveWait;
+  // Where the wait stands: before its first read, asleep until the expected return (adaptive),
+  // spinning, or asleep until the deadline.
+  enum class Phase : std::uint8_t { first, asleep, spinning, late };
+  Phase phase = Phase::first;
+  Nanoseconds spin_until = -1;
+  const Nanoseconds expected = expected_round_trip();
   for (;;) {
     // The time first, then the read: a timeout is declared only when the queue was still empty at or
     // after the deadline. A process preempted between the two (a slow host, not a lost frame) finds
@@ -271,28 +318,43 @@ Result<std::size_t> RawSocketNic::receive(ByteSpan buffer, Nanoseconds deadline)
     const Nanoseconds now = clock_.now();
     const Result<std::size_t> got = read_one(buffer);
     if (got.ok()) {
-      if (got.value() > 0) return got.value();
-      continue;  // filtered out: look at the next one
+      if (got.value() == 0) continue;  // filtered out: look at the next one
+      if (receive_wait_ == Wait::adaptive) learn_round_trip(now);
+      switch (phase) {
+        case Phase::first: ++wait_stats_.at_once; break;
+        case Phase::asleep: ++wait_stats_.while_asleep; break;
+        case Phase::spinning: ++wait_stats_.while_spinning; break;
+        case Phase::late: ++wait_stats_.after_spin; break;
+      }
+      return got.value();
     }
     if (got.error().code != Errc::busy) return got.error();
 
     if (now >= deadline) {
       ++stats_.receive_timeouts;
+      sent_at_ = -1;  // a lost frame teaches nothing about the round trip
       return make_error(Errc::timeout, "no EtherCAT frame before the deadline");
     }
-    if (spin_until < 0) spin_until = now + receive_spin_;
-    if (now < spin_until) continue;  // spinning: read again without sleeping
-    pollfd waiting{fd_, POLLIN, 0};
-    const timespec timeout = to_timespec(deadline - now);
-    if (::ppoll(&waiting, 1, &timeout, nullptr) < 0 && errno != EINTR) return os_error("ppoll() on the raw socket failed");
-    if ((waiting.revents & (POLLERR | POLLNVAL)) != 0) {
-      // E.g. ENETDOWN when the interface went down or away; reading SO_ERROR also clears it.
-      int pending = 0;
-      socklen_t pending_size = sizeof pending;
-      (void)::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &pending, &pending_size);
-      return make_error(Errc::io_error, "raw socket error (interface down or removed?)",
-                        static_cast<std::uint32_t>(pending));
+    if (phase == Phase::first) {
+      phase = Phase::spinning;
+      spin_until = now + receive_spin_;
+      if (receive_wait_ == Wait::sleep) {
+        spin_until = now;
+      } else if (receive_wait_ == Wait::adaptive && expected > 0 && sent_at_ >= 0) {
+        const Nanoseconds wake_at = sent_at_ + expected - adaptive_lead_;
+        if (wake_at > now) {
+          // Asleep through most of the round trip: an early frame wakes the ppoll() at once.
+          phase = Phase::asleep;
+          RESCUE_TRY(sleep_for_frame(now, wake_at < deadline ? wake_at : deadline));
+          spin_until = wake_at + receive_spin_;
+          continue;
+        }
+      }
     }
+    if (phase == Phase::asleep) phase = Phase::spinning;
+    if (phase == Phase::spinning && now < spin_until) continue;  // spinning: read again without sleeping
+    phase = Phase::late;
+    RESCUE_TRY(sleep_for_frame(now, deadline));
   }
 }
 

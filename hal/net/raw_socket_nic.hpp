@@ -4,9 +4,11 @@
 //     behind an 802.1Q tag, which PACKET_AUXDATA lets us put back where it was on the wire;
 //   - promiscuous (PACKET_MR_PROMISC): returning frames carry whatever destination the master used;
 //   - PACKET_QDISC_BYPASS: frames go straight to the driver, no queueing discipline in the way;
-//   - non-blocking; receive polls the socket for a short while (the receive spin: a reply that
-//     comes back within it is seen at once, without the wake-up of a sleeping thread) and then
-//     waits in ppoll() at most until the caller's deadline;
+//   - non-blocking; how receive waits is the ReceiveWait setting: `spin` polls the socket for a
+//     short while (the receive spin: a reply that comes back within it is seen at once, without the
+//     wake-up of a sleeping thread) and then waits in ppoll() at most until the caller's deadline;
+//     `adaptive` learns the frame's round trip and sleeps in ppoll() through most of it, spinning
+//     only from a little before the expected return; `sleep` waits in ppoll() at once;
 //   - our own outgoing frames ignored (PACKET_IGNORE_OUTGOING where the kernel has it, and the
 //     packet type checked on every frame), other EtherTypes dropped and counted;
 //   - SO_RCVBUF sized for a burst of returning frames.
@@ -47,6 +49,32 @@ struct RawSocketSettings {
   // is woken by the kernel on another CPU, which on an idle or virtualised CPU costs tens of
   // microseconds more (docs/hal.md has the measurements). 0: sleep at once (the simulator's side).
   Nanoseconds receive_spin{0};
+  // How receive() waits for a frame (docs/hal.md, docs/timing.md has the CPU each one costs):
+  //   spin      read without sleeping for up to receive_spin after the first empty read, then ppoll();
+  //   adaptive  after kAdaptiveLearnFrames round trips, sleep in ppoll() until the expected return
+  //             (the learnt round trip, measured from send()) minus adaptive_lead, then spin for at
+  //             most receive_spin, then ppoll() until the deadline. A frame that comes back early wakes
+  //             the ppoll() at once; a late one is still received and counted (wait_stats().after_spin);
+  //   sleep     ppoll() at once (receive_spin ignored).
+  enum class ReceiveWait : std::uint8_t { spin, adaptive, sleep };
+  ReceiveWait receive_wait{ReceiveWait::spin};
+  // adaptive: how long before the expected return the thread is woken to spin (covers its wake-up).
+  Nanoseconds adaptive_lead{20'000};
+};
+
+// Round trips seen before the adaptive wait trusts its estimate (spin until then).
+constexpr unsigned kAdaptiveLearnFrames = 16;
+// The estimate follows the round trips as an exponential mean with this weight shift (1/16 per frame).
+constexpr unsigned kAdaptiveWeightShift = 4;
+
+const char* to_string(RawSocketSettings::ReceiveWait wait) noexcept;
+
+// Where receive() found its frames (each frame returned counts once): how the wait performs.
+struct ReceiveWaitStats {
+  std::uint64_t at_once{0};      // already queued at the first read
+  std::uint64_t while_asleep{0};  // woke the adaptive wait's first ppoll() (came back early)
+  std::uint64_t while_spinning{0};
+  std::uint64_t after_spin{0};   // found after the spin, in the ppoll() up to the deadline (late)
 };
 
 // What open() obtained from the kernel, for logs and benchmark headers.
@@ -86,11 +114,21 @@ class RawSocketNic final : public Nic {
   // "raw:IFACE", the same text as the --nic option that selects it.
   const char* name() const noexcept override { return name_.data(); }
   NicStats stats() const noexcept override { return stats_; }
+  const ReceiveWaitStats& wait_stats() const noexcept { return wait_stats_; }
 
   const RawSocketFeatures& features() const noexcept { return features_; }
   // Changes the receive spin (RawSocketSettings::receive_spin) of an open socket.
   void set_receive_spin(Nanoseconds spin) noexcept { receive_spin_ = spin < 0 ? 0 : spin; }
   Nanoseconds receive_spin() const noexcept { return receive_spin_; }
+  void set_receive_wait(RawSocketSettings::ReceiveWait wait, Nanoseconds adaptive_lead) noexcept {
+    receive_wait_ = wait;
+    adaptive_lead_ = adaptive_lead < 0 ? 0 : adaptive_lead;
+  }
+  RawSocketSettings::ReceiveWait receive_wait() const noexcept { return receive_wait_; }
+  // The adaptive wait's learnt round trip (send to the frame seen), 0 before kAdaptiveLearnFrames.
+  Nanoseconds expected_round_trip() const noexcept {
+    return learnt_frames_ >= kAdaptiveLearnFrames ? round_trip_ns_ : 0;
+  }
 
  private:
   Status configure(const char* interface_name, const RawSocketSettings& settings) noexcept;
@@ -102,8 +140,20 @@ class RawSocketNic final : public Nic {
   int fd_{-1};
   std::array<char, 4 + kMaxInterfaceNameLength + 1> name_{};  // "raw:" + interface name
   RawSocketFeatures features_{};
+  // The first frame after a send: its round trip feeds the adaptive estimate.
+  void learn_round_trip(Nanoseconds now) noexcept;
+  // Sleeps in ppoll() until `until` or a frame; an error when the socket reports one (interface down).
+  Status sleep_for_frame(Nanoseconds now, Nanoseconds until) noexcept;
+
   NicStats stats_{};
+  ReceiveWaitStats wait_stats_{};
+
   Nanoseconds receive_spin_{0};
+  RawSocketSettings::ReceiveWait receive_wait_{RawSocketSettings::ReceiveWait::spin};
+  Nanoseconds adaptive_lead_{20'000};
+  Nanoseconds sent_at_{-1};        // the last send (adaptive only), -1 once its frame was seen
+  Nanoseconds round_trip_ns_{0};   // exponential mean of the round trips
+  unsigned learnt_frames_{0};
 };
 
 // True for an Ethernet frame of EtherType 0x88A4, directly or behind one 802.1Q tag.

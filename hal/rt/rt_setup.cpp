@@ -1,5 +1,6 @@
 #include "hal/rt/rt_setup.hpp"
 
+#include <fcntl.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -116,6 +117,34 @@ Status set_fifo_priority(int priority) noexcept {
   }
 }
 
+Status hold_cpu_wakeup_latency(int microseconds) noexcept {
+  if (microseconds < 0) return make_error(Errc::invalid_argument, "negative wake-up latency");
+  // One request per process, kept open: closing the file ends the request. Set up at init only.
+  static int fd = -1;
+  if (fd < 0) {
+    fd = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+    if (fd < 0) {
+      const int error = errno;
+      if (error == EACCES || error == EPERM) return make_error(Errc::permission_denied, "/dev/cpu_dma_latency needs root");
+      if (error == ENOENT) return make_error(Errc::not_found, "/dev/cpu_dma_latency absent (kernel without PM QoS)");
+      return make_error(Errc::io_error, "open(/dev/cpu_dma_latency) failed (errno)", errno_detail(error));
+    }
+  }
+  // The device takes a binary 32-bit value in microseconds.
+  const std::int32_t value = microseconds;
+  if (::write(fd, &value, sizeof value) != static_cast<ssize_t>(sizeof value)) {
+    return make_error(Errc::io_error, "write(/dev/cpu_dma_latency) failed (errno)", errno_detail(errno));
+  }
+  return Status::success();
+}
+
+static Status set_timer_slack(unsigned long nanoseconds) noexcept {
+  if (prctl(PR_SET_TIMERSLACK, nanoseconds, 0, 0, 0) != 0) {
+    return make_error(Errc::io_error, "prctl(PR_SET_TIMERSLACK) failed (errno)", errno_detail(errno));
+  }
+  return Status::success();
+}
+
 Status pin_to_cpu(int cpu) noexcept {
   const long present = sysconf(_SC_NPROCESSORS_CONF);
   if (cpu < 0 || cpu >= CPU_SETSIZE || (present > 0 && cpu >= present)) {
@@ -178,6 +207,8 @@ RtReport apply_rt_config(const RtConfig& config) noexcept {
   static constexpr const char* kCpu = "CPU affinity";
   static constexpr const char* kFifo = "SCHED_FIFO priority";
   static constexpr const char* kStack = "stack prefault";
+  static constexpr const char* kSlack = "timer slack";
+  static constexpr const char* kWake = "CPU wake-up latency (PM QoS, /dev/cpu_dma_latency)";
   RtReport report;
   report.items[1] = config.cpu >= 0 ? run_item(kCpu, config.cpu, pin_to_cpu(config.cpu)) : skipped_item(kCpu);
   report.items[2] =
@@ -187,6 +218,12 @@ RtReport apply_rt_config(const RtConfig& config) noexcept {
                         ? run_item(kStack, static_cast<std::int64_t>(config.prefault_stack_bytes / 1024),
                                    prefault_stack(config.prefault_stack_bytes), " KiB")
                         : skipped_item(kStack);
+  report.items[4] = config.timer_slack_ns != 0
+                        ? run_item(kSlack, static_cast<std::int64_t>(config.timer_slack_ns), set_timer_slack(config.timer_slack_ns), " ns")
+                        : skipped_item(kSlack);
+  report.items[5] = config.cpu_wakeup_latency_us >= 0
+                        ? run_item(kWake, config.cpu_wakeup_latency_us, hold_cpu_wakeup_latency(config.cpu_wakeup_latency_us), " us")
+                        : skipped_item(kWake);
   return report;
 }
 

@@ -57,7 +57,21 @@ struct RtConfig {
   std::size_t prefault_stack_bytes{std::size_t{512} * 1024};  // 0: skip
   int fifo_priority{0};                           // 0: keep the default scheduler; 1..99: SCHED_FIFO
   int cpu{-1};                                    // -1: no pinning
+  // The calling thread's timer slack (prctl PR_SET_TIMERSLACK), as cyclictest sets it: 1 ns. The
+  // kernel ignores the slack of SCHED_FIFO threads, but a thread whose FIFO priority was refused
+  // would otherwise sleep up to 50 us past its release. 0: leave it.
+  unsigned long timer_slack_ns{0};
+  // Holds the CPUs' wake-up latency at this many microseconds for the rest of the process (a PM QoS
+  // request: /dev/cpu_dma_latency kept open, as cyclictest does unless --laptop): idle CPUs stay in
+  // shallow idle states, so a timer or a frame wakes the thread without leaving a deep one (on a VM
+  // with haltpoll: no halt, no VM exit). Costs power (an idle CPU polls). -1: leave it.
+  int cpu_wakeup_latency_us{-1};
 };
+
+// The PM QoS request of RtConfig::cpu_wakeup_latency_us: opens /dev/cpu_dma_latency once per
+// process and writes the value (kept open, so the request lasts until the process ends; a later call
+// writes the new value). permission_denied without root, not_found where the kernel lacks it.
+Status hold_cpu_wakeup_latency(int microseconds) noexcept;
 
 enum class RtOutcome : std::uint8_t { applied, skipped, refused };
 const char* to_string(RtOutcome outcome) noexcept;
@@ -71,7 +85,7 @@ struct RtItemReport {
 };
 
 struct RtReport {
-  static constexpr std::size_t kItems = 4;
+  static constexpr std::size_t kItems = 6;
   std::array<RtItemReport, kItems> items{};
 
   bool fully_applied() const noexcept;  // nothing refused

@@ -14,7 +14,14 @@
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/config/task_table.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/runtime/nic_factory.hpp"
+#include "core/app/runtime/period_schedule.hpp"
+#include "core/app/runtime/task_ports.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
+#include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
+#include "drivers/joint/joint_bus.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 
@@ -63,25 +70,51 @@ struct Figures {
 };
 
 
-void our_loop(std::uint64_t periods, int cpu, hal::RtReport* report) noexcept {
+constexpr int kMaxPeriodsToOp = 5000;
+
+struct LoopSetup {
+  bool pm_qos{true};   // the process's CPU wake-up latency request, as `run`'s tasks hold it
+  bool failed{false};  // the handler did not reach OP
+  std::uint64_t heap_allocations{0};  // during the measured periods
+};
+
+// The EtherCAT handler's real loop (runtime/task_loops.cpp handler_task): its thread's real-time
+// set-up as `run` applies it (priority, CPU, stack, timer slack, PM QoS), then per period the same wake
+// (`wake_at`: clock_nanosleep to the master's release, the clock read at once) and the same
+// `EthercatHandler::cycle()` against the in-process simulated robot on the wall clock, with the
+// master's receive wait; the wake-up latency is recorded as cyclictest records its own.
+void our_loop(EthercatHandler& handler, hal::Clock& clock, std::uint64_t periods, int cpu, LoopSetup* setup,
+              hal::RtReport* report) noexcept {
   hal::RtConfig config;
   config.lock_memory = false;  // once for the process
   config.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   config.fifo_priority = kHandlerPriority;
   config.cpu = cpu;
+  config.timer_slack_ns = config::kTaskTimerSlackNs;
+  config.cpu_wakeup_latency_us = setup->pm_qos ? config::kCpuWakeupLatencyUs : -1;
   *report = hal::apply_rt_config(config);
-  hal::MonotonicClock clock;
-  hal::Nanoseconds next = clock.now() + kPeriod;
-  for (std::uint64_t i = 0; i < periods; ++i) {
-    clock.sleep_until(next);
-    const hal::Nanoseconds woke = clock.now();
-    g_ours.record(woke > next ? static_cast<std::uint64_t>(woke - next) : 0);
-    next += kPeriod;
+  drivers::JointBus& bus = handler.bus();
+  for (int to_op = 0;; ++to_op) {
+    (void)wake_at(clock, bus.next_wakeup());
+    if (handler.cycle().state == ecat::MasterState::op) break;
+    if (to_op == kMaxPeriodsToOp) {
+      setup->failed = true;
+      return;
+    }
   }
+  declare_init_complete(HeapGuardMode::count);  // from here on every allocation is counted
+  const std::uint64_t heap_before = heap_guard_counters().allocations;
+  for (std::uint64_t i = 0; i < periods; ++i) {
+    const hal::Nanoseconds release = bus.next_wakeup();
+    const hal::Nanoseconds woke = wake_at(clock, release);
+    g_ours.record(woke > release ? static_cast<std::uint64_t>(woke - release) : 0);
+    (void)handler.cycle();
+  }
+  setup->heap_allocations = heap_guard_counters().allocations - heap_before;
 }
 
 // Runs cyclictest and reads its histogram (one line per us, "# Max Latencies:" ...) from a pipe.
-bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std::size_t why_size) noexcept {
+bool run_cyclictest(std::uint64_t periods, int cpu, bool pm_qos, Figures& out, char* why, std::size_t why_size) noexcept {
   char prio[16];
   char affinity[16];
   char interval[24];
@@ -96,7 +129,8 @@ bool run_cyclictest(std::uint64_t periods, int cpu, Figures& out, char* why, std
   char m[] = "-m";
   char q[] = "-q";
   char t1[] = "-t1";
-  char* argv[] = {name, m, q, t1, prio, affinity, interval, loops, histogram, nullptr};
+  char laptop[] = "--laptop";  // without its /dev/cpu_dma_latency request (bench latency --no-pm-qos)
+  char* argv[] = {name, m, q, t1, prio, affinity, interval, loops, histogram, pm_qos ? nullptr : laptop, nullptr};
   (void)std::fflush(stdout);
   int pipe_fds[2];
   if (pipe(pipe_fds) != 0) {
@@ -188,16 +222,33 @@ int bench_latency(const ParsedArgs& args) noexcept {
   (void)std::printf("period: %" PRId64 " ns\n", kPeriod);
   (void)std::printf("priority: SCHED_FIFO %d (the EtherCAT handler's)\n", kHandlerPriority);
   (void)std::printf("task_cpu: %d (the handler's CPU %d, or the last one on fewer CPUs)\n", cpu, kHandlerCpu);
+  LoopSetup setup;
+  setup.pm_qos = !args.has("no-pm-qos");
+  (void)std::printf("loop: the EtherCAT handler's (wake_at, then EthercatHandler::cycle on the in-process simulated robot)\n");
+  (void)std::printf("pm_qos: %s\n", setup.pm_qos ? "held at 0 us by both loops (/dev/cpu_dma_latency, as `run` and cyclictest)"
+                                                  : "not held by either loop (--no-pm-qos; cyclictest --laptop)");
   hal::RtConfig process;
   process.lock_memory = true;
   process.prefault_stack_bytes = 0;
   const hal::RtReport locked = hal::apply_rt_config(process);
   locked.print(stdout);
   g_ours.reset();
+  // Init: the simulated robot, the master brought up, the handler (as bench fig4 sets them up).
+  static TaskLinks links;
+  static SelectedNic selected;
+  const Status opened = selected.open(NicChoice{});
+  if (!opened.ok()) return fail("bench", "cannot open the simulated robot", opened.error());
+  static drivers::JointBus bus(*selected.nic());
+  const Status up = bus.bring_up(ecat::MasterOptions{});
+  if (!up.ok()) return fail("bench", "bring-up failed", up.error());
+  static TaskPorts task_ports(links);  // as `run` wires the tasks (runtime/task_ports.hpp)
+  static EthercatHandler handler(bus, task_ports.ethercat_handler(), 0);
   hal::RtReport report;
-  std::thread loop(our_loop, periods, cpu, &report);
+  std::thread loop(our_loop, std::ref(handler), std::ref(selected.nic()->clock()), periods, cpu, &setup, &report);
   loop.join();
   report.print(stdout);
+  if (setup.failed) return fail("bench", "the network did not reach OP");
+  (void)std::printf("heap_allocations_in_loop: %" PRIu64 " allocations\n", setup.heap_allocations);
 
   Figures ours;
   ours.count = g_ours.count();
@@ -210,7 +261,7 @@ int bench_latency(const ParsedArgs& args) noexcept {
 
   Figures floor;
   char why[160] = "";
-  if (!run_cyclictest(periods, cpu, floor, why, sizeof why)) {
+  if (!run_cyclictest(periods, cpu, setup.pm_qos, floor, why, sizeof why)) {
     (void)std::printf("cyclictest: not measured: %s\n", why);
     return fail("bench", "cyclictest did not run: no ratio");
   }

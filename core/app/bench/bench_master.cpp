@@ -153,6 +153,67 @@ int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexce
 
 void print_failure(ecat::Master& master) noexcept { ecat::print_bring_up_failure(stderr, "", "", master); }
 
+// --receive-wait and --receive-spin-us (raw NIC); --scheduling normal sleeps at once, as SOEM's test
+// program does. False (after saying why) on a bad value.
+bool parse_receive_wait(const ParsedArgs& args, bool real_time, ReceiveWaitChoice& wait) noexcept {
+  const char* text = args.value("receive-wait");
+  if (text != nullptr) {
+    if (std::strcmp(text, "spin") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::spin;
+    } else if (std::strcmp(text, "adaptive") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::adaptive;
+    } else if (std::strcmp(text, "sleep") == 0) {
+      wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;
+    } else {
+      (void)fail("bench", "--receive-wait must be spin, adaptive or sleep");
+      return false;
+    }
+  }
+  const Result<std::int64_t> spin_us = args.integer("receive-spin-us", kMasterReceiveSpin / 1000, 0, 1000);
+  if (!spin_us.ok()) {
+    (void)fail("bench", "--receive-spin-us must be 0..1000", spin_us.error());
+    return false;
+  }
+  wait.spin = spin_us.value() * 1000;
+  if (!real_time) {
+    wait.wait = hal::RawSocketSettings::ReceiveWait::sleep;
+    wait.spin = 0;
+  }
+  return true;
+}
+
+// The EtherCAT handler's real-time set-up as `run` applies it (memory locked, stack prefaulted,
+// SCHED_FIFO 80 on CPU 1, timer slack 1 ns, the PM QoS request), or none (--scheduling normal).
+hal::RtConfig master_rt_config(bool real_time) noexcept {
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  rt.fifo_priority = real_time ? 80 : 0;
+  rt.cpu = real_time ? 1 : -1;
+  rt.timer_slack_ns = real_time ? config::kTaskTimerSlackNs : 0;
+  rt.cpu_wakeup_latency_us = real_time ? config::kCpuWakeupLatencyUs : -1;
+  return rt;
+}
+
+void print_scheduling(bool real_time, const ReceiveWaitChoice& wait) noexcept {
+  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1)" : "normal (default scheduler, any CPU)");
+  (void)std::printf("receive_wait: %s, spin at most %" PRId64 " us%s\n", hal::to_string(wait.wait), wait.spin / 1000,
+                    wait.wait == hal::RawSocketSettings::ReceiveWait::adaptive ? ", from 20 us before the learnt round trip" : "");
+}
+
+// The cyclic run's frames that missed their deadline, and how many of them came back later (a stale
+// frame in a later cycle: late, not lost); then the raw socket's receive-wait figures.
+void print_receive_wait(const SelectedNic& selected, const ecat::LinkStats& before, const ecat::LinkStats& after) noexcept {
+  (void)std::printf("cyclic_frames_timed_out: %" PRIu64 " frames (%" PRIu64 " came back after their deadline)\n",
+                    after.timeouts - before.timeouts, after.stale_frames - before.stale_frames);
+  const hal::RawSocketNic* raw = selected.raw();
+  if (raw == nullptr) return;
+  const hal::ReceiveWaitStats& w = raw->wait_stats();
+  (void)std::printf("receive_wait_frames: %" PRIu64 " at once, %" PRIu64 " woke the sleep, %" PRIu64 " while spinning, %" PRIu64
+                    " after the spin (whole run, bring-up included)\n",
+                    w.at_once, w.while_asleep, w.while_spinning, w.after_spin);
+  (void)std::printf("receive_wait_round_trip: %.2f us (learnt, adaptive only)\n", us(static_cast<std::uint64_t>(raw->expected_round_trip())));
+}
+
 // The start-up SDOs of the bring-up: the master's PDO mapping set-up, then the owner's.
 void print_startup_sdos(const ecat::BringUpReport& r) noexcept {
   (void)std::printf("startup_sdos_pdo_mapping: %" PRIu32 " reads, %" PRIu32 " writes (%d drives rewritten)\n", r.pdo_reads,
@@ -233,19 +294,14 @@ int bench_master(const ParsedArgs& args) noexcept {
   const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
   const bool real_time = std::strcmp(scheduling, "rt") == 0;
   if (!real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
+  ReceiveWaitChoice wait;
+  if (!parse_receive_wait(args, real_time, wait)) return 1;
 
-  // Init: everything that may allocate or fault. The EtherCAT handler's real-time set-up
-  // (docs/hal.md): memory locked, stack prefaulted, SCHED_FIFO 80 on CPU 1, each one announced.
-  // --scheduling normal (comparisons only, docs/master.md): the default scheduler on any CPU and a
-  // receive that sleeps at once, as SOEM's test program runs.
+  // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
+  // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
   print_bench_header(stdout, "master");
-  hal::RtConfig rt;
-  rt.prefault_stack_bytes = std::size_t{256} * 1024;
-  rt.fifo_priority = real_time ? 80 : 0;
-  rt.cpu = real_time ? 1 : -1;
-  hal::apply_rt_config(rt).print(stdout);
-  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO 80, CPU 1, receive spin 150 us)"
-                                                  : "normal (default scheduler, any CPU, no receive spin)");
+  hal::apply_rt_config(master_rt_config(real_time)).print(stdout);
+  print_scheduling(real_time, wait);
   g_master_ns.reset();
   g_nic_ns.reset();
   g_latch_spread_ns.reset();
@@ -260,7 +316,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     g_segment = &robot.segment();
     inner = &sim_nic;
   } else {
-    const Status opened = selected.open(choice.value(), real_time ? kMasterReceiveSpin : 0);
+    const Status opened = selected.open(choice.value(), wait);
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
     inner = selected.nic();
   }
@@ -290,6 +346,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   // 2. The cyclic run, init complete: every allocation from here on is counted.
   const hal::PageFaults faults_at_init = hal::page_faults_of_process();
   declare_init_complete(HeapGuardMode::count);
+  const ecat::LinkStats link_before = bus.master().link().stats();
   std::int64_t all_valid = 0;
   std::int64_t frames_lost = 0;
   std::int64_t latch_samples = 0;
@@ -317,6 +374,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     }
   }
   const HeapGuardCounters heap_after_run = heap_guard_counters();
+  const ecat::LinkStats link_after = bus.master().link().stats();
   const hal::PageFaults faults_after_run = hal::page_faults_of_process();
   const Result<ecat::DcSnapshot> after_run = bus.master().read_dc_snapshot();
   const std::int64_t true_offset_after_run = simulated ? true_max_offset_ns() : -1;
@@ -404,6 +462,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("master_cycle_cpu_max: %.2f us\n", us(master.max));
   const HistogramSummary wire = g_nic_ns.summary();
   (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), simulated ? "the simulator processing the frame" : "send + wait for the frame");
+  print_receive_wait(selected, link_before, link_after);
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations (cyclic run %" PRIu64 ")\n", heap.allocations,
                     heap_after_run.allocations);

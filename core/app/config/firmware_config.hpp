@@ -52,11 +52,20 @@ constexpr std::int64_t kMessageParserPeriodNs = 1'000'000;  // the parser drains
 constexpr int kSocketWaitMs = 5;  // the socket handler's poll() timeout: how often it looks at the stop word
 // The rescue scenario runs on this long after its motion ended, so the end of the motion is in the log.
 constexpr std::int64_t kRescueSettleNs = 200'000'000;
-// The master's raw socket reads for this long before it sleeps waiting for a frame
-// (hal::RawSocketSettings::receive_spin): longer than a healthy segment's round trip, so the reply
-// is usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much
-// CPU per exchange.
+// The receive spin's limit (hal::RawSocketSettings::receive_spin) when the master's raw socket spins
+// (receive wait `spin` or `adaptive`; runtime/nic_factory.hpp kMasterReceiveWait chooses, `bench
+// master --receive-wait` overrides): longer than a healthy segment's round trip, so the reply is
+// usually taken without a wake-up; a late one is then waited for asleep. Costs at most this much CPU
+// per exchange. The in-process simulated robot on the wall clock spins as long for its frame.
 constexpr std::int64_t kMasterReceiveSpinNs = 150'000;
+// The adaptive receive wait sleeps through most of the learnt round trip and spins only from this long
+// before the frame is expected back (covers the thread's wake-up).
+constexpr std::int64_t kMasterAdaptiveLeadNs = 20'000;
+// Every task thread's timer slack (prctl PR_SET_TIMERSLACK) and the process's CPU wake-up latency
+// request (/dev/cpu_dma_latency), both as cyclictest sets them (hal/rt/rt_setup.hpp; docs/timing.md
+// measures what they change).
+constexpr unsigned long kTaskTimerSlackNs = 1;
+constexpr int kCpuWakeupLatencyUs = 0;
 
 // --- The socket handler under a flood (core/app/tasks/socket_handler.*, docs/protocol.md) ---------
 // Datagrams handled per wake-up, both UDP ports together, whatever is queued: a flood costs the socket

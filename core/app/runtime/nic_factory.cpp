@@ -13,10 +13,19 @@ hal::MonotonicClock g_real_time;
 }  // namespace
 
 Status SelectedNic::open(const NicChoice& choice, hal::Nanoseconds receive_spin) noexcept {
+  ReceiveWaitChoice wait;
+  wait.spin = receive_spin;
+  return open(choice, wait);
+}
+
+Status SelectedNic::open(const NicChoice& choice, const ReceiveWaitChoice& wait) noexcept {
+  const hal::Nanoseconds receive_spin = wait.spin;
   active_ = nullptr;
   if (choice.kind == NicKind::raw) {
     hal::RawSocketSettings settings;
     settings.receive_spin = receive_spin;
+    settings.receive_wait = wait.wait;
+    settings.adaptive_lead = wait.adaptive_lead;
     RESCUE_TRY(raw_.open(choice.interface_name.data(), settings));
     active_ = &raw_;
     return Status::success();

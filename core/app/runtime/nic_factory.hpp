@@ -16,6 +16,16 @@ namespace rescue::app {
 // How long the master's raw socket reads before it sleeps: config::kMasterReceiveSpinNs.
 constexpr hal::Nanoseconds kMasterReceiveSpin = config::kMasterReceiveSpinNs;
 
+// How the master's raw socket waits for its frame (hal::RawSocketSettings::ReceiveWait). sleep: the
+// least CPU per cycle of the three on the veth link (docs/timing.md "CPU per cycle": median 49 us
+// against spin's 66 and adaptive's 72, SOEM at the same priority and CPU 52).
+constexpr hal::RawSocketSettings::ReceiveWait kMasterReceiveWait = hal::RawSocketSettings::ReceiveWait::sleep;
+struct ReceiveWaitChoice {
+  hal::RawSocketSettings::ReceiveWait wait{kMasterReceiveWait};
+  hal::Nanoseconds spin{kMasterReceiveSpin};
+  hal::Nanoseconds adaptive_lead{config::kMasterAdaptiveLeadNs};
+};
+
 class SelectedNic {
  public:
   // Opens the chosen NIC; on error nothing is open and the error says why (see RawSocketNic::open).
@@ -23,8 +33,12 @@ class SelectedNic {
   // by reading before it sleeps (the master's default; 0 sleeps at
   // once, as a normally scheduled master like SOEM's does).
   Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
+  // The same with the raw socket's whole receive wait chosen (the simulated robot takes its spin).
+  Status open(const NicChoice& choice, const ReceiveWaitChoice& wait) noexcept;
   // The open NIC; nullptr before a successful open().
   hal::Nic* nic() noexcept { return active_; }
+  // The raw socket when that is the open NIC, else nullptr (its receive-wait figures).
+  const hal::RawSocketNic* raw() const noexcept { return active_ == &raw_ ? &raw_ : nullptr; }
 
  private:
   hal::RawSocketNic raw_;

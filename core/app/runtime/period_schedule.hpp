@@ -39,6 +39,15 @@ class PeriodSchedule {
   hal::Nanoseconds period_;
 };
 
+// How every real-time loop wakes for its period (the EtherCAT handler's, `bench latency`'s, `bench
+// fig4`'s): sleep until `release` (clock_nanosleep TIMER_ABSTIME on CLOCK_MONOTONIC for the wall
+// clock) and read the clock at once, before any work, as cyclictest does; the wake-up latency is the
+// result minus `release`.
+inline hal::Nanoseconds wake_at(hal::Clock& clock, hal::Nanoseconds release) noexcept {
+  clock.sleep_until(release);
+  return clock.now();
+}
+
 // A periodic task's loop: `work(start)` once per `period` on `clock` until `stop` is set, each period
 // recorded in `stats` (`period(due, woke, tsc_before, tsc_after, late_after)`: late when it began more
 // than `late_after` after it was due; `skipped(n)`: periods that did not run), and its heartbeat

@@ -83,6 +83,10 @@ inline int task_count() noexcept { return g_run.tasks.operator_port ? 6 : 5; }
 // stops and reports the tasks whether they are threads or processes.
 inline RunControl& run() noexcept { return links().run; }
 
+// One pass of the per-task CPU meter (runtime/task_cpu.hpp) over this process and the task
+// processes, from the logger's or the supervisor's loop (a normal thread): `done` once the handler ended.
+void observe_task_cpu(hal::Clock& clock, bool done) noexcept;
+
 inline double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
 
 }  // namespace rescue::app::runner

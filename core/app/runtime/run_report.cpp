@@ -7,6 +7,7 @@
 #include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/app/runtime/task_cpu.hpp"
 #include "core/memory/heap_guard.hpp"
 
 namespace rescue::app {
@@ -204,6 +205,9 @@ void print_run_summary(const RunSummary& s) noexcept {
     (void)std::printf("page_faults_%s: %" PRIu64 "\n", key, health.page_faults.load());
   }
   (void)std::printf("heap_allocations_after_init: %" PRIu64 "\n", s.heap_allocations);
+  // Every task's CPU per second of wall time, idle and moving (runtime/task_cpu.hpp).
+  (void)std::fflush(stdout);
+  run_task_cpu().print(stdout);
   // The supervisor's liveness watch (docs/tasks.md "Liveness"): real-time tasks reported silent, and
   // the largest heartbeat age at such a report (the limit plus the supervisor's own delay).
   (void)std::printf("task_silences_reported: %" PRIu64 "\n", links().run.silences_reported.load());

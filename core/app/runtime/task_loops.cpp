@@ -48,6 +48,8 @@ void apply_thread_rt(const char* task, int priority, int cpu) noexcept {
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;  // what toolchain/rt_verify.py checks stacks against
   rt.fifo_priority = priority;
   rt.cpu = cpu_for(cpu);
+  rt.timer_slack_ns = config::kTaskTimerSlackNs;             // as cyclictest
+  rt.cpu_wakeup_latency_us = config::kCpuWakeupLatencyUs;  // the process's PM QoS request, as cyclictest
   const hal::RtReport report = hal::apply_rt_config(rt);
   if (!report.fully_applied()) {
     (void)std::printf("%s: running degraded, %zu real-time setting(s) refused:\n", task, report.refused_count());
@@ -261,13 +263,12 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   std::uint64_t skipped_seen = skipped_at_start;
   for (;;) {
     const hal::Nanoseconds release = bus.next_wakeup();
-    clock.sleep_until(release);
+    // The clock read at once after the wake-up, before any work (as cyclictest measures it).
+    const hal::Nanoseconds woke = wake_at(clock, release);
     const std::uint64_t work_start = timing.timer.start();
     const drivers::JointCycleResult r = handler.cycle();
     const std::uint64_t work_end = timing.timer.stop();
     const hal::Nanoseconds now = clock.now();
-    // Woke at now - the work's duration: no extra clock read.
-    const hal::Nanoseconds woke = now - timing.timer.to_ns(work_end - work_start);
     stats.period(release, woke, work_start, work_end, hal::kNsPerMs / 2);
     heartbeat.store(now, std::memory_order_release);
     // Periods that had no cycle (the master skipped them to keep the phase after an overrun, a late

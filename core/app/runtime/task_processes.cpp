@@ -2,6 +2,7 @@
 // segment and runs its loop and its side of the logger; this process supervises, runs the operator's
 // side, and stops them in order.
 #include "core/app/runtime/task_modes.hpp"
+#include "core/app/runtime/task_cpu.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -207,6 +208,7 @@ int run_task_processes(OperatorSide& side) noexcept {
   declare_init_complete(HeapGuardMode::count);
   while (!death.critical) {
     if (stop_signal() != 0) state.stop.store(true, std::memory_order_release);
+    observe_task_cpu(supervisor_clock, state.handler_done.load(std::memory_order_acquire));
     operator_side_pass(side);
     death = supervisor.poll();
     state.health[static_cast<std::size_t>(StatTask::message_parser)].restarts.store(supervisor.restarts(p.parser));

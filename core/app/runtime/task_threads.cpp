@@ -7,6 +7,7 @@
 #include "core/app/config/command_line.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
+#include "core/app/runtime/task_cpu.hpp"
 #include "core/app/runtime/task_loops.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -35,6 +36,7 @@ int run_task_threads(OperatorSide& side) noexcept {
   declare_init_complete(HeapGuardMode::count);
   for (;;) {
     const bool done = state.handler_done.load(std::memory_order_acquire);
+    observe_task_cpu(logger_clock, done);
     handler_side_pass();
     manager_side_pass();
     operator_side_pass(side);

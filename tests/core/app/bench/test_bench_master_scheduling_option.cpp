@@ -18,7 +18,8 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 TEST(BenchMasterScheduling, NormalSkipsPinningAndPriorityAndSaysSo) {
   const test::CommandOutput out = test::run_command(kBinary + " bench master --scheduling normal --cycles 100 2>&1");
   EXPECT_EQ(out.exit_status, 0) << out.out;
-  EXPECT_TRUE(contains(out.out, "scheduling: normal (default scheduler, any CPU, no receive spin)")) << out.out;
+  EXPECT_TRUE(contains(out.out, "scheduling: normal (default scheduler, any CPU)")) << out.out;
+  EXPECT_TRUE(contains(out.out, "receive_wait: sleep, spin at most 0 us")) << out.out;
   EXPECT_TRUE(contains(out.out, "rt: CPU affinity: skipped")) << out.out;
   EXPECT_TRUE(contains(out.out, "rt: SCHED_FIFO priority: skipped")) << out.out;
   EXPECT_TRUE(contains(out.out, "cycles_all_joints_valid: 100 cycles")) << out.out;
@@ -27,7 +28,17 @@ TEST(BenchMasterScheduling, NormalSkipsPinningAndPriorityAndSaysSo) {
 TEST(BenchMasterScheduling, DefaultIsTheEthercatTasksRealTimeSetUp) {
   const test::CommandOutput out = test::run_command(kBinary + " bench master --cycles 100 2>&1");
   EXPECT_EQ(out.exit_status, 0) << out.out;
-  EXPECT_TRUE(contains(out.out, "scheduling: rt (SCHED_FIFO 80, CPU 1, receive spin 150 us)")) << out.out;
+  EXPECT_TRUE(contains(out.out, "scheduling: rt (SCHED_FIFO 80, CPU 1)")) << out.out;
+  EXPECT_TRUE(contains(out.out, "receive_wait: sleep, spin at most 150 us")) << out.out;
+}
+
+TEST(BenchMasterScheduling, ReceiveWaitIsChosenOrRefused) {
+  const test::CommandOutput out = test::run_command(kBinary + " bench master --receive-wait spin --receive-spin-us 40 --cycles 100 2>&1");
+  EXPECT_EQ(out.exit_status, 0) << out.out;
+  EXPECT_TRUE(contains(out.out, "receive_wait: spin, spin at most 40 us")) << out.out;
+  const test::CommandOutput bad = test::run_command(kBinary + " bench master --receive-wait busy 2>&1");
+  EXPECT_NE(bad.exit_status, 0) << bad.out;
+  EXPECT_TRUE(contains(bad.out, "--receive-wait must be spin, adaptive or sleep")) << bad.out;
 }
 
 TEST(BenchMasterScheduling, AnythingElseIsRefused) {

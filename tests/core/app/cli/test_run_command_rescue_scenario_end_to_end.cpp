@@ -79,6 +79,13 @@ void expect_rescue_scenario(const std::string& mode_option, const char* tasks_li
     EXPECT_NE(value_of(out.out, std::string("page_faults_") + task), "") << task;
   }
   EXPECT_EQ(value_of(out.out, "heap_allocations_after_init"), "0") << out.out;
+  // Every task's CPU per second of wall time, held and moving (docs/timing.md).
+  for (const char* phase : {"idle", "moving"}) {
+    for (const char* task : {"ethercat", "joint_manager", "message_parser", "rc_rescue", "rc_teleop", "total"}) {
+      EXPECT_NE(value_of(out.out, std::string("cpu_ms_per_s_") + phase + "_" + task), "") << phase << " " << task << "\n" << out.out;
+    }
+    EXPECT_GT(std::atof(value_of(out.out, std::string("wall_s_") + phase).c_str()), 0.0) << phase << "\n" << out.out;
+  }
   for (const char* queue : kDropCounterNames) EXPECT_NE(value_of(out.out, queue), "") << queue << "\n" << out.out;
   EXPECT_EQ(value_of(out.out, "joints_lost"), "4") << out.out;
   EXPECT_EQ(value_of(out.out, "joints_lost_names"), "l_elbow,l_wrist_yaw,l_wrist_pitch,l_hand") << out.out;

@@ -1,0 +1,44 @@
+// `rescue-motion bench latency` runs the EtherCAT handler's real loop (wake_at, then the handler's
+// cycle on the in-process simulated robot) with `run`'s real-time set-up, then cyclictest with the
+// same priority, CPU and PM QoS choice, and prints both loops' figures, the ratios and 0 heap
+// allocations in the loop; --no-pm-qos runs both without the request. No timing is asserted.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "tests/support/run_command.hpp"
+
+namespace rescue::app {
+namespace {
+
+const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+bool have_cyclictest() { return std::system("command -v cyclictest >/dev/null 2>&1") == 0; }
+
+TEST(BenchLatency, RunsTheHandlersLoopAndCyclictestWithThePmQosRequest) {
+  if (!have_cyclictest()) GTEST_SKIP() << "cyclictest not installed (rt-tests, toolchain/setup.sh)";
+  const test::CommandOutput out = test::run_command(kBinary + " bench latency --periods 200 2>&1");
+  ASSERT_EQ(out.exit_status, 0) << out.out;
+  for (const char* line : {"\nloop: the EtherCAT handler's", "\npm_qos: held at 0 us by both loops",
+                           "\nheap_allocations_in_loop: 0 allocations\n", "\nours_periods: 200 periods\n",
+                           "\nours_latency_p50: ", "\nours_latency_p99: ", "\ncyclictest_latency_p50: ",
+                           "\ncyclictest_latency_p99: ", "\nratio_p50: ", "\nratio_p99: ",
+                           "\nrt: timer slack 1 ns: ", "\nrt: CPU wake-up latency (PM QoS, /dev/cpu_dma_latency) 0 us: "}) {
+    EXPECT_TRUE(contains(out.out, line)) << line << "\n" << out.out;
+  }
+}
+
+TEST(BenchLatency, NoPmQosLeavesTheRequestToNeitherLoop) {
+  if (!have_cyclictest()) GTEST_SKIP() << "cyclictest not installed (rt-tests, toolchain/setup.sh)";
+  const test::CommandOutput out = test::run_command(kBinary + " bench latency --periods 200 --no-pm-qos 2>&1");
+  ASSERT_EQ(out.exit_status, 0) << out.out;
+  EXPECT_TRUE(contains(out.out, "\npm_qos: not held by either loop")) << out.out;
+  EXPECT_FALSE(contains(out.out, "/dev/cpu_dma_latency) 0 us:")) << "the request was not made\n" << out.out;
+  EXPECT_TRUE(contains(out.out, "\nratio_p50: ")) << out.out;
+}
+
+}  // namespace
+}  // namespace rescue::app
