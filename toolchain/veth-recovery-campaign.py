@@ -239,14 +239,15 @@ def check_missed(run):
             print("  missed: %s down %.3f .. %.3f s" % (j, since - run.t0, until - run.t0))
 
 
-def case_power(args, work, sim):
-    run = start_run(args, work, sim, "power", len(DRIVES) * 4 + 10)
+def one_at_a_time(args, work, sim, name, targets, down, up):
+    """Each target in turn: `down` it for --off-ms, `up` it again, wait until every joint answers."""
+    run = start_run(args, work, sim, name, len(targets) * 4 + 10)
     if run is None:
         return False
-    for d in DRIVES:
-        run.inject("power-off " + d)
+    for target in targets:
+        run.inject(down + " " + target)
         run.pump(time.monotonic() + args.off_ms / 1000)
-        run.inject("power-on " + d)
+        run.inject(up + " " + target)
         end = time.monotonic() + 3
         while time.monotonic() < end and run.reachable_since:
             run.pump(time.monotonic() + 0.05)
@@ -254,23 +255,14 @@ def case_power(args, work, sim):
     run.finish()
     check_missed(run)
     return summary(run)
+
+
+def case_power(args, work, sim):
+    return one_at_a_time(args, work, sim, "power", DRIVES, "power-off", "power-on")
 
 
 def case_branches(args, work, sim):
-    run = start_run(args, work, sim, "branches", len(BRANCH_HEADS) * 4 + 10)
-    if run is None:
-        return False
-    for head in BRANCH_HEADS:
-        run.inject("cut " + head)
-        run.pump(time.monotonic() + args.off_ms / 1000)
-        run.inject("restore " + head)
-        end = time.monotonic() + 3
-        while time.monotonic() < end and run.reachable_since:
-            run.pump(time.monotonic() + 0.05)
-        run.pump(time.monotonic() + 0.2)
-    run.finish()
-    check_missed(run)
-    return summary(run)
+    return one_at_a_time(args, work, sim, "branches", BRANCH_HEADS, "cut", "restore")
 
 
 def schedule(seed, seconds):

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "core/app/links/task_links.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/motion_intake.hpp"
 #include "core/app/tasks/rc_task.hpp"
 
@@ -21,9 +22,11 @@ inline RcTaskSettings short_rescue_settings() {
 
 struct RcTaskRig {
   std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
-  MotionIntake intake{links->motion, links->rc_heartbeat_ns, default_intake_settings()};
-  std::unique_ptr<RcTask> rescue = std::make_unique<RcTask>(*links, short_rescue_settings());
-  std::unique_ptr<RcTask> teleop = std::make_unique<RcTask>(*links, default_rc_task_settings(RcTaskId::teleop));
+  std::unique_ptr<TaskPorts> ports = std::make_unique<TaskPorts>(*links);  // as `run` wires the tasks
+  MotionIntake intake{motion_intake_ports(*links), default_intake_settings()};
+  std::unique_ptr<RcTask> rescue = std::make_unique<RcTask>(ports->rc_task(RcTaskId::rescue), short_rescue_settings());
+  std::unique_ptr<RcTask> teleop =
+      std::make_unique<RcTask>(ports->rc_task(RcTaskId::teleop), default_rc_task_settings(RcTaskId::teleop));
   RobotDemand demand{};
   RobotSample sample{};
   RobotJointStatus status{};

@@ -11,7 +11,7 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/predefined_messages.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "hal/time/wall_clock.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
@@ -26,19 +26,11 @@ class NoEvents final : public JointEventSink {
 // The firmware's two tasks over one TaskLinks, as `run` wires them.
 struct SimulatedFirmware {
   explicit SimulatedFirmware(const std::string& state_dir)
-      : storage(state_dir.c_str()),
-        reports(links->lost_reports),
-        notices(links->notices),
-        commands(links->joint_commands),
-        parser(links->joint_commands),
-        samples(links->samples),
-        demand(links->demand),
-        worker(storage),
-        manager(ports()) {}
+      : storage(state_dir.c_str()), parser(*ports->message_parser().joint_commands), worker(storage), manager(manager_ports()) {}
 
-  JointManagerPorts ports() {
-    JointManagerPorts p{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand};
-    p.save_requests = &worker;
+  JointManagerPorts manager_ports() {
+    JointManagerPorts p = ports->joint_manager(storage, wall, events);
+    p.save_requests = &worker;  // the storage worker, inline
     p.save_results = &worker;
     return p;
   }
@@ -46,7 +38,7 @@ struct SimulatedFirmware {
   bool bring_up(const ecat::MasterOptions& options = {}, const MotionIntakeSettings& intake = default_intake_settings()) {
     restored = manager.restore(rig->clock.now()).restored;
     if (!rig->bus.bring_up(options, restored).ok()) return false;
-    handler = std::make_unique<EthercatHandler>(rig->bus, *links, restored, intake);
+    handler = std::make_unique<EthercatHandler>(rig->bus, ports->ethercat_handler(), restored, intake);
     return true;
   }
   // One millisecond: the handler's cycle, then the joint manager's step.
@@ -91,13 +83,9 @@ struct SimulatedFirmware {
 
   std::unique_ptr<rescue::testing::SimulatedRobotRig> rig = std::make_unique<rescue::testing::SimulatedRobotRig>();
   std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
+  std::unique_ptr<TaskPorts> ports = std::make_unique<TaskPorts>(*links);  // as `run` wires the tasks
   ErrorJointsFileStorage storage;
-  SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports;
-  SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices;
-  SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands;
-  SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser;
-  SeqlockSampleSource samples;
-  SeqlockDemandSink demand;
+  MessageSink<JointCommand>& parser;  // the test plays the message parser
   hal::ManualWallClock wall;
   NoEvents events;
   rescue::app::testing::InlineStorageWorker worker;  // the storage worker, inline (joint_manager_fakes.hpp)

@@ -23,12 +23,12 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/config/task_table.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/replay_window.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/socket_handler.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -506,7 +506,8 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   static drivers::JointBus bus(*selected.nic());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
-  static EthercatHandler handler(bus, g_links, 0);
+  static TaskPorts task_ports(g_links);  // as `run` wires the tasks (runtime/task_ports.hpp)
+  static EthercatHandler handler(bus, task_ports.ethercat_handler(), 0);
   static kin::RcPeriod rc(kin::ready_posture());
 
   // The socket handler (real code) on a loopback port with a fresh key.
@@ -515,18 +516,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   static protocol::ReplayWindow replay;
   static hal::SystemWallClock wall;
   replay.begin_epoch(protocol::new_epoch());
-  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> requests(g_links.control_requests);
-  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> replies(g_links.control_replies);
-  SocketHandlerPorts ports;
-  ports.requests = &requests;
-  ports.replies = &replies;
-  ports.sensors = &g_links.sensors;
-  ports.counters = &g_links.socket_counters;
-  ports.samples = &g_links.samples;
-  ports.joint_status = &g_links.joint_status;
-  ports.master = &g_links.master_status;
-  ports.tasks = &g_links.task_stats;
-  static SocketHandler socket(ports, key, replay, wall);
+  static SocketHandler socket(task_ports.socket_handler(), key, replay, wall);
   SocketHandlerOptions socket_options;
   socket_options.listen = "127.0.0.1";
   socket_options.control_port = 0;

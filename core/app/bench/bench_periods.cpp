@@ -6,14 +6,12 @@
 #include <cstdlib>
 
 #include "core/app/bench/bench_header.hpp"
-#include "core/app/links/joint_demand_sink.hpp"
-#include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/error_joints_storage.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/predefined_messages.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -76,30 +74,16 @@ int bench_periods(const ParsedArgs& args) noexcept {
   char state_dir[] = "/tmp/rescue-bench-periods-XXXXXX";
   if (mkdtemp(state_dir) == nullptr) return fail("bench", "cannot create a temporary state directory");
   static ErrorJointsFileStorage storage(state_dir);
-  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(g_links.lost_reports);
-  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(g_links.notices);
-  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(g_links.joint_commands);
-  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser(g_links.joint_commands);
-  static SeqlockSampleSource samples(g_links.samples);
+  static TaskPorts ports(g_links);  // as `run` wires the tasks (runtime/task_ports.hpp)
   static hal::ManualWallClock wall;
   static NoEvents events;
-  static SeqlockDemandSink demand(g_links.demand);
   // The storage worker runs between the periods here (in `run` it is a thread of its own).
-  static SpscQueue<ErrorJointsSaveRequest, 2> save_request_queue;
-  static SpscQueue<ErrorJointsSaveResult, 2> save_result_queue;
-  static SpscMessageSink<ErrorJointsSaveRequest, 2> save_requests(save_request_queue);
-  static SpscMessageSource<ErrorJointsSaveResult, 2> save_results(save_result_queue);
-  static SpscMessageSource<ErrorJointsSaveRequest, 2> worker_requests(save_request_queue);
-  static SpscMessageSink<ErrorJointsSaveResult, 2> worker_results(save_result_queue);
-  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
-  JointManagerPorts manager_ports{&reports, &notices, &commands, &samples, &storage, &wall, &events, &demand};
-  manager_ports.save_requests = &save_requests;
-  manager_ports.save_results = &save_results;
-  static JointManager manager(manager_ports);
+  static ErrorJointsStorageWorker storage_worker(ports.storage_worker_requests(), ports.storage_worker_results(), storage);
+  static JointManager manager(ports.joint_manager(storage, wall, events));
   (void)manager.restore(g_clock.now());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
-  static EthercatHandler handler(bus, g_links, 0);
+  static EthercatHandler handler(bus, ports.ethercat_handler(), 0);
   const hal::TscTimer timer = hal::TscTimer::calibrate();
   g_handler.configure("ethercat", 1.0 / timer.ticks_per_ns());
   g_manager.configure("joint_manager", 1.0 / timer.ticks_per_ns());
@@ -140,7 +124,9 @@ int bench_periods(const ParsedArgs& args) noexcept {
   int to_op = 0;
   while (to_op < kMaxCyclesToOp && period(false).state != ecat::MasterState::op) ++to_op;
   if (to_op == kMaxCyclesToOp) return fail("bench", "the network did not reach OP");
-  // Sends in order and stops at the first refusal (a side effect per element, not a search).
+  // Sends in order (as the message parser does) and stops at the first refusal (a side effect per
+  // element, not a search).
+  MessageSink<JointCommand>& parser = *ports.message_parser().joint_commands;
   for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
     // cppcheck-suppress useStlAlgorithm
     if (!parser.try_send(c)) return fail("bench", "joint handle queue full");

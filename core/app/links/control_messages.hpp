@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/links/joint_messages.hpp"
 #include "core/app/links/protocol_messages.hpp"
+#include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
 
 namespace rescue::app {
@@ -118,7 +120,8 @@ struct TaskStat {
 };
 static_assert(std::is_trivial_v<TaskStat>, "published through a seqlock");
 
-// The one conversion each way between the wire's messages and the tasks' records.
+// The one conversion between the wire's messages and the tasks' records, one function per record
+// (used wherever that record meets the wire).
 // An authentic, decoded request (`m`) from reply_address:reply_port -> the parser's record; the
 // operator's pose is converted here, once, into the RC task's input form.
 inline ControlRequest request_of(const protocol::Message& m, std::uint32_t reply_address, std::uint16_t reply_port) noexcept {
@@ -159,6 +162,63 @@ inline protocol::Message message_of(const ControlReply& reply) noexcept {
   m.reply.text = reply.text;
   m.reply.joint_refusals = reply.joint_refusals;
   return m;
+}
+
+// The EtherCAT handler's published counters -> the master answer. How old they are (`age`) and the
+// socket handler's own counters (datagrams accepted, rejected) are the answerer's to add.
+inline protocol::MasterPayload master_payload_of(const MasterStatus& s) noexcept {
+  protocol::MasterPayload p;
+  p.state = s.state;
+  p.cycles = s.cycles;
+  p.frames_sent = s.frames_sent;
+  p.frames_lost = s.frames_lost;
+  p.late_periods = s.late_periods;
+  p.dc_deviation_ns = s.dc_deviation_ns;
+  p.dc_max_deviation_ns = s.dc_max_deviation_ns;
+  return p;
+}
+
+// One task's published timing -> its record in the tasks answer: where the kernel ran it, at what
+// policy and priority, beside what the task table asked for.
+inline protocol::TaskRecord task_record_of(const TaskStat& t) noexcept {
+  protocol::TaskRecord r;
+  r.name = t.name;
+  r.pid = t.pid;
+  r.cpu = t.kernel_cpu;
+  r.priority = t.kernel_priority;
+  r.policy = t.kernel_policy;
+  r.table_cpu = t.cpu;
+  r.table_priority = t.priority;
+  r.periods = t.periods;
+  r.missed = t.missed;
+  r.max_execution_ns = t.max_execution_ns;
+  r.execution = t.execution;
+  r.latency = t.latency;
+  return r;
+}
+
+// One joint's status (the joint manager's) and values (the EtherCAT handler's) -> its record in the
+// status answer; either may not be published yet (nullptr). `owner`: the RC task whose references
+// drive it (protocol::kNoOwner: none).
+inline protocol::JointStatusRecord joint_status_record_of(const PublishedJointStatus* status, const JointSample* sample,
+                                                          std::uint8_t owner) noexcept {
+  protocol::JointStatusRecord r;
+  if (status != nullptr) {
+    r.state = static_cast<std::uint8_t>(status->state);
+    r.mode = static_cast<std::int8_t>(status->mode);
+    r.fault = static_cast<std::uint8_t>(status->fault);
+    if (status->drive_enabled) r.flags |= protocol::kFlagDriveEnabled;
+    if (status->lost) r.flags |= protocol::kFlagLost;
+  }
+  if (sample != nullptr) {
+    if (sample->reachable) r.flags |= protocol::kFlagReachable;
+    if (sample->drive_fault) r.flags |= protocol::kFlagDriveFault;
+    r.position_rad = sample->position_rad;
+    r.velocity_rad_s = sample->velocity_rad_s;
+    r.torque_nm = sample->torque_nm;
+  }
+  r.owner = owner;
+  return r;
 }
 
 }  // namespace rescue::app

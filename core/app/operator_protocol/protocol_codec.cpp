@@ -58,6 +58,10 @@ bool valid_mode(std::uint8_t mode) noexcept {
 // the fields and ignores the checks; DecodeFields reads them, runs the checks in the same order and
 // keeps the first failure, so a datagram is judged by the first thing wrong with it on the wire.
 // Widths are explicit: a field whose type changes width fails to compile instead of changing the wire.
+// Layouts look alike in places (runs of f.u64(...) lines): each line is a field of its own record, in
+// its place on the wire, with the checks in the order that decides a datagram's error. That is the
+// table's data, written as code so that nested records, lists and checks stay in wire order; a
+// descriptor table would be the same line per field plus member pointers of many types.
 class EncodeFields {
  public:
   explicit EncodeFields(ByteSpan out) noexcept : w_(out) {}

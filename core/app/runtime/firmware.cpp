@@ -10,7 +10,6 @@
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/command_line.hpp"
 #include "core/app/config/task_table.hpp"
-#include "core/app/links/joint_sample_source.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/replay_window.hpp"
@@ -21,6 +20,7 @@
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/run_report.hpp"
 #include "core/app/runtime/startup_log.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_modes.hpp"
 #include "core/app/runtime/task_timing.hpp"
@@ -36,7 +36,6 @@
 #include "core/app/tasks/rc_task.hpp"
 #include "core/app/tasks/repaired_joints.hpp"
 #include "core/app/tasks/socket_handler.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/capture/capture_tap.hpp"
@@ -49,9 +48,6 @@
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
-
-// The joint manager has one write in flight at a time (tasks/error_joints_worker.hpp): two slots.
-constexpr std::size_t kSaveQueueDepth = 2;
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -98,54 +94,19 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (lock_status != 0) return lock_status;
   const int segment_status = create_segment(options, dir.value().path.c_str());
   if (segment_status != 0) return segment_status;
+  // Every task's ports over the segment's TaskLinks, built in one place (task_ports.hpp): each task
+  // sees only the queues and seqlocks it uses, at the end it uses them.
+  static TaskPorts ports(links());
   static ErrorJointsFileStorage storage(dir.value().path.c_str());
-  static SpscMessageSource<LostJointsReport, TaskLinks::kReportQueueDepth> reports(links().lost_reports);
-  static SpscMessageSink<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notices(links().notices);
-  static SpscMessageSource<JointCommand, TaskLinks::kCommandQueueDepth> commands(links().joint_commands);
-  static SeqlockSampleSource samples(links().samples);
-  static SeqlockDemandSink demand_sink(links().demand);
-  static SpscMessageSink<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> outcomes(links().command_outcomes);
   // The storage worker (a normal-priority thread of the joint manager's process) writes the file off
   // the joint manager's period: one request in flight, its outcome back (tasks/error_joints_worker.hpp).
-  static SpscQueue<ErrorJointsSaveRequest, kSaveQueueDepth> save_request_queue;
-  static SpscQueue<ErrorJointsSaveResult, kSaveQueueDepth> save_result_queue;
-  static SpscMessageSink<ErrorJointsSaveRequest, kSaveQueueDepth> save_requests(save_request_queue);
-  static SpscMessageSource<ErrorJointsSaveResult, kSaveQueueDepth> save_results(save_result_queue);
-  static SpscMessageSource<ErrorJointsSaveRequest, kSaveQueueDepth> worker_requests(save_request_queue);
-  static SpscMessageSink<ErrorJointsSaveResult, kSaveQueueDepth> worker_results(save_result_queue);
-  static ErrorJointsStorageWorker storage_worker(worker_requests, worker_results, storage);
-  JointManagerPorts manager_ports{&reports, &notices, &commands, &samples, &storage, &wall_clock, &events,
-                                  &demand_sink, &outcomes};
-  manager_ports.save_requests = &save_requests;
-  manager_ports.save_results = &save_results;
-  static JointManager manager(manager_ports);
+  static ErrorJointsStorageWorker storage_worker(ports.storage_worker_requests(), ports.storage_worker_results(), storage);
+  static JointManager manager(ports.joint_manager(storage, wall_clock, events));
   manager.set_auto_clear_power_cycled(options.auto_clear_power_cycled);
 
   // The operator's path in: the message parser (the joint handle queue's only producer) and, with a
-  // key, the socket handler. They see only queues and seqlocks of links().
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_network(links().control_requests);
-  static SpscMessageSource<ControlRequest, TaskLinks::kRequestQueueDepth> parser_local(links().local_requests);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies(links().control_replies);
-  static SpscMessageSink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies(links().local_replies);
-  static SpscMessageSink<JointCommand, TaskLinks::kCommandQueueDepth> parser_out(links().joint_commands);
-  static SpscMessageSource<JointCommandOutcome, TaskLinks::kOutcomeQueueDepth> parser_outcomes(links().command_outcomes);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc0(links().rc_inputs[0]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc1(links().rc_inputs[1]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc2(links().rc_inputs[2]);
-  static SpscMessageSink<RcTaskInput, TaskLinks::kRcInputQueueDepth> rc3(links().rc_inputs[3]);
-  MessageParserPorts parser_ports;
-  parser_ports.network = &parser_network;
-  parser_ports.local = &parser_local;
-  parser_ports.network_replies = &parser_replies;
-  parser_ports.local_replies = &parser_local_replies;
-  parser_ports.joint_commands = &parser_out;
-  parser_ports.outcomes = &parser_outcomes;
-  parser_ports.samples = &links().samples;
-  parser_ports.joint_status = &links().joint_status;
-  parser_ports.rc_inputs = {&rc0, &rc1, &rc2, &rc3};
-  parser_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
-  parser_ports.owner = &links().motion.owner;
-  static MessageParser parser(parser_ports);
+  // key, the socket handler.
+  static MessageParser parser(ports.message_parser());
 
   if (!protocol::init_crypto().ok()) return fail("run", "libsodium could not be initialised");
   hal::PathBuffer key_path;
@@ -169,23 +130,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
                       key_path.c_str(), key_path.c_str());
   }
   static protocol::ReplayWindow replay;
-  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> socket_requests(links().control_requests);
-  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies(links().control_replies);
-  SocketHandlerPorts socket_ports;
-  socket_ports.requests = &socket_requests;
-  socket_ports.replies = &socket_replies;
-  socket_ports.sensors = &links().sensors;
-  socket_ports.counters = &links().socket_counters;
-  socket_ports.samples = &links().samples;
-  socket_ports.joint_status = &links().joint_status;
-  socket_ports.master = &links().master_status;
-  socket_ports.diag = &links().link_diag;
-  socket_ports.tasks = &links().task_stats;
-  socket_ports.drops = &links().run.dropped;
-  socket_ports.motion = &links().motion;
-  socket_ports.handler_heartbeat = &links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
+  SocketHandlerPorts socket_ports = ports.socket_handler();
   socket_ports.stale_after = options.task_silent_after;
-  socket_ports.rc_heartbeat_ns = &links().rc_heartbeat_ns;
   socket_ports.rc_tasks = kRcTasksRun;
   static protocol::VersionPayload version;
   protocol::set_text(version.program, build_program_version());
@@ -298,14 +244,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   if (g_run.capture.is_open()) bus.master().set_tap(ecat::capture_queue_tap, &g_run.capture_queue);
   drivers::SimulatedSegment* segment =
       options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr;
-  static EthercatHandler handler(bus, links(), restored.restored);
+  static EthercatHandler handler(bus, ports.ethercat_handler(), restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   static hal::MonotonicClock operator_clock;
   // The two RC tasks compute every period; only the Motion owner's references reach the joints.
   RcTaskSettings rescue_settings = default_rc_task_settings(RcTaskId::rescue);
   if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
-  static RcTask rc_rescue(links(), rescue_settings);
-  static RcTask rc_teleop(links(), default_rc_task_settings(RcTaskId::teleop));
+  static RcTask rc_rescue(ports.rc_task(RcTaskId::rescue), rescue_settings);
+  static RcTask rc_teleop(ports.rc_task(RcTaskId::teleop), default_rc_task_settings(RcTaskId::teleop));
   g_run.tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
                     &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
                     &events,   &event_printer, &storage_worker};

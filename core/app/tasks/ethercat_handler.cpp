@@ -12,14 +12,9 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 
 }  // namespace
 
-EthercatHandler::EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPorts& ports, JointMask restored_lost,
                                  const MotionIntakeSettings& intake) noexcept
-    : bus_(bus),
-      links_(links),
-      intake_(links.motion, links.rc_heartbeat_ns, intake),
-      report_sink_(links.lost_reports),
-      notice_source_(links.notices),
-      tracker_(report_sink_, notice_source_, restored_lost) {
+    : bus_(bus), ports_(ports), intake_(ports.motion, intake), tracker_(*ports.reports, *ports.notices, restored_lost) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
   }
@@ -31,7 +26,7 @@ void EthercatHandler::post(const HandlerEvent& event) noexcept {
 
 void EthercatHandler::build_outputs() noexcept {
   RobotDemand demand{};
-  if (links_.demand.try_read(demand)) demand_ = demand;  // else keep the last one
+  if (ports_.demand->try_read(demand)) demand_ = demand;  // else keep the last one
   const JointMask excluded = tracker_.excluded();
   // The joints driven this period in position mode take the Motion owner's references (or hold).
   JointMask driven = 0;
@@ -99,7 +94,7 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
     s.drive_fault = drivers::is_faulted(in.statusword);
     s.drive_error_code = in.error_code;
   }
-  links_.samples.write(sample_);
+  ports_.samples->write(sample_);
 }
 
 std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
@@ -130,8 +125,8 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       // holding their actual position, and the motion waits for the operator (docs/tasks.md
       // "Liveness"): a Motion owner is released (`ctl owner N` takes it again).
       rest_after_watchdog_ |= link.joints;
-      const std::uint64_t word = links_.motion.owner.word();
-      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && links_.motion.owner.release(word)) {
+      const std::uint64_t word = ports_.motion.owner->word();
+      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && ports_.motion.owner->release(word)) {
         ++owners_released_after_watchdog_;
       }
     }
@@ -141,7 +136,7 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       back.detected_at = now;
       back.back_after_power_cycle = link.joints;
       // Full queue: counted; no automatic clear then, the operator's stays possible.
-      if (!report_sink_.try_send(back)) ++power_cycle_reports_dropped_;
+      if (!ports_.reports->try_send(back)) ++power_cycle_reports_dropped_;
     }
   }
   // After the reports above: a joint back after a power cycle is queued before it shows reachable.

@@ -19,12 +19,13 @@
 #include <array>
 #include <cstdint>
 
-#include "core/app/links/task_links.hpp"
+#include "core/app/links/joint_messages.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/tasks/motion_intake.hpp"
 #include "core/concurrency/message_port.hpp"
-#include "core/concurrency/spsc_message_port.hpp"
+#include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
+#include "core/robot/joint_demand.hpp"
 #include "core/robot/joint_limits.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/master/link_monitor.hpp"
@@ -51,13 +52,23 @@ struct HandlerEvent {
   SafeStopDecision stop{};       // safe_stop
 };
 
+// What the handler reaches of the tasks' shared state, each at the end it uses (built with the other
+// tasks' ports, core/app/runtime/task_ports.hpp).
+struct EthercatHandlerPorts {
+  const Seqlock<RobotDemand>* demand{nullptr};          // the joint manager's drive demand
+  Seqlock<RobotSample>* samples{nullptr};               // every joint's values, published each cycle
+  MessageSink<LostJointsReport>* reports{nullptr};      // to the joint manager (step 1; back after a power cycle)
+  MessageSource<JointManagerNotice>* notices{nullptr};  // from the joint manager (step 4)
+  MotionIntakePorts motion{};  // the Motion owner's references; its word (released after a watchdog stall)
+};
+
 class EthercatHandler {
  public:
   static constexpr std::size_t kEventQueueDepth = 64;
 
-  // `links` carries the queues and seqlocks shared with the joint manager; `restored_lost` the
-  // joints the error-joints file lists (excluded from the first cycle on).
-  EthercatHandler(drivers::JointBus& bus, TaskLinks& links, JointMask restored_lost,
+  // Every port must be non-null; `restored_lost`: the joints the error-joints file lists (excluded
+  // from the first cycle on).
+  EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPorts& ports, JointMask restored_lost,
                   const MotionIntakeSettings& intake = default_intake_settings()) noexcept;
 
   // One period; call at bus().next_wakeup() once the bus is up.
@@ -97,10 +108,8 @@ class EthercatHandler {
   // Largest and most aligned first (the event queue's indices sit on cache lines of their own).
   SpscQueue<HandlerEvent, kEventQueueDepth> events_;
   drivers::JointBus& bus_;
-  TaskLinks& links_;
+  EthercatHandlerPorts ports_;
   MotionIntake intake_;
-  SpscMessageSink<LostJointsReport, TaskLinks::kReportQueueDepth> report_sink_;
-  SpscMessageSource<JointManagerNotice, TaskLinks::kNoticeQueueDepth> notice_source_;
   LostJointTracker tracker_;
   drivers::JointReferences outputs_{};
   std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)

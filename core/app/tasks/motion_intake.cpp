@@ -15,12 +15,12 @@ MotionIntakeSettings default_intake_settings() noexcept {
   return s;
 }
 
-MotionIntake::MotionIntake(MotionLinks& links, const Heartbeats& heartbeats, const MotionIntakeSettings& settings) noexcept
-    : links_(links), heartbeats_(heartbeats), settings_(settings) {}
+MotionIntake::MotionIntake(const MotionIntakePorts& ports, const MotionIntakeSettings& settings) noexcept
+    : ports_(ports), settings_(settings) {}
 
 bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept {
   const std::uint8_t task = MotionOwner::task_of(word);
-  if (!links_.references[task].read(snapshot_)) {
+  if (!(*ports_.references)[task].read(snapshot_)) {
     ++counters_.incomplete;
     return false;
   }
@@ -83,7 +83,7 @@ const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now
                                                             JointMask driven) noexcept {
   decide(now, demand, driven);
   bring_to_rest(driven);
-  links_.owner_joints.store(driven_by_owner_, std::memory_order_relaxed);
+  ports_.owner_joints->store(driven_by_owner_, std::memory_order_relaxed);
   return held_;
 }
 
@@ -104,29 +104,29 @@ void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, Joint
   driving_ = kNoOwnerTask;
   driven_by_owner_ = 0;
   fresh_ = 0;
-  const std::uint64_t word = links_.owner.word();
+  const std::uint64_t word = ports_.owner->word();
   const std::uint8_t task = MotionOwner::task_of(word);
   if (task >= protocol::kMaxRcTasks) {  // kNoOwnerTask (0xFF) included: nobody owns the motion
     consecutive_misses_ = 0;
     return;
   }
   ++counters_.owned_periods;
-  const std::int64_t beat = heartbeats_[task].load(std::memory_order_acquire);
+  const std::int64_t beat = (*ports_.rc_heartbeat_ns)[task].load(std::memory_order_acquire);
   if (beat == 0 || now - beat > settings_.owner_dead_after_ns) {
     // Dead (or never started): hold this period, and free the motion for another RC task.
     ++counters_.misses;
     ++consecutive_misses_;
-    links_.owner_misses.fetch_add(1, std::memory_order_relaxed);
-    if (links_.owner.release(word)) {
+    ports_.owner_misses->fetch_add(1, std::memory_order_relaxed);
+    if (ports_.owner->release(word)) {
       ++counters_.releases;
-      links_.owner_releases.fetch_add(1, std::memory_order_relaxed);
+      ports_.owner_releases->fetch_add(1, std::memory_order_relaxed);
     }
     return;
   }
   if (!take_owner_references(now, word, driven)) {
     ++counters_.misses;
     ++consecutive_misses_;
-    links_.owner_misses.fetch_add(1, std::memory_order_relaxed);
+    ports_.owner_misses->fetch_add(1, std::memory_order_relaxed);
     return;
   }
   ++counters_.used_periods;

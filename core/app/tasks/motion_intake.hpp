@@ -35,6 +35,19 @@ struct MotionIntakeSettings {
 };
 MotionIntakeSettings default_intake_settings() noexcept;
 
+// What the intake reaches of the motion's shared state (TaskLinks::motion, rc_heartbeat_ns), each at
+// the end it uses: it reads the reference spaces (the owner's only) and the RC tasks' heartbeats,
+// reads the owner word and releases a dead owner (compare-exchange), and publishes its counters.
+// Built with the other tasks' ports (core/app/runtime/task_ports.hpp).
+struct MotionIntakePorts {
+  const std::array<ReferenceSpace, protocol::kMaxRcTasks>* references{nullptr};
+  MotionOwner* owner{nullptr};
+  const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
+  std::atomic<std::uint64_t>* owner_misses{nullptr};    // handler periods the owner's references were late or incomplete
+  std::atomic<std::uint64_t>* owner_releases{nullptr};  // dead owners released
+  std::atomic<JointMask>* owner_joints{nullptr};        // joints the owner's references drove last period
+};
+
 struct MotionIntakeCounters {
   std::uint64_t periods{0};
   std::uint64_t owned_periods{0};   // periods with an owner
@@ -49,9 +62,7 @@ struct MotionIntakeCounters {
 
 class MotionIntake {
  public:
-  using Heartbeats = std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>;
-
-  MotionIntake(MotionLinks& links, const Heartbeats& heartbeats, const MotionIntakeSettings& settings) noexcept;
+  MotionIntake(const MotionIntakePorts& ports, const MotionIntakeSettings& settings) noexcept;
 
   // One handler period at `now`: `demand` is the joint manager's, `driven` the joints the handler
   // drives this period. Returns every joint's position reference (rad).
@@ -77,8 +88,7 @@ class MotionIntake {
   // The driven joints the owner did not drive this period: towards rest within their deceleration.
   void bring_to_rest(JointMask driven) noexcept;
 
-  MotionLinks& links_;
-  const Heartbeats& heartbeats_;
+  MotionIntakePorts ports_;
   MotionIntakeSettings settings_;
   std::array<double, kJointCount> held_{};          // the references sent last period
   std::array<double, kJointCount> velocity_{};      // their rate of change last period (rad/s)

@@ -66,8 +66,8 @@ RcTaskSettings default_rc_task_settings(RcTaskId id) noexcept {
   return s;
 }
 
-RcTask::RcTask(TaskLinks& links, const RcTaskSettings& settings) noexcept
-    : links_(links),
+RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcept
+    : ports_(ports),
       settings_(settings),
       rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
       ik_(ik_settings(settings.period_ns)),
@@ -125,11 +125,11 @@ void RcTask::measure() noexcept {
 }
 
 void RcTask::read_joints() noexcept {
-  if (links_.samples.version() == 0) return;  // the handler has published nothing yet
+  if (ports_.samples->version() == 0) return;  // the handler has published nothing yet
   RobotSample sample{};
-  if (links_.samples.try_read(sample)) sample_ = sample;
+  if (ports_.samples->try_read(sample)) sample_ = sample;
   RobotJointStatus status{};
-  if (links_.joint_status.try_read(status)) status_ = status;
+  if (ports_.joint_status->try_read(status)) status_ = status;
   out_of_service_ = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
@@ -188,11 +188,11 @@ void RcTask::start_target(const RcTaskInput& input) noexcept {
 void RcTask::take_inputs() noexcept {
   RcTaskInput input;
   // Bounded: at most the queue's depth per period.
-  for (std::size_t n = 0; n < TaskLinks::kRcInputQueueDepth && links_.rc_inputs[index()].try_pop(input); ++n) {
+  for (std::size_t n = 0; n < config::kRcInputQueueDepth && ports_.inputs->try_receive(input); ++n) {
     ++counters_.inputs;
     switch (input.kind) {
       case RcInputKind::take_ownership:
-        (void)links_.motion.owner.take(static_cast<std::uint8_t>(index()));
+        (void)ports_.owner->take(static_cast<std::uint8_t>(index()));
         chosen_ = true;
         take_pending_ = true;  // started once the handler has published the joints
         break;
@@ -284,7 +284,7 @@ JointMask RcTask::commanded() const noexcept {
 }
 
 void RcTask::publish(hal::Nanoseconds now, std::uint64_t word) noexcept {
-  ReferenceSpace& space = links_.motion.references[index()];
+  ReferenceSpace& space = *ports_.references;
   space.begin();
   for (std::size_t j = 0; j < kJointCount; ++j) space.set(j, references_(static_cast<Eigen::Index>(j)));
   space.complete(owns_ ? word : 0, counters_.periods, commanded(), now);
@@ -300,21 +300,21 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
     take_pending_ = false;
     on_take(now);
   }
-  std::uint64_t word = links_.motion.owner.word();
+  std::uint64_t word = ports_.owner->word();
   // A word naming this task that this task never took (only a take_ownership input or a retake,
   // both under chosen_, make one) is a killed predecessor process's: the supervisor restarted this
   // one before the handler's intake noticed the death. It frees it, as the intake would have: the
   // joints hold and the operator gives the motion again (this task's fresh heartbeat would keep
   // the dead generation's word alive, and this task would own it without the operator's choice).
   if (MotionOwner::task_of(word) == index() && !chosen_) {
-    if (links_.motion.owner.release(word)) ++counters_.predecessor_releases;
-    word = links_.motion.owner.word();
+    if (ports_.owner->release(word)) ++counters_.predecessor_releases;
+    word = ports_.owner->word();
   }
   const std::uint8_t holder = MotionOwner::task_of(word);
   if (holder != index() && holder != kNoOwnerTask) chosen_ = false;  // the operator gave it to another task
   // Released while this task was silent too long (a stall, not a crash: it is running again): the
   // operator's choice still stands, so it takes the free motion back and goes on with its motion.
-  if (holder == kNoOwnerTask && chosen_ && links_.motion.owner.take_if_free(static_cast<std::uint8_t>(index()), word)) {
+  if (holder == kNoOwnerTask && chosen_ && ports_.owner->take_if_free(static_cast<std::uint8_t>(index()), word)) {
     ++counters_.retakes;
   }
   const bool owning = MotionOwner::task_of(word) == index();
@@ -344,8 +344,8 @@ void RcTask::period(hal::Nanoseconds now) noexcept {
   state.position_residual_m[1] = ik_report_.position_residual_m[1];
   state.rotation_residual_rad[0] = ik_report_.rotation_residual_rad[0];
   state.rotation_residual_rad[1] = ik_report_.rotation_residual_rad[1];
-  links_.motion.task_state[index()].write(state);
-  links_.rc_heartbeat_ns[index()].store(now, std::memory_order_release);
+  ports_.state->write(state);
+  ports_.heartbeat_ns->store(now, std::memory_order_release);
 }
 
 }  // namespace rescue::app

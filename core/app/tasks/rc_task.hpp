@@ -1,8 +1,8 @@
 // An RC task (design brief section 3, paper IV-A): every period, at its own rate, whether or not it
 // owns the motion, it
-//   1. reads the joints (TaskLinks::samples: the references the handler sends, reachability) and
-//      which joints are out of service (joint_status: recorded lost or in Error; or unreachable);
-//   2. takes its inputs from its queue (TaskLinks::rc_inputs[task], filled by the message parser):
+//   1. reads the joints (ports.samples: the references the handler sends, reachability) and
+//      which joints are out of service (ports.joint_status: recorded lost or in Error; or unreachable);
+//   2. takes its inputs from its queue (ports.inputs, filled by the message parser):
 //      take_ownership (`ctl owner TASK`), end-effector targets (`ctl move`), hand open/close;
 //   3. computes its references (kinematics, core/kinematics/):
 //        rescue  taking the motion starts the rescue motion from the references being sent: a
@@ -14,7 +14,7 @@
 //                fixed speed; taking the motion continues from the references being sent.
 //      Every reference respects the joints' velocity and acceleration limits (the rescue task's
 //      through kin::AccelerationLimiter, teleoperation's in kin::JointSpaceTeleop).
-//   4. writes them into its own reference space (TaskLinks::motion.references[task]) under the
+//   4. writes them into its own reference space (ports.references) under the
 //      Motion owner word it holds (0 when it does not own the motion) and beats its heartbeat.
 // Ownership: `ctl owner TASK` takes the motion (from whoever holds it). If the EtherCAT handler
 // released it because this task fell silent (a stall) and nobody took it since, the task takes it
@@ -22,18 +22,23 @@
 // the operator's choice and waits for `ctl owner` again (if its killed predecessor's word is still
 // there, the handler not having noticed the death yet, it frees it in its first period).
 // Only the owner's references reach the joints (the EtherCAT handler's MotionIntake).
-// The task sees only TaskLinks, so the same code runs as a thread (`run --threads`) or as its own
-// process over the shared-memory segment. No heap after construction, no locks, bounded work.
+// The task sees only its ports (RcTaskPorts), so the same code runs as a thread (`run --threads`)
+// or as its own process over the shared-memory segment. No heap after construction, no locks, bounded work.
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 
+#include "core/app/links/control_messages.hpp"
+#include "core/app/links/joint_messages.hpp"
 #include "core/app/links/motion_links.hpp"
-#include "core/app/links/task_links.hpp"
+#include "core/concurrency/message_port.hpp"
+#include "core/concurrency/seqlock.hpp"
 #include "core/kinematics/acceleration_limiter.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
+#include "core/robot/joint_sample.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -64,9 +69,23 @@ struct RcTaskCounters {
   std::uint64_t no_samples{0};        // periods before the handler published any joint
 };
 
+// What an RC task reaches of the tasks' shared state, each at the end it uses (built with the other
+// tasks' ports, core/app/runtime/task_ports.hpp): its own input queue, reference space, state and
+// heartbeat; the joints and their status; the owner word (taken and released by compare-exchange).
+struct RcTaskPorts {
+  const Seqlock<RobotSample>* samples{nullptr};           // the EtherCAT handler's joints
+  const Seqlock<RobotJointStatus>* joint_status{nullptr};  // the joint manager's (lost, in Error)
+  MessageSource<RcTaskInput>* inputs{nullptr};            // from the message parser
+  MotionOwner* owner{nullptr};
+  ReferenceSpace* references{nullptr};                    // its own, read by the handler's intake
+  Seqlock<RcTaskState>* state{nullptr};                   // what it shows of itself (ctl owner, the run's report)
+  std::atomic<std::int64_t>* heartbeat_ns{nullptr};       // monotonic ns of its latest period
+};
+
 class RcTask {
  public:
-  RcTask(TaskLinks& links, const RcTaskSettings& settings) noexcept;
+  // Every port must be non-null; they are the ports of task `settings.id`.
+  RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcept;
 
   // One period at `now` (the tasks' common monotonic clock).
   void period(hal::Nanoseconds now) noexcept;
@@ -90,7 +109,7 @@ class RcTask {
   void measure() noexcept;
   JointMask commanded() const noexcept;
 
-  TaskLinks& links_;
+  RcTaskPorts ports_;
   RcTaskSettings settings_;
   kin::RcPeriod rescue_;
   kin::TaskPriorityIk ik_;

@@ -82,24 +82,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.status.cycle = have_master ? master.cycles : 0;
       m.status.age = handler_figures_age();
       for (std::size_t j = 0; j < kJointCount; ++j) {
-        protocol::JointStatusRecord& r = m.status.joints[j];
-        if (have_status) {
-          r.state = static_cast<std::uint8_t>(status[j].state);
-          r.mode = static_cast<std::int8_t>(status[j].mode);
-          r.fault = static_cast<std::uint8_t>(status[j].fault);
-          if (status[j].drive_enabled) r.flags |= protocol::kFlagDriveEnabled;
-          if (status[j].lost) r.flags |= protocol::kFlagLost;
-        }
-        if (have_sample) {
-          if (sample[j].reachable) r.flags |= protocol::kFlagReachable;
-          if (sample[j].drive_fault) r.flags |= protocol::kFlagDriveFault;
-          r.position_rad = sample[j].position_rad;
-          r.velocity_rad_s = sample[j].velocity_rad_s;
-          r.torque_nm = sample[j].torque_nm;
-        }
         // The Motion owner's RC task on the joints its references drove in the handler's last
         // period; kNoOwner on the others (they hold their reference, or are not driven).
-        r.owner = (owner_joints & joint_bit(j)) != 0 ? owner : protocol::kNoOwner;
+        m.status.joints[j] = joint_status_record_of(have_status ? &status[j] : nullptr, have_sample ? &sample[j] : nullptr,
+                                                    (owner_joints & joint_bit(j)) != 0 ? owner : protocol::kNoOwner);
       }
       break;
     case MessageType::get_slaves:
@@ -131,14 +117,8 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       break;
     case MessageType::get_master:
       m.header.type = MessageType::master;
-      m.master.state = master.state;
+      m.master = master_payload_of(master);
       m.master.age = handler_figures_age();
-      m.master.cycles = master.cycles;
-      m.master.frames_sent = master.frames_sent;
-      m.master.frames_lost = master.frames_lost;
-      m.master.late_periods = master.late_periods;
-      m.master.dc_deviation_ns = master.dc_deviation_ns;
-      m.master.dc_max_deviation_ns = master.dc_max_deviation_ns;
       m.master.datagrams_accepted = counters_.accepted;
       m.master.rejected = counters_.rejected;
       break;
@@ -148,19 +128,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         for (const Seqlock<TaskStat>& slot : *ports_.tasks) {
           TaskStat t{};
           if (!slot.try_read(t) || t.name[0] == '\0') continue;
-          protocol::TaskRecord& r = m.tasks.tasks[m.tasks.count++];
-          r.name = t.name;
-          r.pid = t.pid;
-          r.cpu = t.kernel_cpu;
-          r.priority = t.kernel_priority;
-          r.policy = t.kernel_policy;
-          r.table_cpu = t.cpu;
-          r.table_priority = t.priority;
-          r.periods = t.periods;
-          r.missed = t.missed;
-          r.max_execution_ns = t.max_execution_ns;
-          r.execution = t.execution;
-          r.latency = t.latency;
+          m.tasks.tasks[m.tasks.count++] = task_record_of(t);
         }
       }
       if (ports_.drops != nullptr) {

@@ -12,6 +12,7 @@
 
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/task_links.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/motion_intake.hpp"
 
 namespace rescue::app {
@@ -23,7 +24,7 @@ const std::size_t kNeck = joint_index_by_name("neck_pan");
 
 struct Rig {
   std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
-  MotionIntake intake{links->motion, links->rc_heartbeat_ns, default_intake_settings()};
+  MotionIntake intake{motion_intake_ports(*links), default_intake_settings()};
   RobotDemand demand{};
   hal::Nanoseconds now{1000 * kMs};
 
@@ -162,7 +163,7 @@ TEST(MotionIntake, WithoutTheRampADeadOwnersJointStopsAbruptly) {
   MotionIntakeSettings abrupt = default_intake_settings();
   abrupt.ramped_hold = false;
   Rig rig;
-  MotionIntake intake{rig.links->motion, rig.links->rc_heartbeat_ns, abrupt};
+  MotionIntake intake{motion_intake_ports(*rig.links), abrupt};
   rig.demand[kElbow].position_ref_rad = 0.5;
   (void)intake.period(rig.now, rig.demand, kAllJoints);
   rig.now += kMs;

@@ -119,7 +119,7 @@ TEST(RcTasks, ADeadOwnerIsReleasedTheJointsHoldAndTeleopTakesOverBumplessly) {
   EXPECT_EQ(rig.intake.driving_task(), 1);
   for (std::size_t j = 0; j < kJointCount; ++j) EXPECT_NEAR(rig.sent[j], before[j], 1e-12) << kJoints[j].name;
   // The rescue task restarted (a new process): it computes, but waits for the operator.
-  rig.rescue = std::make_unique<RcTask>(*rig.links, testing::short_rescue_settings());
+  rig.rescue = std::make_unique<RcTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
   rig.rescue_runs = true;
   rig.steps(10);
   EXPECT_EQ(rig.links->motion.owner.task(), 1);
@@ -143,7 +143,7 @@ TEST(RcTasks, ARestartedTaskThatBeatsBeforeTheReleaseFreesItsPredecessorsWord) {
   rig.rescue_runs = false;  // killed
   rig.steps(10);            // the handler brings its joints to rest; not yet released
   ASSERT_EQ(rig.links->motion.owner.task(), 0);
-  rig.rescue = std::make_unique<RcTask>(*rig.links, testing::short_rescue_settings());
+  rig.rescue = std::make_unique<RcTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
   rig.rescue_runs = true;
   rig.step();
   EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "the predecessor's word is freed at once";

@@ -1,0 +1,127 @@
+// TaskPorts (core/app/runtime/task_ports.hpp), where every task's ports are built: each queue's
+// producer end reaches its consumer's end, each RC task gets its own input queue, reference space,
+// state and heartbeat, and the seqlocks a task only reads are the ones the writer publishes.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "core/app/runtime/task_ports.hpp"
+#include "hal/time/wall_clock.hpp"
+
+namespace rescue::app {
+namespace {
+
+class NoEvents final : public JointEventSink {
+ public:
+  void on_event(const JointEvent&) noexcept override {}
+};
+
+// Sends `message` into a producer's end and takes what comes out of the consumer's end.
+template <typename T>
+T through(MessageSink<T>* in, MessageSource<T>* out, const T& message) {
+  EXPECT_TRUE(in->try_send(message));
+  T got{};
+  EXPECT_TRUE(out->try_receive(got));
+  return got;
+}
+
+struct Rig {
+  std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
+  std::unique_ptr<TaskPorts> ports = std::make_unique<TaskPorts>(*links);
+  ErrorJointsFileStorage storage{"/nonexistent"};  // never touched here
+  hal::ManualWallClock wall;
+  NoEvents events;
+};
+
+TEST(TaskPorts, TheHandlerAndTheJointManagerMeetOnTheReportAndNoticeQueues) {
+  Rig rig;
+  const EthercatHandlerPorts handler = rig.ports->ethercat_handler();
+  const JointManagerPorts manager = rig.ports->joint_manager(rig.storage, rig.wall, rig.events);
+  EXPECT_EQ(through(handler.reports, manager.reports, LostJointsReport{0x5, 7, 0, 0}).cycle, 7U);
+  JointManagerNotice notice{};
+  notice.joints = 0x5;
+  EXPECT_EQ(through(manager.notices, handler.notices, notice).joints, 0x5U);
+  // The handler publishes the samples the joint manager reads; it reads the demand the manager publishes.
+  RobotSample sample{};
+  sample[3].position_rad = 0.25;
+  handler.samples->write(sample);
+  RobotSample read{};
+  ASSERT_TRUE(manager.samples->read(read));
+  EXPECT_DOUBLE_EQ(read[3].position_rad, 0.25);
+  RobotDemand demand{};
+  demand[2].position_ref_rad = -0.5;
+  manager.demand->publish(demand);
+  RobotDemand taken{};
+  ASSERT_TRUE(handler.demand->try_read(taken));
+  EXPECT_DOUBLE_EQ(taken[2].position_ref_rad, -0.5);
+  // The handler's intake sees the motion's part of the same links.
+  EXPECT_EQ(handler.motion.owner, &rig.links->motion.owner);
+  EXPECT_EQ(handler.motion.references, &rig.links->motion.references);
+  EXPECT_EQ(handler.motion.rc_heartbeat_ns, &rig.links->rc_heartbeat_ns);
+}
+
+TEST(TaskPorts, TheParserReachesTheJointManagerAndEachRcTaskOnItsOwnQueue) {
+  Rig rig;
+  const MessageParserPorts parser = rig.ports->message_parser();
+  const JointManagerPorts manager = rig.ports->joint_manager(rig.storage, rig.wall, rig.events);
+  JointCommand command{};
+  command.joints = 0x3;
+  EXPECT_EQ(through(parser.joint_commands, manager.commands, command).joints, 0x3U);
+  JointCommandOutcome outcome{};
+  outcome.request = 9;
+  EXPECT_EQ(through(manager.outcomes, parser.outcomes, outcome).request, 9U);
+
+  const RcTaskPorts rescue = rig.ports->rc_task(RcTaskId::rescue);
+  const RcTaskPorts teleop = rig.ports->rc_task(RcTaskId::teleop);
+  RcTaskInput input{};
+  input.sequence = 42;
+  ASSERT_TRUE(parser.rc_inputs[1]->try_send(input));
+  RcTaskInput out{};
+  EXPECT_FALSE(rescue.inputs->try_receive(out)) << "task 1's input is not task 0's";
+  ASSERT_TRUE(teleop.inputs->try_receive(out));
+  EXPECT_EQ(out.sequence, 42U);
+  input.sequence = 43;
+  EXPECT_EQ(through(parser.rc_inputs[0], rescue.inputs, input).sequence, 43U);
+  EXPECT_EQ(rescue.references, &rig.links->motion.references[0]);
+  EXPECT_EQ(teleop.references, &rig.links->motion.references[1]);
+  EXPECT_EQ(teleop.state, &rig.links->motion.task_state[1]);
+  EXPECT_EQ(teleop.heartbeat_ns, &rig.links->rc_heartbeat_ns[1]);
+  EXPECT_EQ(teleop.owner, parser.owner);
+  EXPECT_EQ(teleop.samples, parser.samples);
+  EXPECT_EQ(teleop.joint_status, parser.joint_status);
+}
+
+TEST(TaskPorts, TheSocketHandlerAndTheParserMeetOnTheRequestAndReplyQueues) {
+  Rig rig;
+  const SocketHandlerPorts socket = rig.ports->socket_handler();
+  const MessageParserPorts parser = rig.ports->message_parser();
+  ControlRequest request{};
+  request.sequence = 5;
+  ASSERT_TRUE(socket.requests->try_send(request));
+  ControlRequest got{};
+  EXPECT_FALSE(parser.local->try_receive(got)) << "the network's requests are not the runtime's";
+  ASSERT_TRUE(parser.network->try_receive(got));
+  EXPECT_EQ(got.sequence, 5U);
+  ControlReply reply{};
+  reply.request_sequence = 5;
+  EXPECT_EQ(through(parser.network_replies, socket.replies, reply).request_sequence, 5U);
+  EXPECT_EQ(socket.master, &rig.links->master_status);
+  EXPECT_EQ(socket.handler_heartbeat,
+            &rig.links->task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)]);
+}
+
+TEST(TaskPorts, TheJointManagerAndItsStorageWorkerMeetOnTheirOwnQueues) {
+  Rig rig;
+  const JointManagerPorts manager = rig.ports->joint_manager(rig.storage, rig.wall, rig.events);
+  EXPECT_EQ(manager.storage, &rig.storage);
+  EXPECT_EQ(manager.wall_clock, &rig.wall);
+  ErrorJointsSaveRequest request{};
+  request.sequence = 3;
+  EXPECT_EQ(through(manager.save_requests, &rig.ports->storage_worker_requests(), request).sequence, 3U);
+  ErrorJointsSaveResult result{};
+  result.sequence = 3;
+  EXPECT_EQ(through(&rig.ports->storage_worker_results(), manager.save_results, result).sequence, 3U);
+}
+
+}  // namespace
+}  // namespace rescue::app
