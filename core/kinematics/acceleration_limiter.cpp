@@ -45,6 +45,7 @@ void AccelerationLimiter::restart_filter(JerkFilter& filter, double position) no
   filter.ramp_position = position;
   filter.ramp_velocity = 0.0;
   filter.head = 0;
+  filter.steady = kMaxJerkWindow;
   for (std::size_t i = 0; i < filter.window; ++i) filter.history[i] = position;
 }
 
@@ -83,19 +84,21 @@ const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMas
     if (limited) limited_ |= joint_bit(j);
     double x = next.x;
     if (filter != nullptr) {
+      // A window holding one value N times over gives it back exactly (and costs no sum: the hands
+      // are still most of the time); otherwise summed afresh (at most kMaxJerkWindow terms, for a
+      // few joints): no rounding drift.
+      filter->steady = next.x == filter->ramp_position ? filter->steady + 1 : 0;
       filter->ramp_position = next.x;
       filter->ramp_velocity = next.v;
       filter->history[filter->head] = next.x;
       filter->head = (filter->head + 1) % filter->window;
-      // Summed afresh every period (at most kMaxJerkWindow terms, for a few joints): no rounding
-      // drift, and a settled window gives back exactly its value.
-      double sum = 0.0;
-      bool settled = true;
-      for (std::size_t i = 0; i < filter->window; ++i) {
-        sum += filter->history[i];
-        settled = settled && filter->history[i] == next.x;
+      if (filter->steady + 1 >= filter->window) {
+        x = next.x;
+      } else {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < filter->window; ++i) sum += filter->history[i];
+        x = sum / static_cast<double>(filter->window);
       }
-      x = settled ? next.x : sum / static_cast<double>(filter->window);
     }
     velocity_(row) = (x - position_(row)) / dt_s_;
     position_(row) = x;

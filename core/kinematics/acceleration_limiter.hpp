@@ -92,6 +92,7 @@ class AccelerationLimiter {
     std::size_t head{0};
     double ramp_position{0.0};
     double ramp_velocity{0.0};
+    std::size_t steady{0};  // periods the ramp has not moved (the window is settled once >= window - 1)
     std::array<double, kMaxJerkWindow> history{};
   };
   std::array<JerkFilter, kMaxJerkJoints> filters_{};
