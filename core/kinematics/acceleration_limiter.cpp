@@ -8,19 +8,19 @@ namespace rescue::kin {
 namespace {
 
 // One period of a joint's acceleration-limited ramp from (x, v) towards the wanted position: the
-// next (x, v); sets `limited` when the wanted motion was beyond a limit.
+// next (x, v); sets `beyond` when the wanted motion was beyond a limit.
 struct RampState {
   double x;
   double v;
 };
-RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocity, double dt_s, bool& limited) noexcept {
+RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocity, double dt_s, bool& beyond) noexcept {
   const JointLimits& lim = kJoints[j].limits;
   const double a_max = kJointAcceleration[j];
   const double closing = std::min(braking_speed(std::fabs(gap), a_max, dt_s), std::fabs(gap) / dt_s);
   const double desired = wanted_velocity + std::copysign(closing, gap);
   double v = std::clamp(desired, state.v - a_max * dt_s, state.v + a_max * dt_s);
   v = std::clamp(v, -lim.velocity_max_rad_s, lim.velocity_max_rad_s);
-  limited = v != desired;
+  beyond = v != desired;
   double x = state.x + v * dt_s;
   if (!kJoints[j].continuous) x = std::clamp(x, lim.position_min_rad, lim.position_max_rad);
   return {x, (x - state.x) / dt_s};
@@ -37,16 +37,16 @@ AccelerationLimiter::AccelerationLimiter(const JointVector& start, double dt_s, 
     filter.joint = j;
     filter.window = std::clamp<std::size_t>(jerk_window(kJointAcceleration[j], jerk[j], dt_s), 1, kMaxJerkWindow);
     filter_of_[j] = static_cast<int>(filter_count_ - 1);
-    restart_filter(filter, start(static_cast<Eigen::Index>(j)));
+    filter.restart(start(static_cast<Eigen::Index>(j)));
   }
 }
 
-void AccelerationLimiter::restart_filter(JerkFilter& filter, double position) noexcept {
-  filter.ramp_position = position;
-  filter.ramp_velocity = 0.0;
-  filter.head = 0;
-  filter.steady = kMaxJerkWindow;
-  for (std::size_t i = 0; i < filter.window; ++i) filter.history[i] = position;
+void AccelerationLimiter::JerkFilter::restart(double position) noexcept {
+  ramp_position = position;
+  ramp_velocity = 0.0;
+  head = 0;
+  steady = kMaxJerkWindow;
+  for (std::size_t i = 0; i < window; ++i) history[i] = position;
 }
 
 void AccelerationLimiter::reset(const JointVector& position) noexcept {
@@ -55,7 +55,7 @@ void AccelerationLimiter::reset(const JointVector& position) noexcept {
   velocity_.setZero();
   limited_ = 0;
   for (std::size_t f = 0; f < filter_count_; ++f) {
-    restart_filter(filters_[f], position(static_cast<Eigen::Index>(filters_[f].joint)));
+    filters_[f].restart(position(static_cast<Eigen::Index>(filters_[f].joint)));
   }
 }
 
@@ -67,7 +67,7 @@ const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMas
     if ((out_of_service & joint_bit(j)) != 0) {
       velocity_(row) = 0.0;
       last_wanted_(row) = position_(row);
-      if (filter != nullptr) restart_filter(*filter, position_(row));
+      if (filter != nullptr) filter->restart(position_(row));
       continue;
     }
     // The ramp's state: the references themselves, or for a jerk-limited joint the moving
@@ -79,9 +79,9 @@ const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMas
     const double gap = last_wanted_(row) - state.x;
     const double wanted_velocity = (wanted(row) - last_wanted_(row)) / dt_s_;
     last_wanted_(row) = wanted(row);
-    bool limited = false;
-    const RampState next = ramp(j, state, gap, wanted_velocity, dt_s_, limited);
-    if (limited) limited_ |= joint_bit(j);
+    bool beyond = false;
+    const RampState next = ramp(j, state, gap, wanted_velocity, dt_s_, beyond);
+    if (beyond) limited_ |= joint_bit(j);
     double x = next.x;
     if (filter != nullptr) {
       // A window holding one value N times over gives it back exactly (and costs no sum: the hands

@@ -94,11 +94,11 @@ class AccelerationLimiter {
     double ramp_velocity{0.0};
     std::size_t steady{0};  // periods the ramp has not moved (the window is settled once >= window - 1)
     std::array<double, kMaxJerkWindow> history{};
+    void restart(double position) noexcept;  // at rest at `position`, the window filled with it
   };
   std::array<JerkFilter, kMaxJerkJoints> filters_{};
   std::size_t filter_count_{0};
   std::array<int, kJointCount> filter_of_{};  // index into filters_, -1: no jerk limit
-  void restart_filter(JerkFilter& filter, double position) noexcept;
 };
 
 }  // namespace rescue::kin
