@@ -79,6 +79,16 @@ inline constexpr std::array<PdoMappingEntry, 6> kJointTxMapping{{
 }};
 // clang-format on
 
+// The mapping words of a table (what 0x1600/0x1A00 sub 1..n hold), for the master's PDO plan.
+template <std::size_t N>
+constexpr std::array<std::uint32_t, N> mapping_words(const std::array<PdoMappingEntry, N>& m) noexcept {
+  std::array<std::uint32_t, N> words{};
+  for (std::size_t i = 0; i < N; ++i) words[i] = m[i].mapping_word();
+  return words;
+}
+inline constexpr std::array<std::uint32_t, kJointRxMapping.size()> kJointRxMappingWords = mapping_words(kJointRxMapping);
+inline constexpr std::array<std::uint32_t, kJointTxMapping.size()> kJointTxMappingWords = mapping_words(kJointTxMapping);
+
 // The tables and the byte sizes agree: entries are contiguous, in order, and fill the image.
 template <std::size_t N>
 constexpr bool mapping_is_packed(const std::array<PdoMappingEntry, N>& m, std::size_t bytes) noexcept {

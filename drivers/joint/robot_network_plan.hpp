@@ -21,6 +21,15 @@ static_assert(kSlaveCount == ecat::kMaxSlaves, "the master's plan holds exactly 
 static_assert(kBranchCount == ecat::kMaxBranches, "one process-data branch per robot branch");
 static_assert(kMasterUpstream == ecat::kMasterUpstream, "the robot's and the master's 'no upstream' agree");
 
+// The joint drive's PDO assignment and mapping as the master sets it up: built from the tables of
+// drivers/joint/joint_drive_pdo.hpp, the same ones the drive's object dictionary and SII are built from.
+inline constexpr ecat::SlavePdoPlan kJointDrivePdoPlan{
+    {0x1C12, kJointRxPdoIndex, kJointRxMappingWords.data(), static_cast<std::uint8_t>(kJointRxMappingWords.size())},
+    {0x1C13, kJointTxPdoIndex, kJointTxMappingWords.data(), static_cast<std::uint8_t>(kJointTxMappingWords.size())},
+};
+static_assert(ecat::mapping_bytes(kJointDrivePdoPlan.outputs) == kJointOutputBytes, "RxPDO plan fills the outputs");
+static_assert(ecat::mapping_bytes(kJointDrivePdoPlan.inputs) == kJointInputBytes, "TxPDO plan fills the inputs");
+
 constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
   ecat::NetworkPlan plan{};
   for (std::size_t p = 0; p < kSlaveCount; ++p) {
@@ -42,6 +51,7 @@ constexpr ecat::NetworkPlan make_robot_network_plan() noexcept {
         joint ? static_cast<std::uint16_t>(kJointInputBytes) : std::uint16_t{0},
         joint,
         joint,
+        joint ? &kJointDrivePdoPlan : nullptr,
     };
   }
   return plan;

@@ -31,6 +31,28 @@ static_assert(kMaxSlaves <= 32, "SlaveMask holds 32 slaves");
 constexpr SlaveMask slave_bit(std::size_t position) noexcept { return SlaveMask{1} << position; }
 constexpr SlaveMask kAllSlaves = (SlaveMask{1} << kMaxSlaves) - 1;
 
+// The PDO assignment and mapping a slave must hold for its process data to match the plan
+// (ETG.1020, CiA 402): one PDO assigned to the SyncManager, `entry_count` mapping entries, each
+// index << 16 | subindex << 8 | bits. The master reads it at bring-up and at online recovery and
+// writes what differs (docs/master.md, "PDO mapping").
+struct PdoMappingPlan {
+  std::uint16_t assign_index;    // 0x1C12 (outputs, SM2) or 0x1C13 (inputs, SM3)
+  std::uint16_t pdo_index;       // the PDO assigned there, e.g. 0x1600 / 0x1A00
+  const std::uint32_t* entries;  // the mapping words, in order
+  std::uint8_t entry_count;
+};
+struct SlavePdoPlan {
+  PdoMappingPlan outputs;  // RxPDO (master -> slave)
+  PdoMappingPlan inputs;   // TxPDO (slave -> master)
+};
+
+// The bytes a mapping fills (entries whose bit lengths are not whole bytes count their bits).
+constexpr std::uint32_t mapping_bytes(const PdoMappingPlan& m) noexcept {
+  std::uint32_t bits = 0;
+  for (std::size_t i = 0; i < m.entry_count; ++i) bits += m.entries[i] & 0xFFU;
+  return (bits + 7U) / 8U;
+}
+
 struct SlavePlan {
   const char* name;
   std::uint32_t vendor_id;
@@ -46,6 +68,7 @@ struct SlavePlan {
   std::uint16_t input_bytes;      // slave -> master process data (SM3)
   bool mailbox;                   // CoE over SM0/SM1
   bool dc_sync0;                  // outputs latched on SYNC0
+  const SlavePdoPlan* pdo;        // the mapping the master sets up (nullptr: left as the slave has it)
 };
 
 using NetworkPlan = std::array<SlavePlan, kMaxSlaves>;

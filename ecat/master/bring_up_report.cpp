@@ -18,6 +18,9 @@ void print_numbers(std::FILE* out, const BringUpReport& r) noexcept {
   } else if (is_step(r.failed_step, "compare") && r.error.code == Errc::mismatch) {
     (void)std::fprintf(out, " (%" PRIu32 " differences that stop the bring-up, %" PRIu32 " slaves found)", r.error.detail0,
                        r.error.detail1);
+  } else if (is_step(r.failed_step, "PRE-OP SDO") && r.error.code == Errc::refused) {
+    (void)std::fprintf(out, " (refused: slave at position %" PRIu32 ", object 0x%04" PRIX32 ":%02" PRIX32 ")", r.error.detail0,
+                       r.error.detail1 >> 8U, r.error.detail1 & 0xFFU);
   } else if (r.error.detail0 != 0 || r.error.detail1 != 0) {
     (void)std::fprintf(out, " (%s; details %" PRIu32 ", %" PRIu32 ")", to_string(r.error.code), r.error.detail0, r.error.detail1);
   } else {

@@ -12,7 +12,9 @@
 //   5. address    APWR 0x0010 = planned station address of every present slave, held-out ones
 //                 included (a lost slave never shifts the others)
 //   6. INIT       confirmed; mailbox SM0/SM1 from SII; PRE-OP
-//   7. PRE-OP     SM2/SM3, FMMU0 (outputs) / FMMU1 (inputs) onto the image; DC over every present
+//   7. PRE-OP     start-up SDOs: each slave's PDO assignment and mapping (SlavePlan::pdo) read and,
+//                 where it differs, written and read back (ecat/master/pdo_setup.hpp); then the
+//                 owner's (MasterOptions::startup_sdos); SM2/SM3, FMMU0 (outputs) / FMMU1 (inputs) onto the image; DC over every present
 //                 slave (held-out ones answer and forward frames): latch 0x0900,
 //                 read port times, delays through the tree, offsets 0x0920 and delays 0x0928,
 //                 static drift compensation (FRMW 0x0910 N times), SYNC0 (0x0981/0x0990/0x09A0)
@@ -37,7 +39,9 @@
 #include "ecat/master/link_diagnostics.hpp"
 #include "ecat/master/link_monitor.hpp"
 #include "ecat/master/network_match.hpp"
+#include "ecat/master/pdo_setup.hpp"
 #include "ecat/master/slave_recovery.hpp"
+#include "ecat/sii/sii_cache.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
 namespace rescue::ecat {
@@ -68,6 +72,11 @@ struct MasterOptions {
   hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
   AlOptions al{};
   SiiReadOptions sii{};
+  // Whole SII images of devices seen before (ecat/sii/sii_cache.hpp): a slave whose first 32 EEPROM
+  // bytes (configuration area, vendor, product, revision, serial) equal a cached image's is not read
+  // further; every image read whole that parses is taken in (its owner saves the cache where it
+  // likes). nullptr: every image is read whole.
+  SiiCache* sii_cache{nullptr};
   // Static drift compensation before cycling: FRMW of the reference time back to back, at most
   // drift_compensation_frames (ETG.1020's 15000), ended early once every DC slave's system time
   // difference (0x092C) has been at most drift_compensation_target_ns in two checks in a row,
@@ -146,6 +155,10 @@ struct BringUpReport {
   SiiReadStats sii{};
   SdoCompletion failed_sdo{};            // when the failed step is "PRE-OP SDO"
   std::uint32_t startup_sdos_done{0};
+  // PDO mapping set-up (pdo_setup.hpp): transfers in all, and the slaves whose mapping was rewritten.
+  std::uint32_t pdo_reads{0};
+  std::uint32_t pdo_writes{0};
+  SlaveMask pdo_rewritten{0};
   DcDelays delays{};
   std::uint32_t dc_max_difference_ns{0};  // max |0x092C| after static drift compensation
   std::uint32_t dc_static_frames{0};      // static drift compensation frames sent
@@ -239,6 +252,9 @@ class Master {
   std::uint8_t recovery_failures(std::size_t position) const noexcept { return recovery_[position].failures; }
   SlaveMask recovering() const noexcept;
   const RecoveryStats& recovery_stats() const noexcept { return recovery_stats_; }
+  // PDO mapping writes of the slave's last recovery (0: its mapping was as planned) and its reads.
+  std::uint16_t recovery_pdo_writes(std::size_t position) const noexcept { return pdo_setup_[position].writes(); }
+  std::uint16_t recovery_pdo_reads(std::size_t position) const noexcept { return pdo_setup_[position].reads(); }
 
   // Link diagnostics: error counters per slave and port (accumulated since bring-up). A rising
   // port is reported as a `port_errors` link report (found = port, peer slave, errors).
@@ -272,6 +288,7 @@ class Master {
   Status configure_mailboxes() noexcept;
   Status configure_process_data() noexcept;
   Status run_startup_sdos() noexcept;
+  Status set_up_pdo_mappings() noexcept;
   Status fail(const char* step, const Error& error) noexcept;
   // A slave's configuration blocks as at bring-up, written to `out`: SM0/SM1 (mailbox) and SM2/SM3
   // (2 x 8 bytes each), FMMU0/FMMU1 (2 x 16 bytes).
@@ -391,7 +408,8 @@ class Master {
     std::uint8_t bounces{0};         // attempts in a row that lost the device again (gone)
     hal::Nanoseconds changed_at{0};  // when it entered its current state
     std::uint16_t adp{0};            // auto-increment address it was found at
-    std::uint8_t sdos_pending{0};
+    std::uint8_t sdos_pending{0};    // start-up SDOs: the owner's transfer in flight (0 or 1)
+    std::uint16_t sdo_next{0};       // the next of options_.startup_sdos to look at
     bool sdo_refused{false};
     hal::Nanoseconds deadline{0};
     std::array<std::uint16_t, 8> sii{};  // SII words 0x08..0x0F
@@ -399,6 +417,12 @@ class Master {
     std::uint64_t started_cycle{0};
   };
   std::array<Recovery, kMaxSlaves> recovery_{};
+  std::array<PdoSetup, kMaxSlaves> pdo_setup_{};  // bring-up and recovery: each slave's PDO mapping
+  // Online recovery's start-up SDOs: submits what may go now (each slave one transfer at a time).
+  void feed_recovery_sdos(std::size_t position) noexcept;
+  bool recovery_sdos_done(std::size_t position) const noexcept;
+  std::size_t sdo_rotate_{0};
+
   RecoveryStats recovery_stats_{};
   std::size_t recovery_rotate_{0};
   std::size_t search_rotate_{0};

@@ -211,7 +211,7 @@ Status Master::count_and_reset() noexcept {
 
 Status Master::identify() noexcept {
   const std::size_t n = std::min<std::size_t>(report_.slaves_counted, kMaxFoundSlaves);
-  const Result<SiiReadStats> read = read_sii_images(link_, Span<SiiImage>(sii_.data(), n), options_.sii);
+  const Result<SiiReadStats> read = read_sii_images(link_, Span<SiiImage>(sii_.data(), n), options_.sii, options_.sii_cache);
   if (!read.ok()) return fail("identify", read.error());
   report_.sii = read.value();
   std::array<SlaveSetup, kMaxFoundSlaves> found_setup{};
@@ -224,6 +224,7 @@ Status Master::identify() noexcept {
       e.detail0 = u32(a);  // which slave; the parser's `what` names the field
       return fail("identify", e);
     }
+    if (!sii_[a].from_cache && options_.sii_cache != nullptr) (void)options_.sii_cache->remember(sii_[a]);  // a full cache reads whole
     const sii::Sii& info = parsed.value();
     FoundSlave f;
     f.vendor_id = info.identity.vendor_id;
@@ -318,7 +319,51 @@ Status Master::configure_mailboxes() noexcept {
   return Status::success();
 }
 
+Status Master::set_up_pdo_mappings() noexcept {
+  SlaveMask busy = 0;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    pdo_setup_[p] = PdoSetup{};
+    if ((operated() & slave_bit(p)) == 0 || plan_[p].pdo == nullptr || !mailbox_.has_mailbox(p)) continue;
+    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].pdo);
+    busy |= slave_bit(p);
+  }
+  // Each slave one transfer at a time (its writes stay in order), all slaves side by side: a
+  // queue place each at most.
+  while (busy != 0) {
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      if ((busy & slave_bit(p)) == 0) continue;
+      SdoRequest request;
+      if (mailbox_.free_slots() > 0 && pdo_setup_[p].next(request) && !mailbox_.submit(request)) pdo_setup_[p].unsubmit();
+    }
+    const Status ran = mailbox_.run(link_, options_.frame_timeout, options_.startup_sdo_timeout);
+    SdoCompletion done;
+    while (mailbox_.pop_master_completion(done)) {
+      if (done.request.position < kMaxSlaves) pdo_setup_[done.request.position].on_completion(done);
+    }
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      const PdoSetup& mapping = pdo_setup_[p];
+      if ((busy & slave_bit(p)) == 0) continue;
+      if (mapping.failed()) {
+        report_.failed_sdo = mapping.failure();
+        const SdoRequest& r = mapping.failure().request;
+        return fail("PRE-OP SDO", make_error(Errc::refused, "PDO mapping not set", u32(p),
+                                             (static_cast<std::uint32_t>(r.index) << 8U) | r.subindex));
+      }
+      if (mapping.finished()) {
+        busy &= ~slave_bit(p);
+        report_.pdo_reads += mapping.reads();
+        report_.pdo_writes += mapping.writes();
+        if (mapping.writes() != 0) report_.pdo_rewritten |= slave_bit(p);
+      }
+    }
+    if (!ran.ok()) return fail("PRE-OP SDO", ran.error());
+  }
+  return Status::success();
+}
+
 Status Master::run_startup_sdos() noexcept {
+  const Status pdo = set_up_pdo_mappings();
+  if (!pdo.ok()) return pdo;
   std::size_t next = 0;
   while (next < options_.startup_sdos.size()) {
     // As many as the queue holds, then run them (each slave answers in turn).

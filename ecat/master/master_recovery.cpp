@@ -99,23 +99,58 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
     mailbox_.configure(p, setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[1].start, setup_[p].sm[1].length);
   }
   if (state == RecoveryState::startup_sdos) {
+    // Its PDO mapping first (read, the differences written, read back), then the owner's start-up
+    // SDOs; one transfer of the slave in the queue at a time (feed_recovery_sdos), so several
+    // slaves recovering at once never overflow it.
     r.sdos_pending = 0;
+    r.sdo_next = 0;
     r.sdo_refused = false;
-    for (const SdoRequest& request : options_.startup_sdos) {
+    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].mailbox ? plan_[p].pdo : nullptr);
+    feed_recovery_sdos(p);
+  }
+}
+
+void Master::feed_recovery_sdos(std::size_t p) noexcept {
+  Recovery& r = recovery_[p];
+  if (r.state != RecoveryState::startup_sdos || r.sdo_refused || r.sdos_pending != 0 || mailbox_.free_slots() == 0) return;
+  PdoSetup& mapping = pdo_setup_[p];
+  if (mapping.failed()) {
+    r.sdo_refused = true;
+    return;
+  }
+  SdoRequest request;
+  bool have = false;
+  if (!mapping.finished()) {
+    if (mapping.pending()) return;
+    have = mapping.next(request);
+  } else {
+    while (!have && r.sdo_next < options_.startup_sdos.size()) {
+      request = options_.startup_sdos[r.sdo_next++];
       if (request.position != p) continue;
-      SdoRequest mine = request;
-      mine.tag = MailboxClient::kMasterTagBit | static_cast<std::uint32_t>(p);
-      const std::size_t ahead = MailboxClient::kQueueCapacity - mailbox_.free_slots();
-      if (mailbox_.submit(mine)) {
-        ++r.sdos_pending;
-        // Transfers of other slaves queued before these each may take their response timeout
-        // (one that vanished meanwhile): waiting for them is not this slave's failure.
-        r.deadline += static_cast<hal::Nanoseconds>(ahead) * kSdoResponseTimeout;
-      } else {
-        r.sdo_refused = true;  // queue full: fails by timeout, tried again later
-      }
+      request.tag = MailboxClient::kMasterTagBit | static_cast<std::uint32_t>(p);
+      have = true;
     }
   }
+  if (!have) return;
+  const std::size_t ahead = MailboxClient::kQueueCapacity - mailbox_.free_slots();
+  if (!mailbox_.submit(request)) {
+    if (!mapping.finished()) mapping.unsubmit();
+    if ((request.tag & kPdoSetupTagBit) == 0 && r.sdo_next > 0) --r.sdo_next;
+    return;  // waits its turn
+  }
+  if ((request.tag & kPdoSetupTagBit) == 0) r.sdos_pending = 1;
+  // Transfers of other slaves queued before this one each may take their response timeout
+  // (one that vanished meanwhile): waiting for them is not this slave's failure.
+  r.deadline = link_.clock().now() + options_.recovery_step_timeout + static_cast<hal::Nanoseconds>(ahead) * kSdoResponseTimeout;
+}
+
+bool Master::recovery_sdos_done(std::size_t p) const noexcept {
+  const Recovery& r = recovery_[p];
+  if (r.sdo_refused || r.sdos_pending != 0 || !pdo_setup_[p].finished() || pdo_setup_[p].failed()) return false;
+  for (std::size_t i = r.sdo_next; i < options_.startup_sdos.size(); ++i) {
+    if (options_.startup_sdos[i].position == p) return false;
+  }
+  return true;
 }
 
 void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
@@ -510,15 +545,23 @@ void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept
 void Master::step_recovery() noexcept {
   if (!options_.online_recovery) return;
   const hal::Nanoseconds now = link_.clock().now();
-  // Completions of the recovery's start-up SDOs.
+  // Completions of the recovery's start-up SDOs, then the next ones in (paced: a transfer that
+  // does not fit the queue waits its turn).
   SdoCompletion done;
   while (mailbox_.pop_master_completion(done)) {
     const std::size_t p = done.request.position;
     if (p >= kMaxSlaves || recovery_[p].state != RecoveryState::startup_sdos) continue;
     Recovery& r = recovery_[p];
-    if (r.sdos_pending > 0) --r.sdos_pending;
-    if (done.outcome != SdoOutcome::ok) r.sdo_refused = true;
+    if ((done.request.tag & kPdoSetupTagBit) != 0) {
+      pdo_setup_[p].on_completion(done);
+      if (pdo_setup_[p].failed()) r.sdo_refused = true;
+    } else {
+      r.sdos_pending = 0;
+      if (done.outcome != SdoOutcome::ok) r.sdo_refused = true;
+    }
   }
+  for (std::size_t i = 0; i < kMaxSlaves; ++i) feed_recovery_sdos((sdo_rotate_ + i) % kMaxSlaves);
+  sdo_rotate_ = (sdo_rotate_ + 1) % kMaxSlaves;
   const SlaveMask out = monitor_.out_of_exchange() & operated() & ~reintegrating_;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     const Recovery& r = recovery_[p];
@@ -532,13 +575,18 @@ void Master::step_recovery() noexcept {
                       (r.state == RecoveryState::process_data && plan_[p].output_bytes + plan_[p].input_bytes == 0) ||
                       (r.state == RecoveryState::clock && (dc_slaves_ & bit) == 0) ||
                       (r.state == RecoveryState::sync0 && (!plan_[p].dc_sync0 || (dc_slaves_ & bit) == 0)) ||
-                      (r.state == RecoveryState::startup_sdos && r.sdos_pending == 0 && !r.sdo_refused);
+                      (r.state == RecoveryState::startup_sdos && recovery_sdos_done(p));
     if (skip) {
       recovery_input(p, RecoveryInput::step_done);
       continue;
     }
     if (r.state == RecoveryState::failed) {
       if (now >= r.deadline) recovery_input(p, RecoveryInput::retry);
+      continue;
+    }
+    // A refused start-up SDO (the mapping could not be set) fails the attempt at once.
+    if (r.state == RecoveryState::startup_sdos && r.sdo_refused) {
+      recovery_input(p, RecoveryInput::timeout);
       continue;
     }
     if (r.state != RecoveryState::searching && r.state != RecoveryState::refused && now > r.deadline) {

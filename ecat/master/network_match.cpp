@@ -169,32 +169,32 @@ NetworkMatch match_network(const NetworkPlan& plan, Span<const FoundSlave> found
 std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<const FoundSlave> found, char* out,
                      std::size_t size) noexcept {
   if (size == 0) return 0;
-  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, 0, 0, false, false};
+  static constexpr SlavePlan kNoSlave{"?", 0, 0, 0, "?", 0, 0, 0, 0, kNoBranch, 0, 0, false, false, nullptr};
   static const FoundSlave kNoDevice{};
   const SlavePlan& s = d.planned < kMaxSlaves ? plan[d.planned] : kNoSlave;
   const FoundSlave& f = d.found < found.size() ? found[d.found] : kNoDevice;
   int n = 0;
   switch (d.kind) {
     case DifferenceKind::missing:
-      n = std::snprintf(out, size, "missing: %s (position %u, %s %#010" PRIx32 ":%#010" PRIx32 ") does not answer",
+      n = std::snprintf(out, size, "missing: %s (position %u, %s 0x%08" PRIx32 ":0x%08" PRIx32 ") does not answer",
                         s.name, d.planned, s.device_name, s.vendor_id, s.product_code);
       break;
     case DifferenceKind::extra:
-      n = std::snprintf(out, size, "extra: device at position %u (%s %#010" PRIx32 ":%#010" PRIx32 " alias %#06x) is not planned",
+      n = std::snprintf(out, size, "extra: device at position %u (%s 0x%08" PRIx32 ":0x%08" PRIx32 " alias 0x%04x) is not planned",
                         d.found, f.name.data(), f.vendor_id, f.product_code, f.station_alias);
       break;
     case DifferenceKind::wrong_device:
-      n = std::snprintf(out, size, "wrong device: position %u holds %s %#010" PRIx32 ":%#010" PRIx32
-                        " where %s expects %s %#010" PRIx32 ":%#010" PRIx32,
+      n = std::snprintf(out, size, "wrong device: position %u holds %s 0x%08" PRIx32 ":0x%08" PRIx32
+                        " where %s expects %s 0x%08" PRIx32 ":0x%08" PRIx32,
                         d.found, f.name.data(), f.vendor_id, f.product_code, s.name, s.device_name, s.vendor_id,
                         s.product_code);
       break;
     case DifferenceKind::wrong_position:
-      n = std::snprintf(out, size, "wrong position: %s (alias %#06x) found at position %u, planned at %u", s.name,
+      n = std::snprintf(out, size, "wrong position: %s (alias 0x%04x) found at position %u, planned at %u", s.name,
                         f.station_alias, d.found, d.planned);
       break;
     case DifferenceKind::duplicate_alias:
-      n = std::snprintf(out, size, "duplicate alias: device at position %u also claims %s (alias %#06x)", d.found,
+      n = std::snprintf(out, size, "duplicate alias: device at position %u also claims %s (alias 0x%04x)", d.found,
                         s.name, s.station_alias);
       break;
     case DifferenceKind::process_data_size:
@@ -203,7 +203,7 @@ std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<c
                         8U * s.output_bytes, 8U * s.input_bytes);
       break;
     case DifferenceKind::revision:
-      n = std::snprintf(out, size, "revision (warning): %s has revision %#010" PRIx32 ", planned %#010" PRIx32, s.name,
+      n = std::snprintf(out, size, "revision (warning): %s has revision 0x%08" PRIx32 ", planned 0x%08" PRIx32, s.name,
                         f.revision, s.revision);
       break;
     case DifferenceKind::known_lost_present:

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "ecat/codec/registers.hpp"
+#include "ecat/sii/sii_cache.hpp"
 
 namespace rescue::ecat {
 namespace {
@@ -46,9 +47,23 @@ void fail(SiiImage& image, SlaveRead& state, Error error) noexcept {
   state.active = false;
 }
 
+// Once the identity is in: the cached image for exactly these first 32 bytes, if there is one.
+bool take_from_cache(SiiImage& image, SlaveRead& state, const SiiCache* cache) noexcept {
+  if (cache == nullptr || image.size != kSiiIdentityBytes) return false;
+  const SiiImage* hit = cache->find(image.view());
+  if (hit == nullptr) return false;
+  std::memcpy(image.bytes.data(), hit->bytes.data(), hit->size);
+  image.size = hit->size;
+  image.complete = true;
+  image.from_cache = true;
+  state.active = false;
+  return true;
+}
+
 }  // namespace
 
-Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, const SiiReadOptions& options) noexcept {
+Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, const SiiReadOptions& options,
+                                     const SiiCache* cache) noexcept {
   SiiReadStats stats;
   const std::size_t n = images.size();
   if (n > kMaxDatagramsPerFrame / 2) return make_error(Errc::capacity_exceeded, "too many slaves for one SII frame", static_cast<std::uint32_t>(n));
@@ -139,6 +154,10 @@ Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, 
       const std::size_t take = chunk < room ? chunk : room;
       std::memcpy(image.bytes.data() + image.size, p + 6, take);
       image.size = static_cast<std::uint16_t>(image.size + take);
+      if (take_from_cache(image, st, cache)) {
+        ++stats.cache_hits;
+        continue;
+      }
       walk_categories(image, st);
       if (st.active && image.size >= kSiiImageCapacity) {
         fail(image, st, make_error(Errc::capacity_exceeded, "SII image without end marker", static_cast<std::uint32_t>(s)));

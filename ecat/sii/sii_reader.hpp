@@ -8,7 +8,9 @@
 //        is set, up to the busy timeout; the data (0x0508) then holds 8 bytes (status bit 6) or 4.
 //   A command error (0x2000) is acknowledged by the next command and the read is repeated.
 // The reader starts with the 128-byte header, then walks the categories as their headers arrive
-// and stops at the end marker (0xFFFF). A category that would not fit the image buffer ends the
+// and stops at the end marker (0xFFFF). With a cache (sii_cache.hpp), once a slave's first 32
+// bytes (configuration area and identity: vendor, product, revision, serial) are read, an image
+// cached for exactly those bytes is taken instead of reading on: 4 EEPROM reads instead of ~128. A category that would not fit the image buffer ends the
 // image there (an end marker is put in its place, `truncated` says so).
 #pragma once
 
@@ -24,12 +26,14 @@ namespace rescue::ecat {
 
 constexpr std::size_t kSiiImageCapacity = 1024;
 constexpr std::size_t kSiiHeaderBytes = 128;
+constexpr std::size_t kSiiIdentityBytes = 32;  // words 0..15: configuration area (CRC in word 7), vendor, product, revision, serial
 
 struct SiiImage {
   std::array<std::uint8_t, kSiiImageCapacity> bytes{};
   std::uint16_t size{0};       // bytes of `bytes` that hold the image (end marker included)
   bool complete{false};        // the end marker was read (or put in, when truncated)
   bool truncated{false};
+  bool from_cache{false};      // the identity was read, the rest taken from the SII cache
   Error error{};               // why the read failed (code ok when it did not)
   ConstByteSpan view() const noexcept { return {bytes.data(), size}; }
 };
@@ -45,10 +49,15 @@ struct SiiReadStats {
   std::uint32_t frames{0};
   std::uint32_t busy_polls{0};
   std::uint32_t command_errors{0};
+  std::uint32_t cache_hits{0};  // slaves whose image came from the cache after their first 32 bytes
 };
 
+class SiiCache;
+
 // Reads the SII images of the slaves at auto-increment positions 0 .. images.size()-1. Fails only
-// when the network stops answering; a slave whose read failed has its `error` set.
-Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, const SiiReadOptions& options) noexcept;
+// when the network stops answering; a slave whose read failed has its `error` set. `cache` may be
+// null (every image read whole).
+Result<SiiReadStats> read_sii_images(DatagramLink& link, Span<SiiImage> images, const SiiReadOptions& options,
+                                     const SiiCache* cache = nullptr) noexcept;
 
 }  // namespace rescue::ecat

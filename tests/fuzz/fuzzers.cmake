@@ -3,6 +3,7 @@
 # so fuzzers link the decoders' libraries as the program does.
 rescue_add_fuzzer(fuzz_nic_input SOURCES fuzz_nic_input.cpp DEPS rescue_app)
 rescue_add_fuzzer(fuzz_sii_parser SOURCES fuzz_sii_parser.cpp DEPS rescue_ecat)
+rescue_add_fuzzer(fuzz_sii_cache_file SOURCES fuzz_sii_cache_file.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp DEPS rescue_core)
 rescue_add_fuzzer(fuzz_frame_decoder SOURCES fuzz_frame_decoder.cpp DEPS rescue_ecat)

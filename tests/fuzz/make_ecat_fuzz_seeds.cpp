@@ -1,5 +1,5 @@
-// Writes the seed corpora of fuzz_frame_decoder, fuzz_capture_reader and fuzz_captured_link at
-// build time:
+// Writes the seed corpora of fuzz_frame_decoder, fuzz_capture_reader, fuzz_captured_link and
+// fuzz_sii_cache_file (cache files of 0, 1 and 2 minimal SII images, their CRCs right) at build time:
 //   make_ecat_fuzz_seeds SEED_ROOT [SHARED_DIR]
 // into SEED_ROOT/seeds-fuzz_frame_decoder, .../seeds-fuzz_capture_reader and
 // .../seeds-fuzz_captured_link (toolchain/check.sh hands these directories to the fuzzers). Seeds are
@@ -20,6 +20,9 @@
 #include "ecat/capture/capture_reader.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
+#include "ecat/sii/sii.hpp"
+#include "ecat/sii/sii_cache.hpp"
 #include "tests/support/capture_bytes.hpp"
 
 namespace {
@@ -94,6 +97,33 @@ Bytes read_file(const std::string& path) {
 
 }  // namespace
 
+// A minimal SII image that parses with its CRC: the header (identity with `serial`) and the end marker.
+SiiImage minimal_sii(std::uint32_t serial) {
+  SiiImage image;
+  store_le32(image.bytes.data() + 2 * sii::kVendorId, 0x00000ABC);
+  store_le32(image.bytes.data() + 2 * sii::kProductCode, 0x4A443432);
+  store_le32(image.bytes.data() + 2 * sii::kSerial, serial);
+  store_le16(image.bytes.data() + 2 * sii::kEepromSize, 0x000F);
+  store_le16(image.bytes.data() + 2 * sii::kVersion, 1);
+  image.bytes[2 * sii::kConfigChecksum] = sii::config_area_crc(image.bytes.data());
+  store_le16(image.bytes.data() + kSiiHeaderBytes, 0xFFFF);
+  image.size = static_cast<std::uint16_t>(kSiiHeaderBytes + 2);
+  image.complete = true;
+  return image;
+}
+
+void write_sii_cache_seeds(const std::string& dir) {
+  SiiCache cache;
+  for (std::uint32_t images = 0; images <= 2; ++images) {
+    if (images > 0) (void)cache.remember(minimal_sii(0x52460000U + images));
+    Bytes file(kSiiCacheFileMax);
+    const Result<std::size_t> n = cache.encode(ByteSpan(file.data(), file.size()));
+    if (!n.ok()) continue;
+    file.resize(n.value());
+    write_seed(dir, "cache-" + std::to_string(images), file);
+  }
+}
+
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: make_ecat_fuzz_seeds SEED_ROOT [SHARED_DIR]\n");
@@ -107,6 +137,9 @@ int main(int argc, char** argv) {
   ::mkdir(frames_dir.c_str(), 0755);
   ::mkdir(captures_dir.c_str(), 0755);
   ::mkdir(links_dir.c_str(), 0755);
+  const std::string cache_dir = root + "/seeds-fuzz_sii_cache_file";
+  ::mkdir(cache_dir.c_str(), 0755);
+  write_sii_cache_seeds(cache_dir);
 
   const std::vector<Bytes> frames = synthetic_frames();
   for (std::size_t i = 0; i < frames.size(); ++i) write_seed(frames_dir, "synthetic-" + std::to_string(i), frames[i]);

@@ -12,6 +12,7 @@
 #include "core/app/bench/timed_nic.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/runtime/nic_factory.hpp"
+#include "core/app/runtime/sii_cache_file.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
@@ -41,8 +42,8 @@ LatencyHistogram g_phase_error_ns;
 hal::VirtualClock g_virtual_clock{hal::kNsPerSec};
 drivers::SimulatedSegment* g_segment = nullptr;
 
-// Two simulated robots with different seeds: the measured run, then the cold start (static
-// storage: about a megabyte each of ESC memories).
+// Three simulated robots with different seeds: the measured run, the cold start, the bring-up with
+// the SII cache warm (static storage: about a megabyte each of ESC memories).
 drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, int which) noexcept {
   drivers::RobotSegmentOptions options;
   options.seed = seed;
@@ -51,8 +52,42 @@ drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, int which) noexcept
     static drivers::SimulatedRobot first(options, g_virtual_clock.now());
     return first;
   }
-  static drivers::SimulatedRobot second(options, g_virtual_clock.now());
-  return second;
+  if (which == 1) {
+    static drivers::SimulatedRobot second(options, g_virtual_clock.now());
+    return second;
+  }
+  static drivers::SimulatedRobot third(options, g_virtual_clock.now());
+  return third;
+}
+
+// The SII cache of the bring-ups (in memory, or --sii-cache-dir's file as `run` keeps it).
+ecat::SiiCache g_sii_cache;
+
+// --sii-cache-dir DIR: the cache as `run` keeps it in its state directory (a damaged file is said
+// and ignored); without it the cache is in memory only, empty at start.
+void load_cache(const char* dir) noexcept {
+  if (dir == nullptr) return;
+  const Status loaded = load_sii_cache(dir, g_sii_cache);
+  if (!loaded.ok() && loaded.error().code != Errc::not_found) {
+    (void)std::printf("sii_cache: %s/%s ignored (%s)\n", dir, kSiiCacheFileName, loaded.error().what);
+  }
+}
+void save_cache(const char* dir) noexcept {
+  if (dir == nullptr || !g_sii_cache.changed()) return;
+  const Status saved = save_sii_cache(dir, g_sii_cache);
+  if (!saved.ok()) (void)std::printf("sii_cache: not saved to %s/%s (%s)\n", dir, kSiiCacheFileName, saved.error().what);
+}
+
+// Where bring-up time goes: each step from its start to the next one's (the last to SAFE-OP).
+void print_steps(const char* prefix, const ecat::BringUpReport& report) noexcept {
+  for (std::size_t i = 0; i < report.step_count; ++i) {
+    const ecat::BringUpStepMark& mark = report.steps[i];
+    const bool last = i + 1 == report.step_count;
+    const hal::Nanoseconds end = last ? report.safe_op_at : report.steps[i + 1].at;
+    const std::uint64_t frames_end = last ? report.frames : report.steps[i + 1].frames;
+    (void)std::printf("%s%s: %.3f ms, %" PRIu64 " frames\n", prefix, mark.step,
+                      static_cast<double>(end - mark.at) / 1e6, frames_end - mark.frames);
+  }
 }
 
 // Largest |true system time - reference's system time| over all slaves, now (simulator only).
@@ -118,6 +153,63 @@ int up_to_op(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler) noexce
 
 void print_failure(ecat::Master& master) noexcept { ecat::print_bring_up_failure(stderr, "", "", master); }
 
+// The start-up SDOs of the bring-up: the master's PDO mapping set-up, then the owner's.
+void print_startup_sdos(const ecat::BringUpReport& r) noexcept {
+  (void)std::printf("startup_sdos_pdo_mapping: %" PRIu32 " reads, %" PRIu32 " writes (%d drives rewritten)\n", r.pdo_reads,
+                    r.pdo_writes, ecat::popcount(r.pdo_rewritten));
+  (void)std::printf("startup_sdos_owner: %" PRIu32 " downloads\n", r.startup_sdos_done);
+}
+
+// The cold start's convergence: max |0x092C| after the first cycle's time distribution, the cycles
+// to < 100 ns and to < 20 ns (-1: not reached), the last figure.
+struct ColdFigures {
+  std::uint32_t first{0};
+  int under_100{-1};
+  int under_20{-1};
+  std::uint32_t last{0};
+};
+
+// Cycles of the cold start until every slave's |0x092C| < 20 ns (read between cycles).
+void converge_cold(drivers::JointBus& bus, hal::Clock& clock, Enabler& enabler, ColdFigures& out) noexcept {
+  for (int k = 0; k < kColdConvergenceCycles && out.under_20 < 0; ++k) {
+    enabler.step();
+    clock.sleep_until(bus.next_wakeup());
+    (void)bus.cycle(enabler.refs, enabler.feedback);
+    const Result<ecat::DcSnapshot> snap = bus.master().read_dc_snapshot();
+    if (!snap.ok()) continue;
+    out.last = snap.value().max_difference_ns;
+    if (k == 0) out.first = out.last;
+    if (out.under_100 < 0 && out.last < 100) out.under_100 = k + 1;
+    if (out.under_20 < 0 && out.last < 20) out.under_20 = k + 1;
+  }
+}
+
+// A third simulated robot of the same devices brought to OP with the SII cache as the first bring-up
+// left it; its report in `out`. 0, or the bench's exit status.
+int warm_bring_up(drivers::JointBus& bus, TimedNic& nic, Enabler& enabler, const ecat::MasterOptions& options,
+                  std::uint64_t seed, ecat::BringUpReport& out) noexcept {
+  drivers::SimulatedRobot& robot = simulated_robot(seed, 2);
+  if (!robot.status().ok()) return fail("bench", "cannot build the third simulated robot", robot.status().error());
+  static drivers::SimulatedNic warm_nic(robot.segment(), g_virtual_clock);
+  g_segment = &robot.segment();
+  nic.set_inner(warm_nic);
+  enabler = Enabler{};
+  if (!bus.bring_up(options).ok() || up_to_op(bus, nic.clock(), enabler) != 0) {
+    print_failure(bus.master());
+    return fail("bench", "bring-up with the SII cache warm failed");
+  }
+  out = bus.master().report();
+  return 0;
+}
+
+void print_warm(const ecat::BringUpReport& warm) noexcept {
+  (void)std::printf("bring_up_sii_cached_to_safe_op: %.3f ms\n", ms(warm.safe_op_at - warm.started_at));
+  (void)std::printf("bring_up_sii_cached_to_op: %.3f ms\n", ms(warm.op_at - warm.started_at));
+  (void)std::printf("bring_up_sii_cached_frames: %" PRIu64 " frames (%" PRIu32 " of %u SII images from the cache)\n",
+                    warm.frames, warm.sii.cache_hits, static_cast<unsigned>(warm.slaves_counted));
+  print_steps("bring_up_sii_cached_step_", warm);
+}
+
 }  // namespace
 
 int bench_master(const ParsedArgs& args) noexcept {
@@ -133,6 +225,11 @@ int bench_master(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> dc_target = args.integer("dc-target-ns", defaults.drift_compensation_target_ns, 0, 1'000'000);
   if (!dc_target.ok()) return fail("bench", "--dc-target-ns must be 0..1000000", dc_target.error());
   const bool simulated = choice.value().kind == NicKind::sim;
+  const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
+  const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
+  if (!measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
+  const char* cache_dir = args.value("sii-cache-dir");
+  load_cache(cache_dir);
   const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
   const bool real_time = std::strcmp(scheduling, "rt") == 0;
   if (!real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
@@ -177,6 +274,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   ecat::MasterOptions options;
   options.drift_compensation_frames = static_cast<unsigned>(dc_frames.value());
   options.drift_compensation_target_ns = static_cast<std::uint32_t>(dc_target.value());
+  options.sii_cache = &g_sii_cache;
   const Status up = bus.bring_up(options);
   if (!up.ok()) {
     print_failure(bus.master());
@@ -225,7 +323,8 @@ int bench_master(const ParsedArgs& args) noexcept {
 
   // 3. Cold start: no static drift compensation; how many cycles until the cyclic distribution
   //    brings every slave within 100 ns and 20 ns (0x092C read between cycles).
-  if (simulated) {
+  ColdFigures cold_figures;
+  if (measure_cold && simulated) {
     drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1, 1);
     if (!robot.status().ok()) return fail("bench", "cannot build the second simulated robot", robot.status().error());
     static drivers::SimulatedNic cold_nic(robot.segment(), g_virtual_clock);
@@ -234,27 +333,21 @@ int bench_master(const ParsedArgs& args) noexcept {
   }
   ecat::MasterOptions cold = options;
   cold.drift_compensation_frames = 0;
+  cold.sii_cache = nullptr;  // read whole, as before the cache: the cold figures stay comparable
   enabler = Enabler{};
-  const Status cold_up = bus.bring_up(cold);
-  if (!cold_up.ok() || up_to_op(bus, clock, enabler) != 0) {
-    print_failure(bus.master());
-    return fail("bench", "cold bring-up failed");
+  if (measure_cold) {
+    const Status cold_up = bus.bring_up(cold);
+    if (!cold_up.ok() || up_to_op(bus, clock, enabler) != 0) {
+      print_failure(bus.master());
+      return fail("bench", "cold bring-up failed");
+    }
+    converge_cold(bus, clock, enabler, cold_figures);
   }
-  std::uint32_t cold_first = 0;  // after the first cycle's time distribution
-  int under_100 = -1;
-  int under_20 = -1;
-  std::uint32_t cold_last = 0;
-  for (int k = 0; k < kColdConvergenceCycles && under_20 < 0; ++k) {
-    enabler.step();
-    clock.sleep_until(bus.next_wakeup());
-    (void)bus.cycle(enabler.refs, enabler.feedback);
-    const Result<ecat::DcSnapshot> snap = bus.master().read_dc_snapshot();
-    if (!snap.ok()) continue;
-    cold_last = snap.value().max_difference_ns;
-    if (k == 0) cold_first = cold_last;
-    if (under_100 < 0 && cold_last < 100) under_100 = k + 1;
-    if (under_20 < 0 && cold_last < 20) under_20 = k + 1;
-  }
+  // 4. On the simulated robot: the bring-up of another robot of the same devices with the SII cache
+  //    warm (what `run` does from its second start on), the default static compensation.
+  ecat::BringUpReport warm{};
+  const bool warm_measured = measure_cold && simulated;
+  if (warm_measured && warm_bring_up(bus, nic, enabler, options, static_cast<std::uint64_t>(seed.value()) + 2, warm) != 0) return 1;
   const HeapGuardCounters heap = heap_guard_counters();
 
   (void)std::printf("nic: %s\n", simulated ? "sim (in-process simulated robot, virtual time)" : nic.name());
@@ -264,15 +357,12 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));
   (void)std::printf("bring_up_to_op: %.3f ms\n", ms(first.op_at - first.started_at));
   (void)std::printf("bring_up_frames: %" PRIu64 " frames\n", first.frames);
-  // Where bring-up time goes: each step from its start to the next one's (the last to SAFE-OP).
-  for (std::size_t i = 0; i < first.step_count; ++i) {
-    const ecat::BringUpStepMark& mark = first.steps[i];
-    const bool last = i + 1 == first.step_count;
-    const hal::Nanoseconds end = last ? first.safe_op_at : first.steps[i + 1].at;
-    const std::uint64_t frames_end = last ? first.frames : first.steps[i + 1].frames;
-    (void)std::printf("bring_up_step_%s: %.3f ms, %" PRIu64 " frames\n", mark.step, ms(end - mark.at), frames_end - mark.frames);
-  }
+  print_steps("bring_up_step_", first);
+  print_startup_sdos(first);
   (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
+  (void)std::printf("sii_cache_hits: %" PRIu32 " of %u slaves (%s)\n", first.sii.cache_hits,
+                    static_cast<unsigned>(first.slaves_counted), cache_dir != nullptr ? "--sii-cache-dir" : "cache in memory, empty at start");
+  if (warm_measured) print_warm(warm);
   (void)std::printf("dc_static_compensation: %u frames (at most %u, until every |0x092C| <= %u ns twice)\n",
                     first.dc_static_frames, options.drift_compensation_frames, options.drift_compensation_target_ns);
   (void)std::printf("dc_max_difference_after_static: %" PRIu32 " ns\n", first.dc_max_difference_ns);
@@ -284,10 +374,12 @@ int bench_master(const ParsedArgs& args) noexcept {
     (void)std::printf("dc_true_max_offset_after_static: %" PRId64 " ns\n", true_offset_after_static);
     (void)std::printf("dc_true_max_offset_after_cycles: %" PRId64 " ns\n", true_offset_after_run);
   }
-  (void)std::printf("dc_cold_first_cycle_max_difference: %" PRIu32 " ns (no static compensation)\n", cold_first);
-  (void)std::printf("dc_cold_cycles_to_100ns: %d cycles\n", under_100);
-  (void)std::printf("dc_cold_cycles_to_20ns: %d cycles\n", under_20);
-  (void)std::printf("dc_cold_last_max_difference: %" PRIu32 " ns\n", cold_last);
+  if (measure_cold) {
+    (void)std::printf("dc_cold_first_cycle_max_difference: %" PRIu32 " ns (no static compensation)\n", cold_figures.first);
+    (void)std::printf("dc_cold_cycles_to_100ns: %d cycles\n", cold_figures.under_100);
+    (void)std::printf("dc_cold_cycles_to_20ns: %d cycles\n", cold_figures.under_20);
+    (void)std::printf("dc_cold_last_max_difference: %" PRIu32 " ns\n", cold_figures.last);
+  }
   const HistogramSummary phase = g_phase_error_ns.summary();
   (void)std::printf("dc_phase_error_p99: %" PRIu64 " ns\n", phase.p99);
   (void)std::printf("dc_phase_error_max: %" PRIu64 " ns\n", phase.max);
@@ -317,6 +409,7 @@ int bench_master(const ParsedArgs& args) noexcept {
                     heap_after_run.allocations);
   (void)std::printf("page_faults_after_init: %" PRIu64 " faults (cyclic run)\n",
                     (faults_after_run.minor - faults_at_init.minor) + (faults_after_run.major - faults_at_init.major));
+  save_cache(cache_dir);
   return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");
 }
 

@@ -132,7 +132,10 @@ int sim_main(const ParsedArgs& args) {
   rt.fifo_priority = static_cast<int>(priority.value());
   hal::apply_rt_config(rt).print(stdout);
 
-  (void)std::printf("serving %zu slaves on %s\n", segment.slave_count(), iface);
+  std::size_t powered = 0;
+  for (std::size_t p = 0; p < robot.segment().slave_count(); ++p) powered += robot.segment().esc(p).powered() ? 1U : 0U;
+  (void)std::printf("serving %zu slaves on %s (and a spare one behind the last, unplugged: `extra-slave` plugs it in)\n",
+                    powered, iface);
   (void)std::fflush(stdout);  // scripts and tests wait for this line
 
   static FrameServer server(nic, segment);  // static: it holds the frames of a stall (25 KiB)

@@ -2,6 +2,7 @@
 // objects; the runner's other pieces are in this folder (docs/firmware.md, "Code").
 #include "core/app/runtime/firmware.hpp"
 
+#include <pthread.h>
 #include <sys/stat.h>
 
 #include <cinttypes>
@@ -19,6 +20,7 @@
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/run_report.hpp"
+#include "core/app/runtime/sii_cache_file.hpp"
 #include "core/app/runtime/startup_log.hpp"
 #include "core/app/runtime/task_ports.hpp"
 #include "core/app/runtime/stop_signal.hpp"
@@ -48,6 +50,43 @@
 namespace rescue::app {
 
 using namespace runner;  // NOLINT(google-build-using-namespace): the runner's pieces (run_context.hpp)
+
+namespace {
+
+// start_task_timing() on a thread of its own with a 64 KiB stack (pthread: std::thread cannot size
+// its stack); if the thread cannot be created, join() calibrates on the caller's thread.
+class TaskTimingCalibration {
+ public:
+  TaskTimingCalibration() noexcept {
+    pthread_attr_t attr;
+    started_ = pthread_attr_init(&attr) == 0;
+    if (!started_) return;
+    started_ = pthread_attr_setstacksize(&attr, kStackBytes) == 0 && pthread_create(&thread_, &attr, &run, nullptr) == 0;
+    (void)pthread_attr_destroy(&attr);
+  }
+  TaskTimingCalibration(const TaskTimingCalibration&) = delete;
+  TaskTimingCalibration& operator=(const TaskTimingCalibration&) = delete;
+  TaskTimingCalibration(TaskTimingCalibration&&) = delete;
+  TaskTimingCalibration& operator=(TaskTimingCalibration&&) = delete;
+  ~TaskTimingCalibration() { join(); }
+  void join() noexcept {
+    if (joined_) return;
+    joined_ = true;
+    if (!started_ || pthread_join(thread_, nullptr) != 0) start_task_timing();
+  }
+
+ private:
+  static constexpr std::size_t kStackBytes = std::size_t{64} * 1024;
+  static void* run(void* /*unused*/) noexcept {
+    start_task_timing();
+    return nullptr;
+  }
+  pthread_t thread_{};
+  bool started_{false};
+  bool joined_{false};
+};
+
+}  // namespace
 
 // The start-up sequence reads top to bottom as docs/firmware.md and docs/tasks.md describe it; its
 // pieces are already helpers, and what remains is the wiring of the tasks' static objects.
@@ -210,8 +249,22 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     (void)std::fflush(stdout);
   };
 
+  // Whole SII images of the devices seen at earlier starts (docs/master.md "SII cache"): each slave's
+  // identity and serial number are read every time, the rest comes from the cache when they match.
+  static ecat::SiiCache sii_cache;
+  const Status cache_loaded = load_sii_cache(dir.value().path.c_str(), sii_cache);
+  if (!cache_loaded.ok() && cache_loaded.error().code != Errc::not_found) {
+    (void)std::printf("rescue-motion run: SII cache %s/%s ignored (%s): every slave's SII is read whole\n",
+                      dir.value().path.c_str(), kSiiCacheFileName, cache_loaded.error().what);
+  }
+  master_options.sii_cache = &sii_cache;
+
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
+  // The tasks' TSC timer is calibrated (a 20 ms busy-wait) on another thread while the bring-up runs,
+  // not after it: time to OP does not wait for it. Its stack is small: memory is locked, so every
+  // page of a new thread's stack is populated when it is created (8 MiB by default, ~2 ms).
+  TaskTimingCalibration calibration;
   // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
   // not stretch it (every frame of it waits for the one before); then this thread is given back its
   // normal scheduling before it forks the tasks and supervises them.
@@ -219,7 +272,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const int handler_priority = runner_priority(TaskId::ethercat_handler);
   const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
   if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
+  if (options.scenario.mapping_fault) {
+    // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
+    ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr);
+    const Status faulted = first.before_bring_up();
+    if (!faulted.ok()) return fail("run", "the scenario's mapping fault could not be applied", faulted.error());
+  }
   const Status up = bus.bring_up(master_options, out_of_service);
+  calibration.join();
   if (raised && !hal::restore_scheduling(normal.value()).ok()) {
     return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
   }
@@ -235,6 +295,20 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   (void)std::printf("rescue-motion run: %u slaves found, SAFE-OP after %.3f s, distributed clocks within %u ns\n",
                     static_cast<unsigned>(bring_up.slaves_counted), seconds(bring_up.safe_op_at - bring_up.started_at),
                     bring_up.dc_max_difference_ns);
+  if (bring_up.pdo_rewritten != 0) {
+    char rewritten[kJointNamesCapacity];
+    format_joint_names(drivers::joints_of_slaves(bring_up.pdo_rewritten), rewritten, sizeof rewritten);
+    (void)std::printf("rescue-motion run: PDO mapping rewritten (it differed from the plan): %s (%u SDO writes)\n", rewritten,
+                      static_cast<unsigned>(bring_up.pdo_writes));
+  }
+  if (sii_cache.changed()) {
+    // Only when a device was new or changed: a durable write of about 30 KiB before the tasks start.
+    const Status saved = save_sii_cache(dir.value().path.c_str(), sii_cache);
+    if (!saved.ok()) {
+      (void)std::printf("rescue-motion run: SII cache not saved to %s/%s: %s\n", dir.value().path.c_str(),
+                        kSiiCacheFileName, saved.error().what);
+    }
+  }
 
   // 4. The tasks. From now on the handler only queues captured frames.
   if (!g_run.task_processes && !options.threads) {
@@ -295,9 +369,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   summary.intake.releases = state.intake_releases.load();
   summary.rescue_phase_reached = operator_side.motion.rescue_phase_reached;
   summary.processes = g_run.task_processes;
+  summary.start = start;
+  summary.bring_up = &bring_up;
   print_run_summary(summary);
   if (verdict != 0) return verdict;
   return robot_exit(condition);
 }
 
 }  // namespace rescue::app
+

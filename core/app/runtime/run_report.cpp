@@ -182,6 +182,14 @@ void print_run_summary(const RunSummary& s) noexcept {
   (void)std::printf("clock: wall (CLOCK_MONOTONIC); tasks: %s\n",
                     s.processes ? "processes under a supervisor" : "threads of one process");
   (void)std::printf("periods_run: %" PRIu64 "\n", s.cycles);
+  // Time to OP, from the run's clock origin (the NIC opened), as "network in OP" says it.
+  if (s.bring_up != nullptr) {
+    (void)std::printf("bring_up_to_safe_op_ms: %.1f\n", static_cast<double>(s.bring_up->safe_op_at - s.start) / 1e6);
+    const hal::Nanoseconds op_at = run().op.load() ? run().op_at.load() : -1;
+    if (op_at >= 0) (void)std::printf("bring_up_to_op_ms: %.1f\n", static_cast<double>(op_at - s.start) / 1e6);
+    (void)std::printf("bring_up_sii_cache_hits: %" PRIu32 " of %u slaves\n", s.bring_up->sii.cache_hits,
+                      static_cast<unsigned>(s.bring_up->slaves_counted));
+  }
   for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
     TaskStat stat{};
     if (!links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;

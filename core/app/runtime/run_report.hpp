@@ -9,6 +9,8 @@
 #include "core/app/sim/run_scenario.hpp"
 #include "core/app/tasks/motion_intake.hpp"
 #include "core/app/tasks/socket_handler.hpp"
+#include "ecat/master/master.hpp"
+#include "hal/time/clock.hpp"
 
 namespace rescue::app::runner {
 
@@ -32,6 +34,8 @@ struct RunSummary {
   MotionIntakeCounters intake{};
   std::uint8_t rescue_phase_reached{0};
   bool processes{false};
+  hal::Nanoseconds start{0};                      // the run's clock origin (NIC open)
+  const ecat::BringUpReport* bring_up{nullptr};   // the bring-up's report (time to SAFE-OP, SII cache hits)
 };
 
 void print_run_summary(const RunSummary& s) noexcept;

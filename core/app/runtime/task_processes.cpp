@@ -194,7 +194,6 @@ int run_task_processes(OperatorSide& side) noexcept {
   RunControl& state = run();
   static hal::MonotonicClock supervisor_clock;
   static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
-  start_task_timing();
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();

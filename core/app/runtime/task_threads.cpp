@@ -15,7 +15,6 @@
 namespace rescue::app::runner {
 
 int run_task_threads(OperatorSide& side) noexcept {
-  start_task_timing();
   (void)std::fflush(stdout);
   RunControl& state = run();
   g_run.storage_stop.store(false, std::memory_order_relaxed);

@@ -18,11 +18,17 @@ struct ScenarioRow {
   hal::Nanoseconds run_on;   // after acting, without --duration
   ScenarioKind kind;
   Lost lost;                 // what the firmware must report lost
+  bool mapping_fault{false};
+  drivers::PdoMappingFault fault{drivers::PdoMappingFault::half_written};
 };
 
 constexpr ScenarioRow kScenarios[] = {
     {"link-cut", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::link_cut, Lost::its_branch_from_it},
     {"power-cycle", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint},
+    {"half-mapped", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint, true,
+     drivers::PdoMappingFault::half_written},
+    {"foreign-mapping", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::power_cycle, Lost::the_joint, true,
+     drivers::PdoMappingFault::foreign_default},
     {"cable-damage", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing},
     // rescue: run_on only bounds the run; it stops 0.2 s after the rescue motion ended (task_loops.cpp).
     {"rescue", 3 * hal::kNsPerSec, 10 * hal::kNsPerSec, ScenarioKind::rescue, Lost::its_branch_from_it},
@@ -46,13 +52,21 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
       scenario.may_miss_first_frame = joints_lost_by_link_failure_at(scenario.cut_joint) & ~joint_bit(scenario.cut_joint);
     }
     scenario.run_on = row.run_on;
+    scenario.mapping_fault = row.mapping_fault;
+    scenario.fault = row.fault;
     if (row.kind == ScenarioKind::rescue) {
       scenario.rescue_motion = true;
       scenario.motion_phase_s = {1.0, 1.0, 1.0};  // lowering, forwarding, backwarding
     }
     return scenario;
   }
-  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, cable-damage)");
+  return make_error(Errc::invalid_argument, "unknown scenario (known: none, link-cut, rescue, power-cycle, half-mapped, foreign-mapping, cable-damage)");
+}
+
+Status ScenarioRunner::before_bring_up() noexcept {
+  if (!scenario_.mapping_fault) return Status::success();
+  if (segment_ == nullptr) return make_error(Errc::unsupported, "scenarios need the simulated robot (--nic sim)");
+  return segment_->corrupt_pdo_mapping(slave_position_of_joint(scenario_.cut_joint), scenario_.fault);
 }
 
 bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
@@ -70,7 +84,10 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
   }
   const std::size_t position = slave_position_of_joint(scenario_.cut_joint);
   switch (scenario_.kind) {
-    case ScenarioKind::power_cycle: action_status_ = segment_->power_cycle(position, now); break;
+    case ScenarioKind::power_cycle:
+      action_status_ = scenario_.mapping_fault ? segment_->corrupt_pdo_mapping(position, scenario_.fault) : Status::success();
+      if (action_status_.ok()) action_status_ = segment_->power_cycle(position, now);
+      break;
     case ScenarioKind::cable_damage: action_status_ = segment_->corrupt_port(position, 0, kDamagedFrames); break;
     default: action_status_ = segment_->cut_link(position); break;
   }

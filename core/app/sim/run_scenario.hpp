@@ -5,6 +5,11 @@
 //             l_wrist_yaw, l_wrist_pitch and l_hand become unreachable (design brief section 6)
 //   power-cycle  one second after OP, l_elbow's drive is power-cycled (its ESC loses its registers and
 //             station address): l_elbow is lost, and the master's online recovery brings it back
+//   half-mapped  l_elbow's drive comes with its RxPDO mapping half-written (0x1600 entries written,
+//             0x1600:00 left at 0, as a tool that stopped halfway leaves it): the master rewrites it at
+//             bring-up; one second after OP the mapping is left half-written again and the drive
+//             power-cycled: the online recovery rewrites it and brings l_elbow back (as power-cycle)
+//   foreign-mapping  the same with another drive's default mapping (2 entries each way)
 //   cable-damage  one second after OP, 5 frames are damaged on the cable into l_elbow's port 0: the
 //             link diagnostics count them and warn, naming the cable; no joint is lost
 //   rescue    the robot is initialized and the rescue RC task takes the motion (the runtime sends
@@ -40,6 +45,10 @@ struct Scenario {
   // first showed the shortfall: a working counter short by one slave cannot tell a slave out
   // mid-branch from a cut behind the last but one (the next frame's probes place it).
   JointMask may_miss_first_frame{0};
+  // half-mapped, foreign-mapping: the drive's PDO mapping is left wrong before bring-up and again
+  // before its power cycle.
+  bool mapping_fault{false};
+  drivers::PdoMappingFault fault{drivers::PdoMappingFault::half_written};
   hal::Nanoseconds run_on{0};           // after acting, the run goes on at most this long (without --duration)
   bool rescue_motion{false};            // the rescue RC task takes the motion once the robot is initialized
   std::array<double, 3> motion_phase_s{};  // rescue: lowering, forwarding, backwarding (s)
@@ -56,6 +65,8 @@ class ScenarioRunner {
 
   // Returns true in the cycle the scenario acted (the caller logs it).
   bool on_cycle(hal::Nanoseconds now, bool network_op) noexcept;
+  // Before bring-up: what the scenario does to the segment first (the drive's mapping left wrong).
+  Status before_bring_up() noexcept;
 
   bool acted() const noexcept { return acted_; }
   hal::Nanoseconds acted_at() const noexcept { return acted_at_; }

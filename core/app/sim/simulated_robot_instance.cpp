@@ -4,7 +4,8 @@ namespace rescue::app {
 
 drivers::SimulatedRobot& simulated_robot(hal::Nanoseconds now) noexcept {
   // Static storage: about a megabyte of ESC memories, never on a stack, never on the heap.
-  static drivers::SimulatedRobot robot(drivers::RobotSegmentOptions{}, now);
+  // With the spare slave, so `sim --iface` and `run --nic sim` take the fault command `extra-slave`.
+  static drivers::SimulatedRobot robot(drivers::RobotSegmentOptions{1, 100.0, true}, now);
   return robot;
 }
 

@@ -137,4 +137,9 @@ void JointDriveDevice::inject_fault(std::uint16_t error_code) noexcept {
   od_inputs_stale_ = false;
 }
 
+Status JointDriveDevice::corrupt_pdo_mapping(PdoMappingFault fault) noexcept {
+  objects_.corrupt_mapping(fault);
+  return Status::success();
+}
+
 }  // namespace rescue::drivers

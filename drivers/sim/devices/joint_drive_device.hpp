@@ -37,6 +37,7 @@ class JointDriveDevice final : public SlaveDevice {
   void on_cycle(ConstByteSpan outputs, ByteSpan inputs, const CycleContext& ctx, EscPdi& esc) noexcept override;
   void step(hal::Nanoseconds now, EscPdi& esc) noexcept override;
   void inject_fault(std::uint16_t error_code) noexcept override;
+  Status corrupt_pdo_mapping(PdoMappingFault fault) noexcept override;
 
   // For tests and fault injection from a running simulator. The dictionary mirrors the drive's
   // inputs as of the last time the device ran (see mirror_inputs()); use drive() for one call at

@@ -256,4 +256,27 @@ bool JointDriveObjects::mapping_is_complete() const noexcept {
          od_.get_u32(kJointTxPdoIndex, 0) == kJointTxMapping.size();
 }
 
+void JointDriveObjects::corrupt_mapping(PdoMappingFault fault) noexcept {
+  if (fault == PdoMappingFault::half_written) {
+    // Every RxPDO entry written, the entry count never: SAFE-OP is refused with 0x0025.
+    for (std::size_t i = 0; i < kJointRxMapping.size(); ++i) {
+      od_.set(kJointRxPdoIndex, static_cast<std::uint8_t>(i + 1), kJointRxMapping[i].mapping_word());
+    }
+    od_.set(kJointRxPdoIndex, 0, 0);
+    return;
+  }
+  // A factory default of another drive: controlword and target position in, statusword and
+  // position actual out (a CSP-only mapping), the other entries cleared.
+  constexpr std::array<std::uint32_t, 2> kForeignRx{0x60400010U, 0x607A0020U};
+  constexpr std::array<std::uint32_t, 2> kForeignTx{0x60410010U, 0x60640020U};
+  for (std::size_t i = 0; i < kJointRxMapping.size(); ++i) {
+    od_.set(kJointRxPdoIndex, static_cast<std::uint8_t>(i + 1), i < kForeignRx.size() ? kForeignRx[i] : 0U);
+  }
+  for (std::size_t i = 0; i < kJointTxMapping.size(); ++i) {
+    od_.set(kJointTxPdoIndex, static_cast<std::uint8_t>(i + 1), i < kForeignTx.size() ? kForeignTx[i] : 0U);
+  }
+  od_.set(kJointRxPdoIndex, 0, kForeignRx.size());
+  od_.set(kJointTxPdoIndex, 0, kForeignTx.size());
+}
+
 }  // namespace rescue::drivers

@@ -23,6 +23,7 @@
 #include "drivers/sim/devices/cia402_drive.hpp"
 #include "drivers/joint/joint_drive_pdo.hpp"
 #include "drivers/sim/coe/object_dictionary.hpp"
+#include "drivers/sim/devices/slave_device.hpp"
 
 namespace rescue::drivers {
 
@@ -56,6 +57,8 @@ class JointDriveObjects {
   DriveSettings settings() const noexcept;
   // The PDO assignment and mapping are the fixed layout (checked on PRE-OP -> SAFE-OP).
   bool mapping_is_complete() const noexcept;
+  // Fault injection: the mapping as another tool left it (written directly, past the checks).
+  void corrupt_mapping(PdoMappingFault fault) noexcept;
 
  private:
   std::array<std::uint8_t, kJointDriveObjectBytes> storage_{};

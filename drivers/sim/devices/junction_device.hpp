@@ -17,6 +17,11 @@ class JunctionDevice final : public SlaveDevice {
   // The junction built into slot `position` of kSlaves: identity kJunctionIdentity, its own serial
   // number and commissioned station alias (drivers/joint/device_identity.hpp).
   explicit JunctionDevice(std::size_t position) noexcept;
+  // A spare junction, not commissioned (station alias 0), with serial number `serial`.
+  struct Spare {
+    std::uint32_t serial;
+  };
+  explicit JunctionDevice(Spare spare) noexcept;
 
   ConstByteSpan sii_image() const noexcept override { return {sii_.data(), sii_length_}; }
   ProcessDataLayout process_data_layout() const noexcept override { return {2, 0, 3, 0}; }

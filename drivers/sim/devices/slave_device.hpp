@@ -90,6 +90,12 @@ class EscPdi {
   virtual DcSyncSettings dc_sync_settings() const noexcept = 0;
 };
 
+// How a PDO mapping can be left wrong (SlaveDevice::corrupt_pdo_mapping).
+enum class PdoMappingFault : std::uint8_t {
+  half_written,     // RxPDO entries written, its entry count (0x1600:00) left at 0: a tool stopped halfway
+  foreign_default,  // another default mapping (fewer entries, as a factory-default drive has)
+};
+
 // The device application behind one ESC (joint drive, junction, test devices).
 class SlaveDevice {
  public:
@@ -128,6 +134,13 @@ class SlaveDevice {
   // Fault injection: a device fault with a device-specific error code (a drive raises its CiA 402
   // fault with this error code). Devices without such faults ignore it.
   virtual void inject_fault(std::uint16_t error_code) noexcept = 0;
+
+  // Fault injection: the device's PDO mapping left as another tool left it (kept through power
+  // cycles, as a drive keeps its stored mapping). Devices without a configurable mapping refuse it.
+  virtual Status corrupt_pdo_mapping(PdoMappingFault fault) noexcept {
+    (void)fault;
+    return make_error(Errc::unsupported, "device has no configurable PDO mapping");
+  }
 };
 
 }  // namespace rescue::drivers

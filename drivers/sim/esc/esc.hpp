@@ -91,6 +91,12 @@ class Esc final : public EscPdi {
   void set_application_frozen(bool frozen) noexcept;
   bool application_frozen() const noexcept { return frozen_; }
   void inject_device_fault(std::uint16_t error_code) noexcept;
+  // Every request for `state` is refused with `al_status_code` (error indication set, the slave
+  // stays where it is) until set again with code 0. Survives power cycles.
+  void refuse_state(AlState state, std::uint16_t al_status_code) noexcept {
+    refused_state_ = state;
+    refused_code_ = al_status_code;
+  }
   // A frame with a broken FCS or length arrived at `port` (invalid frame counter 0x0300 + 2n).
   void count_invalid_frame(unsigned port) noexcept;
   // A frame already damaged upstream arrived at `port` (forwarded RX error counter 0x0308 + n).
@@ -176,6 +182,8 @@ class Esc final : public EscPdi {
   bool foreign_identity_{false};
   bool frozen_{false};
   hal::Nanoseconds frozen_since_{0};
+  AlState refused_state_{AlState::init};
+  std::uint16_t refused_code_{0};
   bool device_emulation_{false};
   hal::Nanoseconds now_{0};
 

@@ -9,6 +9,7 @@
 //   SAFE-OP -> OP     SyncManagers again, then waits for the first valid outputs (SM event) before
 //                     asking the device; without outputs for 10 s: 0x001B, stays in SAFE-OP
 //   downward          always carried out
+//   refuse_state()    (fault injection) every upward request for that state refused with its code
 //   INIT -> BOOT      0x0013 (no bootstrap); other jumps (INIT -> SAFE-OP, PRE-OP -> OP, ...) 0x0011;
 //                     unknown states 0x0012
 // While the error indication is set, requests without the acknowledge bit are ignored, except a
@@ -123,6 +124,7 @@ void Esc::handle_al_control(hal::Nanoseconds now) noexcept {
     (void)device_->on_state_change(from, to, *this);
     return;
   }
+  if (refused_code_ != al::kNoError && to == refused_state_) return refuse(from, refused_code_);  // fault injection
   if (from == AlState::init && to == AlState::pre_op) {
     std::uint16_t refusal = check_mailbox_sync_managers();
     if (refusal == al::kNoError) refusal = device_->on_state_change(from, to, *this);

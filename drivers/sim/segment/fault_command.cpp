@@ -21,9 +21,10 @@ struct Verb {
   bool needs_slave;
   bool needs_value;
   bool needs_port{false};
+  bool needs_state{false};
 };
 
-constexpr std::array<Verb, 15> kVerbs{{
+constexpr std::array<Verb, 19> kVerbs{{
     {"cut", FaultKind::cut, true, false},
     {"restore", FaultKind::restore, true, false},
     {"freeze", FaultKind::freeze, true, false},
@@ -39,6 +40,10 @@ constexpr std::array<Verb, 15> kVerbs{{
     {"original", FaultKind::original, true, false},
     {"corrupt-port", FaultKind::corrupt_port, true, true, true},
     {"safe-op", FaultKind::safe_op, true, true},
+    {"half-mapped", FaultKind::half_mapped, true, false},
+    {"foreign-mapping", FaultKind::foreign_mapping, true, false},
+    {"refuse", FaultKind::refuse, true, true, false, true},
+    {"extra-slave", FaultKind::extra_slave, false, false},
 }};
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
@@ -114,7 +119,8 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
     if (tokens[0].is(v.word)) verb = &v;
   }
   if (verb == nullptr) return make_error(Errc::not_found, "unknown fault command");
-  const std::size_t expected = 1U + (verb->needs_slave ? 1U : 0U) + (verb->needs_port ? 1U : 0U) + (verb->needs_value ? 1U : 0U);
+  const std::size_t expected = 1U + (verb->needs_slave ? 1U : 0U) + (verb->needs_port ? 1U : 0U) + (verb->needs_state ? 1U : 0U) +
+                               (verb->needs_value ? 1U : 0U);
   if (count != expected) return make_error(Errc::invalid_argument, "wrong number of words for fault command",
                                            static_cast<std::uint32_t>(count), static_cast<std::uint32_t>(expected));
   FaultCommand command;
@@ -129,10 +135,23 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
     if (command.port >= kMaxEscPorts) return make_error(Errc::out_of_range, "port above 3", command.port);
     ++next;
   }
+  if (verb->needs_state) {
+    if (tokens[next].is("pre-op")) {
+      command.state = AlState::pre_op;
+    } else if (tokens[next].is("safe-op")) {
+      command.state = AlState::safe_op;
+    } else if (tokens[next].is("op")) {
+      command.state = AlState::op;
+    } else {
+      return make_error(Errc::invalid_argument, "bad state in fault command (pre-op, safe-op, op)");
+    }
+    ++next;
+  }
   if (verb->needs_value && !parse_number(tokens[next], command.value)) {
     return make_error(Errc::invalid_argument, "bad number in fault command");
   }
-  if ((command.kind == FaultKind::drive_fault || command.kind == FaultKind::safe_op) && command.value > 0xFFFF) {
+  if ((command.kind == FaultKind::drive_fault || command.kind == FaultKind::safe_op || command.kind == FaultKind::refuse) &&
+      command.value > 0xFFFF) {
     return make_error(Errc::out_of_range, "error code above 0xFFFF", command.value);
   }
   return command;
@@ -160,6 +179,11 @@ Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segmen
     case FaultKind::original: return segment.plug_device(command.position, false, now);
     case FaultKind::corrupt_port: return segment.corrupt_port(command.position, command.port, command.value);
     case FaultKind::safe_op: return segment.drop_to_safe_op(command.position, static_cast<std::uint16_t>(command.value));
+    case FaultKind::half_mapped: return segment.corrupt_pdo_mapping(command.position, PdoMappingFault::half_written);
+    case FaultKind::refuse:
+      return segment.refuse_state(command.position, command.state, static_cast<std::uint16_t>(command.value));
+    case FaultKind::extra_slave: return segment.power_on_named("spare", now);
+    case FaultKind::foreign_mapping: return segment.corrupt_pdo_mapping(command.position, PdoMappingFault::foreign_default);
   }
   return make_error(Errc::invalid_argument, "fault kind");
 }

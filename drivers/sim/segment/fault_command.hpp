@@ -15,6 +15,13 @@
 //   foreign SLAVE        a device of another type (other SII product code) plugged in SLAVE's place
 //   original SLAVE       the planned device plugged back in SLAVE's place
 //   corrupt-port SLAVE PORT N   damage the next N frames received on SLAVE's PORT (0..3): error counters
+//   half-mapped SLAVE    SLAVE's RxPDO mapping left half-written (0x1600 entries written, 0x1600:00 = 0),
+//                        kept through power cycles: SAFE-OP is refused (0x0025) until a master rewrites it
+//   foreign-mapping SLAVE  SLAVE's PDO mapping reset to another drive's default (2 entries each way)
+//   refuse SLAVE STATE CODE  SLAVE refuses every request for STATE (pre-op, safe-op, op) with AL status
+//                        code CODE (error bit set; CODE 0 accepts again)
+//   extra-slave          the spare slave (the simulated robot's: a junction behind the last slave)
+//                        powered on: one more device at the end of a chain
 //   safe-op SLAVE CODE   SLAVE's application drops it from OP to SAFE-OP with AL status code CODE
 //                        (error bit set), e.g. 0x001A synchronisation error; it still exchanges process data
 //
@@ -46,6 +53,10 @@ enum class FaultKind : std::uint8_t {
   original,
   corrupt_port,
   safe_op,
+  half_mapped,
+  foreign_mapping,
+  refuse,
+  extra_slave,
 };
 
 struct FaultCommand {
@@ -53,6 +64,7 @@ struct FaultCommand {
   std::size_t position{0};  // slave, for the commands that name one
   std::uint32_t value{0};   // count (drop, corrupt, corrupt-port) or error code (drive-fault, safe-op)
   std::uint32_t port{0};    // corrupt-port
+  AlState state{AlState::init};  // refuse
 };
 
 // Parses one line (at most `length` characters, stops at the first NUL). Slave names are looked up

@@ -20,6 +20,9 @@ namespace rescue::drivers {
 struct RobotSegmentOptions {
   std::uint64_t seed{1};
   double max_drift_ppm{100.0};
+  // SimulatedRobot only: one more slave, a spare uncommissioned junction behind the last slave's
+  // port 1, powered off (the fault command `extra-slave` powers it on).
+  bool spare_slave{false};
 };
 
 // Cables (100BASE-TX): propagation 5 ns/m plus the two PHYs' latency.

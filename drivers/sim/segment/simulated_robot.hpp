@@ -8,6 +8,7 @@
 
 #include "core/base/result.hpp"
 #include "drivers/sim/devices/joint_drive_device.hpp"
+#include "drivers/sim/devices/junction_device.hpp"
 #include "drivers/sim/devices/robot_devices.hpp"
 #include "drivers/sim/segment/robot_segment.hpp"
 #include "drivers/sim/segment/simulated_segment.hpp"
@@ -30,9 +31,16 @@ class SimulatedRobot {
   const SimulatedSegment& segment() const noexcept { return segment_; }
   // The drive of joint `joint` (index into kJoints).
   JointDriveDevice& drive(std::size_t joint) noexcept { return devices_.drive_of_joint(joint); }
+  // The spare slave (RobotSegmentOptions::spare_slave): a junction cabled behind the last slave of
+  // the segment (port 1), powered off: the segment is the robot's. Powering it on (`extra-slave`)
+  // adds one device at the chain's end.
+  static constexpr std::size_t kSparePosition = kSlaveCount;
+  static constexpr const char* kSpareName = "spare";
+  static constexpr std::uint32_t kSpareSerial = 0x00005EA5;
 
  private:
   RobotDevices devices_;
+  JunctionDevice spare_;
   SimulatedSegment segment_;
   Status status_;
 };

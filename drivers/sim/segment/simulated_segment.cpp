@@ -316,4 +316,24 @@ Status SimulatedSegment::inject_device_fault(std::size_t position, std::uint16_t
   return Status::success();
 }
 
+Status SimulatedSegment::refuse_state(std::size_t position, AlState state, std::uint16_t al_status_code) noexcept {
+  if (position >= count_) return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  escs_[position].refuse_state(state, al_status_code);
+  return Status::success();
+}
+
+Status SimulatedSegment::power_on_named(const char* name, hal::Nanoseconds now) noexcept {
+  for (std::size_t p = 0; p < count_; ++p) {
+    if (slaves_[p].name != nullptr && name != nullptr && std::strcmp(slaves_[p].name, name) == 0) return set_power(p, true, now);
+  }
+  return make_error(Errc::not_found, "no slave of that name in the segment");
+}
+
+Status SimulatedSegment::corrupt_pdo_mapping(std::size_t position, PdoMappingFault fault) noexcept {
+  if (position >= count_ || slaves_[position].device == nullptr) {
+    return make_error(Errc::out_of_range, "slave position", static_cast<std::uint32_t>(position));
+  }
+  return slaves_[position].device->corrupt_pdo_mapping(fault);
+}
+
 }  // namespace rescue::drivers

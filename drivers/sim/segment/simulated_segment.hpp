@@ -104,6 +104,12 @@ class SimulatedSegment {
   // A dead slave (power lost): its links go down on both sides. Power on = a fresh ESC in INIT.
   Status set_power(std::size_t position, bool on, hal::Nanoseconds now) noexcept;
   Status inject_device_fault(std::size_t position, std::uint16_t error_code) noexcept;
+  // Every request of the slave for `state` refused with `al_status_code` (0: accepted again).
+  Status refuse_state(std::size_t position, AlState state, std::uint16_t al_status_code) noexcept;
+  // The slave named `name` powered on (e.g. the simulated robot's spare: one more device at a chain's end).
+  Status power_on_named(const char* name, hal::Nanoseconds now) noexcept;
+  // The slave's PDO mapping left wrong (kept through power cycles); refused by devices without one.
+  Status corrupt_pdo_mapping(std::size_t position, PdoMappingFault fault) noexcept;
   // The slave's application drops it from OP to SAFE-OP with `al_status_code` (error indication set),
   // as a drive does that loses its synchronisation (0x001A) or its DC sync (0x002C). It keeps its
   // SyncManagers and FMMUs, so it still adds to the working counter. Refused unless the slave is

@@ -1,7 +1,9 @@
 // `run --check` over a veth pair prints the whole bring-up report after its FAILED line, the same
 // report `run` and `bench master` print (ecat/master/bring_up_report.hpp), every number filled in
 // and nothing cut: a silent segment says how many BRDs it sent and how long it waited; a wrong device
-// is named with what it is and what the plan expected; a missing slave is named. Exit status 1.
+// is named with what it is and what the plan expected; a missing slave is named; an extra slave at
+// the end of a chain is named with what it is; a slave refusing a state is named with the state, its
+// AL status and its AL status code by name. Exit status 1.
 #include <regex>
 #include <string>
 
@@ -73,6 +75,34 @@ TEST_F(RunCheckReport, AMissingSlaveIsNamed) {
   EXPECT_NE(out.find(kFailed + "compare: network differs from the plan"), std::string::npos) << out;
   EXPECT_NE(out.find(kLine + "22 slaves answer\n"), std::string::npos) << out;
   EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "missing: r_hand .*\n"))) << out;
+}
+
+TEST_F(RunCheckReport, AnExtraSlaveAtTheEndOfAChainIsNamed) {
+  start_sim_with("extra-slave");  // a spare junction, not commissioned, behind the last slave
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_NE(out.find(kFailed + "compare: network differs from the plan (1 differences that stop the bring-up, 24 slaves found)\n"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find(kLine + "24 slaves answer\n"), std::string::npos) << out;
+  EXPECT_NE(out.find(kLine + "extra: device at position 23 (RM-JCT4 0x00000a5c:0x4a435434 alias 0x0000) is not planned\n"),
+            std::string::npos)
+      << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "link: [1-9][0-9]* exchanges, 0 timeouts, 0 late frames, 0 malformed\n")))
+      << out;
+}
+
+TEST_F(RunCheckReport, ASlaveRefusingAStateIsNamedWithItsAlStatusCode) {
+  start_sim_with("refuse r_elbow safe-op 0x001D");
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_NE(out.find(kFailed + "SAFE-OP: slave refused state (refused; details 5, 29)\n"), std::string::npos) << out;
+  EXPECT_NE(out.find(kLine + "23 slaves answer\n"), std::string::npos) << out;
+  EXPECT_NE(out.find(kLine + "r_elbow refused SAFE-OP: AL status 0x0012 (PRE-OP, error), code 0x001d invalid output configuration\n"),
+            std::string::npos)
+      << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "link: [1-9][0-9]* exchanges, 0 timeouts, 0 late frames, 0 malformed\n")))
+      << out;
 }
 
 }  // namespace

@@ -35,6 +35,16 @@ TEST(FaultCommands, EachCommandParses) {
   ASSERT_TRUE(drop.ok());
   EXPECT_EQ(drop.value().kind, FaultKind::safe_op);
   EXPECT_EQ(drop.value().value, 0x001Au);
+  EXPECT_EQ(parse(s, "half-mapped l_elbow").value().kind, FaultKind::half_mapped);
+  EXPECT_EQ(parse(s, "foreign-mapping l_elbow").value().kind, FaultKind::foreign_mapping);
+  EXPECT_EQ(parse(s, "extra-slave").value().kind, FaultKind::extra_slave);
+  const auto refuse = parse(s, "refuse r_elbow safe-op 0x001D");
+  ASSERT_TRUE(refuse.ok());
+  EXPECT_EQ(refuse.value().kind, FaultKind::refuse);
+  EXPECT_EQ(refuse.value().state, AlState::safe_op);
+  EXPECT_EQ(refuse.value().value, 0x001Du);
+  EXPECT_FALSE(parse(s, "refuse r_elbow boot 0x001D").ok());
+  EXPECT_FALSE(parse(s, "refuse r_elbow safe-op").ok());
 }
 
 TEST(FaultCommands, MalformedLinesAreRefusedWithAReason) {
