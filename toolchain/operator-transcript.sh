@@ -135,6 +135,21 @@ sleep 1  # a second of figures
 ctl tasks
 ctl diag
 
+begin sdo
+ctl upload l_elbow 0x100A:00
+ctl upload neck_pan 0x1008:00
+ctl upload l_elbow 0x603F:00
+ctl upload l_elbow 0x2002:00 --type i16
+ctl --json upload l_elbow 0x100A:00
+ctl download l_elbow 0x2010:00 replaced-2026-11-26,harness-B7-recrimped,encoder-offset-checked-on-the-jig
+ctl --json upload l_elbow 0x2010:00
+ctl download l_elbow 0x6066:00 100 --type u16
+ctl --refused download l_elbow 0x607A:00 1000 --type i32
+ctl --refused --json download l_elbow 0x6040:00 0x0f --type u16
+ctl --refused download l_elbow 0x1C12:00 0 --type u8
+ctl --refused upload l_elbow 0x5FFF:00
+ctl --refused download l_elbow 0x1008:00 RM-JD403
+
 begin joints
 ctl disable l_hand
 ctl --rows 'l_wrist|l_hand' status
@@ -203,6 +218,7 @@ ctl --rows 'l_shoulder_yaw|l_elbow|l_wrist|l_hand' status
 ctl --refused enable l_hand
 ctl --refused init l_elbow,l_hand
 ctl --refused clear l_elbow
+ctl --refused upload l_hand 0x603F:00
 stop_run
 
 begin diag

@@ -1,5 +1,6 @@
 #include "ecat/mailbox/mailbox_client.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "ecat/mailbox/coe.hpp"
@@ -21,6 +22,7 @@ const char* to_string(SdoOutcome outcome) noexcept {
     case SdoOutcome::timeout: return "timeout";
     case SdoOutcome::no_mailbox: return "no mailbox";
     case SdoOutcome::bad_response: return "bad response";
+    case SdoOutcome::too_long: return "value too long";
   }
   return "?";
 }
@@ -34,6 +36,20 @@ SdoRequest sdo_download(std::uint8_t position, std::uint16_t index, std::uint8_t
   r.subindex = subindex;
   r.size = size == 0 || size > 4 ? 4 : size;
   store_le32(r.data.data(), value);
+  r.tag = tag;
+  return r;
+}
+
+SdoRequest sdo_download_bytes(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, ConstByteSpan bytes,
+                              std::uint32_t tag) noexcept {
+  SdoRequest r;
+  r.position = position;
+  r.direction = SdoDirection::download;
+  r.index = index;
+  r.subindex = subindex;
+  const std::size_t n = bytes.size() < kMaxSdoData ? bytes.size() : kMaxSdoData;
+  std::copy_n(bytes.data(), n, r.data.data());
+  r.size = static_cast<std::uint16_t>(n);
   r.tag = tag;
   return r;
 }
@@ -75,6 +91,8 @@ void MailboxClient::complete(SdoOutcome outcome) noexcept {
   phase_ = Phase::none;
   if ((current_.request.tag & kMasterTagBit) != 0) {
     (void)master_done_.push_overwrite(current_);
+  } else if ((current_.request.tag & kOperatorTagBit) != 0) {
+    (void)operator_done_.push_overwrite(current_);
   } else {
     (void)done_.push_overwrite(current_);
   }
@@ -84,30 +102,80 @@ void MailboxClient::start_next(hal::Nanoseconds now) noexcept {
   while (phase_ == Phase::none && !queue_.empty()) {
     current_ = SdoCompletion{};
     (void)queue_.pop(current_.request);
-    const SdoRequest& r = current_.request;
-    if (!has_mailbox(r.position)) {
+    if (!has_mailbox(current_.request.position)) {
       complete(SdoOutcome::no_mailbox);
       continue;
     }
-    Box& box = boxes_[r.position];
-    box.counter = mbx::next_counter(box.counter);
-    mbx::Header header;
-    header.counter = box.counter;
-    const coe::Sdo sdo = r.direction == SdoDirection::download
-                             ? coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), r.size))
-                             : coe::upload_request(r.index, r.subindex);
-    std::memset(message_.data(), 0, box.out_size);
-    const Result<std::size_t> encoded = coe::encode(ByteSpan(message_.data(), box.out_size), header, sdo);
-    if (!encoded.ok()) {
-      complete(SdoOutcome::bad_response);
-      continue;
-    }
-    phase_ = Phase::send;
-    deadline_ = now + response_timeout_;
+    offset_ = 0;
+    expected_ = 0;
+    toggle_ = false;
+    if (!encode_step(Step::initiate, now)) complete(SdoOutcome::bad_response);
   }
 }
 
+std::size_t MailboxClient::download_room(bool initiate) const noexcept {
+  const Box& box = boxes_[current_.request.position];
+  const std::size_t overhead = mbx::kHeaderSize + coe::kCoeHeaderSize + (initiate ? coe::kSdoHeaderSize : coe::kSegmentHeaderSize);
+  return box.out_size > overhead ? box.out_size - overhead : 0;
+}
+
+bool MailboxClient::encode_step(Step step, hal::Nanoseconds now) noexcept {
+  const SdoRequest& r = current_.request;
+  Box& box = boxes_[r.position];
+  box.counter = mbx::next_counter(box.counter);
+  mbx::Header header;
+  header.counter = box.counter;
+  coe::Sdo sdo;
+  const std::size_t size = r.size < kMaxSdoData ? r.size : kMaxSdoData;
+  switch (step) {
+    case Step::initiate:
+      if (r.direction == SdoDirection::upload) {
+        sdo = coe::upload_request(r.index, r.subindex);
+      } else if (size <= coe::kMaxExpeditedSize) {
+        sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), size));
+      } else {
+        // Normal transfer: the complete size, and what fits SM0 now; segments carry the rest.
+        const std::size_t room = download_room(true);
+        chunk_ = size < room ? size : room;
+        sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), chunk_));
+        sdo.expedited = false;
+        sdo.size = static_cast<std::uint32_t>(size);
+      }
+      break;
+    case Step::upload_segment:
+      sdo.kind = coe::SdoKind::upload_segment_request;
+      sdo.toggle = toggle_;
+      break;
+    case Step::download_segment: {
+      const std::size_t room = download_room(false);
+      const std::size_t left = size > offset_ ? size - offset_ : 0;
+      chunk_ = left < room ? left : room;
+      sdo.kind = coe::SdoKind::download_segment_request;
+      sdo.toggle = toggle_;
+      sdo.last_segment = offset_ + chunk_ >= size;
+      sdo.data = ConstByteSpan(r.data.data() + offset_, chunk_);
+      break;
+    }
+    case Step::abort: sdo = coe::abort(r.index, r.subindex, abort_code_out_); break;
+  }
+  std::memset(message_.data(), 0, box.out_size);
+  const Result<std::size_t> encoded = coe::encode(ByteSpan(message_.data(), box.out_size), header, sdo);
+  if (!encoded.ok()) return false;
+  step_ = step;
+  phase_ = Phase::send;
+  deadline_ = now + response_timeout_;
+  return true;
+}
+
+void MailboxClient::abort_transfer(SdoOutcome outcome, std::uint32_t code) noexcept {
+  // Tell the slave the transfer is over (it may hold a segmented transfer open), then complete.
+  abort_outcome_ = outcome;
+  abort_code_out_ = code;
+  if (!encode_step(Step::abort, now_)) complete(outcome);
+}
+
 std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now) noexcept {
+  now_ = now;
   added_ = 0;
   sent_this_exchange_ = false;
   in_full_ = false;
@@ -164,6 +232,16 @@ void MailboxClient::take_reply(ConstByteSpan bytes) noexcept {
   if (m.service != coe::Service::sdo_response && m.service != coe::Service::sdo_request) return;
   const coe::Sdo& sdo = m.sdo;
   const SdoRequest& r = current_.request;
+  if (step_ == Step::upload_segment || step_ == Step::download_segment) {
+    if (sdo.kind == coe::SdoKind::abort) {
+      if (sdo.index != r.index || sdo.subindex != r.subindex) return;
+      current_.abort_code = sdo.abort_code;
+      complete(SdoOutcome::aborted);
+      return;
+    }
+    take_segment(sdo);
+    return;
+  }
   if (sdo.index != r.index || sdo.subindex != r.subindex) return;
   if (sdo.kind == coe::SdoKind::abort) {
     current_.abort_code = sdo.abort_code;
@@ -171,23 +249,93 @@ void MailboxClient::take_reply(ConstByteSpan bytes) noexcept {
     return;
   }
   if (r.direction == SdoDirection::download && sdo.kind == coe::SdoKind::download_initiate_response) {
-    complete(SdoOutcome::ok);
+    if (r.size <= coe::kMaxExpeditedSize || chunk_ >= r.size) {
+      complete(SdoOutcome::ok);
+      return;
+    }
+    offset_ = chunk_;
+    toggle_ = false;
+    current_.segmented = true;
+    if (!encode_step(Step::download_segment, now_)) complete(SdoOutcome::bad_response);
     return;
   }
   if (r.direction == SdoDirection::upload && sdo.kind == coe::SdoKind::upload_initiate_response) {
     const std::size_t size = sdo.data.size();
-    if (size == 0 || size > current_.data.size() || (!sdo.expedited && sdo.size != size)) {
-      complete(SdoOutcome::bad_response);  // longer values would need segmented transfer
+    if (sdo.expedited) {
+      if (size == 0 || size > coe::kMaxExpeditedSize) {
+        complete(SdoOutcome::bad_response);
+        return;
+      }
+      std::memcpy(current_.data.data(), sdo.data.data(), size);
+      current_.size = static_cast<std::uint16_t>(size);
+      complete(SdoOutcome::ok);
       return;
     }
-    std::memcpy(current_.data.data(), sdo.data.data(), size);
-    current_.size = static_cast<std::uint8_t>(size);
-    complete(SdoOutcome::ok);
+    if (sdo.size > kMaxSdoData) {
+      abort_transfer(SdoOutcome::too_long, coe::abort_code::kOutOfMemory);
+      return;
+    }
+    if (size > sdo.size) {
+      complete(SdoOutcome::bad_response);
+      return;
+    }
+    if (size > 0) std::memcpy(current_.data.data(), sdo.data.data(), size);
+    current_.size = static_cast<std::uint16_t>(size);
+    if (size == sdo.size) {
+      complete(SdoOutcome::ok);
+      return;
+    }
+    // Announced more than it carries: the rest follows in upload segments.
+    offset_ = size;
+    expected_ = sdo.size;
+    toggle_ = false;
+    current_.segmented = true;
+    if (!encode_step(Step::upload_segment, now_)) complete(SdoOutcome::bad_response);
   }
 }
 
+void MailboxClient::take_segment(const coe::Sdo& sdo) noexcept {
+  const SdoRequest& r = current_.request;
+  const bool upload = step_ == Step::upload_segment;
+  if (sdo.kind != (upload ? coe::SdoKind::upload_segment_response : coe::SdoKind::download_segment_response)) return;
+  if (sdo.toggle != toggle_) {
+    abort_transfer(SdoOutcome::bad_response, coe::abort_code::kToggleBit);
+    return;
+  }
+  if (upload) {
+    const std::size_t n = sdo.data.size();
+    if (offset_ + n > expected_) {
+      abort_transfer(SdoOutcome::bad_response, coe::abort_code::kLengthTooHigh);
+      return;
+    }
+    if (n > 0) std::memcpy(current_.data.data() + offset_, sdo.data.data(), n);
+    offset_ += n;
+    current_.size = static_cast<std::uint16_t>(offset_);
+    if (sdo.last_segment) {
+      complete(offset_ == expected_ ? SdoOutcome::ok : SdoOutcome::bad_response);
+      return;
+    }
+    toggle_ = !toggle_;
+    if (!encode_step(Step::upload_segment, now_)) complete(SdoOutcome::bad_response);
+    return;
+  }
+  offset_ += chunk_;
+  if (offset_ >= r.size) {
+    complete(SdoOutcome::ok);
+    return;
+  }
+  toggle_ = !toggle_;
+  if (!encode_step(Step::download_segment, now_)) complete(SdoOutcome::bad_response);
+}
+
 void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
-  if (phase_ == Phase::send && sent_this_exchange_) phase_ = Phase::wait;
+  if (phase_ == Phase::send && sent_this_exchange_) {
+    if (step_ == Step::abort) {
+      complete(abort_outcome_);  // an abort has no answer
+    } else {
+      phase_ = Phase::wait;
+    }
+  }
   if (phase_ != Phase::none && now > deadline_) complete(SdoOutcome::timeout);
   added_ = 0;
 }

@@ -8,8 +8,12 @@
 //          said "full" and the read's working counter is 1 (reading empties the mailbox)
 //   done   SDO response for the same index/subindex, an SDO abort (code), a mailbox error
 //          reply, or the response timeout. Emergencies that arrive meanwhile are counted.
-// Expedited transfers (1..4 bytes) both ways; an upload answered with a normal transfer of at
-// most 4 bytes is accepted too. One transfer is in flight at a time, the rest wait in a queue.
+// Values of 1..4 bytes travel expedited; longer ones (up to kMaxSdoData) as a normal transfer,
+// continued in segments when they do not fit one mailbox: an upload whose initiate response
+// announces more than it carries asks for upload segments (toggle bit alternating) until the
+// last; a download sends what fits SM0 with the initiate request and the rest in download
+// segments, each step one send/wait pair like the initiate. The response timeout runs per step.
+// One transfer is in flight at a time, the rest wait in a queue.
 #pragma once
 
 #include <array>
@@ -21,17 +25,22 @@
 #include "ecat/codec/frame.hpp"
 #include "ecat/link/datagram_link.hpp"
 #include "ecat/link/network_plan.hpp"
+#include "ecat/mailbox/coe.hpp"
 
 namespace rescue::ecat {
 
 enum class SdoDirection : std::uint8_t { download, upload };
+
+// The longest value one transfer carries (a visible string such as 0x100A firmware version).
+constexpr std::size_t kMaxSdoData = 256;
 enum class SdoOutcome : std::uint8_t {
   ok,
   aborted,       // the slave answered with an SDO abort (abort_code)
   mailbox_error, // the slave answered with a mailbox error reply (mailbox_error)
   timeout,       // no answer within the response timeout
   no_mailbox,    // the slave has no configured mailbox
-  bad_response,  // an answer this client cannot use (e.g. a segmented upload)
+  bad_response,  // an answer this client cannot use (wrong toggle, sizes that disagree)
+  too_long,      // the value is longer than kMaxSdoData (the transfer is aborted towards the slave)
 };
 const char* to_string(SdoOutcome outcome) noexcept;
 
@@ -40,8 +49,8 @@ struct SdoRequest {
   SdoDirection direction{SdoDirection::upload};
   std::uint16_t index{0};
   std::uint8_t subindex{0};
-  std::uint8_t size{0};      // download: bytes of `data` (1..4)
-  std::array<std::uint8_t, 4> data{};
+  std::uint16_t size{0};     // download: bytes of `data` (1..kMaxSdoData)
+  std::array<std::uint8_t, kMaxSdoData> data{};
   std::uint32_t tag{0};      // the caller's, returned with the completion
 };
 
@@ -50,14 +59,18 @@ struct SdoCompletion {
   SdoOutcome outcome{SdoOutcome::ok};
   std::uint32_t abort_code{0};
   std::uint16_t mailbox_error{0};
-  std::uint8_t size{0};                 // upload: bytes received
-  std::array<std::uint8_t, 4> data{};   // upload: the value, little-endian
+  std::uint16_t size{0};                          // upload: bytes received
+  std::array<std::uint8_t, kMaxSdoData> data{};   // upload: the value, little-endian
+  bool segmented{false};                          // the value travelled in segments
   std::uint32_t exchanges{0};           // frames the transfer took
 };
 
 // Helpers building requests.
 SdoRequest sdo_download(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, std::uint32_t value,
                         std::uint8_t size, std::uint32_t tag = 0) noexcept;
+// A download of any length (1..kMaxSdoData bytes; longer is cut to kMaxSdoData: check first).
+SdoRequest sdo_download_bytes(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, ConstByteSpan bytes,
+                              std::uint32_t tag = 0) noexcept;
 SdoRequest sdo_upload(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, std::uint32_t tag = 0) noexcept;
 std::uint32_t sdo_value(const SdoCompletion& completion) noexcept;  // upload data as a number
 
@@ -81,6 +94,10 @@ class MailboxClient {
   // Transfers whose tag has kMasterTagBit set are the master's own (its recovery's start-up SDOs):
   // their completions go to a queue of their own, never to the owner's.
   static constexpr std::uint32_t kMasterTagBit = 0x80000000U;
+  // Transfers whose tag has kOperatorTagBit set are the operator's (ctl upload/download through
+  // the EtherCAT handler): their completions go to a third queue, popped by the handler alone.
+  static constexpr std::uint32_t kOperatorTagBit = 0x40000000U;
+  [[nodiscard]] bool pop_operator_completion(SdoCompletion& out) noexcept { return operator_done_.pop(out); }
   [[nodiscard]] bool pop_master_completion(SdoCompletion& out) noexcept { return master_done_.pop(out); }
   bool idle() const noexcept { return phase_ == Phase::none && queue_.empty(); }
   std::size_t free_slots() const noexcept { return kQueueCapacity - queue_.size(); }
@@ -100,6 +117,7 @@ class MailboxClient {
 
  private:
   enum class Phase : std::uint8_t { none, send, wait };
+  enum class Step : std::uint8_t { initiate, upload_segment, download_segment, abort };
   struct Box {
     std::uint16_t out_start{0};
     std::uint16_t out_size{0};
@@ -112,16 +130,30 @@ class MailboxClient {
   void start_next(hal::Nanoseconds now) noexcept;
   void complete(SdoOutcome outcome) noexcept;
   void take_reply(ConstByteSpan bytes) noexcept;
+  void take_segment(const coe::Sdo& sdo) noexcept;
+  void abort_transfer(SdoOutcome outcome, std::uint32_t code) noexcept;
+  // Encodes the next message of the current transfer into message_ and arms its send.
+  bool encode_step(Step step, hal::Nanoseconds now) noexcept;
+  std::size_t download_room(bool initiate) const noexcept;
 
   const NetworkPlan& plan_;
   std::array<Box, kMaxSlaves> boxes_{};
   RingBuffer<SdoRequest, kQueueCapacity> queue_{};
   RingBuffer<SdoCompletion, kQueueCapacity> done_{};  // the oldest uncollected one goes when full
   RingBuffer<SdoCompletion, kQueueCapacity> master_done_{};
+  RingBuffer<SdoCompletion, 4> operator_done_{};
 
   Phase phase_{Phase::none};
   SdoCompletion current_{};
   hal::Nanoseconds deadline_{0};
+  Step step_{Step::initiate};
+  std::size_t offset_{0};      // bytes of the value moved so far (segmented transfers)
+  std::uint32_t expected_{0};  // upload: the complete size the slave announced
+  std::size_t chunk_{0};       // download: bytes of the step in flight
+  bool toggle_{false};         // the next segment's toggle bit
+  SdoOutcome abort_outcome_{SdoOutcome::bad_response};  // what an abort step completes with
+  std::uint32_t abort_code_out_{0};                     // the code it sends
+  hal::Nanoseconds now_{0};    // of the current exchange
   hal::Nanoseconds response_timeout_{100 * hal::kNsPerMs};
   std::array<std::uint8_t, kMaxMailboxSize> message_{};  // encoded request, SM0-sized
   std::size_t added_{0};

@@ -3,7 +3,8 @@
 // to the same header bytes, only get_epoch leaves the robot id or the epoch 0, and a decoded message
 // re-encodes to the same payload bytes. Seeds (seeds-fuzz_protocol_decoder/): payloads of a type
 // (first byte the type), and whole datagrams of version 2: get_epoch, the epoch answer, an enable for
-// robot 3 in an epoch, a reply (their tags are not checked here).
+// robot 3 in an epoch, a reply, an sdo_upload (their tags are not checked here); payloads of
+// sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal).
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/cli/ctl_sdo.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
 #include "core/app/config/build_info.hpp"
 #include "core/app/config/config_file.hpp"
@@ -52,6 +53,8 @@ const OptionSpec kOptions[] = {
     {"timeout", "SECONDS", "how long to wait for the robot's answer (default 2)"},
     {"count", "N", "watch: refresh this many times, then exit (default: until interrupted)"},
     {"interval", "SECONDS", "watch: refresh period (default 0.5)"},
+    {"type", "TYPE", "upload, download: the value's type: u8, u16, u32, i8, i16, i32, string or hex "
+                     "(default: by the object's size)"},
 };
 
 const char* state_name(std::uint8_t s) noexcept {
@@ -683,6 +686,7 @@ int exchange_and_print(const char* verb, const CtlTarget& target, const Message&
     case MessageType::reply: return print_reply(verb, m, json);
     case MessageType::version: print_version(m, json); return 0;
     case MessageType::owner_state: print_owner(m, json); return 0;
+    case MessageType::sdo_result: return print_sdo_result(m, json);
     default: return ctl_error("unexpected answer type");
   }
 }
@@ -829,6 +833,13 @@ int ctl_main(const ParsedArgs& args) {
   const Status config = read_ctl_config(args);
   if (!config.ok()) return ctl_error(config.error().what);
   if (std::strcmp(verb, "keygen") == 0) return keygen(args);
+  if (is_sdo_verb(verb)) {
+    const Result<CtlTarget> sdo_target = target_of(args);
+    if (!sdo_target.ok()) return ctl_error(sdo_target.error().what);
+    const Result<Message> sdo = build_sdo_request(verb, args, sdo_target.value());
+    if (!sdo.ok()) return ctl_error(sdo.error().what);
+    return exchange_and_print(verb, sdo_target.value(), sdo.value(), g_json);
+  }
   const bool watch = std::strcmp(verb, "watch") == 0;
   const Result<Message> request = build_request(watch ? "status" : verb, args);
   if (!request.ok()) return ctl_error(request.error().what);
@@ -872,8 +883,10 @@ const CommandSpec kCtlCommand{
     "  owner TASK                           RC task TASK takes the motion\n"
     "  owner                                which RC task owns the motion, each task alive or not, its phase\n"
     "  version                              the robot's program version, layout and build type, and ctl's own\n"
+    "  upload JOINT INDEX:SUB               read a CoE object of the joint's drive (SDO; e.g. 0x100A:00), --type\n"
+    "  download JOINT INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status 0 only when the robot accepted the command or answered the query.",
-    Span<const OptionSpec>(kOptions), 1, 3, ctl_main};
+    Span<const OptionSpec>(kOptions), 1, 4, ctl_main};
 
 }  // namespace rescue::app

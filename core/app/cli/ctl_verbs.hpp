@@ -13,6 +13,7 @@ namespace rescue::app {
 inline constexpr const char* kCtlVerbs[] = {
     "keygen", "status", "slaves", "master", "tasks", "diag", "watch", "init",
     "enable", "disable", "hold",  "mode",   "clear", "move",  "hand", "owner", "version",
+    "upload", "download",
 };
 
 inline bool is_ctl_verb(const char* verb) noexcept {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/links/sdo_messages.hpp"
 #include "core/robot/robot.hpp"
 #include "core/timing/period_recorder.hpp"
 
@@ -56,6 +57,8 @@ enum class MessageType : std::uint8_t {
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
+  sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
+  sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
   // robot computers -> robot, sensor port
   imu = 0x40,
   gps = 0x41,
@@ -69,6 +72,7 @@ enum class MessageType : std::uint8_t {
   epoch = 0x86,  // the answer to get_epoch: the epoch and robot id are its header's
   version = 0x87,
   owner_state = 0x88,
+  sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -372,6 +376,8 @@ struct Message {
   EpochPayload epoch{};
   VersionPayload version{};
   OwnerStatePayload owner_state{};
+  SdoPayload sdo{};               // sdo_upload, sdo_download
+  SdoResultPayload sdo_result{};  // sdo_result
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

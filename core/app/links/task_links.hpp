@@ -15,6 +15,7 @@
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/motion_links.hpp"
 #include "core/app/links/run_control.hpp"
+#include "core/app/links/sdo_messages.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
 #include "core/robot/joint_demand.hpp"
@@ -60,6 +61,8 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(local_replies, "message parser -> runtime", SpscQueue<ControlReply, kReplyQueueDepth>)                            \
   X(command_outcomes, "joint manager -> message parser", SpscQueue<JointCommandOutcome, kOutcomeQueueDepth>)          \
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
+  X(sdo_requests, "socket handler -> EtherCAT handler (ctl upload/download, one in flight)", SpscQueue<SdoLinkRequest, config::kSdoQueueDepth>) \
+  X(sdo_results, "EtherCAT handler -> socket handler (the transfer's end)", SpscQueue<SdoLinkResult, config::kSdoQueueDepth>) \
   X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 

@@ -34,9 +34,12 @@ constexpr std::size_t kVersionSize = kVersionTextSize + 8 + kNameSize;
 constexpr std::size_t kRcTaskRecordSize = 8;
 constexpr std::size_t kOwnerStateSize = 16 + kMaxRcTasks * kRcTaskRecordSize;
 constexpr std::size_t kDiagRecordSize = 40;
+constexpr std::size_t kSdoUploadSize = 8;
+constexpr std::size_t kSdoDownloadSize = 8 + kSdoDataSize;
+constexpr std::size_t kSdoResultSize = 32 + kSdoTextSize + kSdoDataSize;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
-                  kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload,
+                  kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -85,6 +88,9 @@ class EncodeFields {
     w_.u8(0);
   }
   void reserved(std::size_t count) noexcept { w_.zeros(count); }
+  // A fixed-size byte field (all N bytes on the wire).
+  template <std::size_t N>
+  void bytes(const std::array<std::uint8_t, N>& b) noexcept { w_.bytes(b.data(), N); }
   void magic() noexcept { w_.bytes(kMagic.data(), kMagic.size()); }
   // A list's record count, at most `max` on the wire.
   void count(std::uint8_t v, std::size_t max) noexcept { w_.u8(static_cast<std::uint8_t>(v <= max ? v : max)); }
@@ -141,6 +147,10 @@ class DecodeFields {
     require(t[N - 1] == '\0', Errc::malformed, unterminated);
   }
   void reserved(std::size_t count) noexcept { require(r_.zeros(count), Errc::malformed, reserved_what_); }
+  template <std::size_t N>
+  void bytes(std::array<std::uint8_t, N>& b) noexcept {
+    std::generate(b.begin(), b.end(), [this] { return r_.u8(); });
+  }
   void magic() noexcept {
     bool same = true;
     for (const std::uint8_t b : kMagic) same = r_.u8() == b && same;
@@ -541,6 +551,63 @@ void owner_state_fields(F& f, M& m) noexcept {
   }
 }
 
+// sdo_upload: joint, subindex, index, 4 reserved bytes. sdo_download adds the size and the value in
+// a fixed 256-byte field (bytes past the size zero).
+template <typename F, typename M>
+void sdo_address_fields(F& f, M& m) noexcept {
+  f.u8(m.sdo.joint);
+  f.u8(m.sdo.subindex);
+  f.u16(m.sdo.index);
+  f.check(m.sdo.joint < kJointCount, "joint index");
+  f.check(m.sdo.index != 0, "object index 0");
+}
+
+template <typename F, typename M>
+void sdo_upload_fields(F& f, M& m) noexcept {
+  f.length(kSdoUploadSize);
+  sdo_address_fields(f, m);
+  f.reserved(4);
+}
+
+template <typename F, typename M>
+void sdo_download_fields(F& f, M& m) noexcept {
+  f.length(kSdoDownloadSize);
+  sdo_address_fields(f, m);
+  f.u16(m.sdo.size);
+  f.reserved(2);
+  f.bytes(m.sdo.data);
+  f.check(m.sdo.size >= 1 && m.sdo.size <= kSdoDataSize, "value size (1..256 bytes)");
+  bool padding_zero = true;
+  for (std::size_t i = m.sdo.size; i < kSdoDataSize; ++i) padding_zero = padding_zero && m.sdo.data[i] == 0;
+  f.require(padding_zero, Errc::malformed, "bytes past the value's size not zero");
+}
+
+template <typename F, typename M>
+void sdo_result_fields(F& f, M& m) noexcept {
+  f.length(kSdoResultSize);
+  auto& r = m.sdo_result;
+  f.u64(r.request_sequence);
+  f.u8(r.request_type);
+  f.u8(r.joint);
+  f.u8(r.subindex);
+  f.u8(r.status);
+  f.u16(r.index);
+  f.u16(r.size);
+  f.u32(r.abort_code);
+  f.u16(r.mailbox_error);
+  f.u8(r.al_state);
+  f.u8(r.flags);
+  f.u32(r.exchanges);
+  f.reserved(4);
+  f.text(r.text, "sdo result text not NUL-terminated");
+  f.bytes(r.data);
+  f.check(r.request_type == MessageType::sdo_upload || r.request_type == MessageType::sdo_download, "sdo request type");
+  f.check(r.joint < kJointCount, "joint index");
+  f.check(static_cast<std::uint8_t>(r.status) <= kSdoStatusLast, "sdo status");
+  f.check(r.size <= kSdoDataSize, "value size");
+  f.check((r.flags & ~kSdoSegmented) == 0, "sdo result flags");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -568,6 +635,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::move_effector, "move_effector", move_fields, move_fields},
     {MessageType::hand, "hand", hand_fields, hand_fields},
     {MessageType::take_owner, "take_owner", owner_fields, owner_fields},
+    {MessageType::sdo_upload, "sdo_upload", sdo_upload_fields, sdo_upload_fields},
+    {MessageType::sdo_download, "sdo_download", sdo_download_fields, sdo_download_fields},
     {MessageType::imu, "imu", imu_fields, imu_fields},
     {MessageType::gps, "gps", gps_fields, gps_fields},
     {MessageType::reply, "reply", reply_fields, reply_fields},
@@ -579,6 +648,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::epoch, "epoch", epoch_fields, epoch_fields},
     {MessageType::version, "version", version_fields, version_fields},
     {MessageType::owner_state, "owner_state", owner_state_fields, owner_state_fields},
+    {MessageType::sdo_result, "sdo_result", sdo_result_fields, sdo_result_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {

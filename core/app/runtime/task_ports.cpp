@@ -37,6 +37,10 @@ TaskPorts::TaskPorts(TaskLinks& links) noexcept
       parser_replies_(links.control_replies),
       socket_replies_(links.control_replies),
       parser_local_replies_(links.local_replies),
+      socket_sdo_requests_(links.sdo_requests),
+      handler_sdo_requests_(links.sdo_requests),
+      handler_sdo_results_(links.sdo_results),
+      socket_sdo_results_(links.sdo_results),
       parser_rc_inputs_{{Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[0]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[1]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[2]),
@@ -53,6 +57,8 @@ EthercatHandlerPorts TaskPorts::ethercat_handler() noexcept {
   p.reports = &handler_reports_;
   p.notices = &handler_notices_;
   p.motion = motion_intake_ports(links_);
+  p.sdo_requests = &handler_sdo_requests_;
+  p.sdo_results = &handler_sdo_results_;
   return p;
 }
 
@@ -116,6 +122,8 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.motion = &links_.motion;
   p.handler_heartbeat = &links_.task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
   p.rc_heartbeat_ns = &links_.rc_heartbeat_ns;
+  p.sdo_requests = &socket_sdo_requests_;
+  p.sdo_results = &socket_sdo_results_;
   return p;
 }
 

@@ -90,6 +90,11 @@ class TaskPorts {
   Sink<ControlReply, TaskLinks::kReplyQueueDepth> parser_replies_;
   Source<ControlReply, TaskLinks::kReplyQueueDepth> socket_replies_;
   Sink<ControlReply, TaskLinks::kReplyQueueDepth> parser_local_replies_;
+  // Socket handler <-> EtherCAT handler: ctl upload/download and their answers.
+  Sink<SdoLinkRequest, config::kSdoQueueDepth> socket_sdo_requests_;
+  Source<SdoLinkRequest, config::kSdoQueueDepth> handler_sdo_requests_;
+  Sink<SdoLinkResult, config::kSdoQueueDepth> handler_sdo_results_;
+  Source<SdoLinkResult, config::kSdoQueueDepth> socket_sdo_results_;
   // Message parser -> RC task k.
   std::array<Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> parser_rc_inputs_;
   std::array<Source<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs_;

@@ -14,7 +14,11 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 
 EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPorts& ports, JointMask restored_lost,
                                  const MotionIntakeSettings& intake) noexcept
-    : bus_(bus), ports_(ports), intake_(ports.motion, intake), tracker_(*ports.reports, *ports.notices, restored_lost) {
+    : bus_(bus),
+      ports_(ports),
+      intake_(ports.motion, intake),
+      tracker_(*ports.reports, *ports.notices, restored_lost),
+      sdo_relay_(bus, ports.sdo_requests, ports.sdo_results) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
   }
@@ -238,6 +242,9 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       post(e);
     }
   }
+
+  // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
+  sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
   return result;
 }
 

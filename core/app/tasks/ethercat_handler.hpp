@@ -12,7 +12,9 @@
 //      on a queue to the joint manager, and the healthy branches go on;
 //   5. its own limit check (decide_safe_stop): any monitored joint over a limit stops the robot
 //      safely, whatever the joint manager does: every drive disabled, worm gears holding;
-//   6. queues what happened (HandlerEvent) for a lower-priority logger to print.
+//   6. queues what happened (HandlerEvent) for a lower-priority logger to print;
+//   7. relays the operator's SDO transfers (ctl upload/download) to the master's cyclic mailbox
+//      channel and answers them (SdoRelay, core/app/tasks/sdo_relay.hpp).
 // No heap, no locks, no syscalls but the NIC's; bounded work.
 #pragma once
 
@@ -22,6 +24,7 @@
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/tasks/motion_intake.hpp"
+#include "core/app/tasks/sdo_relay.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
@@ -60,6 +63,9 @@ struct EthercatHandlerPorts {
   MessageSink<LostJointsReport>* reports{nullptr};      // to the joint manager (step 1; back after a power cycle)
   MessageSource<JointManagerNotice>* notices{nullptr};  // from the joint manager (step 4)
   MotionIntakePorts motion{};  // the Motion owner's references; its word (released after a watchdog stall)
+  // ctl upload/download from the socket handler, and their answers (both null: no SDO relay).
+  MessageSource<SdoLinkRequest>* sdo_requests{nullptr};
+  MessageSink<SdoLinkResult>* sdo_results{nullptr};
 };
 
 class EthercatHandler {
@@ -99,6 +105,7 @@ class EthercatHandler {
   std::uint64_t frames_missing() const noexcept { return frames_missing_; }
   // The Motion owner's references as this handler took them (misses, releases).
   const MotionIntake& motion_intake() const noexcept { return intake_; }
+  const SdoRelay& sdo_relay() const noexcept { return sdo_relay_; }
 
  private:
   void build_outputs() noexcept;
@@ -111,6 +118,7 @@ class EthercatHandler {
   EthercatHandlerPorts ports_;
   MotionIntake intake_;
   LostJointTracker tracker_;
+  SdoRelay sdo_relay_;
   drivers::JointReferences outputs_{};
   std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   drivers::JointFeedback feedback_{};

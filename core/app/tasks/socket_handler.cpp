@@ -4,6 +4,7 @@
 
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
+#include "core/app/tasks/sdo_relay.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/master/master.hpp"
 
@@ -19,6 +20,17 @@ using protocol::Rejection;
 
 constexpr std::uint8_t kAlOp = 8;
 constexpr std::uint8_t kAlSafeOp = 4;
+
+// The answer to an SDO transfer that ends here, without the EtherCAT handler's result.
+protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayload& sdo, protocol::SdoStatus status) noexcept {
+  protocol::SdoResultPayload r;
+  r.request_type = type;
+  r.joint = sdo.joint;
+  r.index = sdo.index;
+  r.subindex = sdo.subindex;
+  r.status = status;
+  return r;
+}
 
 }  // namespace
 
@@ -224,11 +236,64 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
     return;
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
+  if (h.type == MessageType::sdo_upload || h.type == MessageType::sdo_download) return forward_sdo(m, d);
 
   const ControlRequest r = request_of(m, d.address, d.port);
   if (ports_.requests == nullptr || !ports_.requests->try_send(r)) {
     ++counters_.forwarded_dropped;
     refuse(h, protocol::RefusalReason::busy, "the message parser's queue is full; try again", d);
+  }
+}
+
+void SocketHandler::answer_sdo(protocol::SdoResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
+                               std::uint16_t port) noexcept {
+  Message m;
+  m.header.type = MessageType::sdo_result;
+  result.request_sequence = request_sequence;
+  describe_sdo_result(result);
+  m.sdo_result = result;
+  send(m, address, port);
+}
+
+void SocketHandler::forward_sdo(const Message& request, const hal::UdpDatagram& from) noexcept {
+  const bool download = request.header.type == MessageType::sdo_download;
+  if (sdo_.active || ports_.sdo_requests == nullptr) {
+    // One transfer at a time: this one is refused at once, never queued behind and never lost.
+    const auto status = ports_.sdo_requests == nullptr ? protocol::SdoStatus::no_answer : protocol::SdoStatus::busy;
+    return answer_sdo(sdo_refusal(request.header.type, request.sdo, status), request.header.sequence, from.address,
+                      from.port);
+  }
+  SdoLinkRequest r;
+  r.id = ++sdo_ids_;
+  r.download = download;
+  r.sdo = request.sdo;
+  if (!download) r.sdo.size = 0;
+  if (!ports_.sdo_requests->try_send(r)) {
+    ++counters_.forwarded_dropped;  // cannot happen with one in flight and two slots; counted if it does
+    return answer_sdo(sdo_refusal(request.header.type, request.sdo, protocol::SdoStatus::busy), request.header.sequence,
+                      from.address, from.port);
+  }
+  sdo_.active = true;
+  sdo_.id = r.id;
+  sdo_.request_sequence = request.header.sequence;
+  sdo_.type = request.header.type;
+  sdo_.sdo = r.sdo;
+  sdo_.address = from.address;
+  sdo_.port = from.port;
+  sdo_.deadline = now_ + kSdoAnswerLimit;
+}
+
+void SocketHandler::collect_sdo_result() noexcept {
+  SdoLinkResult result;
+  while (ports_.sdo_results != nullptr && ports_.sdo_results->try_receive(result)) {
+    if (!sdo_.active || result.id != sdo_.id) continue;  // the answer to a transfer already answered no_answer
+    sdo_.active = false;
+    answer_sdo(result.result, sdo_.request_sequence, sdo_.address, sdo_.port);
+  }
+  if (sdo_.active && now_ > sdo_.deadline) {
+    sdo_.active = false;
+    answer_sdo(sdo_refusal(sdo_.type, sdo_.sdo, protocol::SdoStatus::no_answer), sdo_.request_sequence, sdo_.address,
+               sdo_.port);
   }
 }
 
@@ -267,6 +332,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
     Message m = message_of(reply);
     send(m, reply.reply_address, reply.reply_port);
   }
+  collect_sdo_result();
   if (ports_.counters != nullptr) ports_.counters->write(counters_);
 }
 

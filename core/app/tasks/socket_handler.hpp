@@ -11,6 +11,9 @@
 // A sender the full sender table has no room for is counted (sender_table_full) and, on the
 // control port, told so in a refusal reply: never a silent lockout.
 // Accepted queries (status, slaves, master, tasks) are answered here from what the tasks publish;
+// SDO transfers (sdo_upload, sdo_download) go to the EtherCAT handler's SDO queue, one in flight at
+// a time (a second one is answered `busy` at once), and its result is sent back as sdo_result
+// (no_answer when the handler says nothing within kSdoAnswerLimit);
 // accepted commands go to the message parser's bounded queue, and its replies are sent back,
 // authenticated, to the address the command came from. Sensor records are published in a seqlock.
 #pragma once
@@ -23,6 +26,7 @@
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/protocol_messages.hpp"
+#include "core/app/links/sdo_messages.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/replay_window.hpp"
 #include "core/concurrency/message_port.hpp"
@@ -63,6 +67,8 @@ struct SocketHandlerPorts {
   const std::array<std::atomic<std::int64_t>, protocol::kMaxRcTasks>* rc_heartbeat_ns{nullptr};
   std::size_t rc_tasks{0};
   const protocol::VersionPayload* version{nullptr};   // ctl version: what the robot runs
+  MessageSink<SdoLinkRequest>* sdo_requests{nullptr};  // ctl upload/download, to the EtherCAT handler
+  MessageSource<SdoLinkResult>* sdo_results{nullptr};  // and their results
 };
 
 class SocketHandler {
@@ -71,6 +77,9 @@ class SocketHandler {
   static constexpr std::size_t kBudget = config::kSocketDatagramsPerWakeup;  // per wake-up, both ports together
   static constexpr std::size_t kRepliesPerStep = config::kSocketRepliesPerWakeup;
   static_assert(kBatch > 0 && kBudget > 0, "a wake-up handles at least one datagram");
+  // How long an SDO transfer may take before it is answered no_answer (the mailbox's own response
+  // timeout is 100 ms per step; a 256-byte value takes at most 4 steps).
+  static constexpr hal::Nanoseconds kSdoAnswerLimit = 2 * hal::kNsPerSec;
 
   // `robot_id`: this robot's identity (run's robot_id): datagrams naming another are refused.
   SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
@@ -102,6 +111,10 @@ class SocketHandler {
               const hal::UdpDatagram& from) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
+  void forward_sdo(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void answer_sdo(protocol::SdoResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
+                  std::uint16_t port) noexcept;
+  void collect_sdo_result() noexcept;
   protocol::FiguresAge handler_figures_age() const noexcept;
 
   SocketHandlerPorts ports_;
@@ -117,6 +130,19 @@ class SocketHandler {
   std::uint64_t last_sequence_{0};
   std::size_t max_per_wakeup_{0};
   hal::Nanoseconds now_{0};  // the current wake-up's
+  // The SDO transfer in flight (one at a time).
+  struct SdoInFlight {
+    bool active{false};
+    std::uint32_t id{0};
+    std::uint64_t request_sequence{0};
+    protocol::MessageType type{protocol::MessageType::sdo_upload};
+    protocol::SdoPayload sdo{};
+    std::uint32_t address{0};
+    std::uint16_t port{0};
+    hal::Nanoseconds deadline{0};
+  };
+  SdoInFlight sdo_{};
+  std::uint32_t sdo_ids_{0};
 };
 
 }  // namespace rescue::app

@@ -1,6 +1,7 @@
 #include "drivers/sim/coe/coe_sdo_server.hpp"
 
 #include <array>
+#include <cstring>
 
 #include "core/base/endian.hpp"
 #include "drivers/sim/coe/coe_complete_access.hpp"
@@ -27,10 +28,80 @@ std::size_t send(ByteSpan response, std::uint8_t counter, const coe::Sdo& sdo) n
   return n.value();
 }
 
-std::size_t upload(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response, std::uint8_t counter) noexcept {
+constexpr std::size_t kInitiateOverhead = mbx::kHeaderSize + coe::kSdoInitiateSize;  // 16
+constexpr std::size_t kSegmentOverhead = mbx::kHeaderSize + coe::kCoeHeaderSize + coe::kSegmentHeaderSize;  // 9
+
+std::size_t upload(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response, std::uint8_t counter,
+                   SdoSegmentState* segments) noexcept {
   const ObjectRead r = od.read(req.index, req.subindex);
   if (r.abort_code != 0) return send(response, counter, coe::abort(req.index, req.subindex, r.abort_code));
-  return send(response, counter, coe::upload_response(req.index, req.subindex, r.bytes));
+  const std::size_t room = response.size() > kInitiateOverhead ? response.size() - kInitiateOverhead : 0;
+  if (segments == nullptr || r.bytes.size() <= coe::kMaxExpeditedSize || r.bytes.size() <= room) {
+    return send(response, counter, coe::upload_response(req.index, req.subindex, r.bytes));
+  }
+  // Longer than SM1: the complete size and what fits, the rest in upload segments.
+  coe::Sdo first = coe::upload_response(req.index, req.subindex, r.bytes.first(room));
+  first.expedited = false;
+  first.size = static_cast<std::uint32_t>(r.bytes.size());
+  *segments = SdoSegmentState{};
+  segments->active = true;
+  segments->upload = true;
+  segments->index = req.index;
+  segments->subindex = req.subindex;
+  segments->offset = room;
+  segments->size = r.bytes.size();
+  return send(response, counter, first);
+}
+
+std::size_t upload_segment(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response, std::uint8_t counter,
+                           SdoSegmentState& st) noexcept {
+  if (!st.active || !st.upload) return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
+  if (req.toggle != st.toggle) {
+    st.active = false;
+    return send(response, counter, coe::abort(st.index, st.subindex, coe::abort_code::kToggleBit));
+  }
+  const ObjectRead r = od.read(st.index, st.subindex);
+  if (r.abort_code != 0 || r.bytes.size() != st.size) {  // the value changed length meanwhile
+    st.active = false;
+    return send(response, counter, coe::abort(st.index, st.subindex, r.abort_code != 0 ? r.abort_code : coe::abort_code::kGeneralError));
+  }
+  const std::size_t room = response.size() > kSegmentOverhead ? response.size() - kSegmentOverhead : 0;
+  const std::size_t left = st.size - st.offset;
+  const std::size_t n = left < room ? left : room;
+  coe::Sdo seg;
+  seg.kind = coe::SdoKind::upload_segment_response;
+  seg.toggle = st.toggle;
+  seg.data = r.bytes.subspan(st.offset, n);
+  st.offset += n;
+  seg.last_segment = st.offset >= st.size;
+  st.toggle = !st.toggle;
+  if (seg.last_segment) st.active = false;
+  return send(response, counter, seg);
+}
+
+std::size_t download_segment(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
+                             std::uint8_t counter, SdoSegmentState& st) noexcept {
+  if (!st.active || st.upload) return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
+  if (req.toggle != st.toggle) {
+    st.active = false;
+    return send(response, counter, coe::abort(st.index, st.subindex, coe::abort_code::kToggleBit));
+  }
+  if (st.offset + req.data.size() > st.size) {
+    st.active = false;
+    return send(response, counter, coe::abort(st.index, st.subindex, coe::abort_code::kLengthTooHigh));
+  }
+  if (!req.data.empty()) std::memcpy(st.buffer.data() + st.offset, req.data.data(), req.data.size());
+  st.offset += req.data.size();
+  coe::Sdo ack;
+  ack.kind = coe::SdoKind::download_segment_response;
+  ack.toggle = st.toggle;
+  st.toggle = !st.toggle;
+  if (!req.last_segment) return send(response, counter, ack);
+  st.active = false;
+  if (st.offset != st.size) return send(response, counter, coe::abort(st.index, st.subindex, coe::abort_code::kLengthTooLow));
+  const std::uint32_t code = od.write(st.index, st.subindex, ConstByteSpan(st.buffer.data(), st.size), state);
+  if (code != 0) return send(response, counter, coe::abort(st.index, st.subindex, code));
+  return send(response, counter, ack);
 }
 
 std::size_t upload_complete(const coe::Sdo& req, const ObjectDictionary& od, ByteSpan response,
@@ -52,10 +123,25 @@ std::size_t upload_complete(const coe::Sdo& req, const ObjectDictionary& od, Byt
 }
 
 std::size_t download(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
-                     std::uint8_t counter) noexcept {
-  // A normal transfer announcing more than it carries would continue in segments.
+                     std::uint8_t counter, SdoSegmentState* segments) noexcept {
+  // A normal transfer announcing more than it carries continues in segments.
   if (!req.expedited && req.size_indicated && req.size != req.data.size()) {
-    return send(response, counter, coe::abort(req.index, req.subindex, coe::abort_code::kUnsupportedAccess));
+    if (segments == nullptr || req.complete_access || req.size < req.data.size()) {
+      return send(response, counter, coe::abort(req.index, req.subindex, coe::abort_code::kUnsupportedAccess));
+    }
+    const ObjectEntry* e = od.find(req.index, req.subindex);
+    if (e == nullptr) return send(response, counter, coe::abort(req.index, req.subindex, coe::abort_code::kObjectDoesNotExist));
+    if (req.size > e->size || req.size > SdoSegmentState::kCapacity) {
+      return send(response, counter, coe::abort(req.index, req.subindex, coe::abort_code::kLengthTooHigh));
+    }
+    *segments = SdoSegmentState{};
+    segments->active = true;
+    segments->index = req.index;
+    segments->subindex = req.subindex;
+    segments->size = req.size;
+    if (!req.data.empty()) std::memcpy(segments->buffer.data(), req.data.data(), req.data.size());
+    segments->offset = req.data.size();
+    return send(response, counter, coe::download_response(req.index, req.subindex));
   }
   ConstByteSpan value = req.data;
   if (req.expedited && !req.size_indicated) {
@@ -72,7 +158,7 @@ std::size_t download(const coe::Sdo& req, ObjectDictionary& od, ecat::reg::AlSta
 }  // namespace
 
 std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::AlState state, ByteSpan response,
-                      std::uint8_t counter) noexcept {
+                      std::uint8_t counter, SdoSegmentState* segments) noexcept {
   auto m = mbx::decode(request);
   if (!m.ok()) return error_reply(response, request.size() < mbx::kHeaderSize ? mbx::error_code::kSizeTooShort : mbx::error_code::kInvalidSize);
   if (m.value().header.type != mbx::Type::coe) return error_reply(response, mbx::error_code::kUnsupportedProtocol);
@@ -93,11 +179,23 @@ std::size_t serve_sdo(ConstByteSpan request, ObjectDictionary& od, ecat::reg::Al
   const coe::Sdo& sdo = msg.sdo;
   switch (sdo.kind) {
     case coe::SdoKind::upload_initiate_request:
-      return sdo.complete_access ? upload_complete(sdo, od, response, counter) : upload(sdo, od, response, counter);
-    case coe::SdoKind::download_initiate_request: return download(sdo, od, state, response, counter);
-    case coe::SdoKind::abort: return 0;  // the master gave up a transfer: nothing to answer
-    default: return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
+      if (segments != nullptr) segments->active = false;  // a new transfer ends any old one
+      return sdo.complete_access ? upload_complete(sdo, od, response, counter) : upload(sdo, od, response, counter, segments);
+    case coe::SdoKind::download_initiate_request:
+      if (segments != nullptr) segments->active = false;
+      return download(sdo, od, state, response, counter, segments);
+    case coe::SdoKind::upload_segment_request:
+      if (segments != nullptr) return upload_segment(sdo, od, response, counter, *segments);
+      break;
+    case coe::SdoKind::download_segment_request:
+      if (segments != nullptr) return download_segment(sdo, od, state, response, counter, *segments);
+      break;
+    case coe::SdoKind::abort:
+      if (segments != nullptr) segments->active = false;
+      return 0;  // the master gave up a transfer: nothing to answer
+    default: break;
   }
+  return send(response, counter, coe::abort(0, 0, coe::abort_code::kUnknownCommand));
 }
 
 std::size_t serve_sdo_fragment(ConstByteSpan request, const ObjectDictionary& od, ByteSpan response,

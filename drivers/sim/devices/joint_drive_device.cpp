@@ -39,6 +39,7 @@ std::uint16_t JointDriveDevice::on_state_change(AlState from, AlState to, EscPdi
   if (to == AlState::init) {
     last_request_counter_ = 0;
     last_response_length_ = 0;
+    segments_.active = false;
   }
   if (from == AlState::pre_op && to == AlState::safe_op) {
     const ObjectDictionary& od = objects_.od();
@@ -66,7 +67,7 @@ void JointDriveDevice::on_mailbox(ConstByteSpan message, EscPdi& esc) noexcept {
   const std::size_t capacity = std::min<std::size_t>(esc.mailbox_out_capacity(), last_response_.size());
   response_counter_ = ecat::mbx::next_counter(response_counter_);
   last_response_length_ = serve_sdo(message, objects_.od(), esc.al_state(), ByteSpan(last_response_.data(), capacity),
-                                    response_counter_);
+                                    response_counter_, &segments_);
   settings_stale_ = true;  // a download may have changed them
   if (last_response_length_ == 0) return;
   if (!esc.post_mailbox(ConstByteSpan(last_response_.data(), last_response_length_)).ok()) return;

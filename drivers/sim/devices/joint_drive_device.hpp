@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "drivers/sim/coe/coe_sdo_server.hpp"
 #include "drivers/sim/devices/cia402_drive.hpp"
 #include "drivers/sim/devices/joint_drive_objects.hpp"
 #include "drivers/sim/devices/joint_drive_sii.hpp"
@@ -83,6 +84,7 @@ class JointDriveDevice final : public SlaveDevice {
   // Last: read at start-up and on mailbox traffic only.
   SiiImage sii_{};
   std::array<std::uint8_t, kJointMailboxSize> last_response_{};
+  SdoSegmentState segments_{};  // a segmented SDO transfer in progress
 };
 
 }  // namespace rescue::drivers

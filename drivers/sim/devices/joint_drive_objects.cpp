@@ -23,6 +23,7 @@ constexpr std::array<ObjectEntry, kJointDriveObjectCount> kTable = [] {
     {0x1000, 0, dt::kUnsigned32, 4, ro, 0, "Device type"},
     {0x1001, 0, dt::kUnsigned8, 1, ro, 0, "Error register"},
     {0x1008, 0, dt::kVisibleString, kDeviceNameCapacity, ro, 0, "Manufacturer device name"},
+    {0x100A, 0, dt::kVisibleString, kFirmwareVersionCapacity, ro, 0, "Manufacturer software version"},
     {0x1018, 0, dt::kUnsigned8, 1, ro, 0, "Identity: highest subindex"},
     {0x1018, 1, dt::kUnsigned32, 4, ro, 0, "Vendor ID"},
     {0x1018, 2, dt::kUnsigned32, 4, ro, 0, "Product code"},
@@ -50,6 +51,8 @@ constexpr std::array<ObjectEntry, kJointDriveObjectCount> kTable = [] {
     {0x1C12, 1, dt::kUnsigned16, 2, pre, 0, "RxPDO assigned"},
     {0x1C13, 0, dt::kUnsigned8, 1, pre, 0, "TxPDO assignment: count"},
     {0x1C13, 1, dt::kUnsigned16, 2, pre, 0, "TxPDO assigned"},
+    {0x2002, 0, dt::kInteger16, 2, ro, 0, "Drive temperature"},
+    {0x2010, 0, dt::kVisibleString, kApplicationLabelCapacity, rw, 0, "Application label"},
     {0x603F, 0, dt::kUnsigned16, 2, ro, 0, "Error code"},
     {0x6040, 0, dt::kUnsigned16, 2, rw, 0, "Controlword"},
     {0x6041, 0, dt::kUnsigned16, 2, ro, 0, "Statusword"},
@@ -90,6 +93,7 @@ static_assert(entries_are_sorted(kTable), "object table must be sorted by index 
 // drivers/sim/coe/object_dictionary.hpp, "Speed").
 constexpr const ObjectEntry& kErrorRegister = object_entry(kTable, 0x1001, 0);
 constexpr const ObjectEntry& kErrorCode = object_entry(kTable, 0x603F, 0);
+constexpr const ObjectEntry& kTemperature = object_entry(kTable, 0x2002, 0);
 constexpr const ObjectEntry& kControlword = object_entry(kTable, 0x6040, 0);
 constexpr const ObjectEntry& kStatusword = object_entry(kTable, 0x6041, 0);
 constexpr const ObjectEntry& kModesOfOperation = object_entry(kTable, 0x6060, 0);
@@ -172,6 +176,7 @@ JointDriveObjects::JointDriveObjects(std::size_t joint, std::size_t position) no
   const JointInfo& info = kJoints[joint];
   od_.set(0x1000, 0, kDeviceTypeServoDrive);
   od_.set_string(0x1008, 0, kJointDriveIdentity.name);
+  od_.set_string(0x100A, 0, kJointDriveFirmwareVersion);
   od_.set(0x1018, 0, 4);
   od_.set(0x1018, 1, kJointDriveIdentity.vendor_id);
   od_.set(0x1018, 2, kJointDriveIdentity.product_code);
@@ -227,6 +232,11 @@ void JointDriveObjects::store_inputs(const JointInputs& i) noexcept {
   od_.set(kErrorCode, i.error_code);
   // Error register (CiA 301): bit 0 generic error while a fault is present.
   od_.set(kErrorRegister, i.error_code != 0 ? 1U : 0U);
+  // The power stage warms with the torque it gives: +0.1 degC per 2 per mille of rated torque.
+  const bool over_temperature = i.error_code == 0x4210 || i.error_code == 0x4310;
+  const int torque = i.torque_actual < 0 ? -static_cast<int>(i.torque_actual) : static_cast<int>(i.torque_actual);
+  const int deci_c = over_temperature ? kDriveTemperatureFaultDeciC : kDriveTemperatureIdleDeciC + torque / 2;
+  od_.set(kTemperature, static_cast<std::uint16_t>(deci_c));
 }
 
 JointOutputs JointDriveObjects::outputs() const noexcept {

@@ -2,7 +2,9 @@
 // assignment and mapping, and the CiA 402 objects the process image and the aperiodic joint
 // settings use. Table (docs/devices.md lists it with defaults):
 //
-//   0x1000 device type ro | 0x1001 error register ro | 0x1008 device name ro | 0x1018 identity ro
+//   0x1000 device type ro | 0x1001 error register ro | 0x1008 device name ro | 0x100A software
+//   (firmware) version ro, a string longer than one 128-byte mailbox (uploaded in segments) |
+//   0x1018 identity ro
 //   0x1600 RxPDO mapping, 0x1A00 TxPDO mapping, 0x1C12/0x1C13 PDO assignment: rw in PRE-OP only,
 //          and only the fixed layout of drivers/joint/joint_drive_pdo.hpp (sub 0 may go to 0 and back,
 //          as masters do when they download a mapping) | 0x1C00 SyncManager types ro
@@ -12,6 +14,9 @@
 //   0x6072 max torque rw | 0x6076 motor rated torque ro | 0x6077 torque actual ro | 0x607A target
 //   position rw | 0x607D software position limit rw | 0x607F max profile velocity rw | 0x6080 max
 //   motor speed ro | 0x60FF target velocity rw | 0x6502 supported drive modes ro
+//   0x2002 drive temperature ro (INTEGER16, 0.1 degC: the power stage, warmed by the torque it
+//   gives, 95.0 degC under an over-temperature fault) | 0x2010 application label rw (a visible
+//   string of up to 160 bytes the integrator writes at commissioning; segmented downloads)
 //
 // Units: counts, counts/s, per mille of rated torque (0x6076, mNm), ms.
 #pragma once
@@ -31,8 +36,17 @@ constexpr std::uint32_t kDeviceTypeServoDrive = 0x00020192;  // CiA 402 profile,
 constexpr std::uint32_t kSupportedModesCsxBits = 0x00000380;  // CSP (bit 7), CSV (8), CST (9)
 constexpr std::size_t kDeviceNameCapacity = 24;
 
-constexpr std::size_t kJointDriveObjectCount = 51;
-constexpr std::size_t kJointDriveObjectBytes = 256;
+constexpr std::size_t kFirmwareVersionCapacity = 160;
+constexpr std::size_t kApplicationLabelCapacity = 160;
+// 0x100A: the drive's software version, as the simulated drives report it.
+constexpr const char* kJointDriveFirmwareVersion =
+    "RJD-48 joint drive firmware 3.2.1 (build 2026-02-11, git 5e1c0a9f; bootloader 1.4.0; FPGA 0x2107; "
+    "encoder 2.0.3; motor table rev 7; CiA 402 CSP/CSV/CST)";
+constexpr std::int16_t kDriveTemperatureIdleDeciC = 350;     // 35.0 degC at rest
+constexpr std::int16_t kDriveTemperatureFaultDeciC = 950;    // over-temperature fault (0x4210, 0x4310)
+
+constexpr std::size_t kJointDriveObjectCount = 54;
+constexpr std::size_t kJointDriveObjectBytes = 640;
 // The table (sorted by index and subindex, offsets assigned), for documentation and tests.
 Span<const ObjectEntry> joint_drive_object_table() noexcept;
 

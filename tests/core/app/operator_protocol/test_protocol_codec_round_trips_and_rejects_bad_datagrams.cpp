@@ -4,6 +4,11 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 #include <limits>
 
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -365,6 +370,76 @@ TEST(ProtocolCodec, TheRobotIdAndTheEpochAreAuthenticatedHeaderFields) {
   EXPECT_EQ(back.epoch.request_sequence, 99U);
   EXPECT_EQ(back.header.epoch, kEpoch);
   EXPECT_EQ(back.header.robot, kRobot);
+}
+
+}  // namespace
+}  // namespace rescue::app::protocol
+
+namespace rescue::app::protocol {
+namespace {
+
+// ctl upload/download (0x18, 0x19) and their answer (0x8B): round trips, the ranges, and the fuzz
+// target's seeds decode (tests/fuzz/seeds-fuzz_protocol_decoder/sdo_*: first byte the type).
+TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(2);
+  Message m = addressed();
+  m.header.sender = 9;
+  m.header.type = MessageType::sdo_download;
+  m.sdo.joint = 5;
+  m.sdo.index = 0x2010;
+  m.sdo.subindex = 0;
+  const char label[] = "harness B7 re-crimped";
+  m.sdo.size = sizeof label - 1;
+  std::memcpy(m.sdo.data.data(), label, m.sdo.size);
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.sdo.joint, 5);
+  EXPECT_EQ(back.sdo.index, 0x2010);
+  EXPECT_EQ(back.sdo.size, m.sdo.size);
+  EXPECT_EQ(back.sdo.data, m.sdo.data);
+  EXPECT_TRUE(is_control_request(MessageType::sdo_download));
+  EXPECT_FALSE(is_query(MessageType::sdo_upload));
+
+  m.sdo.size = 0;  // a download of nothing
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.size = 3;  // bytes past the size must be zero
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::malformed));
+  m.header.type = MessageType::sdo_upload;
+  m.sdo.joint = kJointCount;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
+  Message r = addressed();
+  r.header.type = MessageType::sdo_result;
+  r.sdo_result.request_sequence = 77;
+  r.sdo_result.request_type = MessageType::sdo_upload;
+  r.sdo_result.joint = 5;
+  r.sdo_result.index = 0x100A;
+  r.sdo_result.status = SdoStatus::ok;
+  r.sdo_result.flags = kSdoSegmented;
+  r.sdo_result.size = 200;
+  r.sdo_result.data.fill(0x41);
+  set_text(r.sdo_result.text, "done (segmented)");
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.sdo_result.request_sequence, 77U);
+  EXPECT_EQ(back.sdo_result.size, 200U);
+  EXPECT_EQ(back.sdo_result.flags, kSdoSegmented);
+  EXPECT_EQ(back.sdo_result.data, r.sdo_result.data);
+  EXPECT_STREQ(back.sdo_result.text.data(), "done (segmented)");
+  r.sdo_result.status = static_cast<SdoStatus>(kSdoStatusLast + 1);
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+
+  for (const char* seed : {"sdo_upload_payload", "sdo_download_payload", "sdo_result_segmented_upload_payload",
+                           "sdo_result_refused_payload"}) {
+    std::ifstream in(std::string(RESCUE_SOURCE_DIR) + "/tests/fuzz/seeds-fuzz_protocol_decoder/" + seed, std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 1U) << seed;
+    Header h;
+    h.type = static_cast<MessageType>(static_cast<std::uint8_t>(bytes[0]));
+    const Result<Message> decoded =
+        decode_payload(h, ConstByteSpan(reinterpret_cast<const std::uint8_t*>(bytes.data()) + 1, bytes.size() - 1));
+    EXPECT_TRUE(decoded.ok()) << seed << ": " << (decoded.ok() ? "" : decoded.error().what);
+  }
 }
 
 }  // namespace

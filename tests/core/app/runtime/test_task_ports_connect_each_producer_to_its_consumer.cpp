@@ -1,6 +1,7 @@
 // TaskPorts (core/app/runtime/task_ports.hpp), where every task's ports are built: each queue's
 // producer end reaches its consumer's end, each RC task gets its own input queue, reference space,
-// state and heartbeat, and the seqlocks a task only reads are the ones the writer publishes.
+// state and heartbeat, the socket handler's SDO requests reach the EtherCAT handler and its answers
+// come back, and the seqlocks a task only reads are the ones the writer publishes.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -108,6 +109,21 @@ TEST(TaskPorts, TheSocketHandlerAndTheParserMeetOnTheRequestAndReplyQueues) {
   EXPECT_EQ(socket.master, &rig.links->master_status);
   EXPECT_EQ(socket.handler_heartbeat,
             &rig.links->task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)]);
+}
+
+TEST(TaskPorts, TheSocketHandlerAndTheEthercatHandlerMeetOnTheSdoQueues) {
+  Rig rig;
+  const SocketHandlerPorts socket = rig.ports->socket_handler();
+  const EthercatHandlerPorts handler = rig.ports->ethercat_handler();
+  SdoLinkRequest request{};
+  request.id = 7;
+  request.sdo.index = 0x100A;
+  const SdoLinkRequest got = through(socket.sdo_requests, handler.sdo_requests, request);
+  EXPECT_EQ(got.id, 7U);
+  EXPECT_EQ(got.sdo.index, 0x100A);
+  SdoLinkResult result{};
+  result.id = 7;
+  EXPECT_EQ(through(handler.sdo_results, socket.sdo_results, result).id, 7U);
 }
 
 TEST(TaskPorts, TheJointManagerAndItsStorageWorkerMeetOnTheirOwnQueues) {

@@ -1,0 +1,33 @@
+// ctl upload / ctl download (docs/operator.md "SDO"): a CoE SDO transfer to one joint's drive
+// through the robot's EtherCAT handler, like IgH's `ethercat upload/download`.
+//
+//   ctl upload JOINT INDEX:SUB [--type T]          prints the value: a number in hex and decimal,
+//                                                  a string, or hex bytes
+//   ctl download JOINT INDEX:SUB VALUE [--type T]  writes VALUE
+//
+// INDEX and SUB are hexadecimal (0x optional), as an object is written in ESI files and drive
+// manuals: 0x100A:00. --type is u8, u16, u32, i8, i16, i32, string or hex (bytes, e.g. 0a0b0c).
+// Without --type an upload is shown by its size (1, 2, 4 bytes: unsigned; else a string when it is
+// printable text, hex bytes otherwise), and a download first uploads the object to learn its size
+// (1, 2, 4 bytes: a number of that width, signed when VALUE is negative; else a string).
+#pragma once
+
+#include "core/app/config/command_line.hpp"
+#include "core/app/links/protocol_messages.hpp"
+#include "core/app/operator_protocol/ctl_client.hpp"
+#include "core/base/result.hpp"
+
+namespace rescue::app {
+
+bool is_sdo_verb(const char* verb) noexcept;
+
+// The sdo_upload / sdo_download request of `verb` and its arguments. `target`: for a download
+// without --type, the robot is asked for the object's current value first (its size).
+// Errors: invalid_argument with the text for the user; an error of that first exchange.
+Result<protocol::Message> build_sdo_request(const char* verb, const ParsedArgs& args, const CtlTarget& target) noexcept;
+
+// Prints an sdo_result (text, or one JSON object with --json); returns ctl's exit status
+// (0: the transfer was done).
+int print_sdo_result(const protocol::Message& answer, bool json) noexcept;
+
+}  // namespace rescue::app

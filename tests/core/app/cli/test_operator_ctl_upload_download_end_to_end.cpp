@@ -1,0 +1,108 @@
+// Issue 24, ctl upload / ctl download against a running robot (docs/operator.md "SDO"), every answer
+// parsed from --json: the drive's firmware version (0x100A, a string longer than one mailbox:
+// segmented upload) and its device name; a download of a writable object (0x6065 following error
+// window, and the 0x2010 application label, segmented) read back with its new value; a download to
+// the target position (0x607A, in the RxPDO) refused with that reason and exit status 1; an unknown
+// object aborted with its SDO abort code by name; and the robot's late periods unchanged over a
+// window of segmented SDO traffic (the transfers run one mailbox step per cyclic frame, never inside
+// a wait). The machine is shared: a late wake-up of the host's own (it happens with `ctl status`
+// traffic too) is not the transfers' doing, so the window is tried up to three times and one
+// window without a late period is required; a transfer that made the handler late would do so in
+// every window.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "drivers/sim/devices/joint_drive_objects.hpp"
+#include "tests/support/operator_run.hpp"
+
+namespace rescue::app {
+namespace {
+
+using testing::CommandResult;
+using testing::json_field;
+using testing::OperatorRun;
+
+bool has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  const CommandResult before = run.ctl({"--json", "master"});
+  ASSERT_EQ(before.status, 0) << before.out;
+  const std::string late_before = json_field(before.out, "late_periods");
+
+  const CommandResult version = run.ctl({"--json", "upload", "l_elbow", "0x100A:00"});
+  ASSERT_EQ(version.status, 0) << version.out;
+  EXPECT_EQ(json_field(version.out, "ok"), "true") << version.out;
+  EXPECT_EQ(json_field(version.out, "type"), "string") << version.out;
+  EXPECT_EQ(json_field(version.out, "value"), drivers::kJointDriveFirmwareVersion) << version.out;
+  EXPECT_EQ(json_field(version.out, "segmented"), "true") << version.out;
+  const CommandResult version_text = run.ctl({"upload", "l_elbow", "0x100A:00"});
+  EXPECT_EQ(version_text.out, std::string(drivers::kJointDriveFirmwareVersion) + "\n");
+
+  const CommandResult name = run.ctl({"--json", "upload", "neck_pan", "0x1008:00"});
+  ASSERT_EQ(name.status, 0) << name.out;
+  EXPECT_EQ(json_field(name.out, "value"), "RM-JD402") << name.out;
+  const CommandResult error_code = run.ctl({"--json", "upload", "l_elbow", "0x603F:00"});
+  ASSERT_EQ(error_code.status, 0) << error_code.out;
+  EXPECT_EQ(json_field(error_code.out, "value"), "0") << error_code.out;
+  EXPECT_EQ(json_field(error_code.out, "hex"), "0x0000") << error_code.out;
+  const CommandResult temperature = run.ctl({"upload", "l_elbow", "0x2002:00", "--type", "i16"});
+  ASSERT_EQ(temperature.status, 0) << temperature.out;
+  EXPECT_TRUE(has(temperature.out, "0x") && temperature.out.size() > 8) << temperature.out;
+
+  const CommandResult written = run.ctl({"--json", "download", "l_elbow", "0x6065:00", "4321", "--type", "u32"});
+  ASSERT_EQ(written.status, 0) << written.out;
+  EXPECT_EQ(json_field(written.out, "ok"), "true") << written.out;
+  const CommandResult read_back = run.ctl({"--json", "upload", "l_elbow", "0x6065:00"});
+  EXPECT_EQ(json_field(read_back.out, "value"), "4321") << read_back.out;
+  EXPECT_EQ(json_field(read_back.out, "hex"), "0x000010E1") << read_back.out;
+
+  const std::string label = "l_elbow: drive replaced after the stairs trial, harness B7 re-crimped, encoder offset checked "
+                            "on the jig; next service at 500 h";
+  const CommandResult labelled = run.ctl({"download", "l_elbow", "0x2010:00", label});  // no --type: the object's
+  ASSERT_EQ(labelled.status, 0) << labelled.out;
+  const CommandResult label_back = run.ctl({"--json", "upload", "l_elbow", "0x2010:00"});
+  EXPECT_EQ(json_field(label_back.out, "value"), label) << label_back.out;
+  EXPECT_EQ(json_field(label_back.out, "segmented"), "true") << label_back.out;
+
+  const CommandResult refused = run.ctl({"--json", "download", "l_elbow", "0x607A:00", "1000", "--type", "i32"});
+  EXPECT_EQ(refused.status, 1) << refused.out;
+  EXPECT_EQ(json_field(refused.out, "ok"), "false") << refused.out;
+  EXPECT_EQ(json_field(refused.out, "status"), "mapped object") << refused.out;
+  EXPECT_EQ(json_field(refused.out, "reason"), "0x607A:00 is in the RxPDO: the cyclic image writes it") << refused.out;
+  const CommandResult refused_text = run.ctl({"download", "l_elbow", "0x607A:00", "1000", "--type", "i32"});
+  EXPECT_EQ(refused_text.status, 1);
+  EXPECT_TRUE(has(refused_text.out, "refused: mapped object: 0x607A:00 is in the RxPDO")) << refused_text.out;
+
+  const CommandResult missing = run.ctl({"--json", "upload", "l_elbow", "0x5FFF:00"});
+  EXPECT_EQ(missing.status, 1) << missing.out;
+  EXPECT_EQ(json_field(missing.out, "status"), "aborted") << missing.out;
+  EXPECT_EQ(json_field(missing.out, "abort_code"), "0x06020000") << missing.out;
+  EXPECT_EQ(json_field(missing.out, "reason"), "object does not exist in the object dictionary") << missing.out;
+
+  const CommandResult bad = run.ctl({"--json", "upload", "l_elbw", "0x1008:00"});
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_TRUE(has(bad.out, "'l_elbw' is not a joint")) << bad.out;
+
+  EXPECT_FALSE(late_before.empty()) << before.out;
+  bool quiet_window = false;
+  std::string windows;
+  for (int window = 0; window < 3 && !quiet_window; ++window) {
+    const std::string late_start = json_field(run.ctl({"--json", "master"}).out, "late_periods");
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(run.ctl({"upload", "l_elbow", "0x100A:00"}).status, 0);
+      EXPECT_EQ(run.ctl({"download", "l_elbow", "0x2010:00", label, "--type", "string"}).status, 0);
+      EXPECT_EQ(run.ctl({"upload", "l_elbow", "0x2010:00"}).status, 0);
+    }
+    const std::string late_end = json_field(run.ctl({"--json", "master"}).out, "late_periods");
+    windows += " " + late_start + "->" + late_end;
+    quiet_window = !late_start.empty() && late_start == late_end;
+  }
+  EXPECT_TRUE(quiet_window) << "late periods rose in every window of SDO traffic:" << windows;
+  EXPECT_EQ(run.stop(), 0) << run.output();
+}
+
+}  // namespace
+}  // namespace rescue::app
