@@ -15,7 +15,9 @@ exactly, rather than rounding it:
   - every link a moving joint carries, and base_link, has an <inertial> with a mass (massless frames
     only behind fixed joints), its frame not rotated;
   - every moving joint's <limit> has velocity, effort and acceleration (rad/s^2, an attribute this
-    model adds to URDF's <limit>; urdfdom and kdl_parser ignore it), all positive.
+    model adds to URDF's <limit>; urdfdom and kdl_parser ignore it), all positive;
+  - an optional jerk (rad/s^3, also this model's attribute) where the drive has a jerk limit: positive
+    and finite if given; no jerk attribute means none (0 in the table).
 The limits are written as the URDF gives them; core/kinematics/kinematic_model.hpp checks at
 compile time that they equal core/robot/robot.hpp's kJoints (one source of truth).
 """
@@ -136,7 +138,7 @@ def parse(path):
         if any(v != 0.0 for v in rpy):
             fail(origin, f"{what}: joint origin has a rotation (rpy must be 0 0 0 in this model)")
         axis, sign = 0, 1.0
-        lower = upper = velocity = effort = acceleration = 0.0
+        lower = upper = velocity = effort = acceleration = jerk = 0.0
         if kind != "fixed":
             a = joint.find("axis")
             vec = tuple(floats(a, "xyz", "1 0 0", 3, f"{what} axis"))
@@ -154,6 +156,8 @@ def parse(path):
             velocity = number(limit, "velocity", what, positive=True)
             effort = number(limit, "effort", what, positive=True)
             acceleration = number(limit, "acceleration", what, positive=True)
+            if limit.get("jerk") is not None:
+                jerk = number(limit, "jerk", what, positive=True)
             if kind == "revolute":
                 lower, upper = number(limit, "lower", what), number(limit, "upper", what)
                 if lower > upper:
@@ -163,7 +167,8 @@ def parse(path):
                      f"link {child.get('link')}: no <inertial> on a link the moving joint {name} carries")
         joints[name] = {"name": name, "kind": kind, "parent": parent.get("link"), "child": child.get("link"),
                         "xyz": xyz, "axis": axis, "sign": sign, "lower": lower, "upper": upper,
-                        "velocity": velocity, "effort": effort, "acceleration": acceleration, "element": joint}
+                        "velocity": velocity, "effort": effort, "acceleration": acceleration, "jerk": jerk,
+                        "element": joint}
     by_child = {}
     for j in joints.values():
         if j["child"] in by_child:
@@ -234,6 +239,7 @@ def render(links, by_child, support, source):
            "  double lower, upper;    // rad (0, 0 for continuous and fixed)",
            "  double velocity, effort;  // rad/s, N m",
            "  double acceleration;    // rad/s^2 (the <limit acceleration> this model adds to URDF)",
+           "  double jerk;            // rad/s^3 (the optional <limit jerk> this model adds; 0: none)",
            "  double mass;            // kg",
            "  double com[3];          // centre of mass in the link frame",
            "  double inertia[6];      // ixx ixy ixz iyy iyz izz about the com",
@@ -247,7 +253,7 @@ def render(links, by_child, support, source):
         jname = f'"{j["name"]}"' if j else '""'
         kind = j["kind"] if j else "fixed"
         xyz = ", ".join(num(v) for v in (j["xyz"] if j else [0, 0, 0]))
-        vals = (j["lower"], j["upper"], j["velocity"], j["effort"], j["acceleration"]) if j else (0, 0, 0, 0, 0)
+        vals = (j["lower"], j["upper"], j["velocity"], j["effort"], j["acceleration"], j["jerk"]) if j else (0,) * 6
         out.append(f'  {{"{l["name"]}", {parent}, {jname}, JointType::{kind}, {j["axis"] if j else 0}, '
                    f'{num(j["sign"] if j else 1)}, {{{xyz}}}, {", ".join(num(v) for v in vals)}, {num(l["mass"])}, '
                    f'{{{", ".join(num(v) for v in l["com"])}}}, {{{", ".join(num(v) for v in l["inertia"])}}}}},')

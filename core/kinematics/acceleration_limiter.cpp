@@ -5,39 +5,101 @@
 
 namespace rescue::kin {
 
-AccelerationLimiter::AccelerationLimiter(const JointVector& start, double dt_s) noexcept
-    : dt_s_(dt_s), position_(start), velocity_(JointVector::Zero()), last_wanted_(start) {}
+namespace {
+
+// One period of a joint's acceleration-limited ramp from (x, v) towards the wanted position: the
+// next (x, v); sets `beyond` when the wanted motion was beyond a limit.
+struct RampState {
+  double x;
+  double v;
+};
+RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocity, double dt_s, bool& beyond) noexcept {
+  const JointLimits& lim = kJoints[j].limits;
+  const double a_max = kJointAcceleration[j];
+  const double closing = std::min(braking_speed(std::fabs(gap), a_max, dt_s), std::fabs(gap) / dt_s);
+  const double desired = wanted_velocity + std::copysign(closing, gap);
+  double v = std::clamp(desired, state.v - a_max * dt_s, state.v + a_max * dt_s);
+  v = std::clamp(v, -lim.velocity_max_rad_s, lim.velocity_max_rad_s);
+  beyond = v != desired;
+  double x = state.x + v * dt_s;
+  if (!kJoints[j].continuous) x = std::clamp(x, lim.position_min_rad, lim.position_max_rad);
+  return {x, (x - state.x) / dt_s};
+}
+
+}  // namespace
+
+AccelerationLimiter::AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk) noexcept
+    : dt_s_(dt_s), position_(start), velocity_(JointVector::Zero()), last_wanted_(start) {
+  filter_of_.fill(-1);
+  for (std::size_t j = 0; j < kJointCount && filter_count_ < kMaxJerkJoints; ++j) {
+    if (!(jerk[j] > 0.0)) continue;
+    JerkFilter& filter = filters_[filter_count_++];
+    filter.joint = j;
+    filter.window = std::clamp<std::size_t>(jerk_window(kJointAcceleration[j], jerk[j], dt_s), 1, kMaxJerkWindow);
+    filter_of_[j] = static_cast<int>(filter_count_ - 1);
+    filter.restart(start(static_cast<Eigen::Index>(j)));
+  }
+}
+
+void AccelerationLimiter::JerkFilter::restart(double position) noexcept {
+  ramp_position = position;
+  ramp_velocity = 0.0;
+  head = 0;
+  steady = kMaxJerkWindow;
+  for (std::size_t i = 0; i < window; ++i) history[i] = position;
+}
 
 void AccelerationLimiter::reset(const JointVector& position) noexcept {
   position_ = position;
   last_wanted_ = position;
   velocity_.setZero();
   limited_ = 0;
+  for (std::size_t f = 0; f < filter_count_; ++f) {
+    filters_[f].restart(position(static_cast<Eigen::Index>(filters_[f].joint)));
+  }
 }
 
 const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMask out_of_service) noexcept {
   limited_ = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
+    JerkFilter* filter = filter_of_[j] < 0 ? nullptr : &filters_[static_cast<std::size_t>(filter_of_[j])];
     if ((out_of_service & joint_bit(j)) != 0) {
       velocity_(row) = 0.0;
       last_wanted_(row) = position_(row);
+      if (filter != nullptr) filter->restart(position_(row));
       continue;
     }
-    const JointLimits& lim = kJoints[j].limits;
-    const double a_max = kJointAcceleration[j];
+    // The ramp's state: the references themselves, or for a jerk-limited joint the moving
+    // average's input.
+    const RampState state = filter == nullptr ? RampState{position_(row), velocity_(row)}
+                                              : RampState{filter->ramp_position, filter->ramp_velocity};
     // The gap left last period and the wanted motion's own rate: following the rate keeps the gap,
     // the closing speed (braking at a_max towards it, at most the whole gap) closes it.
-    const double gap = last_wanted_(row) - position_(row);
+    const double gap = last_wanted_(row) - state.x;
     const double wanted_velocity = (wanted(row) - last_wanted_(row)) / dt_s_;
     last_wanted_(row) = wanted(row);
-    const double closing = std::min(braking_speed(std::fabs(gap), a_max, dt_s_), std::fabs(gap) / dt_s_);
-    const double desired = wanted_velocity + std::copysign(closing, gap);
-    double v = std::clamp(desired, velocity_(row) - a_max * dt_s_, velocity_(row) + a_max * dt_s_);
-    v = std::clamp(v, -lim.velocity_max_rad_s, lim.velocity_max_rad_s);
-    if (v != desired) limited_ |= joint_bit(j);
-    double x = position_(row) + v * dt_s_;
-    if (!kJoints[j].continuous) x = std::clamp(x, lim.position_min_rad, lim.position_max_rad);
+    bool beyond = false;
+    const RampState next = ramp(j, state, gap, wanted_velocity, dt_s_, beyond);
+    if (beyond) limited_ |= joint_bit(j);
+    double x = next.x;
+    if (filter != nullptr) {
+      // A window holding one value N times over gives it back exactly (and costs no sum: the hands
+      // are still most of the time); otherwise summed afresh (at most kMaxJerkWindow terms, for a
+      // few joints): no rounding drift.
+      filter->steady = next.x == filter->ramp_position ? filter->steady + 1 : 0;
+      filter->ramp_position = next.x;
+      filter->ramp_velocity = next.v;
+      filter->history[filter->head] = next.x;
+      filter->head = (filter->head + 1) % filter->window;
+      if (filter->steady + 1 >= filter->window) {
+        x = next.x;
+      } else {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < filter->window; ++i) sum += filter->history[i];
+        x = sum / static_cast<double>(filter->window);
+      }
+    }
     velocity_(row) = (x - position_(row)) / dt_s_;
     position_(row) = x;
   }

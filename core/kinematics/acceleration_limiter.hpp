@@ -9,9 +9,19 @@
 // the position limits. A wanted motion within the limits (the rescue motion's trajectory) passes
 // unchanged (e stays 0); a jump (a new target, a mode change) becomes a ramp. Joints out of service
 // hold where they are, with zero velocity (they are not commanded). Pure computation, fixed size.
+//
+// Jerk: a joint whose drive declares a jerk limit j_max (the URDF's optional <limit jerk>, kJointJerk)
+// has its ramp smoothed by a moving average over N = ceil(2 a_max / (j_max dt)) periods, the drives'
+// own "jerk filter": the average of positions whose acceleration is within +-a_max has an
+// acceleration within +-a_max and a jerk (a_k - a_(k-N)) / (N dt) within j_max; its speed stays
+// within v_max, it never goes beyond what it averages (no overshoot, within the position limits) and
+// ends on the target N periods after the ramp does. The price: such a joint follows every motion
+// (N - 1) dt / 2 late (0.1 s for the hands).
 #pragma once
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 
 #include "core/kinematics/kinematic_model.hpp"
 
@@ -29,9 +39,34 @@ inline double braking_speed(double distance, double a_max, double dt_s) noexcept
   return step * n + left / ((n + 1.0) * dt_s);
 }
 
+// Joints with a jerk limit the limiter can hold, and its longest moving average (periods).
+inline constexpr std::size_t kMaxJerkJoints = 4;
+inline constexpr std::size_t kMaxJerkWindow = 512;
+
+// Periods of the moving average that keeps a joint with acceleration limit a_max within j_max.
+inline std::size_t jerk_window(double a_max, double j_max, double dt_s) noexcept {
+  return static_cast<std::size_t>(std::ceil(2.0 * a_max / (j_max * dt_s) - 1e-9));
+}
+
+// The model's jerk limits fit the limiter at the RC period of 1 ms.
+constexpr bool model_jerk_limits_fit() {
+  std::size_t count = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if (kJointJerk[j] == 0.0) continue;
+    ++count;
+    if (2.0 * kJointAcceleration[j] / (kJointJerk[j] * 0.001) > static_cast<double>(kMaxJerkWindow)) return false;
+  }
+  return count <= kMaxJerkJoints;
+}
+static_assert(model_jerk_limits_fit(),
+              "a jerk limit in core/robot/rescue_robot.urdf needs more than kMaxJerkJoints joints or a longer window");
+
 class AccelerationLimiter {
  public:
-  AccelerationLimiter(const JointVector& start, double dt_s) noexcept;
+  // `jerk`: per joint, rad/s^3, 0 for none (default: the model's kJointJerk; at most kMaxJerkJoints
+  // joints with one, each window at most kMaxJerkWindow periods, which kinematic_model.hpp checks
+  // for the model at the 1 ms period; beyond, the extra joints or periods are ignored).
+  AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk = kJointJerk) noexcept;
 
   // Restarts at `position` at rest (a new owner of the motion, a restart).
   void reset(const JointVector& position) noexcept;
@@ -50,6 +85,20 @@ class AccelerationLimiter {
   JointVector velocity_;
   JointVector last_wanted_;
   JointMask limited_{0};
+  // Jerk-limited joints: the acceleration-limited ramp (the moving average's input) and its window.
+  struct JerkFilter {
+    std::size_t joint{0};
+    std::size_t window{1};
+    std::size_t head{0};
+    double ramp_position{0.0};
+    double ramp_velocity{0.0};
+    std::size_t steady{0};  // periods the ramp has not moved (the window is settled once >= window - 1)
+    std::array<double, kMaxJerkWindow> history{};
+    void restart(double position) noexcept;  // at rest at `position`, the window filled with it
+  };
+  std::array<JerkFilter, kMaxJerkJoints> filters_{};
+  std::size_t filter_count_{0};
+  std::array<int, kJointCount> filter_of_{};  // index into filters_, -1: no jerk limit
 };
 
 }  // namespace rescue::kin

@@ -67,6 +67,18 @@ constexpr std::array<double, kJointCount> make_joint_accelerations() {
 }
 constexpr std::array<double, kJointCount> kJointAcceleration = make_joint_accelerations();
 
+// Jerk limit of each joint (kJoints order), rad/s^3, 0 where the drive declares none: the URDF's
+// optional <limit jerk>. The acceleration limiter keeps the references of a joint that has one within it.
+using JointArray = std::array<double, kJointCount>;
+constexpr JointArray make_joint_jerks() {
+  JointArray jerks{};
+  for (std::size_t i = 0; i < kLinkCount; ++i) {
+    if (kLinkJoint[i] != kNoIndex) jerks[kLinkJoint[i]] = desc::kLinks[i].jerk;
+  }
+  return jerks;
+}
+constexpr JointArray kJointJerk = make_joint_jerks();
+
 // ---- one source of truth: the URDF's joints are kJoints, with the same limits ----
 namespace model_checks {
 constexpr bool urdf_joints_are_kjoints() {
@@ -82,6 +94,7 @@ constexpr bool urdf_joints_are_kjoints() {
     if (info.continuous != (link.type == desc::JointType::continuous)) return false;
     if (link.velocity != info.limits.velocity_max_rad_s || link.effort != info.limits.torque_max_nm) return false;
     if (!(link.acceleration > 0.0)) return false;
+    if (!(link.jerk >= 0.0)) return false;  // 0: no jerk limit
     if (!info.continuous &&
         (link.lower != info.limits.position_min_rad || link.upper != info.limits.position_max_rad)) {
       return false;

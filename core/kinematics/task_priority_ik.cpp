@@ -40,6 +40,26 @@ IkRow forearm_level_row(const LinkPoses& poses, std::size_t forearm, double& til
   return row;
 }
 
+// Each main-task row's share of the damping above the floor: the palm further from its target (by
+// position + rotation at the clamps' ratio) takes clamp((d_far + floor) / (d_near + floor), 1, max),
+// the other palm 1. Where the two palms' targets conflict, the damped steps settle with the clamped
+// errors in the ratio of the palms' damping, so the palm on its target holds (docs/kinematics.md).
+Eigen::Matrix<double, 12, 1> palm_damping_share(const IkStepReport& report, const IkSettings& s) noexcept {
+  const double metre_per_rad = s.max_linear_step_m / s.max_angular_step_rad;
+  const double left = report.position_residual_m[0] + metre_per_rad * report.rotation_residual_rad[0];
+  const double right = report.position_residual_m[1] + metre_per_rad * report.rotation_residual_rad[1];
+  const double far_share = std::clamp((std::max(left, right) + s.palm_residual_floor_m) /
+                                          (std::min(left, right) + s.palm_residual_floor_m),
+                                      1.0, s.max_palm_damping_share);
+  Eigen::Matrix<double, 12, 1> share = Eigen::Matrix<double, 12, 1>::Ones();
+  if (left > right) {
+    share.head<6>().setConstant(far_share);
+  } else {
+    share.tail<6>().setConstant(far_share);
+  }
+  return share;
+}
+
 }  // namespace
 
 TaskPriorityIk::TaskPriorityIk(const IkSettings& settings) noexcept
@@ -74,6 +94,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     clamp_norm(e1.segment<3>(at), s.max_linear_step_m);
     clamp_norm(e1.segment<3>(at + 3), s.max_angular_step_rad);
   }
+  const Vector12 damping_share = palm_damping_share(report, s);
   // The trajectory's own motion is fed forward; the pose error is fed back with feedback_gain.
   e1 *= s.feedback_gain;
   e1.head<6>() += s.dt_s * targets.left_twist;
@@ -149,7 +170,9 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     if (report.sigma_min < s.singular_threshold) {
       const double ratio = report.sigma_min / s.singular_threshold;
       lambda2 += (1.0 - ratio * ratio) * s.max_damping * s.max_damping;
-      if (!llt.compute(jjt + lambda2 * Matrix12::Identity())) {
+      Matrix12 damped = jjt;
+      damped.diagonal() += Vector12::Constant(floor2) + (lambda2 - floor2) * damping_share;
+      if (!llt.compute(damped)) {
         return make_error(Errc::invalid_argument, "damped main task matrix is not positive definite");
       }
     }

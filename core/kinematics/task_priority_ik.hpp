@@ -8,7 +8,9 @@
 //
 // lambda grows smoothly from a tiny floor to lambda_max as the smallest singular value of J1 (an
 // inverse-iteration estimate, warm-started every period) falls below a threshold; the sub-tasks
-// fade out as lambda grows (a damped N1 is no exact projector, they would leak into the main task). Joints out of
+// fade out as lambda grows (a damped N1 is no exact projector, they would leak into the main task).
+// Damped, the palm further from its target is damped more, so where the palms' targets conflict the
+// palm on its target holds (IkSettings::max_palm_damping_share). Joints out of
 // service are locked: their columns are removed, their positions held. A joint that would cross a
 // position limit is locked at the limit and the step solved again (at most three passes). The
 // sub-task step is scaled down to what the velocity limits leave over from the main task; if the
@@ -37,6 +39,11 @@ struct IkSettings {
   double max_damping{0.1};           // lambda at sigma_min = 0
   double floor_damping{1e-5};         // lambda far from singularities (keeps J J^T factorisable)
   double subtask_damping{0.05};       // lambda of the sub-task solve
+  // Damped, the palm further from its target (distance d_far, the other d_near: metres plus radians
+  // at the clamps' ratio) has its rows damped with lambda^2 times
+  // clamp((d_far + floor) / (d_near + floor), 1, max share): a palm on its target holds.
+  double palm_residual_floor_m{0.001};
+  double max_palm_damping_share{10.0};
   double forearm_gain{0.05};          // share of the forearm level error corrected per step
   double com_gain{0.02};              // share of the COM error corrected per step
   double waist_gain{0.02};            // share of the waist's distance from its centre corrected per step

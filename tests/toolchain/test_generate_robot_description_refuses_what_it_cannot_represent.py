@@ -5,7 +5,8 @@ it cannot represent exactly (exit status 1, nothing written), and accepts the ro
 Each mutant is the robot's URDF (core/robot/rescue_robot.urdf) with one change: a tilted elbow axis
 (0.34 -0.94 0, which the generator once rounded to -y with exit status 0), a non-unit axis, a link
 without <inertial>, lower > upper, a kinematic loop, an unknown joint type, a rotated joint origin,
-a joint without an acceleration limit. The message must name the joint (or link) and the line of
+a joint without an acceleration limit, a jerk limit that is not a positive finite number (zero,
+negative, not a number, infinite; the jerk limit itself is optional). The message must name the joint (or link) and the line of
 the element at fault.
 Usage: test_...py SOURCE_DIR WORK_DIR
 """
@@ -88,6 +89,17 @@ refused("rotated_origin", ELBOW, ELBOW.replace('rpy="0 0 0"', 'rpy="0 0.1 0"'), 
         '<origin xyz="0.0 0.0 -0.3" rpy="0 0.1 0"/>', "rotation")
 refused("no_acceleration_limit", ELBOW_LIMIT + ' acceleration="5.0"', ELBOW_LIMIT, ["joint l_elbow"],
         ELBOW_LIMIT + "/>", "no acceleration")
+HAND_LIMIT = '<limit lower="0.00" upper="1.50" effort="40.0" velocity="1.0" acceleration="5.0" jerk="50.0"/>'
+for mutant, value in (("zero_jerk", "0"), ("negative_jerk", "-50.0"), ("jerk_not_a_number", "fast"),
+                      ("infinite_jerk", "inf")):
+    refused(mutant, HAND_LIMIT, HAND_LIMIT.replace('jerk="50.0"', f'jerk="{value}"'), ["joint l_hand"],
+            HAND_LIMIT.replace('jerk="50.0"', f'jerk="{value}"'), "jerk")
+# No jerk attribute: accepted (no jerk limit, 0 in the table).
+_, out, p = generate("no_jerk", robot.replace(' jerk="50.0"', ""))
+ok = p.returncode == 0 and os.path.exists(out) and "jerk" in open(out, encoding="utf-8").read()
+print("%s: a URDF without jerk limits is accepted (exit %d) %s" % ("PASS" if ok else "FAIL", p.returncode, p.stderr))
+if not ok:
+    failures.append("no_jerk")
 
 if failures:
     print("FAILED: " + ", ".join(failures))

@@ -102,7 +102,8 @@ TEST(OutOfService, ALockedElbowFixesTheWristDistanceAndTheReachItCosts) {
   std::printf("locked elbow: left residual %.4f m %.4f rad, right residual %.2e m\n", r.value().position_residual_m[0],
               r.value().rotation_residual_rad[0], r.value().position_residual_m[1]);
   EXPECT_GT(r.value().position_residual_m[0] + r.value().rotation_residual_rad[0], 0.01);
-  // The waist, shared, is pulled towards the unreachable left target: the right palm pays a few mm.
+  // The waist, shared, is pulled towards the unreachable left target; the left palm, further from its
+  // target, is damped more, so the right palm pays little (measured 0.31 mm; 3.1 mm before the share).
   EXPECT_LT(r.value().position_residual_m[1], 0.005);
   const JointVector healthy_start = ready_posture();
   JointVector healthy = healthy_start;

@@ -116,22 +116,45 @@ IkStepReport run_steps(TaskPriorityIk& ik, JointVector& q, const IkTargets& targ
   return last;
 }
 
-// The waist turns to help the turned palm and the coupled, damped steps settle at a compromise:
-// the other palm does not come back to its target (a known limitation, measured: 35 mm).
-TEST(TaskPriorityIk, TargetPalmTurnedByPiAboutZMovesTheOtherPalmAtMost60Mm) {
-  JointVector q = ready_posture();
+// The turned palm needs the waist turned further than the other arm's reach allows: the targets
+// conflict, the main task's Jacobian goes singular and the damped steps settle where the clamped
+// errors are in the ratio of the palms' damping. The palm further from its target is damped more
+// (IkSettings::max_palm_damping_share), so the other palm, on its target, holds (docs: 0.4 mm).
+double turned_palm_drift(const IkSettings& settings, IkStepReport& last, JointVector& q) {
+  q = ready_posture();
   IkTargets targets = targets_at(q);
   const Vector3 other = targets.right.p;
   targets.left.R = Eigen::AngleAxisd(M_PI, Vector3::UnitZ()).toRotationMatrix() * targets.left.R;
-  TaskPriorityIk ik;
+  TaskPriorityIk ik(settings);
   double drift = 0.0;
-  const IkStepReport last = run_steps(ik, q, targets, 6000, other, &drift);
-  std::printf("target palm turned by pi: other palm drift %.4f m (at the end %.4f m), target residual %.4f m %.4f rad, "
-              "waist %.3f rad\n",
-              drift, last.position_residual_m[1], last.position_residual_m[0], last.rotation_residual_rad[0], q(0));
-  EXPECT_LT(drift, 0.06);
-  EXPECT_LT(last.position_residual_m[1], 0.04);
-  EXPECT_LT(last.position_residual_m[0], 0.005);
+  last = run_steps(ik, q, targets, 6000, other, &drift);
+  std::printf("target palm turned by pi (palm damping share up to %.0f): other palm drift %.4f m (at the end %.4f m), "
+              "target residual %.4f m %.4f rad, waist %.3f rad\n",
+              settings.max_palm_damping_share, drift, last.position_residual_m[1], last.position_residual_m[0],
+              last.rotation_residual_rad[0], q(0));
+  return drift;
+}
+
+TEST(TaskPriorityIk, TargetPalmTurnedByPiAboutZLeavesTheOtherPalmWithin5Mm) {
+  IkStepReport last;
+  JointVector q;
+  const double drift = turned_palm_drift(IkSettings{}, last, q);
+  EXPECT_LT(drift, 0.005);
+  EXPECT_LT(last.position_residual_m[1], 0.005);
+  EXPECT_LT(last.rotation_residual_rad[1], 0.005);
+  // The turned palm gets as close as the held one lets it: its rotation, not all of its position.
+  EXPECT_LT(last.rotation_residual_rad[0], 0.01);
+  EXPECT_LT(last.position_residual_m[0], 0.2);  // measured 0.139 m
+}
+
+TEST(TaskPriorityIk, WithoutThePalmDampingShareTheOtherPalmDrifts) {
+  IkSettings equal;
+  equal.max_palm_damping_share = 1.0;  // both palms damped alike: the behaviour before the share
+  IkStepReport last;
+  JointVector q;
+  const double drift = turned_palm_drift(equal, last, q);
+  // Measured: 14.0 mm on the way, 6.0 mm at the end (35 mm before the shoulders moved out).
+  EXPECT_GT(drift, 0.01) << "the conflict this test is about is gone; revisit the docs";
 }
 
 TEST(TaskPriorityIk, FarLeftTargetSettlesWithTheArmBentNotStretched) {
