@@ -86,41 +86,63 @@ bool MailboxClient::submit(const SdoRequest& request) noexcept { return queue_.p
 
 bool MailboxClient::pop_completion(SdoCompletion& out) noexcept { return done_.pop(out); }
 
-void MailboxClient::complete(SdoOutcome outcome) noexcept {
-  current_.outcome = outcome;
-  phase_ = Phase::none;
-  if ((current_.request.tag & kMasterTagBit) != 0) {
-    (void)master_done_.push_overwrite(current_);
-  } else if ((current_.request.tag & kOperatorTagBit) != 0) {
-    (void)operator_done_.push_overwrite(current_);
+void MailboxClient::complete(Channel& c, SdoOutcome outcome) noexcept {
+  c.current.outcome = outcome;
+  c.phase = Phase::none;
+  if (c.current.request.position < kMaxSlaves) busy_ &= ~slave_bit(c.current.request.position);
+  if ((c.current.request.tag & kMasterTagBit) != 0) {
+    (void)master_done_.push_overwrite(c.current);
+  } else if ((c.current.request.tag & kOperatorTagBit) != 0) {
+    (void)operator_done_.push_overwrite(c.current);
   } else {
-    (void)done_.push_overwrite(current_);
+    (void)done_.push_overwrite(c.current);
   }
 }
 
-void MailboxClient::start_next(hal::Nanoseconds now) noexcept {
-  while (phase_ == Phase::none && !queue_.empty()) {
-    current_ = SdoCompletion{};
-    (void)queue_.pop(current_.request);
-    if (!has_mailbox(current_.request.position)) {
-      complete(SdoOutcome::no_mailbox);
+void MailboxClient::start_transfers(hal::Nanoseconds now) noexcept {
+  // Each queued request whose slave is free starts; the others go back in their order, and a
+  // slave's later request never overtakes its earlier one (`held`).
+  SlaveMask held = 0;
+  const std::size_t queued = queue_.size();
+  for (std::size_t n = 0; n < queued; ++n) {
+    SdoRequest request;
+    if (!queue_.pop(request)) break;
+    const std::size_t p = request.position;
+    if (!has_mailbox(p)) {
+      Channel lone;  // completes at once: no channel needed
+      lone.current.request = request;
+      lone.current.outcome = SdoOutcome::no_mailbox;
+      complete(lone, SdoOutcome::no_mailbox);
       continue;
     }
-    offset_ = 0;
-    expected_ = 0;
-    toggle_ = false;
-    if (!encode_step(Step::initiate, now)) complete(SdoOutcome::bad_response);
+    if ((busy_ & slave_bit(p)) != 0 || (held & slave_bit(p)) != 0) {
+      held |= slave_bit(p);
+      (void)queue_.push(request);  // the place it was taken from is free
+      continue;
+    }
+    Channel& c = channels_[p];
+    c.current = SdoCompletion{};
+    c.current.request = request;
+    start(c, now);
   }
 }
 
-std::size_t MailboxClient::download_room(bool initiate) const noexcept {
-  const Box& box = boxes_[current_.request.position];
+void MailboxClient::start(Channel& c, hal::Nanoseconds now) noexcept {
+  busy_ |= slave_bit(c.current.request.position);
+  c.offset = 0;
+  c.expected = 0;
+  c.toggle = false;
+  if (!encode_step(c, Step::initiate, now)) complete(c, SdoOutcome::bad_response);
+}
+
+std::size_t MailboxClient::download_room(const Channel& c, bool initiate) const noexcept {
+  const Box& box = boxes_[c.current.request.position];
   const std::size_t overhead = mbx::kHeaderSize + coe::kCoeHeaderSize + (initiate ? coe::kSdoHeaderSize : coe::kSegmentHeaderSize);
   return box.out_size > overhead ? box.out_size - overhead : 0;
 }
 
-bool MailboxClient::encode_step(Step step, hal::Nanoseconds now) noexcept {
-  const SdoRequest& r = current_.request;
+bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noexcept {
+  const SdoRequest& r = c.current.request;
   Box& box = boxes_[r.position];
   box.counter = mbx::next_counter(box.counter);
   mbx::Header header;
@@ -135,91 +157,118 @@ bool MailboxClient::encode_step(Step step, hal::Nanoseconds now) noexcept {
         sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), size));
       } else {
         // Normal transfer: the complete size, and what fits SM0 now; segments carry the rest.
-        const std::size_t room = download_room(true);
-        chunk_ = size < room ? size : room;
-        sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), chunk_));
+        const std::size_t room = download_room(c, true);
+        c.chunk = size < room ? size : room;
+        sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), c.chunk));
         sdo.expedited = false;
         sdo.size = static_cast<std::uint32_t>(size);
       }
       break;
     case Step::upload_segment:
       sdo.kind = coe::SdoKind::upload_segment_request;
-      sdo.toggle = toggle_;
+      sdo.toggle = c.toggle;
       break;
     case Step::download_segment: {
-      const std::size_t room = download_room(false);
-      const std::size_t left = size > offset_ ? size - offset_ : 0;
-      chunk_ = left < room ? left : room;
+      const std::size_t room = download_room(c, false);
+      const std::size_t left = size > c.offset ? size - c.offset : 0;
+      c.chunk = left < room ? left : room;
       sdo.kind = coe::SdoKind::download_segment_request;
-      sdo.toggle = toggle_;
-      sdo.last_segment = offset_ + chunk_ >= size;
-      sdo.data = ConstByteSpan(r.data.data() + offset_, chunk_);
+      sdo.toggle = c.toggle;
+      sdo.last_segment = c.offset + c.chunk >= size;
+      sdo.data = ConstByteSpan(r.data.data() + c.offset, c.chunk);
       break;
     }
-    case Step::abort: sdo = coe::abort(r.index, r.subindex, abort_code_out_); break;
+    case Step::abort: sdo = coe::abort(r.index, r.subindex, c.abort_code_out); break;
   }
-  std::memset(message_.data(), 0, box.out_size);
-  const Result<std::size_t> encoded = coe::encode(ByteSpan(message_.data(), box.out_size), header, sdo);
+  std::memset(c.message.data(), 0, box.out_size);
+  const Result<std::size_t> encoded = coe::encode(ByteSpan(c.message.data(), box.out_size), header, sdo);
   if (!encoded.ok()) return false;
-  step_ = step;
-  phase_ = Phase::send;
-  deadline_ = now + response_timeout_;
+  c.step = step;
+  c.phase = Phase::send;
+  c.deadline = now + response_timeout_;
   return true;
 }
 
-void MailboxClient::abort_transfer(SdoOutcome outcome, std::uint32_t code) noexcept {
+void MailboxClient::abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept {
   // Tell the slave the transfer is over (it may hold a segmented transfer open), then complete.
-  abort_outcome_ = outcome;
-  abort_code_out_ = code;
-  if (!encode_step(Step::abort, now_)) complete(outcome);
+  c.abort_outcome = outcome;
+  c.abort_code_out = code;
+  if (!encode_step(c, Step::abort, now_)) complete(c, outcome);
 }
 
-std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now) noexcept {
-  now_ = now;
-  added_ = 0;
-  sent_this_exchange_ = false;
-  in_full_ = false;
-  start_next(now);
-  if (phase_ == Phase::none) return 0;
-  const Box& box = boxes_[current_.request.position];
-  const std::uint16_t station = plan_[current_.request.position].station_address;
-  if (phase_ == Phase::send) {
+std::size_t MailboxClient::add_channel_datagrams(Channel& c, FrameBuilder& frame, std::uint8_t index) noexcept {
+  const std::size_t p = c.current.request.position;
+  const Box& box = boxes_[p];
+  const std::uint16_t station = plan_[p].station_address;
+  std::size_t n = 0;
+  if (c.phase == Phase::send) {
     if (frame.remaining_data_capacity() < box.out_size) return 0;
     if (frame.add(Command::FPWR, index, make_address(station, box.out_start), box.out_size,
-                  ConstByteSpan(message_.data(), box.out_size)).ok()) {
-      added_ = 1;
+                  ConstByteSpan(c.message.data(), box.out_size)).ok()) {
+      n = 1;
     }
   } else {
     if (frame.remaining_data_capacity() < box.in_size + 1 + kDatagramOverhead) return 0;
     if (frame.add(Command::FPRD, index, make_address(station, kSm1Status), 1).ok() &&
         frame.add(Command::FPRD, index, make_address(station, box.in_start), box.in_size).ok()) {
-      added_ = 2;
+      n = 2;
     }
   }
-  if (added_ > 0) ++current_.exchanges;
+  c.added = static_cast<std::uint8_t>(n);
+  if (n > 0) ++c.current.exchanges;
+  return n;
+}
+
+std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now,
+                                         std::size_t max_slaves) noexcept {
+  now_ = now;
+  added_ = 0;
+  for (Channel& c : channels_) {
+    c.added = 0;
+    c.sent_this_exchange = false;
+    c.in_full = false;
+  }
+  start_transfers(now);
+  if (busy_ == 0) return 0;
+  // The slaves in turn from next_turn_, so that a full frame never starves the last ones.
+  std::size_t slaves = 0;
+  for (std::size_t k = 0; k < kMaxSlaves && slaves < max_slaves; ++k) {
+    const std::size_t p = (next_turn_ + k) % kMaxSlaves;
+    if ((busy_ & slave_bit(p)) == 0) continue;
+    const std::size_t n = add_channel_datagrams(channels_[p], frame, index);
+    if (n == 0) break;  // the frame is full
+    for (std::size_t i = 0; i < n; ++i) exchange_slave_[added_++] = static_cast<std::uint8_t>(p);
+    ++slaves;
+  }
+  next_turn_ = (next_turn_ + 1) % kMaxSlaves;
   return added_;
 }
 
 void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   if (k >= added_) return;
-  if (phase_ == Phase::send) {
-    sent_this_exchange_ = d.wkc() == 1;
+  const std::size_t p = exchange_slave_[k];
+  Channel& c = channels_[p];
+  // The slave's first datagram of this exchange is k, or k - 1 (its buffer read after its status).
+  const bool first = k == 0 || exchange_slave_[k - 1] != p;
+  if (c.phase == Phase::send) {
+    c.sent_this_exchange = d.wkc() == 1;
     return;
   }
-  if (k == 0) {
-    in_full_ = d.wkc() == 1 && d.length() == 1 && (d.data()[0] & reg::kSmStatusMailboxFull) != 0;
-  } else if (in_full_ && d.wkc() == 1) {
-    take_reply(ConstByteSpan(d.data()));
+  if (c.phase != Phase::wait) return;
+  if (first) {
+    c.in_full = d.wkc() == 1 && d.length() == 1 && (d.data()[0] & reg::kSmStatusMailboxFull) != 0;
+  } else if (c.in_full && d.wkc() == 1) {
+    take_reply(c, ConstByteSpan(d.data()));
   }
 }
 
-void MailboxClient::take_reply(ConstByteSpan bytes) noexcept {
+void MailboxClient::take_reply(Channel& c, ConstByteSpan bytes) noexcept {
   const Result<mbx::Message> message = mbx::decode(bytes);
   if (!message.ok()) return;
   if (message.value().header.type == mbx::Type::error) {
     const Result<std::uint16_t> detail = mbx::decode_error_reply(message.value());
-    current_.mailbox_error = detail.value_or(0);
-    complete(SdoOutcome::mailbox_error);
+    c.current.mailbox_error = detail.value_or(0);
+    complete(c, SdoOutcome::mailbox_error);
     return;
   }
   const Result<coe::Message> coe_message = coe::decode(bytes);
@@ -231,112 +280,116 @@ void MailboxClient::take_reply(ConstByteSpan bytes) noexcept {
   }
   if (m.service != coe::Service::sdo_response && m.service != coe::Service::sdo_request) return;
   const coe::Sdo& sdo = m.sdo;
-  const SdoRequest& r = current_.request;
-  if (step_ == Step::upload_segment || step_ == Step::download_segment) {
+  const SdoRequest& r = c.current.request;
+  if (c.step == Step::upload_segment || c.step == Step::download_segment) {
     if (sdo.kind == coe::SdoKind::abort) {
       if (sdo.index != r.index || sdo.subindex != r.subindex) return;
-      current_.abort_code = sdo.abort_code;
-      complete(SdoOutcome::aborted);
+      c.current.abort_code = sdo.abort_code;
+      complete(c, SdoOutcome::aborted);
       return;
     }
-    take_segment(sdo);
+    take_segment(c, sdo);
     return;
   }
   if (sdo.index != r.index || sdo.subindex != r.subindex) return;
   if (sdo.kind == coe::SdoKind::abort) {
-    current_.abort_code = sdo.abort_code;
-    complete(SdoOutcome::aborted);
+    c.current.abort_code = sdo.abort_code;
+    complete(c, SdoOutcome::aborted);
     return;
   }
   if (r.direction == SdoDirection::download && sdo.kind == coe::SdoKind::download_initiate_response) {
-    if (r.size <= coe::kMaxExpeditedSize || chunk_ >= r.size) {
-      complete(SdoOutcome::ok);
+    if (r.size <= coe::kMaxExpeditedSize || c.chunk >= r.size) {
+      complete(c, SdoOutcome::ok);
       return;
     }
-    offset_ = chunk_;
-    toggle_ = false;
-    current_.segmented = true;
-    if (!encode_step(Step::download_segment, now_)) complete(SdoOutcome::bad_response);
+    c.offset = c.chunk;
+    c.toggle = false;
+    c.current.segmented = true;
+    if (!encode_step(c, Step::download_segment, now_)) complete(c, SdoOutcome::bad_response);
     return;
   }
   if (r.direction == SdoDirection::upload && sdo.kind == coe::SdoKind::upload_initiate_response) {
     const std::size_t size = sdo.data.size();
     if (sdo.expedited) {
       if (size == 0 || size > coe::kMaxExpeditedSize) {
-        complete(SdoOutcome::bad_response);
+        complete(c, SdoOutcome::bad_response);
         return;
       }
-      std::memcpy(current_.data.data(), sdo.data.data(), size);
-      current_.size = static_cast<std::uint16_t>(size);
-      complete(SdoOutcome::ok);
+      std::memcpy(c.current.data.data(), sdo.data.data(), size);
+      c.current.size = static_cast<std::uint16_t>(size);
+      complete(c, SdoOutcome::ok);
       return;
     }
     if (sdo.size > kMaxSdoData) {
-      abort_transfer(SdoOutcome::too_long, coe::abort_code::kOutOfMemory);
+      abort_transfer(c, SdoOutcome::too_long, coe::abort_code::kOutOfMemory);
       return;
     }
     if (size > sdo.size) {
-      complete(SdoOutcome::bad_response);
+      complete(c, SdoOutcome::bad_response);
       return;
     }
-    if (size > 0) std::memcpy(current_.data.data(), sdo.data.data(), size);
-    current_.size = static_cast<std::uint16_t>(size);
+    if (size > 0) std::memcpy(c.current.data.data(), sdo.data.data(), size);
+    c.current.size = static_cast<std::uint16_t>(size);
     if (size == sdo.size) {
-      complete(SdoOutcome::ok);
+      complete(c, SdoOutcome::ok);
       return;
     }
     // Announced more than it carries: the rest follows in upload segments.
-    offset_ = size;
-    expected_ = sdo.size;
-    toggle_ = false;
-    current_.segmented = true;
-    if (!encode_step(Step::upload_segment, now_)) complete(SdoOutcome::bad_response);
+    c.offset = size;
+    c.expected = sdo.size;
+    c.toggle = false;
+    c.current.segmented = true;
+    if (!encode_step(c, Step::upload_segment, now_)) complete(c, SdoOutcome::bad_response);
   }
 }
 
-void MailboxClient::take_segment(const coe::Sdo& sdo) noexcept {
-  const SdoRequest& r = current_.request;
-  const bool upload = step_ == Step::upload_segment;
+void MailboxClient::take_segment(Channel& c, const coe::Sdo& sdo) noexcept {
+  const SdoRequest& r = c.current.request;
+  const bool upload = c.step == Step::upload_segment;
   if (sdo.kind != (upload ? coe::SdoKind::upload_segment_response : coe::SdoKind::download_segment_response)) return;
-  if (sdo.toggle != toggle_) {
-    abort_transfer(SdoOutcome::bad_response, coe::abort_code::kToggleBit);
+  if (sdo.toggle != c.toggle) {
+    abort_transfer(c, SdoOutcome::bad_response, coe::abort_code::kToggleBit);
     return;
   }
   if (upload) {
     const std::size_t n = sdo.data.size();
-    if (offset_ + n > expected_) {
-      abort_transfer(SdoOutcome::bad_response, coe::abort_code::kLengthTooHigh);
+    if (c.offset + n > c.expected) {
+      abort_transfer(c, SdoOutcome::bad_response, coe::abort_code::kLengthTooHigh);
       return;
     }
-    if (n > 0) std::memcpy(current_.data.data() + offset_, sdo.data.data(), n);
-    offset_ += n;
-    current_.size = static_cast<std::uint16_t>(offset_);
+    if (n > 0) std::memcpy(c.current.data.data() + c.offset, sdo.data.data(), n);
+    c.offset += n;
+    c.current.size = static_cast<std::uint16_t>(c.offset);
     if (sdo.last_segment) {
-      complete(offset_ == expected_ ? SdoOutcome::ok : SdoOutcome::bad_response);
+      complete(c, c.offset == c.expected ? SdoOutcome::ok : SdoOutcome::bad_response);
       return;
     }
-    toggle_ = !toggle_;
-    if (!encode_step(Step::upload_segment, now_)) complete(SdoOutcome::bad_response);
+    c.toggle = !c.toggle;
+    if (!encode_step(c, Step::upload_segment, now_)) complete(c, SdoOutcome::bad_response);
     return;
   }
-  offset_ += chunk_;
-  if (offset_ >= r.size) {
-    complete(SdoOutcome::ok);
+  c.offset += c.chunk;
+  if (c.offset >= r.size) {
+    complete(c, SdoOutcome::ok);
     return;
   }
-  toggle_ = !toggle_;
-  if (!encode_step(Step::download_segment, now_)) complete(SdoOutcome::bad_response);
+  c.toggle = !c.toggle;
+  if (!encode_step(c, Step::download_segment, now_)) complete(c, SdoOutcome::bad_response);
 }
 
 void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
-  if (phase_ == Phase::send && sent_this_exchange_) {
-    if (step_ == Step::abort) {
-      complete(abort_outcome_);  // an abort has no answer
-    } else {
-      phase_ = Phase::wait;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((busy_ & slave_bit(p)) == 0) continue;
+    Channel& c = channels_[p];
+    if (c.phase == Phase::send && c.sent_this_exchange) {
+      if (c.step == Step::abort) {
+        complete(c, c.abort_outcome);  // an abort has no answer
+        continue;
+      }
+      c.phase = Phase::wait;
     }
+    if (c.phase != Phase::none && now > c.deadline) complete(c, SdoOutcome::timeout);
   }
-  if (phase_ != Phase::none && now > deadline_) complete(SdoOutcome::timeout);
   added_ = 0;
 }
 
@@ -354,8 +407,10 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
       }
     }
     end_exchange(link.clock().now());
-    // Give the slave's application time to answer (virtual time moves only when asked to).
-    if (phase_ == Phase::wait) link.clock().sleep_until(link.clock().now() + 50 * hal::kNsPerUs);
+    // Give the slaves' applications time to answer (virtual time moves only when asked to).
+    bool waiting = false;
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) waiting = waiting || ((busy_ & slave_bit(p)) != 0 && channels_[p].phase == Phase::wait);
+    if (waiting) link.clock().sleep_until(link.clock().now() + 50 * hal::kNsPerUs);
   }
   return Status::success();
 }

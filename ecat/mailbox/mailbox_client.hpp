@@ -13,7 +13,10 @@
 // announces more than it carries asks for upload segments (toggle bit alternating) until the
 // last; a download sends what fits SM0 with the initiate request and the rest in download
 // segments, each step one send/wait pair like the initiate. The response timeout runs per step.
-// One transfer is in flight at a time, the rest wait in a queue.
+// One transfer per slave is in flight at a time (each slave's mailbox holds one message), the
+// slaves side by side: an exchange carries a step of every busy slave that fits the frame (of at
+// most `max_slaves` of them: the cyclic frame takes a few, bring-up's own frames all). Requests wait
+// in one queue; each slave's are started in the order they were submitted.
 #pragma once
 
 #include <array>
@@ -78,7 +81,7 @@ class MailboxClient {
  public:
   static constexpr std::size_t kQueueCapacity = 32;
   static constexpr std::size_t kMaxMailboxSize = 512;
-  static constexpr std::size_t kMaxDatagrams = 2;  // per exchange
+  static constexpr std::size_t kMaxDatagrams = 2;  // per slave and exchange
 
   explicit MailboxClient(const NetworkPlan& plan) noexcept : plan_(plan) {}
 
@@ -99,11 +102,13 @@ class MailboxClient {
   static constexpr std::uint32_t kOperatorTagBit = 0x40000000U;
   [[nodiscard]] bool pop_operator_completion(SdoCompletion& out) noexcept { return operator_done_.pop(out); }
   [[nodiscard]] bool pop_master_completion(SdoCompletion& out) noexcept { return master_done_.pop(out); }
-  bool idle() const noexcept { return phase_ == Phase::none && queue_.empty(); }
+  bool idle() const noexcept { return busy_ == 0 && queue_.empty(); }
   std::size_t free_slots() const noexcept { return kQueueCapacity - queue_.size(); }
 
-  // One step: adds this exchange's datagrams (0 to kMaxDatagrams) to `frame` if they fit.
-  std::size_t add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now) noexcept;
+  // One step: adds this exchange's datagrams (0 to kMaxDatagrams per slave, of at most `max_slaves`
+  // busy slaves, taken in turn) to `frame` as far as they fit.
+  std::size_t add_datagrams(FrameBuilder& frame, std::uint8_t index, hal::Nanoseconds now,
+                            std::size_t max_slaves = kMaxSlaves) noexcept;
   // The k-th datagram added by add_datagrams() came back (call for each, in order) ...
   void on_datagram(std::size_t k, const DatagramView& datagram) noexcept;
   // ... then this, once per exchange (also when the frame did not come back).
@@ -127,38 +132,50 @@ class MailboxClient {
     bool present{false};
   };
 
-  void start_next(hal::Nanoseconds now) noexcept;
-  void complete(SdoOutcome outcome) noexcept;
-  void take_reply(ConstByteSpan bytes) noexcept;
-  void take_segment(const coe::Sdo& sdo) noexcept;
-  void abort_transfer(SdoOutcome outcome, std::uint32_t code) noexcept;
-  // Encodes the next message of the current transfer into message_ and arms its send.
-  bool encode_step(Step step, hal::Nanoseconds now) noexcept;
-  std::size_t download_room(bool initiate) const noexcept;
+  // One slave's transfer in flight.
+  struct Channel {
+    Phase phase{Phase::none};
+    Step step{Step::initiate};
+    SdoCompletion current{};
+    hal::Nanoseconds deadline{0};
+    std::size_t offset{0};      // bytes of the value moved so far (segmented transfers)
+    std::uint32_t expected{0};  // upload: the complete size the slave announced
+    std::size_t chunk{0};       // download: bytes of the step in flight
+    bool toggle{false};         // the next segment's toggle bit
+    SdoOutcome abort_outcome{SdoOutcome::bad_response};  // what an abort step completes with
+    std::uint32_t abort_code_out{0};                     // the code it sends
+    std::uint8_t added{0};      // datagrams of this exchange
+    bool sent_this_exchange{false};
+    bool in_full{false};
+    std::array<std::uint8_t, kMaxMailboxSize> message{};  // encoded request, SM0-sized
+  };
+
+  void start_transfers(hal::Nanoseconds now) noexcept;
+  void start(Channel& c, hal::Nanoseconds now) noexcept;
+  void complete(Channel& c, SdoOutcome outcome) noexcept;
+  void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
+  void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
+  void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;
+  // Encodes the next message of c's transfer into its buffer and arms its send.
+  bool encode_step(Channel& c, Step step, hal::Nanoseconds now) noexcept;
+  std::size_t download_room(const Channel& c, bool initiate) const noexcept;
+  std::size_t add_channel_datagrams(Channel& c, FrameBuilder& frame, std::uint8_t index) noexcept;
 
   const NetworkPlan& plan_;
   std::array<Box, kMaxSlaves> boxes_{};
+  std::array<Channel, kMaxSlaves> channels_{};
   RingBuffer<SdoRequest, kQueueCapacity> queue_{};
   RingBuffer<SdoCompletion, kQueueCapacity> done_{};  // the oldest uncollected one goes when full
   RingBuffer<SdoCompletion, kQueueCapacity> master_done_{};
   RingBuffer<SdoCompletion, 4> operator_done_{};
 
-  Phase phase_{Phase::none};
-  SdoCompletion current_{};
-  hal::Nanoseconds deadline_{0};
-  Step step_{Step::initiate};
-  std::size_t offset_{0};      // bytes of the value moved so far (segmented transfers)
-  std::uint32_t expected_{0};  // upload: the complete size the slave announced
-  std::size_t chunk_{0};       // download: bytes of the step in flight
-  bool toggle_{false};         // the next segment's toggle bit
-  SdoOutcome abort_outcome_{SdoOutcome::bad_response};  // what an abort step completes with
-  std::uint32_t abort_code_out_{0};                     // the code it sends
+  SlaveMask busy_{0};          // slaves with a transfer in flight
+  std::size_t next_turn_{0};   // the slave whose step goes first in the next exchange
+  // The datagrams of this exchange, in order: the slave each belongs to.
+  std::array<std::uint8_t, kMaxSlaves * kMaxDatagrams> exchange_slave_{};
+  std::size_t added_{0};
   hal::Nanoseconds now_{0};    // of the current exchange
   hal::Nanoseconds response_timeout_{100 * hal::kNsPerMs};
-  std::array<std::uint8_t, kMaxMailboxSize> message_{};  // encoded request, SM0-sized
-  std::size_t added_{0};
-  bool sent_this_exchange_{false};
-  bool in_full_{false};
   std::uint64_t emergencies_{0};
 };
 

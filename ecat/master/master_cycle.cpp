@@ -122,7 +122,7 @@ void Master::build_cycle_frame(FrameBuilder& frame) noexcept {
       note(Role::al_control, p, frame.add(Command::FPWR, index, make_address(station, reg::kAlControl), 2, ConstByteSpan(value)).ok());
     }
   }
-  const std::size_t mailbox_datagrams = mailbox_.add_datagrams(frame, index, link_.clock().now());
+  const std::size_t mailbox_datagrams = mailbox_.add_datagrams(frame, index, link_.clock().now(), kCyclicMailboxSlaves);
   for (std::size_t k = 0; k < mailbox_datagrams; ++k) note(Role::mailbox, k, true);
 }
 
