@@ -7,6 +7,8 @@
 // never overflow the 32-deep mailbox queue.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <vector>
 
 #include "drivers/joint/robot_network_plan.hpp"
@@ -108,6 +110,26 @@ TEST(MasterPdoMappingAtBringUp, AHealthyRobotCostsReadsOnly) {
   EXPECT_EQ(r.pdo_writes, 0u);
   EXPECT_EQ(r.pdo_rewritten, 0u);
   EXPECT_EQ(r.pdo_reads, kJointCount * kReadsPerDrive);
+}
+
+// Frames of bring-up step `name` (from its mark to the next one's).
+std::uint64_t frames_of_step(const BringUpReport& r, const char* name) {
+  for (std::size_t k = 0; k + 1 < r.step_count; ++k) {
+    if (std::string(r.steps[k].step) == name) return r.steps[k + 1].frames - r.steps[k].frames;
+  }
+  return 0;
+}
+
+// Each drive's mailbox holds one message, but the drives are independent: their transfers run side
+// by side, so the step takes far fewer frames than it has transfers (one at a time on the segment
+// took two frames a transfer).
+TEST(MasterPdoMappingAtBringUp, TheDrivesAreReadSideBySideInFewerFramesThanTransfers) {
+  auto rig = testing::simulated_robot_in_op();
+  const BringUpReport& r = rig->bus.master().report();
+  const std::uint64_t transfers = r.pdo_reads + r.startup_sdos_done;
+  const std::uint64_t frames = frames_of_step(r, "PRE-OP SDO");
+  EXPECT_GT(frames, 0u);
+  EXPECT_LT(3 * frames, transfers) << frames << " frames for " << transfers << " transfers";
 }
 
 TEST(MasterPdoMappingAtBringUp, AHalfWrittenMappingIsCompletedWithThreeWritesAndReachesOp) {
