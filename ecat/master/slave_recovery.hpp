@@ -80,7 +80,7 @@ struct SlaveRecoveryTable {
     {S::identifying,  "Identifying",  "SII to ECAT (0x0500), then SII words 0x08..0x0F (vendor, product, revision, serial) through 0x0502..0x050F"},
     {S::mailbox,      "Mailbox",      "FPWR 0x0800: SM0/SM1 from its SII (slaves with a CoE mailbox)"},
     {S::pre_op,       "PreOp",        "FPWR 0x0120 = PRE-OP, FPRD 0x0130 until PRE-OP"},
-    {S::startup_sdos, "StartupSdos",  "its PDO mapping (read; what differs written, read back) and its start-up SDOs (limits) through the cyclic mailbox channel, one transfer at a time"},
+    {S::startup_sdos, "StartupSdos",  "its PDO mapping (read; what differs written, read back) and its start-up SDOs (limits) through the cyclic mailbox channel, one transfer per slave at a time"},
     {S::process_data, "ProcessData",  "FPWR 0x0810: SM2/SM3, then FPWR 0x0600: FMMU0/FMMU1 as at bring-up"},
     {S::clock,        "Clock",        "FPRD 0x0910..0x092F beside the frame's reference read, then FPWR 0x0920 offset + 0x0928 delay, FPWR 0x0930 loop restart"},
     {S::sync0,        "Sync0",        "FPWR 0x0980 off, 0x09A0 cycle, 0x0990 start (in phase with the others), 0x0981 on"},
