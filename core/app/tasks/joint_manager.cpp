@@ -356,7 +356,6 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
       continue;
     }
     joints_[j].context.requested_mode = command.mode;
-    joints_[j].context.actual_position_rad = sample_[j].position_rad;
     if (dispatch(j, command.input, now).ok()) {
       outcome.applied |= joint_bit(j);
     } else {  // a refused input leaves the state as it was (refuse() reads the state: unchanged)
@@ -524,6 +523,8 @@ Status JointManager::dispatch(std::size_t j, JointInput input, hal::Nanoseconds 
   joint.context.reachable = sample_[j].reachable;
   joint.context.fault_present = sample_[j].reachable && present.active();
   joint.context.loss_latched = (lost_ & joint_bit(j)) != 0;
+  // The position an aligning action takes (set_reference, enable, disable): where the joint is now.
+  if (sample_[j].reachable) joint.context.actual_position_rad = sample_[j].position_rad;
 
   const JointState from = joint.machine.state();
   const Status status = joint.machine.dispatch(joint.context, input);

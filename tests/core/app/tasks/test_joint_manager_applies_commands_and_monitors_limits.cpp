@@ -52,6 +52,26 @@ TEST_F(JointManagerCommands, InitializeRobotEnablesEveryJointWithReferenceAtCurr
   EXPECT_EQ(manager.refused_commands(), 0u);
 }
 
+// An owner moved the hand while it was Enabled; the operator disables and enables it again. Its
+// reference follows where it is at each step, so enabling moves nothing (a reference left at the
+// initialise-time position made the drive jump back and fault with a following error).
+TEST_F(JointManagerCommands, DisableThenEnableKeepsTheJointWhereItIs) {
+  const std::size_t hand = joint_index_by_name("l_hand");
+  initialize_robot();
+  rig.samples.robot[hand].position_rad += 0.5;  // moved by the owner's references
+  step();
+  rig.command(joint_bit(hand), JointInput::disable);
+  step();
+  EXPECT_EQ(state(hand), JointState::ready);
+  EXPECT_EQ(manager.statuses()[hand].reference_position_rad, rig.samples.robot[hand].position_rad);
+  rig.samples.robot[hand].position_rad -= 0.05;  // pushed while the drive was off
+  step();
+  rig.command(joint_bit(hand), JointInput::enable);
+  step();
+  EXPECT_EQ(state(hand), JointState::enabled);
+  EXPECT_EQ(manager.statuses()[hand].reference_position_rad, rig.samples.robot[hand].position_rad);
+}
+
 TEST_F(JointManagerCommands, RefusedCommandsAreCountedAndLoggedNeverIgnored) {
   rig.command(joint_bit(kNeck), JointInput::enable);  // Idle + enable: not in the table
   step();
