@@ -1,5 +1,6 @@
 #include "core/app/cli/ctl_sdo.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
@@ -30,18 +31,18 @@ constexpr TypeName kTypes[] = {
     {"string", 0, ValueType::string, false}, {"hex", 0, ValueType::hex, false},
 };
 
+template <typename Match>
+const TypeName* find_type(Match match) noexcept {
+  const TypeName* t = std::find_if(std::begin(kTypes), std::end(kTypes), match);
+  return t != std::end(kTypes) ? t : nullptr;
+}
+
 const TypeName* type_named(const char* name) noexcept {
-  for (const TypeName& t : kTypes) {
-    if (std::strcmp(t.name, name) == 0) return &t;
-  }
-  return nullptr;
+  return find_type([name](const TypeName& t) { return std::strcmp(t.name, name) == 0; });
 }
 
 const TypeName* type_of(ValueType v) noexcept {
-  for (const TypeName& t : kTypes) {
-    if (t.type == v) return &t;
-  }
-  return nullptr;
+  return find_type([v](const TypeName& t) { return t.type == v; });
 }
 
 // The --type of this invocation, for printing the answer (one client process).
@@ -299,8 +300,8 @@ Result<Message> build_sdo_request(const char* verb, const ParsedArgs& args, cons
       case 4: type = type_of(negative ? ValueType::i32 : ValueType::u32); break;
       default: type = type_of(ValueType::string); break;
     }
-    if (type == nullptr) return bad("no type");
   }
+  if (type == nullptr) return bad("no type");
   RESCUE_TRY(value_of(args.positional(3), *type, m.sdo));
   return m;
 }

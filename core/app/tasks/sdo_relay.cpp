@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "drivers/joint/joint_drive_pdo.hpp"
+#include "ecat/codec/registers.hpp"
 #include "ecat/mailbox/coe.hpp"
 #include "ecat/mailbox/mailbox_client.hpp"
 
@@ -13,8 +14,8 @@ namespace {
 
 using protocol::SdoStatus;
 
-constexpr std::uint8_t kAlSafeOp = 4;
-constexpr std::uint8_t kAlOp = 8;
+constexpr auto kAlSafeOp = static_cast<std::uint8_t>(ecat::reg::AlState::safe_op);
+constexpr auto kAlOp = static_cast<std::uint8_t>(ecat::reg::AlState::op);
 static_assert(protocol::kSdoDataSize == ecat::kMaxSdoData, "the wire carries every value the mailbox moves");
 
 template <std::size_t N>

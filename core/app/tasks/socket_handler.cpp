@@ -18,8 +18,6 @@ using protocol::Message;
 using protocol::MessageType;
 using protocol::Rejection;
 
-constexpr std::uint8_t kAlOp = 8;
-constexpr std::uint8_t kAlSafeOp = 4;
 
 // The answer to an SDO transfer that ends here, without the EtherCAT handler's result.
 protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayload& sdo, protocol::SdoStatus status) noexcept {

@@ -7,6 +7,7 @@
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
+#include "ecat/codec/registers.hpp"
 #include "ecat/master/master.hpp"
 
 namespace rescue::app {
@@ -15,8 +16,8 @@ namespace {
 using protocol::Message;
 using protocol::MessageType;
 
-constexpr std::uint8_t kAlOp = 8;
-constexpr std::uint8_t kAlSafeOp = 4;
+constexpr auto kAlOp = static_cast<std::uint8_t>(ecat::reg::AlState::op);
+constexpr auto kAlSafeOp = static_cast<std::uint8_t>(ecat::reg::AlState::safe_op);
 constexpr std::size_t kPlanned = drivers::kRobotNetworkPlan.size();
 static_assert(kPlanned <= protocol::kMaxSlaves, "every slave fits one answer");
 
