@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdint>
@@ -119,15 +120,24 @@ Status set_fifo_priority(int priority) noexcept {
 
 Status hold_cpu_wakeup_latency(int microseconds) noexcept {
   if (microseconds < 0) return make_error(Errc::invalid_argument, "negative wake-up latency");
-  // One request per process, kept open: closing the file ends the request. Set up at init only.
-  static int fd = -1;
+  // One request per process, kept open: closing the file ends the request. Set up at init only, but
+  // in threads mode by every task thread at once: the first descriptor published wins, without a lock.
+  static std::atomic<int> held{-1};
+  int fd = held.load(std::memory_order_acquire);
   if (fd < 0) {
-    fd = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
-    if (fd < 0) {
+    const int opened = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+    if (opened < 0) {
       const int error = errno;
       if (error == EACCES || error == EPERM) return make_error(Errc::permission_denied, "/dev/cpu_dma_latency needs root");
       if (error == ENOENT) return make_error(Errc::not_found, "/dev/cpu_dma_latency absent (kernel without PM QoS)");
       return make_error(Errc::io_error, "open(/dev/cpu_dma_latency) failed (errno)", errno_detail(error));
+    }
+    int expected = -1;
+    if (held.compare_exchange_strong(expected, opened, std::memory_order_acq_rel)) {
+      fd = opened;
+    } else {
+      (void)::close(opened);  // another thread's request is the process's
+      fd = expected;
     }
   }
   // The device takes a binary 32-bit value in microseconds.
