@@ -63,6 +63,10 @@ hal::Nanoseconds EscLocalClock::time_of_local(std::uint64_t local) const noexcep
     dt = need <= during_phase ? need / (linear_rate + phase_rate_)
                               : phase_duration + (need - during_phase) / linear_rate;
   }
+  // A local time the clock cannot reach within the segment's time range (a start time written
+  // decades ahead, or one that wrapped round): never, rather than an unrepresentable conversion.
+  const double reachable = static_cast<double>(kNever - base_t_) / 2.0;
+  if (!(dt < reachable)) return kNever;
   hal::Nanoseconds t = base_t_ + static_cast<hal::Nanoseconds>(inline_math::ceil(dt));
   // Rounding of the double arithmetic: step to the first nanosecond that really reaches `local`.
   while (t > base_t_ && local_at(t - 1) >= local) --t;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "hal/time/clock.hpp"
 
@@ -25,8 +26,11 @@ class EscLocalClock {
 
   // Local time at segment time `t` (t not before the last advance; earlier t is clamped to it).
   std::uint64_t local_at(hal::Nanoseconds t) const noexcept;
+  // What time_of_local answers for a local time the clock cannot reach.
+  static constexpr hal::Nanoseconds kNever = std::numeric_limits<hal::Nanoseconds>::max();
+
   // The earliest segment time at which local time has reached `local` (the last advance if it
-  // already has).
+  // already has; kNever if it never can).
   hal::Nanoseconds time_of_local(std::uint64_t local) const noexcept;
 
   // Moves the clock's reference point to `t` (consuming phase budget on the way).

@@ -174,8 +174,11 @@ void EscDc::on_activation_write(EscMemory& memory, hal::Nanoseconds t) noexcept 
 bool EscDc::sync0_due(const EscMemory& memory, hal::Nanoseconds t, hal::Nanoseconds& when) const noexcept {
   if (!sync0_active_) return false;
   const std::uint64_t local = next_sync0_ - memory.u64(reg::kDcSystemTimeOffset);
-  if (static_cast<std::int64_t>(local - clock_.local_at(t)) > 0) return false;
-  when = clock_.time_of_local(local);
+  const std::uint64_t now_local = clock_.local_at(t);
+  if (static_cast<std::int64_t>(local - now_local) > 0) return false;
+  // Due by the ESC's wrapping comparison; a pulse time numerically ahead (it wrapped round) is
+  // due now, not when the 64-bit counter reaches it.
+  when = local > now_local ? t : clock_.time_of_local(local);
   return true;
 }
 

@@ -2,6 +2,9 @@
 // and its inverse (the segment time at which a local time is reached) is exact to the nanosecond.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <limits>
+
 #include "drivers/sim/esc/esc_clock.hpp"
 
 namespace rescue::drivers {
@@ -45,6 +48,18 @@ TEST(EscLocalClock, InverseFindsTheFirstNanosecondReachingALocalTime) {
     EXPECT_GE(c.local_at(t), target);
     EXPECT_LT(c.local_at(t - 1), target);
   }
+}
+
+TEST(EscLocalClock, ALocalTimeBeyondTheSegmentsRangeIsNeverReached) {
+  // A start time the master wrote decades ahead (or one that wrapped round): found by the segment
+  // fuzzer as an unrepresentable double-to-integer conversion.
+  EscLocalClock c;
+  c.reset(0, 1'000, 100.0);
+  c.advance(5'000'000);
+  EXPECT_EQ(c.time_of_local(std::numeric_limits<std::uint64_t>::max()), EscLocalClock::kNever);
+  EXPECT_EQ(c.time_of_local(std::uint64_t{1} << 63), EscLocalClock::kNever);
+  const std::uint64_t soon = c.local_at(5'000'000) + 1'000;
+  EXPECT_LT(c.time_of_local(soon), 5'002'000);
 }
 
 TEST(EscLocalClock, AdvancingInStepsEqualsOneStep) {
