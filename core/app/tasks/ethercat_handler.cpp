@@ -41,13 +41,15 @@ void EthercatHandler::build_outputs() noexcept {
   // manager's reference (where it was initialized) and its drive was turned towards disabled, and
   // the next period the owner's reference restarted from there: a leap the drive could not follow
   // (0x8611 following error, both elbows in the rescue scenario; docs/motion-owner.md "A late frame").
-  carried_ = 0;
-  if (!bus_.master().monitor().silence_alarm()) carried_ = drive_mask_ & ~feedback_.valid & ~out_ & ~excluded;
+  JointMask carried = 0;
+  if (!bus_.master().monitor().silence_alarm()) {
+    carried = drive_mask_ & ~feedback_.valid & ~drivers::joints_of_slaves(bus_.last_cycle().out) & ~excluded;
+  }
   // The joints driven this period in position mode take the Motion owner's references (or hold).
   JointMask driven = 0;
   JointMask drive_mask = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
-    const bool inputs = ((feedback_.valid | carried_) & joint_bit(j)) != 0;
+    const bool inputs = ((feedback_.valid | carried) & joint_bit(j)) != 0;
     const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && inputs;
     if (demand_[j].mode != 0) outputs_[j].mode_of_operation = demand_[j].mode;
     if (drive) drive_mask |= joint_bit(j);
@@ -140,7 +142,6 @@ std::uint64_t EthercatHandler::missed_cycles(JointMask joints) const noexcept {
 drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   build_outputs();
   const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
-  out_ = result.out;
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
 
   // Master's link events (lost, restored, not operational), for the log.

@@ -131,11 +131,9 @@ class EthercatHandler {
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
   JointMask last_pending_{0};
-  JointMask drive_mask_{0};  // joints driven last period (any mode)
-  JointMask carried_{0};     // of them, driven this period without fresh inputs (build_outputs)
-  JointMask out_{0};         // joints the master held out of the exchange last cycle
   std::uint32_t last_reports_sent_{0};
   bool op_seen_{false};
+  JointMask drive_mask_{0};  // joints driven last period (any mode; build_outputs)
   hal::Nanoseconds not_in_op_since_{-1};   // first cycle without OP (-1: none yet)
   hal::Nanoseconds next_waiting_word_{0};  // when the next waiting_for_op event is due
   bool stopping_{false};

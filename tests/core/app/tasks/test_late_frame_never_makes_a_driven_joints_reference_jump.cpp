@@ -11,6 +11,8 @@
 //     raise a following error (0x8611; before: both elbows, the CI failure of the rescue scenario),
 //     and follow within a few mrad;
 //   - the samples keep the elbows reachable (the RC tasks do not lock them for a late frame).
+// And the handler itself held off its CPU for 60 ms while the owner goes on: the first period after
+// takes the owner's reference velocity-clamped from the one sent last (no leap, no fault).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,7 +39,9 @@ struct Figures {
   double distance_from_init{0.0};  // how far the elbows were from the joint manager's reference
 };
 
-Figures lose_frames_while_the_elbows_move(std::uint32_t frames) {
+// `frames` frames lost from period 1000 on; or, with `stall_ms` > 0, the handler held off its CPU that
+// long at period 1000 (no period runs; the owner goes on, 1 ms per period of its own).
+Figures lose_frames_while_the_elbows_move(std::uint32_t frames, int stall_ms = 0) {
   Figures f;
   testing::TempStateDir dir;
   SimulatedFirmware fw(dir.path);
@@ -62,6 +66,15 @@ Figures lose_frames_while_the_elbows_move(std::uint32_t frames) {
     if (k == 1000) {
       fw.rig->segment.drop_frames(frames);
       f.distance_from_init = offset;
+      for (int s = 0; s < stall_ms; ++s) {
+        // The handler is stalled: the clock goes on, the owner computes every millisecond.
+        fw.rig->clock.sleep_until(fw.rig->clock.now() + hal::kNsPerMs);
+        offset += kSpeed * 0.001;
+        space.begin();
+        for (int e = 0; e < 2; ++e) space.set(elbows[e], start[e] + offset);
+        space.complete(word, space.completed() + 1, joint_bit(kLeft) | joint_bit(kRight), fw.rig->clock.now());
+        fw.links->rc_heartbeat_ns[0].store(fw.rig->clock.now());
+      }
     }
     fw.period();
     EXPECT_TRUE(fw.links->samples.try_read(sample));
@@ -78,6 +91,9 @@ Figures lose_frames_while_the_elbows_move(std::uint32_t frames) {
     }
   }
   EXPECT_EQ(fw.handler->frames_missing(), frames) << "the frames did not come back";
+  if (stall_ms > 0) {
+    EXPECT_GE(fw.rig->bus.master().skipped_periods(), static_cast<std::uint64_t>(stall_ms - 1)) << "the periods were skipped";
+  }
   EXPECT_EQ(fw.handler->missed_cycles(kAllJoints), 0u) << "every frame that came back brought every joint";
   return f;
 }
@@ -98,6 +114,21 @@ TEST(LateFrame, ADrivenJointsReferenceNeverJumpsAndNoDriveFaults) {
     EXPECT_EQ(f.error_code[0], drivers::drive_error::kNone) << frames;
     EXPECT_EQ(f.error_code[1], drivers::drive_error::kNone) << frames;
   }
+}
+
+// The handler itself held off its CPU for 60 ms (below the drives' 100 ms watchdog) while the owner
+// goes on 72 mrad: the master skips the periods, the drives keep the last target, and the first
+// period after takes the owner's reference velocity-clamped from the one sent last: no leap, no fault.
+TEST(HandlerStall, TheReferenceGoesOnFromTheOneSentLastAndNoDriveFaults) {
+  const Figures f = lose_frames_while_the_elbows_move(0, 60);
+  std::printf("handler stalled 60 ms with the owner moving on: largest reference step %.4f rad, largest following "
+              "error %.4f rad, periods not enabled %d, error codes 0x%04x 0x%04x\n",
+              f.largest_step, f.largest_following, f.periods_not_enabled, f.error_code[0], f.error_code[1]);
+  EXPECT_LE(f.largest_step, kJoints[kLeft].limits.velocity_max_rad_s * 0.001 + 1e-9);
+  EXPECT_LT(f.largest_following, 0.1);
+  EXPECT_EQ(f.periods_not_enabled, 0);
+  EXPECT_EQ(f.error_code[0], drivers::drive_error::kNone);
+  EXPECT_EQ(f.error_code[1], drivers::drive_error::kNone);
 }
 
 }  // namespace
