@@ -39,7 +39,13 @@ cache=$(mktemp -d /tmp/compare-sii-cache.XXXXXX)
 ip link del "$a" 2>/dev/null || true
 ip link add "$a" type veth peer name "$b" && ip link set "$a" up && ip link set "$b" up
 sim=""; trap '[[ -n $sim ]] && kill $sim 2>/dev/null; ip link del $a 2>/dev/null || true; rm -rf "$cache"' EXIT
-"$bin" sim --iface "$b" >/dev/null 2>&1 & sim=$!
+# The simulator stands for the NIC and the slaves: on the EtherCAT task's CPU, as docs/deploy.md puts
+# the NIC's interrupt ("NIC interrupt on the handler's CPU"), so its replies are delivered on that CPU
+# (COMPARE_SIM_CPU=any: anywhere, as the anchor's script starts it; docs/timing.md has both).
+sim_cpu=${COMPARE_SIM_CPU:-1}
+pin=(); [[ $sim_cpu != any ]] && pin=(taskset -c "$sim_cpu")
+echo "simulator_cpu: $sim_cpu"
+"${pin[@]}" "$bin" sim --iface "$b" >/dev/null 2>&1 & sim=$!
 sleep 1
 
 out=$(mktemp /tmp/compare-run.XXXXXX)
