@@ -41,7 +41,9 @@ struct Figures {
 
 // `frames` frames lost from period 1000 on; or, with `stall_ms` > 0, the handler held off its CPU that
 // long at period 1000 (no period runs; the owner goes on, 1 ms per period of its own).
-Figures lose_frames_while_the_elbows_move(std::uint32_t frames, int stall_ms = 0) {
+// With `late` the frames are not lost but come back 1.5 ms late (after the next period's send: the
+// handler preempted that long between sending and its deadline), and are dropped as stale.
+Figures lose_frames_while_the_elbows_move(std::uint32_t frames, int stall_ms = 0, bool late = false) {
   Figures f;
   testing::TempStateDir dir;
   SimulatedFirmware fw(dir.path);
@@ -64,7 +66,11 @@ Figures lose_frames_while_the_elbows_move(std::uint32_t frames, int stall_ms = 0
     space.complete(word, space.completed() + 1, joint_bit(kLeft) | joint_bit(kRight), now);
     fw.links->rc_heartbeat_ns[0].store(now);
     if (k == 1000) {
-      fw.rig->segment.drop_frames(frames);
+      if (late) {
+        fw.rig->segment.delay_frames(frames, 1500 * hal::kNsPerUs);
+      } else {
+        fw.rig->segment.drop_frames(frames);
+      }
       f.distance_from_init = offset;
       for (int s = 0; s < stall_ms; ++s) {
         // The handler is stalled: the clock goes on, the owner computes every millisecond.
@@ -114,6 +120,21 @@ TEST(LateFrame, ADrivenJointsReferenceNeverJumpsAndNoDriveFaults) {
     EXPECT_EQ(f.error_code[0], drivers::drive_error::kNone) << frames;
     EXPECT_EQ(f.error_code[1], drivers::drive_error::kNone) << frames;
   }
+}
+
+// The CI failure's own event: one frame back late, after its deadline.
+TEST(LateFrame, AFrameBackAfterItsDeadlineLeavesTheReferencesOnTheirPath) {
+  const Figures f = lose_frames_while_the_elbows_move(1, 0, true);
+  std::printf("1 frame back 1.5 ms late: largest reference step %.4f rad, largest following error %.4f rad, periods "
+              "not enabled %d, unreachable %d, error codes 0x%04x 0x%04x\n",
+              f.largest_step, f.largest_following, f.periods_not_enabled, f.periods_unreachable, f.error_code[0],
+              f.error_code[1]);
+  EXPECT_LE(f.largest_step, kJoints[kLeft].limits.velocity_max_rad_s * 0.001 + 1e-9);
+  EXPECT_LT(f.largest_following, 0.02);
+  EXPECT_EQ(f.periods_not_enabled, 0);
+  EXPECT_EQ(f.periods_unreachable, 0);
+  EXPECT_EQ(f.error_code[0], drivers::drive_error::kNone);
+  EXPECT_EQ(f.error_code[1], drivers::drive_error::kNone);
 }
 
 // The handler itself held off its CPU for 60 ms (below the drives' 100 ms watchdog) while the owner
