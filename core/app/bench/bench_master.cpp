@@ -285,6 +285,9 @@ int bench_master(const ParsedArgs& args) noexcept {
   if (!dc_frames.ok()) return fail("bench", "--dc-static-frames must be 0..1000000", dc_frames.error());
   const Result<std::int64_t> dc_target = args.integer("dc-target-ns", defaults.drift_compensation_target_ns, 0, 1'000'000);
   if (!dc_target.ok()) return fail("bench", "--dc-target-ns must be 0..1000000", dc_target.error());
+  const Result<std::int64_t> dc_in_flight =
+      args.integer("dc-in-flight", defaults.drift_compensation_in_flight, 1, ecat::DatagramLink::kMaxStreamInFlight);
+  if (!dc_in_flight.ok()) return fail("bench", "--dc-in-flight must be 1..8", dc_in_flight.error());
   const bool simulated = choice.value().kind == NicKind::sim;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
   const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
@@ -330,6 +333,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   ecat::MasterOptions options;
   options.drift_compensation_frames = static_cast<unsigned>(dc_frames.value());
   options.drift_compensation_target_ns = static_cast<std::uint32_t>(dc_target.value());
+  options.drift_compensation_in_flight = static_cast<unsigned>(dc_in_flight.value());
   options.sii_cache = &g_sii_cache;
   const Status up = bus.bring_up(options);
   if (!up.ok()) {
