@@ -152,7 +152,7 @@ bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noe
   switch (step) {
     case Step::initiate:
       if (r.direction == SdoDirection::upload) {
-        sdo = coe::upload_request(r.index, r.subindex);
+        sdo = coe::upload_request(r.index, r.subindex, r.complete_access);
       } else if (size <= coe::kMaxExpeditedSize) {
         sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), size));
       } else {
@@ -223,6 +223,7 @@ std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index
                                          std::size_t max_slaves) noexcept {
   now_ = now;
   added_ = 0;
+  moved_ = false;
   for (Channel& c : channels_) {
     c.added = 0;
     c.sent_this_exchange = false;
@@ -252,11 +253,13 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   const bool first = k == 0 || exchange_slave_[k - 1] != p;
   if (c.phase == Phase::send) {
     c.sent_this_exchange = d.wkc() == 1;
+    moved_ = moved_ || c.sent_this_exchange;
     return;
   }
   if (c.phase != Phase::wait) return;
   if (first) {
     c.in_full = d.wkc() == 1 && d.length() == 1 && (d.data()[0] & reg::kSmStatusMailboxFull) != 0;
+    moved_ = moved_ || c.in_full;
   } else if (c.in_full && d.wkc() == 1) {
     take_reply(c, ConstByteSpan(d.data()));
   }
@@ -407,10 +410,12 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
       }
     }
     end_exchange(link.clock().now());
-    // Give the slaves' applications time to answer (virtual time moves only when asked to).
+    // Give the slaves' applications time to answer (virtual time moves only when asked to), but only
+    // when this exchange moved nothing: a message taken or an answer found means the next exchange
+    // has work at once (the other slaves' steps, the next message).
     bool waiting = false;
     for (std::size_t p = 0; p < kMaxSlaves; ++p) waiting = waiting || ((busy_ & slave_bit(p)) != 0 && channels_[p].phase == Phase::wait);
-    if (waiting) link.clock().sleep_until(link.clock().now() + 50 * hal::kNsPerUs);
+    if (waiting && !moved_) link.clock().sleep_until(link.clock().now() + kEmptyPollPause);
   }
   return Status::success();
 }

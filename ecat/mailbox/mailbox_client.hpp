@@ -55,6 +55,9 @@ struct SdoRequest {
   std::uint16_t size{0};     // download: bytes of `data` (1..kMaxSdoData)
   std::array<std::uint8_t, kMaxSdoData> data{};
   std::uint32_t tag{0};      // the caller's, returned with the completion
+  // Upload of the whole object from `subindex` (0 or 1) in one transfer (SDO complete access,
+  // ETG.1000.6 5.6.2): only to slaves whose SII announces it (sii::kCoeDetailSdoCompleteAccess).
+  bool complete_access{false};
 };
 
 struct SdoCompletion {
@@ -162,6 +165,9 @@ class MailboxClient {
   std::size_t add_channel_datagrams(Channel& c, FrameBuilder& frame, std::uint8_t index) noexcept;
 
   const NetworkPlan& plan_;
+  // run(): the pause before polling again when an exchange found no answer and took no message.
+  static constexpr hal::Nanoseconds kEmptyPollPause = 50 * hal::kNsPerUs;
+  bool moved_{false};  // this exchange: a message taken by a slave or an answer found
   std::array<Box, kMaxSlaves> boxes_{};
   std::array<Channel, kMaxSlaves> channels_{};
   RingBuffer<SdoRequest, kQueueCapacity> queue_{};

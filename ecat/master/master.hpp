@@ -138,6 +138,7 @@ struct SyncManagerSetup {
 struct SlaveSetup {
   std::array<SyncManagerSetup, 4> sm{};  // 0 mailbox out, 1 mailbox in, 2 outputs, 3 inputs
   bool mailbox{false};                   // standard mailbox present, CoE supported
+  bool complete_access{false};           // SII general: SDO complete access supported
 };
 
 // Where bring-up time goes: when each step began and how many frames had been exchanged by then.
