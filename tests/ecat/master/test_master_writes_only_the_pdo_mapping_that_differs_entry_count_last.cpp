@@ -138,33 +138,33 @@ Asked answer_reads(PdoSetup& setup, const std::array<PdoMappingState, 2>& held, 
   return asked;
 }
 
-TEST(PdoSetupReads, FourWholeObjectsWhenTheSlaveOffersCompleteAccess) {
+// A drive holding the plan, read with or without complete access: the uploads asked, nothing written.
+Asked reads_of_a_healthy_drive(bool complete_access, bool refuse_complete_access) {
   PdoSetup setup;
-  setup.start(3, &kJointDrivePdoPlan, true);
-  const Asked asked = answer_reads(setup, {as_planned(kJointDrivePdoPlan.outputs), as_planned(kJointDrivePdoPlan.inputs)}, false);
+  setup.start(3, &kJointDrivePdoPlan, complete_access);
+  const Asked asked =
+      answer_reads(setup, {as_planned(kJointDrivePdoPlan.outputs), as_planned(kJointDrivePdoPlan.inputs)}, refuse_complete_access);
   EXPECT_EQ(setup.phase(), PdoSetup::Phase::done);
+  EXPECT_EQ(setup.writes(), 0u);
+  return asked;
+}
+
+TEST(PdoSetupReads, FourWholeObjectsWhenTheSlaveOffersCompleteAccess) {
+  const Asked asked = reads_of_a_healthy_drive(true, false);
   EXPECT_EQ(asked.whole, 4u);
   EXPECT_EQ(asked.single, 0u);
-  EXPECT_EQ(setup.writes(), 0u);
 }
 
 TEST(PdoSetupReads, OneSubindexAtATimeWithoutCompleteAccess) {
-  PdoSetup setup;
-  setup.start(3, &kJointDrivePdoPlan, false);
-  const Asked asked = answer_reads(setup, {as_planned(kJointDrivePdoPlan.outputs), as_planned(kJointDrivePdoPlan.inputs)}, false);
-  EXPECT_EQ(setup.phase(), PdoSetup::Phase::done);
+  const Asked asked = reads_of_a_healthy_drive(false, false);
   EXPECT_EQ(asked.whole, 0u);
   EXPECT_EQ(asked.single, 17u);
 }
 
 TEST(PdoSetupReads, AnAbortedCompleteAccessIsReadOneSubindexAtATime) {
-  PdoSetup setup;
-  setup.start(3, &kJointDrivePdoPlan, true);
-  const Asked asked = answer_reads(setup, {as_planned(kJointDrivePdoPlan.outputs), as_planned(kJointDrivePdoPlan.inputs)}, true);
-  EXPECT_EQ(setup.phase(), PdoSetup::Phase::done);
+  const Asked asked = reads_of_a_healthy_drive(true, true);
   EXPECT_EQ(asked.whole, 4u);
   EXPECT_EQ(asked.single, 17u);
-  EXPECT_EQ(setup.writes(), 0u);
 }
 
 TEST(PdoSetupReads, AHalfWrittenMappingSeenWholeGetsTheSameThreeWrites) {
