@@ -107,6 +107,11 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
   // cleanly, with one line saying where.
   if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
+  // The tasks' TSC timer is calibrated (two readings 20 ms apart, hal/time/tsc_timer.hpp) on another
+  // thread from here until the bring-up ends, not after it: time to OP does not wait for it (the
+  // bring-up of a robot seen before takes about as long). Its stack is small: once memory is locked,
+  // every page of a thread's stack is populated (8 MiB by default, ~2 ms).
+  TaskTimingCalibration calibration;
 
   // 1. The error-joints file, before the network (design brief section 6).
   const Result<hal::StateDir> dir = hal::resolve_state_dir(options.state_dir);
@@ -261,10 +266,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
-  // The tasks' TSC timer is calibrated (a 20 ms busy-wait) on another thread while the bring-up runs,
-  // not after it: time to OP does not wait for it. Its stack is small: memory is locked, so every
-  // page of a new thread's stack is populated when it is created (8 MiB by default, ~2 ms).
-  TaskTimingCalibration calibration;
   // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
   // not stretch it (every frame of it waits for the one before); then this thread is given back its
   // normal scheduling before it forks the tasks and supervises them.
