@@ -82,7 +82,11 @@ void MailboxClient::configure(std::size_t position, std::uint16_t out_start, std
                 in_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && in_size <= kMaxMailboxSize;
 }
 
-bool MailboxClient::submit(const SdoRequest& request) noexcept { return queue_.push(request); }
+bool MailboxClient::submit(const SdoRequest& request) noexcept {
+  if (!queue_.push(request)) return false;
+  may_start_ = true;
+  return true;
+}
 
 bool MailboxClient::pop_completion(SdoCompletion& out) noexcept { return done_.pop(out); }
 
@@ -90,18 +94,25 @@ void MailboxClient::complete(Channel& c, SdoOutcome outcome) noexcept {
   c.current.outcome = outcome;
   c.phase = Phase::none;
   if (c.current.request.position < kMaxSlaves) busy_ &= ~slave_bit(c.current.request.position);
-  if ((c.current.request.tag & kMasterTagBit) != 0) {
-    (void)master_done_.push_overwrite(c.current);
-  } else if ((c.current.request.tag & kOperatorTagBit) != 0) {
-    (void)operator_done_.push_overwrite(c.current);
+  may_start_ = true;
+  deliver(c.current);
+}
+
+void MailboxClient::deliver(const SdoCompletion& done) noexcept {
+  if ((done.request.tag & kMasterTagBit) != 0) {
+    (void)master_done_.push_overwrite(done);
+  } else if ((done.request.tag & kOperatorTagBit) != 0) {
+    (void)operator_done_.push_overwrite(done);
   } else {
-    (void)done_.push_overwrite(c.current);
+    (void)done_.push_overwrite(done);
   }
 }
 
 void MailboxClient::start_transfers(hal::Nanoseconds now) noexcept {
   // Each queued request whose slave is free starts; the others go back in their order, and a
   // slave's later request never overtakes its earlier one (`held`).
+  if (!may_start_) return;
+  may_start_ = false;
   SlaveMask held = 0;
   const std::size_t queued = queue_.size();
   for (std::size_t n = 0; n < queued; ++n) {
@@ -109,10 +120,10 @@ void MailboxClient::start_transfers(hal::Nanoseconds now) noexcept {
     if (!queue_.pop(request)) break;
     const std::size_t p = request.position;
     if (!has_mailbox(p)) {
-      Channel lone;  // completes at once: no channel needed
-      lone.current.request = request;
-      lone.current.outcome = SdoOutcome::no_mailbox;
-      complete(lone, SdoOutcome::no_mailbox);
+      SdoCompletion none;  // completes at once: no channel needed
+      none.request = request;
+      none.outcome = SdoOutcome::no_mailbox;
+      deliver(none);
       continue;
     }
     if ((busy_ & slave_bit(p)) != 0 || (held & slave_bit(p)) != 0) {

@@ -156,6 +156,7 @@ class MailboxClient {
   void start_transfers(hal::Nanoseconds now) noexcept;
   void start(Channel& c, hal::Nanoseconds now) noexcept;
   void complete(Channel& c, SdoOutcome outcome) noexcept;
+  void deliver(const SdoCompletion& done) noexcept;  // to the owner's, the master's or the operator's queue
   void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
   void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
   void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;
@@ -176,6 +177,9 @@ class MailboxClient {
   RingBuffer<SdoCompletion, 4> operator_done_{};
 
   SlaveMask busy_{0};          // slaves with a transfer in flight
+  // A request was queued or a slave became free since start_transfers() last looked: only then can
+  // a queued request start (it does not pop and push the whole queue back every exchange).
+  bool may_start_{false};
   std::size_t next_turn_{0};   // the slave whose step goes first in the next exchange
   // The datagrams of this exchange, in order: the slave each belongs to.
   std::array<std::uint8_t, kMaxSlaves * kMaxDatagrams> exchange_slave_{};
