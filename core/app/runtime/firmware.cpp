@@ -218,6 +218,15 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const JointMask out_of_service = repaired.out_of_service;
   print_restore_problems(restored, dir.value().path.c_str());
 
+  // From here to the bring-up's end (memory locked, the SII cache read, the bring-up itself) this
+  // thread runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
+  // not stretch it (every bring-up frame waits for the one before; the locking populates ~20 MiB);
+  // then it is given back its normal scheduling before it forks the tasks and supervises them.
+  const Result<hal::SchedulingState> normal = hal::save_scheduling();
+  const int handler_priority = runner_priority(TaskId::ethercat_handler);
+  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
+  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
+
   // 2. The machine: memory locked and prefaulted once (each task sets its own priority and CPU).
   hal::RtConfig process_rt;
   process_rt.lock_memory = true;
@@ -266,13 +275,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
-  // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
-  // not stretch it (every frame of it waits for the one before); then this thread is given back its
-  // normal scheduling before it forks the tasks and supervises them.
-  const Result<hal::SchedulingState> normal = hal::save_scheduling();
-  const int handler_priority = runner_priority(TaskId::ethercat_handler);
-  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
-  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   if (options.scenario.mapping_fault) {
     // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
     ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr);
