@@ -51,7 +51,7 @@ const OptionSpec kOptions[] = {
     {"task", "N", "RC task for move, hand (default 0)"},
     {"json", nullptr, "print the answer as one JSON object"},
     {"moved", nullptr, "clear: also confirm joints that returned away from their held position"},
-    {"timeout", "SECONDS", "how long to wait for the robot's answer (default 2)"},
+    {"timeout", "SECONDS", "how long to wait for the robot's answer (default 2; keygen 10)"},
     {"count", "N", "watch: refresh this many times, then exit (default: until interrupted)"},
     {"interval", "SECONDS", "watch: refresh period (default 0.5)"},
     {"type", "TYPE", "upload, download: the value's type: u8, u16, u32, i8, i16, i32, string or hex "
@@ -798,6 +798,8 @@ Result<Message> build_request(const char* verb, const ParsedArgs& args) noexcept
 // The whole command within --timeout (docs/security.md): the exchange has its own deadline, and
 // this watchdog covers every other phase (the key and configuration files, the state directory),
 // so nothing found at a path and no system call can make ctl wait past it.
+constexpr double kKeygenDefaultTimeoutSeconds = 10.0;
+
 void ctl_deadline_passed(int /*signal*/) {
   static const char kText[] = "rescue-motion ctl: stopped: no result within --timeout (a file or the network blocked)\n";
   (void)!::write(STDERR_FILENO, kText, sizeof kText - 1);
@@ -826,8 +828,11 @@ int ctl_main(const ParsedArgs& args) {
   g_format = args.value("format");
   g_verb = verb != nullptr ? verb : "ctl";
   if (verb == nullptr || !is_ctl_verb(verb)) return ctl_error("unknown verb (see rescue-motion ctl --help)");
-  const Result<double> deadline = args.number("timeout", 2.0, 0.01, 60.0);
-  arm_ctl_deadline(deadline.ok() ? deadline.value() : 2.0);
+  // keygen waits for no robot, only for its key to reach the disk (fsync): on a busy laptop that
+  // alone can take seconds, so its default allowance is longer; --timeout still bounds it.
+  const double default_deadline = std::strcmp(verb, "keygen") == 0 ? kKeygenDefaultTimeoutSeconds : 2.0;
+  const Result<double> deadline = args.number("timeout", default_deadline, 0.01, 60.0);
+  arm_ctl_deadline(deadline.ok() ? deadline.value() : default_deadline);
   if (!protocol::init_crypto().ok()) return ctl_error("libsodium could not be initialised");
   const Status config = read_ctl_config(args);
   if (!config.ok()) return ctl_error(config.error().what);
