@@ -122,7 +122,7 @@ Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t addres
   const auto length = static_cast<std::uint16_t>(data.size());
   const unsigned window = in_flight == 0 ? 1 : (in_flight > kMaxStreamInFlight ? kMaxStreamInFlight : in_flight);
   // The frames on their way, oldest first: their index and when each was sent.
-  std::array<std::uint8_t, kMaxStreamInFlight> index{};
+  std::array<std::uint8_t, kMaxStreamInFlight> index_of{};
   std::array<hal::Nanoseconds, kMaxStreamInFlight> sent_at{};
   unsigned head = 0;
   unsigned flying = 0;
@@ -137,7 +137,7 @@ Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t addres
       const Status out = send_frame();
       if (!out.ok()) return out.error();
       const unsigned at = (head + flying) % kMaxStreamInFlight;
-      index[at] = index_;
+      index_of[at] = index_;
       sent_at[at] = nic_.clock().now();
       ++flying;
       ++sent;
@@ -161,7 +161,7 @@ Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t addres
     const DatagramView d = *view.value().begin();
     // Which frame on its way it is; those sent before it that are still missing are lost.
     unsigned k = 0;
-    while (k < flying && index[(head + k) % kMaxStreamInFlight] != d.index()) ++k;
+    while (k < flying && index_of[(head + k) % kMaxStreamInFlight] != d.index()) ++k;
     if (k == flying) {
       ++stats_.stale_frames;
       continue;
