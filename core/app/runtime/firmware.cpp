@@ -221,7 +221,8 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   // From here to the bring-up's end (memory locked, the SII cache read, the bring-up itself) this
   // thread runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
   // not stretch it (every bring-up frame waits for the one before; the locking populates ~20 MiB);
-  // then it is given back its normal scheduling before it forks the tasks and supervises them.
+  // then it is given back its normal scheduling: once it has forked the handler's process (which so
+  // starts at the handler's priority), before it forks the other tasks and supervises them.
   const Result<hal::SchedulingState> normal = hal::save_scheduling();
   const int handler_priority = runner_priority(TaskId::ethercat_handler);
   const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
@@ -283,7 +284,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   const Status up = bus.bring_up(master_options, out_of_service);
   calibration.join();
-  if (raised && !hal::restore_scheduling(normal.value()).ok()) {
+  if (raised && up.ok() && g_run.task_processes) {
+    g_run.start_up_scheduling = &normal.value();  // given back once the handler is forked (task_processes.cpp)
+  } else if (raised && !hal::restore_scheduling(normal.value()).ok()) {
     return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
   }
   if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);
