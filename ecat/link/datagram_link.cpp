@@ -50,6 +50,7 @@ Status DatagramLink::send_frame() noexcept {
   }
   sent_view_ = sent_view.value();
   if (tap_ != nullptr) tap_(tap_context_, sent_, nic_.clock().now(), TapDirection::outbound);
+  sent_at_[index_] = nic_.clock().now();
   const Status sent = nic_.send(sent_);
   if (!sent.ok()) {
     ++stats_.send_errors;
@@ -74,6 +75,10 @@ Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept 
     }
     if (view.value().datagram_count() == 0 || (*view.value().begin()).index() != index_) {
       ++stats_.stale_frames;
+      if (view.value().datagram_count() != 0) {
+        const hal::Nanoseconds age = nic_.clock().now() - sent_at_[(*view.value().begin()).index()];
+        if (age > stats_.stale_age_max) stats_.stale_age_max = age;
+      }
       continue;
     }
     if (!same_datagrams(sent_view_, view.value())) {

@@ -38,6 +38,7 @@ struct LinkStats {
   std::uint64_t exchanges{0};
   std::uint64_t timeouts{0};        // no matching frame before the deadline
   std::uint64_t stale_frames{0};    // frames of earlier exchanges that came back late
+  hal::Nanoseconds stale_age_max{0};  // the latest of them: from its sending to its turning up
   std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
   std::uint64_t send_errors{0};
 };
@@ -96,6 +97,7 @@ class DatagramLink {
   ConstByteSpan sent_{};
   FrameView sent_view_{};  // sent_, parsed by send_frame()
   std::uint8_t index_{0};
+  std::array<hal::Nanoseconds, 256> sent_at_{};  // when the frame of each index was last sent (stale ages)
   FrameTapFn tap_{nullptr};
   void* tap_context_{nullptr};
   LinkStats stats_{};

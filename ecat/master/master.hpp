@@ -69,7 +69,14 @@ struct MasterOptions {
   // silent: the owner says what it waits for); nullptr: nobody is told.
   void (*waiting)(const BringUpWait& wait, void* context) noexcept {nullptr};
   void* waiting_context{nullptr};
-  hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};  // cyclic frame's deadline after sending (within the period)
+  // The cyclic frame is waited for until just before the next period's send: until
+  // cycle_receive_guard before the next period starts (the guard leaves the caller the rest of its
+  // period's work after the frame), and never less than cycle_receive_timeout after sending (a cycle
+  // that started late) nor more than one period after it (unless cycle_receive_timeout says more).
+  // A frame later than that is counted as late or missing (frames_missing()), and dropped as stale
+  // when it turns up in a later period (LinkStats::stale_frames): the next frame's inputs are newer.
+  hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};
+  hal::Nanoseconds cycle_receive_guard{100 * hal::kNsPerUs};
   AlOptions al{};
   SiiReadOptions sii{};
   // Whole SII images of devices seen before (ecat/sii/sii_cache.hpp): a slave whose first 32 EEPROM
@@ -326,6 +333,7 @@ class Master {
   void build_cycle_frame(FrameBuilder& frame) noexcept;
   void evaluate_cycle_frame(const FrameView& frame, CycleResult& result) noexcept;
   void step_op_transition(CycleResult& result) noexcept;
+  hal::Nanoseconds cycle_receive_deadline(hal::Nanoseconds sent_at) const noexcept;  // MasterOptions::cycle_receive_guard
   void silence_outputs_of_out_slaves() noexcept;
   // Online recovery (master_recovery.cpp).
   void add_recovery_datagrams(FrameBuilder& frame) noexcept;

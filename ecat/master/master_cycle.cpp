@@ -1,5 +1,6 @@
 // Master cycle: one frame per period, built, sent, received with a deadline and evaluated.
 // No heap, no system call but the NIC's send and receive, bounded loops only.
+#include <algorithm>
 #include <cstring>
 
 #include "ecat/master/master.hpp"
@@ -264,6 +265,13 @@ void Master::realign_schedule() noexcept {
   next_wakeup_ += ((now - next_wakeup_) / options_.cycle_time + 1) * options_.cycle_time;
 }
 
+hal::Nanoseconds Master::cycle_receive_deadline(hal::Nanoseconds sent_at) const noexcept {
+  // next_wakeup_ is still this period's start: the next period's send is one cycle_time later.
+  hal::Nanoseconds deadline = next_wakeup_ + options_.cycle_time - options_.cycle_receive_guard;
+  deadline = std::min(deadline, sent_at + options_.cycle_time);
+  return std::max(deadline, sent_at + options_.cycle_receive_timeout);
+}
+
 CycleResult Master::cycle() noexcept {
   CycleResult result;
   result.cycle = ++cycle_;
@@ -275,7 +283,7 @@ CycleResult Master::cycle() noexcept {
   FrameBuilder& frame = link_.begin();
   build_cycle_frame(frame);
   result.sent_at = link_.clock().now();
-  const Result<FrameView> back = link_.exchange(result.sent_at + options_.cycle_receive_timeout);
+  const Result<FrameView> back = link_.exchange(cycle_receive_deadline(result.sent_at));
   result.frame_received = back.ok();
   if (back.ok()) {
     result.received_at = link_.clock().now();

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/robot/robot.hpp"
+#include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "drivers/sim/devices/joint_drive_device.hpp"
 #include "drivers/sim/devices/junction_device.hpp"
@@ -91,6 +92,15 @@ inline ecat::MasterOptions fast_options() {
   options.drift_compensation_frames = 2000;
   options.drift_compensation_target_ns = 0;
   return options;
+}
+
+// One step of every drive towards Operation enabled in cyclic position mode, holding where it is.
+inline void enable_every_drive_step(drivers::JointReferences& refs, const drivers::JointFeedback& fb) {
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    refs[j].mode_of_operation = static_cast<std::int8_t>(ControlMode::cyclic_position);
+    refs[j].target_position = fb.joints[j].position_actual;
+    refs[j].controlword = drivers::controlword_towards_enabled(fb.joints[j].statusword, refs[j].controlword);
+  }
 }
 
 // The robot brought up with `options` and cycled until the master is in OP (checked).

@@ -13,6 +13,10 @@ listed bottom first (FLOORS); a file includes only its own folder and the floors
 
 Knot rule: no two folders anywhere include each other, directly or through any path of includes
 (a cycle in the folder graph), whatever the other rules allow.
+
+Ports rule: the tasks' period loops (TASK_LOOPS) reach the shared state only through their ports
+(docs/architecture.md "How a task reaches shared state"): no call of the runner's links() or run(),
+no use of the segment (g_run.segment).
 """
 import os
 import re
@@ -55,6 +59,24 @@ FLOORS = {
 }
 
 SOURCE_FOLDERS = ("core/", "hal/", "ecat/", "fsm/", "drivers/")
+
+# The tasks' period loops, and what in them would reach TaskLinks around the tasks' ports.
+TASK_LOOPS = ("core/app/runtime/task_loops.cpp", "core/app/runtime/task_loops.hpp")
+AROUND_PORTS = re.compile(r"(?<![\w.>:])(?:links|run)\(\)|\bg_run\.segment\b")
+
+
+def port_findings(files, read):
+    findings = []
+    for path in files:
+        if path not in TASK_LOOPS:
+            continue
+        for n, line in enumerate(read(path).splitlines(), 1):
+            code = line.split("//", 1)[0]
+            m = AROUND_PORTS.search(code)
+            if m:
+                findings.append(f"{path}:{n}: {m.group(0)} reaches the shared state around the task's ports "
+                                "(TaskPorts::task_loop, the task's own ports)")
+    return findings
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 
@@ -214,6 +236,7 @@ def main(argv):
         for base, floors in FLOORS.items():
             print(f"floors of {base:13} {' < '.join(floors)}")
         print("no knots: no two folders include each other through any path")
+        print(f"ports: {' '.join(TASK_LOOPS)} never call links() or run() nor use g_run.segment")
         return 0
     root = os.path.abspath(argv[1] if len(argv) > 1 else ".")
     try:
@@ -239,7 +262,7 @@ def main(argv):
         return False
 
     findings = (include_findings(files, read) + floor_findings(files, read) + knot_findings(files, read)
-                + doc_findings(files, read, exists))
+                + port_findings(files, read) + doc_findings(files, read, exists))
     for f in findings:
         print(f)
     print(f"check_layout: {len(findings)} findings over {len(files)} files")

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Proves check_layout.py fails on a wrong-way include (between top folders, between floors inside
 core/, core/app/, ecat/, hal/, fsm/, drivers/ and drivers/sim/, a folder with no floor, a knot of
-folders) and on a doc naming a missing file, and passes on a tree that keeps the rules. Run by CTest (test_layout_check_rejects_wrong_way_includes)."""
+folders), on a task loop reaching the shared state around its ports, and on a doc naming a missing
+file, and passes on a tree that keeps the rules. Run by CTest (test_layout_check_rejects_wrong_way_includes)."""
 import os
 import subprocess
 import sys
@@ -42,6 +43,8 @@ GOOD = {
     "ecat/link/datagram_link.hpp": '#include "ecat/codec/frame.hpp"\n',
     "ecat/sii/sii_reader.hpp": '#include "ecat/link/datagram_link.hpp"\n',
     "ecat/mailbox/mailbox_client.hpp": '#include "ecat/link/datagram_link.hpp"\n',
+    "core/app/runtime/task_loops.cpp": "void run_manager() noexcept { task(g_run.tasks.ports->task_loop(k)); }\n"
+                                       "// not links() in a comment\n",
     "docs/architecture.md": "See `ecat/master/master.hpp`, `core/app/cli/main` and `drivers/sim/`.\n",
 }
 
@@ -73,6 +76,9 @@ def main():
         ("core/app/tasks/rc/rc.hpp", '#include "core/app/tasks/joint_manager.hpp"\n'
                                       '// and core/app/tasks/joint_manager.hpp includes it back (below)\n',
          "knot: folders core/app/tasks/, core/app/tasks/rc/"),
+        # Ports: a task loop reaching TaskLinks around its ports.
+        ("core/app/runtime/task_loops.cpp", "void f() { links().joint_status.write(s); }\n", "links() reaches the shared state"),
+        ("core/app/runtime/task_loops.cpp", "void f() { run().stop.load(); }\n", "run() reaches the shared state"),
     ]
     for path, text, expected in wrong:
         files = dict(GOOD)

@@ -334,7 +334,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static RcTask rc_teleop(ports.rc_task(RcTaskId::teleop), default_rc_task_settings(RcTaskId::teleop));
   g_run.tasks = TaskSet{&handler,   &scenario,   &manager, &parser, &socket,          &rc_rescue, &rc_teleop,
                     &replay,    &wall_clock, &clock,   &operator_clock, &options, operator_port, start,
-                    &events,   &event_printer, &storage_worker};
+                    &events,   &event_printer, &storage_worker, &ports};
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);

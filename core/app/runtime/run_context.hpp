@@ -10,6 +10,7 @@
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/replay_window.hpp"
 #include "core/app/runtime/firmware.hpp"
+#include "core/app/runtime/task_ports.hpp"
 #include "core/app/shm/shared_segment.hpp"
 #include "core/app/sim/run_scenario.hpp"
 #include "core/app/tasks/error_joints_worker.hpp"
@@ -53,6 +54,8 @@ struct TaskSet {
   JointEventPrinter* joint_event_printer;  // printed by the joint manager's logger
   // The error-joints file's writer: a normal-priority thread of the joint manager's process.
   ErrorJointsStorageWorker* storage_worker;
+  // Every task's ports (task_ports.hpp): the task loops take theirs from here (TaskPorts::task_loop).
+  TaskPorts* ports;
 };
 
 // One instance in the whole program (g_run): its padding costs some bytes once, and the members stay in

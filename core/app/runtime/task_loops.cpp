@@ -68,14 +68,14 @@ int task_cpu(TaskId id) noexcept { return cpu_for(task_spec(id).cpu); }
 int task_priority(TaskId id) noexcept { return runner_priority(id); }
 
 // The EtherCAT handler stops on a signal to its own process or on the supervisor's word.
-bool stop_requested() noexcept { return stop_signal() != 0 || run().stop.load(std::memory_order_acquire); }
+bool stop_requested(const RunControl& run) noexcept { return stop_signal() != 0 || run.stop.load(std::memory_order_acquire); }
 
 // Heap allocations and page faults of a task after its init (run_control.hpp, TaskHealth): taken
 // when the task is past its set-up, reported in its slot at its end.
 class TaskHealthProbe {
  public:
-  explicit TaskHealthProbe(StatTask id) noexcept
-      : slot_(&run().health[static_cast<std::size_t>(id)]),
+  explicit TaskHealthProbe(TaskHealth& slot) noexcept
+      : slot_(&slot),
         heap_at_init_(heap_guard_counters().allocations),
         faults_at_init_(hal::page_faults_of_thread()) {
     slot_->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
@@ -96,11 +96,12 @@ class TaskHealthProbe {
 };
 
 // A task's timing (runtime/task_timing.hpp's TaskRecorder: histograms, late periods, live figures
-// for `ctl tasks`) and its page faults since its set-up, recorded when it ends.
+// for `ctl tasks` in its port `published`) and its page faults since its set-up, recorded when it ends.
 class TaskStats {
  public:
-  TaskStats(StatTask id, const char* name, int cpu, int priority) noexcept : recorder_(&task_timing()[id]) {
-    recorder_->start(links().task_stats[static_cast<std::size_t>(id)], name, cpu, priority, task_timing().ns_per_tick());
+  TaskStats(StatTask id, Seqlock<TaskStat>& published, const char* name, int cpu, int priority) noexcept
+      : recorder_(&task_timing()[id]) {
+    recorder_->start(published, name, cpu, priority, task_timing().ns_per_tick());
   }
   // One period: due at `due_ns`, begun at `woke_ns`, its work between two TSC readings.
   void period(hal::Nanoseconds due_ns, hal::Nanoseconds woke_ns, std::uint64_t tsc_before, std::uint64_t tsc_after,
@@ -119,143 +120,58 @@ class TaskStats {
 
 // A task's start, in this order: its real-time set-up from its row of the task table, its timing
 // slot, then its count in tasks_started (the run's init is complete once every task is past it).
-TaskStats start_task(const char* name, TaskId id, StatTask slot) noexcept {
+TaskStats start_task(const char* name, TaskId id, StatTask slot, const TaskLoopPorts& ports) noexcept {
   apply_task_rt(name, id);
-  TaskStats stats(slot, name, task_cpu(id), task_priority(id));
-  run().tasks_started.fetch_add(1, std::memory_order_release);
+  TaskStats stats(slot, *ports.stats, name, task_cpu(id), task_priority(id));
+  ports.run->tasks_started.fetch_add(1, std::memory_order_release);
   return stats;
 }
 
 // A periodic task's loop (period_schedule.hpp): missed periods skipped and counted, its heartbeat
-// published in its slot of TaskLinks::task_heartbeat_ns every period.
+// published through its port every period.
 template <typename Work>
 void run_periods(const std::atomic<bool>& stop, hal::Clock& clock, hal::Nanoseconds period,
-                 hal::Nanoseconds late_after, StatTask slot, TaskStats& stats, Work work) noexcept {
-  app::run_periods(stop, clock, task_timing().timer, period, late_after, stats,
-                   links().task_heartbeat_ns[static_cast<std::size_t>(slot)], work);
+                 hal::Nanoseconds late_after, const TaskLoopPorts& ports, TaskStats& stats, Work work) noexcept {
+  app::run_periods(stop, clock, task_timing().timer, period, late_after, stats, *ports.heartbeat_ns, work);
 }
 
 // A queue's drop counter in the segment (run_control.hpp), written by the task at its producing end:
 // what this process's object counted since it last published (a restarted task process adds its own).
 // NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): one writer per entry, the producing task
 std::array<std::uint64_t, kDropCounters> g_drops_published{};
-void publish_drops(DropCounter which, std::uint64_t count) noexcept {
+void publish_drops(RunControl& run, DropCounter which, std::uint64_t count) noexcept {
   const auto i = static_cast<std::size_t>(which);
   if (count == g_drops_published[i]) return;
-  run().dropped[i].fetch_add(count - g_drops_published[i], std::memory_order_relaxed);
+  run.dropped[i].fetch_add(count - g_drops_published[i], std::memory_order_relaxed);
   g_drops_published[i] = count;
 }
 
-void publish_handler_drops(EthercatHandler& handler) noexcept {
+void publish_handler_drops(RunControl& run, EthercatHandler& handler) noexcept {
   const ecat::Master& master = handler.bus().master();
-  publish_drops(DropCounter::events_dropped, handler.events_dropped());
-  publish_drops(DropCounter::reports_dropped, master.monitor().reports_dropped());
-  publish_drops(DropCounter::warnings_dropped, master.diagnostics().warnings_dropped());
-  publish_drops(DropCounter::capture_frames_dropped, g_run.capture_queue.stats().frames_dropped);
-  publish_drops(DropCounter::power_cycle_reports_dropped, handler.power_cycle_reports_dropped());
-}
-
-std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
-
-// The link-quality counters for `ctl diag`, published once per completed round-robin sweep (every
-// 23 reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB.
-// A reset (ctl diag --reset) publishes the zeroed table at once.
-void publish_link_diag(const ecat::LinkDiagnostics& d, std::uint64_t cycle, std::uint64_t& published_sweeps,
-                       std::uint64_t& published_resets) noexcept {
-  if (d.sweeps() == published_sweeps && d.resets() == published_resets) return;
-  published_sweeps = d.sweeps();
-  published_resets = d.resets();
-  protocol::DiagPayload out{};
-  out.cycle = cycle;
-  out.sweeps = d.sweeps();
-  out.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
-  static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one diag message");
-  static_assert(ecat::kEscPorts == protocol::kDiagPorts, "one record per ESC port");
-  for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
-    const ecat::SlaveErrorCounters& c = d.counters(p);
-    protocol::DiagSlaveRecord& s = out.slaves[p];
-    for (unsigned n = 0; n < ecat::kEscPorts; ++n) {
-      s.ports[n].invalid_frames = saturate16(c.ports[n].invalid_frames);
-      s.ports[n].rx_errors = saturate16(c.ports[n].rx_errors);
-      s.ports[n].forwarded_errors = saturate16(c.ports[n].forwarded_errors);
-      s.ports[n].lost_links = saturate16(c.ports[n].lost_links);
-      if (d.warned(p, n)) s.warned = static_cast<std::uint8_t>(s.warned | (1U << n));
-      if (d.ever_warned(p, n)) s.warned_before = static_cast<std::uint8_t>(s.warned_before | (1U << n));
-    }
-    s.processing_unit_errors = saturate16(c.processing_unit_errors);
-    s.pdi_errors = saturate16(c.pdi_errors);
-    s.reads = saturate16(c.reads);
-  }
-  links().link_diag.write(out);
-}
-
-// ctl diag --reset: a request the socket handler posted (TaskLinks::diag_reset) is taken here, once
-// per period, by one atomic load: the master zeroes those slaves' counters (and clears their ESCs'
-// in the next frames), the zeroed table is published, then the request is marked done.
-void take_diag_reset(ecat::Master& master, std::uint64_t cycle, std::uint64_t& published_sweeps,
-                     std::uint64_t& published_resets) noexcept {
-  DiagResetLink& link = links().diag_reset;
-  const std::uint64_t word = link.requested.load(std::memory_order_acquire);
-  const std::uint64_t generation = DiagResetLink::generation_of(word);
-  if (generation == 0 || generation == link.done.load(std::memory_order_relaxed)) return;
-  master.reset_diagnostics(DiagResetLink::slaves_of(word));
-  publish_link_diag(master.diagnostics(), cycle, published_sweeps, published_resets);
-  link.done.store(generation, std::memory_order_release);
-}
-
-// ctl slaves -v: each slave's SII identity (bring-up) and the AL status and code the master read
-// last, published when one of them changed (never per period: the copy is ~700 bytes).
-void publish_slave_info(const ecat::Master& master, std::uint64_t cycle, protocol::SlaveInfoTable& published) noexcept {
-  constexpr std::size_t kCount = drivers::kRobotNetworkPlan.size();
-  static_assert(kCount <= protocol::kMaxSlaves, "every slave fits one slave_info message");
-  bool changed = published.cycle == 0;
-  for (std::size_t p = 0; p < kCount && !changed; ++p) {
-    const protocol::SlaveInfoRecord& r = published.slaves[p];
-    changed = r.al_status != master.last_al_status(p) || r.al_status_code != master.last_al_status_code(p) ||
-              ((r.flags & protocol::kSlaveInfoAlRead) != 0) != master.al_status_read(p);
-  }
-  if (!changed) return;
-  published.cycle = cycle == 0 ? 1 : cycle;
-  published.count = static_cast<std::uint8_t>(kCount);
-  for (std::size_t p = 0; p < kCount; ++p) {
-    protocol::SlaveInfoRecord& r = published.slaves[p];
-    r = protocol::SlaveInfoRecord{};
-    r.position = static_cast<std::uint16_t>(p);
-    r.station = drivers::kRobotNetworkPlan[p].station_address;
-    if (const ecat::FoundSlave* id = master.identity(p); id != nullptr) {
-      r.vendor_id = id->vendor_id;
-      r.product_code = id->product_code;
-      r.revision = id->revision;
-      r.serial_number = id->serial_number;
-      r.flags |= protocol::kSlaveInfoIdentity;
-    }
-    r.al_status = master.last_al_status(p);
-    r.al_status_code = master.last_al_status_code(p);
-    if (master.al_status_read(p)) r.flags |= protocol::kSlaveInfoAlRead;
-  }
-  links().slave_info.write(published);
+  publish_drops(run, DropCounter::events_dropped, handler.events_dropped());
+  publish_drops(run, DropCounter::reports_dropped, master.monitor().reports_dropped());
+  publish_drops(run, DropCounter::warnings_dropped, master.diagnostics().warnings_dropped());
+  publish_drops(run, DropCounter::capture_frames_dropped, g_run.capture_queue.stats().frames_dropped);
+  publish_drops(run, DropCounter::power_cycle_reports_dropped, handler.power_cycle_reports_dropped());
 }
 
 // The rescue RC task (task 0) published that its rescue motion reached its end.
-bool rescue_motion_done() noexcept {
+bool rescue_motion_done(const Seqlock<RcTaskState>& rescue_state) noexcept {
   RcTaskState rescue{};
-  return links().motion.task_state[0].try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(kin::RescuePhase::done);
+  return rescue_state.try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(kin::RescuePhase::done);
 }
 
-void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  TaskStats stats = start_task("ethercat", TaskId::ethercat_handler, StatTask::ethercat_handler);
-  TaskHealthProbe health(StatTask::ethercat_handler);
+void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
+                  const TaskLoopPorts& ports) noexcept {
+  RunControl& state = *ports.run;
+  TaskStats stats = start_task("ethercat", TaskId::ethercat_handler, StatTask::ethercat_handler, ports);
+  TaskHealthProbe health(*ports.health);
   drivers::JointBus& bus = handler.bus();
   const hal::Nanoseconds started = clock.now();
   hal::Nanoseconds stop_at = options.duration > 0 ? started + options.duration : -1;
   hal::Nanoseconds stopping_since = -1;
   TaskTiming& timing = task_timing();
-  MasterStatus master{};
-  std::uint64_t diag_sweeps = 0;
-  std::uint64_t diag_resets = 0;
-  protocol::SlaveInfoTable slave_info{};
-  std::atomic<std::int64_t>& heartbeat = links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
+  std::atomic<std::int64_t>& heartbeat = *ports.heartbeat_ns;
   // Periods count from the handler's first period: the time since the bring-up (forking the tasks)
   // is start-up, not periods missed (period_schedule.hpp).
   bus.master().realign_schedule();
@@ -279,34 +195,14 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       stats.skipped(skipped_total - skipped_seen);
       skipped_seen = skipped_total;
     }
-    master.state = static_cast<std::uint8_t>(r.state);
-    master.cycles = r.cycle;
-    master.frames_sent = r.cycle;
-    master.frames_lost = handler.frames_missing();
     // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
     // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
-    master.late_periods = stats.missed();
-    const std::int64_t dc_error = bus.last_cycle().dc_phase_error;  // the master's own figure
-    master.dc_deviation_ns = dc_error;
-    const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
-    if (abs_dc > master.dc_max_deviation_ns) master.dc_max_deviation_ns = abs_dc;
-    master.in_exchange = bus.master().monitor().in_exchange();
-    master.lost = bus.master().monitor().lost();
-    static_assert(protocol::kMaxSlaves <= ecat::kMaxSlaves, "every published slave is one of the master's");
-    for (std::size_t p = 0; p < protocol::kMaxSlaves; ++p) {
-      const ecat::Master& m = bus.master();
-      master.recovery[p] = static_cast<std::uint8_t>(m.recovery_state(p));
-      const hal::Nanoseconds changed = m.recovery_changed_at(p);
-      const hal::Nanoseconds age_ms = changed > 0 && now >= changed ? (now - changed) / hal::kNsPerMs : -1;
-      master.recovery_age_ms[p] = age_ms < 0 || age_ms >= protocol::kRecoveryAgeNever ? protocol::kRecoveryAgeNever : static_cast<std::uint32_t>(age_ms);
-    }
-    links().master_status.write(master);
-    publish_link_diag(bus.master().diagnostics(), r.cycle, diag_sweeps, diag_resets);
-    take_diag_reset(bus.master(), r.cycle, diag_sweeps, diag_resets);
-    publish_slave_info(bus.master(), r.cycle, slave_info);
-    publish_handler_drops(handler);
+    const std::uint64_t late_periods = stats.missed();
+    // ctl master, ctl diag (and its reset), ctl slaves -v: through the handler's ports.
+    handler.publish_figures(r, now, late_periods);
+    publish_handler_drops(state, handler);
     state.cycles.store(r.cycle, std::memory_order_relaxed);
-    state.late_periods.store(master.late_periods, std::memory_order_relaxed);
+    state.late_periods.store(late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
     if (op && !state.op.load(std::memory_order_relaxed)) {
       state.op_at.store(now, std::memory_order_relaxed);
@@ -321,11 +217,11 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     // The rescue scenario ends once the rescue motion reached its end (run_on only bounds it): a
     // slow host stretches the motion in wall time, and that must not fail the run.
     if (options.duration == 0 && options.scenario.rescue_motion && stopping_since < 0 &&
-        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_done()) {
+        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_done(*ports.rescue_state)) {
       const hal::Nanoseconds settled = now + kRescueSettle;
       if (settled < stop_at) stop_at = settled;
     }
-    if (stopping_since < 0 && (stop_requested() || (stop_at >= 0 && now >= stop_at))) {
+    if (stopping_since < 0 && (stop_requested(state) || (stop_at >= 0 && now >= stop_at))) {
       handler.stop_drives();
       stopping_since = now;
     }
@@ -347,23 +243,22 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   state.handler_done.store(true, std::memory_order_release);
 }
 
-void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  TaskStats stats = start_task("joint-manager", TaskId::joint_manager, StatTask::joint_manager);
-  TaskHealthProbe health(StatTask::joint_manager);
-  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, StatTask::joint_manager, stats,
-              [&manager](hal::Nanoseconds start) noexcept {
+void joint_manager_task(JointManager& manager, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
+  RunControl& state = *ports.run;
+  TaskStats stats = start_task("joint-manager", TaskId::joint_manager, StatTask::joint_manager, ports);
+  TaskHealthProbe health(*ports.health);
+  // Each step publishes the joints' status through the joint manager's port (JointManagerPorts::joint_status).
+  run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, ports, stats,
+              [&manager, &state](hal::Nanoseconds start) noexcept {
                 manager.step(start);
-                links().joint_status.write(published_status(manager.statuses()));
-                publish_drops(DropCounter::joint_events_dropped, g_run.tasks.joint_events->dropped());
-                publish_drops(DropCounter::outcomes_deferred, manager.outcomes_deferred());
+                publish_drops(state, DropCounter::joint_events_dropped, g_run.tasks.joint_events->dropped());
+                publish_drops(state, DropCounter::outcomes_deferred, manager.outcomes_deferred());
               });
   // The last answers and marks. The periods are over: a write of the file still in flight (or failing)
   // is waited for here, within kFileDrainLimit, so the run's end says whether the file is current.
   const hal::Nanoseconds drain_until = clock.now() + kFileDrainLimit;
   for (;;) {
     manager.step(clock.now());
-    links().joint_status.write(published_status(manager.statuses()));
     if (!manager.file_dirty() || clock.now() >= drain_until) break;
     clock.sleep_until(clock.now() + kJointManagerPeriod);
   }
@@ -379,38 +274,38 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock) noexcept {
 
 // An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
 // heartbeats and reference times the handler's motion intake compares with its own).
-void rc_task(RcTask& task, hal::Clock& clock) noexcept {
-  const RunControl& state = run();
+void rc_task(RcTask& task, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
+  const RunControl& state = *ports.run;
   const bool rescue = task.id() == RcTaskId::rescue;
   const char* name = rescue ? "rc-rescue" : "rc-teleop";
   const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
-  TaskStats stats = start_task(name, TaskId::rc_tasks, slot);
-  TaskHealthProbe health(slot);
-  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, slot, stats,
+  TaskStats stats = start_task(name, TaskId::rc_tasks, slot, ports);
+  TaskHealthProbe health(*ports.health);
+  run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, ports, stats,
               [&task](hal::Nanoseconds start) noexcept { task.period(start); });
   stats.publish();
   health.report();
 }
 
 // The message parser: requests -> joint handle queue (its only producer), RC-task inputs.
-void parser_task(MessageParser& parser, hal::Clock& clock) noexcept {
-  const RunControl& state = run();
-  TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser);
-  TaskHealthProbe health(StatTask::message_parser);
-  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, StatTask::message_parser, stats,
-              [&parser](hal::Nanoseconds start) noexcept {
+void parser_task(MessageParser& parser, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
+  RunControl& state = *ports.run;
+  TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser, ports);
+  TaskHealthProbe health(*ports.health);
+  run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, ports, stats,
+              [&parser, &state](hal::Nanoseconds start) noexcept {
                 parser.step(start);
-                publish_drops(DropCounter::replies_dropped, parser.replies_dropped());
+                publish_drops(state, DropCounter::replies_dropped, parser.replies_dropped());
               });
   stats.publish();
   health.report();
 }
 
 // The socket handler: waits on both ports (bounded), then a bounded batch per wake-up.
-void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
-  RunControl& state = run();
-  TaskStats stats = start_task("socket-handler", TaskId::socket_handler, StatTask::socket_handler);
-  TaskHealthProbe health(StatTask::socket_handler);
+void socket_task(SocketHandler& socket, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
+  RunControl& state = *ports.run;
+  TaskStats stats = start_task("socket-handler", TaskId::socket_handler, StatTask::socket_handler, ports);
+  TaskHealthProbe health(*ports.health);
   const hal::TscTimer& timer = task_timing().timer;
   while (!state.operator_stop.load(std::memory_order_acquire)) {
     socket.wait(kSocketWaitMs);
@@ -418,8 +313,8 @@ void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
     const std::uint64_t work_start = timer.start();
     socket.step(start);
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
-    links().task_heartbeat_ns[static_cast<std::size_t>(StatTask::socket_handler)].store(clock.now(), std::memory_order_release);
-    publish_drops(DropCounter::requests_dropped, socket.counters().forwarded_dropped);
+    ports.heartbeat_ns->store(clock.now(), std::memory_order_release);
+    publish_drops(state, DropCounter::requests_dropped, socket.counters().forwarded_dropped);
   }
   // A restarted socket handler keeps its predecessors' maximum.
   std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);
@@ -432,14 +327,22 @@ void socket_task(SocketHandler& socket, hal::Clock& clock) noexcept {
 
 }  // namespace
 
+// The port wiring: each loop is given its ports (TaskPorts::task_loop); its object has its own.
 void run_handler() noexcept {
-  handler_task(*g_run.tasks.handler, *g_run.tasks.scenario, *g_run.tasks.options, *g_run.tasks.clock);
+  handler_task(*g_run.tasks.handler, *g_run.tasks.scenario, *g_run.tasks.options, *g_run.tasks.clock,
+               g_run.tasks.ports->task_loop(StatTask::ethercat_handler));
 }
-void run_manager() noexcept { joint_manager_task(*g_run.tasks.manager, *g_run.tasks.clock); }
-void run_parser() noexcept { parser_task(*g_run.tasks.parser, *g_run.tasks.operator_clock); }
-void run_socket() noexcept { socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock); }
-void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock); }
-void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock); }
+void run_manager() noexcept {
+  joint_manager_task(*g_run.tasks.manager, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::joint_manager));
+}
+void run_parser() noexcept {
+  parser_task(*g_run.tasks.parser, *g_run.tasks.operator_clock, g_run.tasks.ports->task_loop(StatTask::message_parser));
+}
+void run_socket() noexcept {
+  socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock, g_run.tasks.ports->task_loop(StatTask::socket_handler));
+}
+void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_rescue)); }
+void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_teleop)); }
 
 void run_storage_worker() noexcept {
   ErrorJointsStorageWorker& worker = *g_run.tasks.storage_worker;

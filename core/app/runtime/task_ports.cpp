@@ -59,6 +59,10 @@ EthercatHandlerPorts TaskPorts::ethercat_handler() noexcept {
   p.motion = motion_intake_ports(links_);
   p.sdo_requests = &handler_sdo_requests_;
   p.sdo_results = &handler_sdo_results_;
+  p.master_status = &links_.master_status;
+  p.link_diag = &links_.link_diag;
+  p.slave_info = &links_.slave_info;
+  p.diag_reset = &links_.diag_reset;
   return p;
 }
 
@@ -104,6 +108,7 @@ JointManagerPorts TaskPorts::joint_manager(ErrorJointsStorage& storage, hal::Wal
   p.samples = &manager_samples_;
   p.demand = &manager_demand_;
   p.outcomes = &manager_outcomes_;
+  p.joint_status = &links_.joint_status;
   return p;
 }
 
@@ -126,6 +131,17 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.rc_heartbeat_ns = &links_.rc_heartbeat_ns;
   p.sdo_requests = &socket_sdo_requests_;
   p.sdo_results = &socket_sdo_results_;
+  return p;
+}
+
+TaskLoopPorts TaskPorts::task_loop(StatTask slot) noexcept {
+  const auto k = static_cast<std::size_t>(slot);
+  TaskLoopPorts p;
+  p.heartbeat_ns = &links_.task_heartbeat_ns[k];
+  p.stats = &links_.task_stats[k];
+  p.health = &links_.run.health[k];
+  p.run = &links_.run;
+  if (slot == StatTask::ethercat_handler) p.rescue_state = &links_.motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)];
   return p;
 }
 

@@ -31,6 +31,20 @@ namespace rescue::app {
 // only, nothing to own.
 MotionIntakePorts motion_intake_ports(TaskLinks& links) noexcept;
 
+// What a task's period loop (runtime/task_loops.cpp) reaches around its object, for every task: its
+// heartbeat (the supervisor's liveness watch, the socket handler's age of figures), its timing for
+// ctl tasks, its health slot, and the run's coordination (start and stop words, drop counters,
+// end-of-run figures, run_control.hpp).
+struct TaskLoopPorts {
+  std::atomic<std::int64_t>* heartbeat_ns{nullptr};  // its slot of TaskLinks::task_heartbeat_ns
+  Seqlock<TaskStat>* stats{nullptr};                 // its slot of TaskLinks::task_stats
+  TaskHealth* health{nullptr};                       // its slot of RunControl::health
+  RunControl* run{nullptr};
+  // The EtherCAT handler's loop only (null for the others): the rescue RC task's state, whose
+  // motion's end ends a rescue scenario.
+  const Seqlock<RcTaskState>* rescue_state{nullptr};
+};
+
 class TaskPorts {
  public:
   explicit TaskPorts(TaskLinks& links) noexcept;
@@ -53,6 +67,8 @@ class TaskPorts {
   // What the socket handler reaches of TaskLinks; stale_after, rc_tasks and version (the run's
   // settings, not shared state) are the caller's to add.
   SocketHandlerPorts socket_handler() noexcept;
+  // The period loop's ports of the task that publishes its timing in `slot`.
+  TaskLoopPorts task_loop(StatTask slot) noexcept;
 
  private:
   template <typename T, std::size_t N>

@@ -113,8 +113,7 @@ int socket_process(void* /*context*/, unsigned incarnation) noexcept {
   // from the counters its predecessor published.
   if (incarnation > 0) {
     g_run.tasks.replay->begin_epoch(protocol::new_epoch());
-    SocketCounters published{};
-    if (links().socket_counters.try_read(published)) g_run.tasks.socket->resume_counters(published);
+    g_run.tasks.socket->resume_counters();
   }
   return task_process("socket-handler", "socket-handler", run_socket, nullptr);
 }

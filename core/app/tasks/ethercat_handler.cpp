@@ -2,6 +2,7 @@
 
 #include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_units.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
 
 namespace rescue::app {
 namespace {
@@ -9,6 +10,8 @@ namespace {
 // CiA 402 statusword: voltage enabled (bit 4) / operation enabled (bit 2) tell a powered stage.
 constexpr std::uint16_t kSwOperationEnabled = 0x0004;
 constexpr std::uint16_t kSwSwitchedOn = 0x0002;
+
+std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
 
 }  // namespace
 
@@ -246,6 +249,127 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
   sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
   return result;
+}
+
+void EthercatHandler::publish_figures(const drivers::JointCycleResult& result, hal::Nanoseconds now,
+                                      std::uint64_t late_periods) noexcept {
+  publish_master_status(result, now, late_periods);
+  publish_link_diag(result.cycle);
+  take_diag_reset(result.cycle);
+  publish_slave_info(result.cycle);
+}
+
+// ctl master: the master's counters, every period.
+void EthercatHandler::publish_master_status(const drivers::JointCycleResult& result, hal::Nanoseconds now,
+                                            std::uint64_t late_periods) noexcept {
+  if (ports_.master_status == nullptr) return;
+  const ecat::Master& m = bus_.master();
+  MasterStatus& s = master_status_;
+  s.state = static_cast<std::uint8_t>(result.state);
+  s.cycles = result.cycle;
+  s.frames_sent = result.cycle;
+  s.frames_lost = frames_missing_;
+  // Late periods: cycles that started more than 0.5 ms after their period began, plus periods
+  // that had no cycle at all (skipped to keep the phase after an overrun or a late wake-up).
+  s.late_periods = late_periods;
+  const std::int64_t dc_error = bus_.last_cycle().dc_phase_error;  // the master's own figure
+  s.dc_deviation_ns = dc_error;
+  const std::int64_t abs_dc = dc_error < 0 ? -dc_error : dc_error;
+  if (abs_dc > s.dc_max_deviation_ns) s.dc_max_deviation_ns = abs_dc;
+  s.in_exchange = m.monitor().in_exchange();
+  s.lost = m.monitor().lost();
+  static_assert(protocol::kMaxSlaves <= ecat::kMaxSlaves, "every published slave is one of the master's");
+  for (std::size_t p = 0; p < protocol::kMaxSlaves; ++p) {
+    s.recovery[p] = static_cast<std::uint8_t>(m.recovery_state(p));
+    const hal::Nanoseconds changed = m.recovery_changed_at(p);
+    const hal::Nanoseconds age_ms = changed > 0 && now >= changed ? (now - changed) / hal::kNsPerMs : -1;
+    s.recovery_age_ms[p] = age_ms < 0 || age_ms >= protocol::kRecoveryAgeNever ? protocol::kRecoveryAgeNever
+                                                                                : static_cast<std::uint32_t>(age_ms);
+  }
+  ports_.master_status->write(s);
+}
+
+// ctl diag: the link-quality counters, published once per completed round-robin sweep (every 23
+// reads, i.e. diag_interval_cycles x 23 periods), never per period: the copy is ~1 KiB. A reset
+// (ctl diag --reset) publishes the zeroed table at once.
+void EthercatHandler::publish_link_diag(std::uint64_t cycle) noexcept {
+  if (ports_.link_diag == nullptr) return;
+  const ecat::LinkDiagnostics& d = bus_.master().diagnostics();
+  if (d.sweeps() == diag_sweeps_published_ && d.resets() == diag_resets_published_) return;
+  diag_sweeps_published_ = d.sweeps();
+  diag_resets_published_ = d.resets();
+  protocol::DiagPayload out{};
+  out.cycle = cycle;
+  out.sweeps = d.sweeps();
+  out.count = static_cast<std::uint8_t>(drivers::kRobotNetworkPlan.size());
+  static_assert(drivers::kRobotNetworkPlan.size() <= protocol::kMaxSlaves, "every slave fits one diag message");
+  static_assert(ecat::kEscPorts == protocol::kDiagPorts, "one record per ESC port");
+  for (std::size_t p = 0; p < drivers::kRobotNetworkPlan.size(); ++p) {
+    const ecat::SlaveErrorCounters& c = d.counters(p);
+    protocol::DiagSlaveRecord& s = out.slaves[p];
+    for (unsigned n = 0; n < ecat::kEscPorts; ++n) {
+      s.ports[n].invalid_frames = saturate16(c.ports[n].invalid_frames);
+      s.ports[n].rx_errors = saturate16(c.ports[n].rx_errors);
+      s.ports[n].forwarded_errors = saturate16(c.ports[n].forwarded_errors);
+      s.ports[n].lost_links = saturate16(c.ports[n].lost_links);
+      if (d.warned(p, n)) s.warned = static_cast<std::uint8_t>(s.warned | (1U << n));
+      if (d.ever_warned(p, n)) s.warned_before = static_cast<std::uint8_t>(s.warned_before | (1U << n));
+    }
+    s.processing_unit_errors = saturate16(c.processing_unit_errors);
+    s.pdi_errors = saturate16(c.pdi_errors);
+    s.reads = saturate16(c.reads);
+  }
+  ports_.link_diag->write(out);
+}
+
+// ctl diag --reset: a request the socket handler posted (DiagResetLink) is taken here, once per
+// period, by one atomic load: the master zeroes those slaves' counters (and clears their ESCs' in
+// the next frames), the zeroed table is published, then the request is marked done.
+void EthercatHandler::take_diag_reset(std::uint64_t cycle) noexcept {
+  if (ports_.diag_reset == nullptr) return;
+  DiagResetLink& link = *ports_.diag_reset;
+  const std::uint64_t word = link.requested.load(std::memory_order_acquire);
+  const std::uint64_t generation = DiagResetLink::generation_of(word);
+  if (generation == 0 || generation == link.done.load(std::memory_order_relaxed)) return;
+  bus_.master().reset_diagnostics(DiagResetLink::slaves_of(word));
+  publish_link_diag(cycle);
+  link.done.store(generation, std::memory_order_release);
+}
+
+// ctl slaves -v: each slave's SII identity (bring-up) and the AL status and code the master read
+// last, published when one of them changed (never per period: the copy is ~700 bytes).
+void EthercatHandler::publish_slave_info(std::uint64_t cycle) noexcept {
+  if (ports_.slave_info == nullptr) return;
+  const ecat::Master& master = bus_.master();
+  protocol::SlaveInfoTable& published = slave_info_;
+  constexpr std::size_t kCount = drivers::kRobotNetworkPlan.size();
+  static_assert(kCount <= protocol::kMaxSlaves, "every slave fits one slave_info message");
+  bool changed = published.cycle == 0;
+  for (std::size_t p = 0; p < kCount && !changed; ++p) {
+    const protocol::SlaveInfoRecord& r = published.slaves[p];
+    changed = r.al_status != master.last_al_status(p) || r.al_status_code != master.last_al_status_code(p) ||
+              ((r.flags & protocol::kSlaveInfoAlRead) != 0) != master.al_status_read(p);
+  }
+  if (!changed) return;
+  published.cycle = cycle == 0 ? 1 : cycle;
+  published.count = static_cast<std::uint8_t>(kCount);
+  for (std::size_t p = 0; p < kCount; ++p) {
+    protocol::SlaveInfoRecord& r = published.slaves[p];
+    r = protocol::SlaveInfoRecord{};
+    r.position = static_cast<std::uint16_t>(p);
+    r.station = drivers::kRobotNetworkPlan[p].station_address;
+    if (const ecat::FoundSlave* id = master.identity(p); id != nullptr) {
+      r.vendor_id = id->vendor_id;
+      r.product_code = id->product_code;
+      r.revision = id->revision;
+      r.serial_number = id->serial_number;
+      r.flags |= protocol::kSlaveInfoIdentity;
+    }
+    r.al_status = master.last_al_status(p);
+    r.al_status_code = master.last_al_status_code(p);
+    if (master.al_status_read(p)) r.flags |= protocol::kSlaveInfoAlRead;
+  }
+  ports_.slave_info->write(published);
 }
 
 }  // namespace rescue::app

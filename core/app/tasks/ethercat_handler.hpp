@@ -15,12 +15,15 @@
 //   6. queues what happened (HandlerEvent) for a lower-priority logger to print;
 //   7. relays the operator's SDO transfers (ctl upload/download) to the master's cyclic mailbox
 //      channel and answers them (SdoRelay, core/app/tasks/sdo_relay.hpp).
+// After each cycle its loop calls publish_figures(): the master's figures for the operator (ctl
+// master, ctl diag and its reset, ctl slaves -v), each through its port.
 // No heap, no locks, no syscalls but the NIC's; bounded work.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/tasks/motion_intake.hpp"
@@ -66,6 +69,14 @@ struct EthercatHandlerPorts {
   // ctl upload/download from the socket handler, and their answers (both null: no SDO relay).
   MessageSource<SdoLinkRequest>* sdo_requests{nullptr};
   MessageSink<SdoLinkResult>* sdo_results{nullptr};
+  // The master's figures for the operator, written by publish_figures() (null: not published): its
+  // counters every period (ctl master), the link-quality table once per diagnostics sweep (ctl
+  // diag), each slave's identity and AL status when one changed (ctl slaves -v), and the socket
+  // handler's ctl diag --reset request, polled once per period and marked done.
+  Seqlock<MasterStatus>* master_status{nullptr};
+  Seqlock<protocol::DiagPayload>* link_diag{nullptr};
+  Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};
+  DiagResetLink* diag_reset{nullptr};
 };
 
 class EthercatHandler {
@@ -79,6 +90,11 @@ class EthercatHandler {
 
   // One period; call at bus().next_wakeup() once the bus is up.
   drivers::JointCycleResult cycle() noexcept;
+
+  // After cycle() returned `result` at `now`: publishes the master's figures through their ports
+  // (those that are null are skipped). `late_periods`: the loop's count of late and skipped periods,
+  // the handler's missed periods in ctl master. Bounded; the two large records only when they changed.
+  void publish_figures(const drivers::JointCycleResult& result, hal::Nanoseconds now, std::uint64_t late_periods) noexcept;
 
   // Shutdown: from now on every drive is driven to a disabled power stage.
   void stop_drives() noexcept { stopping_ = true; }
@@ -111,6 +127,10 @@ class EthercatHandler {
   void build_outputs() noexcept;
   void publish_sample(const drivers::JointCycleResult& result) noexcept;
   void post(const HandlerEvent& event) noexcept;
+  void publish_master_status(const drivers::JointCycleResult& result, hal::Nanoseconds now, std::uint64_t late_periods) noexcept;
+  void publish_link_diag(std::uint64_t cycle) noexcept;
+  void take_diag_reset(std::uint64_t cycle) noexcept;
+  void publish_slave_info(std::uint64_t cycle) noexcept;
 
   // Largest and most aligned first (the event queue's indices sit on cache lines of their own).
   SpscQueue<HandlerEvent, kEventQueueDepth> events_;
@@ -124,6 +144,12 @@ class EthercatHandler {
   drivers::JointFeedback feedback_{};
   RobotSample sample_{};
   RobotDemand demand_{};
+  // What publish_figures() published last: the master's counters (its DC maximum carries over), the
+  // slave table (compared each period), the diagnostics sweep and reset it published the table at.
+  MasterStatus master_status_{};
+  protocol::SlaveInfoTable slave_info_{};
+  std::uint64_t diag_sweeps_published_{0};
+  std::uint64_t diag_resets_published_{0};
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP
   std::uint64_t events_dropped_{0};
   std::uint64_t owners_released_after_watchdog_{0};

@@ -165,6 +165,7 @@ void JointManager::step(hal::Nanoseconds now) noexcept {
   collect_file_results(now);  // a write already durable is answered in this period
   monitor(now);
   publish();
+  if (ports_.joint_status != nullptr) ports_.joint_status->write(published_status(status_));
 }
 
 double JointManager::offset_from_held(std::size_t j) const noexcept {

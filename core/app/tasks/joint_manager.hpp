@@ -23,7 +23,7 @@
 //      failed write: at most once per kWriteRetryPeriod), and take an outcome that is already there;
 //   7. limit monitoring: drive fault, actual position/velocity/torque, and for Enabled joints the
 //      commanded values -> `fault` with the reason recorded;
-//   8. publish each joint's status (statuses()) for the shared memory.
+//   8. publish each joint's status (statuses(); through its port joint_status) and its drive demand.
 // Bounded: at most kMaxReportsPerStep reports and kMaxCommandsPerStep commands per step. No heap.
 #pragma once
 
@@ -39,6 +39,7 @@
 #include "core/containers/fixed_vector.hpp"
 #include "core/robot/joint_limits.hpp"
 #include "core/concurrency/message_port.hpp"
+#include "core/concurrency/seqlock.hpp"
 #include "core/app/links/joint_demand_sink.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
 #include "hal/time/clock.hpp"
@@ -59,6 +60,9 @@ struct JointManagerPorts {
   // The storage worker (error_joints_worker.hpp): the file's new contents out, the write's outcome back.
   MessageSink<ErrorJointsSaveRequest>* save_requests{nullptr};
   MessageSource<ErrorJointsSaveResult>* save_results{nullptr};
+  // Each joint's status (published_status(statuses())), after every step (nullptr: not published):
+  // the socket handler's, the message parser's and the RC tasks'.
+  Seqlock<RobotJointStatus>* joint_status{nullptr};
 };
 
 // JointStatus, what it publishes per joint, is in core/app/links/joint_messages.hpp.

@@ -105,8 +105,11 @@ class SocketHandler {
 
   const SocketCounters& counters() const noexcept { return counters_; }
   // A restarted socket handler (a new process, docs/tasks.md) counts on from its predecessor's
-  // published counters instead of from zero.
-  void resume_counters(const SocketCounters& published) noexcept { counters_ = published; }
+  // counters, read from its port `counters`, instead of from zero (none published: from zero).
+  void resume_counters() noexcept {
+    SocketCounters published{};
+    if (ports_.counters != nullptr && ports_.counters->try_read(published)) counters_ = published;
+  }
   // The most datagrams handled in one wake-up so far (never above kBudget).
   std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
 

@@ -81,6 +81,7 @@ Status SimulatedSegment::build(Span<const SegmentSlave> slaves, hal::Nanoseconds
   }
   counters_ = SegmentCounters{};
   drop_pending_ = 0;
+  delay_pending_ = 0;
   port_corrupt_pending_ = {};
   corrupt_pending_ = 0;
   update_links();
@@ -223,6 +224,11 @@ Result<FrameOutcome> SimulatedSegment::process(ByteSpan frame, hal::Nanoseconds 
   }
   const std::size_t wire_bytes = std::max(frame.size(), ecat::kMinFrameSize) + kWireOverheadBytes;
   outcome.returned = true;
+  if (delay_pending_ > 0) {
+    --delay_pending_;
+    ++counters_.delayed_by_fault;
+    outcome.first_bit_back += delay_;
+  }
   outcome.last_bit_back = outcome.first_bit_back + static_cast<hal::Nanoseconds>(wire_bytes) * kNsPerByte;
   ++counters_.returned;
   return outcome;

@@ -64,6 +64,7 @@ struct SegmentCounters {
   std::uint64_t lost_malformed{0};      // a datagram ran past the frame's end
   std::uint64_t dropped_by_fault{0};
   std::uint64_t corrupted_by_fault{0};
+  std::uint64_t delayed_by_fault{0};    // returned late by delay_frames
   std::uint64_t lost_port_corruption{0};  // damaged on a cable (corrupt_port): broken FCS at the master
 };
 
@@ -133,6 +134,13 @@ class SimulatedSegment {
   // corruption the Ethernet FCS did not catch, for testing the master's own checks).
   void drop_frames(std::uint32_t count) noexcept { drop_pending_ = count; }
   void corrupt_frames(std::uint32_t count) noexcept { corrupt_pending_ = count; }
+  // The next `count` returned frames come back `delay` later than the segment's own timing (a host
+  // or NIC that held them: late, not lost; the slaves saw them on time). On the in-process NIC
+  // (SimulatedNic), whose receive honours FrameOutcome::last_bit_back; `sim --iface` has `stall MS`.
+  void delay_frames(std::uint32_t count, hal::Nanoseconds delay) noexcept {
+    delay_pending_ = count;
+    delay_ = delay;
+  }
   bool link_cut(std::size_t position) const noexcept { return position < count_ && cut_[position]; }
 
   // --- observation ---
@@ -162,6 +170,8 @@ class SimulatedSegment {
   std::array<hal::Nanoseconds, kMaxSegmentSlaves> arrival_{};
   std::size_t count_{0};
   std::uint32_t drop_pending_{0};
+  std::uint32_t delay_pending_{0};
+  hal::Nanoseconds delay_{0};
   std::uint32_t corrupt_pending_{0};
   std::uint64_t corrupt_sequence_{0};
   std::array<std::array<std::uint32_t, kMaxEscPorts>, kMaxSegmentSlaves> port_corrupt_pending_{};

@@ -1,12 +1,15 @@
 // TaskPorts (core/app/runtime/task_ports.hpp), where every task's ports are built: each queue's
 // producer end reaches its consumer's end, each RC task gets its own input queue, reference space,
 // state and heartbeat, the socket handler's SDO requests reach the EtherCAT handler and its answers
-// come back, and the seqlocks a task only reads are the ones the writer publishes.
+// come back, the seqlocks a task only reads are the ones the writer publishes (the handler's figures
+// for the operator, the joint manager's status), and each task's loop gets its own heartbeat, timing
+// and health slot.
 #include <gtest/gtest.h>
 
 #include <memory>
 
 #include "core/app/runtime/task_ports.hpp"
+#include "core/app/tasks/joint_manager.hpp"
 #include "hal/time/wall_clock.hpp"
 
 namespace rescue::app {
@@ -126,6 +129,55 @@ TEST(TaskPorts, TheSocketHandlerAndTheEthercatHandlerMeetOnTheSdoQueues) {
   SdoLinkResult result{};
   result.id = 7;
   EXPECT_EQ(through(handler.sdo_results, socket.sdo_results, result).id, 7U);
+}
+
+TEST(TaskPorts, TheHandlersFiguresAreTheOnesTheSocketHandlerAnswersFrom) {
+  Rig rig;
+  const EthercatHandlerPorts handler = rig.ports->ethercat_handler();
+  const SocketHandlerPorts socket = rig.ports->socket_handler();
+  EXPECT_EQ(handler.master_status, socket.master);
+  EXPECT_EQ(handler.link_diag, socket.diag);
+  EXPECT_EQ(handler.slave_info, socket.slave_info);
+  EXPECT_EQ(handler.diag_reset, socket.diag_reset);
+  EXPECT_EQ(handler.master_status, &rig.links->master_status);
+}
+
+TEST(TaskPorts, TheJointManagersStepPublishesTheStatusTheOtherTasksRead) {
+  Rig rig;
+  const JointManagerPorts ports = rig.ports->joint_manager(rig.storage, rig.wall, rig.events);
+  EXPECT_EQ(ports.joint_status, &rig.links->joint_status);
+  EXPECT_EQ(ports.joint_status, rig.ports->socket_handler().joint_status);
+  EXPECT_EQ(ports.joint_status, rig.ports->message_parser().joint_status);
+  EXPECT_EQ(ports.joint_status, rig.ports->rc_task(RcTaskId::rescue).joint_status);
+  auto manager = std::make_unique<JointManager>(ports);
+  RobotJointStatus status{};
+  for (PublishedJointStatus& s : status) s.held_position_rad = 99.0;  // not what a step publishes
+  rig.links->joint_status.write(status);
+  manager->step(0);
+  ASSERT_TRUE(rig.links->joint_status.try_read(status));
+  const RobotJointStatus expected = published_status(manager->statuses());
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    EXPECT_EQ(status[j].state, expected[j].state) << "joint " << j;
+    EXPECT_DOUBLE_EQ(status[j].held_position_rad, expected[j].held_position_rad) << "joint " << j;
+  }
+}
+
+TEST(TaskPorts, EachTaskLoopGetsItsOwnHeartbeatTimingAndHealthSlot) {
+  Rig rig;
+  for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
+    const auto slot = static_cast<StatTask>(k);
+    const TaskLoopPorts loop = rig.ports->task_loop(slot);
+    EXPECT_EQ(loop.heartbeat_ns, &rig.links->task_heartbeat_ns[k]);
+    EXPECT_EQ(loop.stats, &(*rig.ports->socket_handler().tasks)[k]) << "ctl tasks reads the slot the loop writes";
+    EXPECT_EQ(loop.health, &rig.links->run.health[k]);
+    EXPECT_EQ(loop.run, &rig.links->run);
+    if (slot == StatTask::ethercat_handler) {
+      EXPECT_EQ(loop.heartbeat_ns, rig.ports->socket_handler().handler_heartbeat);
+      EXPECT_EQ(loop.rescue_state, rig.ports->rc_task(RcTaskId::rescue).state) << "the rescue RC task's state";
+    } else {
+      EXPECT_EQ(loop.rescue_state, nullptr) << "only the handler's loop reads the rescue task's state";
+    }
+  }
 }
 
 TEST(TaskPorts, TheJointManagerAndItsStorageWorkerMeetOnTheirOwnQueues) {
