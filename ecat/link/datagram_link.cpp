@@ -121,4 +121,70 @@ Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t addr
   return last;
 }
 
+Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t address, ByteSpan data, unsigned count,
+                                           unsigned in_flight, hal::Nanoseconds timeout) noexcept {
+  if (data.size() > kMaxDatagramDataLength) return make_error(Errc::invalid_argument, "transfer too long");
+  const auto length = static_cast<std::uint16_t>(data.size());
+  const unsigned window = in_flight == 0 ? 1 : (in_flight > kMaxStreamInFlight ? kMaxStreamInFlight : in_flight);
+  // The frames on their way, oldest first: their index and when each was sent.
+  std::array<std::uint8_t, kMaxStreamInFlight> index_of{};
+  std::array<hal::Nanoseconds, kMaxStreamInFlight> sent_at{};
+  unsigned head = 0;
+  unsigned flying = 0;
+  unsigned sent = 0;
+  StreamOutcome outcome;
+  while (outcome.returned + outcome.lost < count) {
+    while (sent < count && flying < window) {
+      FrameBuilder& frame = begin();
+      const Result<DatagramSlot> slot =
+          frame.add(command, index_, address, length, writes_slave(command) ? ConstByteSpan(data) : ConstByteSpan{});
+      if (!slot.ok()) return slot.error();
+      const Status out = send_frame();
+      if (!out.ok()) return out.error();
+      const unsigned at = (head + flying) % kMaxStreamInFlight;
+      index_of[at] = index_;
+      sent_at[at] = nic_.clock().now();
+      ++flying;
+      ++sent;
+    }
+    const Result<std::size_t> got = nic_.receive(ByteSpan(rx_), sent_at[head] + timeout);
+    if (!got.ok()) {
+      if (got.error().code != Errc::timeout) return got.error();
+      ++stats_.timeouts;  // the oldest is lost
+      head = (head + 1) % kMaxStreamInFlight;
+      --flying;
+      ++outcome.lost;
+      continue;
+    }
+    const ConstByteSpan bytes(rx_.data(), got.value());
+    if (tap_ != nullptr) tap_(tap_context_, bytes, nic_.clock().now(), TapDirection::inbound);
+    const Result<FrameView> view = FrameView::parse(bytes);
+    if (!view.ok() || view.value().datagram_count() == 0) {
+      ++stats_.malformed;
+      continue;
+    }
+    const DatagramView d = *view.value().begin();
+    // Which frame on its way it is; those sent before it that are still missing are lost.
+    unsigned k = 0;
+    while (k < flying && index_of[(head + k) % kMaxStreamInFlight] != d.index()) ++k;
+    if (k == flying) {
+      ++stats_.stale_frames;
+      continue;
+    }
+    if (view.value().datagram_count() != 1 || d.command() != command || d.length() != length) {
+      ++stats_.malformed;
+      return make_error(Errc::malformed, "returned frame differs from the frame sent", d.index());
+    }
+    stats_.timeouts += k;
+    outcome.lost += k;
+    head = (head + k + 1) % kMaxStreamInFlight;
+    flying -= k + 1;
+    ++outcome.returned;
+    outcome.last_wkc = d.wkc();
+    outcome.last_back_at = nic_.clock().now();
+    if (reads_slave(command) && length > 0) std::memcpy(data.data(), d.data().data(), length);
+  }
+  return outcome;
+}
+
 }  // namespace rescue::ecat

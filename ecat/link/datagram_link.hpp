@@ -26,6 +26,14 @@ enum class TapDirection : std::uint8_t { outbound, inbound };
 // Called with each frame the link sends or receives, and the NIC clock's time.
 using FrameTapFn = void (*)(void* context, ConstByteSpan frame, hal::Nanoseconds time, TapDirection direction) noexcept;
 
+// What DatagramLink::stream() did.
+struct StreamOutcome {
+  unsigned returned{0};       // frames that came back
+  unsigned lost{0};           // frames that did not (within the timeout of their sending)
+  std::uint16_t last_wkc{0};  // of the last frame that came back
+  hal::Nanoseconds last_back_at{0};  // when it was received (NIC clock)
+};
+
 struct LinkStats {
   std::uint64_t exchanges{0};
   std::uint64_t timeouts{0};        // no matching frame before the deadline
@@ -64,6 +72,15 @@ class DatagramLink {
   // for writing ones `data` is what is sent. Returns the working counter.
   Result<std::uint16_t> transfer(Command command, std::uint32_t address, ByteSpan data, hal::Nanoseconds timeout,
                                  unsigned attempts = 3) noexcept;
+
+  // `count` frames of one datagram each (the same command, address and data), sent without waiting
+  // for the one before: at most `in_flight` (1..kMaxStreamInFlight) are on their way at a time, so
+  // the wire, not the round trip, sets the pace (the static drift compensation's FRMW). A frame not
+  // back within `timeout` of its sending is lost (counted, not repeated). For reading commands the
+  // last returned frame's data is copied into `data`.
+  static constexpr unsigned kMaxStreamInFlight = 8;
+  Result<StreamOutcome> stream(Command command, std::uint32_t address, ByteSpan data, unsigned count, unsigned in_flight,
+                               hal::Nanoseconds timeout) noexcept;
 
   hal::Clock& clock() noexcept { return nic_.clock(); }
   hal::Nic& nic() noexcept { return nic_; }

@@ -82,7 +82,11 @@ void MailboxClient::configure(std::size_t position, std::uint16_t out_start, std
                 in_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && in_size <= kMaxMailboxSize;
 }
 
-bool MailboxClient::submit(const SdoRequest& request) noexcept { return queue_.push(request); }
+bool MailboxClient::submit(const SdoRequest& request) noexcept {
+  if (!queue_.push(request)) return false;
+  may_start_ = true;
+  return true;
+}
 
 bool MailboxClient::pop_completion(SdoCompletion& out) noexcept { return done_.pop(out); }
 
@@ -90,18 +94,25 @@ void MailboxClient::complete(Channel& c, SdoOutcome outcome) noexcept {
   c.current.outcome = outcome;
   c.phase = Phase::none;
   if (c.current.request.position < kMaxSlaves) busy_ &= ~slave_bit(c.current.request.position);
-  if ((c.current.request.tag & kMasterTagBit) != 0) {
-    (void)master_done_.push_overwrite(c.current);
-  } else if ((c.current.request.tag & kOperatorTagBit) != 0) {
-    (void)operator_done_.push_overwrite(c.current);
+  may_start_ = true;
+  deliver(c.current);
+}
+
+void MailboxClient::deliver(const SdoCompletion& done) noexcept {
+  if ((done.request.tag & kMasterTagBit) != 0) {
+    (void)master_done_.push_overwrite(done);
+  } else if ((done.request.tag & kOperatorTagBit) != 0) {
+    (void)operator_done_.push_overwrite(done);
   } else {
-    (void)done_.push_overwrite(c.current);
+    (void)done_.push_overwrite(done);
   }
 }
 
 void MailboxClient::start_transfers(hal::Nanoseconds now) noexcept {
   // Each queued request whose slave is free starts; the others go back in their order, and a
   // slave's later request never overtakes its earlier one (`held`).
+  if (!may_start_) return;
+  may_start_ = false;
   SlaveMask held = 0;
   const std::size_t queued = queue_.size();
   for (std::size_t n = 0; n < queued; ++n) {
@@ -109,10 +120,10 @@ void MailboxClient::start_transfers(hal::Nanoseconds now) noexcept {
     if (!queue_.pop(request)) break;
     const std::size_t p = request.position;
     if (!has_mailbox(p)) {
-      Channel lone;  // completes at once: no channel needed
-      lone.current.request = request;
-      lone.current.outcome = SdoOutcome::no_mailbox;
-      complete(lone, SdoOutcome::no_mailbox);
+      SdoCompletion none;  // completes at once: no channel needed
+      none.request = request;
+      none.outcome = SdoOutcome::no_mailbox;
+      deliver(none);
       continue;
     }
     if ((busy_ & slave_bit(p)) != 0 || (held & slave_bit(p)) != 0) {
@@ -152,7 +163,7 @@ bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noe
   switch (step) {
     case Step::initiate:
       if (r.direction == SdoDirection::upload) {
-        sdo = coe::upload_request(r.index, r.subindex);
+        sdo = coe::upload_request(r.index, r.subindex, r.complete_access);
       } else if (size <= coe::kMaxExpeditedSize) {
         sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), size));
       } else {
@@ -223,6 +234,7 @@ std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index
                                          std::size_t max_slaves) noexcept {
   now_ = now;
   added_ = 0;
+  moved_ = false;
   for (Channel& c : channels_) {
     c.added = 0;
     c.sent_this_exchange = false;
@@ -252,11 +264,13 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   const bool first = k == 0 || exchange_slave_[k - 1] != p;
   if (c.phase == Phase::send) {
     c.sent_this_exchange = d.wkc() == 1;
+    moved_ = moved_ || c.sent_this_exchange;
     return;
   }
   if (c.phase != Phase::wait) return;
   if (first) {
     c.in_full = d.wkc() == 1 && d.length() == 1 && (d.data()[0] & reg::kSmStatusMailboxFull) != 0;
+    moved_ = moved_ || c.in_full;
   } else if (c.in_full && d.wkc() == 1) {
     take_reply(c, ConstByteSpan(d.data()));
   }
@@ -407,10 +421,12 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
       }
     }
     end_exchange(link.clock().now());
-    // Give the slaves' applications time to answer (virtual time moves only when asked to).
+    // Give the slaves' applications time to answer (virtual time moves only when asked to), but only
+    // when this exchange moved nothing: a message taken or an answer found means the next exchange
+    // has work at once (the other slaves' steps, the next message).
     bool waiting = false;
     for (std::size_t p = 0; p < kMaxSlaves; ++p) waiting = waiting || ((busy_ & slave_bit(p)) != 0 && channels_[p].phase == Phase::wait);
-    if (waiting) link.clock().sleep_until(link.clock().now() + 50 * hal::kNsPerUs);
+    if (waiting && !moved_) link.clock().sleep_until(link.clock().now() + kEmptyPollPause);
   }
   return Status::success();
 }

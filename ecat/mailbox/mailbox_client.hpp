@@ -55,6 +55,9 @@ struct SdoRequest {
   std::uint16_t size{0};     // download: bytes of `data` (1..kMaxSdoData)
   std::array<std::uint8_t, kMaxSdoData> data{};
   std::uint32_t tag{0};      // the caller's, returned with the completion
+  // Upload of the whole object from `subindex` (0 or 1) in one transfer (SDO complete access,
+  // ETG.1000.6 5.6.2): only to slaves whose SII announces it (sii::kCoeDetailSdoCompleteAccess).
+  bool complete_access{false};
 };
 
 struct SdoCompletion {
@@ -153,6 +156,7 @@ class MailboxClient {
   void start_transfers(hal::Nanoseconds now) noexcept;
   void start(Channel& c, hal::Nanoseconds now) noexcept;
   void complete(Channel& c, SdoOutcome outcome) noexcept;
+  void deliver(const SdoCompletion& done) noexcept;  // to the owner's, the master's or the operator's queue
   void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
   void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
   void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;
@@ -162,6 +166,9 @@ class MailboxClient {
   std::size_t add_channel_datagrams(Channel& c, FrameBuilder& frame, std::uint8_t index) noexcept;
 
   const NetworkPlan& plan_;
+  // run(): the pause before polling again when an exchange found no answer and took no message.
+  static constexpr hal::Nanoseconds kEmptyPollPause = 50 * hal::kNsPerUs;
+  bool moved_{false};  // this exchange: a message taken by a slave or an answer found
   std::array<Box, kMaxSlaves> boxes_{};
   std::array<Channel, kMaxSlaves> channels_{};
   RingBuffer<SdoRequest, kQueueCapacity> queue_{};
@@ -170,6 +177,9 @@ class MailboxClient {
   RingBuffer<SdoCompletion, 4> operator_done_{};
 
   SlaveMask busy_{0};          // slaves with a transfer in flight
+  // A request was queued or a slave became free since start_transfers() last looked: only then can
+  // a queued request start (it does not pop and push the whole queue back every exchange).
+  bool may_start_{false};
   std::size_t next_turn_{0};   // the slave whose step goes first in the next exchange
   // The datagrams of this exchange, in order: the slave each belongs to.
   std::array<std::uint8_t, kMaxSlaves * kMaxDatagrams> exchange_slave_{};

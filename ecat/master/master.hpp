@@ -91,6 +91,12 @@ struct MasterOptions {
   // Target 0: every frame is sent.
   unsigned drift_compensation_frames{15000};
   unsigned drift_compensation_check_every{500};
+  // Its frames on their way at a time (1..DatagramLink::kMaxStreamInFlight; 1: each waits for the
+  // one before): a frame is about 7 us on the wire and 28 us round the robot's segment. Measured with
+  // `bench master` (docs/master.md "Figures"): 2 ends after 1000 frames (14 ms) with the clocks as
+  // close as 1500 frames one by one (42 ms); 4 or 8 also end after 1000 (7 ms) but with the SYNC0
+  // spread of the first cycles at 66-71 ns instead of 45.
+  unsigned drift_compensation_in_flight{2};
   std::uint32_t drift_compensation_target_ns{5};
   hal::Nanoseconds sync0_start_margin{10 * hal::kNsPerMs};
   hal::Nanoseconds sync0_target_phase{-1};    // frame at the reference this long after SYNC0; -1 = cycle/2
@@ -139,6 +145,7 @@ struct SyncManagerSetup {
 struct SlaveSetup {
   std::array<SyncManagerSetup, 4> sm{};  // 0 mailbox out, 1 mailbox in, 2 outputs, 3 inputs
   bool mailbox{false};                   // standard mailbox present, CoE supported
+  bool complete_access{false};           // SII general: SDO complete access supported
 };
 
 // Where bring-up time goes: when each step began and how many frames had been exchanged by then.

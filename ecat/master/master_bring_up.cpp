@@ -243,6 +243,7 @@ Status Master::identify() noexcept {
     SlaveSetup& found = found_setup[a];
     for (std::size_t s = 0; s < found.sm.size(); ++s) found.sm[s] = sm_from_sii(info, s);
     found.mailbox = info.standard_mailbox.present() && info.supports(sii::kMailboxCoE);
+    found.complete_access = found.mailbox && info.has_general && (info.general.coe_details & sii::kCoeDetailSdoCompleteAccess) != 0;
     if (found.mailbox) {
       // The standard mailbox words are authoritative for SM0/SM1 (the SM category may be absent).
       found.sm[0] = SyncManagerSetup{info.standard_mailbox.receive_offset, info.standard_mailbox.receive_size,
@@ -324,7 +325,7 @@ Status Master::set_up_pdo_mappings() noexcept {
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     pdo_setup_[p] = PdoSetup{};
     if ((operated() & slave_bit(p)) == 0 || plan_[p].pdo == nullptr || !mailbox_.has_mailbox(p)) continue;
-    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].pdo);
+    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].pdo, setup_[p].complete_access);
     busy |= slave_bit(p);
   }
   // Each slave one transfer at a time (its writes stay in order), all slaves side by side: a

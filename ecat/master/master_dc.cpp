@@ -1,5 +1,7 @@
 // Master bring-up, distributed clocks: delays, offsets, static drift compensation, SYNC0.
 #include "ecat/master/master.hpp"
+
+#include <algorithm>
 #include "ecat/codec/registers.hpp"
 #include "ecat/master/station_io.hpp"
 
@@ -93,16 +95,19 @@ Status Master::configure_dc() noexcept {
 
 Status Master::compensate_static_drift() noexcept {
   // The reference's system time, written into every other slave (FRMW 0x0910), many times in a
-  // row: each write is one step of the slaves' drift control loops (ETG.1000.4 9.3.4). Every
-  // drift_compensation_check_every frames the slaves' system time differences are read: two
-  // readings in a row within the target end it (one could be a loop passing through zero).
+  // row: each write is one step of the slaves' drift control loops (ETG.1000.4 9.3.4). The frames
+  // are streamed, drift_compensation_in_flight on their way at a time, so the wire sets the pace,
+  // not the round trip. Every drift_compensation_check_every frames the slaves' system time
+  // differences are read: two readings in a row within the target end it (one could be a loop
+  // passing through zero).
   std::array<std::uint8_t, 8> time{};
   std::uint32_t lost = 0;
   unsigned within_target = 0;
   const unsigned check_every = options_.drift_compensation_check_every == 0 ? 1 : options_.drift_compensation_check_every;
+  constexpr unsigned kStopCheckEvery = 256;  // frames between two looks at stop_requested
   unsigned i = 0;
-  for (; i < options_.drift_compensation_frames; ++i) {
-    if (i % 256 == 0 && options_.stop_requested != nullptr && options_.stop_requested()) {
+  while (i < options_.drift_compensation_frames) {
+    if (options_.stop_requested != nullptr && options_.stop_requested()) {
       return fail("DC drift", make_error(Errc::refused, "stopped on request"));
     }
     if (options_.drift_compensation_target_ns != 0 && i != 0 && i % check_every == 0) {
@@ -111,16 +116,21 @@ Status Master::compensate_static_drift() noexcept {
       within_target = check.value().max_difference_ns <= options_.drift_compensation_target_ns ? within_target + 1 : 0;
       if (within_target >= 2) break;
     }
-    const Result<std::uint16_t> wkc = link_.transfer(Command::FRMW, make_address(reference_station_, reg::kDcSystemTime),
-                                                     ByteSpan(time), options_.frame_timeout, 1);
-    if (!wkc.ok()) {
-      if (wkc.error().code != Errc::timeout || ++lost > options_.drift_compensation_frames / 100 + 3) {
-        return fail("DC drift", wkc.error());
-      }
-      continue;
+    const unsigned to_check = check_every - i % check_every;
+    const unsigned n = std::min({options_.drift_compensation_frames - i, to_check, kStopCheckEvery});
+    const Result<StreamOutcome> streamed =
+        link_.stream(Command::FRMW, make_address(reference_station_, reg::kDcSystemTime), ByteSpan(time), n,
+                     options_.drift_compensation_in_flight, options_.frame_timeout);
+    if (!streamed.ok()) return fail("DC drift", streamed.error());
+    i += n;
+    lost += streamed.value().lost;
+    if (lost > options_.drift_compensation_frames / 100 + 3) {
+      return fail("DC drift", make_error(Errc::timeout, "no frame came back", lost));
     }
-    last_reference_time_ = load_le64(time.data());
-    last_reference_read_at_ = link_.clock().now();
+    if (streamed.value().returned > 0) {
+      last_reference_time_ = load_le64(time.data());
+      last_reference_read_at_ = streamed.value().last_back_at;
+    }
   }
   report_.dc_static_frames = i;
   const Result<DcSnapshot> snapshot = read_dc_snapshot();

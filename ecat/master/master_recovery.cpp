@@ -105,7 +105,7 @@ void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
     r.sdos_pending = 0;
     r.sdo_next = 0;
     r.sdo_refused = false;
-    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].mailbox ? plan_[p].pdo : nullptr);
+    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].mailbox ? plan_[p].pdo : nullptr, setup_[p].complete_access);
     feed_recovery_sdos(p);
   }
 }

@@ -49,9 +49,10 @@ std::size_t pdo_mapping_writes(std::uint8_t position, const PdoMappingPlan& plan
   return n;
 }
 
-void PdoSetup::start(std::uint8_t position, const SlavePdoPlan* plan) noexcept {
+void PdoSetup::start(std::uint8_t position, const SlavePdoPlan* plan, bool complete_access) noexcept {
   plan_ = plan;
   position_ = position;
+  complete_access_ = complete_access;
   count_ = 0;
   next_ = 0;
   pending_ = false;
@@ -80,11 +81,59 @@ void PdoSetup::build_reads() noexcept {
   for (std::size_t d = 0; d < 2; ++d) {
     const PdoMappingPlan& m = direction_plan(d);
     state_[d] = PdoMappingState{};
-    list_[count_++] = sdo_upload(position_, m.assign_index, 0, kTag);
-    list_[count_++] = sdo_upload(position_, m.assign_index, 1, kTag);
-    list_[count_++] = sdo_upload(position_, m.pdo_index, 0, kTag);
-    for (std::size_t i = 0; i < m.entry_count; ++i) {
-      list_[count_++] = sdo_upload(position_, m.pdo_index, static_cast<std::uint8_t>(i + 1), kTag);
+    if (complete_access_) {
+      for (const std::uint16_t index : {m.assign_index, m.pdo_index}) {
+        list_[count_] = sdo_upload(position_, index, 0, kTag);
+        list_[count_++].complete_access = true;
+      }
+      continue;
+    }
+    read_single(m.assign_index, 0, 1);
+    read_single(m.pdo_index, 0, static_cast<std::uint8_t>(m.entry_count));
+  }
+}
+
+void PdoSetup::read_single(std::uint16_t index, std::uint8_t from, std::uint8_t to) noexcept {
+  for (unsigned sub = from; sub <= to && count_ < list_.size(); ++sub) {
+    list_[count_++] = sdo_upload(position_, index, static_cast<std::uint8_t>(sub), kTag);
+  }
+}
+
+void PdoSetup::store_complete(const SdoCompletion& done) noexcept {
+  // SI0 as 16 bits (its 8-bit value, then 0), then subindexes 1..SI0 back to back: 16-bit PDO
+  // indexes in an assignment, 32-bit entries in a mapping. What it does not hold is read singly.
+  const std::uint16_t index = done.request.index;
+  const bool ok = done.outcome == SdoOutcome::ok && done.size >= 2;
+  const std::size_t count = ok ? done.data[0] : 0;
+  for (std::size_t d = 0; d < 2; ++d) {
+    const PdoMappingPlan& m = direction_plan(d);
+    PdoMappingState& s = state_[d];
+    if (index == m.assign_index) {
+      if (!ok) {
+        read_single(index, 0, 1);
+        return;
+      }
+      s.assign_count = static_cast<std::uint32_t>(count);
+      if (count >= 1 && done.size >= 4) {
+        s.assigned = load_le16(done.data.data() + 2);
+      } else {
+        read_single(index, 1, 1);
+      }
+      return;
+    }
+    if (index == m.pdo_index) {
+      if (!ok) {
+        read_single(index, 0, static_cast<std::uint8_t>(m.entry_count));
+        return;
+      }
+      s.entry_count = static_cast<std::uint32_t>(count);
+      std::size_t given = 0;
+      while (given < m.entry_count && given < count && 2 + 4 * (given + 1) <= done.size) {
+        s.entries[given] = load_le32(done.data.data() + 2 + 4 * given);
+        ++given;
+      }
+      if (given < m.entry_count) read_single(index, static_cast<std::uint8_t>(given + 1), static_cast<std::uint8_t>(m.entry_count));
+      return;
     }
   }
 }
@@ -136,15 +185,21 @@ void PdoSetup::on_completion(const SdoCompletion& done) noexcept {
   } else {
     ++writes_;
   }
-  // A refused write, or a read that did not come back (an aborted read only says "differs" while reading).
-  const bool refused = done.outcome != SdoOutcome::ok &&
+  // A refused write, or a read that did not come back (an aborted read only says "differs" while
+  // reading; an aborted complete access is read again one subindex at a time).
+  const bool aborted_whole = done.request.complete_access && done.outcome == SdoOutcome::aborted;
+  const bool refused = done.outcome != SdoOutcome::ok && !aborted_whole &&
                        (!upload || phase_ == Phase::verifying || done.outcome != SdoOutcome::aborted);
   if (refused) {
     failure_ = done;
     phase_ = Phase::failed;
     return;
   }
-  if (upload) store(done);
+  if (upload && done.request.complete_access) {
+    store_complete(done);
+  } else if (upload) {
+    store(done);
+  }
   if (next_ < count_) return;
   switch (phase_) {
     case Phase::reading: after_reads(); break;

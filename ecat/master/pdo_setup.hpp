@@ -4,7 +4,10 @@
 //
 //   read     per direction (outputs 0x1C12/0x16xx, then inputs 0x1C13/0x1Axx): the assignment count
 //            and entry, the mapping count and each planned entry (expedited uploads; an aborted
-//            upload counts as "differs")
+//            upload counts as "differs"). A slave whose SII announces SDO complete access gives
+//            each object in one upload from subindex 0 (count as 16 bits, then the entries); what
+//            that does not give (an aborted complete access, fewer entries than planned) is read
+//            one subindex at a time as above, so the same writes follow
 //   write    per direction that differs, in the order ETG.1020 prescribes:
 //              assignment count := 0            (the PDO may only be changed while unassigned)
 //              mapping count := 0               (only if not 0 already, and only if the mapping differs)
@@ -56,7 +59,8 @@ class PdoSetup {
   enum class Phase : std::uint8_t { idle, reading, writing, verifying, done, failed };
 
   // Starts the set-up of the slave at `position` (nullptr or an unusable plan: done at once / failed).
-  void start(std::uint8_t position, const SlavePdoPlan* plan) noexcept;
+  // `complete_access`: the slave's SII announces SDO complete access (reads of whole objects).
+  void start(std::uint8_t position, const SlavePdoPlan* plan, bool complete_access = false) noexcept;
   // The next transfer to submit (tag: kMasterTagBit | kPdoSetupTagBit | position); false while one
   // is in flight or nothing is left. Call only when the queue has room: it counts as submitted.
   [[nodiscard]] bool next(SdoRequest& out) noexcept;
@@ -80,11 +84,15 @@ class PdoSetup {
   void build_reads() noexcept;
   void after_reads() noexcept;
   void store(const SdoCompletion& done) noexcept;
+  void store_complete(const SdoCompletion& done) noexcept;
+  void read_single(std::uint16_t index, std::uint8_t from, std::uint8_t to) noexcept;  // appends uploads
   const PdoMappingPlan& direction_plan(std::size_t d) const noexcept { return d == 0 ? plan_->outputs : plan_->inputs; }
 
-  static constexpr std::size_t kMaxList = 2 * kPdoWritesPerDirection;
+  // Writes of both directions, or reads: 4 complete accesses and every single read after them.
+  static constexpr std::size_t kMaxList = 2 * kPdoWritesPerDirection + 4;
   const SlavePdoPlan* plan_{nullptr};
   std::uint8_t position_{0};
+  bool complete_access_{false};
   Phase phase_{Phase::idle};
   std::array<SdoRequest, kMaxList> list_{};
   std::size_t count_{0};

@@ -31,9 +31,10 @@ template <typename ReadTicks>
 double calibrate_against_monotonic(Nanoseconds duration, ReadTicks read_ticks) noexcept {
   MonotonicClock clock;
   const Reading first = best_reading(clock, read_ticks);
-  // Busy-wait, not sleep: the point is to compare two counters over the same real interval.
-  while (clock.now() - first.ns < duration) {
-  }
+  // Both counters run on whether this thread runs or sleeps: only the two readings need to be
+  // tight (best_reading's brackets), so the interval is slept, not spun (a spin held a CPU for the
+  // whole interval, and during run's bring-up that CPU is the one the rest of the start-up needs).
+  clock.sleep_until(first.ns + duration);
   const Reading second = best_reading(clock, read_ticks);
   return ticks_per_ns_between(first.ticks, first.ns, second.ticks, second.ns);
 }

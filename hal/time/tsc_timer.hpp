@@ -49,7 +49,7 @@ class TscTimer {
  public:
   static constexpr Nanoseconds kDefaultCalibration = 20 * kNsPerMs;
 
-  // Probes the CPU and, for the TSC, busy-waits `calibration` ns comparing it with CLOCK_MONOTONIC.
+  // Probes the CPU and, for the TSC, compares it with CLOCK_MONOTONIC over `calibration` ns (slept).
   // Call at start-up (before init complete); never fails: the fallback always works.
   static TscTimer calibrate(Nanoseconds calibration = kDefaultCalibration) noexcept;
   // CLOCK_MONOTONIC only, e.g. to compare, or where the TSC must not be used.

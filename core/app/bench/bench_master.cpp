@@ -272,6 +272,23 @@ void print_warm(const ecat::BringUpReport& warm) noexcept {
   print_steps("bring_up_sii_cached_step_", warm);
 }
 
+// --dc-static-frames, --dc-target-ns and --dc-in-flight into `options`; 0, or the exit status of a
+// value out of its range (said).
+int parse_dc_options(const ParsedArgs& args, ecat::MasterOptions& options) noexcept {
+  const ecat::MasterOptions defaults;
+  const Result<std::int64_t> frames = args.integer("dc-static-frames", defaults.drift_compensation_frames, 0, 1'000'000);
+  if (!frames.ok()) return fail("bench", "--dc-static-frames must be 0..1000000", frames.error());
+  const Result<std::int64_t> target = args.integer("dc-target-ns", defaults.drift_compensation_target_ns, 0, 1'000'000);
+  if (!target.ok()) return fail("bench", "--dc-target-ns must be 0..1000000", target.error());
+  const Result<std::int64_t> in_flight =
+      args.integer("dc-in-flight", defaults.drift_compensation_in_flight, 1, ecat::DatagramLink::kMaxStreamInFlight);
+  if (!in_flight.ok()) return fail("bench", "--dc-in-flight must be 1..8", in_flight.error());
+  options.drift_compensation_frames = static_cast<unsigned>(frames.value());
+  options.drift_compensation_target_ns = static_cast<std::uint32_t>(target.value());
+  options.drift_compensation_in_flight = static_cast<unsigned>(in_flight.value());
+  return 0;
+}
+
 }  // namespace
 
 int bench_master(const ParsedArgs& args) noexcept {
@@ -281,11 +298,8 @@ int bench_master(const ParsedArgs& args) noexcept {
   if (!cycles.ok()) return fail("bench", "--cycles must be 100..1000000", cycles.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "--seed must be 0..1000000", seed.error());
-  const ecat::MasterOptions defaults;
-  const Result<std::int64_t> dc_frames = args.integer("dc-static-frames", defaults.drift_compensation_frames, 0, 1'000'000);
-  if (!dc_frames.ok()) return fail("bench", "--dc-static-frames must be 0..1000000", dc_frames.error());
-  const Result<std::int64_t> dc_target = args.integer("dc-target-ns", defaults.drift_compensation_target_ns, 0, 1'000'000);
-  if (!dc_target.ok()) return fail("bench", "--dc-target-ns must be 0..1000000", dc_target.error());
+  ecat::MasterOptions options;
+  if (const int bad = parse_dc_options(args, options); bad != 0) return bad;
   const bool simulated = choice.value().kind == NicKind::sim;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
   const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
@@ -328,9 +342,6 @@ int bench_master(const ParsedArgs& args) noexcept {
   hal::Clock& clock = nic.clock();
 
   // 1. Bring-up (static drift compensation as --dc-static-frames and --dc-target-ns say), then to OP.
-  ecat::MasterOptions options;
-  options.drift_compensation_frames = static_cast<unsigned>(dc_frames.value());
-  options.drift_compensation_target_ns = static_cast<std::uint32_t>(dc_target.value());
   options.sii_cache = &g_sii_cache;
   const Status up = bus.bring_up(options);
   if (!up.ok()) {

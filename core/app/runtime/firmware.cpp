@@ -107,6 +107,11 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   // SIGINT/SIGTERM from the first instant: every phase (bring-up included) polls the flag and stops
   // cleanly, with one line saying where.
   if (!install_stop_handlers()) return fail("run", "cannot install SIGINT/SIGTERM handlers");
+  // The tasks' TSC timer is calibrated (two readings 20 ms apart, hal/time/tsc_timer.hpp) on another
+  // thread from here until the bring-up ends, not after it: time to OP does not wait for it (the
+  // bring-up of a robot seen before takes about as long). Its stack is small: once memory is locked,
+  // every page of a thread's stack is populated (8 MiB by default, ~2 ms).
+  TaskTimingCalibration calibration;
 
   // 1. The error-joints file, before the network (design brief section 6).
   const Result<hal::StateDir> dir = hal::resolve_state_dir(options.state_dir);
@@ -213,6 +218,16 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   const JointMask out_of_service = repaired.out_of_service;
   print_restore_problems(restored, dir.value().path.c_str());
 
+  // From here to the bring-up's end (memory locked, the SII cache read, the bring-up itself) this
+  // thread runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
+  // not stretch it (every bring-up frame waits for the one before; the locking populates ~20 MiB);
+  // then it is given back its normal scheduling: once it has forked the handler's process (which so
+  // starts at the handler's priority), before it forks the other tasks and supervises them.
+  const Result<hal::SchedulingState> normal = hal::save_scheduling();
+  const int handler_priority = runner_priority(TaskId::ethercat_handler);
+  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
+  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
+
   // 2. The machine: memory locked and prefaulted once (each task sets its own priority and CPU).
   hal::RtConfig process_rt;
   process_rt.lock_memory = true;
@@ -261,17 +276,6 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   (void)std::printf("rescue-motion run: bringing the EtherCAT network up\n");
   (void)std::fflush(stdout);
-  // The tasks' TSC timer is calibrated (a 20 ms busy-wait) on another thread while the bring-up runs,
-  // not after it: time to OP does not wait for it. Its stack is small: memory is locked, so every
-  // page of a new thread's stack is populated when it is created (8 MiB by default, ~2 ms).
-  TaskTimingCalibration calibration;
-  // Bring-up runs as the EtherCAT handler will, at its priority on its CPU, so that a busy host does
-  // not stretch it (every frame of it waits for the one before); then this thread is given back its
-  // normal scheduling before it forks the tasks and supervises them.
-  const Result<hal::SchedulingState> normal = hal::save_scheduling();
-  const int handler_priority = runner_priority(TaskId::ethercat_handler);
-  const bool raised = normal.ok() && handler_priority > 0 && hal::set_fifo_priority(handler_priority).ok();
-  if (raised) (void)hal::pin_to_cpu(table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu));  // may be refused: any CPU then
   if (options.scenario.mapping_fault) {
     // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
     ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(clock.now()).segment() : nullptr);
@@ -280,7 +284,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   }
   const Status up = bus.bring_up(master_options, out_of_service);
   calibration.join();
-  if (raised && !hal::restore_scheduling(normal.value()).ok()) {
+  if (raised && up.ok() && g_run.task_processes) {
+    g_run.start_up_scheduling = &normal.value();  // given back once the handler is forked (task_processes.cpp)
+  } else if (raised && !hal::restore_scheduling(normal.value()).ok()) {
     return fail("run", "cannot give the start-up thread back its normal scheduling after bring-up");
   }
   if (!up.ok() && stop_signal() != 0) return stopped_in_bring_up(bus, options);

@@ -23,6 +23,7 @@
 #include "core/app/tasks/socket_handler.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
+#include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -72,6 +73,10 @@ struct RunContext {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::atomic<bool> storage_stop{false};
   // Whether the tasks run as processes (the default) or threads of one process (--threads).
   bool task_processes{false};
+  // The start-up thread's own scheduling, given back right after the EtherCAT handler's process is
+  // forked (which so inherits the handler's priority and CPU, and never waits behind the host's
+  // other load before it raises them itself); nullptr: nothing to give back.
+  const hal::SchedulingState* start_up_scheduling{nullptr};
 };
 // Process-wide on purpose: a forked task process finds it at the same address, and the task entry
 // points (std::thread's, the supervisor's) take no argument. Defined in run_context.cpp.

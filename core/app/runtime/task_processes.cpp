@@ -55,6 +55,15 @@ int attach_task_process(const char* task) noexcept {
 // (stdout is the process's own buffer now) and, in the handler's process, runs its side of the logger.
 // The process carries the task's name (`comm`, at most 15 characters: ps, top, chrt tell the task
 // processes apart); the task's thread names itself the same (task_loops.cpp).
+// The start-up thread's own scheduling back (firmware.cpp kept the handler's for the handler's fork):
+// in the supervisor once the handler is forked, and in the handler's process for its logger thread.
+Status give_back_start_up_scheduling() noexcept {
+  const hal::SchedulingState* normal = g_run.start_up_scheduling;
+  g_run.start_up_scheduling = nullptr;
+  if (normal == nullptr || hal::restore_scheduling(*normal).ok()) return Status::success();
+  return make_error(Errc::io_error, "cannot give the start-up thread back its normal scheduling");
+}
+
 int task_process(const char* name, const char* comm, void (*task)() noexcept, void (*log_pass)() noexcept) noexcept {
   (void)hal::name_this_thread(comm);
   const int attached = attach_task_process(name);
@@ -65,6 +74,9 @@ int task_process(const char* name, const char* comm, void (*task)() noexcept, vo
     task();
     finished.store(true, std::memory_order_release);
   });
+  // The handler's process was forked at the handler's priority and CPU, so its task thread starts at
+  // them; this thread, its logger, goes back to normal scheduling (in the other tasks: nothing to do).
+  if (!give_back_start_up_scheduling().ok()) (void)std::printf("%s: logger thread left at the start-up priority\n", name);
   hal::MonotonicClock logger_clock;
   while (!finished.load(std::memory_order_acquire)) {
     if (log_pass != nullptr) log_pass();
@@ -157,10 +169,14 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
   for (int order = 1; order <= last_order; ++order) {
     for (const auto& [id, index] : tasks) {
       if (task_spec(id).start_order != order || (id == TaskId::socket_handler && !g_run.tasks.operator_port)) continue;
+      // Only the handler inherits the handler's scheduling: given back before any other is forked.
+      if (id != TaskId::ethercat_handler) RESCUE_TRY(give_back_start_up_scheduling());
       RESCUE_TRY(supervisor.start(index));
+      if (id == TaskId::ethercat_handler) RESCUE_TRY(give_back_start_up_scheduling());
       (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(index), static_cast<int>(supervisor.pid(index)));
     }
   }
+  RESCUE_TRY(give_back_start_up_scheduling());
   return p;
 }
 

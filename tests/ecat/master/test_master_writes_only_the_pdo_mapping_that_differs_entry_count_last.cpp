@@ -3,8 +3,9 @@
 // holds and writes only what differs, in ETG.1020's order (assignment count 0, mapping count 0,
 // the differing entries, the mapping count last, the assignment count last), then reads it back.
 // A drive left half-mapped or with another drive's default mapping reaches OP at bring-up and after a
-// power cycle in online recovery; a healthy drive costs reads only; many drives recovering at once
-// never overflow the 32-deep mailbox queue.
+// power cycle in online recovery; a healthy drive costs reads only (four whole objects when its SII
+// announces SDO complete access, else one subindex at a time, and one at a time what a complete
+// access does not give); many drives recovering at once never overflow the 32-deep mailbox queue.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -83,6 +84,113 @@ TEST(PdoMappingWrites, AnEntryThatCouldNotBeReadIsWritten) {
   EXPECT_EQ(writes_for(kJointDrivePdoPlan.outputs, s), expected);
 }
 
+// A drive answering PdoSetup's uploads from what it holds (`held`: outputs, inputs), aborting every
+// complete access when `refuse_complete_access`. Runs the set-up's reads to their end (done, or the
+// writes next); the uploads it was asked.
+struct Asked {
+  std::size_t whole{0};
+  std::size_t single{0};
+};
+Asked answer_reads(PdoSetup& setup, const std::array<PdoMappingState, 2>& held, bool refuse_complete_access) {
+  Asked asked;
+  SdoRequest r;
+  for (int guard = 0; guard < 100 && setup.phase() == PdoSetup::Phase::reading && setup.next(r); ++guard) {
+    EXPECT_EQ(r.direction, SdoDirection::upload);
+    SdoCompletion done{};
+    done.request = r;
+    const bool outputs = r.index == 0x1C12 || r.index == 0x1600;
+    const PdoMappingState& h = held[outputs ? 0 : 1];
+    const bool assignment = r.index == 0x1C12 || r.index == 0x1C13;
+    if (r.complete_access) {
+      ++asked.whole;
+      EXPECT_EQ(r.subindex, 0);
+      if (refuse_complete_access) {
+        done.outcome = SdoOutcome::aborted;
+        done.abort_code = 0x06010000U;
+      } else {
+        const std::uint32_t count = assignment ? h.assign_count : h.entry_count;
+        done.data[0] = static_cast<std::uint8_t>(count);
+        std::size_t at = 2;
+        for (std::uint32_t i = 0; i < count; ++i) {
+          if (assignment) {
+            store_le16(done.data.data() + at, static_cast<std::uint16_t>(h.assigned));
+            at += 2;
+          } else {
+            store_le32(done.data.data() + at, h.entries[i]);
+            at += 4;
+          }
+        }
+        done.size = static_cast<std::uint16_t>(at);
+      }
+    } else {
+      ++asked.single;
+      std::uint32_t value = 0;
+      if (assignment) {
+        value = r.subindex == 0 ? h.assign_count : h.assigned;
+      } else {
+        value = r.subindex == 0 ? h.entry_count : h.entries[r.subindex - 1U];
+      }
+      store_le32(done.data.data(), value);
+      done.size = r.subindex == 0 ? 1 : (assignment ? 2 : 4);
+    }
+    setup.on_completion(done);
+  }
+  return asked;
+}
+
+// A drive holding the plan, read with or without complete access: the uploads asked, nothing written.
+Asked reads_of_a_healthy_drive(bool complete_access, bool refuse_complete_access) {
+  PdoSetup setup;
+  setup.start(3, &kJointDrivePdoPlan, complete_access);
+  const Asked asked =
+      answer_reads(setup, {as_planned(kJointDrivePdoPlan.outputs), as_planned(kJointDrivePdoPlan.inputs)}, refuse_complete_access);
+  EXPECT_EQ(setup.phase(), PdoSetup::Phase::done);
+  EXPECT_EQ(setup.writes(), 0u);
+  return asked;
+}
+
+TEST(PdoSetupReads, FourWholeObjectsWhenTheSlaveOffersCompleteAccess) {
+  const Asked asked = reads_of_a_healthy_drive(true, false);
+  EXPECT_EQ(asked.whole, 4u);
+  EXPECT_EQ(asked.single, 0u);
+}
+
+TEST(PdoSetupReads, OneSubindexAtATimeWithoutCompleteAccess) {
+  const Asked asked = reads_of_a_healthy_drive(false, false);
+  EXPECT_EQ(asked.whole, 0u);
+  EXPECT_EQ(asked.single, 17u);
+}
+
+TEST(PdoSetupReads, AnAbortedCompleteAccessIsReadOneSubindexAtATime) {
+  const Asked asked = reads_of_a_healthy_drive(true, true);
+  EXPECT_EQ(asked.whole, 4u);
+  EXPECT_EQ(asked.single, 17u);
+}
+
+TEST(PdoSetupReads, AHalfWrittenMappingSeenWholeGetsTheSameThreeWrites) {
+  // Its entry count 0: the complete access gives no entries, so they are read singly, and the
+  // writes are those of the single reads (the entries as planned are not written again).
+  PdoMappingState half = as_planned(kJointDrivePdoPlan.outputs);
+  half.entry_count = 0;
+  PdoSetup setup;
+  setup.start(3, &kJointDrivePdoPlan, true);
+  SdoRequest r;
+  std::array<PdoMappingState, 2> held{half, as_planned(kJointDrivePdoPlan.inputs)};
+  const Asked asked = answer_reads(setup, held, false);
+  EXPECT_EQ(setup.phase(), PdoSetup::Phase::writing);
+  EXPECT_EQ(asked.whole, 4u);
+  EXPECT_EQ(asked.single, 5u);
+  std::vector<Write> writes;
+  while (setup.phase() == PdoSetup::Phase::writing && setup.next(r)) {
+    writes.push_back(Write{r.index, r.subindex, load_le32(r.data.data()) & (r.size == 1 ? 0xFFU : 0xFFFFFFFFU)});
+    SdoCompletion done{};
+    done.request = r;
+    setup.on_completion(done);
+  }
+  const std::vector<Write> expected{{0x1C12, 0, 0}, {0x1600, 0, 5}, {0x1C12, 0, 1}};
+  EXPECT_EQ(writes, expected);
+}
+
 // The mapping the drive of `joint` holds now, as the plan's state.
 bool drive_holds_the_plan(SimulatedRobotRig& rig, std::size_t joint) {
   const drivers::ObjectDictionary& od = rig.drive(joint).objects().od();
@@ -102,7 +210,8 @@ void cycle_to_op(SimulatedRobotRig& rig) {
   for (int i = 0; i < 300 && rig.bus.master().state() != MasterState::op; ++i) (void)rig.cycle(refs, fb);
 }
 
-constexpr std::size_t kReadsPerDrive = 2 * 3 + 5 + 6;  // assignment count + entry, mapping count, entries
+// The drives' SII announces SDO complete access: 0x1C12, 0x1600, 0x1C13 and 0x1A00 whole.
+constexpr std::size_t kReadsPerDrive = 4;
 
 TEST(MasterPdoMappingAtBringUp, AHealthyRobotCostsReadsOnly) {
   auto rig = testing::simulated_robot_in_op();
@@ -141,7 +250,8 @@ TEST(MasterPdoMappingAtBringUp, AHalfWrittenMappingIsCompletedWithThreeWritesAnd
   const BringUpReport& r = rig.bus.master().report();
   EXPECT_EQ(r.pdo_rewritten, slave_bit(slave_position_of_joint(joint)));
   EXPECT_EQ(r.pdo_writes, 3u);  // 0x1C12:00 = 0, 0x1600:00 = 5, 0x1C12:00 = 1
-  EXPECT_EQ(r.pdo_reads, kJointCount * kReadsPerDrive + kReadsPerDrive);  // its read-back
+  // Its 5 output entries singly (the complete access of 0x1600 gave its count 0 only), its read-back.
+  EXPECT_EQ(r.pdo_reads, kJointCount * kReadsPerDrive + 5 + kReadsPerDrive);
   EXPECT_TRUE(drive_holds_the_plan(rig, joint));
   cycle_to_op(rig);
   EXPECT_EQ(rig.bus.master().state(), MasterState::op);

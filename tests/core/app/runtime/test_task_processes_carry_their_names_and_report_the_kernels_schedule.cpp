@@ -2,7 +2,8 @@
 // `ps -eLo comm`, `top -H` and `chrt` tell them apart; `ctl tasks` shows the policy, priority and CPU the
 // kernel reports for that thread (the task reads them itself and publishes them), beside the task
 // table's wish; a CPU the machine lacks is replaced by its last one and announced
-// (docs/configuration.md). Against a real `rescue-motion run` (processes mode).
+// (docs/configuration.md); each process's main thread (its logger) runs at normal scheduling. Against
+// a real `rescue-motion run` (processes mode).
 #include <gtest/gtest.h>
 #include <dirent.h>
 #include <unistd.h>
@@ -87,6 +88,10 @@ TEST(TaskNamesAndSchedule, EveryTaskProcessAndThreadIsNamedAndCtlTasksShowsTheKe
       if (stat_field(stat, 41) == want_policy && stat_field(stat, 40) == std::stol(testing::json_field(object, "priority"))) matched = true;
     }
     EXPECT_TRUE(matched) << name << ": " << object;
+    // The process's main thread, its logger, runs at normal scheduling: the handler's process is
+    // forked at the handler's priority and CPU (its task thread starts at them at once) and gives
+    // them back for its logger.
+    EXPECT_EQ(stat_field(first_line("/proc/" + std::to_string(pid) + "/stat"), 41), 0) << name << ": its logger thread";
     const long cpus = ::sysconf(_SC_NPROCESSORS_ONLN);
     const int table_cpu = std::stoi(testing::json_field(object, "table_cpu"));
     EXPECT_LT(table_cpu, cpus) << name << ": the CPU asked for exists on this machine";

@@ -44,8 +44,19 @@ using rescue::testing::SimulatedRobotRig;
 // here: the dropped frames' cycles end 200 us later in virtual time); with
 // options.cycle_receive_guard = 300 us (the old deadline) the run gives the previous digests,
 // 0xDA2DA12DA852C525 / 0xEBF1B0CAA4CE4256.
-constexpr std::uint64_t kFramesDigest = 0x39B531E6D428F2AC;
-constexpr std::uint64_t kStateDigest = 0x4B7A526E83795960;
+// On branch op100 before merging main fa2fe0c: recorded again when the master streamed its static drift compensation frames two at a time (issue
+// 27; drivers/sim unchanged: 1000 FRMW instead of 1500, each sooner after the one before, so every
+// later frame comes at another virtual time; with MasterOptions::drift_compensation_in_flight = 1 the
+// run gives the previous digests, 0xDA2DA12DA852C525 / 0xEBF1B0CAA4CE4256). Recorded again when the
+// master read each drive's PDO assignment and mapping as four whole objects (SDO complete access, which
+// the drives' SII announces) instead of 17 subindexes, and its mailbox client paused before polling
+// again only after an exchange that moved nothing (issue 27; drivers/sim unchanged: the same values
+// read in fewer, other frames); before it 0xF04E874DE7790CF4 / 0x75DFA66649729261.
+// Both issue-27 changes together (branch op100 merged with main fa2fe0c): with
+// drift_compensation_in_flight = 1, no complete access and the mailbox pausing after every exchange
+// with a slave waiting, the run gives main's digests above, 0x39B531E6D428F2AC / 0x4B7A526E83795960.
+constexpr std::uint64_t kFramesDigest = 0xB1138CFE0D04C536;
+constexpr std::uint64_t kStateDigest = 0x084187DD4355CE6B;
 constexpr int kCycles = 4000;
 
 // FNV-1a, 64 bit: order-sensitive and enough to tell two runs apart.
