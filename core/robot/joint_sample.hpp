@@ -16,7 +16,8 @@
 namespace rescue {
 
 struct JointSample {
-  bool reachable;                  // this cycle's working counter included the joint
+  bool reachable;                  // this cycle's working counter included the joint, or the handler carries it
+                                   // (driven, still in the exchange, this frame late or lost: last values)
   double position_rad;             // actual, as the drive reported it
   double velocity_rad_s;
   double torque_nm;

@@ -35,22 +35,48 @@ void EthercatHandler::build_outputs() noexcept {
   RobotDemand demand{};
   if (ports_.demand->try_read(demand)) demand_ = demand;  // else keep the last one
   const JointMask excluded = tracker_.excluded();
+  // A joint without fresh inputs that was driven last period and that the master still holds in the
+  // exchange (the frame came back late or not at all, or a short working counter is being probed)
+  // is carried: no evidence about its drive, so it goes on as it was, its reference on the same path
+  // and its controlword as sent; until the master takes it out of the exchange (a loss, confirmed in
+  // kLossConfirmFrames) or the link's silence alarm (as long as the drives' watchdog) says that
+  // nothing comes back. Before, it counted as not driven for that period: it took the joint
+  // manager's reference (where it was initialized) and its drive was turned towards disabled, and
+  // the next period the owner's reference restarted from there: a leap the drive could not follow
+  // (0x8611 following error, both elbows in the rescue scenario; docs/motion-owner.md "A late frame").
+  JointMask carried = 0;
+  if (!bus_.master().monitor().silence_alarm()) {
+    carried = drive_mask_ & ~feedback_.valid & ~drivers::joints_of_slaves(bus_.last_cycle().out) & ~excluded;
+  }
   // The joints driven this period in position mode take the Motion owner's references (or hold).
   JointMask driven = 0;
+  JointMask drive_mask = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
-    const bool valid = (feedback_.valid & joint_bit(j)) != 0;
-    const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    const bool inputs = ((feedback_.valid | carried) & joint_bit(j)) != 0;
+    const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && inputs;
     if (demand_[j].mode != 0) outputs_[j].mode_of_operation = demand_[j].mode;
+    if (drive) drive_mask |= joint_bit(j);
     if (drive && outputs_[j].mode_of_operation == static_cast<std::int8_t>(ControlMode::cyclic_position)) {
       driven |= joint_bit(j);
     }
   }
+  drive_mask_ = drive_mask;
   const std::array<double, kJointCount>& references = intake_.period(bus_.next_wakeup(), demand_, driven);
   for (std::size_t j = 0; j < kJointCount; ++j) {
     drivers::JointOutputs& out = outputs_[j];
     const drivers::JointInputs& in = feedback_.joints[j];
     const bool valid = (feedback_.valid & joint_bit(j)) != 0;
-    const bool drive = demand_[j].enable && !stopping_ && !safe_stopped_ && (excluded & joint_bit(j)) == 0 && valid;
+    const bool drive = (drive_mask & joint_bit(j)) != 0;
+    if (drive && !valid) {
+      // Carried: the statusword is last period's, so the controlword stays as sent; the reference
+      // goes on (a joint still coming back from the watchdog waits for fresh inputs).
+      if ((rest_after_watchdog_ & joint_bit(j)) != 0) continue;
+      reference_rad_[j] = references[j];
+      out.target_position = drivers::rad_to_counts(reference_rad_[j]);
+      out.target_velocity = 0;
+      out.target_torque = 0;
+      continue;
+    }
     if (drive && (rest_after_watchdog_ & joint_bit(j)) != 0) {
       // Back from the watchdog: enabled again where it stands, not where the reference was.
       if (drivers::is_enabled(in.statusword)) {
@@ -85,6 +111,7 @@ void EthercatHandler::build_outputs() noexcept {
 }
 
 void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) noexcept {
+  const JointMask carried = bus_.master().monitor().silence_alarm() ? 0 : ~result.out & ~tracker_.excluded();
   for (std::size_t j = 0; j < kJointCount; ++j) {
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
@@ -92,7 +119,10 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
     s.velocity_ref_rad_s = 0.0;
     s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
     const bool valid = (result.valid & joint_bit(j)) != 0;
-    s.reachable = valid;
+    // A joint driven this period whose inputs this frame did not bring stays reachable while it is
+    // carried (build_outputs: in the exchange, no silence alarm): its values are the last its drive
+    // reported. The RC tasks do not lock it, the joint manager does not judge it again.
+    s.reachable = valid || ((drive_mask_ & carried) & joint_bit(j)) != 0;
     if (!valid) continue;  // last known values stay (reconfiguration step 2 reads them)
     const drivers::JointInputs& in = feedback_.joints[j];
     s.position_rad = drivers::counts_to_rad(in.position_actual);

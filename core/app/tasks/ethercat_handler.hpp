@@ -159,6 +159,7 @@ class EthercatHandler {
   JointMask last_pending_{0};
   std::uint32_t last_reports_sent_{0};
   bool op_seen_{false};
+  JointMask drive_mask_{0};  // joints driven last period (any mode; build_outputs)
   hal::Nanoseconds not_in_op_since_{-1};   // first cycle without OP (-1: none yet)
   hal::Nanoseconds next_waiting_word_{0};  // when the next waiting_for_op event is due
   bool stopping_{false};
