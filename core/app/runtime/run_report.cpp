@@ -138,6 +138,14 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
   return healthy_missed;
 }
 
+JointMask joints_ended_in_error(const RobotJointStatus& ended, JointMask excused) noexcept {
+  JointMask faulted = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((excused & joint_bit(j)) == 0 && ended[j].state == fsm::JointState::error) faulted |= joint_bit(j);
+  }
+  return faulted;
+}
+
 int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
                      bool auto_clear_power_cycled, std::uint8_t rescue_phase_reached) noexcept {
   if (wanted.kind == ScenarioKind::none) return 0;
@@ -152,6 +160,21 @@ int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask 
     if ((ever_lost & joint_bit(j)) != 0) continue;
     const std::uint64_t allowed = (wanted.may_miss_first_frame & joint_bit(j)) != 0 ? 1U : 0U;
     if (state.missed_cycles[j].load() > allowed) return fail("run", "healthy joints missed cycles during the link cut");
+  }
+  // A joint outside the cut (and not restored in Error from the file) must end where the scenario
+  // left it: a drive fault or a limit on a healthy joint fails the scenario, whatever else held.
+  RobotJointStatus ended{};
+  if (!links().joint_status.try_read(ended)) return fail("run", "the joint manager's status could not be read");
+  const JointMask faulted = joints_ended_in_error(ended, ever_lost | restored);
+  if (faulted != 0) {
+    char names[kJointNamesCapacity];
+    format_joint_names(faulted, names, sizeof names);
+    std::size_t first_joint = 0;
+    while ((faulted & joint_bit(first_joint)) == 0) ++first_joint;
+    const FaultReason first = ended[first_joint].fault;
+    char text[kJointNamesCapacity + 96];
+    (void)std::snprintf(text, sizeof text, "joints outside the cut ended in Error: %s (%s)", names, to_string(first));
+    return fail("run", text);
   }
   if (wanted.kind == ScenarioKind::power_cycle && auto_clear_power_cycled && (lost & wanted.expected_lost) != 0) {
     return fail("run", "the power-cycled joint was not cleared automatically (--auto-clear-power-cycled)");

@@ -24,6 +24,10 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
 int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask lost, JointMask restored,
                      bool auto_clear_power_cycled, std::uint8_t rescue_phase_reached) noexcept;
 
+// The joints in Error at the end that are not `excused` (lost by the scenario's cut, or restored in
+// Error from the error-joints file): a scenario with any of them failed, whatever else held.
+JointMask joints_ended_in_error(const RobotJointStatus& ended, JointMask excused) noexcept;
+
 // The run's figures as `key: value` lines (the last lines of every run), docs/motion-owner.md.
 // Per task: what it published in its timing slot and its health slot (run_control.hpp).
 struct RunSummary {
