@@ -126,8 +126,9 @@ void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanos
     log.owner_word = word;
     const std::uint8_t task = MotionOwner::task_of(word);
     if (task == kNoOwnerTask) {
-      (void)std::printf("[%8.3f s] motion: no owner (generation %" PRIu64 "): every enabled joint holds its reference\n",
-                        seconds(at), MotionOwner::generation_of(word));
+      (void)std::printf("[%8.3f s] motion: no owner (generation %" PRIu64 "): every enabled joint holds its reference%s\n",
+                        seconds(at), MotionOwner::generation_of(word),
+                        MotionOwner::held_for_operator(word) ? "; held for the operator (ctl owner N)" : "");
     } else {
       (void)std::printf("[%8.3f s] motion: owned by %s (RC task %u, generation %" PRIu64 ")\n", seconds(at),
                         task < kRcTasksRun ? rc_task_name(task) : "?", static_cast<unsigned>(task),

@@ -160,10 +160,11 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     if (link.link.kind == ecat::LinkEventKind::watchdog_expired) {
       // The drives stopped while this handler was silent longer than their watchdog: they come back
       // holding their actual position, and the motion waits for the operator (docs/tasks.md
-      // "Liveness"): a Motion owner is released (`ctl owner N` takes it again).
+      // "Liveness"): a Motion owner is released and the free motion held for the operator (no RC
+      // task takes it back by itself: `ctl owner N` gives it again).
       rest_after_watchdog_ |= link.joints;
       const std::uint64_t word = ports_.motion.owner->word();
-      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && ports_.motion.owner->release(word)) {
+      if (MotionOwner::task_of(word) < protocol::kMaxRcTasks && ports_.motion.owner->release_to_operator(word)) {
         ++owners_released_after_watchdog_;
       }
     }

@@ -177,6 +177,28 @@ TEST(RcTasks, AnOwnerThatStallsAndComesBackTakesTheFreeMotionBack) {
   EXPECT_EQ(rig.intake.driving_task(), 0);
 }
 
+TEST(RcTasks, AMotionReleasedAfterTheDrivesWatchdogWaitsForTheOperator) {
+  // The handler's release after the drives' watchdog expired (a host stall longer than 100 ms,
+  // docs/tasks.md "Liveness") holds the free motion for the operator: the owner, alive and still
+  // the operator's choice, does not take it back by itself (as after its own stall) until `ctl owner`.
+  testing::RcTaskRig rig;
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(300);
+  const std::uint64_t word = rig.links->motion.owner.word();
+  ASSERT_EQ(MotionOwner::task_of(word), 0);
+  ASSERT_TRUE(rig.links->motion.owner.release_to_operator(word));
+  rig.steps(200);
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "the motion waits for the operator";
+  EXPECT_EQ(rig.rescue->counters().retakes, 0U);
+  EXPECT_EQ(rig.intake.driving_task(), kNoOwnerTask);
+  ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
+  rig.steps(3);
+  EXPECT_EQ(rig.links->motion.owner.task(), 0) << "the operator's take gives it again";
+  EXPECT_FALSE(MotionOwner::held_for_operator(rig.links->motion.owner.word()));
+  EXPECT_EQ(MotionOwner::generation_of(rig.links->motion.owner.word()), MotionOwner::generation_of(word) + 2);
+  EXPECT_EQ(rig.rescue->counters().retakes, 0U) << "the operator's take, not a retake";
+}
+
 TEST(RcTasks, AnEndEffectorTargetMovesThatPalm) {
   testing::RcTaskRig rig;
   ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
