@@ -53,6 +53,7 @@ TEST(HandlerAfterWatchdog, DrivesComeBackHoldingTheirActualPositionAndTheOwnerIs
   ASSERT_TRUE(enabled_again) << "the drive was enabled again by itself";
   EXPECT_EQ(fw.handler->owners_released_after_watchdog(), 1U);
   EXPECT_EQ(motion.owner.task(), kNoOwnerTask) << "the motion waits for the operator";
+  EXPECT_TRUE(MotionOwner::held_for_operator(motion.owner.word())) << "no RC task takes it back by itself";
   EXPECT_NEAR(reference_at_enable, actual_at_enable, 1e-4) << "enabled where it stands";
   // And it stays there: 0.5 s later it has not moved towards the owner's references.
   for (int k = 0; k < 500; ++k) {
