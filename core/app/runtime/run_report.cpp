@@ -234,7 +234,7 @@ void print_run_summary(const RunSummary& s) noexcept {
   // The supervisor's liveness watch (docs/tasks.md "Liveness"): real-time tasks reported silent, and
   // the largest heartbeat age at such a report (the limit plus the supervisor's own delay).
   (void)std::printf("task_silences_reported: %" PRIu64 "\n", links().run.silences_reported.load());
-  (void)std::printf("task_silence_report_age_max_ms: %.1f\n",
+  (void)std::printf("task_silence_report_age_max_ms: %.3f\n",
                     static_cast<double>(links().run.silence_report_age_max_ns.load()) / 1e6);
   // The queues between the tasks: what each dropped (or deferred), run_control.hpp's DropCounter.
   for (std::size_t i = 0; i < kDropCounters; ++i) {

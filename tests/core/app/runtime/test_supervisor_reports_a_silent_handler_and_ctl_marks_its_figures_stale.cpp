@@ -69,7 +69,10 @@ TEST(Liveness, ASilentHandlerIsReportedAndCtlMarksItsFiguresStale) {
   const std::string out = run.output();
   EXPECT_GE(std::atoi(value_of(out, "task_silences_reported").c_str()), 1) << out;
   const double reported_at = std::atof(value_of(out, "task_silence_report_age_max_ms").c_str());
-  EXPECT_GT(reported_at, 30.0) << out;
+  // The watch reports an age strictly above the limit in ns (test_liveness_watch proves the strict
+  // edge); the summary prints it rounded to 1 us, so here "at least the limit": printed to 0.1 ms, a
+  // report 20 us past the limit read "30.0" and a strict check failed CI under load.
+  EXPECT_GE(reported_at, 30.0) << out;
   EXPECT_LE(reported_at, kReportedWithinMs) << out;
   std::printf("liveness: handler stopped 1 s; reported silent at a heartbeat age of %.1f ms (limit 30 ms, bound %.0f ms); "
               "ctl status age while stopped %s ms\n",
