@@ -203,9 +203,10 @@ void print_scheduling(bool real_time, const ReceiveWaitChoice& wait) noexcept {
 // The cyclic run's frames that missed their deadline, and how many of them came back later (a stale
 // frame in a later cycle: late, not lost); then the raw socket's receive-wait figures.
 void print_receive_wait(const SelectedNic& selected, const ecat::LinkStats& before, const ecat::LinkStats& after) noexcept {
-  (void)std::printf("cyclic_frames_timed_out: %" PRIu64 " frames (%" PRIu64 " came back after their deadline, the latest %.1f us after its sending, whole run)\n",
+  (void)std::printf("cyclic_frames_timed_out: %" PRIu64 " frames (%" PRIu64 " came back after their deadline, %" PRIu64
+                    " of them within 2 ms of their sending, the latest %.1f us after its sending, whole run)\n",
                     after.timeouts - before.timeouts, after.stale_frames - before.stale_frames,
-                    static_cast<double>(after.stale_age_max) / 1000.0);
+                    after.stale_within_2ms - before.stale_within_2ms, static_cast<double>(after.stale_age_max) / 1000.0);
   const hal::RawSocketNic* raw = selected.raw();
   if (raw == nullptr) return;
   const hal::ReceiveWaitStats& w = raw->wait_stats();

@@ -91,11 +91,30 @@ TEST_F(LateFrame, ADroppedFrameIsCountedMissingAndIsNoLoss) {
 TEST_F(LateFrame, HeldPastTheNextSendIsCountedMissingThenDroppedAsStale) {
   const std::uint64_t missing_before = rig->bus.master().monitor().frames_missing();
   const std::uint64_t stale_before = rig->bus.master().link().stats().stale_frames;
+  const std::uint64_t within_before = rig->bus.master().link().stats().stale_within_2ms;
   rig->segment.delay_frames(1, 1500 * hal::kNsPerUs);
   EXPECT_FALSE(cycle().frame_received);
   EXPECT_EQ(rig->bus.master().monitor().frames_missing(), missing_before + 1);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(cycle().valid, kAllJoints) << "cycle " << k << " after the late frame";
   EXPECT_EQ(rig->bus.master().link().stats().stale_frames, stale_before + 1) << "it turned up, and was not taken for a newer frame";
+  EXPECT_EQ(rig->bus.master().link().stats().stale_within_2ms, within_before + 1) << "1.5 ms: SOEM's 2 ms wait would have taken it";
+  EXPECT_EQ(reports(), 0);
+  EXPECT_FALSE(any_drive_faulted());
+}
+
+// A host stall of 2.5 ms: the segment holds one frame 2.5 ms and, in order, the next one (sent 1 ms
+// later) behind it, back 1.5 ms after its sending. Both are stale when they turn up; only the second
+// is back within 2 ms (what SOEM's 2 ms wait would have taken).
+TEST_F(LateFrame, AStallOfTwoAndAHalfMillisecondsCountsOneOfItsTwoFramesWithinTwo) {
+  const ecat::LinkStats before = rig->bus.master().link().stats();
+  rig->segment.delay_frames(1, 2500 * hal::kNsPerUs);
+  EXPECT_FALSE(cycle().frame_received);
+  EXPECT_FALSE(cycle().frame_received) << "held behind the first";
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(cycle().valid, kAllJoints) << "cycle " << k << " after the stall";
+  const ecat::LinkStats after = rig->bus.master().link().stats();
+  EXPECT_EQ(after.stale_frames, before.stale_frames + 2);
+  EXPECT_EQ(after.stale_within_2ms, before.stale_within_2ms + 1) << "the second, 1.5 ms after its sending";
+  EXPECT_GE(after.stale_age_max, 2500 * hal::kNsPerUs);
   EXPECT_EQ(reports(), 0);
   EXPECT_FALSE(any_drive_faulted());
 }
