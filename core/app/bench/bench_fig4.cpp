@@ -33,6 +33,7 @@
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "core/timing/period_recorder.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "hal/net/udp_socket.hpp"
@@ -72,8 +73,14 @@ struct Series {
   std::int64_t count{0};
 };
 
+// The series (about 4.8 MB): reserved and built when the bench starts, after mlockall, so locked
+// and populated before the measurement (StartUpSlot: not in every command's image, `run`'s included).
+struct SeriesTable {
+  Series at[kTasks][kCases];
+};
+StartUpSlot<SeriesTable> g_series_slot;
+SeriesTable* g_series = nullptr;
 // Static storage: touched once before the measurement (prefaulted by mlockall), never allocated.
-Series g_series[kTasks][kCases];
 PeriodRecorder g_recorders[kTasks][kCases];
 LatencyHistogram g_parts[kCases][kParts];  // the handler's split, per case
 TaskLinks g_links;
@@ -126,7 +133,7 @@ void apply_task_rt(int task, TaskId id, int which_case) noexcept {
 void record(int task, int which_case, std::int64_t latency_ns, std::uint64_t t0, std::uint64_t t1,
             const std::uint64_t* parts = nullptr) noexcept {
   g_recorders[task][which_case].record(latency_ns, t0, t1);
-  Series& s = g_series[task][which_case];
+  Series& s = g_series->at[task][which_case];
   std::array<std::uint32_t, kParts> split{};
   if (parts != nullptr) {
     for (int p = 0; p < kParts; ++p) {
@@ -370,7 +377,7 @@ bool write_series(std::FILE* out) noexcept {
   bool ok = std::fprintf(out, "case,task,period,execution_ns,latency_ns,handler_only_ns,simulator_ns,frame_wait_ns\n") > 0;
   for (int c = 0; c < kCases; ++c) {
     for (int t = 0; t < kTasks; ++t) {
-      const Series& s = g_series[t][c];
+      const Series& s = g_series->at[t][c];
       for (std::int64_t i = 0; i < s.count; ++i) {
         const auto k = static_cast<std::size_t>(i);
         ok = std::fprintf(out, "%s,%s,%" PRId64 ",%u,%u,%u,%u,%u\n", kCaseNames[c], kTaskNames[t], i, s.execution_ns[k],
@@ -518,6 +525,9 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   process.fifo_priority = 0;
   process.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   const hal::RtReport locked = hal::apply_rt_config(process);
+  static StartUpSlot<drivers::JointBus> bus_slot;
+  if (!g_series_slot.reserve() || !bus_slot.reserve()) return fail("bench", "not enough memory for the series");
+  g_series = &g_series_slot.emplace();
   g_shared.timer = hal::TscTimer::calibrate();
   const double ns_per_tick = 1.0 / g_shared.timer.ticks_per_ns();
   for (int t = 0; t < kTasks; ++t) {
@@ -525,7 +535,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
       (void)std::snprintf(g_names[t][c], sizeof g_names[t][c], "%s_%s", kTaskNames[t], kCaseNames[c]);
       g_recorders[t][c].configure(g_names[t][c], ns_per_tick);
       g_recorders[t][c].reset();
-      g_series[t][c].count = 0;
+      g_series->at[t][c].count = 0;
     }
   }
   for (auto& parts : g_parts) {
@@ -535,7 +545,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   const Status opened = selected.open(NicChoice{});
   if (!opened.ok()) return fail("bench", "cannot open the simulated robot", opened.error());
   static TimedNic timed_nic(*selected.nic(), g_shared.timer);
-  static drivers::JointBus bus(timed_nic);
+  drivers::JointBus& bus = bus_slot.emplace(timed_nic);
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
   static TaskPorts task_ports(g_links);  // as `run` wires the tasks (runtime/task_ports.hpp)

@@ -21,6 +21,7 @@
 #include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/ethercat_handler.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "hal/rt/rt_setup.hpp"
@@ -299,7 +300,9 @@ int bench_latency(const ParsedArgs& args) noexcept {
   static SelectedNic selected;
   const Status opened = selected.open(NicChoice{});
   if (!opened.ok()) return fail("bench", "cannot open the simulated robot", opened.error());
-  static drivers::JointBus bus(*selected.nic());
+  static StartUpSlot<drivers::JointBus> bus_slot;  // not in every command's image (start_up_slot.hpp)
+  if (!bus_slot.reserve()) return fail("bench", "not enough memory for the bus");
+  drivers::JointBus& bus = bus_slot.emplace(*selected.nic());
   const Status up = bus.bring_up(ecat::MasterOptions{});
   if (!up.ok()) return fail("bench", "bring-up failed", up.error());
   static TaskPorts task_ports(links);  // as `run` wires the tasks (runtime/task_ports.hpp)

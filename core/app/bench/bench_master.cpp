@@ -14,6 +14,7 @@
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/runtime/sii_cache_file.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_bus.hpp"
@@ -42,22 +43,24 @@ LatencyHistogram g_phase_error_ns;
 hal::VirtualClock g_virtual_clock{hal::kNsPerSec};
 drivers::SimulatedSegment* g_segment = nullptr;
 
-// Three simulated robots with different seeds: the measured run, the cold start, the bring-up with
-// the SII cache warm (static storage: about a megabyte each of ESC memories).
-drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, int which) noexcept {
+// Three simulated robots with different seeds: the measured run (0), the cold start (1), the
+// bring-up with the SII cache warm (2). About a megabyte each of ESC memories, reserved when the
+// bench starts (StartUpSlot: not in every command's image) and each built when first used.
+constexpr std::size_t kRobots = 3;
+StartUpSlot<drivers::SimulatedRobot> g_robots[kRobots];
+
+bool reserve_robots() noexcept {
+  for (StartUpSlot<drivers::SimulatedRobot>& slot : g_robots) {
+    if (!slot.reserve()) return false;
+  }
+  return true;
+}
+
+drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, std::size_t which) noexcept {
   drivers::RobotSegmentOptions options;
   options.seed = seed;
   options.max_drift_ppm = 100.0;
-  if (which == 0) {
-    static drivers::SimulatedRobot first(options, g_virtual_clock.now());
-    return first;
-  }
-  if (which == 1) {
-    static drivers::SimulatedRobot second(options, g_virtual_clock.now());
-    return second;
-  }
-  static drivers::SimulatedRobot third(options, g_virtual_clock.now());
-  return third;
+  return g_robots[which].emplace(options, g_virtual_clock.now());
 }
 
 // The SII cache of the bring-ups (in memory, or --sii-cache-dir's file as `run` keeps it).
@@ -324,6 +327,8 @@ int bench_master(const ParsedArgs& args) noexcept {
   g_phase_error_ns.reset();
 
   static SelectedNic selected;
+  static StartUpSlot<drivers::JointBus> bus_slot;
+  if (!bus_slot.reserve() || (simulated && !reserve_robots())) return fail("bench", "not enough memory for the simulated robots");
   hal::Nic* inner = nullptr;
   if (simulated) {
     drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()), 0);
@@ -338,7 +343,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   }
   static const hal::TscTimer timer = hal::TscTimer::calibrate();
   static TimedNic nic(*inner, timer);
-  static drivers::JointBus bus(nic);
+  drivers::JointBus& bus = bus_slot.emplace(nic);
   static Enabler enabler;
   hal::Clock& clock = nic.clock();
 

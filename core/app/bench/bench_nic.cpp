@@ -8,6 +8,7 @@
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/runtime/nic_factory.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "ecat/codec/frame.hpp"
 #include "hal/time/clock.hpp"
 
@@ -17,8 +18,10 @@ namespace {
 constexpr std::int64_t kMaxFrames = 100'000;
 constexpr hal::Nanoseconds kReplyTimeout = 10 * hal::kNsPerMs;  // ten cycles: a frame later than that is lost
 
-// Round trips, one per frame that came back (tool storage: static, not on the stack).
-std::array<hal::Nanoseconds, kMaxFrames> g_round_trips{};
+// Round trips, one per frame that came back (800 KB: from the heap at the bench's start, not in
+// every command's image: start_up_slot.hpp).
+using RoundTrips = std::array<hal::Nanoseconds, kMaxFrames>;
+StartUpSlot<RoundTrips> g_round_trips_slot;
 
 double to_us(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / 1000.0; }
 
@@ -41,6 +44,8 @@ int bench_nic(const ParsedArgs& args) noexcept {
   const Result<std::int64_t> frames = args.integer("frames", 10'000, 1, kMaxFrames);
   if (!frames.ok()) return fail("bench", "--frames must be 1..100000", frames.error());
 
+  if (!g_round_trips_slot.reserve()) return fail("bench", "not enough memory for the round trips");
+  RoundTrips& g_round_trips = g_round_trips_slot.emplace();
   SelectedNic selected;
   const Status opened = selected.open(choice.value());
   if (!opened.ok()) return fail_nic("bench", args.value("nic") != nullptr ? args.value("nic") : "sim", opened.error());

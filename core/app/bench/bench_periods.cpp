@@ -15,6 +15,7 @@
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "core/timing/period_recorder.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "drivers/sim/segment/simulated_nic.hpp"
@@ -67,10 +68,14 @@ int bench_periods(const ParsedArgs& args) noexcept {
   // Init, as run_firmware wires the tasks (no threads: one thread steps both, handler first).
   drivers::RobotSegmentOptions robot_options;
   robot_options.seed = static_cast<std::uint64_t>(seed.value());
-  static drivers::SimulatedRobot robot(robot_options, g_clock.now());
+  // The robot and the bus (about 1.4 MB) from the heap at start-up, not static storage: StartUpSlot.
+  static StartUpSlot<drivers::SimulatedRobot> robot_slot;
+  static StartUpSlot<drivers::JointBus> bus_slot;
+  if (!robot_slot.reserve() || !bus_slot.reserve()) return fail("bench", "not enough memory for the simulated robot");
+  drivers::SimulatedRobot& robot = robot_slot.emplace(robot_options, g_clock.now());
   if (!robot.status().ok()) return fail("bench", "cannot build the simulated robot", robot.status().error());
   static drivers::SimulatedNic nic(robot.segment(), g_clock);
-  static drivers::JointBus bus(nic);
+  drivers::JointBus& bus = bus_slot.emplace(nic);
   char state_dir[] = "/tmp/rescue-bench-periods-XXXXXX";
   if (mkdtemp(state_dir) == nullptr) return fail("bench", "cannot create a temporary state directory");
   static ErrorJointsFileStorage storage(state_dir);

@@ -12,6 +12,7 @@
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/bench/timed_nic.hpp"
 #include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_bus.hpp"
@@ -34,17 +35,19 @@ LatencyHistogram g_cycle_ns;
 LatencyHistogram g_segment_ns;
 hal::VirtualClock g_clock{hal::kNsPerSec};
 
-// One simulated robot per run (static storage: about a megabyte each of ESC memories).
+// One simulated robot per run and the bus that drives them: about a megabyte each of ESC memories,
+// reserved when the bench starts (StartUpSlot: not in every command's image), built when first used.
+StartUpSlot<drivers::SimulatedRobot> g_hold_robot;
+StartUpSlot<drivers::SimulatedRobot> g_move_robot;
+StartUpSlot<drivers::JointBus> g_bus;
+
+bool reserve_robots() noexcept { return g_hold_robot.reserve() && g_move_robot.reserve() && g_bus.reserve(); }
+
 drivers::SimulatedRobot& robot_for(Motion motion, std::uint64_t seed) noexcept {
   drivers::RobotSegmentOptions options;
   options.seed = seed;
   options.max_drift_ppm = 100.0;
-  if (motion == Motion::hold) {
-    static drivers::SimulatedRobot hold(options, g_clock.now());
-    return hold;
-  }
-  static drivers::SimulatedRobot move(options, g_clock.now());
-  return move;
+  return (motion == Motion::hold ? g_hold_robot : g_move_robot).emplace(options, g_clock.now());
 }
 
 // The references of every joint: enabled through CiA 402, then held at the position it had, or
@@ -104,7 +107,7 @@ int run(Motion motion, std::uint64_t seed, std::int64_t cycles, const hal::TscTi
   static drivers::SimulatedNic hold_nic(robot_for(Motion::hold, seed).segment(), g_clock);
   static drivers::SimulatedNic move_nic(robot_for(Motion::move, seed).segment(), g_clock);
   static TimedNic nic(hold_nic, timer);
-  static drivers::JointBus bus(nic);
+  drivers::JointBus& bus = g_bus.emplace(nic);
   static Exerciser exerciser;
   nic.set_inner(motion == Motion::hold ? hold_nic : move_nic);
   exerciser = Exerciser{};
@@ -189,6 +192,7 @@ int bench_sim(const ParsedArgs& args) noexcept {
 
   RunFigures hold{};
   RunFigures move{};
+  if (!reserve_robots()) return fail("bench", "not enough memory for the simulated robots");
   declare_init_complete(HeapGuardMode::count);
   const auto s = static_cast<std::uint64_t>(seed.value());
   if (!move_only) {

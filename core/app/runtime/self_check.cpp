@@ -2,6 +2,7 @@
 
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/runtime/stop_signal.hpp"
+#include "core/memory/start_up_slot.hpp"
 #include "drivers/cia402/cia402.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/capture/capture_tap.hpp"
@@ -42,7 +43,9 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
   hal::Clock& clock = selected.nic()->clock();
-  static drivers::JointBus bus(*selected.nic());
+  static StartUpSlot<drivers::JointBus> bus_slot;  // not in every command's image (start_up_slot.hpp)
+  if (!bus_slot.reserve()) return failed(out, "not enough memory for the bus", "");
+  drivers::JointBus& bus = bus_slot.emplace(*selected.nic());
   // --capture: every frame of the check, written by this thread as it goes (nothing here is periodic).
   static ecat::CaptureWriter capture;
   if (options.capture_path != nullptr) {
