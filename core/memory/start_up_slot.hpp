@@ -36,7 +36,7 @@ class StartUpSlot {
   // Precondition: reserved() (an internal invariant of the command that owns the slot).
   template <typename... Args>
   T& emplace(Args&&... args) noexcept {
-    if (object_ == nullptr) object_ = ::new (memory_) T(std::forward<Args>(args)...);
+    if (!built()) object_ = ::new (memory_) T(std::forward<Args>(args)...);
     return *object_;
   }
   bool built() const noexcept { return object_ != nullptr; }
