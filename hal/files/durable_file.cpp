@@ -133,6 +133,41 @@ Status write_file_atomically(const char* dir, const char* name, ConstByteSpan co
   return fsync_directory(dir);
 }
 
+Status create_file_durably(const char* dir, const char* name, ConstByteSpan contents, unsigned mode) noexcept {
+  auto target = join_path(dir, name);
+  if (!target.ok()) return target.error();
+  PathBuffer temp_name;
+  const int n = std::snprintf(temp_name.text.data(), temp_name.text.size(), "%s.new", name);
+  if (n < 0 || static_cast<std::size_t>(n) >= temp_name.text.size()) return make_error(Errc::out_of_range, "path too long");
+  auto temp = join_path(dir, temp_name.c_str());
+  if (!temp.ok()) return temp.error();
+  struct stat there {};
+  if (::lstat(target.value().c_str(), &there) == 0) return make_error(Errc::busy, "file already exists; not overwritten");
+
+  if (::unlink(temp.value().c_str()) != 0 && errno != ENOENT) return os_error("remove the old temporary file");
+  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, mode);
+  if (fd < 0) return os_error("create temporary file");
+  Status status = Status::success();
+  if (::fchmod(fd, mode) != 0) status = os_error("set the file's mode");  // whatever the umask took away
+  if (status.ok()) status = write_all(fd, contents);
+  if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");
+  if (::close(fd) != 0 && status.ok()) status = os_error("close temporary file");
+  bool renamed = false;
+  if (status.ok()) {
+    renamed = ::renameat2(AT_FDCWD, temp.value().c_str(), AT_FDCWD, target.value().c_str(), RENAME_NOREPLACE) == 0;
+    if (!renamed && errno == EEXIST) {
+      status = make_error(Errc::busy, "file already exists; not overwritten");
+    } else if (!renamed && errno != EINVAL && errno != ENOSYS) {
+      status = os_error("rename to the file's name");
+    } else if (!renamed && ::link(temp.value().c_str(), target.value().c_str()) != 0) {
+      status = errno == EEXIST ? make_error(Errc::busy, "file already exists; not overwritten") : os_error("link to the file's name");
+    }
+  }
+  if (!renamed) (void)::unlink(temp.value().c_str());  // after a link the name holds the file; after a failure, nothing
+  if (!status.ok()) return status;
+  return fsync_directory(dir);
+}
+
 Status rename_durably(const char* dir, const char* from, const char* to) noexcept {
   auto a = join_path(dir, from);
   if (!a.ok()) return a.error();

@@ -37,6 +37,13 @@ Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept
 // untouched (old contents) and the temporary file is removed.
 Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept;
 
+// Creates dir/name with `contents` and `mode`, never replacing a file already there: through
+// dir/name.new (removed first if a killed writer left it), fsynced, then renamed to dir/name with
+// RENAME_NOREPLACE (link + unlink where the filesystem lacks it) and the directory fsynced. At every
+// instant dir/name is absent or complete; success means both the file and its name are on disk.
+// busy when dir/name exists (nothing written); on any failure dir/name is not created.
+Status create_file_durably(const char* dir, const char* name, ConstByteSpan contents, unsigned mode) noexcept;
+
 // Renames dir/from to dir/to (replacing it) and fsyncs the directory: keeps a file aside for
 // post-mortem before a new one takes its name.
 Status rename_durably(const char* dir, const char* from, const char* to) noexcept;

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "hal/files/durable_file.hpp"
 #include "hal/files/state_dir.hpp"
 #include "hal/files/trusted_file.hpp"
 
@@ -117,32 +118,32 @@ Result<Key> load_key_file(const char* path, hal::FileProblem& why) noexcept {
 }
 
 Status create_key_file(const char* path) noexcept {
-  const Fd fd(::open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600));
-  if (fd.get() < 0) {
-    if (errno == EEXIST) return make_error(Errc::busy, "key file already exists; not overwritten");
-    return os_error("key file cannot be created");
+  // The directory and the name, for a durable create (hal/files/durable_file.hpp): the key is
+  // written under a temporary name, fsynced, and only then given its name, so a keygen stopped
+  // half-way (its --timeout on a slow disk, a power cut) leaves no key file, never a partial one.
+  hal::PathBuffer dir;
+  const char* slash = std::strrchr(path, '/');
+  const char* name = slash != nullptr ? slash + 1 : path;
+  const std::size_t dir_length = slash == nullptr ? 0 : (slash == path ? 1 : static_cast<std::size_t>(slash - path));
+  if (dir_length >= dir.text.size() || *name == '\0') return make_error(Errc::invalid_argument, "key file path has no file name");
+  if (dir_length == 0) {
+    dir.text[0] = '.';
+  } else {
+    std::memcpy(dir.text.data(), path, dir_length);
   }
-  if (::fchmod(fd.get(), 0600) != 0) return os_error("key file mode cannot be set to 0600");
   Key key{};
   randombytes_buf(key.data(), key.size());
   std::array<char, kKeyHexSize + 2> text{};
   (void)sodium_bin2hex(text.data(), text.size(), key.data(), key.size());
   sodium_memzero(key.data(), key.size());
   text[kKeyHexSize] = '\n';
-  std::size_t done = 0;
-  while (done < kKeyHexSize + 1) {
-    const ssize_t n = ::write(fd.get(), text.data() + done, kKeyHexSize + 1 - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      sodium_memzero(text.data(), text.size());
-      (void)::unlink(path);
-      return os_error("key file cannot be written");
-    }
-    done += static_cast<std::size_t>(n);
-  }
+  std::array<std::uint8_t, kKeyHexSize + 1> line{};
+  std::memcpy(line.data(), text.data(), line.size());
   sodium_memzero(text.data(), text.size());
-  if (::fsync(fd.get()) != 0) return os_error("key file cannot be synced");
-  return Status::success();
+  const Status made = hal::create_file_durably(dir.c_str(), name, ConstByteSpan(line.data(), line.size()), 0600);
+  sodium_memzero(line.data(), line.size());
+  if (!made.ok() && made.error().code == Errc::busy) return make_error(Errc::busy, "key file already exists; not overwritten");
+  return made;
 }
 
 Result<hal::PathBuffer> default_key_path() noexcept {

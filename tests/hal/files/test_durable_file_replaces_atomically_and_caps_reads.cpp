@@ -11,25 +11,13 @@
 #include <string>
 
 #include "hal/files/durable_file.hpp"
+#include "tests/support/temp_directory.hpp"
 
 namespace rescue::hal {
 namespace {
 
-class DurableFile : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string templ = ::testing::TempDir() + "durable-XXXXXX";
-    ASSERT_NE(mkdtemp(templ.data()), nullptr);
-    dir_ = templ;
-  }
-  void TearDown() override { (void)std::system(("rm -rf '" + dir_ + "'").c_str()); }
-  std::string path(const char* name) const { return dir_ + "/" + name; }
-  std::string dir_;
-};
-
-ConstByteSpan bytes_of(const std::string& s) {
-  return ConstByteSpan(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-}
+using DurableFile = testing::TempDirectoryTest;
+using testing::bytes_of;
 
 std::string read_all(const std::string& p) {
   std::array<std::uint8_t, 256> buf{};
