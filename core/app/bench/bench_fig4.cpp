@@ -179,13 +179,15 @@ void handler_thread(EthercatHandler& handler, TimedNic& nic, hal::Clock& clock) 
       const std::uint64_t send_before = nic.send_ticks();
       const std::uint64_t receive_before = nic.receive_ticks();
       const std::uint64_t t0 = g_shared.timer.start();
-      (void)handler.cycle();
+      const drivers::JointCycleResult r = handler.cycle();
       const std::uint64_t t1 = g_shared.timer.stop();
       // cppcheck-suppress duplicateExpression ; cycle() went through the NIC: its ticks grew
       std::uint64_t parts[kParts] = {0, nic.send_ticks() - send_before, nic.receive_ticks() - receive_before};
       const std::uint64_t in_nic = parts[kSimulator] + parts[kFrameWait];
       parts[kHandlerOnly] = t1 - t0 > in_nic ? t1 - t0 - in_nic : 0;
       record(kEthercat, c, woke - release, t0, t1, parts);
+      // Untimed, as in run's loop (task_loops.cpp), whose execution figure is the cycle alone too.
+      handler.publish_figures(r, clock.now(), 0);
     }
   }
   g_shared.phase.store(kCases, std::memory_order_release);

@@ -158,7 +158,8 @@ void our_loop(EthercatHandler& handler, hal::Clock& clock, std::uint64_t periods
     shared->our_release.store(release, std::memory_order_release);
     const hal::Nanoseconds woke = wake_at(clock, release);
     g_ours.record(woke > release ? static_cast<std::uint64_t>(woke - release) : 0);
-    (void)handler.cycle();
+    const drivers::JointCycleResult r = handler.cycle();
+    handler.publish_figures(r, clock.now(), 0);  // as run's loop does after each cycle (task_loops.cpp)
     shared->our_cycle_end.store(clock.now(), std::memory_order_release);
   }
   shared->stop.store(true, std::memory_order_release);
