@@ -9,6 +9,7 @@
 // such an object reserves it when it starts; the others pay nothing.
 #pragma once
 
+#include <cassert>
 #include <cstddef>
 #include <new>
 #include <utility>
@@ -36,6 +37,7 @@ class StartUpSlot {
   // Precondition: reserved() (an internal invariant of the command that owns the slot).
   template <typename... Args>
   T& emplace(Args&&... args) noexcept {
+    assert(reserved());
     if (!built()) object_ = ::new (memory_) T(std::forward<Args>(args)...);
     return *object_;
   }

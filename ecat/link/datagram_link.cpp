@@ -78,7 +78,7 @@ Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept 
       if (view.value().datagram_count() != 0) {
         const hal::Nanoseconds age = nic_.clock().now() - sent_at_[(*view.value().begin()).index()];
         if (age > stats_.stale_age_max) stats_.stale_age_max = age;
-        if (age <= 2 * hal::kNsPerMs) ++stats_.stale_within_2ms;
+        if (age <= kSoemReceiveTimeout) ++stats_.stale_within_2ms;
       }
       continue;
     }

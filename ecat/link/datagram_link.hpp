@@ -34,13 +34,16 @@ struct StreamOutcome {
   hal::Nanoseconds last_back_at{0};  // when it was received (NIC clock)
 };
 
+// SOEM's EC_TIMEOUTRET: how long its ec_receive_processdata waits for a frame (for comparisons).
+constexpr hal::Nanoseconds kSoemReceiveTimeout = 2 * hal::kNsPerMs;
+
 struct LinkStats {
   std::uint64_t exchanges{0};
   std::uint64_t timeouts{0};        // no matching frame before the deadline
   std::uint64_t stale_frames{0};    // frames of earlier exchanges that came back late
   hal::Nanoseconds stale_age_max{0};  // the latest of them: from its sending to its turning up
-  // Of those, the ones back within 2 ms of their sending: what a master that waits 2 ms for its frame
-  // whatever its period (SOEM's EC_TIMEOUTRET) would have received; the rest were held longer.
+  // Of those, the ones back within kSoemReceiveTimeout of their sending: what a master that waits
+  // that long for its frame whatever its period would have received; the rest were held longer.
   std::uint64_t stale_within_2ms{0};
   std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
   std::uint64_t send_errors{0};

@@ -41,6 +41,42 @@ Status fsync_directory(const char* dir) noexcept {
   return Status::success();
 }
 
+// dir/name<suffix>: a file's temporary sibling.
+Result<PathBuffer> sibling_path(const char* dir, const char* name, const char* suffix) noexcept {
+  PathBuffer sibling;
+  const int n = std::snprintf(sibling.text.data(), sibling.text.size(), "%s%s", name, suffix);
+  if (n < 0 || static_cast<std::size_t>(n) >= sibling.text.size()) return make_error(Errc::out_of_range, "path too long");
+  return join_path(dir, sibling.c_str());
+}
+
+// Whatever is at `path` (a file left by a writer that crashed, or a FIFO, a link, a directory entry
+// someone put there) is removed, and the file created anew, exclusively: nothing there can block the
+// open or redirect the write. Then written whole and fsynced. `exact_mode`: `mode` whatever the umask.
+Status write_new_file(const char* path, ConstByteSpan contents, unsigned mode, bool exact_mode) noexcept {
+  if (::unlink(path) != 0 && errno != ENOENT) return os_error("remove the old temporary file");
+  const int fd = ::open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, mode);
+  if (fd < 0) return os_error("create temporary file");
+  Status status = Status::success();
+  if (exact_mode && ::fchmod(fd, mode) != 0) status = os_error("set the file's mode");
+  if (status.ok()) status = write_all(fd, contents);
+  if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");
+  if (::close(fd) != 0 && status.ok()) status = os_error("close temporary file");
+  return status;
+}
+
+// Renames `from` to `to` without replacing a file there: RENAME_NOREPLACE, or link + unlink where the
+// filesystem lacks it. busy when `to` exists.
+Status move_without_replacing(const char* from, const char* to) noexcept {
+  if (::renameat2(AT_FDCWD, from, AT_FDCWD, to, RENAME_NOREPLACE) == 0) return Status::success();
+  if (errno == EEXIST) return make_error(Errc::busy, "file already exists; not overwritten");
+  if (errno != EINVAL && errno != ENOSYS) return os_error("rename without replacing");
+  if (::link(from, to) != 0) {
+    return errno == EEXIST ? make_error(Errc::busy, "file already exists; not overwritten") : os_error("link without replacing");
+  }
+  if (::unlink(from) != 0) return os_error("unlink after link");
+  return Status::success();
+}
+
 }  // namespace
 
 Result<PathBuffer> join_path(const char* dir, const char* name) noexcept {
@@ -48,6 +84,21 @@ Result<PathBuffer> join_path(const char* dir, const char* name) noexcept {
   const int n = std::snprintf(out.text.data(), out.text.size(), "%s/%s", dir, name);
   if (n < 0 || static_cast<std::size_t>(n) >= out.text.size()) {
     return make_error(Errc::out_of_range, "path too long", static_cast<std::uint32_t>(n < 0 ? 0 : n));
+  }
+  return out;
+}
+
+Result<DirAndName> split_path(const char* path) noexcept {
+  DirAndName out;
+  const char* slash = std::strrchr(path, '/');
+  out.name = slash != nullptr ? slash + 1 : path;
+  if (*out.name == '\0') return make_error(Errc::invalid_argument, "path has no file name");
+  const std::size_t dir_length = slash == nullptr ? 0 : (slash == path ? 1 : static_cast<std::size_t>(slash - path));
+  if (dir_length >= out.dir.text.size()) return make_error(Errc::out_of_range, "path too long");
+  if (dir_length == 0) {
+    out.dir.text[0] = '.';
+  } else {
+    std::memcpy(out.dir.text.data(), path, dir_length);
   }
   return out;
 }
@@ -108,21 +159,9 @@ Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept
 Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept {
   auto target = join_path(dir, name);
   if (!target.ok()) return target.error();
-  PathBuffer temp_name;
-  const int n = std::snprintf(temp_name.text.data(), temp_name.text.size(), "%s.tmp", name);
-  if (n < 0 || static_cast<std::size_t>(n) >= temp_name.text.size()) return make_error(Errc::out_of_range, "path too long");
-  auto temp = join_path(dir, temp_name.c_str());
+  auto temp = sibling_path(dir, name, ".tmp");
   if (!temp.ok()) return temp.error();
-
-  // Whatever is at the temporary name (a file left by a writer that crashed, or a FIFO, a link, a
-  // directory entry someone put there) is removed, and the file created anew, exclusively: nothing
-  // there can block the open or redirect the write.
-  if (::unlink(temp.value().c_str()) != 0 && errno != ENOENT) return os_error("remove the old temporary file");
-  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
-  if (fd < 0) return os_error("create temporary file");
-  Status status = write_all(fd, contents);
-  if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");
-  if (::close(fd) != 0 && status.ok()) status = os_error("close temporary file");
+  Status status = write_new_file(temp.value().c_str(), contents, 0644, false);
   if (status.ok() && ::rename(temp.value().c_str(), target.value().c_str()) != 0) status = os_error("rename over the file");
   if (!status.ok()) {
     (void)::unlink(temp.value().c_str());
@@ -136,35 +175,16 @@ Status write_file_atomically(const char* dir, const char* name, ConstByteSpan co
 Status create_file_durably(const char* dir, const char* name, ConstByteSpan contents, unsigned mode) noexcept {
   auto target = join_path(dir, name);
   if (!target.ok()) return target.error();
-  PathBuffer temp_name;
-  const int n = std::snprintf(temp_name.text.data(), temp_name.text.size(), "%s.new", name);
-  if (n < 0 || static_cast<std::size_t>(n) >= temp_name.text.size()) return make_error(Errc::out_of_range, "path too long");
-  auto temp = join_path(dir, temp_name.c_str());
+  auto temp = sibling_path(dir, name, ".new");
   if (!temp.ok()) return temp.error();
   struct stat there {};
   if (::lstat(target.value().c_str(), &there) == 0) return make_error(Errc::busy, "file already exists; not overwritten");
-
-  if (::unlink(temp.value().c_str()) != 0 && errno != ENOENT) return os_error("remove the old temporary file");
-  const int fd = ::open(temp.value().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, mode);
-  if (fd < 0) return os_error("create temporary file");
-  Status status = Status::success();
-  if (::fchmod(fd, mode) != 0) status = os_error("set the file's mode");  // whatever the umask took away
-  if (status.ok()) status = write_all(fd, contents);
-  if (status.ok() && ::fsync(fd) != 0) status = os_error("fsync temporary file");
-  if (::close(fd) != 0 && status.ok()) status = os_error("close temporary file");
-  bool renamed = false;
-  if (status.ok()) {
-    renamed = ::renameat2(AT_FDCWD, temp.value().c_str(), AT_FDCWD, target.value().c_str(), RENAME_NOREPLACE) == 0;
-    if (!renamed && errno == EEXIST) {
-      status = make_error(Errc::busy, "file already exists; not overwritten");
-    } else if (!renamed && errno != EINVAL && errno != ENOSYS) {
-      status = os_error("rename to the file's name");
-    } else if (!renamed && ::link(temp.value().c_str(), target.value().c_str()) != 0) {
-      status = errno == EEXIST ? make_error(Errc::busy, "file already exists; not overwritten") : os_error("link to the file's name");
-    }
+  Status status = write_new_file(temp.value().c_str(), contents, mode, true);
+  if (status.ok()) status = move_without_replacing(temp.value().c_str(), target.value().c_str());
+  if (!status.ok()) {
+    (void)::unlink(temp.value().c_str());
+    return status;
   }
-  if (!renamed) (void)::unlink(temp.value().c_str());  // after a link the name holds the file; after a failure, nothing
-  if (!status.ok()) return status;
   return fsync_directory(dir);
 }
 
@@ -187,16 +207,9 @@ Result<std::uint32_t> set_aside_durably(const char* dir, const char* from, const
     if (n < 0 || static_cast<std::size_t>(n) >= name.text.size()) return make_error(Errc::out_of_range, "path too long");
     auto target = join_path(dir, name.c_str());
     if (!target.ok()) return target.error();
-    // No replace: rename with RENAME_NOREPLACE, or link + unlink where the filesystem lacks it.
-    if (::renameat2(AT_FDCWD, source.value().c_str(), AT_FDCWD, target.value().c_str(), RENAME_NOREPLACE) != 0) {
-      if (errno == EEXIST) continue;
-      if (errno != EINVAL && errno != ENOSYS) return os_error("rename aside");
-      if (::link(source.value().c_str(), target.value().c_str()) != 0) {
-        if (errno == EEXIST) continue;
-        return os_error("link aside");
-      }
-      if (::unlink(source.value().c_str()) != 0) return os_error("unlink after link aside");
-    }
+    const Status moved = move_without_replacing(source.value().c_str(), target.value().c_str());
+    if (!moved.ok() && moved.error().code == Errc::busy) continue;  // that name is taken: the next
+    if (!moved.ok()) return moved.error();
     const Status synced = fsync_directory(dir);
     if (!synced.ok()) return synced.error();
     return suffix;

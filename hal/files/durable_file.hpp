@@ -25,6 +25,15 @@ struct PathBuffer {
 // "dir/name"; out_of_range when it does not fit.
 Result<PathBuffer> join_path(const char* dir, const char* name) noexcept;
 
+// The other way round: `path`'s directory ("." when it has none, "/" for a name in the root) and its
+// last component (a pointer into `path`). invalid_argument for an empty path or one ending in '/';
+// out_of_range when the directory does not fit.
+struct DirAndName {
+  PathBuffer dir;
+  const char* name{nullptr};
+};
+Result<DirAndName> split_path(const char* path) noexcept;
+
 // Reads the whole regular file at `path` into `buffer` and returns its size. Errors: not_found (nothing
 // at `path`), malformed for a symbolic link whose target does not exist (it is reported, never taken for
 // "no file") and for a file that is not a regular file (a FIFO or device would block or never end), capacity_exceeded

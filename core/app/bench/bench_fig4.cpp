@@ -528,7 +528,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   process.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   const hal::RtReport locked = hal::apply_rt_config(process);
   static StartUpSlot<drivers::JointBus> bus_slot;
-  if (!g_series_slot.reserve() || !bus_slot.reserve()) return fail("bench", "not enough memory for the series");
+  if (!g_series_slot.reserve() || !bus_slot.reserve()) return fail("bench", "not enough memory for the series and the bus");
   g_series = &g_series_slot.emplace();
   g_shared.timer = hal::TscTimer::calibrate();
   const double ns_per_tick = 1.0 / g_shared.timer.ticks_per_ns();

@@ -121,16 +121,8 @@ Status create_key_file(const char* path) noexcept {
   // The directory and the name, for a durable create (hal/files/durable_file.hpp): the key is
   // written under a temporary name, fsynced, and only then given its name, so a keygen stopped
   // half-way (its --timeout on a slow disk, a power cut) leaves no key file, never a partial one.
-  hal::PathBuffer dir;
-  const char* slash = std::strrchr(path, '/');
-  const char* name = slash != nullptr ? slash + 1 : path;
-  const std::size_t dir_length = slash == nullptr ? 0 : (slash == path ? 1 : static_cast<std::size_t>(slash - path));
-  if (dir_length >= dir.text.size() || *name == '\0') return make_error(Errc::invalid_argument, "key file path has no file name");
-  if (dir_length == 0) {
-    dir.text[0] = '.';
-  } else {
-    std::memcpy(dir.text.data(), path, dir_length);
-  }
+  const Result<hal::DirAndName> where = hal::split_path(path);
+  if (!where.ok()) return where.error();
   Key key{};
   randombytes_buf(key.data(), key.size());
   std::array<char, kKeyHexSize + 2> text{};
@@ -140,7 +132,8 @@ Status create_key_file(const char* path) noexcept {
   std::array<std::uint8_t, kKeyHexSize + 1> line{};
   std::memcpy(line.data(), text.data(), line.size());
   sodium_memzero(text.data(), text.size());
-  const Status made = hal::create_file_durably(dir.c_str(), name, ConstByteSpan(line.data(), line.size()), 0600);
+  const Status made =
+      hal::create_file_durably(where.value().dir.c_str(), where.value().name, ConstByteSpan(line.data(), line.size()), 0600);
   sodium_memzero(line.data(), line.size());
   if (!made.ok() && made.error().code == Errc::busy) return make_error(Errc::busy, "key file already exists; not overwritten");
   return made;

@@ -1,6 +1,7 @@
 // hal::create_file_durably: creates a file with its contents and mode through a temporary name, never
 // replaces one already there (busy, the old contents untouched), takes the place of a temporary a
-// killed writer left, leaves no temporary behind, and on a failure leaves no file at the name.
+// killed writer left, leaves no temporary behind, and on a failure leaves no file at the name; and
+// split_path, which gives it a path's directory and name.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -58,6 +59,28 @@ TEST_F(DurableCreate, AFailedCreateLeavesNoFileAtTheName) {
   const Status made = create_file_durably(dir_.c_str(), "key", bytes_of("whole\n"), 0600);
   EXPECT_FALSE(made.ok());
   EXPECT_NE(::access(path("key").c_str(), F_OK), 0);
+}
+
+TEST(SplitPath, GivesTheDirectoryAndTheNameOfEveryKindOfPath) {
+  const struct {
+    const char* path;
+    const char* dir;
+    const char* name;
+  } cases[] = {{"/var/lib/rescue-motion/operator.key", "/var/lib/rescue-motion", "operator.key"},
+               {"/operator.key", "/", "operator.key"},
+               {"operator.key", ".", "operator.key"},
+               {"state/operator.key", "state", "operator.key"}};
+  for (const auto& c : cases) {
+    const Result<DirAndName> split = split_path(c.path);
+    ASSERT_TRUE(split.ok()) << c.path;
+    EXPECT_STREQ(split.value().dir.c_str(), c.dir) << c.path;
+    EXPECT_STREQ(split.value().name, c.name) << c.path;
+  }
+  for (const char* bad : {"", "state/", "/"}) {
+    const Result<DirAndName> split = split_path(bad);
+    ASSERT_FALSE(split.ok()) << bad;
+    EXPECT_EQ(split.error().code, Errc::invalid_argument) << bad;
+  }
 }
 
 }  // namespace
