@@ -3,29 +3,17 @@
 // in captures/soem-sdinfo-akd.pcapng (words 0x08..0x0D of the AKD: 0x6a, 0x00414b44, 2).
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "ecat/sii/sii.hpp"
+#include "tests/support/shared_sii_images.hpp"
 
 namespace rescue::ecat::sii {
 namespace {
 
-std::vector<std::uint8_t> read_vector(const char* name) {
-  const std::string path = std::string(RESCUE_SHARED_DIR) + "/vectors/sii/" + name;
-  std::vector<std::uint8_t> bytes;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return bytes;
-  std::uint8_t buffer[512];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);
-  std::fclose(f);
-  return bytes;
-}
-
 #define LOAD_OR_SKIP(var, name)                                                                     \
-  const std::vector<std::uint8_t> var = read_vector(name);                                          \
+  const std::vector<std::uint8_t> var = test::read_shared_sii(name);                               \
   if (var.empty()) GTEST_SKIP() << "needs " RESCUE_SHARED_DIR "/vectors/sii/" name " (shared vectors absent)"
 
 TEST(SiiRealImages, Ek1100CouplerHasBeckhoffIdentityAndNoMailbox) {
