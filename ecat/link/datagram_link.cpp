@@ -51,6 +51,8 @@ Status DatagramLink::send_frame() noexcept {
   sent_view_ = sent_view.value();
   if (tap_ != nullptr) tap_(tap_context_, sent_, nic_.clock().now(), TapDirection::outbound);
   sent_at_[index_] = nic_.clock().now();
+  expected_wkc_[index_] = expected_wkc_next_;
+  expected_wkc_next_ = 0;
   const Status sent = nic_.send(sent_);
   if (!sent.ok()) {
     ++stats_.send_errors;
@@ -78,7 +80,13 @@ Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept 
       if (view.value().datagram_count() != 0) {
         const hal::Nanoseconds age = nic_.clock().now() - sent_at_[(*view.value().begin()).index()];
         if (age > stats_.stale_age_max) stats_.stale_age_max = age;
-        if (age <= kSoemReceiveTimeout) ++stats_.stale_within_2ms;
+        if (age <= kSoemReceiveTimeout) {
+          ++stats_.stale_within_2ms;
+          const std::uint16_t expected = expected_wkc_[(*view.value().begin()).index()];
+          std::uint32_t wkc = 0;
+          for (const DatagramView d : view.value()) wkc += d.command() == Command::LRW ? d.wkc() : 0U;
+          if (expected != 0 && wkc >= expected) ++stats_.stale_within_2ms_full_wkc;
+        }
       }
       continue;
     }

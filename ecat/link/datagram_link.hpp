@@ -45,6 +45,9 @@ struct LinkStats {
   // Of those, the ones back within kSoemReceiveTimeout of their sending: what a master that waits
   // that long for its frame whatever its period would have received; the rest were held longer.
   std::uint64_t stale_within_2ms{0};
+  // Of those, the ones whose process data (LRW) working counters added up to what the master expected
+  // when it sent them (expect_process_data_wkc): cycles SOEM's way of counting calls valid.
+  std::uint64_t stale_within_2ms_full_wkc{0};
   std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
   std::uint64_t send_errors{0};
 };
@@ -63,6 +66,9 @@ class DatagramLink {
 
   // Starts a new frame; datagrams are added with index() as their index.
   FrameBuilder& begin() noexcept;
+  // The sum of the LRW working counters the frame being built should come back with (0: none),
+  // kept with its index when it is sent, so that a late frame can be told whole (stats()).
+  void expect_process_data_wkc(std::uint16_t total) noexcept { expected_wkc_next_ = total; }
   std::uint8_t index() const noexcept { return index_; }
 
   // Sends the frame built since begin() and waits for it until `deadline` (NIC clock). The view
@@ -104,6 +110,8 @@ class DatagramLink {
   FrameView sent_view_{};  // sent_, parsed by send_frame()
   std::uint8_t index_{0};
   std::array<hal::Nanoseconds, 256> sent_at_{};  // when the frame of each index was last sent (stale ages)
+  std::array<std::uint16_t, 256> expected_wkc_{};  // expect_process_data_wkc of each index's last frame
+  std::uint16_t expected_wkc_next_{0};
   FrameTapFn tap_{nullptr};
   void* tap_context_{nullptr};
   LinkStats stats_{};

@@ -282,6 +282,11 @@ CycleResult Master::cycle() noexcept {
   frame_reference_time_ = 0;
   FrameBuilder& frame = link_.begin();
   build_cycle_frame(frame);
+  if (state_ == MasterState::op) {  // so that a frame back late can be told whole (LinkStats)
+    std::uint32_t expected = 0;
+    for (std::size_t b = 0; b < kMaxBranches; ++b) expected += layout_.branches[b].length != 0 ? monitor_.expected_wkc(b) : 0U;
+    link_.expect_process_data_wkc(static_cast<std::uint16_t>(std::min<std::uint32_t>(expected, 0xFFFF)));
+  }
   result.sent_at = link_.clock().now();
   const Result<FrameView> back = link_.exchange(cycle_receive_deadline(result.sent_at));
   result.frame_received = back.ok();

@@ -92,12 +92,14 @@ TEST_F(LateFrame, HeldPastTheNextSendIsCountedMissingThenDroppedAsStale) {
   const std::uint64_t missing_before = rig->bus.master().monitor().frames_missing();
   const std::uint64_t stale_before = rig->bus.master().link().stats().stale_frames;
   const std::uint64_t within_before = rig->bus.master().link().stats().stale_within_2ms;
+  const std::uint64_t full_before = rig->bus.master().link().stats().stale_within_2ms_full_wkc;
   rig->segment.delay_frames(1, 1500 * hal::kNsPerUs);
   EXPECT_FALSE(cycle().frame_received);
   EXPECT_EQ(rig->bus.master().monitor().frames_missing(), missing_before + 1);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(cycle().valid, kAllJoints) << "cycle " << k << " after the late frame";
   EXPECT_EQ(rig->bus.master().link().stats().stale_frames, stale_before + 1) << "it turned up, and was not taken for a newer frame";
   EXPECT_EQ(rig->bus.master().link().stats().stale_within_2ms, within_before + 1) << "1.5 ms: SOEM's 2 ms wait would have taken it";
+  EXPECT_EQ(rig->bus.master().link().stats().stale_within_2ms_full_wkc, full_before + 1) << "and whole: SOEM would count it valid";
   EXPECT_EQ(reports(), 0);
   EXPECT_FALSE(any_drive_faulted());
 }
@@ -114,9 +116,23 @@ TEST_F(LateFrame, AStallOfTwoAndAHalfMillisecondsCountsOneOfItsTwoFramesWithinTw
   const ecat::LinkStats after = rig->bus.master().link().stats();
   EXPECT_EQ(after.stale_frames, before.stale_frames + 2);
   EXPECT_EQ(after.stale_within_2ms, before.stale_within_2ms + 1) << "the second, 1.5 ms after its sending";
+  EXPECT_EQ(after.stale_within_2ms_full_wkc, before.stale_within_2ms_full_wkc + 1);
   EXPECT_GE(after.stale_age_max, 2500 * hal::kNsPerUs);
   EXPECT_EQ(reports(), 0);
   EXPECT_FALSE(any_drive_faulted());
+}
+
+// A frame back late within 2 ms but short of its working counter (a cut behind it) is no valid
+// cycle by SOEM's count either.
+TEST_F(LateFrame, ALateFrameShortOfItsWorkingCounterIsNotCountedWhole) {
+  const ecat::LinkStats before = rig->bus.master().link().stats();
+  ASSERT_TRUE(rig->segment.cut_link(slave_position_of_joint(joint_index_by_name("l_elbow"))).ok());
+  rig->segment.delay_frames(1, 1500 * hal::kNsPerUs);
+  EXPECT_FALSE(cycle().frame_received);
+  (void)cycle();
+  const ecat::LinkStats after = rig->bus.master().link().stats();
+  EXPECT_EQ(after.stale_within_2ms, before.stale_within_2ms + 1);
+  EXPECT_EQ(after.stale_within_2ms_full_wkc, before.stale_within_2ms_full_wkc);
 }
 
 TEST_F(LateFrame, ACutIsStillConfirmedByThreeReturnedFramesAcrossLateOnes) {
