@@ -3,8 +3,8 @@
 # command, every figure as a `key: value` line of both sides measured the same way (docs/timing.md
 # "Side by side with SOEM"). Our own copy of the anchor's method (../shared/anchors/compare-with-soem.sh,
 # which stays as it is): SOEM is built from the anchor's tarball and soem_cycle.c exactly as it builds
-# them, the simulator is started the same way but on the EtherCAT task's CPU (COMPARE_SIM_CPU below),
-# and each program runs for 2000 and for 12000 cycles so that start-up cancels out:
+# them, the simulator is started the same way (COMPARE_SIM_CPU below), and each program runs for 2000
+# and for 12000 cycles so that start-up cancels out:
 #   valid cycles            SOEM: cycles_full_wkc; ours: cycles_all_joints_valid (the 12000-cycle run),
 #                           every joint valid in its period; and, counted as SOEM's test counts (its
 #                           frame back with the full working counter within 2 ms, EC_TIMEOUTRET,
@@ -22,7 +22,7 @@
 # usage: toolchain/compare-with-soem.sh RESCUE_MOTION_BINARY [RUNS]   (root; RUNS default 3)
 # environment: ANCHORS (default ../shared/anchors beside this tree), SOEM_BUILD (default /tmp/soem-anchor,
 #   shared with the anchor's script), COMPARE_VETH (veth name prefix, default vcmp: vcmp0 and vcmp1),
-#   COMPARE_SIM_CPU (the simulator's CPU, default 1, the EtherCAT task's; `any`: unpinned, as the anchor).
+#   COMPARE_SIM_CPU (the simulator's CPU: default `sim`'s own, the EtherCAT task's; `any`: the scheduler's).
 # Timing figures depend on the machine's load: run it on a quiet machine, and take a shared machine's
 # figures as measured under load.
 set -euo pipefail
@@ -43,13 +43,14 @@ cache=$(mktemp -d /tmp/compare-sii-cache.XXXXXX)
 ip link del "$a" 2>/dev/null || true
 ip link add "$a" type veth peer name "$b" && ip link set "$a" up && ip link set "$b" up
 sim=""; trap '[[ -n $sim ]] && kill $sim 2>/dev/null; ip link del $a 2>/dev/null || true; rm -rf "$cache"' EXIT
-# The simulator stands for the NIC and the slaves: on the EtherCAT task's CPU, as docs/deploy.md puts
-# the NIC's interrupt ("NIC interrupt on the handler's CPU"), so its replies are delivered on that CPU
-# (COMPARE_SIM_CPU=any: anywhere, as the anchor's script starts it; docs/timing.md has both).
-sim_cpu=${COMPARE_SIM_CPU:-1}
-pin=(); [[ $sim_cpu != any ]] && pin=(taskset -c "$sim_cpu")
-echo "simulator_cpu: $sim_cpu"
-"${pin[@]}" "$bin" sim --iface "$b" >/dev/null 2>&1 & sim=$!
+# The simulator stands for the NIC and the slaves: by its own default on the EtherCAT task's CPU, as
+# docs/deploy.md puts the NIC's interrupt ("NIC interrupt on the handler's CPU"), so its replies are
+# delivered on that CPU; the anchor's script starts it the same way. COMPARE_SIM_CPU=any (`sim --cpu
+# any`) leaves it to the scheduler, N puts it on CPU N (docs/timing.md has both).
+sim_cpu=${COMPARE_SIM_CPU:-}
+cpu_option=(); [[ -n $sim_cpu ]] && cpu_option=(--cpu "$sim_cpu")
+echo "simulator_cpu: ${sim_cpu:-the EtherCAT task's (sim's default)}"
+"$bin" sim --iface "$b" "${cpu_option[@]}" >/dev/null 2>&1 & sim=$!
 sleep 1
 
 out=$(mktemp /tmp/compare-run.XXXXXX)

@@ -15,6 +15,7 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/config/task_table.hpp"
 #include "core/app/sim/frame_server.hpp"
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/sim/simulated_robot_instance.hpp"
@@ -37,6 +38,12 @@ constexpr hal::Nanoseconds kIdleStep = 2 * hal::kNsPerMs;
 // hold a frame back for milliseconds. Masters do not retry every read: SOEM's ec_configdc takes a
 // port receive time that timed out (2 ms) as unchanged, and computes wrong propagation delays.
 constexpr std::int64_t kDefaultPriority = 90;
+// And on the EtherCAT task's CPU by default, where docs/deploy.md puts a real NIC's interrupt: a host
+// that stalls that CPU stalls the master with it, as it would stall the master's own NIC handling.
+// Left to the scheduler, a master pinned at real-time priority had the kernel wake the simulator on
+// the other CPU (a woken real-time task leaves a CPU whose running real-time task is pinned), where a
+// virtual machine's stalls of that CPU held frames 1-4 ms (docs/hal.md "The simulator's CPU").
+int default_cpu() noexcept { return table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu); }
 
 void print_counters(const FrameServerCounters& served, const hal::NicStats& nic) noexcept {
   (void)std::printf("frames received: %llu\n", static_cast<unsigned long long>(served.frames_received));
@@ -107,6 +114,7 @@ class FaultConsole {
 const OptionSpec kOptions[] = {
     {"iface", "IFACE", "network interface to serve the segment on (required)"},
     {"priority", "N", "SCHED_FIFO priority 1..99 while serving, 0 for normal scheduling (default 90)"},
+    {"cpu", "N|any", "serve on CPU N (default: the EtherCAT task's CPU, where a real NIC's interrupt goes); any: wherever the scheduler puts it"},
     {"through-qdisc", nullptr, "send replies through the interface's queueing discipline (e.g. `tc qdisc ... netem` delay and reordering); default: bypass it, as hardware has none"},
 };
 
@@ -115,6 +123,17 @@ int sim_main(const ParsedArgs& args) {
   if (iface == nullptr) return fail("sim", "--iface IFACE is required (e.g. --iface eth1)");
   const Result<std::int64_t> priority = args.integer("priority", kDefaultPriority, 0, 99);
   if (!priority.ok()) return fail("sim", "--priority must be 0..99", priority.error());
+
+  int cpu = default_cpu();
+  const char* cpu_text = args.value("cpu");
+  if (cpu_text != nullptr && std::strcmp(cpu_text, "any") == 0) {
+    cpu = -1;
+  } else {
+    const long online = ::sysconf(_SC_NPROCESSORS_ONLN);
+    const Result<std::int64_t> chosen = args.integer("cpu", cpu, 0, online > 0 ? online - 1 : 0);
+    if (!chosen.ok()) return fail("sim", "--cpu must be `any` or a CPU of this machine (0 to the number online - 1)", chosen.error());
+    cpu = static_cast<int>(chosen.value());
+  }
 
   static hal::RawSocketNic nic;  // static, like the server that refers to it
   hal::RawSocketSettings settings;
@@ -130,6 +149,7 @@ int sim_main(const ParsedArgs& args) {
   hal::RtConfig rt;
   rt.prefault_stack_bytes = std::size_t{256} * 1024;
   rt.fifo_priority = static_cast<int>(priority.value());
+  rt.cpu = cpu;
   hal::apply_rt_config(rt).print(stdout);
 
   std::size_t powered = 0;
@@ -157,11 +177,12 @@ int sim_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kSimCommand{
-    "sim", "sim --iface IFACE [--priority N] [--through-qdisc]", "serve the simulated robot's EtherCAT segment on a network interface",
+    "sim", "sim --iface IFACE [--priority N] [--cpu N|any] [--through-qdisc]", "serve the simulated robot's EtherCAT segment on a network interface",
     "A master on the other end of the wire (or of a veth pair) sees the 23 slaves of the robot.\n"
     "Needs CAP_NET_RAW (root, or `setcap cap_net_raw+ep rescue-motion`). It serves at SCHED_FIFO\n"
-    "priority 90 with its memory locked when allowed (each item is reported), so that it answers as\n"
-    "fast as hardware on a busy host. SIGINT or SIGTERM stop it and it prints its frame counters.\n"
+    "priority 90 with its memory locked when allowed, on the EtherCAT task's CPU (where a real NIC's\n"
+    "interrupt goes; each item is reported), so that it answers as fast as hardware on a busy host.\n"
+    "SIGINT or SIGTERM stop it and it prints its frame counters.\n"
     "docs/hal.md shows how to run it on a veth pair.",
     Span<const OptionSpec>(kOptions), 0, 0, sim_main};
 

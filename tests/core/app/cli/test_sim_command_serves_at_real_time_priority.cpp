@@ -1,8 +1,12 @@
 // `rescue-motion sim --iface` stands for hardware: it must answer within microseconds even on a
 // busy host, or a master's single-shot reads time out (SOEM's ec_configdc then takes a stale port
 // receive time and computes wrong propagation delays). So it serves at SCHED_FIFO priority 90 by
-// default, reports each real-time item, and --priority 0 leaves normal scheduling.
+// default, reports each real-time item, and --priority 0 leaves normal scheduling. It serves on the
+// EtherCAT task's CPU by default (where a real NIC's interrupt goes: a master pinned at real-time
+// priority otherwise had the kernel wake it on the other CPU, docs/hal.md), --cpu any leaves it to the
+// scheduler, and a CPU the machine does not have is an error.
 #include <sched.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -11,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/app/config/task_table.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/netns_veth.hpp"
 
@@ -46,6 +51,18 @@ Scheduling scheduling_of(pid_t pid) {
   return s;
 }
 
+// The CPUs `pid` may run on.
+std::vector<int> cpus_of(pid_t pid) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  std::vector<int> cpus;
+  if (::sched_getaffinity(pid, sizeof set, &set) != 0) return cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &set)) cpus.push_back(c);
+  }
+  return cpus;
+}
+
 class SimCommandScheduling : public rescue::testing::NetnsTest {
  protected:
   void start(const std::vector<std::string>& extra) {
@@ -71,6 +88,31 @@ TEST_F(SimCommandScheduling, PriorityZeroKeepsNormalScheduling) {
   const Scheduling s = scheduling_of(sim_.pid());
   EXPECT_EQ(s.policy, SCHED_OTHER);
   EXPECT_NE(sim_.output().find("rt: SCHED_FIFO priority: skipped"), std::string::npos) << sim_.output();
+}
+
+TEST_F(SimCommandScheduling, ServesOnTheEthercatTasksCpuByDefault) {
+  start({});
+  const int ethercat_cpu = table_cpu_on_this_machine(task_spec(TaskId::ethercat_handler).cpu);
+  EXPECT_EQ(cpus_of(sim_.pid()), std::vector<int>{ethercat_cpu}) << sim_.output();
+  EXPECT_NE(sim_.output().find("rt: CPU affinity " + std::to_string(ethercat_cpu) + ": applied"), std::string::npos) << sim_.output();
+}
+
+TEST_F(SimCommandScheduling, CpuAnyLeavesItToTheScheduler) {
+  start({"--cpu", "any"});
+  EXPECT_EQ(cpus_of(sim_.pid()).size(), static_cast<std::size_t>(::sysconf(_SC_NPROCESSORS_ONLN))) << sim_.output();
+  EXPECT_NE(sim_.output().find("rt: CPU affinity: skipped"), std::string::npos) << sim_.output();
+}
+
+TEST_F(SimCommandScheduling, CpuZeroIsTaken) {
+  start({"--cpu", "0"});
+  EXPECT_EQ(cpus_of(sim_.pid()), std::vector<int>{0}) << sim_.output();
+}
+
+TEST(SimCommandCpu, ACpuTheMachineDoesNotHaveIsAnError) {
+  ChildProcess sim;
+  ASSERT_TRUE(sim.start({kBinary, "sim", "--iface", "lo", "--cpu", std::to_string(::sysconf(_SC_NPROCESSORS_ONLN))}));
+  EXPECT_EQ(sim.wait_exit(), 1);
+  EXPECT_NE(sim.output().find("--cpu must be `any` or a CPU of this machine"), std::string::npos) << sim.output();
 }
 
 TEST(SimCommandPriority, OutOfRangeIsAnError) {
