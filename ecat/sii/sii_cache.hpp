@@ -1,8 +1,9 @@
-// A cache of whole SII images, keyed by what the master always reads from every slave first: the
-// first 32 bytes of its EEPROM (words 0..15: the configuration area with its CRC-8 in word 7, then
-// vendor id, product code, revision and serial number). A slave whose first 32 bytes equal a cached
+// A cache of SII images as the reader reads them (what the master uses: sii_reader.hpp), keyed by
+// what the master always reads from every slave first: the first 32 bytes of its EEPROM (words
+// 0..15: the configuration area with its CRC-8 in word 7, then vendor id, product code, revision and
+// serial number). A slave whose first 32 bytes equal a cached
 // image's, byte for byte, is that device with that EEPROM: the reader takes the rest of the image
-// from the cache instead of reading it at 500 us per 8 bytes (read_sii_images, sii_reader.hpp).
+// from the cache instead of reading it at 500 us per 4 bytes (read_sii_images, sii_reader.hpp).
 //
 // A changed device never gets a stale image: another unit has another serial, a re-flashed EEPROM
 // another revision or configuration area, and those bytes are read from the slave every time.

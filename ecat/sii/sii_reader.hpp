@@ -41,7 +41,7 @@ struct SiiImage {
   bool complete{false};        // the end marker was read (or put in, when truncated)
   bool truncated{false};
   bool from_cache{false};      // the identity was read, the rest taken from the SII cache
-  std::uint16_t strings_skipped{0};  // bytes of the Strings category not read (zero in `bytes`)
+  std::uint16_t strings_skipped{0};  // bytes of the Strings category not read (zero in `bytes`); not kept in the cache file
   Error error{};               // why the read failed (code ok when it did not)
   ConstByteSpan view() const noexcept { return {bytes.data(), size}; }
 };
