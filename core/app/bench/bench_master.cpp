@@ -470,7 +470,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
   (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
   // A late frame's cycle is never among all_valid (nothing came back in its period): no double count.
-  const std::int64_t late_but_whole = static_cast<std::int64_t>(link_after.stale_within_2ms_full_wkc - link_before.stale_within_2ms_full_wkc);
+  const auto late_but_whole = static_cast<std::int64_t>(link_after.stale_within_2ms_full_wkc - link_before.stale_within_2ms_full_wkc);
   (void)std::printf("cycles_valid_within_2ms: %" PRId64 " cycles (as SOEM's test counts: the frame back within 2 ms of its sending, "
                     "EC_TIMEOUTRET, with its full working counter, whatever the period; %" PRId64 " of them back after their period)\n",
                     std::min(all_valid + late_but_whole, cycles.value()), late_but_whole);
