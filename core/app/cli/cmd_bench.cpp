@@ -56,7 +56,7 @@ const Bench kBenches[] = {
     {"sim", bench_sim, "simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
      "cycles motion seed"},
     {"rc", bench_rc, "RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step, whole RC period (median/p99/max ns), heap after init", "periods"},
-    {"latency", bench_latency, "wake-up latency of the EtherCAT handler's real 1 ms loop (on the in-process simulated robot) and of cyclictest, same priority, CPU and PM QoS; ratio", "periods no-pm-qos"},
+    {"latency", bench_latency, "wake-up latency of the EtherCAT handler's real 1 ms loop (on the in-process simulated robot), of a reference loop interleaved with it (cyclictest's method) and of cyclictest, same priority, CPU and PM QoS; ratios", "periods no-pm-qos"},
     {"periods", bench_periods, "the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time", "cycles seed"},
     {"fig4", bench_fig4, "the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
      "periods load out plot-script no-plot"},
