@@ -11,7 +11,6 @@ namespace {
 
 constexpr std::uint16_t kCommandLength = 6;  // 0x0502 control, 0x0504 address
 constexpr std::uint16_t kPollLength = 14;    // 0x0502 .. 0x050F
-constexpr std::uint16_t kCategoryEnd = 0xFFFF;
 // The header's reserved words 0x1D..0x3D (after the mailbox protocols, before the EEPROM size) are
 // not read: nothing is defined there, and skipping them saves 16 of a drive's EEPROM reads.
 constexpr std::size_t kHeaderReservedFrom = std::size_t{2} * (sii::kMailboxProtocols + 1U);  // byte 0x3A
@@ -57,11 +56,11 @@ void walk_categories(SiiImage& image, SlaveRead& state, bool all_strings) noexce
     const std::uint16_t type = load_le16(h);
     const std::size_t body = state.next_category + 4;
     const std::size_t next = state.next_category + 4 + std::size_t{2} * load_le16(h + 2);
-    if (type == kCategoryEnd) {
+    if (type == sii::kCategoryEnd) {
       image.size = static_cast<std::uint16_t>(state.next_category + 2);
       image.complete = true;
     } else if (next + 2 > kSiiImageCapacity) {
-      store_le16(image.bytes.data() + state.next_category, kCategoryEnd);
+      store_le16(image.bytes.data() + state.next_category, sii::kCategoryEnd);
       image.size = static_cast<std::uint16_t>(state.next_category + 2);
       image.complete = true;
       image.truncated = true;

@@ -13,11 +13,11 @@
 //   - the Strings category's body is put off, and after the end marker read only as far as the
 //     strings the General category names (group, order, device name): the PDO and sync names that
 //     fill most of it are not read (`strings_skipped` bytes, zero in the image; they parse as empty
-//     strings). A drive's 624-byte image takes about 84 EEPROM reads instead of 156; `all_strings`
+//     strings). A drive's 624-byte image takes 84 EEPROM reads instead of 157; `all_strings`
 //     reads every string.
 // With a cache (sii_cache.hpp), once a slave's first 32 bytes (configuration area and identity:
 // vendor, product, revision, serial) are read, an image cached for exactly those bytes is taken
-// instead of reading on: 8 EEPROM reads instead of about 84. A category that would not fit the image
+// instead of reading on: 8 EEPROM reads instead of 84. A category that would not fit the image
 // buffer ends the image there (an end marker is put in its place, `truncated` says so).
 #pragma once
 

@@ -6,9 +6,11 @@
 
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "drivers/sim/devices/minimal_sii.hpp"
 #include "drivers/sim/segment/robot_segment.hpp"
+#include "tests/support/sii_image_device.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::ecat {
@@ -18,28 +20,14 @@ using testing::describe_master_failure;
 using testing::SimulatedRobotRig;
 
 // A device of another make, not commissioned for this robot.
-class StrangerDevice final : public drivers::SlaveDevice {
- public:
-  StrangerDevice() {
-    drivers::SiiIdentity id;
-    id.vendor_id = 0x00000002;
-    id.product_code = 0x044C2C52;
-    id.revision = 0x00110000;
-    id.serial = 7;
-    length_ = drivers::build_minimal_sii(ByteSpan(sii_), id, "Stranger").value_or(0);
-  }
-  ConstByteSpan sii_image() const noexcept override { return {sii_.data(), length_}; }
-  drivers::ProcessDataLayout process_data_layout() const noexcept override { return {2, 0, 3, 0}; }
-  std::uint16_t on_state_change(drivers::AlState, drivers::AlState, drivers::EscPdi&) noexcept override { return 0; }
-  void on_mailbox(ConstByteSpan, drivers::EscPdi&) noexcept override {}
-  void on_cycle(ConstByteSpan, ByteSpan, const drivers::CycleContext&, drivers::EscPdi&) noexcept override {}
-  void step(hal::Nanoseconds, drivers::EscPdi&) noexcept override {}
-  void inject_fault(std::uint16_t) noexcept override {}
-
- private:
-  std::array<std::uint8_t, 256> sii_{};
-  std::size_t length_{0};
-};
+std::vector<std::uint8_t> stranger_image() {
+  drivers::SiiIdentity id;
+  id.vendor_id = 0x00000002;
+  id.product_code = 0x044C2C52;
+  id.revision = 0x00110000;
+  id.serial = 7;
+  return testing::SiiImageDevice::minimal_image(id, "Stranger");
+}
 
 Status bring_up(SimulatedRobotRig& rig, JointMask known_lost = 0) {
   EXPECT_TRUE(rig.built.ok()) << rig.built.error().what;
@@ -63,7 +51,7 @@ TEST(MasterRefuses, MissingJointsAreNamed) {
 
 TEST(MasterRefuses, ExtraDeviceIsNamed) {
   auto rig = std::make_unique<SimulatedRobotRig>(false);
-  StrangerDevice stranger;
+  testing::SiiImageDevice stranger(stranger_image());
   drivers::SegmentSlave extra;
   extra.name = "stranger";
   extra.upstream = 22;  // behind l_hand, port 1

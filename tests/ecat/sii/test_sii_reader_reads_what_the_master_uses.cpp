@@ -7,7 +7,8 @@
 //     does not name, which are zero, and only those (strings_skipped counts the strings' bytes);
 //   - with all_strings the image is the EEPROM byte for byte, reserved words aside;
 //   - the default read takes at most two thirds of the EEPROM reads and of the frames of the
-//     whole read;
+//     whole read, and a drive's image 84 reads instead of 141 (157 before the header's reserved words
+//     were skipped);
 //   - a General category naming a string past the last one ends the read at the category's end.
 #include <gtest/gtest.h>
 
@@ -23,31 +24,17 @@
 #include "ecat/sii/sii.hpp"
 #include "ecat/sii/sii_reader.hpp"
 #include "tests/support/shared_sii_images.hpp"
+#include "tests/support/sii_image_device.hpp"
 #include "tests/support/simulated_robot_rig.hpp"
 
 namespace rescue::ecat {
 namespace {
 
+using testing::SiiImageDevice;
 using testing::SimulatedRobotRig;
 
 constexpr std::size_t kReservedFrom = 0x3A;  // header words 0x1D..0x3D
 constexpr std::size_t kReservedTo = 0x7C;
-
-// A slave whose EEPROM holds the given bytes (a real device's image, or an altered one).
-class ImageDevice final : public drivers::SlaveDevice {
- public:
-  explicit ImageDevice(std::vector<std::uint8_t> image) : image_(std::move(image)) {}
-  ConstByteSpan sii_image() const noexcept override { return {image_.data(), image_.size()}; }
-  drivers::ProcessDataLayout process_data_layout() const noexcept override { return {2, 0, 3, 0}; }
-  std::uint16_t on_state_change(drivers::AlState, drivers::AlState, drivers::EscPdi&) noexcept override { return 0; }
-  void on_mailbox(ConstByteSpan, drivers::EscPdi&) noexcept override {}
-  void on_cycle(ConstByteSpan, ByteSpan, const drivers::CycleContext&, drivers::EscPdi&) noexcept override {}
-  void step(hal::Nanoseconds, drivers::EscPdi&) noexcept override {}
-  void inject_fault(std::uint16_t) noexcept override {}
-
- private:
-  std::vector<std::uint8_t> image_;
-};
 
 // The simulated robot with `extra` (if any) cabled behind its last slave.
 std::unique_ptr<SimulatedRobotRig> robot_with(drivers::SlaveDevice* extra) {
@@ -181,12 +168,24 @@ TEST(SiiReader, ReadsWhatTheMasterUsesFromEverySlaveOfTheRobot) {
   EXPECT_LE(used.stats.reads * 3, whole.stats.reads * 2) << used.stats.reads << " against " << whole.stats.reads;
 }
 
+// One drive's reads: the robot's first two slaves are junctions, the third a drive (624 bytes, 4 bytes
+// per read); reading three slaves costs the junctions' reads plus the drive's.
+TEST(SiiReader, ADrivesImageTakes84ReadsInsteadOf141) {
+  auto rig = robot_with(nullptr);
+  ASSERT_EQ(read_all(*rig, 3, true).images[2].size, 624u);  // to its end marker
+  const auto drive_reads = [&](bool all_strings) {
+    return read_all(*rig, 3, all_strings).stats.reads - read_all(*rig, 2, all_strings).stats.reads;
+  };
+  EXPECT_EQ(drive_reads(false), 84u);
+  EXPECT_EQ(drive_reads(true), 141u);  // every string; 157 before the header's reserved words were skipped
+}
+
 class RealDeviceImage : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RealDeviceImage, IsReadAsTheMasterUsesIt) {
   std::vector<std::uint8_t> image = test::read_shared_sii(GetParam());
   if (image.empty()) GTEST_SKIP() << "needs " RESCUE_SHARED_DIR "/vectors/sii/" << GetParam() << " (shared vectors absent)";
-  ImageDevice device(image);
+  SiiImageDevice device(image);
   auto rig = robot_with(&device);
   const Read used = read_all(*rig, kSlaveCount + 1, false);
   const Read whole = read_all(*rig, kSlaveCount + 1, true);
@@ -216,7 +215,7 @@ TEST(SiiReader, AGeneralCategoryNamingAStringPastTheLastEndsAtTheCategorysEnd) {
   }
   ASSERT_NE(general, 0u);
   image[general + 3] = 200;
-  ImageDevice device(image);
+  SiiImageDevice device(image);
   auto rig = robot_with(&device);
   const Read used = read_all(*rig, kSlaveCount + 1, false);
   const SiiImage& read = used.images[kSlaveCount];

@@ -5,21 +5,17 @@
 
 #include <cstdint>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 #include "core/base/endian.hpp"
 #include "ecat/codec/registers.hpp"
+#include "tests/support/shared_sii_images.hpp"
 
 namespace rescue::ecat {
 namespace {
 
-std::vector<std::uint8_t> load_image(const char* name) {
-  const std::string path = std::string(RESCUE_SHARED_DIR) + "/vectors/sii/" + name;
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+std::vector<std::uint8_t> load_image(const char* name) { return test::read_shared_sii(name); }
 
 bool shared_present() {
   std::ifstream probe(std::string(RESCUE_SHARED_DIR) + "/vectors/sii/ek1100.bin");

@@ -2,7 +2,10 @@
 // datagram, busy for a while in virtual time, then 4 or 8 bytes of data; errors for addresses
 // beyond the EEPROM, unknown commands and writes without write enable; writes and reload; the
 // configuration area's CRC checked at power-up.
+#include <vector>
+
 #include "tests/support/segment_test_support.hpp"
+#include "tests/support/sii_image_device.hpp"
 
 namespace rescue::drivers::testing {
 namespace {
@@ -121,30 +124,17 @@ TEST_F(SiiInterface, ReadsTheWholeImageWordByWord) {
   }
 }
 
-// A device whose EEPROM has a broken configuration-area CRC.
-class BadCrcDevice final : public SlaveDevice {
- public:
-  BadCrcDevice() {
-    SiiIdentity id{};
-    id.station_alias = 0x0777;
-    length_ = build_minimal_sii(ByteSpan(sii_), id, "bad").value_or(0);
-    sii_[14] = static_cast<std::uint8_t>(sii_[14] ^ 0xFF);
-  }
-  ConstByteSpan sii_image() const noexcept override { return {sii_.data(), length_}; }
-  ProcessDataLayout process_data_layout() const noexcept override { return {}; }
-  std::uint16_t on_state_change(AlState, AlState, EscPdi&) noexcept override { return 0; }
-  void on_mailbox(ConstByteSpan, EscPdi&) noexcept override {}
-  void on_cycle(ConstByteSpan, ByteSpan, const CycleContext&, EscPdi&) noexcept override {}
-  void step(hal::Nanoseconds, EscPdi&) noexcept override {}
-  void inject_fault(std::uint16_t) noexcept override {}
-
- private:
-  std::array<std::uint8_t, 256> sii_{};
-  std::size_t length_{0};
-};
+// The EEPROM image of a device whose configuration-area CRC is broken.
+std::vector<std::uint8_t> bad_crc_image() {
+  SiiIdentity id{};
+  id.station_alias = 0x0777;
+  std::vector<std::uint8_t> image = rescue::testing::SiiImageDevice::minimal_image(id, "bad");
+  image[14] = static_cast<std::uint8_t>(image[14] ^ 0xFF);
+  return image;
+}
 
 TEST(SiiConfigurationArea, BadChecksumLeavesDeviceInformationUnloaded) {
-  BadCrcDevice device;
+  rescue::testing::SiiImageDevice device(bad_crc_image(), ProcessDataLayout{});
   SimulatedSegment segment;
   SegmentSlave s;
   s.esc = joint_esc_config();
