@@ -129,6 +129,9 @@ class OperatorRun {
     return exit_status_;
   }
   std::string output() const { return read_text(log); }
+  // The run's EtherCAT handler got SCHED_FIFO (the run prints "ethercat: running degraded" when the
+  // kernel refused it, e.g. without CAP_SYS_NICE or in a cgroup without real-time runtime).
+  bool handler_got_sched_fifo() const { return output().find("ethercat: running degraded") == std::string::npos; }
   // The run's pid (the supervisor: the task processes are its children); -1 once stopped.
   pid_t pid() const { return pid_; }
 
@@ -143,6 +146,11 @@ class OperatorRun {
   pid_t pid_{-1};
   int exit_status_{-1};
 };
+
+// A PREEMPT_RT kernel says so in /sys/kernel/realtime. Late periods are asserted 0 only there, with
+// the handler at SCHED_FIFO: elsewhere a late wake-up is the host's (a non-real-time kernel, a
+// hypervisor that stalls vCPUs), not the firmware's.
+inline bool real_time_kernel() { return read_text("/sys/kernel/realtime").rfind('1', 0) == 0; }
 
 // The raw value of "key": in one flat JSON object of `ctl --json` (strings without their quotes;
 // empty when absent).

@@ -37,6 +37,7 @@ namespace {
 
 using testing::CommandResult;
 using testing::OperatorRun;
+using testing::real_time_kernel;
 
 constexpr std::size_t kPerKind = 4000;  // datagrams of each kind below
 constexpr std::size_t kQueueLimit = 64 * 1024;
@@ -283,13 +284,6 @@ TEST(RunCommandFlood, UnpacedFloodIsAccountedForAndNoneAccepted) {
 
 // ---- The flood while the robot moves (issue 12 "Done means"; docs/protocol.md "Flood while moving").
 
-// A PREEMPT_RT kernel says so in /sys/kernel/realtime.
-bool real_time_kernel() {
-  std::ifstream in("/sys/kernel/realtime");
-  int flag = 0;
-  return static_cast<bool>(in >> flag) && flag == 1;
-}
-
 // Threads of other processes at SCHED_FIFO or SCHED_RR, kernel threads and the run's own processes
 // (`run_pid` and its children) left out: another program's real-time work (on a shared host, another
 // engineer's run) that the firmware's real-time threads compete with for the CPUs.
@@ -486,7 +480,7 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
   // The handler's late and skipped periods in the flood window, and in a quiet window as long before it.
   const std::uint64_t late_in_flood = flood_over.late_periods - before.late_periods;
   const std::uint64_t late_in_quiet = before.late_periods - quiet.late_periods;
-  const bool handler_fifo = out.find("ethercat: running degraded") == std::string::npos;
+  const bool handler_fifo = run.handler_got_sched_fifo();
   const bool asserted = handler_fifo && real_time_kernel();
   if (asserted) {
     EXPECT_EQ(late_in_flood, 0U) << "late or skipped handler periods under SCHED_FIFO on a real-time kernel\n" << out;

@@ -112,8 +112,8 @@ class KilledOwner : public ::testing::Test {
     // a kernel without PREEMPT_RT even a SCHED_FIFO handler is delayed by the host (seen here: 10
     // late periods in a 5 s run on the loaded 2-vCPU VM), so its late periods are a fault only on
     // a real-time kernel.
-    sched_fifo_ = !has(run_.output(), "ethercat: running degraded");
-    preempt_rt_ = testing::read_text("/sys/kernel/realtime").rfind('1', 0) == 0;
+    sched_fifo_ = run_.handler_got_sched_fifo();
+    preempt_rt_ = testing::real_time_kernel();
     late_at_start_ = figures().late_periods;
   }
 
