@@ -147,11 +147,6 @@ class OperatorRun {
   int exit_status_{-1};
 };
 
-// A PREEMPT_RT kernel says so in /sys/kernel/realtime. Late periods are asserted 0 only there, with
-// the handler at SCHED_FIFO: elsewhere a late wake-up is the host's (a non-real-time kernel, a
-// hypervisor that stalls vCPUs), not the firmware's.
-inline bool real_time_kernel() { return read_text("/sys/kernel/realtime").rfind('1', 0) == 0; }
-
 // The raw value of "key": in one flat JSON object of `ctl --json` (strings without their quotes;
 // empty when absent).
 inline std::string json_field(const std::string& object, const std::string& key) {

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/app/bench/bench_header.hpp"
 #include "drivers/sim/devices/joint_drive_objects.hpp"
 #include "tests/support/operator_run.hpp"
 
@@ -98,7 +99,7 @@ TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
   EXPECT_FALSE(late_before.empty()) << before.out;
   constexpr std::uint64_t kTransfersPerWindow = 9;
   const bool fifo = run.handler_got_sched_fifo();
-  const bool asserted_zero = fifo && testing::real_time_kernel();
+  const bool asserted_zero = fifo && kernel_is_preempt_rt();
   std::uint64_t fewest_late = UINT64_MAX;
   std::string windows;
   for (int window = 0; window < 3 && fewest_late != 0; ++window) {
@@ -116,7 +117,7 @@ TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
   }
   std::printf("handler late periods in windows of %llu SDO transfers:%s (SCHED_FIFO %s, PREEMPT_RT kernel %s: %s)\n",
               static_cast<unsigned long long>(kTransfersPerWindow), windows.c_str(),
-              fifo ? "applied" : "refused", testing::real_time_kernel() ? "yes" : "no",
+              fifo ? "applied" : "refused", kernel_is_preempt_rt() ? "yes" : "no",
               asserted_zero ? "one window without a late period asserted"
               : fifo        ? "fewer late periods than transfers asserted"
                             : "not real-time, not asserted");

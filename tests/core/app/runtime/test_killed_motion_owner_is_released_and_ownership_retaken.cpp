@@ -31,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/app/bench/bench_header.hpp"
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/shm/shared_segment.hpp"
@@ -113,7 +114,7 @@ class KilledOwner : public ::testing::Test {
     // late periods in a 5 s run on the loaded 2-vCPU VM), so its late periods are a fault only on
     // a real-time kernel.
     sched_fifo_ = run_.handler_got_sched_fifo();
-    preempt_rt_ = testing::real_time_kernel();
+    preempt_rt_ = kernel_is_preempt_rt();
     late_at_start_ = figures().late_periods;
   }
 
