@@ -17,6 +17,11 @@
 #   8. package: the Debian package (motion-pc preset), its contents, lintian, the installed binary as the
 #      service user on the simulated robot, the systemd unit (toolchain/package-check.sh, docs/deploy.md)
 # Stages can be chosen: toolchain/check.sh [setup] [run] [load] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
+# Disk: every build with -g compresses its debug info (-gz, CMakePresets.json). After each stage the
+# script prints the free space and the size of every build directory ("disk: ..." lines). With
+# RESCUE_PRUNE_BUILDS=1 (.ci/run sets it) each build directory but release's is removed after the last
+# stage that uses it, so a run needs room for its largest build (asan, about 1.8 GB), not for all of
+# them at once (5 GB uncompressed: a CI machine once ran out of disk linking the asan tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
@@ -26,6 +31,16 @@ fuzz_seconds=${RESCUE_FUZZ_SECONDS:-20}  # the short CI form; a full run: RESCUE
 
 want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 banner() { printf '\n==== %s ====\n' "$*"; }
+disk_report() {  # free space where the builds go, and what each build directory takes
+  local builds
+  builds=$(du -sh build/*/ 2>/dev/null | awk '{sub("/$", "", $2); printf " %s %s", $2, $1}')
+  echo "disk: $1: $(df -h --output=avail . | tail -n 1 | tr -d ' ') free;${builds:- no build directory}"
+}
+finished_with() {  # finished_with STAGE BUILD_DIR: the stage was the build's last user
+  if [ "${RESCUE_PRUNE_BUILDS:-0}" = 1 ]; then rm -rf "build/$2"; fi
+  disk_report "after $1"
+}
+disk_report "start"
 start=$(date +%s)
 
 if want setup; then banner "setup"; bash toolchain/setup.sh; fi
@@ -55,6 +70,7 @@ if want load; then
   trap - EXIT
   echo "load: serial tests under stress-ng finished in $(( $(date +%s) - load_start )) s (status $load_status)"
   [ "$load_status" -eq 0 ]
+  disk_report "after load"
 fi
 
 if want test; then
@@ -62,12 +78,14 @@ if want test; then
   cmake --preset debug >/dev/null
   cmake --build --preset debug -j "$jobs"
   ctest --preset debug -j "$jobs" -LE serial
+  if want analysis; then disk_report "after test"; else finished_with test debug; fi
 fi
 
 if want analysis; then
   banner "static analysis"
   [ -f build/debug/compile_commands.json ] || cmake --preset debug >/dev/null
   bash toolchain/static-analysis.sh . build/debug
+  finished_with analysis debug
 fi
 
 if want verify; then
@@ -75,6 +93,7 @@ if want verify; then
   cmake --preset verify >/dev/null
   cmake --build --preset verify -j "$jobs"
   python3 toolchain/rt_verify.py --build build/verify --source .
+  finished_with verify verify
 fi
 
 if want tsan; then
@@ -83,6 +102,7 @@ if want tsan; then
   # Only the concurrency tests run under TSan, so only they (and what they link) are built.
   cmake --build --preset tsan -j "$jobs" --target concurrency_tests
   ctest --preset tsan -j "$jobs"
+  finished_with tsan tsan
 fi
 
 if want asan; then
@@ -90,6 +110,7 @@ if want asan; then
   cmake --preset asan >/dev/null
   cmake --build --preset asan -j "$jobs"
   ctest --preset asan -j "$jobs"
+  finished_with asan asan
 fi
 
 if want fuzz; then
@@ -107,17 +128,20 @@ if want fuzz; then
     "$f" -max_total_time="$fuzz_seconds" -artifact_prefix="build/fuzz/fuzz/" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) 2>&1 | tail -n 12
   done
   [ "$fuzzers" -gt 0 ] || echo "fuzz: no fuzz targets yet (tests/fuzz/fuzzers.cmake lists none)"
+  finished_with fuzz fuzz
 fi
 
 if want cross; then
   banner "aarch64 cross compile (firmware libraries)"
   cmake --preset aarch64 >/dev/null
   cmake --build --preset aarch64 -j "$jobs"
+  finished_with cross aarch64
 fi
 
 if want package; then
   banner "Debian package: contents, lintian, installed binary as the service user, systemd unit"
   bash toolchain/package-check.sh "$jobs"
+  finished_with package motion-pc
 fi
 
 banner "all checks passed in $(( $(date +%s) - start )) s"

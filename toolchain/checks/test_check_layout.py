@@ -3,7 +3,9 @@
 core/, core/app/, ecat/, hal/, fsm/, drivers/ and drivers/sim/, a folder with no floor, a knot of
 folders), on a task loop reaching the shared state around its ports, and on a doc naming a missing
 file, and passes on a tree that keeps the rules. Run by CTest (test_layout_check_rejects_wrong_way_includes)."""
+import atexit
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -13,6 +15,7 @@ CHECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "check_layout.p
 
 def tree(files):
     root = tempfile.mkdtemp(prefix="layout-")
+    atexit.register(shutil.rmtree, root, True)  # removed when the test ends, pass or fail
     for path, text in files.items():
         full = os.path.join(root, path)
         os.makedirs(os.path.dirname(full), exist_ok=True)

@@ -4,7 +4,6 @@
 // recording and draining allocate nothing after init.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 
 #include <fstream>
 #include <iterator>
@@ -18,13 +17,10 @@
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/codec/frame.hpp"
 #include "tests/support/read_frames.hpp"
+#include "tests/support/temp_directory.hpp"
 
 namespace rescue::ecat {
 namespace {
-
-std::string temp_path(const char* name) {
-  return std::string(::testing::TempDir()) + "/" + name + "-" + std::to_string(::getpid()) + ".pcapng";
-}
 
 // A frame read back from the file, owning its bytes.
 struct FileFrame {
@@ -59,14 +55,15 @@ std::vector<std::uint8_t> numbered_frame(std::uint32_t n) {
   return std::vector<std::uint8_t>(f.begin(), f.end());
 }
 
-// A writer on a fresh temporary file and an empty queue (both too large for the stack).
-class CaptureQueueToWriter : public ::testing::Test {
+// A writer on a file in the test's own temporary directory (removed when the test ends) and an empty
+// queue (both too large for the stack).
+class CaptureQueueToWriter : public rescue::testing::TempDirectoryTest {
  protected:
   void open(const char* name) {
-    path = temp_path(name);
-    ASSERT_TRUE(writer.open(path.c_str()).ok());
+    file = path((std::string(name) + ".pcapng").c_str());
+    ASSERT_TRUE(writer.open(file.c_str()).ok());
   }
-  std::string path;
+  std::string file;
   std::unique_ptr<CaptureWriter> writer_storage = std::make_unique<CaptureWriter>();
   std::unique_ptr<CaptureQueue> queue_storage = std::make_unique<CaptureQueue>();
   CaptureWriter& writer = *writer_storage;
@@ -87,7 +84,7 @@ TEST_F(CaptureQueueToWriter, FramesReachTheFileInOrderWithTimesAndDirections) {
   EXPECT_EQ(queue.drain(writer, 1000), 0U);
   ASSERT_TRUE(writer.close().ok());
 
-  const auto frames = frames_in(path);
+  const auto frames = frames_in(file);
   ASSERT_EQ(frames.size(), sent.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     SCOPED_TRACE(i);
@@ -111,7 +108,7 @@ TEST_F(CaptureQueueToWriter, AFullQueueDropsTheNewestFramesAndCountsThem) {
   while (queue.drain(writer, 256) != 0) {
   }
   ASSERT_TRUE(writer.close().ok());
-  const auto frames = frames_in(path);
+  const auto frames = frames_in(file);
   ASSERT_EQ(frames.size(), CaptureQueue::kCapacity);
   EXPECT_EQ(frames.front().bytes, numbered_frame(0));  // the oldest ones were kept
   EXPECT_EQ(frames.back().bytes, numbered_frame(CaptureQueue::kCapacity - 1));
@@ -124,7 +121,7 @@ TEST_F(CaptureQueueToWriter, AnOversizedFrameIsQueuedCutToTheSnapLengthAndCounte
   EXPECT_EQ(queue.stats().frames_truncated, 1U);
   EXPECT_EQ(queue.drain(writer, 10), 1U);
   ASSERT_TRUE(writer.close().ok());
-  const auto frames = frames_in(path);
+  const auto frames = frames_in(file);
   ASSERT_EQ(frames.size(), 1U);
   EXPECT_EQ(frames[0].bytes.size(), CaptureWriter::kSnapLength);
 }
@@ -151,7 +148,7 @@ TEST_F(CaptureQueueToWriter, AProducerThreadAndADrainingThreadLoseNothing) {
   while (!produced.load(std::memory_order_acquire) || drained < kFrames) drained += queue.drain(writer, 64);
   producer.join();
   ASSERT_TRUE(writer.close().ok());
-  const auto read = frames_in(path);
+  const auto read = frames_in(file);
   ASSERT_EQ(read.size(), kFrames);
   for (std::uint32_t n = 0; n < kFrames; ++n) {
     ASSERT_EQ(read[n].bytes, frames[n]) << n;
