@@ -33,8 +33,8 @@ want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done;
 banner() { printf '\n==== %s ====\n' "$*"; }
 disk_report() {  # free space where the builds go, and what each build directory takes
   local builds
-  builds=$(du -sh build/*/ 2>/dev/null | awk '{sub("/$", "", $2); printf " %s %s", $2, $1}')
-  echo "disk: $1: $(df -h --output=avail . | tail -n 1 | tr -d ' ') free;${builds:- no build directory}"
+  builds=$({ du -sh build/*/ 2>/dev/null || true; } | awk '{sub("/$", "", $2); printf " %s %s", $2, $1}')
+  echo "disk: $1: $({ df -h --output=avail . 2>/dev/null || echo ?; } | tail -n 1 | tr -d ' ') free;${builds:- no build directory}"
 }
 finished_with() {  # finished_with STAGE BUILD_DIR: the stage was the build's last user
   if [ "${RESCUE_PRUNE_BUILDS:-0}" = 1 ]; then rm -rf "build/$2"; fi
