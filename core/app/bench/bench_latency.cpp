@@ -91,6 +91,7 @@ struct LoopSetup {
 struct Interleaving {
   std::atomic<hal::Nanoseconds> our_release{-1};    // ours, published before it sleeps
   std::atomic<hal::Nanoseconds> our_cycle_end{-1};  // when our latest cycle ended
+  std::atomic<bool> reference_ready{false};         // the reference thread's set-up is done (it allocates)
   std::atomic<bool> measuring{false};               // our measured periods have begun
   std::atomic<bool> stop{false};
   std::uint64_t skipped{0};  // reference periods not recorded: our cycle ran past their release
@@ -116,6 +117,7 @@ hal::RtReport apply_handler_rt(int cpu, const LoopSetup& setup) noexcept {
 // priority on one CPU means it waited for our work, not for the OS.
 void reference_loop(Interleaving& shared, hal::Clock& clock, int cpu, const LoopSetup* setup, hal::RtReport* report) noexcept {
   *report = apply_handler_rt(cpu, *setup);
+  shared.reference_ready.store(true, std::memory_order_release);
   hal::Nanoseconds last = -1;
   while (!shared.stop.load(std::memory_order_acquire)) {
     const hal::Nanoseconds ours = shared.our_release.load(std::memory_order_acquire);
@@ -141,6 +143,10 @@ void reference_loop(Interleaving& shared, hal::Clock& clock, int cpu, const Loop
 void our_loop(EthercatHandler& handler, hal::Clock& clock, std::uint64_t periods, int cpu, LoopSetup* setup,
               Interleaving* shared, hal::RtReport* report) noexcept {
   *report = apply_handler_rt(cpu, *setup);
+  // The reference thread's set-up allocates (glibc's pthread_getattr_np, for the stack prefault): init
+  // is complete only once it is done. On a loaded host that thread can start milliseconds after this
+  // one; counted, its set-up read as allocations of our loop (CI under stress-ng: 3).
+  while (!shared->reference_ready.load(std::memory_order_acquire)) clock.sleep_until(clock.now() + kPeriod / 10);
   drivers::JointBus& bus = handler.bus();
   for (int to_op = 0;; ++to_op) {
     (void)wake_at(clock, bus.next_wakeup());
