@@ -49,6 +49,10 @@ run: the robot ended in error (every joint in Error).
 .TP
 .B 4
 run: a critical task died (the EtherCAT handler or the joint manager); the reason is printed.
+.TP
+.B 5
+run: a reference was sent beyond a joint's speed, acceleration or jerk limit (the joint, the figure and
+the limit are printed; joint_limits: exceeded).
 [EXAMPLES]
 .nh
 .TP

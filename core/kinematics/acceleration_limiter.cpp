@@ -8,19 +8,34 @@ namespace rescue::kin {
 namespace {
 
 // One period of a joint's acceleration-limited ramp from (x, v) towards the wanted position: the
-// next (x, v); sets `beyond` when the wanted motion was beyond a limit.
+// next (x, v); sets `beyond` when the wanted motion was beyond a limit. `braking`: towards rest
+// instead (the wanted motion ignored).
 struct RampState {
   double x;
   double v;
 };
-RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocity, double dt_s, bool& beyond) noexcept {
+RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocity, double dt_s, double braking,
+               bool& beyond) noexcept {
   const JointLimits& lim = kJoints[j].limits;
   const double a_max = kJointAcceleration[j];
-  const double closing = std::min(braking_speed(std::fabs(gap), a_max, dt_s), std::fabs(gap) / dt_s);
-  const double desired = wanted_velocity + std::copysign(closing, gap);
-  double v = std::clamp(desired, state.v - a_max * dt_s, state.v + a_max * dt_s);
-  v = std::clamp(v, -lim.velocity_max_rad_s, lim.velocity_max_rad_s);
-  beyond = v != desired;
+  // A braking joint (braking > 0) changes its speed by at most its braking deceleration.
+  const double a_step = braking > 0.0 ? std::min(braking, a_max) : a_max;
+  const double low = std::max(state.v - a_step * dt_s, -lim.velocity_max_rad_s);
+  const double high = std::min(state.v + a_step * dt_s, lim.velocity_max_rad_s);
+  double desired = 0.0;
+  if (braking <= 0.0) {
+    const double closing = std::min(braking_speed(std::fabs(gap), a_max, dt_s), std::fabs(gap) / dt_s);
+    desired = wanted_velocity + std::copysign(closing, gap);
+  }
+  double v = std::clamp(desired, low, high);
+  if (!kJoints[j].continuous) {
+    // Braking in time for the position limits. The intervals meet in exact arithmetic (see the
+    // header); a rounding's worth apart, the position limit wins.
+    const double stop_high = braking_speed(std::max(0.0, lim.position_max_rad - state.x), a_max, dt_s);
+    const double stop_low = -braking_speed(std::max(0.0, state.x - lim.position_min_rad), a_max, dt_s);
+    v = std::clamp(v, stop_low, stop_high);
+  }
+  beyond = braking <= 0.0 && v != desired;
   double x = state.x + v * dt_s;
   if (!kJoints[j].continuous) x = std::clamp(x, lim.position_min_rad, lim.position_max_rad);
   return {x, (x - state.x) / dt_s};
@@ -28,8 +43,9 @@ RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocit
 
 }  // namespace
 
-AccelerationLimiter::AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk) noexcept
-    : dt_s_(dt_s), position_(start), velocity_(JointVector::Zero()), last_wanted_(start) {
+AccelerationLimiter::AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk,
+                                         const JointArray& braking) noexcept
+    : dt_s_(dt_s), braking_(braking), position_(start), velocity_(JointVector::Zero()), last_wanted_(start) {
   filter_of_.fill(-1);
   for (std::size_t j = 0; j < kJointCount && filter_count_ < kMaxJerkJoints; ++j) {
     if (!(jerk[j] > 0.0)) continue;
@@ -49,6 +65,21 @@ void AccelerationLimiter::JerkFilter::restart(double position) noexcept {
   for (std::size_t i = 0; i < window; ++i) history[i] = position;
 }
 
+void AccelerationLimiter::reset_joint(std::size_t joint, double position) noexcept {
+  const auto row = static_cast<Eigen::Index>(joint);
+  position_(row) = position;
+  last_wanted_(row) = position;
+  velocity_(row) = 0.0;
+  if (filter_of_[joint] >= 0) filters_[static_cast<std::size_t>(filter_of_[joint])].restart(position);
+}
+
+void AccelerationLimiter::plan_from_references() noexcept {
+  last_wanted_ = position_;
+  for (std::size_t f = 0; f < filter_count_; ++f) {
+    last_wanted_(static_cast<Eigen::Index>(filters_[f].joint)) = filters_[f].ramp_position;
+  }
+}
+
 void AccelerationLimiter::reset(const JointVector& position) noexcept {
   position_ = position;
   last_wanted_ = position;
@@ -59,7 +90,8 @@ void AccelerationLimiter::reset(const JointVector& position) noexcept {
   }
 }
 
-const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMask out_of_service) noexcept {
+const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMask out_of_service,
+                                             JointMask braking) noexcept {
   limited_ = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
@@ -76,11 +108,14 @@ const JointVector& AccelerationLimiter::step(const JointVector& wanted, JointMas
                                               : RampState{filter->ramp_position, filter->ramp_velocity};
     // The gap left last period and the wanted motion's own rate: following the rate keeps the gap,
     // the closing speed (braking at a_max towards it, at most the whole gap) closes it.
+    const bool brakes = (braking & joint_bit(j)) != 0;
     const double gap = last_wanted_(row) - state.x;
     const double wanted_velocity = (wanted(row) - last_wanted_(row)) / dt_s_;
-    last_wanted_(row) = wanted(row);
     bool beyond = false;
-    const RampState next = ramp(j, state, gap, wanted_velocity, dt_s_, beyond);
+    const RampState next = ramp(j, state, gap, wanted_velocity, dt_s_, brakes ? braking_[j] : 0.0, beyond);
+    // A braking joint's wanted position is where it is: once the task drives it again, it starts
+    // from there without a jump.
+    last_wanted_(row) = brakes ? next.x : wanted(row);
     if (beyond) limited_ |= joint_bit(j);
     double x = next.x;
     if (filter != nullptr) {

@@ -5,10 +5,17 @@
 // Per joint, every period: the wanted position x* and its rate v* (from the last wanted position);
 // the velocity that closes the gap e = x* - x without overshoot, braking at a_max:
 //   v_d = v* + sign(e) min(braking_speed(|e|), |e| / dt)      (about sqrt(2 a_max |e|))
-// then v = v_d clamped to [v - a_max dt, v + a_max dt] and to [-v_max, v_max], x += v dt, clamped to
-// the position limits. A wanted motion within the limits (the rescue motion's trajectory) passes
-// unchanged (e stays 0); a jump (a new target, a mode change) becomes a ramp. Joints out of service
-// hold where they are, with zero velocity (they are not commanded). Pure computation, fixed size.
+// then v = v_d clamped to the interval every limit allows this period:
+//   [v - a_max dt, v + a_max dt]  and  [-v_max, v_max]  and  [-braking_speed(x - x_min), braking_speed(x_max - x)]
+// and x += v dt. The last interval brakes in time for the position limits: a joint never moves
+// faster than it can still stop before a limit at a_max, so it arrives at a limit at rest, whatever
+// the wanted motion does (a blip, a reversal, a target beyond the limit). The three intervals always
+// meet: a speed allowed last period is within a_max dt of one allowed now (braking_speed's sequence
+// v, v - a_max dt, ... is what remains of the room). A wanted motion within the limits (the rescue
+// motion's trajectory) passes unchanged (e stays 0); a jump (a new target, a mode change) becomes a
+// ramp. Joints out of service hold where they are, with zero velocity (they are not commanded);
+// joints asked to brake (a task that stops driving them while they move) come to rest at a_max and
+// hold. Pure computation, fixed size.
 //
 // Jerk: a joint whose drive declares a jerk limit j_max (the URDF's optional <limit jerk>, kJointJerk)
 // has its ramp smoothed by a moving average over N = ceil(2 a_max / (j_max dt)) periods, the drives'
@@ -66,13 +73,23 @@ class AccelerationLimiter {
   // `jerk`: per joint, rad/s^3, 0 for none (default: the model's kJointJerk; at most kMaxJerkJoints
   // joints with one, each window at most kMaxJerkWindow periods, which kinematic_model.hpp checks
   // for the model at the 1 ms period; beyond, the extra joints or periods are ignored).
-  AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk = kJointJerk) noexcept;
+  // `braking`: per joint, the deceleration (rad/s^2) a braking joint comes to rest with, at most its
+  // acceleration limit (default: that limit); near a position limit it brakes at up to that limit.
+  AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk = kJointJerk,
+                      const JointArray& braking = kJointAcceleration) noexcept;
 
   // Restarts at `position` at rest (a new owner of the motion, a restart).
   void reset(const JointVector& position) noexcept;
+  // Restarts one joint at `position` at rest (another authority set its reference).
+  void reset_joint(std::size_t joint, double position) noexcept;
 
-  // One period towards `wanted`; returns the references.
-  const JointVector& step(const JointVector& wanted, JointMask out_of_service) noexcept;
+  // Forgets the gap between what was wanted last period and the references: the next `wanted` is
+  // taken as a motion from the references themselves (a task that plans from what is sent).
+  void plan_from_references() noexcept;
+
+  // One period towards `wanted`; returns the references. Joints in `braking` ignore `wanted`: they
+  // come to rest at their acceleration limit (within the position limits) and then hold.
+  const JointVector& step(const JointVector& wanted, JointMask out_of_service, JointMask braking = 0) noexcept;
 
   const JointVector& position() const noexcept { return position_; }
   const JointVector& velocity() const noexcept { return velocity_; }
@@ -81,6 +98,7 @@ class AccelerationLimiter {
 
  private:
   double dt_s_;
+  JointArray braking_;
   JointVector position_;
   JointVector velocity_;
   JointVector last_wanted_;

@@ -1,17 +1,29 @@
-// One RC period of both RC tasks, as the RC task processes will run it (design brief section 3):
-// the rescue task samples the rescue motion, takes one task-priority IK step from its last
-// references and writes the new ones into its reference space; the joint-space teleoperation task
-// computes its own references in the same period. When the set of joints out of service changes,
-// the lost capability is analysed once (an SVD per arm) and kept for the operator's view.
-// The IK steps from its own plan (the joints it computed last period); the rescue references are
-// that plan through the acceleration limiter (unchanged while the plan is within the limits).
+// One RC period of both RC tasks, as the RC task processes run it (design brief section 3): the
+// rescue task samples the rescue motion, takes one task-priority IK step from the references it sent
+// last period and writes the new ones; the joint-space teleoperation task computes its own
+// references in the same period.
+//
+// After damage (docs/kinematics.md "After damage"): when the set of joints out of service changes,
+// the task stack is reshaped (kin::TaskShape: a damaged arm's palm leaves the main task, its healthy
+// joints and the waist brake to rest and hold) and the lost capability is analysed once (an SVD per
+// arm) for the operator's view.
+//
+// Path-preserving limits: the IK's step is one direction in joint space for every joint at once. It
+// is scaled by one factor (the largest in [0, 1] that keeps every moving joint within its speed,
+// acceleration and position-braking limits) and the motion's own clock advances by that factor: the
+// whole motion slows down where the limits bind instead of joints being clipped one by one, so the
+// palms stay on their paths. Only when no factor fits (the limits of two joints contradict each
+// other) does the acceleration limiter clip joints; those periods are counted.
 #pragma once
+
+#include <cstdint>
 
 #include "core/kinematics/acceleration_limiter.hpp"
 #include "core/kinematics/joint_space_teleop.hpp"
 #include "core/kinematics/lost_capability.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
+#include "core/kinematics/task_shape.hpp"
 
 namespace rescue::kin {
 
@@ -20,29 +32,47 @@ class RcPeriod {
   explicit RcPeriod(const JointVector& q_start, const IkSettings& ik = IkSettings{},
            const RescueMotionConfig& motion = RescueMotionConfig{}) noexcept;
 
-  // Period at time t_s of the motion; `teleop_velocity` is the operator's joint-space command.
+  // Period at wall time t_s since the motion started (the motion's own time never runs ahead of it);
+  // `teleop_velocity` is the operator's joint-space command.
   Result<IkStepReport> run(double t_s, JointMask out_of_service, const JointVector& teleop_velocity) noexcept;
 
+  // The references sent this period (after every limit) and their speeds.
   const JointVector& rescue_references() const noexcept { return limiter_.position(); }
   const JointVector& rescue_velocities() const noexcept { return limiter_.velocity(); }
-  const JointVector& planned() const noexcept { return planned_; }  // the IK's joints before the limiter
   const JointVector& teleop_references() const noexcept { return teleop_.references(); }
   JointSpaceTeleop& teleop() noexcept { return teleop_; }
   const RescueMotion& motion() const noexcept { return motion_; }
   const RescueSample& last_sample() const noexcept { return sample_; }
   const LostCapability& lost_capability() const noexcept { return lost_; }
   JointMask out_of_service() const noexcept { return out_of_service_; }
+  const TaskShape& shape() const noexcept { return shape_; }
+
+  double motion_time_s() const noexcept { return motion_time_s_; }
+  double time_scale() const noexcept { return scale_; }              // this period's factor
+  std::uint64_t clipped_periods() const noexcept { return clipped_; }  // periods a joint was clipped alone
+  // The palm's distance from its planned path, from the FK of the references sent last period (the
+  // IK's input): what the robot was commanded, not what the IK planned.
+  double path_deviation_m(int arm) const noexcept { return path_deviation_m_[static_cast<std::size_t>(arm)]; }
+  const Vector3& commanded_palm(int arm) const noexcept { return palm_[static_cast<std::size_t>(arm)]; }
 
  private:
+  double feasible_scale(const JointVector& q, JointMask locked) const noexcept;
+
   TaskPriorityIk ik_;
   RescueMotion motion_;
   JointSpaceTeleop teleop_;
-  JointVector planned_;
   JointVector next_;
+  JointVector wanted_;
   AccelerationLimiter limiter_;
   RescueSample sample_;
   LostCapability lost_;
+  TaskShape shape_{};
   JointMask out_of_service_{0};
+  double motion_time_s_{0.0};
+  double scale_{1.0};
+  std::uint64_t clipped_{0};
+  std::array<double, 2> path_deviation_m_{};
+  std::array<Vector3, 2> palm_{Vector3::Zero(), Vector3::Zero()};
 };
 
 }  // namespace rescue::kin

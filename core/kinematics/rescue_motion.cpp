@@ -1,5 +1,7 @@
 #include "core/kinematics/rescue_motion.hpp"
 
+#include <algorithm>
+
 #include "core/kinematics/forward_kinematics.hpp"
 
 namespace rescue::kin {
@@ -44,6 +46,19 @@ RescueMotion::RescueMotion(const JointVector& q_start, const RescueMotionConfig&
 
 double RescueMotion::duration_s() const noexcept {
   return config_.phase_s[0] + config_.phase_s[1] + config_.phase_s[2];
+}
+
+double RescueMotion::distance_to_path(int arm, const Vector3& position) const noexcept {
+  const std::array<Pose, 4>& waypoints = arm == 0 ? left_ : right_;
+  double nearest = (position - waypoints[0].p).norm();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vector3 from = waypoints[k].p;
+    const Vector3 along = waypoints[k + 1].p - from;
+    const double length2 = along.squaredNorm();
+    const double s = length2 > 0.0 ? std::clamp((position - from).dot(along) / length2, 0.0, 1.0) : 0.0;
+    nearest = std::min(nearest, (position - (from + s * along)).norm());
+  }
+  return nearest;
 }
 
 RescueSample RescueMotion::sample(double t_s) const noexcept {

@@ -46,6 +46,9 @@ class RescueMotion {
   // Targets at time t (s) since the start; after the last phase, its end (phase done).
   RescueSample sample(double t_s) const noexcept;
   double duration_s() const noexcept;
+  // Distance from `position` to palm `arm`'s planned path (0 left, 1 right): the straight segments
+  // through its waypoints, which the minimum-jerk phases follow (whatever their timing).
+  double distance_to_path(int arm, const Vector3& position) const noexcept;
 
  private:
   RescueMotionConfig config_;

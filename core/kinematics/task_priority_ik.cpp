@@ -76,6 +76,8 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   const IkSettings& s = settings_;
   IkStepReport report;
   forward_kinematics(q, poses_);
+  report.palm_position[0] = poses_[kLeftEe].p;
+  report.palm_position[1] = poses_[kRightEe].p;
 
   // ---- main task: both palms ----
   Jacobian12 j1;
@@ -94,11 +96,21 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     clamp_norm(e1.segment<3>(at), s.max_linear_step_m);
     clamp_norm(e1.segment<3>(at + 3), s.max_angular_step_rad);
   }
-  const Vector12 damping_share = palm_damping_share(report, s);
+  // A palm out of the main task: its rows and error are zero, and its diagonal is 1 in J J^T below
+  // (a decoupled unit row: it neither takes part in the solve nor looks like a singularity).
+  const bool both_palms = targets.palm_active[0] && targets.palm_active[1];
+  const Vector12 damping_share = both_palms ? palm_damping_share(report, s) : Vector12::Ones();
+  Vector12 dropped_rows = Vector12::Zero();
+  for (int arm = 0; arm < 2; ++arm) {
+    if (targets.palm_active[static_cast<std::size_t>(arm)]) continue;
+    j1.middleRows<6>(Eigen::Index{6} * arm).setZero();
+    dropped_rows.segment<6>(Eigen::Index{6} * arm).setOnes();
+  }
   // The trajectory's own motion is fed forward; the pose error is fed back with feedback_gain.
   e1 *= s.feedback_gain;
   e1.head<6>() += s.dt_s * targets.left_twist;
   e1.tail<6>() += s.dt_s * targets.right_twist;
+  e1 = e1.cwiseProduct(Vector12::Ones() - dropped_rows);
 
   // ---- sub-tasks: forearms level, COM over the support centre ----
   SubJacobian j2 = SubJacobian::Zero();
@@ -149,7 +161,8 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
     const Vector12 e1r = e1 - j1 * dq_fixed;
     // Products of these sizes would go to Eigen's blocked GEMM (a heap fallback and a lock in
     // its reach); lazyProduct keeps them coefficient-based, as a real-time period needs.
-    const Matrix12 jjt = j1m.lazyProduct(j1m.transpose());
+    Matrix12 jjt = j1m.lazyProduct(j1m.transpose());
+    jjt.diagonal() += dropped_rows;
 
     // Smallest singular value of J1 by two steps of inverse iteration on J J^T + floor^2 I.
     SmallCholesky<12> llt;

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/pose.hpp"
@@ -61,12 +62,16 @@ struct IkTargets {
   // trajectory. The step is twist * dt + feedback_gain * (clamped) pose error.
   Vector6 left_twist{Vector6::Zero()};
   Vector6 right_twist{Vector6::Zero()};
+  // A palm out of the main task (its arm damaged, kin::TaskShape): its six rows are removed, so no
+  // joint moves for it; its residual is still reported.
+  std::array<bool, 2> palm_active{{true, true}};
 };
 
 struct IkStepReport {
   double position_residual_m[2]{};   // |p_target - p| left, right, at the input configuration
   double rotation_residual_rad[2]{};  // |log(R_target R^T)| left, right
   double forearm_tilt[2]{};           // z of the forearm axes (0 = level)
+  Vector3 palm_position[2]{Vector3::Zero(), Vector3::Zero()};  // at the input configuration (base_link)
   Vector3 com{Vector3::Zero()};
   double support_margin_m{0.0};       // COM's distance inside the support polygon (negative: outside)
   double sigma_min{0.0};              // estimate of J1's smallest singular value

@@ -33,15 +33,29 @@ struct RcTaskState {
   double position_residual_m[2];  // IK: left, right palm (rescue task)
   double rotation_residual_rad[2];
   // The rescue task's own figures over the motion it drove (approach, rescue motion, targets), for
-  // the run's report (`run --scenario rescue`): per joint the largest speed and acceleration of its
-  // references (joints out of service left out from the period they were lost), the largest
-  // difference of mirrored arm joints and |waist| while no joint was out of service, the smallest
-  // COM support margin.
+  // the run's report (`run --scenario rescue`), all from the references it sent (after every limit):
+  // per joint the largest speed and acceleration (joints out of service left out from the period
+  // they were lost); the largest difference of mirrored arm joints while both arms were whole; the
+  // largest |waist| over the whole run; the smallest COM support margin (`margin_measured`: false
+  // until a period of the rescue motion measured one). After damage (`loss_seen`: an arm lost a
+  // joint during the motion) how far the waist and the damaged arm's palm moved since.
   double max_speed_rad_s[kJointCount];
   double max_acceleration_rad_s2[kJointCount];
   double symmetry_error_rad;
   double max_abs_waist_rad;
   double min_support_margin_m;
+  bool margin_measured;
+  bool symmetry_measured;              // a period with both arms whole was measured
+  bool loss_seen;
+  std::uint8_t damaged_arms;           // bit 0 left, bit 1 right (kin::TaskShape)
+  double waist_travel_after_loss_rad;  // largest |waist - waist at the loss|
+  double palm_travel_after_loss_m[2];  // a damaged arm's palm: largest distance from where it was at the loss
+  // Each palm's largest distance from its planned path while its arm was whole (the rescue motion
+  // only, FK of the references sent); `path_measured[arm]`: a period was measured.
+  double path_deviation_m[2];
+  bool path_measured[2];
+  double min_time_scale;               // the slowest the rescue motion ran (1 = its own timing)
+  std::uint64_t clipped_periods;       // periods a joint was limited off the path
 };
 static_assert(std::is_trivial_v<RcTaskState>, "published through a seqlock");
 

@@ -73,6 +73,11 @@ struct RunControl {
   std::atomic<std::uint64_t> intake_used_periods;
   std::atomic<std::uint64_t> intake_misses;
   std::atomic<std::uint64_t> intake_releases;
+  // What the intake sent each joint (MotionIntake::sent_figures): the largest speed, acceleration
+  // and jerk, for the run's joint-limit verdict.
+  std::array<std::atomic<double>, kJointCount> sent_max_speed_rad_s;
+  std::array<std::atomic<double>, kJointCount> sent_max_acceleration_rad_s2;
+  std::array<std::atomic<double>, kJointCount> sent_max_jerk_rad_s3;
   // Joint manager -> supervisor, final once manager_done.
   std::atomic<bool> manager_done;
   std::atomic<std::uint32_t> lost_joints;   // JointMask

@@ -378,7 +378,9 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   summary.start = start;
   summary.bring_up = &bring_up;
   print_run_summary(summary);
+  const int limits = sent_joint_limits_exit(state);
   if (verdict != 0) return verdict;
+  if (limits != 0) return limits;
   return robot_exit(condition);
 }
 

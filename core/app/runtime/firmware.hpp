@@ -68,6 +68,9 @@ struct Report {
 // Exit status of a run that stopped in order: 0, except kExitRobotError when the robot ended in
 // error (every joint in Error): a script or supervisor must never read that as success.
 constexpr int kExitRobotError = 3;
+// A reference was sent beyond a joint's speed, acceleration or jerk limit (a defect of the limits:
+// every reference passes the same limiter, docs/kinematics.md): never read as success either.
+constexpr int kExitJointLimit = 5;
 int exit_status_for(fsm::RobotCondition condition) noexcept;
 
 // Runs until the duration, the scenario's end or a stop signal; returns the exit status.

@@ -47,4 +47,9 @@ void print_run_summary(const RunSummary& s) noexcept;
 // The exit status of a run that stopped in order, said on stderr when it is not 0.
 int robot_exit(fsm::RobotCondition condition) noexcept;
 
+// The joint-limit verdict over every reference the EtherCAT handler sent (MotionIntake's figures,
+// final once handler_done): `sent_worst_*_ratio` and `joint_limits: within|exceeded` lines; 0, or
+// kExitJointLimit with one line on stderr per limit exceeded (the joint, the figure, the limit).
+int sent_joint_limits_exit(const RunControl& state) noexcept;
+
 }  // namespace rescue::app::runner

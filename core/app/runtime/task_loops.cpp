@@ -240,6 +240,12 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
   state.intake_used_periods.store(intake.used_periods, std::memory_order_relaxed);
   state.intake_misses.store(intake.misses, std::memory_order_relaxed);
   state.intake_releases.store(intake.releases, std::memory_order_relaxed);
+  const SentMotionFigures& sent = handler.motion_intake().sent_figures();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    state.sent_max_speed_rad_s[j].store(sent.max_speed_rad_s[j], std::memory_order_relaxed);
+    state.sent_max_acceleration_rad_s2[j].store(sent.max_acceleration_rad_s2[j], std::memory_order_relaxed);
+    state.sent_max_jerk_rad_s3[j].store(sent.max_jerk_rad_s3[j], std::memory_order_relaxed);
+  }
   state.handler_done.store(true, std::memory_order_release);
 }
 

@@ -6,6 +6,21 @@
 #include "core/app/config/firmware_config.hpp"
 
 namespace rescue::app {
+namespace {
+
+// A joint brought to rest without the task that moved it: at the smaller of its deceleration limit
+// (core/robot/robot.hpp) and its acceleration limit.
+kin::JointArray rest_decelerations() noexcept {
+  kin::JointArray braking{};
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    braking[j] = std::min(deceleration_limit_rad_s2(kJoints[j].limits), kin::kJointAcceleration[j]);
+  }
+  return braking;
+}
+
+double seconds_of(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+
+}  // namespace
 
 MotionIntakeSettings default_intake_settings() noexcept {
   MotionIntakeSettings s;
@@ -16,7 +31,10 @@ MotionIntakeSettings default_intake_settings() noexcept {
 }
 
 MotionIntake::MotionIntake(const MotionIntakePorts& ports, const MotionIntakeSettings& settings) noexcept
-    : ports_(ports), settings_(settings) {}
+    : ports_(ports),
+      settings_(settings),
+      limiter_(kin::JointVector::Zero(), seconds_of(settings.handler_period_ns), kin::kJointJerk, rest_decelerations()),
+      wanted_(kin::JointVector::Zero()) {}
 
 bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept {
   const std::uint8_t task = MotionOwner::task_of(word);
@@ -32,71 +50,93 @@ bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t wor
     ++counters_.stale;
     return false;
   }
-  const double seconds = static_cast<double>(settings_.handler_period_ns) / static_cast<double>(hal::kNsPerSec);
   const JointMask joints = snapshot_.commanded & driven;
   // The same completed period as the one taken last period (the owner has not completed a new one
   // yet, or died): its joints are still the owner's, but they keep moving towards rest from their
-  // velocity (bring_to_rest) rather than stop dead on the old reference.
+  // velocity (braking, like every joint the owner does not drive) rather than stop dead.
   const bool repeated = snapshot_.completed_ns == taken_completed_ns_ && word == taken_word_;
   taken_completed_ns_ = snapshot_.completed_ns;
   taken_word_ = word;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) == 0) continue;
-    const JointLimits& lim = kJoints[j].limits;
-    double target = snapshot_.position_rad[j];
+    const double target = snapshot_.position_rad[j];
     if (!std::isfinite(target)) continue;  // this joint holds
     driven_by_owner_ |= joint_bit(j);
     if (repeated) continue;
-    if (!kJoints[j].continuous) target = std::clamp(target, lim.position_min_rad, lim.position_max_rad);
-    const double step = lim.velocity_max_rad_s * seconds;
-    const double limited = std::clamp(target, held_[j] - step, held_[j] + step);
-    if (limited != snapshot_.position_rad[j]) ++counters_.clamped;
-    velocity_[j] = (limited - held_[j]) / seconds;
-    held_[j] = limited;
     fresh_ |= joint_bit(j);
+    wanted_(static_cast<Eigen::Index>(j)) = target;
   }
   return true;
 }
 
-void MotionIntake::bring_to_rest(JointMask driven) noexcept {
-  const double seconds = static_cast<double>(settings_.handler_period_ns) / static_cast<double>(hal::kNsPerSec);
+void MotionIntake::limit(JointMask driven) noexcept {
+  // The owner's joints follow its references; every other driven joint comes to rest and holds
+  // (ramped_hold false: it stops where it is, the behaviour measured against).
   const JointMask resting = driven & ~fresh_;
+  if (!settings_.ramped_hold) {
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if ((resting & joint_bit(j)) != 0) limiter_.reset_joint(j, held_[j]);
+    }
+  }
+  const kin::JointVector& sent = limiter_.step(wanted_, ~driven, resting);
   for (std::size_t j = 0; j < kJointCount; ++j) {
-    if ((resting & joint_bit(j)) == 0 || velocity_[j] == 0.0) continue;
-    if (!settings_.ramped_hold) {
-      velocity_[j] = 0.0;
+    // A joint the joint manager set this period sends the manager's reference as it is (the
+    // handler's own limit check judges it: a faulty demand stops the robot, it is never hidden).
+    if ((driven & ~manager_set_ & joint_bit(j)) == 0) continue;
+    held_[j] = sent(static_cast<Eigen::Index>(j));
+    if ((limiter_.limited() & fresh_ & joint_bit(j)) != 0) ++counters_.clamped;
+  }
+  // A braking joint's wanted position is where it comes to rest (the next owner starts from there).
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((resting & joint_bit(j)) != 0) wanted_(static_cast<Eigen::Index>(j)) = held_[j];
+  }
+}
+
+void MotionIntake::measure(JointMask driven) noexcept {
+  const double dt = seconds_of(settings_.handler_period_ns);
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((driven & joint_bit(j)) == 0) {
+      history_[j] = 0;
       continue;
     }
-    const double v = velocity_[j];
-    const double dv = deceleration_limit_rad_s2(kJoints[j].limits) * seconds;
-    const double next = std::fabs(v) <= dv ? 0.0 : v - std::copysign(dv, v);
-    double target = held_[j] + 0.5 * (v + next) * seconds;
-    const JointLimits& lim = kJoints[j].limits;
-    const bool at_limit = !kJoints[j].continuous && (target <= lim.position_min_rad || target >= lim.position_max_rad);
-    if (!kJoints[j].continuous) target = std::clamp(target, lim.position_min_rad, lim.position_max_rad);
-    held_[j] = target;
-    velocity_[j] = at_limit ? 0.0 : next;
+    const double v = limiter_.velocity()(static_cast<Eigen::Index>(j));
+    const double a = (v - speed_[j]) / dt;
+    // Figures need the history they are made of: a speed from one sent period, an acceleration
+    // from two, a jerk from three (a joint just set by the joint manager starts at rest).
+    sent_.max_speed_rad_s[j] = std::max(sent_.max_speed_rad_s[j], std::fabs(v));
+    if (history_[j] >= 1) sent_.max_acceleration_rad_s2[j] = std::max(sent_.max_acceleration_rad_s2[j], std::fabs(a));
+    if (history_[j] >= 2) sent_.max_jerk_rad_s3[j] = std::max(sent_.max_jerk_rad_s3[j], std::fabs(a - acceleration_[j]) / dt);
+    if (history_[j] < 2) ++history_[j];
+    speed_[j] = v;
+    acceleration_[j] = a;
   }
 }
 
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,
                                                             JointMask driven) noexcept {
   decide(now, demand, driven);
-  bring_to_rest(driven);
+  limit(driven);
+  measure(driven);
   ports_.owner_joints->store(driven_by_owner_, std::memory_order_relaxed);
   return held_;
 }
 
 void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept {
   ++counters_.periods;
+  manager_set_ = 0;
   // The joint manager stays the authority: a joint it does not drive, or gives a new reference,
-  // takes its reference (a drive enabled later starts where the joint manager set it).
+  // takes its reference at rest (a drive enabled later starts where the joint manager set it).
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const bool drives = (driven & joint_bit(j)) != 0;
     const double manager = demand[j].position_ref_rad;
     if (!drives || !driven_before_[j] || manager != manager_ref_[j]) {
+      manager_set_ |= joint_bit(j);
       held_[j] = manager;
-      velocity_[j] = 0.0;
+      wanted_(static_cast<Eigen::Index>(j)) = manager;
+      limiter_.reset_joint(j, manager);
+      speed_[j] = 0.0;
+      acceleration_[j] = 0.0;
+      history_[j] = 0;
     }
     manager_ref_[j] = manager;
     driven_before_[j] = drives;

@@ -2,11 +2,15 @@
 // never blocking, it decides each position-mode joint's reference:
 //   - the owner's references, if its reference space holds a complete period written under the
 //     current owner word and completed within kOwnerReferenceDeadlineNs; only the joints they
-//     command that the handler drives (enabled, reachable, not excluded) take them, clamped to the
-//     joint's position limits and to its velocity limit from the reference sent last period;
+//     command that the handler drives (enabled, reachable, not excluded) take them, through the same
+//     limiter as the RC tasks' (kin::AccelerationLimiter): every reference sent keeps the joint's
+//     position limits (braking in time), velocity and acceleration limits and, where the joint
+//     declares one, its jerk limit, whatever the owner asks (an operator's `move`, `hand`, teleop, a
+//     change of owner while a joint moves);
 //   - otherwise the period counts as an owner miss, and each joint the owner had in motion is brought
-//     to rest from its reference's velocity within its deceleration limit
-//     (deceleration_limit_rad_s2, core/robot/robot.hpp), then holds: no abrupt reference stop;
+//     to rest from its reference's velocity within its deceleration limit (the smaller of
+//     deceleration_limit_rad_s2, core/robot/robot.hpp, and its acceleration limit), then holds: no
+//     abrupt reference stop;
 //   - an owner whose heartbeat is older than kOwnerDeadAfterPeriods RC periods is released
 //     (compare-exchange on the word it saw) in the period the handler notices it;
 //   - while nobody owns the motion, each joint comes to rest the same way and holds the reference
@@ -20,6 +24,7 @@
 #include <cstdint>
 
 #include "core/app/links/motion_links.hpp"
+#include "core/kinematics/acceleration_limiter.hpp"
 #include "core/robot/joint_demand.hpp"
 #include "hal/time/clock.hpp"
 
@@ -57,7 +62,16 @@ struct MotionIntakeCounters {
   std::uint64_t stale{0};           // of the misses: completed longer ago than the deadline
   std::uint64_t foreign{0};         // of the misses: written under another owner word
   std::uint64_t releases{0};        // dead owners released
-  std::uint64_t clamped{0};         // joint references limited (position or velocity limit)
+  std::uint64_t clamped{0};         // joint references limited (position, velocity, acceleration or jerk limit)
+};
+
+// What the intake sent, per joint, over the periods the joint was driven and kept its reference's
+// history (a joint the joint manager set anew starts over): the largest speed, acceleration and jerk
+// (the `run` report's joint-limit verdict: what the drives were sent, after every limit).
+struct SentMotionFigures {
+  std::array<double, kJointCount> max_speed_rad_s{};
+  std::array<double, kJointCount> max_acceleration_rad_s2{};
+  std::array<double, kJointCount> max_jerk_rad_s3{};
 };
 
 class MotionIntake {
@@ -71,11 +85,13 @@ class MotionIntake {
   // `joint` stands at `position_rad` and is to hold there from now on (a drive enabled again after
   // its watchdog stopped it): its reference becomes that position, at rest.
   void rest_at(std::size_t joint, double position_rad) noexcept {
+    limiter_.reset_joint(joint, position_rad);
     held_[joint] = position_rad;
-    velocity_[joint] = 0.0;
+    history_[joint] = 0;
   }
 
   const MotionIntakeCounters& counters() const noexcept { return counters_; }
+  const SentMotionFigures& sent_figures() const noexcept { return sent_; }
   // The owner task whose references drove the joints last period (kNoOwnerTask: none, or held).
   std::uint8_t driving_task() const noexcept { return driving_; }
   std::uint64_t consecutive_misses() const noexcept { return consecutive_misses_; }
@@ -85,20 +101,28 @@ class MotionIntake {
  private:
   void decide(hal::Nanoseconds now, const RobotDemand& demand, JointMask driven) noexcept;
   bool take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept;
-  // The driven joints the owner did not drive this period: towards rest within their deceleration.
-  void bring_to_rest(JointMask driven) noexcept;
+  // Every driven joint through the limiter: the owner's fresh references, the rest braking to rest.
+  void limit(JointMask driven) noexcept;
+  void measure(JointMask driven) noexcept;
 
   MotionIntakePorts ports_;
   MotionIntakeSettings settings_;
+  kin::AccelerationLimiter limiter_;                // every reference sent (the RC tasks' limiter)
+  kin::JointVector wanted_;                         // the owner's references taken (its last fresh ones)
   std::array<double, kJointCount> held_{};          // the references sent last period
-  std::array<double, kJointCount> velocity_{};      // their rate of change last period (rad/s)
   std::array<double, kJointCount> manager_ref_{};   // the joint manager's reference seen last period
   std::array<bool, kJointCount> driven_before_{};
+  // Measuring what is sent: the last two speeds and the periods of history each joint has.
+  std::array<double, kJointCount> speed_{};
+  std::array<double, kJointCount> acceleration_{};
+  std::array<std::uint8_t, kJointCount> history_{};
+  SentMotionFigures sent_{};
   ReferenceSnapshot snapshot_{};
   MotionIntakeCounters counters_{};
   std::uint64_t consecutive_misses_{0};
   JointMask driven_by_owner_{0};
   JointMask fresh_{0};                          // joints that took a new owner reference this period
+  JointMask manager_set_{0};                    // joints that took the joint manager's reference this period
   hal::Nanoseconds taken_completed_ns_{0};      // the owner period taken last (its completion time)
   std::uint64_t taken_word_{0};
   std::uint8_t driving_{kNoOwnerTask};

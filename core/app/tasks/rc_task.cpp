@@ -8,6 +8,7 @@
 #include "core/app/config/firmware_config.hpp"
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/minimum_jerk.hpp"
+#include "core/kinematics/task_shape.hpp"
 
 namespace rescue::app {
 namespace {
@@ -82,17 +83,19 @@ RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcep
       teleop_velocity_(kin::JointVector::Zero()),
       speed_(kin::JointVector::Zero()),
       mode_(settings.id == RcTaskId::teleop ? RcMode::teleop : RcMode::idle) {
-  figures_.min_support_margin_m = 1e9;
+  figures_.min_time_scale = 1.0;
 }
 
 void RcTask::measure() noexcept {
   const bool driving = owns_ && mode_ != RcMode::idle && mode_ != RcMode::teleop;
   const double dt = seconds(settings_.period_ns);
   JointMask measured = 0;
+  // Only the joints it commands: the others' references are whatever the handler sends them.
+  const JointMask own = commanded();
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
     const double speed = (references_(row) - previous_(row)) / dt;
-    if (driving && (out_of_service_ & joint_bit(j)) == 0) {
+    if (driving && (own & joint_bit(j)) != 0) {
       measured |= joint_bit(j);
       figures_.max_speed_rad_s[j] = std::max(figures_.max_speed_rad_s[j], std::fabs(speed));
       if ((measured_ & joint_bit(j)) != 0) {
@@ -104,7 +107,12 @@ void RcTask::measure() noexcept {
   }
   measured_ = measured;
   if (!driving) return;
-  if (out_of_service_ == 0) {
+  const auto waist_row = static_cast<Eigen::Index>(kin::joint_index("waist_yaw"));
+  const double waist = references_(waist_row);
+  figures_.max_abs_waist_rad = std::max(figures_.max_abs_waist_rad, std::fabs(waist));
+  const kin::TaskShape shape = kin::task_shape_for(out_of_service_);
+  const auto damaged = static_cast<std::uint8_t>((shape.palm_active[0] ? 0U : 1U) | (shape.palm_active[1] ? 0U : 2U));
+  if (damaged == 0) {
     // Mirrored in base_link's x-z plane: pitch and elbow angles equal, roll and yaw opposite.
     constexpr std::size_t kMirrored[6][2] = {
         {kin::joint_index("l_shoulder_pitch"), kin::joint_index("r_shoulder_pitch")},
@@ -119,9 +127,35 @@ void RcTask::measure() noexcept {
       const double right = references_(static_cast<Eigen::Index>(kMirrored[m][1]));
       figures_.symmetry_error_rad = std::max(figures_.symmetry_error_rad, std::fabs(left - kSign[m] * right));
     }
-    figures_.max_abs_waist_rad = std::max(
-        figures_.max_abs_waist_rad, std::fabs(references_(static_cast<Eigen::Index>(kin::joint_index("waist_yaw")))));
+    figures_.symmetry_measured = true;
   }
+  if (mode_ == RcMode::rescue_motion) {
+    for (int arm = 0; arm < 2; ++arm) {
+      const auto a = static_cast<std::size_t>(arm);
+      if (!shape.palm_active[a]) continue;
+      figures_.path_deviation_m[a] = std::max(figures_.path_deviation_m[a], rescue_.path_deviation_m(arm));
+      figures_.path_measured[a] = true;
+    }
+    figures_.min_time_scale = std::min(figures_.min_time_scale, rescue_.time_scale());
+    figures_.clipped_periods = rescue_.clipped_periods();
+  }
+  if (damaged == 0 && !figures_.loss_seen) return;
+  // After damage: how far the waist and a damaged arm's palm moved since the loss (FK of what is sent).
+  kin::LinkPoses poses;
+  kin::forward_kinematics(references_, poses);
+  const std::uint8_t newly = static_cast<std::uint8_t>(damaged & ~figures_.damaged_arms);
+  if (newly != 0 && !figures_.loss_seen) waist_at_loss_ = waist;
+  for (int arm = 0; arm < 2; ++arm) {
+    const auto a = static_cast<std::size_t>(arm);
+    const kin::Vector3& palm = poses[arm == 0 ? kin::kLeftEe : kin::kRightEe].p;
+    if ((newly & (1U << a)) != 0) palm_at_loss_[a] = palm;
+    if ((damaged & (1U << a)) != 0) {
+      figures_.palm_travel_after_loss_m[a] = std::max(figures_.palm_travel_after_loss_m[a], (palm - palm_at_loss_[a]).norm());
+    }
+  }
+  figures_.loss_seen = true;
+  figures_.damaged_arms = static_cast<std::uint8_t>(figures_.damaged_arms | damaged);
+  figures_.waist_travel_after_loss_rad = std::max(figures_.waist_travel_after_loss_rad, std::fabs(waist - waist_at_loss_));
 }
 
 void RcTask::read_joints() noexcept {
@@ -253,7 +287,12 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
           rescue_.run(seconds(now - mode_since_), out_of_service_, kin::JointVector::Zero());
       if (report.ok()) {
         ik_report_ = report.value();
-        if (owns_) figures_.min_support_margin_m = std::min(figures_.min_support_margin_m, ik_report_.support_margin_m);
+        if (owns_) {
+          figures_.min_support_margin_m = figures_.margin_measured
+                                              ? std::min(figures_.min_support_margin_m, ik_report_.support_margin_m)
+                                              : ik_report_.support_margin_m;
+          figures_.margin_measured = true;
+        }
       } else {
         ++counters_.kinematics_errors;
       }
@@ -263,15 +302,19 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
       return;
     }
     case RcMode::target: {
-      // The IK steps from its own plan; the limiter turns the plan into references.
-      const Result<kin::IkStepReport> report = ik_.step(wanted_, targets_, out_of_service_, next_);
+      // The IK steps from its own plan; the limiter turns the plan into references. A damaged arm's
+      // palm leaves the task and its healthy joints brake and hold (kin::TaskShape), as in the
+      // rescue motion.
+      const kin::TaskShape shape = kin::task_shape_for(out_of_service_);
+      targets_.palm_active = shape.palm_active;
+      const Result<kin::IkStepReport> report = ik_.step(wanted_, targets_, out_of_service_ | shape.held, next_);
       if (report.ok()) {
         ik_report_ = report.value();
         wanted_ = next_;
       } else {
         ++counters_.kinematics_errors;
       }
-      references_ = limiter_.step(wanted_, out_of_service_);
+      references_ = limiter_.step(wanted_, out_of_service_, shape.held);
       return;
     }
   }

@@ -131,6 +131,8 @@ class RcTask {
   RcTaskState figures_{};             // rescue: speeds, accelerations, symmetry, COM margin (measure())
   kin::JointVector speed_;            // last period's reference speeds
   JointMask measured_{0};             // joints whose speed was measured last period
+  double waist_at_loss_{0.0};         // rescue: the waist's reference when an arm was first damaged
+  std::array<kin::Vector3, 2> palm_at_loss_{kin::Vector3::Zero(), kin::Vector3::Zero()};
   hal::Nanoseconds mode_since_{0};
   JointMask out_of_service_{0};
   RcMode mode_{RcMode::idle};

@@ -123,6 +123,12 @@ TEST(TaskProcessHealth, RealTimeProcessesAllocateNothingAndFaultNoPageAfterInitW
   const std::string used = value_of(out, "owner_references_used: ");
   EXPECT_FALSE(used.empty()) << out;
   EXPECT_GT(std::atoll(used.c_str()), 500LL * seconds) << out;  // of the ~1000 handler periods a second
+  // Ownership changed while the hand moved (docs/operator.md's example, over and over): every
+  // reference sent kept every limit (issue 33: the hand was stopped at 100x its acceleration limit),
+  // and no figure is a sentinel.
+  EXPECT_EQ(value_of(out, "joint_limits: "), "within") << out;
+  EXPECT_EQ(value_of(out, "rescue_joint_limits: "), "within") << out;
+  EXPECT_EQ(out.find("1000000000"), std::string::npos) << out;
 
   std::printf("long run: %d s (RESCUE_LONG_RUN_SECONDS), %d turns, owner seen driving: rescue %d, teleop %d; %s\n",
               seconds, turns, rescue_seen, teleop_seen, can_lock_memory() && !kSanitizerShadowMemory ? "page faults asserted" : "page faults printed");

@@ -2,7 +2,8 @@
 // motion intake, the real master, the simulated drives with their own position loop and motor): the
 // Motion owner drives l_elbow at 1.2 rad/s and dies. Before, the intake stopped the joint's reference
 // where the owner left it and the drive overshot it by about 0.1 rad on its own loop; now the
-// reference decelerates within the joint's deceleration limit (core/robot/robot.hpp) to rest v^2/2a
+// reference decelerates within the joint's deceleration limit (core/robot/robot.hpp; at most its
+// acceleration limit) to rest v^2/2a
 // beyond the last owner reference, and the joint follows it: it passes its resting reference by no
 // more than the drive's own loop adds on a ramp (its position loop has no velocity feed-forward:
 // about 6 mrad here, a tenth of the abrupt stop's). The figures of both are printed
@@ -13,6 +14,7 @@
 #include <cstdio>
 
 #include "core/app/tasks/motion_intake.hpp"
+#include "core/kinematics/kinematic_model.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
 #include "tests/support/simulated_firmware_rig.hpp"
 
@@ -35,12 +37,15 @@ DeadOwnerStop stop_a_moving_joint(const MotionIntakeSettings& intake) {
   SimulatedFirmware fw(dir.path);
   EXPECT_TRUE(fw.start_enabled(intake));
   double position = fw.sample_of(kElbow).position_ref_rad;
-  // RC task 0 owns the motion and moves l_elbow at 1.2 rad/s for 0.5 s, one period per handler period.
+  // RC task 0 owns the motion and moves l_elbow at 1.2 rad/s for 0.5 s, one period per handler period
+  // (reached at 4 rad/s^2, within the joint's acceleration limit: the intake passes it unchanged).
   MotionLinks& motion = fw.links->motion;
   const std::uint64_t word = motion.owner.take(0);
   RobotSample sample{};
-  for (int k = 0; k < 500; ++k) {
-    position += kSpeed * 0.001;
+  double speed = 0.0;
+  for (int k = 0; k < 800; ++k) {
+    speed = std::min(kSpeed, speed + 4.0 * 0.001);
+    position += speed * 0.001;
     fw.owner_period(0, word, kElbow, position);
     fw.period();
   }
@@ -63,7 +68,8 @@ TEST(DeadOwnerHold, AMovingJointComesToRestWithinItsDecelerationLimitWithoutOver
   abrupt.ramped_hold = false;
   const DeadOwnerStop before = stop_a_moving_joint(abrupt);
   const DeadOwnerStop after = stop_a_moving_joint(default_intake_settings());
-  const double a = deceleration_limit_rad_s2(kJoints[kElbow].limits);
+  // The intake brings a joint to rest at the smaller of its deceleration and acceleration limits.
+  const double a = std::min(deceleration_limit_rad_s2(kJoints[kElbow].limits), kin::kJointAcceleration[kElbow]);
   const double braking = kSpeed * kSpeed / (2.0 * a);  // what the deceleration limit implies
   std::printf("dead owner at %.1f rad/s, l_elbow (deceleration limit %.1f rad/s^2, stopping distance %.4f rad):\n",
               kSpeed, a, braking);

@@ -1,6 +1,7 @@
 // The Motion owner and the EtherCAT handler's intake (core/app/tasks/motion_intake.*, core/app/links/, docs/motion-owner.md), in
 // virtual time, one handler period per millisecond:
-//   the owner takes the motion and its references drive the joints it commands;
+//   the owner takes the motion and its references drive the joints it commands, through the limiter
+//   (a jump becomes a ramp within the joint's limits, so these tests let a reference settle);
 //   a missed deadline holds the last references and is counted; a joint the owner had in motion is
 //   brought to rest within its deceleration limit first (no abrupt reference stop);
 //   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken;
@@ -8,12 +9,14 @@
 //   never reach a joint; joints the handler does not drive are never commanded.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/motion_intake.hpp"
+#include "core/kinematics/kinematic_model.hpp"
 
 namespace rescue::app {
 namespace {
@@ -44,7 +47,26 @@ struct Rig {
     now += kMs;
     return refs;
   }
+  // The owner writes `position` every period for 0.5 s: the intake's limiter ramps there and rests.
+  const std::array<double, kJointCount>& settle(std::size_t task, double position, JointMask joints,
+                                                JointMask driven = kAllJoints) {
+    for (int k = 0; k < 499; ++k) {
+      write(task, position, joints);
+      (void)handler_period(driven);
+    }
+    write(task, position, joints);
+    return handler_period(driven);
+  }
 };
+
+// An owner moving joint `j` from `from` at `speed`, reached within the joint's acceleration limit
+// (so the intake's limiter passes it unchanged): the position it writes at period k.
+double moving_reference(std::size_t j, double from, double speed, int k) {
+  const double a = 0.8 * kin::kJointAcceleration[j];
+  const double ramp = speed / a;
+  const double t = (k + 1) * 0.001;
+  return t < ramp ? from + 0.5 * a * t * t : from + 0.5 * a * ramp * ramp + speed * (t - ramp);
+}
 
 TEST(MotionIntake, WithoutOwnerEveryJointHoldsTheJointManagersReference) {
   Rig rig;
@@ -61,20 +83,20 @@ TEST(MotionIntake, TheOwnersReferencesDriveTheJointsItCommands) {
   const std::uint64_t word = rig.links->motion.owner.take(0);
   EXPECT_EQ(MotionOwner::task_of(word), 0);
   rig.write(0, 0.001, joint_bit(kElbow));
-  const auto& refs = rig.handler_period();
+  const double first = rig.handler_period()[kElbow];
+  EXPECT_GT(first, 0.0) << "towards the owner's reference";
+  EXPECT_LE(first, kin::kJointAcceleration[kElbow] * 1e-6 + 1e-15) << "from rest within the acceleration limit";
+  const auto& refs = rig.settle(0, 0.001, joint_bit(kElbow));
   EXPECT_DOUBLE_EQ(refs[kElbow], 0.001);
   EXPECT_DOUBLE_EQ(refs[kNeck], 0.3) << "a joint the owner does not command keeps the joint manager's reference";
   EXPECT_EQ(rig.intake.driving_task(), 0);
-  EXPECT_EQ(rig.intake.counters().used_periods, 1U);
+  EXPECT_EQ(rig.intake.counters().used_periods, 501U);
 }
 
 TEST(MotionIntake, AMissedDeadlineHoldsTheLastReferencesAndIsCounted) {
   Rig rig;
   (void)rig.links->motion.owner.take(0);
-  rig.write(0, 0.001, kAllJoints);
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
-  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  EXPECT_DOUBLE_EQ(rig.settle(0, 0.001, kAllJoints)[kElbow], 0.001);  // at rest there: the hold is exact
   // The owner computes but does not complete its next periods in time: only its heartbeat moves.
   for (int k = 0; k < 5; ++k) {
     rig.links->rc_heartbeat_ns[0].store(rig.now);
@@ -86,18 +108,14 @@ TEST(MotionIntake, AMissedDeadlineHoldsTheLastReferencesAndIsCounted) {
   EXPECT_EQ(rig.intake.counters().stale, 3U);
   EXPECT_EQ(rig.links->motion.owner_misses.load(), 3U);
   EXPECT_EQ(rig.links->motion.owner.task(), 0) << "a late owner is not a dead one";
-  rig.write(0, 0.002, kAllJoints);
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.002);
+  EXPECT_DOUBLE_EQ(rig.settle(0, 0.002, kAllJoints)[kElbow], 0.002);
   EXPECT_EQ(rig.intake.consecutive_misses(), 0U);
 }
 
 TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken) {
   Rig rig;
   (void)rig.links->motion.owner.take(0);
-  rig.write(0, 0.001, kAllJoints);
-  (void)rig.handler_period();
-  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
-  (void)rig.handler_period();
+  (void)rig.settle(0, 0.001, kAllJoints);  // at rest there: the hold is exact
   const hal::Nanoseconds last_beat = rig.now - kMs;
   // Task 0 dies: nothing more from it.
   int periods = 0;
@@ -118,14 +136,14 @@ TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken
   std::uint64_t word = 0;
   ASSERT_TRUE(rig.links->motion.owner.take_if_free(1, word));
   EXPECT_FALSE(rig.links->motion.owner.take_if_free(0, word)) << "only a free motion is taken that way";
-  rig.write(1, 0.0015, kAllJoints);
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.0015);
+  EXPECT_DOUBLE_EQ(rig.settle(1, 0.0015, kAllJoints)[kElbow], 0.0015);
   EXPECT_EQ(rig.intake.driving_task(), 1);
 }
 
 // Issue 21 item 6: an owner that dies while its joint moves at 1.2 rad/s. Its references stop; the
 // joint's reference does not stop with them (an abrupt stop, which the drive overshoots) but
-// decelerates at the joint's limit to rest, v^2 / 2a beyond the last reference, then holds.
+// decelerates at the joint's rest deceleration (the smaller of its deceleration and acceleration
+// limits) to rest, v^2 / 2a beyond the last reference, then holds.
 TEST(MotionIntake, AJointTheDeadOwnerMovedComesToRestWithinItsDecelerationLimit) {
   Rig rig;
   rig.demand[kElbow].position_ref_rad = 0.5;
@@ -133,13 +151,13 @@ TEST(MotionIntake, AJointTheDeadOwnerMovedComesToRestWithinItsDecelerationLimit)
   (void)rig.links->motion.owner.take(0);
   constexpr double kSpeed = 1.2;  // rad/s, below l_elbow's 2 rad/s
   double position = 0.5;
-  for (int k = 0; k < 100; ++k) {
-    position += kSpeed * 0.001;
+  for (int k = 0; k < 500; ++k) {
+    position = moving_reference(kElbow, 0.5, kSpeed, k);
     rig.write(0, position, joint_bit(kElbow));
-    EXPECT_NEAR(rig.handler_period()[kElbow], position, 1e-12);
+    EXPECT_NEAR(rig.handler_period()[kElbow], position, 1e-9);
   }
   // Dead: nothing more from task 0. The reference slows by at most a * dt each period, never reverses.
-  const double a = deceleration_limit_rad_s2(kJoints[kElbow].limits);
+  const double a = std::min(deceleration_limit_rad_s2(kJoints[kElbow].limits), kin::kJointAcceleration[kElbow]);
   double previous = position;
   double previous_step = kSpeed * 0.001;
   int moving = 0;
@@ -153,7 +171,7 @@ TEST(MotionIntake, AJointTheDeadOwnerMovedComesToRestWithinItsDecelerationLimit)
     previous = ref;
   }
   EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "released meanwhile";
-  // At rest after v / a (1.2 / 8 = 0.15 s), v^2 / 2a (0.09 rad) beyond the last reference.
+  // At rest after v / a (1.2 / 5 = 0.24 s), v^2 / 2a (0.144 rad) beyond the last reference.
   EXPECT_NEAR(moving, kSpeed / a * 1000.0, 2.0);
   EXPECT_NEAR(previous - position, kSpeed * kSpeed / (2.0 * a), 1e-3);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], previous) << "then holds";
@@ -168,14 +186,13 @@ TEST(MotionIntake, WithoutTheRampADeadOwnersJointStopsAbruptly) {
   (void)intake.period(rig.now, rig.demand, kAllJoints);
   rig.now += kMs;
   (void)rig.links->motion.owner.take(0);
-  double position = 0.5;
-  for (int k = 0; k < 10; ++k) {
-    position += 0.0012;
-    rig.write(0, position, joint_bit(kElbow));
-    (void)intake.period(rig.now, rig.demand, kAllJoints);
+  double sent = 0.5;
+  for (int k = 0; k < 500; ++k) {
+    rig.write(0, moving_reference(kElbow, 0.5, 1.2, k), joint_bit(kElbow));
+    sent = intake.period(rig.now, rig.demand, kAllJoints)[kElbow];
     rig.now += kMs;
   }
-  EXPECT_DOUBLE_EQ(intake.period(rig.now, rig.demand, kAllJoints)[kElbow], position);
+  EXPECT_DOUBLE_EQ(intake.period(rig.now, rig.demand, kAllJoints)[kElbow], sent) << "stops where it was sent last";
 }
 
 TEST(MotionIntake, ANonOwnersReferencesNeverReachAJoint) {
@@ -210,10 +227,7 @@ TEST(MotionIntake, IncompleteOrNeverWrittenReferencesAreNeverUsed) {
   (void)rig.links->motion.owner.take(0);
   rig.links->rc_heartbeat_ns[0].store(rig.now);
   EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.0) << "never written";
-  rig.write(0, 0.001, kAllJoints);
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
-  rig.write(0, 0.001, kAllJoints);  // at rest there: the hold is exact
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001);
+  EXPECT_DOUBLE_EQ(rig.settle(0, 0.001, kAllJoints)[kElbow], 0.001);  // at rest there: the hold is exact
   // A period begun but never completed (the writer died or is mid-write): the sequence stays odd.
   rig.write(0, 0.0015, kAllJoints, /*complete=*/false);
   ReferenceSnapshot copy;
@@ -223,7 +237,7 @@ TEST(MotionIntake, IncompleteOrNeverWrittenReferencesAreNeverUsed) {
   // The restarted writer completes its next period cleanly.
   rig.write(0, 0.002, kAllJoints);
   EXPECT_TRUE(rig.links->motion.references[0].read(copy));
-  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.002);
+  EXPECT_DOUBLE_EQ(rig.settle(0, 0.002, kAllJoints)[kElbow], 0.002);
 }
 
 TEST(MotionIntake, JointsTheHandlerDoesNotDriveAreNeverCommanded) {
@@ -233,18 +247,28 @@ TEST(MotionIntake, JointsTheHandlerDoesNotDriveAreNeverCommanded) {
   (void)rig.links->motion.owner.take(0);
   rig.write(0, 0.26, kAllJoints);
   const JointMask driven = kAllJoints & ~joint_bit(kElbow);
-  const auto& refs = rig.handler_period(driven);
+  const auto& refs = rig.settle(0, 0.26, kAllJoints, driven);
   EXPECT_DOUBLE_EQ(refs[kElbow], 0.25);
   EXPECT_DOUBLE_EQ(refs[kNeck], 0.26);
 }
 
-TEST(MotionIntake, ReferencesAreClampedToPositionAndVelocityLimits) {
+TEST(MotionIntake, ReferencesAreLimitedInPositionSpeedAndAcceleration) {
   Rig rig;
+  (void)rig.handler_period();  // the joints driven from the joint manager's reference first
   (void)rig.links->motion.owner.take(0);
   rig.write(0, 1.0, kAllJoints);  // a jump: 1 rad in one period
   const auto& refs = rig.handler_period();
-  EXPECT_NEAR(refs[kElbow], kJoints[kElbow].limits.velocity_max_rad_s * 1e-3, 1e-12);
+  EXPECT_NEAR(refs[kElbow], kin::kJointAcceleration[kElbow] * 1e-6, 1e-12) << "from rest at the acceleration limit";
   EXPECT_GT(rig.intake.counters().clamped, 0U);
+  double previous = refs[kElbow];
+  double fastest = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    rig.write(0, 1.0, kAllJoints);
+    const double ref = rig.handler_period()[kElbow];
+    fastest = std::max(fastest, (ref - previous) / 1e-3);
+    previous = ref;
+  }
+  EXPECT_NEAR(fastest, kJoints[kElbow].limits.velocity_max_rad_s, 1e-9) << "at most the velocity limit";
   rig.write(0, 100.0, kAllJoints);
   for (int k = 0; k < 5000; ++k) {
     rig.links->rc_heartbeat_ns[0].store(rig.now);

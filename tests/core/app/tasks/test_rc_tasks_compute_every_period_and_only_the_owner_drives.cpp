@@ -2,7 +2,8 @@
 // virtual time (tests/support/rc_task_rig.hpp):
 //   both compute every period; only the owner's references reach the joints;
 //   the rescue task's motion goes through approach, lowering, forwarding, backwarding to done,
-//   and goes on with the remaining joints after a link cut (the lost ones never commanded);
+//   and goes on with the healthy arm after a link cut (the lost joints never commanded, the damaged
+//   arm's other joints braked to rest and held);
 //   an owner that dies is released within kOwnerDeadAfterPeriods + 1 periods, the joints hold,
 //   the teleop task takes over bumplessly, and a restarted rescue task waits for the operator;
 //   a restarted owner's process frees its predecessor's word if it beats before the handler noticed;
@@ -33,7 +34,9 @@ TEST(RcTasks, TheRescueTaskOwnsItsMotionToTheEndWhileTeleopComputesWithoutDrivin
   EXPECT_EQ(rig.links->motion.owner.task(), 0);
   EXPECT_EQ(rig.rescue->mode(), RcMode::approach);
   int steps = 0;
-  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && steps < 5000) {
+  // The rig's phases (0.4 s each) ask for more than the arms' acceleration limits: the motion slows
+  // down to keep its path (kin::RcPeriod's time scaling) and takes longer than 1.2 s.
+  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && steps < 20000) {
     rig.step();
     ++steps;
   }
@@ -56,7 +59,9 @@ TEST(RcTasks, TheRescueTaskOwnsItsMotionToTheEndWhileTeleopComputesWithoutDrivin
 TEST(RcTasks, TheRescueMotionGoesOnWithTheRemainingJointsAfterALinkCut) {
   testing::RcTaskRig rig;
   ASSERT_TRUE(rig.send(RcTaskId::rescue, RcInputKind::take_ownership));
-  rig.steps(1600 + 500);  // approach, then into forwarding
+  rig.steps(1600);  // approach, then into forwarding
+  for (int k = 0; k < 20000 && rig.rescue->rescue_phase() != kin::RescuePhase::forwarding; ++k) rig.step();
+  rig.steps(100);
   ASSERT_EQ(rig.rescue->rescue_phase(), kin::RescuePhase::forwarding);
   rig.cut_link_at(kLeftElbow);
   const std::array<double, kJointCount> at_cut = rig.sent;
@@ -66,14 +71,20 @@ TEST(RcTasks, TheRescueMotionGoesOnWithTheRemainingJointsAfterALinkCut) {
   ASSERT_TRUE(rig.links->motion.references[0].read(space));
   EXPECT_EQ(space.commanded & rig.unreachable, 0U) << "joints out of service are never commanded";
   EXPECT_EQ(rig.rescue->out_of_service(), rig.unreachable);
-  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && rig.rescue->counters().periods < 6000) rig.step();
+  while (rig.rescue->rescue_phase() != kin::RescuePhase::done && rig.rescue->counters().periods < 30000) rig.step();
   EXPECT_EQ(rig.rescue->rescue_phase(), kin::RescuePhase::done);
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((rig.unreachable & joint_bit(j)) != 0) {
       EXPECT_DOUBLE_EQ(rig.sent[j], at_cut[j]) << kJoints[j].name;
     }
   }
-  EXPECT_NE(rig.sent[kLeftShoulder], shoulder_at_cut) << "the arm's remaining joints still move";
+  // The damaged arm's remaining joints brake to rest and hold (kin::TaskShape): they never drag the
+  // unpowered forearm; a joint moving at v stops within v^2 / 2a.
+  const double a = kin::kJointAcceleration[kLeftShoulder];
+  EXPECT_LE(std::fabs(rig.sent[kLeftShoulder] - shoulder_at_cut),
+            kJoints[kLeftShoulder].limits.velocity_max_rad_s * kJoints[kLeftShoulder].limits.velocity_max_rad_s / (2 * a));
+  EXPECT_EQ(rig.rescue->references()(static_cast<Eigen::Index>(kin::joint_index("waist_yaw"))),
+            rig.sent[kin::joint_index("waist_yaw")]);
   EXPECT_EQ(rig.intake.counters().misses, 0U);
   EXPECT_EQ(rig.rescue->counters().kinematics_errors, 0U);
 }
