@@ -338,6 +338,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
+  if (tasks_status == kExitSegmentDamaged) return tasks_status;  // its figures are garbage: none printed
 
   // 5. What happened.
   RunControl& state = run();

@@ -163,9 +163,11 @@ void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanos
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
   while (links().local_replies.try_pop(reply)) {
-    (void)std::printf("[%8.3f s] operator: %s: %s%s%s\n", seconds(at), protocol::to_string(reply.request_type),
+    // The text is read at most to its array's end: a damaged segment's reply need not hold its NUL.
+    (void)std::printf("[%8.3f s] operator: %s: %s%s%.*s\n", seconds(at), protocol::to_string(reply.request_type),
                       reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
-                      reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "", reply.text.data());
+                      reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "",
+                      static_cast<int>(reply.text.size()), reply.text.data());
   }
 }
 
