@@ -93,6 +93,7 @@ int task_process(const char* name, const char* comm, void (*task)() noexcept, vo
 
 int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   const int status = task_process("ethercat-handler", "ethercat", run_handler, handler_side_pass);
+  report_if_never_in_op();
   if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
