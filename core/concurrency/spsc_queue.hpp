@@ -132,7 +132,8 @@ class SpscQueue {
   }
   bool empty_approx() const noexcept { return size_approx() == 0; }
 
-  // Either side: the counters break tail - head <= N, which no push or pop can cause (damage: the
+  // Producer or consumer only (each reads its own counter exactly; a third party may see the pair
+  // in passing): the counters break tail - head <= N, which no push or pop can cause (damage: the
   // queue refuses every push and pop from then on, until a new segment).
   bool corrupt() const noexcept {
     const std::uint64_t head = head_.load(std::memory_order_acquire);
