@@ -19,6 +19,12 @@
 //  - each side keeps a private cached copy of the other side's counter and reloads it only when the
 //    queue looks full (producer) or empty (consumer): the shared line is touched once per batch.
 // Counters are 64 bits: at 10^9 operations per second they wrap after 584 years.
+//
+// The counters live in shared memory that a stray write or a bit flip may damage
+// (docs/shared-memory.md "A damaged segment"). Both sides always see tail - head <= N (the producer
+// never runs more than N ahead of the head it saw; head never passes a tail the consumer saw), so a
+// pair that breaks it is damage: push and pop refuse it (false: nothing written, nothing read, never
+// 2^63 "entries" drained) and corrupt() says so; a cached copy that breaks it is reloaded.
 #pragma once
 
 #include <array>
@@ -90,9 +96,9 @@ class SpscQueue {
   template <typename Fill>
   [[nodiscard]] bool try_push_in_place(Fill&& fill) noexcept {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);  // our own counter
-    if (tail - producer_cached_head_ == N) {
+    if (tail - producer_cached_head_ >= N) {  // full, or a damaged cached copy
       producer_cached_head_ = head_.load(std::memory_order_acquire);
-      if (tail - producer_cached_head_ == N) return false;
+      if (tail - producer_cached_head_ >= N) return false;  // full (== N) or damaged (> N)
     }
     fill(slots_[slot(tail)]);
     tail_.store(tail + 1, std::memory_order_release);
@@ -109,9 +115,9 @@ class SpscQueue {
   template <typename Use>
   [[nodiscard]] bool try_pop_in_place(Use&& use) noexcept {
     const std::uint64_t head = head_.load(std::memory_order_relaxed);  // our own counter
-    if (head == consumer_cached_tail_) {
+    if (head == consumer_cached_tail_ || consumer_cached_tail_ - head > N) {  // empty, or a damaged cached copy
       consumer_cached_tail_ = tail_.load(std::memory_order_acquire);
-      if (head == consumer_cached_tail_) return false;
+      if (head == consumer_cached_tail_ || consumer_cached_tail_ - head > N) return false;  // empty or damaged
     }
     use(static_cast<const T&>(slots_[slot(head)]));
     head_.store(head + 1, std::memory_order_release);
@@ -125,6 +131,15 @@ class SpscQueue {
     return tail >= head ? static_cast<std::size_t>(tail - head) : 0;
   }
   bool empty_approx() const noexcept { return size_approx() == 0; }
+
+  // Producer or consumer only (each reads its own counter exactly; a third party may see the pair
+  // in passing): the counters break tail - head <= N, which no push or pop can cause (damage: the
+  // queue refuses every push and pop from then on, until a new segment).
+  bool corrupt() const noexcept {
+    const std::uint64_t head = head_.load(std::memory_order_acquire);
+    const std::uint64_t tail = tail_.load(std::memory_order_acquire);
+    return tail - head > N;
+  }
 
  private:
   static constexpr std::uint64_t kLayoutTag = (static_cast<std::uint64_t>(sizeof(T)) << 32U) | N;

@@ -197,6 +197,7 @@ bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noe
   c.step = step;
   c.phase = Phase::send;
   c.deadline = now + response_timeout_;
+  c.late_polls = 0;
   return true;
 }
 
@@ -402,7 +403,9 @@ void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
       }
       c.phase = Phase::wait;
     }
-    if (c.phase != Phase::none && now > c.deadline) complete(c, SdoOutcome::timeout);
+    if (c.phase == Phase::none || now <= c.deadline) continue;
+    if (c.added > 0 && now_ > c.deadline && c.late_polls < kLatePolls) ++c.late_polls;
+    if (c.late_polls >= kLatePolls) complete(c, SdoOutcome::timeout);
   }
   added_ = 0;
 }

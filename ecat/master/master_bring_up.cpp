@@ -49,6 +49,22 @@ SyncManagerSetup sm_from_sii(const sii::Sii& image, std::size_t n) noexcept {
   return sm;
 }
 
+// What a start-up transfer that did not end ok was: the slave's abort or mailbox error is a
+// refusal; no answer in time is a timeout, never called a refusal; an answer the client could not
+// use is malformed; a slave without a mailbox does not support it.
+Errc errc_of(SdoOutcome outcome) noexcept {
+  switch (outcome) {
+    case SdoOutcome::aborted:
+    case SdoOutcome::mailbox_error: return Errc::refused;
+    case SdoOutcome::timeout: return Errc::timeout;
+    case SdoOutcome::no_mailbox: return Errc::unsupported;
+    case SdoOutcome::too_long: return Errc::capacity_exceeded;
+    case SdoOutcome::ok:
+    case SdoOutcome::bad_response: break;
+  }
+  return Errc::malformed;
+}
+
 }  // namespace
 
 const char* to_string(MasterState state) noexcept {
@@ -347,7 +363,7 @@ Status Master::set_up_pdo_mappings() noexcept {
       if (mapping.failed()) {
         report_.failed_sdo = mapping.failure();
         const SdoRequest& r = mapping.failure().request;
-        return fail("PRE-OP SDO", make_error(Errc::refused, "PDO mapping not set", u32(p),
+        return fail("PRE-OP SDO", make_error(errc_of(mapping.failure().outcome), "PDO mapping not set", u32(p),
                                              (static_cast<std::uint32_t>(r.index) << 8U) | r.subindex));
       }
       if (mapping.finished()) {
@@ -378,7 +394,11 @@ Status Master::run_startup_sdos() noexcept {
     while (mailbox_.pop_completion(done)) {
       if (done.outcome != SdoOutcome::ok) {
         report_.failed_sdo = done;
-        return fail("PRE-OP SDO", make_error(Errc::refused, "start-up SDO refused", done.request.position,
+        const Errc code = errc_of(done.outcome);
+        const char* what = code == Errc::refused   ? "start-up SDO refused"
+                           : code == Errc::timeout ? "start-up SDO not answered in time"
+                                                   : "start-up SDO failed";
+        return fail("PRE-OP SDO", make_error(code, what, done.request.position,
                                              (static_cast<std::uint32_t>(done.request.index) << 8U) | done.request.subindex));
       }
       ++report_.startup_sdos_done;

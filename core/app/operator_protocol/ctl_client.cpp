@@ -78,7 +78,15 @@ Result<protocol::Message> ctl_exchange(const CtlTarget& target, protocol::Messag
   request.header.epoch = robot.epoch;
   const std::uint64_t now = unix_ns();
   request.header.sequence = now > ask.header.sequence ? now : ask.header.sequence + 1;
-  return round_trip(socket, target, request, deadline);
+  Result<protocol::Message> answer = round_trip(socket, target, request, deadline);
+  if (!answer.ok() && answer.error().code == Errc::timeout) {
+    // The robot answered get_epoch with this key, so it runs and listens here: its replay window
+    // dropped the request (docs/protocol.md "Senders"), or the request or answer was lost.
+    return make_error(Errc::timeout,
+                      "the robot answered get_epoch but not the request: replay window (this --sender's sequence "
+                      "already passed this epoch: use another --sender or restart the robot), or lost");
+  }
+  return answer;
 }
 
 }  // namespace rescue::app

@@ -22,7 +22,8 @@ struct CtlTarget {
 };
 
 // Sends `request` (sequence: this host's Unix time in ns) and returns the robot's answer.
-// Errors: timeout (no authentic answer in time; a robot holding another key stays silent),
+// Errors: timeout (no authentic answer in time; a robot holding another key stays silent; the
+// message says when the robot answered get_epoch and only the request went unanswered),
 // refused (the robot that answered has another robot id than target.robot), io_error.
 Result<protocol::Message> ctl_exchange(const CtlTarget& target, protocol::Message request) noexcept;
 

@@ -6,7 +6,8 @@
 // Decoding a datagram is three steps, in this order (the socket handler's order):
 //   1. parse_frame: structure only (sizes, magic, version, reserved bytes), no key needed;
 //   2. verify_frame (protocol_auth.hpp): the tag over header + payload;
-//   3. replay check (replay_window.hpp), then decode_payload: the type's payload and its ranges.
+//   3. decode_payload: the type's payload and its ranges, then the replay check (replay_window.hpp),
+//      so a malformed request takes no sender slot.
 // An Error from steps 1 and 3 maps to the Rejection counted for it (rejection_of).
 #pragma once
 

@@ -7,14 +7,21 @@ void ReplayWindow::begin_epoch(std::uint64_t epoch) noexcept {
   epoch_ = epoch;
 }
 
-Status ReplayWindow::accept(std::uint32_t sender, std::uint64_t sequence) noexcept {
+Status ReplayWindow::accept(std::uint32_t sender, std::uint64_t sequence, std::uint64_t robot_unix_ns) noexcept {
+  const std::uint64_t latest = robot_unix_ns > UINT64_MAX - kMaxSequenceLeadNs ? UINT64_MAX : robot_unix_ns + kMaxSequenceLeadNs;
+  if (sequence > latest) {
+    return make_error(Errc::out_of_range, "sequence more than 10 min ahead of the robot's clock", sender);
+  }
   std::size_t index = windows_.size();
+  bool operator_present = false;
   for (std::size_t i = 0; i < windows_.size(); ++i) {
     if (windows_[i].sender == sender) index = i;
+    if (windows_[i].sender == kOperatorSender) operator_present = true;
   }
   if (index == windows_.size()) {
-    // A sender's first datagram of the epoch: any sequence, the window starts at it.
-    if (!windows_.push_back(Window{sender, sequence, 1U})) {
+    // A sender's first datagram of the epoch: any sequence up to `latest`, the window starts at it.
+    const std::size_t room = sender == kOperatorSender || operator_present ? kMaxSenders : kMaxSenders - 1;
+    if (windows_.size() >= room || !windows_.push_back(Window{sender, sequence, 1U})) {
       return make_error(Errc::capacity_exceeded, "sender table full for this epoch", sender);
     }
     return Status::success();

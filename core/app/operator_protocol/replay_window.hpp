@@ -10,6 +10,13 @@
 // there is no file whose loss, damage or deletion could reopen it: the window lives in memory only
 // and dies with its epoch. Stations learn the epoch from the robot (get_epoch, answered with the
 // station's own sequence echoed) before they send a request.
+//
+// A key holder could otherwise lock a sender out for the whole epoch with one datagram (sequence
+// 2^64-1) or take every slot: a sequence more than kMaxSequenceLeadNs ahead of the robot's own
+// clock is refused (stations number their requests by their Unix time in ns), so such a lockout
+// lasts at most that long; and one slot is kept for kOperatorSender (ctl's default --sender), so
+// other senders can never fill the table against it. The socket handler asks the window only for
+// well-formed requests (docs/protocol.md "Senders", docs/security.md "What is not defended").
 #pragma once
 
 #include <cstddef>
@@ -22,6 +29,8 @@ namespace rescue::app::protocol {
 
 constexpr std::size_t kMaxSenders = 16;
 constexpr std::uint64_t kWindowSize = 64;
+constexpr std::uint32_t kOperatorSender = 1;                       // its slot is never taken by another
+constexpr std::uint64_t kMaxSequenceLeadNs = 600'000'000'000ULL;  // 10 min ahead of the robot's clock
 
 class ReplayWindow {
  public:
@@ -29,9 +38,11 @@ class ReplayWindow {
   void begin_epoch(std::uint64_t epoch) noexcept;
   std::uint64_t epoch() const noexcept { return epoch_; }
 
-  // Accepts `sequence` from `sender` once in this epoch, never again. Errors: refused (replayed or
-  // older than the window), capacity_exceeded (kMaxSenders senders already hold a slot this epoch).
-  Status accept(std::uint32_t sender, std::uint64_t sequence) noexcept;
+  // Accepts `sequence` from `sender` once in this epoch, never again; `robot_unix_ns` is the robot's
+  // wall clock. Errors: refused (replayed or older than the window), out_of_range (more than
+  // kMaxSequenceLeadNs ahead of `robot_unix_ns`), capacity_exceeded (no slot for a new sender: the
+  // table is full, or only kOperatorSender's kept slot is left).
+  Status accept(std::uint32_t sender, std::uint64_t sequence, std::uint64_t robot_unix_ns) noexcept;
 
   std::size_t senders() const noexcept { return windows_.size(); }
 

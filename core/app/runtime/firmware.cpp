@@ -338,6 +338,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   OperatorSide operator_side{to_clear, out_of_service, to_clear == 0,
                              !(options.initialize || options.scenario.kind != ScenarioKind::none), false, MotionLog{}};
   const int tasks_status = g_run.task_processes ? run_task_processes(operator_side) : run_task_threads(operator_side);
+  if (tasks_status == kExitSegmentDamaged) return tasks_status;  // its figures are garbage: none printed
 
   // 5. What happened.
   RunControl& state = run();
@@ -347,6 +348,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   char lost_names[kJointNamesCapacity];
   format_joint_names(lost | state.lost_since_start.load(), lost_names, sizeof lost_names);
   if (tasks_status != 0) return tasks_status;
+  if (!state.op.load(std::memory_order_acquire) && stop_signal() == 0) {
+    // The run ended (--duration, a scenario) without the network ever in OP: not an idle robot.
+    (void)std::printf("rescue-motion run: FAILED: the network never reached OP (the slave that did not follow is named "
+                      "above)\n");
+    return 1;
+  }
   if (options.timing_out != nullptr) {
     const Status timing = write_task_timing(options.timing_out);
     if (!timing.ok()) return fail("run", "cannot write --timing-out", timing.error());

@@ -6,6 +6,8 @@
 
 #include "core/app/runtime/run_context.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "ecat/master/al_control.hpp"
+#include "ecat/master/bring_up_report.hpp"
 #include "ecat/codec/registers.hpp"
 
 namespace rescue::app::runner {
@@ -163,9 +165,11 @@ void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanos
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
   while (links().local_replies.try_pop(reply)) {
-    (void)std::printf("[%8.3f s] operator: %s: %s%s%s\n", seconds(at), protocol::to_string(reply.request_type),
+    // The text is read at most to its array's end: a damaged segment's reply need not hold its NUL.
+    (void)std::printf("[%8.3f s] operator: %s: %s%s%.*s\n", seconds(at), protocol::to_string(reply.request_type),
                       reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
-                      reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "", reply.text.data());
+                      reply.outcome == protocol::Outcome::accepted && reply.text[0] != '\0' ? "; " : "",
+                      static_cast<int>(reply.text.size()), reply.text.data());
   }
 }
 
@@ -177,6 +181,20 @@ Status finish_capture(const char* path) noexcept {
                     " dropped (queue full)\n",
                     path, g_run.capture.stats().frames_written, g_run.capture.stats().write_errors, queued.frames_dropped);
   return g_run.capture.close();
+}
+
+void report_if_never_in_op() noexcept {
+  if (run().op.load(std::memory_order_acquire) || g_run.tasks.handler == nullptr) return;
+  ecat::Master& master = g_run.tasks.handler->bus().master();
+  const ecat::BringUpReport& r = master.report();
+  (void)std::printf("rescue-motion run: the network never reached OP\n");
+  if (r.failed_step != nullptr) {  // the master's OP limit passed: its whole report
+    ecat::print_bring_up_failure(stdout, "rescue-motion run: ", "rescue-motion run: ", master);
+  } else if (r.al_failure.position != ecat::kNoPosition) {  // a slave refused OP before that limit
+    char line[256];
+    (void)ecat::describe(r.al_failure, master.plan(), line, sizeof line);
+    (void)std::printf("rescue-motion run: %s\n", line);
+  }
 }
 
 void handler_side_pass() noexcept {

@@ -46,6 +46,9 @@ Status finish_capture(const char* path) noexcept;
 // The handler's side of the logger (in the handler's process: its events and capture queue are its
 // own): the scenario's action, OP reached, handler events, captured frames to the file.
 void handler_side_pass() noexcept;
+// After the handler's loop (in its process): when the network never reached OP, one line saying so
+// and the master's report (the slave that refused or did not follow, its AL status code).
+void report_if_never_in_op() noexcept;
 // The joint manager's side of the logger (in its process, or the main thread with --threads).
 void manager_side_pass() noexcept;
 

@@ -15,6 +15,7 @@ namespace rescue::app {
 namespace {
 
 constexpr const char* kPrefix = "rescue-motion run --check";
+constexpr const char* kLinePrefix = "rescue-motion run --check: ";  // the report's lines
 
 int failed(std::FILE* out, const char* what, const char* detail) noexcept {
   (void)std::fprintf(out, "%s: FAILED: %s%s%s\n", kPrefix, what, detail[0] != '\0' ? ": " : "", detail);
@@ -77,10 +78,15 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   }
   r.slaves = bus.master().report().slaves_counted;
 
-  // Cycles with every output zero until OP, then a short hold in OP.
+  // Cycles with every output zero until OP, then a short hold in OP. The wait for OP counts from
+  // here (SAFE-OP), and is never shorter than the master's own OP limit: a slave that does not
+  // follow is then in the master's report (the slave, its AL status code).
   const drivers::JointReferences zero{};
   drivers::JointFeedback feedback{};
   hal::Nanoseconds op_at = -1;
+  const hal::Nanoseconds cycling_from = clock.now();
+  const hal::Nanoseconds op_limit =
+      options.op_timeout > master_options.op_timeout ? options.op_timeout : master_options.op_timeout + 100 * hal::kNsPerMs;
   for (;;) {
     clock.sleep_until(bus.next_wakeup());
     const drivers::JointCycleResult c = bus.cycle(zero, feedback);
@@ -99,7 +105,7 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
     if (op_at >= 0) ++r.cycles_in_op;
     if (stop_signal() != 0) break;
     if (op_at >= 0 && now - op_at >= options.hold_in_op) break;
-    if (op_at < 0 && (c.state == ecat::MasterState::failed || now - start >= options.op_timeout)) break;
+    if (op_at < 0 && (c.state == ecat::MasterState::failed || now - cycling_from >= op_limit)) break;
   }
 
   // Back to INIT, every slave that answered at bring-up.
@@ -112,7 +118,11 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
 
   if (stop_signal() != 0) return failed(out, "stopped by a signal", r.back_in_init ? "slaves back in INIT" : al);
   if (r.drive_enabled) return failed(out, "a drive reported Operation enabled", "with controlword 0 (check the drives)");
-  if (!r.reached_op) return failed(out, "the network did not reach OP", r.back_in_init ? "slaves back in INIT" : al);
+  if (!r.reached_op) {
+    // Which slave did not follow, its AL status code, the link's counters (the master's report).
+    ecat::print_bring_up_failure(out, kLinePrefix, kLinePrefix, bus.master());
+    return failed(out, "the network did not reach OP", r.back_in_init ? "slaves back in INIT" : al);
+  }
   if (!r.back_in_init) return failed(out, "reached OP but the slaves did not go back to INIT", al);
   (void)std::fprintf(out,
                      "%s: OK: nic %s, %u slaves, OP after %.3f s, %llu cycles in OP (%llu frames late or lost), back "

@@ -9,7 +9,12 @@ namespace rescue::app::runner {
 
 // --threads: the tasks as threads of this process, the logger in the main thread.
 int run_task_threads(OperatorSide& side) noexcept;
-// The supervisor's loop; returns 0 after an ordered stop, kExitTaskDied after a critical task died.
+// A damaged shared segment (docs/shared-memory.md "A damaged segment"): every task killed, nothing
+// read from the segment or recorded after it.
+constexpr int kExitSegmentDamaged = 6;
+
+// The supervisor's loop; returns 0 after an ordered stop, kExitTaskDied after a critical task died,
+// kExitSegmentDamaged when it found the segment damaged.
 int run_task_processes(OperatorSide& side) noexcept;
 
 }  // namespace rescue::app::runner

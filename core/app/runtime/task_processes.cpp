@@ -11,6 +11,8 @@
 #include <thread>
 #include <utility>
 
+#include <unistd.h>
+
 #include "core/app/config/command_line.hpp"
 #include "core/app/config/task_table.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -91,6 +93,7 @@ int task_process(const char* name, const char* comm, void (*task)() noexcept, vo
 
 int handler_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   const int status = task_process("ethercat-handler", "ethercat", run_handler, handler_side_pass);
+  report_if_never_in_op();
   if (status == 0 && g_run.tasks.options->capture_path != nullptr && !finish_capture(g_run.tasks.options->capture_path).ok()) return 1;
   return status;
 }
@@ -204,6 +207,42 @@ void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) n
   }
 }
 
+// The segment as the supervisor can check it each pass (docs/shared-memory.md "A damaged segment"):
+// its header, written once at creation, still this program's and this process's; the queue it
+// consumes (the operator's local replies) within its counters' invariant. Ok when nothing is wrong.
+Status segment_damage() noexcept {
+  const shm::SharedSegment& segment = g_run.segment.segment();
+  RESCUE_TRY(shm::check_header(segment.header, shm::kSegmentSize));
+  if (segment.header.creator_pid != static_cast<std::int32_t>(getpid())) {
+    return make_error(Errc::mismatch, "creator pid in the header changed",
+                      static_cast<std::uint32_t>(segment.header.creator_pid));
+  }
+  if (segment.links.local_replies.corrupt()) return make_error(Errc::malformed, "the operator replies' queue counters");
+  return Status::success();
+}
+
+// A damaged segment: said once, then every task killed (none can trust what it reads; the handler
+// sends no frame any more, so the drives' SyncManager watchdog disables their outputs and the worm
+// gears hold the joints: safe hold), and nothing more is read from the segment or recorded.
+int stop_on_damaged_segment(Supervisor& supervisor, const TaskProcesses& p, const Error& damage) noexcept {
+  (void)std::printf("rescue-motion run: shared segment %s damaged (%s): killing every task; no frame is sent any more, "
+                    "the drives' SyncManager watchdog disables their outputs and the worm gears hold the joints "
+                    "(safe hold); nothing is recorded from the damaged segment\n",
+                    g_run.segment.name().c_str(), damage.what);
+  (void)std::fflush(stdout);
+  supervisor.stop_restarting();
+  for (const std::size_t i : {p.handler, p.manager, p.parser, p.rc_rescue, p.rc_teleop}) supervisor.expect_exit(i);
+  if (g_run.tasks.operator_port) supervisor.expect_exit(p.socket);
+  supervisor.signal_all(SIGKILL);
+  for (const std::size_t i : {p.handler, p.manager, p.parser, p.rc_rescue, p.rc_teleop}) {
+    (void)supervisor.wait_exit(i, kTaskStopLimit);
+  }
+  if (g_run.tasks.operator_port) (void)supervisor.wait_exit(p.socket, kTaskStopLimit);
+  (void)std::fprintf(stderr, "rescue-motion run: shared segment damaged (%s); exit status %d\n", damage.what,
+                     kExitSegmentDamaged);
+  return kExitSegmentDamaged;
+}
+
 }  // namespace
 
 int run_task_processes(OperatorSide& side) noexcept {
@@ -222,6 +261,8 @@ int run_task_processes(OperatorSide& side) noexcept {
   }
   declare_init_complete(HeapGuardMode::count);
   while (!death.critical) {
+    const Status intact = segment_damage();
+    if (!intact.ok()) return stop_on_damaged_segment(supervisor, p, intact.error());
     if (stop_signal() != 0) state.stop.store(true, std::memory_order_release);
     observe_task_cpu(supervisor_clock, state.handler_done.load(std::memory_order_acquire));
     operator_side_pass(side);

@@ -44,6 +44,7 @@ int run_task_threads(OperatorSide& side) noexcept {
     logger_clock.sleep_until(logger_clock.now() + kLoggerPeriod);
   }
   handler_thread.join();
+  report_if_never_in_op();
   disable_enabled_joints();
   state.operator_stop.store(true, std::memory_order_release);
   parser_thread.join();

@@ -188,20 +188,14 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   // Of this epoch: a datagram of an earlier epoch (recorded before a restart) is a replay.
   if (h.epoch != window_->epoch()) return reject(Rejection::replayed);
-  const Status fresh = window_->accept(h.sender, h.sequence);
-  if (!fresh.ok()) {
-    if (fresh.error().code != Errc::capacity_exceeded) return reject(Rejection::replayed);
-    reject(Rejection::sender_table_full);
-    if (control_port) {
-      refuse(h, protocol::RefusalReason::sender_table_full,
-             "16 senders this epoch: restart the robot to retire them", d);
-    }
-    return;
-  }
+  // Well-formed before the window: a malformed request takes no sender slot and moves no window.
   const bool allowed = control_port ? protocol::is_control_request(h.type) : protocol::is_sensor_record(h.type);
   if (!allowed) return reject(Rejection::unknown_type);
   const Result<Message> decoded = protocol::decode_payload(h, frame.value().payload);
   if (!decoded.ok()) return reject(protocol::rejection_of(decoded.error()));
+  const std::int64_t wall = wall_->unix_time_ns();
+  const Status fresh = window_->accept(h.sender, h.sequence, wall > 0 ? static_cast<std::uint64_t>(wall) : 0);
+  if (!fresh.ok()) return refuse_by_window(fresh.error().code, h, control_port, d);
   const Message& m = decoded.value();
   ++counters_.accepted;
 
@@ -284,6 +278,23 @@ void SocketHandler::collect_sdo_result() noexcept {
 void SocketHandler::refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
                            const hal::UdpDatagram& from) noexcept {
   reply_to(request, protocol::Outcome::refused, reason, text, from.address, from.port);
+}
+
+void SocketHandler::refuse_by_window(Errc code, const protocol::Header& h, bool control_port,
+                                     const hal::UdpDatagram& d) noexcept {
+  if (code == Errc::refused) return reject(Rejection::replayed);  // silent: a replay learns nothing new
+  if (code == Errc::out_of_range) {
+    reject(Rejection::out_of_range);
+    if (control_port) {
+      refuse(h, protocol::RefusalReason::bad_request,
+             "sequence >10 min ahead of the robot's clock: check both clocks", d);
+    }
+    return;
+  }
+  reject(Rejection::sender_table_full);
+  if (control_port) {
+    refuse(h, protocol::RefusalReason::sender_table_full, "16 senders this epoch: restart the robot to retire them", d);
+  }
 }
 
 void SocketHandler::step(hal::Nanoseconds now) noexcept {

@@ -4,12 +4,14 @@
 // real-time tasks never touch a socket. Every datagram is checked in this order, and the first check
 // that fails is counted under its Rejection and the datagram dropped (no reply: an unauthenticated
 // peer learns nothing):
-//   size -> structure (parse_frame) -> tag (crypto_auth) -> robot id -> sender -> epoch -> replay
-//   window (sender table) -> type for this port -> payload and ranges (decode_payload)
+//   size -> structure (parse_frame) -> tag (crypto_auth) -> robot id -> sender -> epoch -> type for
+//   this port -> payload and ranges (decode_payload) -> replay window (sender table)
+// so a malformed request takes no sender slot.
 // get_epoch (any robot id, epoch 0) is answered right after the sender check, with the epoch and the
 // robot id in the answer's header and the request's sequence echoed; it takes no sender slot.
 // A sender the full sender table has no room for is counted (sender_table_full) and, on the
-// control port, told so in a refusal reply: never a silent lockout.
+// control port, told so in a refusal reply: never a silent lockout. So is a sequence too far ahead
+// of the robot's clock (counted out_of_range; protocol::kMaxSequenceLeadNs).
 // Accepted queries (status, slaves, master, tasks) are answered here from what the tasks publish;
 // SDO transfers (sdo_upload, sdo_download) go to the EtherCAT handler's SDO queue, one in flight at
 // a time (a second one is answered `busy` at once), and its result is sent back as sdo_result
@@ -128,6 +130,8 @@ class SocketHandler {
                 const char* text, std::uint32_t address, std::uint16_t port) noexcept;
   void refuse(const protocol::Header& request, protocol::RefusalReason reason, const char* text,
               const hal::UdpDatagram& from) noexcept;
+  // Counts (and on the control port answers) a request the replay window did not accept (`code`).
+  void refuse_by_window(Errc code, const protocol::Header& h, bool control_port, const hal::UdpDatagram& d) noexcept;
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
   void forward_sdo(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;

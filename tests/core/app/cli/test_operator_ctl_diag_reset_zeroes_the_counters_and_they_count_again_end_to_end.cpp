@@ -61,17 +61,28 @@ TEST_F(DiagReset, ZeroesEveryCounterThenTheDamageCountsAgainAndOneSlaveIsResetAl
   EXPECT_EQ(query(before, "d['slaves'][20]['ports'][0]['forwarded_rx_errors'] > 0"), "true") << before;
   EXPECT_EQ(query(before, "d['slaves'][19]['ports'][0]['warning'] != 'none'"), "true") << before;
 
-  // Every slave: zero, right after the command (the reply waits for the handler).
-  wait_for_fresh_damage();
-  const CommandResult reset = run.ctl({"--json", "diag", "--reset"});
-  ASSERT_EQ(reset.status, 0) << reset.out;
-  EXPECT_EQ(query(reset.out, "[d['command'], d['accepted'], d['slaves']]"), R"(["diag --reset", true, "all"])") << reset.out;
-  const std::string zero = diag();
+  // Every slave: zero, right after the command (the reply waits for the handler). The cable is
+  // damaged again every 2 s of the robot's time; on a loaded machine the reset and the next diag
+  // may take longer than that (issue 35 item 16: 55 counts, a burst between them). So: a reset
+  // right after a burst, until one diag has no burst between (at most 5 tries). A reset that left
+  // counts behind never shows all zeros, so one such diag proves it.
+  std::string zero;
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    wait_for_fresh_damage();
+    const CommandResult reset = run.ctl({"--json", "diag", "--reset"});
+    ASSERT_EQ(reset.status, 0) << reset.out;
+    EXPECT_EQ(query(reset.out, "[d['command'], d['accepted'], d['slaves']]"), R"(["diag --reset", true, "all"])")
+        << reset.out;
+    const std::string snapshot = diag();
+    const std::string total = query(snapshot, "sum(p[k] for s in d['slaves'] for p in s['ports'] for k in "
+                                              "('invalid_frames', 'rx_errors', 'forwarded_rx_errors', 'lost_links'))");
+    if (total == "0") {
+      zero = snapshot;
+      break;
+    }
+  }
+  ASSERT_FALSE(zero.empty()) << "no diag after a reset came before the next burst in 5 tries";
   EXPECT_EQ(query(zero, "len(d['slaves'])"), "23") << zero;
-  EXPECT_EQ(query(zero, "sum(p[k] for s in d['slaves'] for p in s['ports'] for k in "
-                        "('invalid_frames', 'rx_errors', 'forwarded_rx_errors', 'lost_links'))"),
-            "0")
-      << zero;
   EXPECT_EQ(query(zero, "sum(s['processing_unit_errors'] + s['pdi_errors'] for s in d['slaves'])"), "0") << zero;
   EXPECT_EQ(query(zero, "sorted(set(p['warning'] for s in d['slaves'] for p in s['ports']))"), R"(["none"])") << zero;
 
@@ -80,15 +91,25 @@ TEST_F(DiagReset, ZeroesEveryCounterThenTheDamageCountsAgainAndOneSlaveIsResetAl
   EXPECT_GE(elbow_invalid_frames(again), 5) << again;
   EXPECT_EQ(query(again, "d['slaves'][20]['ports'][0]['forwarded_rx_errors'] > 0"), "true") << again;
 
-  // One slave, by name: l_wrist_yaw only; l_elbow keeps its count.
-  wait_for_fresh_damage();
-  const CommandResult one = run.ctl({"diag", "--reset", "l_wrist_yaw"});
-  ASSERT_EQ(one.status, 0) << one.out;
-  EXPECT_EQ(one.out, "diag --reset: l_wrist_yaw: link error counters zeroed\n");
-  const std::string after_one = diag();
+  // One slave, by name: l_wrist_yaw only; l_elbow keeps its count (tried as above: a burst between
+  // the reset and the diag counts on l_wrist_yaw again).
+  std::string after_one;
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    wait_for_fresh_damage();
+    const int elbow_before = elbow_invalid_frames(diag());
+    const CommandResult one = run.ctl({"diag", "--reset", "l_wrist_yaw"});
+    ASSERT_EQ(one.status, 0) << one.out;
+    EXPECT_EQ(one.out, "diag --reset: l_wrist_yaw: link error counters zeroed\n");
+    const std::string snapshot = diag();
+    EXPECT_GE(elbow_invalid_frames(snapshot), 5) << snapshot;
+    if (elbow_invalid_frames(snapshot) == elbow_before) {  // no burst between: the reset alone shows
+      after_one = snapshot;
+      break;
+    }
+  }
+  ASSERT_FALSE(after_one.empty()) << "no diag after a reset came before the next burst in 5 tries";
   EXPECT_EQ(query(after_one, "sum(p['forwarded_rx_errors'] + p['invalid_frames'] for p in d['slaves'][20]['ports'])"), "0")
       << after_one;
-  EXPECT_GE(elbow_invalid_frames(after_one), 5) << after_one;
   // By position, and the refusals of a slave the robot does not have.
   EXPECT_EQ(run.ctl({"diag", "--reset", "19"}).status, 0);
   const CommandResult unknown = run.ctl({"diag", "--reset", "tail"});

@@ -2,8 +2,9 @@
 // report `run` and `bench master` print (ecat/master/bring_up_report.hpp), every number filled in
 // and nothing cut: a silent segment says how many BRDs it sent and how long it waited; a wrong device
 // is named with what it is and what the plan expected; a missing slave is named; an extra slave at
-// the end of a chain is named with what it is; a slave refusing a state is named with the state, its
-// AL status and its AL status code by name. Exit status 1.
+// the end of a chain is named with what it is; a slave refusing a state (OP too, which is reached
+// only while cycling) is named with the state, its AL status and its AL status code by name, and the
+// link's counters follow. Exit status 1.
 #include <regex>
 #include <string>
 
@@ -103,6 +104,20 @@ TEST_F(RunCheckReport, ASlaveRefusingAStateIsNamedWithItsAlStatusCode) {
       << out;
   EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "link: [1-9][0-9]* exchanges, 0 timeouts, 0 late frames, 0 malformed\n")))
       << out;
+}
+
+// Issue 35 item 13: a slave that refuses OP (the bring-up itself succeeded, OP is reached while
+// cycling) is named with its AL status code, and the link's counters follow, before the FAILED line.
+TEST_F(RunCheckReport, ASlaveRefusingOpIsNamedWithItsAlStatusCode) {
+  start_sim_with("refuse r_hand op 0x001A");
+  std::string out;
+  EXPECT_EQ(check(out), 1);
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "r_hand refused OP: AL status 0x[0-9a-f]{4} \\([A-Z-]+, error\\), "
+                                                        "code 0x001a .*\n")))
+      << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex(kLine + "link: [1-9][0-9]* exchanges, [0-9]+ timeouts, [0-9]+ late frames, [0-9]+ malformed\n")))
+      << out;
+  EXPECT_NE(out.find("rescue-motion run --check: FAILED: the network did not reach OP"), std::string::npos) << out;
 }
 
 }  // namespace
