@@ -65,7 +65,7 @@ TEST(OperatorAllOrNothing, ARefusedCommandChangesNoJointAndNamesEveryBlockingJoi
   // --json: one object, every blocking joint with its reason and state.
   const CommandResult json = run.ctl({"--json", "enable", "waist_yaw,l_hand,neck_pan"});
   EXPECT_EQ(json.status, 1) << json.out;
-  EXPECT_EQ(json.out.rfind("{\"command\":\"enable\",\"accepted\":false,", 0), 0U) << json.out;
+  EXPECT_EQ(json.out.rfind(R"({"command":"enable","ok":false,"accepted":false,)", 0), 0U) << json.out;
   EXPECT_TRUE(has(json.out, R"("refused":[{"joint":"waist_yaw","reason":"state machine refusal","state":"Idle","detail":"enable in Idle"},{"joint":"neck_pan","reason":"state machine refusal","state":"Enabled","detail":"enable in Enabled"}])"))
       << json.out;
   EXPECT_EQ(json.out.find('\n'), json.out.size() - 1) << "one line: " << json.out;
