@@ -207,16 +207,17 @@ ctl --cut 300 --json tasks
 ctl --rows 'waist_yaw|neck_pan' watch --count 1
 
 begin refusals
-ctl --refused enable l_elbow
+ctl enable l_elbow
 ctl --refused mode l_elbow csv
 ctl --refused owner 3
 ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 2
 ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 1
 ctl disable l_hand,r_hand
-ctl --refused enable l_hand,r_hand,l_elbow
+ctl --refused mode l_hand,r_hand,l_elbow csv
 ctl --rows 'l_elbow|l_hand|r_hand' status
-ctl --refused --json enable l_hand,l_elbow
+ctl --refused --json mode l_hand,l_elbow csv
 ctl enable l_hand,r_hand
+ctl init
 ctl --usage enable l_elbow,tail
 
 begin bad-key

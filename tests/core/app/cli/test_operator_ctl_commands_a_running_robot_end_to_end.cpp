@@ -74,10 +74,10 @@ TEST(OperatorCtlEndToEnd, InitStatusDisableEnableHoldAsDocumented) {
   EXPECT_TRUE(has(hold.out, "hold: accepted")) << hold.out;
   EXPECT_EQ(joints_in(run.ctl({"status"}).out, "Enabled"), 21);
 
-  // A command the state machine refuses: exit 1 and the reason.
-  const CommandResult again = run.ctl({"enable", "l_elbow"});
+  // A command the state machine refuses: exit 1 and the reason (another mode for an Enabled joint).
+  const CommandResult again = run.ctl({"mode", "l_elbow", "csv"});
   EXPECT_EQ(again.status, 1) << again.out;
-  EXPECT_TRUE(has(again.out, "enable: refused: state machine refusal: l_elbow: enable in Enabled")) << again.out;
+  EXPECT_TRUE(has(again.out, "mode: refused: state machine refusal: l_elbow: select_mode in Enabled")) << again.out;
 
   // Issue 21: `ctl tasks` reports what each bounded queue dropped (or deferred), text and --json.
   const CommandResult tasks = run.ctl({"tasks"});
