@@ -173,6 +173,8 @@ ctl slaves -v
 ctl --cut 300 --json slaves -v
 ctl graph
 ctl --rows 'digraph|s1[89]|^}' graph --format dot
+ctl pdos l_elbow
+ctl --cut 300 --json pdos l_elbow
 
 begin joints
 ctl disable l_hand

@@ -2,15 +2,12 @@
 // ros2_control's CLI: short verbs, readable tables, --json for scripts. This file runs one verb of
 // the table (ctl_verbs.hpp): its arguments checked, its request built, exchanged, its answer printed,
 // and the exit status of its class (ctl_output.hpp: CtlExit).
-#include <sys/time.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/cli/ctl_deadline.hpp"
 #include "core/app/cli/ctl_output.hpp"
 #include "core/app/cli/ctl_target.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
@@ -46,33 +43,6 @@ const OptionSpec kOptions[] = {
 
 char g_error_text[1024];  // the text naming what went wrong (one client process)
 
-// The whole command within --timeout (docs/security.md): the exchange has its own deadline, and
-// this watchdog covers every other phase (the key and configuration files, the state directory),
-// so nothing found at a path and no system call can make ctl wait past it.
-constexpr double kKeygenDefaultTimeoutSeconds = 10.0;
-
-void ctl_deadline_passed(int /*signal*/) {
-  static const char kText[] = "rescue-motion ctl: stopped: no result within --timeout (a file or the network blocked)\n";
-  (void)!::write(STDERR_FILENO, kText, sizeof kText - 1);
-  ::_exit(static_cast<int>(CtlExit::unreachable));
-}
-
-void arm_ctl_deadline(double seconds) noexcept {
-  struct sigaction action {};
-  action.sa_handler = ctl_deadline_passed;
-  (void)::sigaction(SIGALRM, &action, nullptr);
-  itimerval timer{};
-  const double total = seconds + 0.5;  // the exchange's own deadline comes first
-  timer.it_value.tv_sec = static_cast<time_t>(total);
-  timer.it_value.tv_usec = static_cast<suseconds_t>((total - static_cast<double>(timer.it_value.tv_sec)) * 1e6);
-  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
-}
-
-void disarm_ctl_deadline() noexcept {
-  itimerval timer{};
-  (void)::setitimer(ITIMER_REAL, &timer, nullptr);
-}
-
 // The arguments of `verb`: as many as its entry takes, and only the options that go with it.
 int check_arguments(const CtlVerb& verb, const ParsedArgs& args) noexcept {
   const std::size_t n = args.positional_count() - 1;
@@ -92,17 +62,7 @@ int check_arguments(const CtlVerb& verb, const ParsedArgs& args) noexcept {
 // One exchange and its printed answer.
 int exchange_and_print(const CtlVerb& verb, const CtlTarget& target, const Message& request) noexcept {
   const Result<Message> answer = ctl_exchange(target, request);
-  if (!answer.ok()) {
-    if (answer.error().code == Errc::refused) {  // another robot id than --robot
-      (void)std::snprintf(g_error_text, sizeof g_error_text,
-                          "%.32s: unreachable: the robot at that address is robot %u, not robot %u (--robot)",
-                          ctl_output().verb, static_cast<unsigned>(answer.error().detail0), static_cast<unsigned>(target.robot));
-    } else {
-      (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: unreachable: %.200s (%.640s)", ctl_output().verb,
-                          answer.error().what, ctl_key_note());
-    }
-    return ctl_error(CtlExit::unreachable, g_error_text);
-  }
+  if (!answer.ok()) return ctl_unreachable(answer.error(), target);
   return verb.print(request, answer.value());
 }
 
@@ -138,7 +98,7 @@ int ctl_main(const ParsedArgs& args) {
   if (wrong != 0) return wrong;
   // keygen waits for no robot, only for its key to reach the disk (fsync): on a busy laptop that
   // alone can take seconds, so its default allowance is longer; --timeout still bounds it.
-  const double default_deadline = verb->run == CtlRun::local ? kKeygenDefaultTimeoutSeconds : 2.0;
+  const double default_deadline = std::strcmp(verb->name, "keygen") == 0 ? kKeygenDefaultTimeoutSeconds : 2.0;
   const Result<double> deadline = args.number("timeout", default_deadline, 0.01, 60.0);
   if (!deadline.ok()) return ctl_error(CtlExit::usage, "--timeout must be 0.01..60 seconds");
   arm_ctl_deadline(deadline.value());
@@ -146,9 +106,9 @@ int ctl_main(const ParsedArgs& args) {
   const Status config = read_ctl_config(args);
   if (!config.ok()) return ctl_error(CtlExit::local, config.error().what);
   CtlPeer peer(args);
+  if (verb->run == CtlRun::own) return verb->converse(args, peer);
   const Result<Message> request = verb->build(args, peer);
   if (!request.ok()) return ctl_error(exit_of(request.error().code), request.error().what);
-  if (verb->run == CtlRun::local) return verb->print(request.value(), request.value());
   const Result<CtlTarget> target = peer.target();
   if (!target.ok()) return ctl_error(exit_of(target.error().code), target.error().what);
   if (verb->run == CtlRun::repeated) return repeat(*verb, args, target.value(), request.value());
@@ -179,6 +139,8 @@ const CommandSpec kCtlCommand{
     "  version                              the robot's program version, layout and build type, and ctl's own\n"
     "  upload JOINT INDEX:SUB               read a CoE object of the joint's drive (SDO; e.g. 0x100A:00), --type\n"
     "  download JOINT INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
+    "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master configures;\n"
+    "                                       with JOINT also read back from its drive (SDO), each same or not\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or the\n"
     "drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic answer\n"

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/app/cli/ctl_deadline.hpp"
 #include "core/app/cli/ctl_output.hpp"
 #include "core/app/config/config_file.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
@@ -18,7 +19,6 @@ namespace {
 // The texts naming what the user gave (one client process: static buffers).
 char g_error_text[2048];
 char g_key_note[640] = "";  // the key used, and why that one
-const ParsedArgs* g_args = nullptr;  // keygen's, kept by build_keygen
 
 // The configuration file ctl reads (--config FILE, else the package's when it exists): the robot's
 // key_file, control_port and state_dir, so ctl looks where `run --config` does.
@@ -141,13 +141,27 @@ Result<CtlTarget> CtlPeer::target() noexcept {
 
 const char* ctl_key_note() noexcept { return g_key_note; }
 
-Result<protocol::Message> build_keygen(const ParsedArgs& args, CtlPeer& /*peer*/) noexcept {
-  g_args = &args;
-  return protocol::Message{};
+Result<protocol::Message> CtlPeer::exchange(const protocol::Message& request) noexcept {
+  const Result<CtlTarget> to = target();
+  if (!to.ok()) return to.error();
+  arm_ctl_deadline(static_cast<double>(to.value().timeout_ms) / 1000.0);
+  return ctl_exchange(to.value(), request);
 }
 
-int ctl_keygen(const protocol::Message& /*request*/, const protocol::Message& /*answer*/) noexcept {
-  const Result<KeyChoice> choice = choose_key(*g_args, true);
+int ctl_unreachable(const Error& error, const CtlTarget& target) noexcept {
+  if (error.code == Errc::refused) {  // another robot id than --robot
+    (void)std::snprintf(g_error_text, sizeof g_error_text,
+                        "%.32s: unreachable: the robot at that address is robot %u, not robot %u (--robot)",
+                        ctl_output().verb, static_cast<unsigned>(error.detail0), static_cast<unsigned>(target.robot));
+  } else {
+    (void)std::snprintf(g_error_text, sizeof g_error_text, "%.32s: unreachable: %.200s (%.640s)", ctl_output().verb,
+                        error.what, g_key_note);
+  }
+  return ctl_error(CtlExit::unreachable, g_error_text);
+}
+
+int ctl_keygen(const ParsedArgs& args, CtlPeer& /*peer*/) noexcept {
+  const Result<KeyChoice> choice = choose_key(args, true);
   if (!choice.ok()) return ctl_error(CtlExit::local, choice.error().what);
   const hal::PathBuffer& path = choice.value().path;
   const Status made = protocol::create_key_file(path.c_str());

@@ -16,13 +16,12 @@ Status read_ctl_config(const ParsedArgs& args) noexcept;
 // invalid_argument (an option's value: usage), another code for the key file (local).
 Result<CtlTarget> target_of(const ParsedArgs& args) noexcept;
 
-// The key used and why that one ("key FILE from SOURCE"), for the message when no answer comes.
-const char* ctl_key_note() noexcept;
+// ctl's error for an exchange that got no fitting answer (`error` from ctl_exchange): "VERB:
+// unreachable: ..." naming the key used, or the other robot id. Returns CtlExit::unreachable.
+int ctl_unreachable(const Error& error, const CtlTarget& target) noexcept;
 
-// ctl keygen: a new key file, mode 0600, where the robot looks for it. Returns the exit status.
-int ctl_keygen(const protocol::Message& request, const protocol::Message& answer) noexcept;
-
-// ctl keygen's arguments (CtlBuild; nothing to send).
-Result<protocol::Message> build_keygen(const ParsedArgs& args, CtlPeer& peer) noexcept;
+// ctl keygen (CtlConverse; asks the robot nothing): a new key file, mode 0600, where the robot looks
+// for it. Returns the exit status.
+int ctl_keygen(const ParsedArgs& args, CtlPeer& peer) noexcept;
 
 }  // namespace rescue::app

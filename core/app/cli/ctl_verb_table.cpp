@@ -7,6 +7,7 @@
 #include "core/app/cli/ctl_joint_commands.hpp"
 #include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_output.hpp"
+#include "core/app/cli/ctl_pdos.hpp"
 #include "core/app/cli/ctl_robot_queries.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
 #include "core/app/cli/ctl_target.hpp"
@@ -36,33 +37,35 @@ constexpr auto kStatusBuild = query<MessageType::get_status>;
 constexpr auto kStatusPrint = answer_of<MessageType::status, print_status>;
 
 constexpr CtlVerb kVerbs[] = {
-    {"status", "status", kStatusBuild, kStatusPrint, 0, 0, CtlRun::exchange},
-    {"slaves", "slaves [-v]", build_slaves, print_slaves_answer, 0, 0, CtlRun::exchange},
-    {"master", "master", query<MessageType::get_master>, answer_of<MessageType::master, print_master>, 0, 0,
+    {"status", "status", kStatusBuild, kStatusPrint, nullptr, 0, 0, CtlRun::exchange},
+    {"slaves", "slaves [-v]", build_slaves, print_slaves_answer, nullptr, 0, 0, CtlRun::exchange},
+    {"master", "master", query<MessageType::get_master>, answer_of<MessageType::master, print_master>, nullptr, 0, 0,
      CtlRun::exchange},
-    {"tasks", "tasks", query<MessageType::get_tasks>, answer_of<MessageType::tasks, print_tasks>, 0, 0,
+    {"tasks", "tasks", query<MessageType::get_tasks>, answer_of<MessageType::tasks, print_tasks>, nullptr, 0, 0,
      CtlRun::exchange},
-    {"diag", "diag [--reset [SLAVE]]", build_diag, print_diag_answer, 0, 1, CtlRun::exchange},
-    {"graph", "graph [--format text|dot]", build_graph, print_graph_answer, 0, 0, CtlRun::exchange},
-    {"watch", "watch [--interval SECONDS] [--count N]", kStatusBuild, kStatusPrint, 0, 0, CtlRun::repeated},
-    {"init", "init [JOINTS]", build_joint_command, print_command_reply, 0, 1, CtlRun::exchange},
-    {"enable", "enable [JOINTS]", build_joint_command, print_command_reply, 0, 1, CtlRun::exchange},
-    {"disable", "disable [JOINTS]", build_joint_command, print_command_reply, 0, 1, CtlRun::exchange},
-    {"hold", "hold [JOINTS]", build_joint_command, print_command_reply, 0, 1, CtlRun::exchange},
-    {"mode", "mode JOINT MODE (MODE: csp, csv or cst)", build_mode, print_command_reply, 2, 2, CtlRun::exchange},
-    {"clear", "clear JOINTS [--moved] (name the repaired joints)", build_joint_command, print_command_reply, 1, 1,
+    {"diag", "diag [--reset [SLAVE]]", build_diag, print_diag_answer, nullptr, 0, 1, CtlRun::exchange},
+    {"graph", "graph [--format text|dot]", build_graph, print_graph_answer, nullptr, 0, 0, CtlRun::exchange},
+    {"watch", "watch [--interval SECONDS] [--count N]", kStatusBuild, kStatusPrint, nullptr, 0, 0, CtlRun::repeated},
+    {"init", "init [JOINTS]", build_joint_command, print_command_reply, nullptr, 0, 1, CtlRun::exchange},
+    {"enable", "enable [JOINTS]", build_joint_command, print_command_reply, nullptr, 0, 1, CtlRun::exchange},
+    {"disable", "disable [JOINTS]", build_joint_command, print_command_reply, nullptr, 0, 1, CtlRun::exchange},
+    {"hold", "hold [JOINTS]", build_joint_command, print_command_reply, nullptr, 0, 1, CtlRun::exchange},
+    {"mode", "mode JOINT MODE (MODE: csp, csv or cst)", build_mode, print_command_reply, nullptr, 2, 2,
      CtlRun::exchange},
+    {"clear", "clear JOINTS [--moved] (name the repaired joints)", build_joint_command, print_command_reply, nullptr, 1,
+     1, CtlRun::exchange},
     {"move", "move EFFECTOR POSE (EFFECTOR: left or right; POSE: x,y,z,roll,pitch,yaw in m and rad)", build_move,
-     print_command_reply, 2, 2, CtlRun::exchange},
-    {"hand", "hand left|right open|close", build_hand, print_command_reply, 2, 2, CtlRun::exchange},
-    {"owner", "owner [TASK] (TASK: 0..3)", build_owner, print_owner_answer, 0, 1, CtlRun::exchange},
-    {"version", "version", query<MessageType::get_version>, answer_of<MessageType::version, print_version>, 0, 0,
-     CtlRun::exchange},
+     print_command_reply, nullptr, 2, 2, CtlRun::exchange},
+    {"hand", "hand left|right open|close", build_hand, print_command_reply, nullptr, 2, 2, CtlRun::exchange},
+    {"owner", "owner [TASK] (TASK: 0..3)", build_owner, print_owner_answer, nullptr, 0, 1, CtlRun::exchange},
+    {"version", "version", query<MessageType::get_version>, answer_of<MessageType::version, print_version>, nullptr, 0,
+     0, CtlRun::exchange},
     {"upload", "upload JOINT INDEX:SUB [--type T] (e.g. upload l_elbow 0x100A:00)", build_sdo_request, print_sdo_result,
-     2, 2, CtlRun::exchange},
+     nullptr, 2, 2, CtlRun::exchange},
     {"download", "download JOINT INDEX:SUB VALUE [--type T] (e.g. download l_elbow 0x6065:00 5000 --type u32)",
-     build_sdo_request, print_sdo_result, 3, 3, CtlRun::exchange},
-    {"keygen", "keygen [--key FILE]", build_keygen, ctl_keygen, 0, 0, CtlRun::local},
+     build_sdo_request, print_sdo_result, nullptr, 3, 3, CtlRun::exchange},
+    {"pdos", "pdos [JOINT]", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
+    {"keygen", "keygen [--key FILE]", nullptr, nullptr, ctl_keygen, 0, 0, CtlRun::own},
 };
 
 }  // namespace

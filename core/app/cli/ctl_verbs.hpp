@@ -24,6 +24,10 @@ class CtlPeer {
   explicit CtlPeer(const ParsedArgs& args) noexcept : args_(args) {}
   // Errors: invalid_argument (an option's value), another code for the key file.
   Result<CtlTarget> target() noexcept;
+  // One exchange with the robot (ctl_exchange), within its own --timeout: the process's deadline is
+  // set again for it, so a verb of several exchanges is bounded per exchange. Errors: the target's,
+  // or the exchange's (timeout, io_error: unreachable; refused: another robot id).
+  Result<protocol::Message> exchange(const protocol::Message& request) noexcept;
 
  private:
   const ParsedArgs& args_;
@@ -37,18 +41,22 @@ class CtlPeer {
 using CtlBuild = Result<protocol::Message> (*)(const ParsedArgs& args, CtlPeer& peer);
 // Prints the robot's answer to `request`; returns ctl's exit status (CtlExit).
 using CtlPrint = int (*)(const protocol::Message& request, const protocol::Message& answer);
+// A verb that runs its own dialog (none, or several exchanges through `peer`) and prints; returns
+// ctl's exit status.
+using CtlConverse = int (*)(const ParsedArgs& args, CtlPeer& peer);
 
 enum class CtlRun : std::uint8_t {
   exchange,  // one request, one answer
   repeated,  // the exchange again every --interval (watch)
-  local,     // nothing asked of the robot (keygen): `print` is called with empty messages
+  own,       // the verb's own dialog (`converse`): keygen asks nothing, pdos several things
 };
 
 struct CtlVerb {
   const char* name;
-  const char* usage;  // the verb's synopsis, named when its arguments are wrong
-  CtlBuild build;
-  CtlPrint print;
+  const char* usage;      // the verb's synopsis, named when its arguments are wrong
+  CtlBuild build;         // exchange, repeated
+  CtlPrint print;         // exchange, repeated
+  CtlConverse converse;   // own
   std::uint8_t min_args;  // positional arguments after the verb
   std::uint8_t max_args;
   CtlRun run;
