@@ -138,7 +138,9 @@ begin keygen
 
 begin run
 start_run --duration 120
-sleep 0.5
+# The page shows the run's start-up lines up to both RC tasks' first state: waited for, not slept on.
+wait_log "rc-rescue: idle"
+wait_log "rc-teleop: teleop"
 run_lines '.'
 
 begin init
