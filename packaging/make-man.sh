@@ -42,17 +42,26 @@ commands: success.
 .TP
 .B 1
 a failure: a bad option or configuration (with its file and line), the NIC, the bring\-up, a failed
-scenario; ctl: refused (the reason printed), no answer, or a key file that cannot be used.
+scenario; ctl: refused by the robot or the drive, the reason printed.
+.TP
+.B 2
+a usage error: an unknown command or option, an option without its value; ctl: also a bad or
+missing argument, an argument too many, an option of another verb (nothing is sent).
 .TP
 .B 3
-run: the robot ended in error (every joint in Error).
+run: the robot ended in error (every joint in Error). ctl: unreachable: no authentic answer within
+\-\-timeout (not running, wrong port, or another key), or another robot id than \-\-robot.
 .TP
 .B 4
-run: a critical task died (the EtherCAT handler or the joint manager); the reason is printed.
+run: a critical task died (the EtherCAT handler or the joint manager); the reason is printed. ctl:
+local: the key or configuration file cannot be used, so nothing was asked.
 .TP
 .B 5
 run: a reference was sent beyond a joint's speed, acceleration or jerk limit (the joint, the figure and
-the limit are printed; joint_limits: exceeded).
+the limit are printed; joint_limits: exceeded). ctl: an authentic answer that does not fit the request.
+.TP
+.B 6
+run: the shared\-memory segment was found damaged; every task stopped (safe hold), no figures printed.
 [EXAMPLES]
 .nh
 .TP

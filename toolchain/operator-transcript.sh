@@ -11,12 +11,14 @@
 #   ...
 #   <!-- END TRANSCRIPT NAME -->
 # of docs/operator.md. The prose around the blocks is left alone.
-# Every command must end as the page says: a ctl without --refused must exit 0, one with --refused must
-# exit 1; otherwise the script fails (exit 1) and the page is not rewritten. Then the examples of
+# Every command must end as the page says (ctl's exit statuses, docs/operator.md "Exit status"): a ctl
+# without --refused or --usage must exit 0, one with --refused 1 (refused), one with --usage 2 (a bad
+# argument); ctl_raw names the status it expects; otherwise the script fails (exit 1) and the page is
+# not rewritten. Then the examples of
 # docs/firmware.md run (the link-cut, power-cycle with and without the automatic clear, and
 # cable-damage scenarios) and each must exit 0.
 # Check (the default): each block must equal its section but for the volatile figures: both are
-# normalised (every decimal number -> '#'; the program's version, layout hash and segment name; the
+# normalised (every decimal number -> '#'; the program's version, build type, layout hash and segment name; the
 # scheduling policy the kernel granted; a status row's OWNER and a JSON joint's owner, which are the
 # last period's; runs of blanks -> one blank; a line cut by --cut compared up to the shorter of the
 # two; the lines a run logs, from several processes at once, in any order) and compared; a
@@ -84,6 +86,7 @@ ctl() {
       --rows) rows="$2"; shift 2 ;;
       --cut) cut="$2"; shift 2 ;;
       --refused) wanted=1; shift ;;
+      --usage) wanted=2; shift ;;
       *) break ;;
     esac
   done
@@ -96,11 +99,13 @@ ctl() {
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
   printf '%s\n' "$out" | emit "rescue-motion ctl $*$note"
 }
-# Like ctl, with ARGS given in full (another key, no --port): for the bad-key refusals.
+# ctl_raw STATUS ARGS...: like ctl, with ARGS given in full (another key, no --port), for the bad-key
+# outcomes: 3 (unreachable: the robot stays silent to another key), 4 (local: a key file refused).
 ctl_raw() {
-  local out status=0
+  local wanted="$1" out status=0
+  shift
   out="$("$program" ctl "$@" 2>&1)" || status=$?
-  expect "$status" 1 "ctl $*"
+  expect "$status" "$wanted" "ctl $*"
   [ "$status" -ne 0 ] && out="$out"$'\n'"(exit status $status)"
   printf '%s\n' "$out" | emit "rescue-motion ctl $*"
 }
@@ -133,7 +138,9 @@ begin keygen
 
 begin run
 start_run --duration 120
-sleep 0.5
+# The page shows the run's start-up lines up to both RC tasks' first state: waited for, not slept on.
+wait_log "rc-rescue: idle"
+wait_log "rc-teleop: teleop"
 run_lines '.'
 
 begin init
@@ -168,6 +175,8 @@ ctl slaves -v
 ctl --cut 300 --json slaves -v
 ctl graph
 ctl --rows 'digraph|s1[89]|^}' graph --format dot
+ctl pdos l_elbow
+ctl --cut 300 --json pdos l_elbow
 
 begin joints
 ctl disable l_hand
@@ -202,23 +211,24 @@ ctl --cut 300 --json tasks
 ctl --rows 'waist_yaw|neck_pan' watch --count 1
 
 begin refusals
-ctl --refused enable l_elbow
+ctl enable l_elbow
 ctl --refused mode l_elbow csv
 ctl --refused owner 3
 ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 2
 ctl --refused move left 0.4,0.2,0.3,0,0,0 --task 1
 ctl disable l_hand,r_hand
-ctl --refused enable l_hand,r_hand,l_elbow
+ctl --refused mode l_hand,r_hand,l_elbow csv
 ctl --rows 'l_elbow|l_hand|r_hand' status
-ctl --refused --json enable l_hand,l_elbow
+ctl --refused --json mode l_hand,l_elbow csv
 ctl enable l_hand,r_hand
-ctl --refused enable l_elbow,tail
+ctl init
+ctl --usage enable l_elbow,tail
 
 begin bad-key
 "$program" ctl keygen --key "$dir/other.key" >/dev/null
-ctl_raw --key "$dir/other.key" --port "$control_port" --timeout 1 status
+ctl_raw 3 --key "$dir/other.key" --port "$control_port" --timeout 1 status
 cp "$dir/other.key" "$dir/open.key" && chmod 644 "$dir/open.key"
-ctl_raw --key "$dir/open.key" --port "$control_port" status
+ctl_raw 4 --key "$dir/open.key" --port "$control_port" status
 ctl --rows 'rejected unauthenticated|accepted' master
 
 begin stop
@@ -296,6 +306,8 @@ if missing:
 def normalise(line):
     line = re.sub(r"rescue-motion [^ ]+ \(", "rescue-motion VERSION (", line)       # ctl version (git describe)
     line = re.sub(r'"program":"[^"]*"', '"program":"VERSION"', line)
+    line = re.sub(r"\((Debug|Release|RelWithDebInfo|MinSizeRel) build\)", "(BUILD build)", line)  # the build checked
+    line = re.sub(r'"build_type":"[A-Za-z]*"', '"build_type":"BUILD"', line)
     line = re.sub(r"hash 0x[0-9a-f]+", "hash 0xHASH", line)                          # layout hash (per layout)
     line = re.sub(r'"layout_hash":"0x[0-9a-f]+"', '"layout_hash":"0xHASH"', line)
     line = re.sub(r"\b(OTHER|FIFO|RR|BATCH|IDLE)\b", "POLICY", line)                   # what the kernel granted

@@ -10,6 +10,19 @@
 
 namespace rescue::app::testing {
 
+// What a shell command prints (stdout and stderr), its trailing newlines removed.
+inline std::string command_output(const std::string& command) {
+  std::string out;
+  std::FILE* p = ::popen((command + " 2>&1").c_str(), "r");
+  if (p == nullptr) return "popen failed";
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
+  (void)::pclose(p);
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
 // json.dumps(EXPR) for `d` = json.loads(text); `dir`: a writable directory for the two files.
 inline std::string json_query(const std::string& dir, const std::string& text, const std::string& expr) {
   const std::string data = dir + "/answer.json";
@@ -21,15 +34,7 @@ inline std::string json_query(const std::string& dir, const std::string& text, c
                            "except ValueError as e:\n"
                            "    print('INVALID JSON: ' + str(e)); sys.exit(0)\n"
                            "print(json.dumps(" << expr << "))\n";
-  std::string out;
-  std::FILE* p = ::popen(("python3 '" + script + "' '" + data + "' 2>&1").c_str(), "r");
-  if (p == nullptr) return "popen failed";
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
-  (void)::pclose(p);
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
+  return command_output("python3 '" + script + "' '" + data + "'");
 }
 
 }  // namespace rescue::app::testing

@@ -56,11 +56,11 @@ struct CommandResult {
   std::string out;  // stdout and stderr together
 };
 
-// Runs `rescue-motion ARGS...` to its end.
-inline CommandResult run_program(const std::vector<std::string>& args) {
+// Runs `rescue-motion ARGS...` to its end; `with_stderr` false: stdout alone (a --json answer).
+inline CommandResult run_program(const std::vector<std::string>& args, bool with_stderr = true) {
   std::string line = "'" + rescue_binary() + "'";
   for (const std::string& a : args) line += " '" + a + "'";
-  line += " 2>&1";
+  line += with_stderr ? " 2>&1" : " 2>/dev/null";
   CommandResult r;
   FILE* p = ::popen(line.c_str(), "r");
   if (p == nullptr) return r;

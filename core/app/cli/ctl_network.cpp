@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/app/cli/ctl_output.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
 #include "ecat/codec/registers.hpp"
 #include "ecat/master/slave_recovery.hpp"
@@ -15,11 +16,7 @@ namespace {
 using protocol::Message;
 using protocol::MessageType;
 
-constexpr std::size_t kPlanned = drivers::kRobotNetworkPlan.size();
-
-const char* slave_name(std::size_t position) noexcept {
-  return drivers::slave_end_name(static_cast<std::uint8_t>(position));
-}
+const char* slave_name(std::size_t position) noexcept { return planned_slave_name(position); }
 
 const char* recovery_name(std::uint8_t recovery) noexcept {
   return recovery < protocol::kRecoveryStates ? ecat::to_string(static_cast<ecat::RecoveryState>(recovery)) : "?";
@@ -34,17 +31,6 @@ void graph_state(const protocol::GraphRecord& g, char* out, std::size_t size) no
   } else {
     (void)std::snprintf(out, size, "%s", slave_service_name(g.flags));
   }
-}
-
-// The slave (position) SLAVE names: a slave's name or its position.
-Result<std::uint32_t> slave_argument(const char* text) noexcept {
-  for (std::size_t p = 0; p < kPlanned; ++p) {
-    if (std::strcmp(text, slave_name(p)) == 0) return std::uint32_t{1} << p;
-  }
-  char* end = nullptr;
-  const long p = std::strtol(text, &end, 10);
-  if (end != text && *end == '\0' && p >= 0 && p < static_cast<long>(kPlanned)) return std::uint32_t{1} << p;
-  return make_error(Errc::invalid_argument, "diag --reset SLAVE: a slave's name (ctl slaves) or its position 0..22");
 }
 
 // Joints behind the cable into `position`: it and every slave downstream of it (the graph's tree).
@@ -130,7 +116,9 @@ void print_graph_dot(const protocol::GraphPayload& g) noexcept {
 }
 
 void print_graph_json(const protocol::GraphPayload& g) noexcept {
-  (void)std::printf("{\"age_ms\":%" PRIu32 ",\"stale\":%s,\"slaves\":[", g.age.age_ms, g.age.stale ? "true" : "false");
+  begin_json(true);
+  print_age_json(g.age);
+  (void)std::printf(",\"slaves\":[");
   for (std::size_t p = 0; p < g.count; ++p) {
     const protocol::GraphRecord& r = g.slaves[p];
     (void)std::printf(R"(%s{"position":%zu,"name":"%s","kind":"%s","station":%u,"upstream":)", p == 0 ? "" : ",", p,
@@ -163,77 +151,20 @@ void print_graph_json(const protocol::GraphPayload& g) noexcept {
     }
     (void)std::printf("]}");
   }
-  (void)std::printf("]}\n");
-}
-
-}  // namespace
-
-const char* al_state_name(std::uint8_t s) noexcept {
-  switch (s) {
-    case 1: return "INIT";
-    case 2: return "PREOP";
-    case 3: return "BOOT";
-    case 4: return "SAFEOP";
-    case 8: return "OP";
-    default: return "-";
-  }
-}
-
-const char* slave_service_name(std::uint8_t flags) noexcept {
-  return (flags & protocol::kSlaveLost) != 0            ? "lost"
-         : (flags & protocol::kSlaveOutOfService) != 0  ? "out of service"
-         : (flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
-                                                        : "not in exchange";
-}
-
-Result<Message> build_network_request(const char* verb, const ParsedArgs& args) noexcept {
-  const bool slaves = std::strcmp(verb, "slaves") == 0;
-  const bool graph = std::strcmp(verb, "graph") == 0;
-  const bool diag = std::strcmp(verb, "diag") == 0;
-  Message m;
-  if (slaves && args.has("verbose")) {
-    if (args.positional_count() != 1) return make_error(Errc::invalid_argument, "slaves [-v] takes no argument");
-    m.header.type = MessageType::get_slave_info;
-    return m;
-  }
-  if (graph) {
-    const char* format = args.value("format");
-    if (format != nullptr && std::strcmp(format, "text") != 0 && std::strcmp(format, "dot") != 0) {
-      return make_error(Errc::invalid_argument, "graph --format: text or dot");
-    }
-    if (format != nullptr && std::strcmp(format, "dot") == 0 && args.has("json")) {
-      return make_error(Errc::invalid_argument, "graph: --format dot or --json, not both");
-    }
-    if (args.positional_count() != 1) return make_error(Errc::invalid_argument, "graph takes no argument");
-    m.header.type = MessageType::get_graph;
-    return m;
-  }
-  if (diag && args.has("reset")) {
-    m.header.type = MessageType::diag_reset;
-    m.diag_reset.slaves = (std::uint32_t{1} << kPlanned) - 1;
-    if (args.positional_count() > 2) return make_error(Errc::invalid_argument, "diag --reset [SLAVE]");
-    if (args.positional_count() == 2) {
-      const Result<std::uint32_t> one = slave_argument(args.positional(1));
-      if (!one.ok()) return one.error();
-      m.diag_reset.slaves = one.value();
-    }
-    return m;
-  }
-  if (diag && args.positional_count() != 1) return make_error(Errc::invalid_argument, "diag [--reset [SLAVE]]");
-  return make_error(Errc::not_found, "not a network verb");
+  (void)std::printf("]");
+  end_json();
 }
 
 // Like IgH's `ethercat slaves -v`: per slave its SII identity (as the master read it at bring-up)
 // and the AL status register and code it answered last.
-int print_slave_info(const Message& m, bool json) noexcept {
+void print_slave_info(const Message& m, bool json) noexcept {
   const protocol::SlaveInfoPayload& p = m.slave_info;
   if (json) {
-    (void)std::printf("{\"age_ms\":%" PRIu32 ",\"stale\":%s,\"slaves\":[", p.age.age_ms, p.age.stale ? "true" : "false");
+    begin_json(true);
+    print_age_json(p.age);
+    (void)std::printf(",\"slaves\":[");
   } else {
-    if (p.age.stale) {
-      (void)std::printf("STALE: the EtherCAT handler has completed no period for %" PRIu32 " ms; these figures are that old\n",
-                        p.age.age_ms);
-    }
+    print_age_text(p.age);
     if (p.count == 0) (void)std::printf("no slave information published yet (the EtherCAT handler publishes it once cycling)\n");
     (void)std::printf("%-3s %-7s %-16s %-10s %-10s %-10s %-10s %-7s %s\n", "POS", "STATION", "NAME", "VENDOR", "PRODUCT",
                       "REVISION", "SERIAL", "AL", "AL STATUS CODE");
@@ -268,49 +199,122 @@ int print_slave_info(const Message& m, bool json) noexcept {
                         static_cast<unsigned>(s.station), slave_name(s.position), "-", "-", "-", "-", al, code);
     }
   }
-  if (json) (void)std::printf("]}\n");
-  return 0;
+  if (json) {
+    (void)std::printf("]");
+    end_json();
+  }
 }
 
-int print_graph(const Message& m, bool json, const char* format) noexcept {
+void print_graph(const Message& m, bool json, const char* format) noexcept {
   if (json) {
     print_graph_json(m.graph);
   } else if (format != nullptr && std::strcmp(format, "dot") == 0) {
     print_graph_dot(m.graph);
   } else {
-    if (m.graph.age.stale) {
-      (void)std::printf("STALE: the EtherCAT handler has completed no period for %" PRIu32 " ms; these figures are that old\n",
-                        m.graph.age.age_ms);
-    }
+    print_age_text(m.graph.age);
     print_graph_text(m.graph);
+  }
+}
+
+// ctl slaves: each slave's AL state, service and recovery (like IgH's `ethercat slaves`). The names
+// are the robot's; the codec let only printable ASCII through (docs/protocol.md), so the table's
+// columns hold.
+void print_slaves(const Message& m, bool json) noexcept {
+  if (json) {
+    begin_json(true);
+    print_age_json(m.slaves.age);
+    (void)std::printf(",\"slaves\":[");
+  }
+  if (!json) {
+    print_age_text(m.slaves.age);
+    (void)std::printf("%-3s %-7s %-6s %-16s %-16s %-12s %s\n", "POS", "STATION", "AL", "NAME", "SERVICE", "RECOVERY", "CHANGED");
+  }
+  for (std::size_t i = 0; i < m.slaves.count; ++i) {
+    const protocol::SlaveRecord& s = m.slaves.slaves[i];
+    const char* service = slave_service_name(s.flags);
+    const char* recovery = recovery_name(s.recovery);
+    char changed[24] = "never";
+    if (s.recovery_age_ms != protocol::kRecoveryAgeNever) {
+      (void)std::snprintf(changed, sizeof changed, "%.1f s ago", static_cast<double>(s.recovery_age_ms) / 1000.0);
+    }
+    if (json) {
+      char age[16] = "null";
+      if (s.recovery_age_ms != protocol::kRecoveryAgeNever) (void)std::snprintf(age, sizeof age, "%u", static_cast<unsigned>(s.recovery_age_ms));
+      (void)std::printf(R"(%s{"position":%u,"station":%u,"al_state":"%s","name":)", i == 0 ? "" : ",",
+                        static_cast<unsigned>(s.position), static_cast<unsigned>(s.station), al_state_name(s.al_state));
+      print_json_string(s.name.data());
+      (void)std::printf(R"(,"service":"%s","recovery":"%s","recovery_changed_ms_ago":%s})", service, recovery, age);
+    } else {
+      (void)std::printf("%-3u 0x%04x  %-6s %-16s %-16s %-12s %s\n", static_cast<unsigned>(s.position), static_cast<unsigned>(s.station),
+                        al_state_name(s.al_state), s.name.data(), service, recovery, changed);
+    }
+  }
+  if (json) {
+    (void)std::printf("]");
+    end_json();
+  }
+}
+
+}  // namespace
+
+const char* al_state_name(std::uint8_t s) noexcept {
+  switch (s) {
+    case 1: return "INIT";
+    case 2: return "PREOP";
+    case 3: return "BOOT";
+    case 4: return "SAFEOP";
+    case 8: return "OP";
+    default: return "-";
+  }
+}
+
+const char* planned_slave_name(std::size_t position) noexcept {
+  return drivers::slave_end_name(static_cast<std::uint8_t>(position));
+}
+
+const char* slave_service_name(std::uint8_t flags) noexcept {
+  return (flags & protocol::kSlaveLost) != 0            ? "lost"
+         : (flags & protocol::kSlaveOutOfService) != 0  ? "out of service"
+         : (flags & protocol::kSlaveInExchange) != 0    ? "in exchange"
+                                                        : "not in exchange";
+}
+
+
+Result<Message> build_slaves(const ParsedArgs& args, CtlPeer& /*peer*/) noexcept {
+  Message m;
+  m.header.type = args.has("verbose") ? MessageType::get_slave_info : MessageType::get_slaves;
+  return m;
+}
+
+int print_slaves_answer(const Message& /*request*/, const Message& answer) noexcept {
+  const bool json = ctl_output().json;
+  if (answer.header.type == MessageType::slaves) {
+    print_slaves(answer, json);
+  } else if (answer.header.type == MessageType::slave_info) {
+    print_slave_info(answer, json);
+  } else {
+    return ctl_unexpected_answer(answer);
   }
   return 0;
 }
 
-int print_diag_reset_reply(const Message& request, const Message& m, bool json) noexcept {
-  const protocol::ReplyPayload& r = m.reply;
-  const bool accepted = r.outcome == protocol::Outcome::accepted;
-  const std::uint32_t slaves = request.diag_reset.slaves;
-  const bool all = slaves == (std::uint32_t{1} << kPlanned) - 1;
-  const char* one = "";
-  for (std::size_t p = 0; p < kPlanned && !all; ++p) {
-    if ((slaves & (std::uint32_t{1} << p)) != 0) one = slave_name(p);
+Result<Message> build_graph(const ParsedArgs& args, CtlPeer& /*peer*/) noexcept {
+  const char* format = args.value("format");
+  if (format != nullptr && std::strcmp(format, "text") != 0 && std::strcmp(format, "dot") != 0) {
+    return make_error(Errc::invalid_argument, "graph --format: text or dot");
   }
-  if (json) {
-    (void)std::printf(R"({"command":"diag --reset","accepted":%s,"reason":"%s","slaves":)", accepted ? "true" : "false",
-                      protocol::to_string(r.reason));
-    if (all) {
-      (void)std::printf("\"all\"");
-    } else {
-      (void)std::printf("\"%s\"", one);
-    }
-    (void)std::printf(",\"detail\":\"%s\"}\n", r.text.data());
-  } else if (accepted) {
-    (void)std::printf("diag --reset: %s: %s\n", all ? "all slaves" : one, r.text.data());
-  } else {
-    (void)std::printf("diag --reset: refused: %s: %s\n", protocol::to_string(r.reason), r.text.data());
+  if (format != nullptr && std::strcmp(format, "dot") == 0 && args.has("json")) {
+    return make_error(Errc::invalid_argument, "graph: --format dot or --json, not both");
   }
-  return accepted ? 0 : 1;
+  Message m;
+  m.header.type = MessageType::get_graph;
+  return m;
+}
+
+int print_graph_answer(const Message& /*request*/, const Message& answer) noexcept {
+  if (answer.header.type != MessageType::graph) return ctl_unexpected_answer(answer);
+  print_graph(answer, ctl_output().json, ctl_output().format);
+  return 0;
 }
 
 }  // namespace rescue::app

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/app/cli/ctl_output.hpp"
 #include "core/robot/robot.hpp"
 #include "ecat/mailbox/coe.hpp"
 
@@ -187,29 +188,6 @@ std::int64_t signed_number(std::uint32_t raw, std::size_t size) noexcept {
   }
 }
 
-// One character of a JSON string: quotes and backslashes escaped, anything but printable ASCII as \u00XX.
-void print_json_char(unsigned c) noexcept {
-  if (c == '"' || c == '\\') {
-    (void)std::printf(R"(\%c)", c);
-  } else if (c < 0x20 || c > 0x7E) {
-    (void)std::printf(R"(\u%04x)", c);
-  } else {
-    (void)std::putchar(static_cast<int>(c));
-  }
-}
-
-void print_string_json(const std::uint8_t* data, std::size_t n) noexcept {
-  (void)std::putchar('"');
-  for (std::size_t i = 0; i < n; ++i) print_json_char(data[i]);
-  (void)std::putchar('"');
-}
-
-void print_text_json(const char* s) noexcept {
-  (void)std::putchar('"');
-  for (; *s != '\0'; ++s) print_json_char(static_cast<unsigned char>(*s));
-  (void)std::putchar('"');
-}
-
 void print_hex_bytes(const protocol::SdoResultPayload& r, const char* separator) noexcept {
   for (std::size_t i = 0; i < r.size; ++i) (void)std::printf("%s%02x", i == 0 ? "" : separator, r.data[i]);
 }
@@ -226,9 +204,9 @@ void print_value(const protocol::SdoResultPayload& r, bool json) noexcept {
   }
   if (shown == ValueType::string) {
     if (json) {
-      print_string_json(r.data.data(), r.size);
+      print_json_bytes(r.data.data(), r.size);
     } else {
-      for (std::size_t i = 0; i < r.size; ++i) (void)std::putchar(r.data[i]);
+      print_text_bytes(r.data.data(), r.size);
       (void)std::putchar('\n');
     }
   } else if (shown == ValueType::hex || t == nullptr) {
@@ -256,15 +234,8 @@ void print_value(const protocol::SdoResultPayload& r, bool json) noexcept {
 
 }  // namespace
 
-bool is_sdo_verb(const char* verb) noexcept {
-  return verb != nullptr && (std::strcmp(verb, "upload") == 0 || std::strcmp(verb, "download") == 0);
-}
-
-Result<Message> build_sdo_request(const char* verb, const ParsedArgs& args, const CtlTarget& target) noexcept {
-  const bool download = std::strcmp(verb, "download") == 0;
-  const std::size_t n = args.positional_count();
-  if (!download && n != 3) return bad("upload JOINT INDEX:SUB (e.g. upload l_elbow 0x100A:00)");
-  if (download && n != 4) return bad("download JOINT INDEX:SUB VALUE (e.g. download l_elbow 0x6065:00 5000 --type u32)");
+Result<Message> build_sdo_request(const ParsedArgs& args, CtlPeer& peer) noexcept {
+  const bool download = std::strcmp(args.positional(0), "download") == 0;
   const TypeName* type = nullptr;
   if (args.value("type") != nullptr) {
     type = type_named(args.value("type"));
@@ -284,7 +255,9 @@ Result<Message> build_sdo_request(const char* verb, const ParsedArgs& args, cons
     probe.header.type = MessageType::sdo_upload;
     probe.sdo = m.sdo;
     probe.sdo.size = 0;
-    const Result<Message> answer = ctl_exchange(target, probe);
+    const Result<CtlTarget> target = peer.target();
+    if (!target.ok()) return target.error();
+    const Result<Message> answer = ctl_exchange(target.value(), probe);
     if (!answer.ok()) return answer.error();
     const protocol::SdoResultPayload& r = answer.value().sdo_result;
     if (answer.value().header.type != MessageType::sdo_result || r.status != SdoStatus::ok) {
@@ -306,14 +279,25 @@ Result<Message> build_sdo_request(const char* verb, const ParsedArgs& args, cons
   return m;
 }
 
-int print_sdo_result(const Message& answer, bool json) noexcept {
+int print_sdo_result(const Message& /*request*/, const Message& answer) noexcept {
+  if (answer.header.type != MessageType::sdo_result) return ctl_unexpected_answer(answer);
+  const bool json = ctl_output().json;
   const protocol::SdoResultPayload& r = answer.sdo_result;
   const bool ok = r.status == SdoStatus::ok;
   const char* joint = r.joint < kJointCount ? kJoints[r.joint].name : "?";
   const bool upload = r.request_type == MessageType::sdo_upload;
+  const TypeName* asked = g_type != ValueType::none ? type_of(g_type) : nullptr;
+  if (ok && upload && asked != nullptr && asked->size != 0 && asked->size != r.size) {
+    // --type u8 on a 152-byte string would show its first byte as the value (issue 36 item 4).
+    (void)std::snprintf(g_text, sizeof g_text,
+                        "upload: %s 0x%04X:%02X holds %u bytes, --type %s is %zu; give --type hex or string, or the "
+                        "object's own type", joint, r.index, r.subindex, static_cast<unsigned>(r.size), asked->name, asked->size);
+    return ctl_error(CtlExit::usage, g_text);
+  }
   if (json) {
-    (void)std::printf(R"({"command":"%s","ok":%s,"joint":"%s","index":"0x%04X","subindex":"0x%02X","status":"%s")",
-                      verb_of(r), ok ? "true" : "false", joint, r.index, r.subindex, protocol::to_string(r.status));
+    begin_json(ok);
+    (void)std::printf(R"(,"joint":"%s","index":"0x%04X","subindex":"0x%02X","status":"%s")", joint, r.index, r.subindex,
+                      protocol::to_string(r.status));
     if (ok) {
       (void)std::printf(R"(,"segmented":%s,"exchanges":%)" PRIu32, (r.flags & protocol::kSdoSegmented) != 0 ? "true" : "false",
                         r.exchanges);
@@ -325,10 +309,10 @@ int print_sdo_result(const Message& answer, bool json) noexcept {
       if (r.status == SdoStatus::aborted) (void)std::printf(R"(,"abort_code":"0x%08)" PRIX32 "\"", r.abort_code);
       if (r.status == SdoStatus::mailbox_error) (void)std::printf(R"(,"mailbox_error":"0x%04X")", r.mailbox_error);
       (void)std::printf(R"(,"reason":)");
-      print_text_json(r.text.data());
+      print_json_string(r.text.data());
     }
-    (void)std::printf("}\n");
-    return ok ? 0 : 1;
+    end_json();
+    return ok ? 0 : static_cast<int>(CtlExit::refused);
   }
   if (ok) {
     if (upload) print_value(r, false);
@@ -336,13 +320,15 @@ int print_sdo_result(const Message& answer, bool json) noexcept {
     return 0;
   }
   if (r.status == SdoStatus::aborted) {
-    (void)std::printf("%s: %s 0x%04X:%02X: aborted: %s (SDO abort code 0x%08" PRIX32 ")\n", verb_of(r), joint, r.index,
-                      r.subindex, r.text.data(), r.abort_code);
+    (void)std::printf("%s: %s 0x%04X:%02X: aborted: ", verb_of(r), joint, r.index, r.subindex);
+    print_text_string(r.text.data());
+    (void)std::printf(" (SDO abort code 0x%08" PRIX32 ")\n", r.abort_code);
   } else {
-    (void)std::printf("%s: %s 0x%04X:%02X: refused: %s: %s\n", verb_of(r), joint, r.index, r.subindex,
-                      protocol::to_string(r.status), r.text.data());
+    (void)std::printf("%s: %s 0x%04X:%02X: refused: %s: ", verb_of(r), joint, r.index, r.subindex, protocol::to_string(r.status));
+    print_text_string(r.text.data());
+    (void)std::printf("\n");
   }
-  return 1;
+  return static_cast<int>(CtlExit::refused);
 }
 
 }  // namespace rescue::app

@@ -14,20 +14,19 @@
 
 #include "core/app/config/command_line.hpp"
 #include "core/app/links/protocol_messages.hpp"
-#include "core/app/operator_protocol/ctl_client.hpp"
+#include "core/app/cli/ctl_verbs.hpp"
 #include "core/base/result.hpp"
 
 namespace rescue::app {
 
-bool is_sdo_verb(const char* verb) noexcept;
-
-// The sdo_upload / sdo_download request of `verb` and its arguments. `target`: for a download
+// The sdo_upload / sdo_download request of `verb` and its arguments. `peer`: for a download
 // without --type, the robot is asked for the object's current value first (its size).
 // Errors: invalid_argument with the text for the user; an error of that first exchange.
-Result<protocol::Message> build_sdo_request(const char* verb, const ParsedArgs& args, const CtlTarget& target) noexcept;
+Result<protocol::Message> build_sdo_request(const ParsedArgs& args, CtlPeer& peer) noexcept;
 
 // Prints an sdo_result (text, or one JSON object with --json); returns ctl's exit status
-// (0: the transfer was done).
-int print_sdo_result(const protocol::Message& answer, bool json) noexcept;
+// (0: the transfer was done; refused: the drive aborted or the robot refused; usage: a fixed-size
+// --type that the uploaded object's size does not fit).
+int print_sdo_result(const protocol::Message& request, const protocol::Message& answer) noexcept;
 
 }  // namespace rescue::app

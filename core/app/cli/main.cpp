@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
+#include "core/app/config/build_info.hpp"
 
 namespace {
 
@@ -20,7 +21,9 @@ void print_usage(std::FILE* out) {
                "Motion-control firmware of the rescue robot: drives 21 joints over EtherCAT,\n"
                "on the robot's NIC or on the built-in simulated segment.\n\ncommands:\n");
   for (const CommandSpec* cmd : kCommands) std::fprintf(out, "  %-8s %s\n", cmd->name, cmd->summary);
-  std::fprintf(out, "\n'rescue-motion COMMAND --help' describes each command.\n");
+  std::fprintf(out,
+               "\n'rescue-motion COMMAND --help' describes each command; 'rescue-motion --version' prints\n"
+               "the program's version and build type, as 'ctl version' shows them.\n");
 }
 
 }  // namespace
@@ -37,7 +40,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (std::strcmp(name, "--version") == 0) {
-    std::printf("rescue-motion %s\n", RESCUE_VERSION);
+    // The same words as ctl version's client line (git describe of the build, not the project's number).
+    std::printf("rescue-motion %s (%s build)\n", rescue::app::build_program_version(), rescue::app::build_type());
     return 0;
   }
   for (const CommandSpec* cmd : kCommands) {

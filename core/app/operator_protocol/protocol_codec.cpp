@@ -53,6 +53,9 @@ Error malformed(const char* what, std::size_t d0 = 0, std::size_t d1 = 0) noexce
   return make_error(Errc::malformed, what, static_cast<std::uint32_t>(d0), static_cast<std::uint32_t>(d1));
 }
 
+// A character a text field may hold (docs/protocol.md "Text fields"): printable ASCII.
+bool is_text_char(char c) noexcept { return c >= 0x20 && c < 0x7F; }
+
 bool within(double v, double lo, double hi) noexcept { return std::isfinite(v) && v >= lo && v <= hi; }
 
 bool valid_mode(std::uint8_t mode) noexcept {
@@ -86,11 +89,13 @@ class EncodeFields {
   void f64s(const std::array<double, N>& values) noexcept {
     for (const double v : values) w_.f64(v);
   }
-  // A NUL-padded text field: the characters, the last byte always NUL.
+  // A NUL-padded text field: its printable ASCII up to the first NUL (any other byte sent as '?',
+  // docs/protocol.md "Text fields"), then NUL to the end: the last byte always NUL.
   template <std::size_t N>
   void text(const std::array<char, N>& t, const char* /*unterminated*/) noexcept {
-    w_.chars(t.data(), N - 1);
-    w_.u8(0);
+    std::size_t i = 0;
+    for (; i + 1 < N && t[i] != '\0'; ++i) w_.u8(is_text_char(t[i]) ? static_cast<std::uint8_t>(t[i]) : std::uint8_t{'?'});
+    w_.zeros(N - i);
   }
   void reserved(std::size_t count) noexcept { w_.zeros(count); }
   // A fixed-size byte field (all N bytes on the wire).
@@ -146,10 +151,15 @@ class DecodeFields {
   void f64s(std::array<double, N>& values) noexcept {
     std::generate(values.begin(), values.end(), [this] { return r_.f64(); });
   }
+  // A text field holds printable ASCII, then NUL padding to its end (docs/protocol.md "Text fields"):
+  // a control character (a terminal escape) or a byte after the first NUL is malformed.
   template <std::size_t N>
   void text(std::array<char, N>& t, const char* unterminated) noexcept {
     r_.chars(t.data(), N);
     require(t[N - 1] == '\0', Errc::malformed, unterminated);
+    const auto end = std::find(t.begin(), t.end(), '\0');
+    require(std::all_of(t.begin(), end, is_text_char) && std::all_of(end, t.end(), [](char c) { return c == '\0'; }),
+            Errc::malformed, "text field holds other than printable ASCII and NUL padding");
   }
   void reserved(std::size_t count) noexcept { require(r_.zeros(count), Errc::malformed, reserved_what_); }
   template <std::size_t N>

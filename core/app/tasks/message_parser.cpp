@@ -1,6 +1,8 @@
 #include "core/app/tasks/message_parser.hpp"
 
+#include <bitset>
 #include <cstdio>
+#include <cstring>
 
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/predefined_messages.hpp"
@@ -21,6 +23,45 @@ RefusalReason reason_of(CommandRefusal refusal) noexcept {
     case CommandRefusal::clear_refused: return RefusalReason::clear_refused;
   }
   return RefusalReason::busy;
+}
+
+// A joint already where the request would take it (issue 36 item 7): it is left as it is and the
+// request succeeds for it, so a command repeated, or given to the whole robot after one joint was
+// handled, changes nothing twice. enable: Enabled; disable: its drive already off (any state but
+// Enabled); initialize: Enabled in its default mode; select_mode: that mode chosen (Configured, Ready
+// or Enabled).
+bool already_there(const ControlRequest& r, const PublishedJointStatus& s, std::size_t j) noexcept {
+  switch (r.type) {
+    case MessageType::enable: return s.state == fsm::JointState::enabled;
+    case MessageType::disable: return s.state != fsm::JointState::enabled;
+    case MessageType::initialize: return s.state == fsm::JointState::enabled && s.mode == kJoints[j].default_mode;
+    case MessageType::select_mode:
+      return s.mode == r.mode && s.state != fsm::JointState::idle && s.state != fsm::JointState::error;
+    default: return false;
+  }
+}
+
+// "Enabled", "disabled", "initialized", "in that mode": what the unchanged joints already are.
+const char* already_what(MessageType type) noexcept {
+  switch (type) {
+    case MessageType::enable: return "Enabled";
+    case MessageType::disable: return "disabled";
+    case MessageType::initialize: return "initialized";
+    default: return "in that mode";
+  }
+}
+
+// The reply's text for joints left unchanged: their names when they fit, else how many (the reply's
+// joint mask names them all).
+void unchanged_text(MessageType type, JointMask unchanged, char* text, std::size_t size) noexcept {
+  char names[kJointNamesCapacity];
+  format_joint_names(unchanged, names, sizeof names);
+  if (std::strlen(names) <= 30) {
+    (void)std::snprintf(text, size, "already %s, unchanged: %s", already_what(type), names);
+  } else {
+    (void)std::snprintf(text, size, "already %s, unchanged: %u joints", already_what(type),
+                        static_cast<unsigned>(std::bitset<32>(unchanged).count()));
+  }
 }
 
 JointCommandSequence steps_of(const ControlRequest& r, JointMask joints) noexcept {
@@ -120,6 +161,17 @@ void MessageParser::start(const ControlRequest& request, hal::Nanoseconds now) n
   RobotJointStatus status{};
   const bool have_sample = ports_.samples != nullptr && ports_.samples->try_read(sample);
   const bool have_status = ports_.joint_status != nullptr && ports_.joint_status->try_read(status);
+  JointMask unchanged = 0;
+  for (std::size_t j = 0; have_status && j < kJointCount; ++j) {
+    if ((joints & joint_bit(j)) != 0 && already_there(request, status[j], j)) unchanged |= joint_bit(j);
+  }
+  joints &= ~unchanged;
+  if (joints == 0 && unchanged != 0) {
+    char text[protocol::kReplyTextSize];
+    unchanged_text(request.type, unchanged, text, sizeof text);
+    reply(request, Outcome::accepted, RefusalReason::none, unchanged, text);
+    return;
+  }
   if (request.type == MessageType::initialize) {
     // "for every reachable joint": the others are named in the reply, not refused.
     for (std::size_t j = 0; j < kJointCount; ++j) {
@@ -156,6 +208,7 @@ void MessageParser::start(const ControlRequest& request, hal::Nanoseconds now) n
   const bool clear = steps[0].kind == JointCommandKind::clear_lost || steps[0].kind == JointCommandKind::clear_lost_moved;
   pending_.deadline = now + (clear ? kClearReplyTimeout : kReplyTimeout);
   pending_.skipped = skipped;
+  pending_.unchanged = unchanged;
   const bool local = request.reply_address == 0 && request.reply_port == 0;
   std::uint8_t index = 0;
   for (JointCommand command : steps) {
@@ -195,6 +248,9 @@ void MessageParser::finish() noexcept {
     (void)std::snprintf(text, sizeof text, "%s, left out: %.37s",
                         request.type == MessageType::hold ? "not Enabled" : "not reachable", names);
     reply(request, Outcome::accepted, RefusalReason::none, pending_.skipped, text);
+  } else if (pending_.unchanged != 0) {
+    unchanged_text(request.type, pending_.unchanged, text, sizeof text);
+    reply(request, Outcome::accepted, RefusalReason::none, pending_.unchanged, text);
   } else {
     reply(request, Outcome::accepted, RefusalReason::none, 0, "");
   }

@@ -80,7 +80,8 @@ class MessageParser {
     JointCommandOutcome first_refusal{};
     std::array<JointRefusalNote, kJointCount> notes{};  // every refused joint's own reason
     hal::Nanoseconds deadline{0};
-    JointMask skipped{0};  // selected but not taken (initialize: unreachable or lost)
+    JointMask skipped{0};    // selected but not taken (initialize: unreachable or lost)
+    JointMask unchanged{0};  // selected but already where the request takes them (already_there)
   };
 
   void start(const ControlRequest& request, hal::Nanoseconds now) noexcept;

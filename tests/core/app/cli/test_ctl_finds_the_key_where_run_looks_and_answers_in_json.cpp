@@ -53,7 +53,7 @@ TEST(CtlKeyPath, KeygenWritesTheConfiguredKeyAndRunAndCtlUseIt) {
   EXPECT_TRUE(has(run.output(), "(key " + key)) << run.output();
   const CommandResult status = run_program({"ctl", "--json", "--config", config, "status"});
   ASSERT_EQ(status.status, 0) << status.out;
-  EXPECT_EQ(status.out.rfind("{\"cycle\":", 0), 0U) << status.out;
+  EXPECT_EQ(status.out.rfind(R"({"command":"status","ok":true,"cycle":)", 0), 0U) << status.out;
   EXPECT_EQ(the_object(status.out), status.out) << "exactly one object";
 
   // watch --json: JSON Lines, one object per refresh.
@@ -80,7 +80,7 @@ TEST(CtlJson, CtlsOwnErrorsAreOneObjectToo) {
   const std::string config = dir.path + "/robot.conf";
   std::ofstream(config) << "key_file = " << dir.path << "/absent.key\n";
   const CommandResult missing = run_program({"ctl", "--json", "--config", config, "status"});
-  EXPECT_EQ(missing.status, 1);
+  EXPECT_EQ(missing.status, 4) << "local: the key file";
   const std::string object = the_object(missing.out);
   EXPECT_EQ(testing::json_field(object, "ok"), "false") << missing.out;
   EXPECT_TRUE(has(object, "key_file of " + config)) << "the hint names where the robot looks: " << object;
@@ -90,12 +90,12 @@ TEST(CtlJson, CtlsOwnErrorsAreOneObjectToo) {
   ASSERT_EQ(made.status, 0) << made.out;
   const CommandResult silent =
       run_program({"ctl", "--json", "--key", dir.path + "/k.key", "--port", "9", "--timeout", "0.2", "status"});
-  EXPECT_EQ(silent.status, 1);
-  EXPECT_TRUE(has(the_object(silent.out), R"("command":"status","ok":false,"error":"status: refused: no authentic answer)"))
+  EXPECT_EQ(silent.status, 3) << "unreachable";
+  EXPECT_TRUE(has(the_object(silent.out), R"("command":"status","ok":false,"error":"status: unreachable: no authentic answer)"))
       << silent.out;
 
   const CommandResult unknown = run_program({"ctl", "--json", "--key", dir.path + "/k.key", "enable", "tail"});
-  EXPECT_EQ(unknown.status, 1);
+  EXPECT_EQ(unknown.status, 2) << "usage";
   EXPECT_TRUE(has(the_object(unknown.out), "'tail'")) << unknown.out;
 }
 

@@ -1,4 +1,4 @@
-// Every verb of `rescue-motion ctl` (kCtlVerbs, core/app/cli/ctl_verbs.hpp: ctl refuses any other) is
+// Every verb of `rescue-motion ctl` (ctl_verbs(), core/app/cli/ctl_verbs.hpp: ctl refuses any other) is
 // run in a command of docs/operator.md's generated transcript (toolchain/operator-transcript.sh) and
 // named in `ctl --help`, and every command of the transcript uses a verb of the table; every option of
 // ctl is named on the page. So a new verb cannot land without its documented example, and the page
@@ -64,18 +64,20 @@ TEST(CtlVerbs, EveryVerbIsRunInTheOperatorPagesTranscript) {
   const std::vector<std::string> shown = transcript_verbs(page);
   ASSERT_FALSE(shown.empty()) << "no `$ rescue-motion ctl` line in a TRANSCRIPT block of docs/operator.md";
   const std::set<std::string> shown_set(shown.begin(), shown.end());
-  for (const char* verb : kCtlVerbs) {
+  for (const CtlVerb& v : ctl_verbs()) {
+    const char* verb = v.name;
     EXPECT_EQ(shown_set.count(verb), 1U) << "ctl " << verb
                                          << " has no example in docs/operator.md: add it to toolchain/operator-transcript.sh and run it";
   }
   for (const std::string& verb : shown) {
-    EXPECT_TRUE(is_ctl_verb(verb.c_str())) << "docs/operator.md runs `ctl " << verb << "`, which is not a verb of kCtlVerbs";
+    EXPECT_TRUE(is_ctl_verb(verb.c_str())) << "docs/operator.md runs `ctl " << verb << "`, which is not a verb of ctl_verbs()";
   }
 }
 
 TEST(CtlVerbs, EveryVerbIsInTheHelpAndEveryOptionOnThePage) {
   const std::string help = kCtlCommand.details;
-  for (const char* verb : kCtlVerbs) {
+  for (const CtlVerb& v : ctl_verbs()) {
+    const std::string verb = v.name;
     EXPECT_NE(help.find(std::string(" ") + verb + " "), std::string::npos) << "ctl --help does not name " << verb;
   }
   const std::string page = operator_page();
@@ -86,7 +88,15 @@ TEST(CtlVerbs, EveryVerbIsInTheHelpAndEveryOptionOnThePage) {
 
 TEST(CtlVerbs, TheTableHasNoDuplicateAndKnowsNoOtherVerb) {
   std::set<std::string> seen;
-  for (const char* verb : kCtlVerbs) EXPECT_TRUE(seen.insert(verb).second) << verb;
+  for (const CtlVerb& v : ctl_verbs()) {
+    EXPECT_TRUE(seen.insert(v.name).second) << v.name;
+    // Each entry is whole: its request and its printing, its arguments' bounds, a usage naming it.
+    const bool own = v.run == CtlRun::own;
+    EXPECT_EQ(v.build != nullptr && v.print != nullptr, !own) << v.name;
+    EXPECT_EQ(v.converse != nullptr, own) << v.name;
+    EXPECT_LE(v.min_args, v.max_args) << v.name;
+    EXPECT_EQ(std::string(v.usage).rfind(v.name, 0), 0U) << v.name << ": " << v.usage;
+  }
   EXPECT_FALSE(is_ctl_verb("reboot"));
   EXPECT_FALSE(is_ctl_verb(""));
   EXPECT_TRUE(is_ctl_verb("status"));

@@ -113,10 +113,10 @@ TEST_F(DiagReset, ZeroesEveryCounterThenTheDamageCountsAgainAndOneSlaveIsResetAl
   // By position, and the refusals of a slave the robot does not have.
   EXPECT_EQ(run.ctl({"diag", "--reset", "19"}).status, 0);
   const CommandResult unknown = run.ctl({"diag", "--reset", "tail"});
-  EXPECT_EQ(unknown.status, 1) << unknown.out;
+  EXPECT_EQ(unknown.status, 2) << "usage: " << unknown.out;
   EXPECT_NE(unknown.out.find("a slave's name (ctl slaves) or its position 0..22"), std::string::npos) << unknown.out;
-  EXPECT_EQ(run.ctl({"diag", "--reset", "23"}).status, 1);
-  EXPECT_EQ(run.ctl({"status", "--reset"}).status, 1) << "--reset goes with diag only";
+  EXPECT_EQ(run.ctl({"diag", "--reset", "23"}).status, 2);
+  EXPECT_EQ(run.ctl({"status", "--reset"}).status, 2) << "--reset goes with diag only";
 
   EXPECT_EQ(run.stop(), 0) << run.output();
   // The resets went through the real-time handler without a heap allocation (the run's heap guard).

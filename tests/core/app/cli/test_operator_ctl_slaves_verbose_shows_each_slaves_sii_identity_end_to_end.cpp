@@ -65,7 +65,7 @@ TEST(OperatorCtlSlavesVerbose, ShowsEachSlavesSiiIdentityAndAlStatusCode) {
       << text.out;
   // Without -v, ctl slaves is the table it was; -v with another verb is refused.
   EXPECT_EQ(run.ctl({"slaves"}).out.find("VENDOR"), std::string::npos);
-  EXPECT_EQ(run.ctl({"status", "-v"}).status, 1);
+  EXPECT_EQ(run.ctl({"status", "-v"}).status, 2);
   EXPECT_EQ(run.stop(), 0) << run.output();
 }
 

@@ -93,7 +93,7 @@ TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
   EXPECT_EQ(json_field(missing.out, "reason"), "object does not exist in the object dictionary") << missing.out;
 
   const CommandResult bad = run.ctl({"--json", "upload", "l_elbw", "0x1008:00"});
-  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(bad.status, 2);
   EXPECT_TRUE(has(bad.out, "'l_elbw' is not a joint")) << bad.out;
 
   EXPECT_FALSE(late_before.empty()) << before.out;

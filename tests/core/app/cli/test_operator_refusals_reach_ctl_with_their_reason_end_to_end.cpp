@@ -52,7 +52,7 @@ TEST(OperatorRefusalReasons, InputForATaskThatDoesNotOwnTheMotionIsRefusedNaming
 
 TEST(OperatorRefusalReasons, AnUnknownJointNameIsNamedWithTheValidNames) {
   const CommandResult bad = testing::run_program({"ctl", "--port", "9", "enable", "l_elbow,tail"});
-  EXPECT_EQ(bad.status, 1) << bad.out;
+  EXPECT_EQ(bad.status, 2) << bad.out;
   EXPECT_TRUE(has(bad.out, "'tail' (in 'l_elbow,tail')")) << bad.out;
   EXPECT_TRUE(has(bad.out, "the joints: waist_yaw,neck_pan,neck_tilt,")) << bad.out;
   EXPECT_TRUE(has(bad.out, "l_track,r_track (or all)")) << bad.out;

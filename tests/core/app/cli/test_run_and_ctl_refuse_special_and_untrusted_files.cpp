@@ -177,7 +177,7 @@ TEST_F(Ownership, CtlRefusesAKeyAnotherUserOwnsOrThatLiesInADirectoryOthersMayWr
   ASSERT_EQ(run_program({"ctl", "keygen", "--key", foreign_key}).status, 0);
   ASSERT_EQ(::chown(foreign_key.c_str(), kNobody, kNobody), 0);
   Timed t = timed({"ctl", "--key", foreign_key, "--timeout", "0.5", "status"});
-  EXPECT_EQ(t.result.status, 1) << t.result.out;
+  EXPECT_EQ(t.result.status, 4) << t.result.out;
   EXPECT_TRUE(has(t.result.out, foreign_key + " is owned by uid 65534")) << t.result.out;
 
   const std::string open_dir = dir_.path + "/open";
@@ -186,7 +186,7 @@ TEST_F(Ownership, CtlRefusesAKeyAnotherUserOwnsOrThatLiesInADirectoryOthersMayWr
   ASSERT_EQ(run_program({"ctl", "keygen", "--key", key}).status, 0);
   ASSERT_EQ(::chmod(open_dir.c_str(), 0777), 0);
   t = timed({"ctl", "--key", key, "--timeout", "0.5", "status"});
-  EXPECT_EQ(t.result.status, 1) << t.result.out;
+  EXPECT_EQ(t.result.status, 4) << t.result.out;
   EXPECT_TRUE(has(t.result.out, "directory " + open_dir + " is writable by group or others")) << t.result.out;
 }
 

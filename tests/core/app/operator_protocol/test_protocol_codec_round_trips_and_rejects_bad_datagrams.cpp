@@ -556,5 +556,41 @@ TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
   }
 }
 
+// Text fields hold printable ASCII then NUL padding (docs/protocol.md "Text fields", issue 35 item 4):
+// the robot sends any other byte of its own texts as '?', and a receiver refuses a reply whose text
+// holds a terminal escape, a byte above 0x7E, or anything after its first NUL.
+TEST(ProtocolCodec, TextFieldsHoldOnlyPrintableAsciiThenNulPadding) {
+  Message m;
+  m.header.type = MessageType::reply;
+  m.reply.outcome = Outcome::refused;
+  m.reply.reason = RefusalReason::state_machine;
+  const char kHostile[] = "x\x1b]0;pwned\x07\xff";
+  std::memcpy(m.reply.text.data(), kHostile, sizeof kHostile);
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  const Result<std::size_t> n = encode_payload(m, ByteSpan(payload));
+  ASSERT_TRUE(n.ok());
+  Header h;
+  h.type = MessageType::reply;
+  const auto decode = [&] { return decode_payload(h, ConstByteSpan(payload.data(), n.value())); };
+  ASSERT_TRUE(decode().ok()) << decode().error().what;
+  EXPECT_STREQ(decode().value().reply.text.data(), "x?]0;pwned??") << "encoded with every other byte as '?'";
+
+  constexpr std::size_t kText = 16;  // the reply's text field (docs/protocol.md: 16:64)
+  payload[kText + 1] = 0x1B;  // ESC
+  ASSERT_FALSE(decode().ok());
+  EXPECT_EQ(rejection_of(decode().error()), Rejection::malformed);
+  payload[kText + 1] = 0xC3;  // above 0x7E
+  EXPECT_EQ(rejection_of(decode().error()), Rejection::malformed);
+  payload[kText + 1] = '?';
+  ASSERT_TRUE(decode().ok());
+  payload[kText + 40] = 'A';  // after the first NUL
+  EXPECT_EQ(rejection_of(decode().error()), Rejection::malformed);
+  payload[kText + 40] = 0;
+  // A JSON-breaking text of printable ASCII is valid on the wire: ctl escapes it (tested end to end).
+  const char kQuotes[] = R"(x","accepted":true,"reason":"none)";
+  std::memcpy(payload.data() + kText, kQuotes, sizeof kQuotes);
+  EXPECT_TRUE(decode().ok());
+}
+
 }  // namespace
 }  // namespace rescue::app::protocol
