@@ -359,9 +359,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     const JointMask cleared = state.lost_since_start.load() & ~lost;
     char cleared_names[kJointNamesCapacity];
     format_joint_names(cleared, cleared_names, sizeof cleared_names);
-    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
-                      options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
-                      cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
+    if ((lost | state.lost_since_start.load()) == 0) {
+      // Nothing lost, nothing written: no file to name (cable-damage, flaky-cable).
+      (void)std::printf("rescue-motion run: scenario %s passed: no joint marked lost, nothing recorded\n", options.scenario.name);
+    } else {
+      (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
+                        options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
+                        cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
+    }
   }
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);
