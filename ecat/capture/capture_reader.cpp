@@ -1,7 +1,6 @@
 #include "ecat/capture/capture_reader.hpp"
 
 #include <limits>
-#include <utility>
 
 #include "core/base/endian.hpp"
 
@@ -102,7 +101,7 @@ Result<CaptureReader> CaptureReader::start() noexcept {
     CapturedFrame unused;
     const Result<bool> first = r.read_block(unused);
     if (!first.ok()) return first.error();
-    return std::move(r);
+    return r;
   }
 
   const bool micro = magic_le == kPcapMagicMicroseconds || magic_be == kPcapMagicMicroseconds;
@@ -120,7 +119,7 @@ Result<CaptureReader> CaptureReader::start() noexcept {
     r.pcap_interface_.fcs_length = static_cast<std::uint8_t>(((link >> kPcapFcsLengthShift) & 0xFU) * 2U);
   }
   r.offset_ = kPcapFileHeaderSize;
-  return std::move(r);
+  return r;
 }
 
 Result<bool> CaptureReader::next(CapturedFrame& out) noexcept {

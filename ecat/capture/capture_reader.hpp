@@ -77,7 +77,7 @@ class CaptureReader {
  public:
   static constexpr std::size_t kMaxInterfaces = 16;
   // A streamed reader's window holds the largest record (kMaxPacketLength and its header) and more.
-  static constexpr std::size_t kMinWindow = 2 * capture::kMaxPacketLength;
+  static constexpr std::size_t kMinWindow = std::size_t{2} * capture::kMaxPacketLength;
 
   // Recognises the format and checks the file header (and for pcapng the first section header).
   static Result<CaptureReader> open(ConstByteSpan file) noexcept;

@@ -129,11 +129,8 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
       e.joints = report.added_behind;
       emit(e);
     }
-  }
-
-  // No readable record: which other joints were lost cannot be known, so none of them may enable
-  // until the operator clears it by name (its held position unknown: the clear confirms the position).
-  if (damaged) {
+    // No readable record: which other joints were lost cannot be known, so none of them may enable
+    // until the operator clears it by name (its held position unknown: the clear confirms it).
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if (recorded_.find(j) != nullptr) continue;
       LostJointRecord r;
