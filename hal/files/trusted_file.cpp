@@ -328,8 +328,12 @@ Result<OpenFile> open_regular_for_write(const char* path, unsigned mode, FilePro
     const std::size_t n = slash == path ? 1 : static_cast<std::size_t>(slash - path);  // "/name": the root
     std::memcpy(dir.data(), path, n);
   }
-  const Result<OpenFile> parent = open_trusted_directory(dir.data(), DirectoryUse::output, why);
-  if (!parent.ok()) return parent.error();
+  FileProblem inner;
+  const Result<OpenFile> parent = open_trusted_directory(dir.data(), DirectoryUse::output, inner);
+  if (!parent.ok()) {
+    set_problem(why, "cannot create %s: %s", path, inner.c_str());  // the file, then what is wrong on its way
+    return parent.error();
+  }
   return create_regular_in(parent.value(), slash == nullptr ? "" : dir.data(), slash == nullptr ? path : slash + 1, mode, why);
 }
 
