@@ -41,6 +41,24 @@ finished_with() {  # finished_with STAGE BUILD_DIR: the stage was the build's la
   disk_report "after $1"
 }
 disk_report "start"
+# Room for the largest build first (asan, about 1.8 GB, plus release's: ~2 GB at the peak with
+# RESCUE_PRUNE_BUILDS=1; every build kept: ~5.3 GB): a full disk otherwise ends the run late, far from
+# its cause, in a link of the asan tests. Build directories already there count as room (rebuilt in
+# place or pruned). RESCUE_MIN_FREE_MB overrides the figure (0: no check).
+build_stages=(load test analysis verify tsan asan fuzz cross package)
+needs_room=0
+for s in "${build_stages[@]}"; do want "$s" && needs_room=1; done
+if [ "$needs_room" = 1 ]; then
+  if [ "${RESCUE_PRUNE_BUILDS:-0}" = 1 ]; then default_room_mb=2048; else default_room_mb=5300; fi
+  need_mb=${RESCUE_MIN_FREE_MB:-$default_room_mb}
+  free_mb=$(df -Pm . | awk 'NR == 2 { print $4 }')
+  held_mb=$({ du -sm build 2>/dev/null || echo 0; } | awk '{ print $1 }')
+  if [ -n "$free_mb" ] && [ "$(( free_mb + held_mb ))" -lt "$need_mb" ]; then
+    echo "check.sh: not enough disk: ${free_mb} MB free + ${held_mb} MB in build/ < ${need_mb} MB needed at the peak" \
+         "(RESCUE_PRUNE_BUILDS=${RESCUE_PRUNE_BUILDS:-0}; docs/build.md \"Disk\"): free some space, or RESCUE_MIN_FREE_MB=N" >&2
+    exit 1
+  fi
+fi
 start=$(date +%s)
 
 if want setup; then banner "setup"; bash toolchain/setup.sh; fi

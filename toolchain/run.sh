@@ -13,6 +13,6 @@ cmake --build --preset release -j "$(nproc)" --target rescue-motion
 state_dir=()
 case " $* " in
   *" --state-dir "*|*" --state-dir="*|*" --config "*|*" --config="*) ;;  # theirs, or the configuration's
-  *) state_dir=(--state-dir build/release/state) ;;
+  *) state_dir=(--state-dir "$PWD/build/release/state") ;;  # absolute, as --state-dir must be
 esac
 exec ./build/release/rescue-motion run "${state_dir[@]}" "$@"

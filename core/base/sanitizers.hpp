@@ -24,6 +24,16 @@
 #ifndef RESCUE_THREAD_SANITIZER
 #define RESCUE_THREAD_SANITIZER 0
 #endif
+#if defined(__SANITIZE_ADDRESS__)
+#define RESCUE_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RESCUE_ADDRESS_SANITIZER 1
+#endif
+#endif
+#ifndef RESCUE_ADDRESS_SANITIZER
+#define RESCUE_ADDRESS_SANITIZER 0
+#endif
 
 namespace rescue {
 
@@ -34,5 +44,10 @@ inline constexpr bool kSanitizerInterceptsMalloc = RESCUE_SANITIZER_INTERCEPTS_M
 // whose holder is a lower-priority thread on the same CPU never lets the holder run: the whole
 // process hangs (a CI run: the firmware's tasks, all on CPU 1 of 2, still after 600 s).
 inline constexpr bool kThreadSanitizer = RESCUE_THREAD_SANITIZER != 0;
+inline constexpr bool kAddressSanitizer = RESCUE_ADDRESS_SANITIZER != 0;
+// ASan's runtime is built on the same sanitizer_common spin locks (StaticSpinMutex: spin, then
+// sched_yield, never sleep), taken in its allocator and at thread start and end: the same hang is
+// possible, so ASan builds refuse SCHED_FIFO too (docs/build.md).
+inline constexpr bool kSanitizerSpinsBySchedYield = kThreadSanitizer || kAddressSanitizer;
 
 }  // namespace rescue

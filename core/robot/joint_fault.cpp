@@ -14,6 +14,7 @@ const char* to_string(FaultReason reason) noexcept {
     case FaultReason::velocity_limit: return "velocity above limit";
     case FaultReason::torque_limit: return "torque above limit";
     case FaultReason::not_finite: return "value not finite";
+    case FaultReason::record_unreadable: return "no readable record of lost joints";
   }
   return "unknown";
 }

@@ -19,9 +19,10 @@ enum class FaultReason : std::uint8_t {
   velocity_limit = 7,            // actual |velocity| above the maximum
   torque_limit = 8,              // actual |torque| above the maximum
   not_finite = 9,                // a NaN or infinite value where a number was expected
+  record_unreadable = 10,        // no readable record of the lost joints: held until cleared by name
 };
 
-constexpr std::uint8_t kFaultReasonMax = 9;
+constexpr std::uint8_t kFaultReasonMax = 10;
 
 constexpr bool is_valid_fault_reason(std::uint8_t raw) noexcept { return raw <= kFaultReasonMax; }
 

@@ -61,13 +61,42 @@ Result<std::uint64_t> pcapng_timestamp_ns(std::uint64_t units, std::uint8_t tsre
 Result<CaptureReader> CaptureReader::open(ConstByteSpan file) noexcept {
   CaptureReader r;
   r.file_ = file;
-  if (file.size() < 4) return r.error_at(Errc::truncated, "file header", 0);
-  const std::uint32_t magic_le = load_le32(file.data());
-  const std::uint32_t magic_be = load_be32(file.data());
+  return r.start();
+}
+
+Result<CaptureReader> CaptureReader::open(CaptureSource& source, ByteSpan window) noexcept {
+  if (window.size() < kMinWindow) return make_error(Errc::invalid_argument, "capture window smaller than kMinWindow");
+  CaptureReader r;
+  r.source_ = &source;
+  r.window_ = window;
+  return r.start();
+}
+
+Result<std::size_t> CaptureReader::bytes_from(std::size_t at, std::size_t want) noexcept {
+  const std::size_t end = base_ + file_.size();
+  if (source_ == nullptr || (at >= base_ && at <= end && (want <= end - at || at_end_))) return end;
+  // Streamed: the window refilled from `at` (a record or block starts there: nothing before it is
+  // needed any more).
+  const Result<std::size_t> got = source_->read_at(at, window_);
+  if (!got.ok()) return error_at(Errc::io_error, "read", at);
+  base_ = at;
+  file_ = ConstByteSpan(window_.data(), got.value());
+  at_end_ = got.value() < window_.size();  // the file ends inside the window
+  return base_ + got.value();
+}
+
+Result<CaptureReader> CaptureReader::start() noexcept {
+  CaptureReader& r = *this;
+  const Result<std::size_t> head = bytes_from(0, kMinBlockSize + kShbFixedBody);
+  if (!head.ok()) return head.error();
+  const std::size_t size = head.value();
+  if (size < 4) return r.error_at(Errc::truncated, "file header", 0);
+  const std::uint32_t magic_le = load_le32(file_.data());
+  const std::uint32_t magic_be = load_be32(file_.data());
 
   if (magic_le == kBlockSectionHeader) {
     r.format_ = CaptureFormat::pcapng;
-    if (file.size() < kMinBlockSize + kShbFixedBody) return r.error_at(Errc::truncated, "file header", 0);
+    if (size < kMinBlockSize + kShbFixedBody) return r.error_at(Errc::truncated, "file header", 0);
     // The first section header goes through the same checks as any later one.
     CapturedFrame unused;
     const Result<bool> first = r.read_block(unused);
@@ -81,7 +110,7 @@ Result<CaptureReader> CaptureReader::open(ConstByteSpan file) noexcept {
   r.format_ = CaptureFormat::pcap;
   r.big_endian_ = magic_be == kPcapMagicMicroseconds || magic_be == kPcapMagicNanoseconds;
   r.nanoseconds_ = nano;
-  if (file.size() < kPcapFileHeaderSize) return r.error_at(Errc::truncated, "file header", 0);
+  if (size < kPcapFileHeaderSize) return r.error_at(Errc::truncated, "file header", 0);
   if (r.u16(4) != kPcapMajor) return r.error_at(Errc::version, "pcap version", 4);
   const std::uint32_t link = r.u32(20);
   r.pcap_interface_.link_type = static_cast<std::uint16_t>(link & 0xFFFFU);
@@ -99,9 +128,11 @@ Result<bool> CaptureReader::next(CapturedFrame& out) noexcept {
 }
 
 Result<bool> CaptureReader::next_pcap(CapturedFrame& out) noexcept {
-  const std::size_t size = file_.size();
-  if (offset_ == size) return false;
   const std::size_t at = offset_;
+  const Result<std::size_t> head = bytes_from(at, kPcapRecordHeaderSize + kMaxPacketLength);
+  if (!head.ok()) return fail(head.error());
+  const std::size_t size = head.value();
+  if (at == size) return false;
   if (size - at < kPcapRecordHeaderSize) return fail(error_at(Errc::truncated, "pcap record header", at));
   const std::uint32_t seconds = u32(at);
   const std::uint32_t fraction = u32(at + 4);
@@ -112,7 +143,7 @@ Result<bool> CaptureReader::next_pcap(CapturedFrame& out) noexcept {
   }
   CapturedFrame frame;
   frame.number = frames_read_ + 1;
-  frame.bytes = file_.subspan(at + kPcapRecordHeaderSize, captured);
+  frame.bytes = file_.subspan(at + kPcapRecordHeaderSize - base_, captured);
   frame.original_length = u32(at + 12);
   // At most (2^32 - 1) s * 1e9 + (2^32 - 1) * 1000: fits 64 bits.
   frame.timestamp_ns = static_cast<std::uint64_t>(seconds) * kNsPerSecond + static_cast<std::uint64_t>(fraction) * (nanoseconds_ ? 1U : 1000U);
@@ -125,23 +156,28 @@ Result<bool> CaptureReader::next_pcap(CapturedFrame& out) noexcept {
 }
 
 Result<bool> CaptureReader::next_pcapng(CapturedFrame& out) noexcept {
-  while (offset_ != file_.size()) {
+  for (;;) {
+    const Result<std::size_t> end = bytes_from(offset_, kMinBlockSize);
+    if (!end.ok()) return fail(end.error());
+    if (end.value() == offset_) return false;
     const Result<bool> packet = read_block(out);
     if (!packet.ok()) return packet.error();
     if (packet.value()) return true;
   }
-  return false;
 }
 
 Result<bool> CaptureReader::read_block(CapturedFrame& out) noexcept {
-  const std::size_t size = file_.size();
   const std::size_t at = offset_;
+  const Result<std::size_t> head = bytes_from(at, kMinBlockSize);
+  if (!head.ok()) return fail(head.error());
+  std::size_t size = head.value();
   if (size - at < kMinBlockSize) return fail(error_at(Errc::truncated, "block header", at));
-  if (load_le32(file_.data() + at) == kBlockSectionHeader) {  // reads the same in both byte orders
+  const std::uint8_t* const block = file_.data() + (at - base_);
+  if (load_le32(block) == kBlockSectionHeader) {  // reads the same in both byte orders
     // A new section: its byte order comes from the magic right after the length.
-    if (load_le32(file_.data() + at + kBlockHeaderSize) == kByteOrderMagic) {
+    if (load_le32(block + kBlockHeaderSize) == kByteOrderMagic) {
       big_endian_ = false;
-    } else if (load_be32(file_.data() + at + kBlockHeaderSize) == kByteOrderMagic) {
+    } else if (load_be32(block + kBlockHeaderSize) == kByteOrderMagic) {
       big_endian_ = true;
     } else {
       return fail(error_at(Errc::malformed, "byte-order magic", at + kBlockHeaderSize));
@@ -150,6 +186,10 @@ Result<bool> CaptureReader::read_block(CapturedFrame& out) noexcept {
   const std::uint32_t type = u32(at);
   const std::uint32_t length = u32(at + 4);
   if (length < kMinBlockSize || length % 4 != 0) return fail(error_at(Errc::malformed, "block length", at + 4));
+  if (source_ != nullptr && length > window_.size()) return fail(error_at(Errc::capacity_exceeded, "block length", at + 4));
+  const Result<std::size_t> whole = bytes_from(at, length);
+  if (!whole.ok()) return fail(whole.error());
+  size = whole.value();
   if (length > size - at) return fail(error_at(Errc::truncated, "block length", at + 4));
   if (u32(at + length - kBlockTrailerSize) != length) {
     return fail(error_at(Errc::malformed, "block trailer", at + length - kBlockTrailerSize));
@@ -190,16 +230,16 @@ Status CaptureReader::read_interface(std::size_t at, std::size_t length) noexcep
     const std::size_t value = p + 4;
     if (code == kOptIfTimestampResolution) {
       if (n < 1) return fail(error_at(Errc::malformed, "option length", p + 2));
-      itf.tsresol = file_[value];
+      itf.tsresol = byte(value);
       const auto probe = pcapng_timestamp_ns(0, itf.tsresol, 0);
       if (!probe.ok()) return fail(error_at(Errc::unsupported, "if_tsresol", value));
     } else if (code == kOptIfTimestampOffset) {
       if (n < 8) return fail(error_at(Errc::malformed, "option length", p + 2));
-      const std::uint64_t raw = big_endian_ ? load_be64(file_.data() + value) : load_le64(file_.data() + value);
+      const std::uint64_t raw = big_endian_ ? load_be64(file_.data() + (value - base_)) : load_le64(file_.data() + (value - base_));
       itf.tsoffset_s = static_cast<std::int64_t>(raw);
     } else if (code == kOptIfFcsLength) {
       if (n < 1) return fail(error_at(Errc::malformed, "option length", p + 2));
-      itf.fcs_length = file_[value];
+      itf.fcs_length = byte(value);
     }
     const std::size_t step = 4 + pad4(n);
     if (step > end - p) break;  // padding of the last option cut short: nothing more to read
@@ -262,7 +302,7 @@ Status CaptureReader::read_packet(std::uint32_t type, std::size_t at, std::size_
     if (!ns.ok()) return fail(error_at(ns.error().code, ns.error().what, at + 12));
     frame.timestamp_ns = ns.value();
   }
-  frame.bytes = file_.subspan(data_at, captured);
+  frame.bytes = file_.subspan(data_at - base_, captured);
   frame.link_type = itf.link_type;
   frame.interface_id = interface_id;
   frame.fcs_length = itf.fcs_length;
@@ -276,11 +316,11 @@ Error CaptureReader::fail(Error error) noexcept {
 }
 
 std::uint16_t CaptureReader::u16(std::size_t at) const noexcept {
-  return big_endian_ ? load_be16(file_.data() + at) : load_le16(file_.data() + at);
+  return big_endian_ ? load_be16(file_.data() + (at - base_)) : load_le16(file_.data() + (at - base_));
 }
 
 std::uint32_t CaptureReader::u32(std::size_t at) const noexcept {
-  return big_endian_ ? load_be32(file_.data() + at) : load_le32(file_.data() + at);
+  return big_endian_ ? load_be32(file_.data() + (at - base_)) : load_le32(file_.data() + (at - base_));
 }
 
 Error CaptureReader::error_at(Errc code, const char* what, std::size_t at) const noexcept {

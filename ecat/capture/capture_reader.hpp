@@ -1,5 +1,7 @@
-// CaptureReader: walks the packets of a pcapng or classic pcap file held in memory (mapped or
-// read by the caller). The bytes are untrusted: every block length, option length and packet length
+// CaptureReader: walks the packets of a pcapng or classic pcap file, held in memory by the caller or
+// read through a CaptureSource into a window of the caller's (bounded memory whatever the file's
+// size: one record or block at a time; a pcapng block larger than the window is refused, never
+// read in part). The bytes are untrusted: every block length, option length and packet length
 // is checked against the bytes that are there before anything is read, and a problem gives an
 // error value naming the field, never a read out of bounds. Frames are views into the caller's
 // buffer (zero copy).
@@ -30,6 +32,8 @@
 //   "option length"          malformed    an option runs past the block body
 //   "if_tsresol"             unsupported  a resolution finer than 64-bit nanoseconds can hold
 //   "timestamp"              out_of_range the timestamp in ns does not fit 64 bits (or is < 0)
+//   "block length"           capacity_exceeded  (streamed) a block larger than the reader's window
+//   "read"                   io_error     (streamed) the source could not be read
 // After an error, next() returns the same error again.
 #pragma once
 
@@ -56,12 +60,30 @@ struct CapturedFrame {
   FrameDirection direction{FrameDirection::unknown};
 };
 
+// Where a streamed capture's bytes come from: up to out.size() bytes at `offset` into `out`, the
+// count read (fewer only at the end of the file).
+class CaptureSource {
+ public:
+  CaptureSource() = default;
+  CaptureSource(const CaptureSource&) = delete;
+  CaptureSource& operator=(const CaptureSource&) = delete;
+  CaptureSource(CaptureSource&&) = delete;
+  CaptureSource& operator=(CaptureSource&&) = delete;
+  virtual ~CaptureSource() = default;
+  virtual Result<std::size_t> read_at(std::size_t offset, ByteSpan out) noexcept = 0;
+};
+
 class CaptureReader {
  public:
   static constexpr std::size_t kMaxInterfaces = 16;
+  // A streamed reader's window holds the largest record (kMaxPacketLength and its header) and more.
+  static constexpr std::size_t kMinWindow = std::size_t{2} * capture::kMaxPacketLength;
 
   // Recognises the format and checks the file header (and for pcapng the first section header).
   static Result<CaptureReader> open(ConstByteSpan file) noexcept;
+  // The same over `source`, read record by record into `window` (at least kMinWindow bytes; the
+  // frames returned by next() are views into it, valid until the next call).
+  static Result<CaptureReader> open(CaptureSource& source, ByteSpan window) noexcept;
 
   // The next packet into `out`: true, or false at the end of the file.
   Result<bool> next(CapturedFrame& out) noexcept;
@@ -79,6 +101,11 @@ class CaptureReader {
     std::uint8_t fcs_length{0};
   };
 
+  Result<CaptureReader> start() noexcept;
+  // The absolute end of the bytes at hand from `at`, reading up to `want` of them into the window
+  // when streamed (fewer only at the end of the file).
+  Result<std::size_t> bytes_from(std::size_t at, std::size_t want) noexcept;
+  std::uint8_t byte(std::size_t at) const noexcept { return file_[at - base_]; }
   Result<bool> next_pcap(CapturedFrame& out) noexcept;
   Result<bool> next_pcapng(CapturedFrame& out) noexcept;
   Status read_section_header(std::size_t at, std::size_t length) noexcept;
@@ -91,7 +118,11 @@ class CaptureReader {
   std::uint32_t u32(std::size_t at) const noexcept;
   Error error_at(Errc code, const char* what, std::size_t at) const noexcept;
 
-  ConstByteSpan file_{};
+  ConstByteSpan file_{};     // the bytes at hand: the whole file, or the window's filled part
+  std::size_t base_{0};      // offset in the file of file_[0]
+  CaptureSource* source_{nullptr};
+  ByteSpan window_{};
+  bool at_end_{false};       // streamed: the window holds the end of the file
   CaptureFormat format_{CaptureFormat::pcapng};
   bool big_endian_{false};
   bool nanoseconds_{false};  // classic pcap: fraction in ns (else us)

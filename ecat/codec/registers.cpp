@@ -44,7 +44,11 @@ const char* explain_al_status_code(std::uint16_t code) noexcept {
     case al_code::kMailboxCoe: return "mailbox CoE error";
     case al_code::kEepromNoAccess: return "EEPROM no access";
     case al_code::kEepromError: return "EEPROM error";
-    default: return "unknown AL status code";
+    default:
+      // ETG.1000.6 leaves 0x8000..0xFFFF to the device's vendor: its manual, not the standard, says
+      // what it means; below that a code this list lacks is one the standard may define.
+      return code >= al_code::kVendorSpecificFirst ? "vendor-specific AL status code (see the device's manual)"
+                                                    : "AL status code not in this program's list (see ETG.1000.6)";
   }
 }
 

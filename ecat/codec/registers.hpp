@@ -73,8 +73,10 @@ constexpr std::uint16_t kDcInvalidSyncCycleTime = 0x0035;
 constexpr std::uint16_t kMailboxCoe = 0x0043;
 constexpr std::uint16_t kEepromNoAccess = 0x0050;
 constexpr std::uint16_t kEepromError = 0x0051;
+constexpr std::uint16_t kVendorSpecificFirst = 0x8000;  // 0x8000..0xFFFF: the vendor's own codes
 }  // namespace al_code
-// Human explanation of an AL status code ("invalid requested state change").
+// Human explanation of an AL status code ("invalid requested state change"); a code of the vendor
+// range (0x8000 and up) is called vendor-specific, never unknown.
 const char* explain_al_status_code(std::uint16_t code) noexcept;
 
 // --- Event registers ---------------------------------------------------------------------------

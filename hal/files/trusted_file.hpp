@@ -8,7 +8,9 @@
 //    (a root-owned sticky directory such as /tmp is accepted: nobody else can replace our entries
 //    there). A symbolic link is followed only to a target that passes the same check: the path is
 //    resolved first (realpath), every directory of the result checked, and the result opened with
-//    O_NOFOLLOW, so a link swapped after the check is refused, never followed.
+//    O_NOFOLLOW, so a link swapped after the check is refused, never followed;
+//  - output files and the state directory: every directory on the path walked by descriptor, a link
+//    on the way followed only when this user or root made it (open_trusted_directory below).
 // Every refusal is one sentence in a FileProblem naming the path, what is wrong and the fix.
 #pragma once
 
@@ -52,8 +54,25 @@ class OpenFile {
 // invalid_argument (not a regular file: a FIFO, a directory, a device, a socket), io_error.
 Result<OpenFile> open_regular_for_read(const char* path, FileProblem& why) noexcept;
 
-// An output file (capture, timing output): created with `mode` or truncated, never through a
-// symbolic link (O_NOFOLLOW) and never anything but a regular file.
+// Where files are written or trusted by name: every directory on the path, walked one component at a
+// time relative to the descriptor of the one before (openat, O_NOFOLLOW), must pass the StrictModes
+// rule, and a symbolic link on the way is followed only when this user or root owns it (another
+// user's link in /tmp could point into our own 0700 directory). `output`: the directory of an output
+// file (a root-owned sticky directory such as /tmp passes: nobody else can replace our entries);
+// `state`: a directory whose entries are trusted by name, refused when group or others may create
+// entries in it, sticky or not. Returns an O_PATH descriptor of the directory for create_regular_in.
+enum class DirectoryUse { output, state };
+Result<OpenFile> open_trusted_directory(const char* path, DirectoryUse use, FileProblem& why) noexcept;
+
+// An output file `name` in `dir` (from open_trusted_directory; `dir_path` names it in messages):
+// created with `mode` or truncated, never through a symbolic link (O_NOFOLLOW), never anything but a
+// regular file of this user with one name (a hard link is refused: truncating it would empty the
+// other name's file too).
+Result<OpenFile> create_regular_in(const OpenFile& dir, const char* dir_path, const char* name, unsigned mode,
+                                   FileProblem& why) noexcept;
+
+// An output file (capture, timing output) by path: open_trusted_directory(its directory, output), then
+// create_regular_in.
 Result<OpenFile> open_regular_for_write(const char* path, unsigned mode, FileProblem& why) noexcept;
 
 enum class Secrecy { public_file, secret };  // secret: also not readable by group or others
@@ -62,7 +81,8 @@ enum class Secrecy { public_file, secret };  // secret: also not readable by gro
 // permission_denied for an untrusted owner or mode.
 Result<OpenFile> open_trusted_for_read(const char* path, Secrecy secrecy, FileProblem& why) noexcept;
 
-// The StrictModes check of a directory and every directory above it.
+// The state directory: open_trusted_directory(path, state) (a sticky directory everyone may write,
+// such as /tmp itself, is refused: anyone could plant or lock its entries).
 Status check_trusted_directory(const char* path, FileProblem& why) noexcept;
 
 }  // namespace rescue::hal

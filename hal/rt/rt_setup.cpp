@@ -108,8 +108,10 @@ Status set_fifo_priority(int priority) noexcept {
     return make_error(Errc::invalid_argument, "SCHED_FIFO priority outside the OS range (min, max)",
                       static_cast<std::uint32_t>(min), static_cast<std::uint32_t>(max));
   }
-  if (kThreadSanitizer) {  // core/base/sanitizers.hpp: the whole process would hang
-    return make_error(Errc::unsupported, "ThreadSanitizer build: its spin locks livelock SCHED_FIFO threads sharing a CPU");
+  if (kSanitizerSpinsBySchedYield) {  // core/base/sanitizers.hpp: the whole process would hang
+    return make_error(Errc::unsupported, kThreadSanitizer
+                                             ? "ThreadSanitizer build: its spin locks livelock SCHED_FIFO threads sharing a CPU"
+                                             : "AddressSanitizer build: its spin locks livelock SCHED_FIFO threads sharing a CPU");
   }
   sched_param param{};
   param.sched_priority = priority;

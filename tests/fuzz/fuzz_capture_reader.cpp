@@ -1,7 +1,9 @@
 // libFuzzer target: CaptureReader on arbitrary bytes (a capture file someone hands to `decode`)
 // never reads outside them; every frame it returns lies inside the input, frame numbers count up
 // by one, the reader always moves forward, and each frame goes through the link-layer and frame
-// decoders (Ethernet, Linux cooked SLL/SLL2) as `decode` does.
+// decoders (Ethernet, Linux cooked SLL/SLL2) as `decode` does. Streamed through the smallest window
+// (as `decode` streams a file), the reader gives the same frames and the same end, unless a block is
+// larger than the window, which it refuses ("block length", capacity_exceeded).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -17,6 +19,57 @@ void check(bool condition) {
   if (!condition) std::abort();
 }
 
+// The input served by offset, as pread serves a file.
+class InputSource final : public rescue::ecat::CaptureSource {
+ public:
+  InputSource(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  rescue::Result<std::size_t> read_at(std::size_t offset, rescue::ByteSpan out) noexcept override {
+    if (offset >= size_) return std::size_t{0};
+    const std::size_t n = out.size() < size_ - offset ? out.size() : size_ - offset;
+    std::memcpy(out.data(), data_ + offset, n);
+    return n;
+  }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+};
+
+std::uint8_t g_window[rescue::ecat::CaptureReader::kMinWindow];
+
+// The whole-input reader and the streamed one in lockstep.
+void check_streamed_agrees(const std::uint8_t* data, std::size_t size) {
+  using namespace rescue;        // NOLINT(google-build-using-namespace)
+  using namespace rescue::ecat;  // NOLINT(google-build-using-namespace)
+  InputSource source(data, size);
+  auto whole = CaptureReader::open(ConstByteSpan(data, size));
+  auto streamed = CaptureReader::open(source, ByteSpan(g_window, sizeof g_window));
+  if (!whole.ok() || !streamed.ok()) {
+    check(whole.ok() == streamed.ok());
+    if (!whole.ok()) check(whole.error().code == streamed.error().code && whole.error().detail1 == streamed.error().detail1);
+    return;
+  }
+  CapturedFrame a;
+  CapturedFrame b;
+  for (;;) {
+    const Result<bool> more_b = streamed.value().next(b);
+    if (!more_b.ok() && more_b.error().code == Errc::capacity_exceeded && std::strcmp(more_b.error().what, "block length") == 0) {
+      return;  // the window's own limit: the whole-input reader may read on
+    }
+    const Result<bool> more_a = whole.value().next(a);
+    check(more_a.ok() == more_b.ok());
+    if (!more_a.ok()) {
+      check(more_a.error().code == more_b.error().code && more_a.error().detail0 == more_b.error().detail0 &&
+            more_a.error().detail1 == more_b.error().detail1);
+      return;
+    }
+    check(more_a.value() == more_b.value());
+    if (!more_a.value()) return;
+    check(a.number == b.number && a.timestamp_ns == b.timestamp_ns && a.link_type == b.link_type &&
+          a.bytes.size() == b.bytes.size() && std::memcmp(a.bytes.data(), b.bytes.data(), a.bytes.size()) == 0);
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -25,6 +78,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   auto reader = CaptureReader::open(ConstByteSpan(data, size));
   if (!reader.ok()) {
     check(reader.error().detail1 <= size);
+    check_streamed_agrees(data, size);
     return 0;
   }
   CapturedFrame frame;
@@ -57,5 +111,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)sum;
   }
   check(reader.value().frames_read() == expected_number - 1);
+  check_streamed_agrees(data, size);
   return 0;
 }

@@ -36,6 +36,7 @@
 #include "core/memory/start_up_slot.hpp"
 #include "core/timing/period_recorder.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "hal/files/trusted_file.hpp"
 #include "hal/net/udp_socket.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
@@ -396,11 +397,21 @@ bool write_summary(std::FILE* out) noexcept {
   return PeriodRecorder::write_csv(out, Span<const PeriodRecorder* const>(all));
 }
 
-bool write_file(const char* dir, const char* name, bool (*write)(std::FILE*), char* path, std::size_t path_size) noexcept {
-  const int n = std::snprintf(path, path_size, "%s/%s", dir, name);
+// `name` in the checked --out directory (hal/files/trusted_file.hpp: never through a link, never a
+// FIFO or another user's file), its path into `path` for the report.
+bool write_file(const hal::OpenFile& dir, const char* dir_path, const char* name, bool (*write)(std::FILE*), char* path,
+                std::size_t path_size) noexcept {
+  const int n = std::snprintf(path, path_size, "%s/%s", dir_path, name);
   if (n < 0 || static_cast<std::size_t>(n) >= path_size) return false;
-  std::FILE* out = std::fopen(path, "w");
+  hal::FileProblem why;
+  Result<hal::OpenFile> file = hal::create_regular_in(dir, dir_path, name, 0644, why);
+  if (!file.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion bench: fig4: %s\n", why.c_str());
+    return false;
+  }
+  std::FILE* out = ::fdopen(file.value().fd(), "w");
   if (out == nullptr) return false;
+  (void)file.value().release();  // fclose closes it
   const bool written = write(out);
   return std::fclose(out) == 0 && written;
 }
@@ -517,6 +528,14 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     return fail("bench", "fig4: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
   }
   if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "cannot create the --out directory");
+  // Checked before minutes of measuring, and written through this descriptor only: a directory
+  // another user owns or may write (the default under /tmp, made by someone else) is refused.
+  hal::FileProblem out_why;
+  const Result<hal::OpenFile> out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
+  if (!out.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion bench: fig4: --out: %s\n", out_why.c_str());
+    return 1;
+  }
 
   print_bench_header(stdout, "fig4");
   print_machine();
@@ -651,8 +670,8 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   char csv[512];
   char summary[512];
-  if (!write_file(out_dir, "fig4.csv", write_series, csv, sizeof csv) ||
-      !write_file(out_dir, "fig4-summary.csv", write_summary, summary, sizeof summary)) {
+  if (!write_file(out.value(), out_dir, "fig4.csv", write_series, csv, sizeof csv) ||
+      !write_file(out.value(), out_dir, "fig4-summary.csv", write_summary, summary, sizeof summary)) {
     return fail("bench", "cannot write the CSV files into --out");
   }
   (void)std::printf("csv: %s\n", csv);

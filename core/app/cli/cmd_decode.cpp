@@ -1,8 +1,15 @@
 // rescue-motion decode FILE: one line per EtherCAT datagram of a pcap/pcapng capture (design brief
 // section 7), e.g. `3022 FRMW 230 0x1000:0x0910 8 2`, and `3022 PAD 1` for padding after the last
-// datagram. The capture is read once into private memory (hal::FileSnapshot: no hang on a FIFO, no
-// SIGBUS when the file is truncated meanwhile); every frame goes through the same decoder the master
-// uses, behind an Ethernet or Linux cooked (SLL, SLL2) link layer.
+// datagram. The capture is streamed, one record or block at a time, through a fixed window of
+// kWindowBytes (bounded memory whatever the file's size: a 2 GiB file is not read into memory first);
+// it is opened as a regular file only (hal/files/trusted_file.hpp: no hang on a FIFO) and read with
+// pread into the window, never mapped (no SIGBUS when the file is truncated meanwhile); every frame goes
+// through the same decoder the master uses, behind an Ethernet or Linux cooked (SLL, SLL2) link layer.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -11,10 +18,35 @@
 #include "ecat/capture/capture_reader.hpp"
 #include "ecat/capture/captured_link.hpp"
 #include "ecat/codec/frame.hpp"
-#include "hal/files/file_snapshot.hpp"
+#include "hal/files/trusted_file.hpp"
 
 namespace rescue::app {
 namespace {
+
+// The window the capture is read through: the largest record (256 KiB) twice, and room for a pcapng
+// block of up to 1 MiB (a larger one is refused: "block length", capacity_exceeded).
+constexpr std::size_t kWindowBytes = std::size_t{1} << 20;
+static_assert(kWindowBytes >= ecat::CaptureReader::kMinWindow, "the reader needs its largest record");
+
+// The capture file, read with pread at the reader's offsets.
+class FileSource final : public ecat::CaptureSource {
+ public:
+  explicit FileSource(int fd) noexcept : fd_(fd) {}
+  Result<std::size_t> read_at(std::size_t offset, ByteSpan out) noexcept override {
+    std::size_t done = 0;
+    while (done < out.size()) {
+      const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) return make_error(Errc::io_error, "read file", static_cast<std::uint32_t>(errno));
+      if (n == 0) break;  // the end of the file
+      done += static_cast<std::size_t>(n);
+    }
+    return done;
+  }
+
+ private:
+  int fd_;
+};
 
 void print_datagram(std::uint32_t frame, const ecat::DatagramView& d) {
   if (ecat::address_kind(d.command()) == ecat::AddressKind::logical) {
@@ -38,14 +70,9 @@ void print_frame_error(std::uint32_t frame, const Error& e) {
 
 bool is_not_ethercat(const Error& e) { return e.code == Errc::unsupported && std::strcmp(e.what, "not EtherCAT") == 0; }
 
-int open_error(const char* path, const Error& e) {
-  char message[256];
-  if (e.code == Errc::io_error) {
-    (void)std::snprintf(message, sizeof message, "cannot read %s: %s: %s", path, e.what,
-                        std::strerror(static_cast<int>(e.detail0)));  // NOLINT(concurrency-mt-unsafe): the CLI reports from one thread
-  } else {
-    (void)std::snprintf(message, sizeof message, "cannot read %s: %s", path, e.what);
-  }
+int open_error(const hal::FileProblem& why) {
+  char message[sizeof why.text + 16];
+  (void)std::snprintf(message, sizeof message, "cannot read %s", why.c_str());
   return fail("decode", message);
 }
 
@@ -59,12 +86,26 @@ int capture_error(const char* path, const Error& e, bool shrank) {
   return fail("decode", message);
 }
 
+// The window: static, one decode per process.
+std::array<std::uint8_t, kWindowBytes> g_window{};
+
 int decode_main(const ParsedArgs& args) {
   const char* path = args.positional(0);
-  auto file = hal::FileSnapshot::open(path);
-  if (!file.ok()) return open_error(path, file.error());
-  auto reader = ecat::CaptureReader::open(file.value().bytes());
-  if (!reader.ok()) return capture_error(path, reader.error(), file.value().shrank());
+  hal::FileProblem why;
+  const Result<hal::OpenFile> opened = hal::open_regular_for_read(path, why);
+  if (!opened.ok()) return open_error(why);
+  struct stat at_open {};
+  const std::size_t size_at_open =
+      ::fstat(opened.value().fd(), &at_open) == 0 ? static_cast<std::size_t>(at_open.st_size) : 0;
+  FileSource source(opened.value().fd());
+  // Whether the file is now shorter than when it was opened: someone truncated it meanwhile.
+  const int fd = opened.value().fd();
+  const auto shrank = [fd, size_at_open] {
+    struct stat now {};
+    return ::fstat(fd, &now) == 0 && static_cast<std::size_t>(now.st_size) < size_at_open;
+  };
+  auto reader = ecat::CaptureReader::open(source, ByteSpan(g_window));
+  if (!reader.ok()) return capture_error(path, reader.error(), shrank());
 
   ecat::CapturedFrame frame;
   std::uint32_t unsupported_frames = 0;
@@ -73,7 +114,7 @@ int decode_main(const ParsedArgs& args) {
     const Result<bool> more = reader.value().next(frame);
     if (!more.ok()) {
       (void)std::fflush(stdout);  // the lines so far first, then the reason
-      return capture_error(path, more.error(), file.value().shrank());
+      return capture_error(path, more.error(), shrank());
     }
     if (!more.value()) break;
     if (!ecat::is_supported_link_type(frame.link_type)) {
@@ -91,7 +132,7 @@ int decode_main(const ParsedArgs& args) {
     }
   }
   if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) return fail("decode", "cannot write the listing");
-  if (file.value().shrank()) return fail("decode", "the file shrank while it was read: the listing stops where its bytes did");
+  if (shrank()) return fail("decode", "the file shrank while it was read: the listing stops where its bytes did");
   if (unsupported_frames != 0) {
     char message[256];
     (void)std::snprintf(message, sizeof message,

@@ -123,6 +123,16 @@ int run_main(const ParsedArgs& args) {
   options.first_contact_limit = static_cast<hal::Nanoseconds>(first_contact.value() * static_cast<double>(hal::kNsPerSec));
   options.capture_path = args.value("capture");
   options.timing_out = args.value("timing-out");
+  // The configuration file's rule for its path values, on the command line too (one rule for both).
+  for (const char* path_option : {"state-dir", "key"}) {
+    const char* given = args.value(path_option);
+    const char* problem = given != nullptr ? path_value_problem(given) : nullptr;
+    if (problem != nullptr) {
+      (void)std::fprintf(stderr, "rescue-motion run: --%s %s: %s (%s, as in the configuration file)\n", path_option, given,
+                         problem, kPathValueRule);
+      return 1;
+    }
+  }
   options.state_dir = option_or_file(args, "state-dir", g_config.state_dir);
   options.segment_name = args.value("segment");
   options.initialize = args.has("initialize");

@@ -18,11 +18,10 @@ const OptionSpec* find_option(const CommandSpec& spec, const char* name, std::si
 }  // namespace
 
 const char* ParsedArgs::value(const char* name) const noexcept {
-  const char* found = nullptr;
   for (const Entry& e : options_) {
-    if (std::strcmp(e.name, name) == 0) found = e.value;
+    if (std::strcmp(e.name, name) == 0) return e.value;  // each option at most once (parse_args)
   }
-  return found;
+  return nullptr;
 }
 
 bool ParsedArgs::has(const char* name) const noexcept {
@@ -101,6 +100,9 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
       } else if (eq != nullptr) {
         return make_error(Errc::invalid_argument, "option takes no value", index);
       }
+      // Each option once, as each key of the configuration file: a repeated one is a mistake to
+      // name, not a value to pick silently.
+      if (parsed.has(opt->name)) return make_error(Errc::invalid_argument, "option given twice (each option once)", index);
       if (!parsed.options_.push_back(ParsedArgs::Entry{opt->name, value})) {
         return make_error(Errc::capacity_exceeded, "too many options", index);
       }
@@ -110,6 +112,7 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
       const OptionSpec* opt = std::find_if(spec.options.begin(), spec.options.end(),
                                            [arg](const OptionSpec& o) { return o.short_name != '\0' && o.short_name == arg[1]; });
       if (opt != spec.options.end() && opt->value_name == nullptr) {  // one-letter flags only
+        if (parsed.has(opt->name)) return make_error(Errc::invalid_argument, "option given twice (each option once)", index);
         if (!parsed.options_.push_back(ParsedArgs::Entry{opt->name, nullptr})) {
           return make_error(Errc::capacity_exceeded, "too many options", index);
         }

@@ -42,7 +42,7 @@ class ParsedArgs {
   static constexpr std::size_t kMaxOptions = 32;
   static constexpr std::size_t kMaxPositionals = 16;
 
-  // Value of --name (last one wins), or nullptr when absent or a flag.
+  // Value of --name (given at most once: parse_args refuses a repeat), or nullptr when absent or a flag.
   const char* value(const char* name) const noexcept;
   bool has(const char* name) const noexcept;
   bool help_requested() const noexcept { return help_; }

@@ -257,15 +257,17 @@ class Parser {
 
   bool copy_text(Text key, Text value, ConfigText& out, bool absolute_path) noexcept {
     if (value.size >= out.size()) {
-      fail(key, "value too long", absolute_path ? "an absolute path of at most 255 bytes" : "at most 255 bytes");
-      return false;
-    }
-    if (absolute_path && value.data[0] != '/') {
-      fail(key, "not an absolute path", "an absolute path of at most 255 bytes");
+      fail(key, "value too long", absolute_path ? kPathValueRule : "at most 255 bytes");
       return false;
     }
     std::memcpy(out.data(), value.data, value.size);
     out[value.size] = '\0';
+    const char* problem = absolute_path ? path_value_problem(out.data()) : nullptr;
+    if (problem != nullptr) {
+      out[0] = '\0';
+      fail(key, problem, kPathValueRule);
+      return false;
+    }
     return true;
   }
 
@@ -334,6 +336,13 @@ class Parser {
 };
 
 }  // namespace
+
+const char* path_value_problem(const char* path) noexcept {
+  const std::size_t length = std::strlen(path);
+  if (length >= kConfigTextCapacity) return "value too long";
+  if (length == 0 || path[0] != '/') return "not an absolute path";
+  return nullptr;
+}
 
 ConfigOutcome parse_config(Span<const std::uint8_t> bytes, ConfigFile& out) noexcept {
   Parser parser(out);

@@ -71,6 +71,12 @@ struct ConfigOutcome {
 // Parses the bytes of a configuration file into `out` (reset first).
 ConfigOutcome parse_config(Span<const std::uint8_t> bytes, ConfigFile& out) noexcept;
 
+// The rule of a path value (state_dir, key_file), the same in the file and on the command line
+// (--state-dir, --key): absolute (the service's working directory is not the operator's), at most
+// kConfigTextCapacity - 1 bytes. nullptr when `path` keeps it, else what is wrong.
+const char* path_value_problem(const char* path) noexcept;
+constexpr const char* kPathValueRule = "an absolute path of at most 255 bytes";
+
 // Reads `path` (at most kConfigMaxBytes) and parses it.
 ConfigOutcome load_config_file(const char* path, ConfigFile& out) noexcept;
 

@@ -126,11 +126,12 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     return 1;
   }
   if (options.timing_out != nullptr) {
-    // Checked now, not after the run: a FIFO or a file given as the directory fails at once.
-    struct stat timing_dir {};
-    if (::stat(options.timing_out, &timing_dir) != 0 || !S_ISDIR(timing_dir.st_mode)) {
-      (void)std::fprintf(stderr, "rescue-motion run: --timing-out %s: not a directory (give an existing directory)\n",
-                         options.timing_out);
+    // Checked now, not after the run: a FIFO or a file given as the directory, another user's link on
+    // its path or a directory others may write fails at once (written by the same check at the end).
+    hal::FileProblem timing_problem;
+    if (!hal::open_trusted_directory(options.timing_out, hal::DirectoryUse::output, timing_problem).ok()) {
+      (void)std::fprintf(stderr, "rescue-motion run: --timing-out: %s (give an existing directory of your own)\n",
+                         timing_problem.c_str());
       return 1;
     }
   }
@@ -365,9 +366,14 @@ int run_firmware(const FirmwareOptions& options) noexcept {
     const JointMask cleared = state.lost_since_start.load() & ~lost;
     char cleared_names[kJointNamesCapacity];
     format_joint_names(cleared, cleared_names, sizeof cleared_names);
-    (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
-                      options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
-                      cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
+    if ((lost | state.lost_since_start.load()) == 0) {
+      // Nothing lost, nothing written: no file to name (cable-damage, flaky-cable).
+      (void)std::printf("rescue-motion run: scenario %s passed: no joint marked lost, nothing recorded\n", options.scenario.name);
+    } else {
+      (void)std::printf("rescue-motion run: scenario %s passed: %s marked lost, recorded in %s/%s%s%s\n",
+                        options.scenario.name, lost_names, dir.value().path.c_str(), ErrorJointsFileStorage::kFileName,
+                        cleared != 0 ? "; cleared since: " : "", cleared != 0 ? cleared_names : "");
+    }
   }
   SocketCounters counted{};
   (void)links().socket_counters.try_read(counted);

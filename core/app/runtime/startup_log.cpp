@@ -25,6 +25,21 @@ void print_restored(JointMask restored) noexcept {
                     names);
 }
 
+namespace {
+
+// No readable record (the file and its copy): the joints held beyond what the file still lists.
+void print_held_unreadable(const RestoreReport& r) noexcept {
+  if (r.held_unreadable == 0) return;
+  char names[kJointNamesCapacity];
+  format_joint_names(r.held_unreadable, names, sizeof names);
+  (void)std::printf("rescue-motion run:   no readable record of the lost joints (the error-joints file and its second "
+                    "copy %s damaged or missing): which were lost cannot be known, so %s are held in Error as well, "
+                    "until each is cleared by name (held position unknown)\n",
+                    ErrorJointsFileStorage::kCopyName, names);
+}
+
+}  // namespace
+
 void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
   char kept[64];
   set_aside_name(r.set_aside_suffix, kept, sizeof kept);
@@ -36,12 +51,30 @@ void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
                       dir, ErrorJointsFileStorage::kTemporaryName, r.temporary_sequence,
                       r.from_temporary != 0 ? "; it adds " : "", r.from_temporary != 0 ? names : "");
   }
+  if (r.from_copy) {  // the file damaged, missing or older: every loss its second copy holds is kept
+    if (r.damaged()) {
+      (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); its second copy %s/%s (sequence %" PRIu64
+                        ") used instead, and the file rewritten from it\n",
+                        r.file_status.error().what, to_string(r.file_status.error().code), dir,
+                        ErrorJointsFileStorage::kCopyName, r.copy_sequence);
+    } else {
+      (void)std::printf("rescue-motion run: error-joints file missing or older than its second copy %s/%s (sequence %" PRIu64
+                        "): the copy used, and the file rewritten from it\n",
+                        dir, ErrorJointsFileStorage::kCopyName, r.copy_sequence);
+    }
+    if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
+    return;
+  }
   if (!r.damaged()) return;
   const Error& why = r.file_status.error();
   if (r.salvaged == 0) {
     (void)std::printf("rescue-motion run: error-joints file not used: %s (%s); %u record(s) dropped; starting safely\n",
                       why.what, to_string(why.code), r.records_dropped);
     if (r.set_aside) (void)std::printf("rescue-motion run:   the original is kept as %s/%s\n", dir, kept);
+    print_held_unreadable(r);
+    format_joint_names(r.restored, names, sizeof names);
+    (void)std::printf("rescue-motion run:   %s stay out of service; clear each one by name once checked: --clear-joint "
+                      "NAMES\n", names);
     return;
   }
   format_joint_names(r.salvaged, names, sizeof names);
@@ -55,6 +88,7 @@ void print_restore_problems(const RestoreReport& r, const char* dir) noexcept {
                       names);
   }
   if (r.set_aside) (void)std::printf("rescue-motion run:   the damaged original is kept as %s/%s\n", dir, kept);
+  print_held_unreadable(r);
   format_joint_names(r.restored, names, sizeof names);
   (void)std::printf("rescue-motion run:   %s stay out of service (brought up if they answer, never driven); once "
                     "they are repaired and checked, clear them with --clear-joint %s\n",

@@ -31,27 +31,35 @@ ErrorJointsFileStorage::ErrorJointsFileStorage(const char* state_dir) noexcept {
   if (dir_fits_) std::memcpy(dir_.text.data(), state_dir, len + 1);
 }
 
+namespace {
+
+// One of the two files: whether something is at its name, and what could be decoded.
+bool read_one(const char* dir, const char* name, ErrorJointsDecoded& out) noexcept {
+  auto path = hal::join_path(dir, name);
+  if (!path.ok()) {
+    out.status = path.error();
+    return false;
+  }
+  std::array<std::uint8_t, ErrorJointsFileStorage::kReadCap> buffer{};
+  auto size = hal::read_file_capped(path.value().c_str(), ByteSpan(buffer));
+  if (!size.ok()) {
+    out.status = size.error();
+    return size.error().code != Errc::not_found;
+  }
+  out = decode_error_joints(ConstByteSpan(buffer.data(), size.value()));
+  return true;
+}
+
+}  // namespace
+
 ErrorJointsLoad ErrorJointsFileStorage::load() noexcept {
   ErrorJointsLoad out;
   if (!dir_fits_) {
     out.decoded.status = make_error(Errc::invalid_argument, "state directory path empty or too long");
     return out;
   }
-  auto path = hal::join_path(dir_.c_str(), kFileName);
-  if (!path.ok()) {
-    out.decoded.status = path.error();
-    return out;
-  }
-  std::array<std::uint8_t, kReadCap> buffer{};
-  auto size = hal::read_file_capped(path.value().c_str(), ByteSpan(buffer));
-  if (!size.ok()) {
-    out.file_present = size.error().code != Errc::not_found;
-    out.decoded.status = size.error();
-    look_for_newer_temporary(dir_.c_str(), out);
-    return out;
-  }
-  out.file_present = true;
-  out.decoded = decode_error_joints(ConstByteSpan(buffer.data(), size.value()));
+  out.file_present = read_one(dir_.c_str(), kFileName, out.decoded);
+  out.copy_present = read_one(dir_.c_str(), kCopyName, out.copy);
   look_for_newer_temporary(dir_.c_str(), out);
   return out;
 }
@@ -71,7 +79,9 @@ Status ErrorJointsFileStorage::save(const ErrorJointsContents& contents) noexcep
   std::array<std::uint8_t, kErrorJointsMaxFileSize> image{};
   auto size = encode_error_joints(contents, ByteSpan(image));
   if (!size.ok()) return size.error();
-  return hal::write_file_atomically(dir_.c_str(), kFileName, ConstByteSpan(image.data(), size.value()));
+  const ConstByteSpan bytes(image.data(), size.value());
+  RESCUE_TRY(hal::write_file_atomically(dir_.c_str(), kFileName, bytes));
+  return hal::write_file_atomically(dir_.c_str(), kCopyName, bytes);
 }
 
 Result<std::uint32_t> ErrorJointsFileStorage::set_aside() noexcept {

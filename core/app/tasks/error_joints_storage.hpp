@@ -11,6 +11,10 @@ namespace rescue::app {
 struct ErrorJointsLoad {
   bool file_present{false};     // false: no file (a clean robot); decoded.status says not_found
   ErrorJointsDecoded decoded;   // what could be read, and the first problem
+  // The second copy (ErrorJointsFileStorage::kCopyName), written after the file on every save: a
+  // single damaged file never forgets a loss.
+  bool copy_present{false};
+  ErrorJointsDecoded copy;
   // A complete temporary file newer than the file (or with no file): a write interrupted between the
   // temporary file's fsync and its rename. Its joints were being recorded lost.
   bool newer_temporary{false};
@@ -28,6 +32,8 @@ class ErrorJointsStorage {
 
   virtual ErrorJointsLoad load() noexcept = 0;
   // Durable and atomic: on success the new contents survive a power cut; on failure the old ones stay.
+  // The file storage writes the file, then its second copy: a crash between leaves one of them newer,
+  // both readable.
   virtual Status save(const ErrorJointsContents& contents) noexcept = 0;
   // Keeps an unusable file for post-mortem, under a name of its own (never replacing an earlier one),
   // before a new file replaces it. Returns the set-aside suffix (set_aside_name()).
@@ -39,6 +45,8 @@ class ErrorJointsFileStorage final : public ErrorJointsStorage {
   static constexpr const char* kFileName = "error-joints.bin";
   static constexpr const char* kTemporaryName = "error-joints.bin.tmp";  // hal::write_file_atomically's
   static constexpr const char* kSetAsideName = "error-joints.bin.unusable";
+  // The second copy, written (atomically, durably) after the file itself on every save.
+  static constexpr const char* kCopyName = "error-joints.bin.copy";
   static constexpr std::uint32_t kMaxSetAside = 999;  // kSetAsideName, then kSetAsideName.1 ... .999
   // Larger than any valid file (kErrorJointsMaxFileSize), so "oversized" is told apart from "too long
   // for the format"; a bigger file is refused before it is read.

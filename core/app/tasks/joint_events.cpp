@@ -29,6 +29,8 @@ const char* to_string(JointEventKind kind) noexcept {
     case JointEventKind::file_set_aside: return "file_set_aside";
     case JointEventKind::file_wiring_added: return "file_wiring_added";
     case JointEventKind::file_newer_temporary: return "file_newer_temporary";
+    case JointEventKind::file_copy_used: return "file_copy_used";
+    case JointEventKind::file_unreadable_held: return "file_unreadable_held";
     case JointEventKind::reconfiguration_step: return "reconfiguration_step";
     case JointEventKind::file_written: return "file_written";
     case JointEventKind::file_write_failed: return "file_write_failed";
@@ -79,6 +81,20 @@ std::size_t format_event(const JointEvent& e, char* out, std::size_t capacity) n
       n = std::snprintf(out, capacity, "error-joints file: complete newer error-joints.bin.tmp (sequence %llu) left by "
                         "an interrupted write; its joints kept recorded lost%s%s",
                         static_cast<unsigned long long>(e.count), e.joints != 0 ? ", adding " : "", e.joints != 0 ? names : "");
+      break;
+    case JointEventKind::file_copy_used:
+      n = e.error.code == Errc::ok
+              ? std::snprintf(out, capacity, "error-joints file older than its second copy %s (sequence %llu, an "
+                              "interrupted save): the copy used", ErrorJointsFileStorage::kCopyName,
+                              static_cast<unsigned long long>(e.count))
+              : std::snprintf(out, capacity, "error-joints file not used: %s (%s); its second copy %s (sequence %llu) "
+                              "used instead", e.error.what, to_string(e.error.code), ErrorJointsFileStorage::kCopyName,
+                              static_cast<unsigned long long>(e.count));
+      break;
+    case JointEventKind::file_unreadable_held:
+      n = std::snprintf(out, capacity, "error-joints file: no readable record of the lost joints (the file and its "
+                        "second copy damaged or missing): %s held in Error until the operator clears each by name "
+                        "(ctl clear NAME, confirming the position: held position unknown)", names);
       break;
     case JointEventKind::reconfiguration_step:
       n = e.error.code == Errc::ok

@@ -22,6 +22,8 @@ enum class JointEventKind : std::uint8_t {
   file_set_aside,        // the unusable file was renamed for post-mortem (error-joints.bin.unusable[.count])
   file_wiring_added,     // start-up, damaged file: `joints` behind a salvaged lost joint, unreachable too
   file_newer_temporary,  // start-up: a complete newer error-joints.bin.tmp (sequence `count`); `joints` it adds
+  file_copy_used,        // start-up: the second copy (sequence `count`) used; `error`: why not the file (ok: older)
+  file_unreadable_held,  // start-up: no readable record: `joints` held in Error until cleared by name
   reconfiguration_step,  // `step` 1..5 of the paper's procedure for `joints`
   file_written,          // the error-joints file now holds `joints` (sequence in `count`)
   file_write_failed,     // `error` says why; retried

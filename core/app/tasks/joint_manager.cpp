@@ -49,17 +49,44 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   ErrorJointsLoad load = ports_.storage->load();
   report.file_present = load.file_present;
   const ErrorJointsDecoded& decoded = load.decoded;
-  if (!load.file_present && decoded.status.error().code == Errc::not_found) {
+  if (!load.file_present && !load.copy_present && decoded.status.error().code == Errc::not_found) {
     emit(event(JointEventKind::file_absent, now));
     return report;
   }
-  report.file_status = decoded.status;
-  report.records_dropped = decoded.records_rejected;
-  recorded_ = decoded.contents;
-  durable_joints_ = recorded_.joints();
-  const bool damaged = !decoded.status.ok();
-  if (damaged) report.salvaged = recorded_.joints();
+  // The second copy stands in for a file that is damaged, missing or older than it (a save that
+  // stopped between the two writes): one damaged file never forgets a loss.
+  const bool file_good = load.file_present && decoded.status.ok();
+  const bool copy_good = load.copy_present && load.copy.status.ok();
+  const bool use_copy = copy_good && (!file_good || load.copy.contents.sequence > decoded.contents.sequence);
   bool rewrite = false;
+  bool damaged = false;  // no readable record at all: salvage what passed, hold out the rest
+  if (use_copy) {
+    report.from_copy = true;
+    report.copy_sequence = load.copy.contents.sequence;
+    recorded_ = load.copy.contents;
+    JointEvent e = event(JointEventKind::file_copy_used, now);
+    e.error = load.file_present ? decoded.status.error() : make_error(Errc::not_found, "no such file");
+    e.count = load.copy.contents.sequence;
+    if (file_good) e.error = Error{};
+    emit(e);
+    if (load.file_present && !file_good) {
+      report.file_status = decoded.status;
+      report.records_dropped = decoded.records_rejected;
+    }
+    rewrite = true;  // both names hold the same record again
+  } else {
+    report.file_status = load.file_present ? decoded.status
+                                           : Status(make_error(Errc::not_found, "the file is missing and its second copy damaged"));
+    if (!load.file_present) report.file_present = true;  // what there is (the copy) is damaged
+    report.records_dropped = decoded.records_rejected;
+    recorded_ = decoded.contents;
+    damaged = !report.file_status.ok();
+    // A good file whose copy is missing, damaged or older (a save stopped between the two writes, or
+    // a file from before the copy existed): the copy is brought level now, not at the next loss.
+    if (!damaged && (!copy_good || load.copy.contents.sequence != decoded.contents.sequence)) rewrite = true;
+  }
+  durable_joints_ = recorded_.joints();
+  if (damaged) report.salvaged = recorded_.joints();
 
   // A complete newer temporary file: the last write reached the disk but not its name. Its joints were
   // being recorded lost; holding them out is the safe reading (an operator clears them again).
@@ -102,6 +129,21 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
       e.joints = report.added_behind;
       emit(e);
     }
+    // No readable record: which other joints were lost cannot be known, so none of them may enable
+    // until the operator clears it by name (its held position unknown: the clear confirms it).
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (recorded_.find(j) != nullptr) continue;
+      LostJointRecord r;
+      r.joint = static_cast<std::uint8_t>(j);
+      r.reason = FaultReason::record_unreadable;
+      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+      report.held_unreadable |= joint_bit(j);
+    }
+    if (report.held_unreadable != 0) {
+      JointEvent e = event(JointEventKind::file_unreadable_held, now);
+      e.joints = report.held_unreadable;
+      emit(e);
+    }
   }
 
   for (const LostJointRecord& r : recorded_.records) {
@@ -110,12 +152,14 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   }
   if (damaged) {
     JointEvent e = event(JointEventKind::file_unusable, now);
-    e.error = decoded.status.error();
+    e.error = report.file_status.error();
     e.joints = report.salvaged;
     e.count = decoded.records_rejected;
     emit(e);
+  }
+  if (damaged || (report.from_copy && load.file_present && !file_good)) {
     // Keep the damaged file for post-mortem rather than let the next write destroy it, then store the
-    // part that could be trusted under the file's name again.
+    // part that could be trusted (or the copy) under the file's name again.
     if (load.file_present) {
       const Result<std::uint32_t> aside = ports_.storage->set_aside();
       if (aside.ok()) {
@@ -129,7 +173,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
     rewrite = true;
   }
   if (rewrite && !recorded_.records.empty()) write_at_start_up(now);
-  if (report.restored != 0 || decoded.status.ok()) {
+  if (report.restored != 0 || decoded.status.ok() || report.from_copy) {
     JointEvent e = event(JointEventKind::file_restored, now);
     e.joints = report.restored;
     emit(e);

@@ -74,6 +74,9 @@ struct RestoreReport {
   std::uint32_t records_dropped{0};
   JointMask salvaged{0};        // damaged file: the joints of the records that passed their checks
   JointMask added_behind{0};    // damaged file: joints behind a salvaged one on its branch (unreachable too)
+  JointMask held_unreadable{0}; // no readable record (file and copy): every other joint, held until cleared by name
+  bool from_copy{false};        // the second copy was used (the file damaged, missing or older)
+  std::uint64_t copy_sequence{0};
   JointMask from_temporary{0};  // joints only a complete newer error-joints.bin.tmp lists
   bool newer_temporary{false};  // such a temporary file was found (an interrupted write)
   std::uint64_t temporary_sequence{0};

@@ -170,6 +170,13 @@ TEST_F(Ownership, RunRefusesAKeyAConfigurationOrAStateDirectoryAnotherUserOwnsOr
   t = timed({"run", "--state-dir", state_, "--duration", "1"});
   EXPECT_EQ(t.result.status, 1) << t.result.out;
   EXPECT_TRUE(has(t.result.out, state_ + " is owned by uid 65534")) << t.result.out;
+  // Root's and sticky, mode 1777 (as /tmp): passes on the way to a directory, not as the state
+  // directory itself, where anyone could take the lock or plant the error-joints file first.
+  ASSERT_EQ(::chown(state_.c_str(), 0, 0), 0);
+  ASSERT_EQ(::chmod(state_.c_str(), 01777), 0);
+  t = timed({"run", "--state-dir", state_, "--duration", "1"});
+  EXPECT_EQ(t.result.status, 1) << t.result.out;
+  EXPECT_TRUE(has(t.result.out, "state directory refused: state directory " + state_ + " is shared")) << t.result.out;
 }
 
 TEST_F(Ownership, CtlRefusesAKeyAnotherUserOwnsOrThatLiesInADirectoryOthersMayWrite) {

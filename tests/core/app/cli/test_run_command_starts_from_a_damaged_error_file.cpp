@@ -5,6 +5,9 @@
 // says what was salvaged and what the operator can do, and each damaged original is kept under its own
 // name. Before the fix: "bring-up failed at DC delays: slave present without its upstream slave" on
 // every start, and "error-joints file not used" although records were used.
+// Issue 35 item 12: a run leaves the file and its second copy; with the copy, a damaged file loses no
+// record (the copy is used); without a readable copy, every joint the salvage does not list is held in
+// Error too, on this start and the next, until cleared by name.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -82,26 +85,58 @@ const Damage kDamages[] = {
 
 class DamagedErrorFile : public ::testing::TestWithParam<Damage> {};
 
-TEST_P(DamagedErrorFile, StartsAndKeepsStartingWithTheWiringConsistentSalvage) {
+// Every joint in Error: the run ends "the robot ended in error", exit status 3 (docs/deploy.md).
+constexpr int kRobotError = 3;
+
+// Every joint's name, as the start-up lines list them.
+std::string all_joint_names() {
+  char names[kJointNamesCapacity];
+  format_joint_names(kAllJoints, names, sizeof names);
+  return names;
+}
+
+// What a link cut leaves: the file and its second copy; the damage is in the file.
+TEST_P(DamagedErrorFile, TheSecondCopyKeepsEveryLossAndTheNextStartIsClean) {
   ASSERT_EQ(cut_file().size(), 224u);
   testing::TempStateDir dir;
   write_all(dir.file(), GetParam().apply(cut_file()));
+  write_all(dir.path + "/" + ErrorJointsFileStorage::kCopyName, cut_file());
 
   const test::CommandOutput first = run("--duration 0.2 --state-dir " + dir.path);
   EXPECT_EQ(first.exit_status, 0) << first.out;
   EXPECT_TRUE(contains(first.out, "network in OP")) << first.out;
   EXPECT_FALSE(contains(first.out, "bring-up failed")) << first.out;
-  EXPECT_FALSE(contains(first.out, "file not used")) << first.out;
-  EXPECT_TRUE(contains(first.out, "error-joints file damaged")) << first.out;
-  EXPECT_TRUE(contains(first.out, "salvaged")) << first.out;
-  EXPECT_TRUE(contains(first.out, std::string("--clear-joint ") + kCutJoints)) << first.out;
-  EXPECT_TRUE(contains(first.out, std::string("restored lost joints ") + kCutJoints)) << first.out;
+  EXPECT_TRUE(contains(first.out, "its second copy")) << first.out;
+  EXPECT_TRUE(contains(first.out, std::string("restored lost joints ") + kCutJoints + " from")) << first.out;
   EXPECT_EQ(access((dir.file() + ".unusable").c_str(), F_OK), 0) << "the damaged original is kept";
 
   const test::CommandOutput second = run("--duration 0.2 --state-dir " + dir.path);
   EXPECT_EQ(second.exit_status, 0) << second.out;
   EXPECT_TRUE(contains(second.out, "network in OP")) << second.out;
-  EXPECT_TRUE(contains(second.out, std::string("restored lost joints ") + kCutJoints)) << second.out;
+  EXPECT_TRUE(contains(second.out, std::string("restored lost joints ") + kCutJoints + " from")) << second.out;
+  EXPECT_FALSE(contains(second.out, "damaged")) << second.out;
+  EXPECT_FALSE(contains(second.out, "second copy")) << second.out;
+}
+
+// No readable copy (a file from before the copy existed): the salvage follows the wiring, and every
+// joint it does not list is held too, on the next start as well.
+TEST_P(DamagedErrorFile, WithoutACopyTheSalvageFollowsTheWiringAndEveryOtherJointIsHeld) {
+  testing::TempStateDir dir;
+  write_all(dir.file(), GetParam().apply(cut_file()));
+
+  const test::CommandOutput first = run("--duration 0.2 --state-dir " + dir.path);
+  EXPECT_EQ(first.exit_status, kRobotError) << first.out;
+  EXPECT_TRUE(contains(first.out, "network in OP")) << first.out;
+  EXPECT_FALSE(contains(first.out, "bring-up failed")) << first.out;
+  EXPECT_TRUE(contains(first.out, "error-joints file damaged")) << first.out;
+  EXPECT_TRUE(contains(first.out, "salvaged")) << first.out;
+  EXPECT_TRUE(contains(first.out, "no readable record of the lost joints")) << first.out;
+  EXPECT_TRUE(contains(first.out, "restored lost joints " + all_joint_names() + " from")) << first.out;
+  EXPECT_EQ(access((dir.file() + ".unusable").c_str(), F_OK), 0) << "the damaged original is kept";
+
+  const test::CommandOutput second = run("--duration 0.2 --state-dir " + dir.path);
+  EXPECT_EQ(second.exit_status, kRobotError) << second.out;
+  EXPECT_TRUE(contains(second.out, "restored lost joints " + all_joint_names() + " from")) << second.out;
   EXPECT_FALSE(contains(second.out, "damaged")) << second.out;
 }
 
@@ -110,11 +145,11 @@ INSTANTIATE_TEST_SUITE_P(Issue11, DamagedErrorFile, ::testing::ValuesIn(kDamages
 
 TEST(DamagedErrorFileSetAside, EachDamagedOriginalKeepsItsOwnName) {
   testing::TempStateDir dir;
-  write_all(dir.file(), flip_in_record<2>(cut_file()));
-  ASSERT_EQ(run("--duration 0.1 --state-dir " + dir.path).exit_status, 0);
-  write_all(dir.file(), cut_file().substr(0, 80));
+  write_all(dir.file(), flip_in_record<2>(cut_file()));  // no copy: every other joint held, exit 3
+  ASSERT_EQ(run("--duration 0.1 --state-dir " + dir.path).exit_status, kRobotError);
+  write_all(dir.file(), cut_file().substr(0, 80));  // the copy that run wrote stands in
   const test::CommandOutput out = run("--duration 0.1 --state-dir " + dir.path);
-  ASSERT_EQ(out.exit_status, 0) << out.out;
+  ASSERT_EQ(out.exit_status, kRobotError) << out.out;
   EXPECT_EQ(read_all(dir.file() + ".unusable"), flip_in_record<2>(cut_file())) << "the first set-aside is not overwritten";
   EXPECT_EQ(read_all(dir.file() + ".unusable.1"), cut_file().substr(0, 80));
   EXPECT_TRUE(contains(out.out, "error-joints.bin.unusable.1")) << out.out;
@@ -144,7 +179,7 @@ TEST(DamagedErrorFileSetAside, ADanglingSymlinkIsReportedNotTakenForNoFile) {
   testing::TempStateDir dir;
   ASSERT_EQ(symlink((dir.path + "/gone").c_str(), dir.file().c_str()), 0);
   const test::CommandOutput out = run("--duration 0.1 --state-dir " + dir.path);
-  EXPECT_EQ(out.exit_status, 0) << out.out;
+  EXPECT_EQ(out.exit_status, kRobotError) << "no readable record: every joint held\n" << out.out;
   EXPECT_TRUE(contains(out.out, "symbolic link")) << out.out;
   EXPECT_FALSE(contains(out.out, "error-joints file: none")) << out.out;
 }

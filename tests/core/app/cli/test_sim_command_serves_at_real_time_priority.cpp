@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "core/app/config/task_table.hpp"
+#include "core/base/sanitizers.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/netns_veth.hpp"
 
@@ -77,6 +78,11 @@ class SimCommandScheduling : public rescue::testing::NetnsTest {
 TEST_F(SimCommandScheduling, ServesAtFifoPriority90ByDefaultAndSaysSo) {
   start({});
   const Scheduling s = scheduling_of(sim_.pid());
+  if (kSanitizerSpinsBySchedYield) {  // refused with its reason (docs/build.md): normal scheduling
+    EXPECT_EQ(s.policy, SCHED_OTHER) << sim_.output();
+    EXPECT_NE(sim_.output().find("rt: SCHED_FIFO priority 90: refused (unsupported: "), std::string::npos) << sim_.output();
+    return;
+  }
   EXPECT_EQ(s.policy, SCHED_FIFO) << sim_.output();
   EXPECT_EQ(s.rt_priority, 90);
   EXPECT_NE(sim_.output().find("rt: SCHED_FIFO priority 90: applied"), std::string::npos) << sim_.output();
