@@ -15,6 +15,8 @@ const char* to_string(FaultReason reason) noexcept {
     case FaultReason::torque_limit: return "torque above limit";
     case FaultReason::not_finite: return "value not finite";
     case FaultReason::record_unreadable: return "no readable record of lost joints";
+    case FaultReason::acceleration_reference_limit: return "reference acceleration";
+    case FaultReason::jerk_reference_limit: return "reference jerk";
   }
   return "unknown";
 }

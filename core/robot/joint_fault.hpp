@@ -20,9 +20,11 @@ enum class FaultReason : std::uint8_t {
   torque_limit = 8,              // actual |torque| above the maximum
   not_finite = 9,                // a NaN or infinite value where a number was expected
   record_unreadable = 10,        // no readable record of the lost joints: held until cleared by name
+  acceleration_reference_limit = 11,  // a reference sent changed speed faster than the acceleration limit
+  jerk_reference_limit = 12,     // a reference sent changed acceleration faster than the jerk limit
 };
 
-constexpr std::uint8_t kFaultReasonMax = 10;
+constexpr std::uint8_t kFaultReasonMax = 12;
 
 constexpr bool is_valid_fault_reason(std::uint8_t raw) noexcept { return raw <= kFaultReasonMax; }
 

@@ -248,7 +248,15 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     if (demand_[j].enable && (result.valid & joint_bit(j)) != 0) monitored |= joint_bit(j);
   }
   monitored &= ~tracker_.excluded();
-  const SafeStopDecision decision = decide_safe_stop(sample_, monitored);
+  SafeStopDecision decision = decide_safe_stop(sample_, monitored);
+  // A reference the intake sent beyond a speed, acceleration or jerk limit is a fault like any
+  // other limit (a defect of the limits: every reference passes the limiter): the same safe stop.
+  if (!decision.stop && intake_.violation().active()) {
+    decision.stop = true;
+    decision.violating = joint_bit(intake_.violating_joint());
+    decision.first_joint = static_cast<std::uint8_t>(intake_.violating_joint());
+    decision.first = intake_.violation();
+  }
   if (decision.stop && !safe_stopped_ && !stopping_) {
     safe_stopped_ = true;
     HandlerEvent e{};

@@ -85,6 +85,10 @@ void MotionIntake::limit(JointMask driven) noexcept {
     if ((driven & ~manager_set_ & joint_bit(j)) == 0) continue;
     held_[j] = sent(static_cast<Eigen::Index>(j));
     if ((limiter_.limited() & fresh_ & joint_bit(j)) != 0) ++counters_.clamped;
+    if (!settings_.limit_references && (fresh_ & joint_bit(j)) != 0) {
+      held_[j] = wanted_(static_cast<Eigen::Index>(j));
+      limiter_.reset_joint(j, held_[j]);
+    }
   }
   // A braking joint's wanted position is where it comes to rest (the next owner starts from there).
   for (std::size_t j = 0; j < kJointCount; ++j) {
@@ -99,13 +103,30 @@ void MotionIntake::measure(JointMask driven) noexcept {
       history_[j] = 0;
       continue;
     }
-    const double v = limiter_.velocity()(static_cast<Eigen::Index>(j));
+    // What was sent: the references themselves (history 0: the joint manager set it this period).
+    const double v = history_[j] == 0 ? 0.0 : (held_[j] - previous_sent_[j]) / dt;
+    previous_sent_[j] = held_[j];
     const double a = (v - speed_[j]) / dt;
     // Figures need the history they are made of: a speed from one sent period, an acceleration
     // from two, a jerk from three (a joint just set by the joint manager starts at rest).
     sent_.max_speed_rad_s[j] = std::max(sent_.max_speed_rad_s[j], std::fabs(v));
     if (history_[j] >= 1) sent_.max_acceleration_rad_s2[j] = std::max(sent_.max_acceleration_rad_s2[j], std::fabs(a));
     if (history_[j] >= 2) sent_.max_jerk_rad_s3[j] = std::max(sent_.max_jerk_rad_s3[j], std::fabs(a - acceleration_[j]) / dt);
+    if (!violation_.active()) {
+      const double jerk = (a - acceleration_[j]) / dt;
+      JointFault fault{};
+      if (std::fabs(v) > kJoints[j].limits.velocity_max_rad_s * (1.0 + 1e-9)) {
+        fault = {FaultReason::velocity_reference_limit, std::fabs(v), kJoints[j].limits.velocity_max_rad_s};
+      } else if (history_[j] >= 1 && std::fabs(a) > kin::kJointAcceleration[j] * (1.0 + 1e-6)) {
+        fault = {FaultReason::acceleration_reference_limit, std::fabs(a), kin::kJointAcceleration[j]};
+      } else if (history_[j] >= 2 && kin::kJointJerk[j] > 0.0 && std::fabs(jerk) > kin::kJointJerk[j] * (1.0 + 1e-6) + 1e-3) {
+        fault = {FaultReason::jerk_reference_limit, std::fabs(jerk), kin::kJointJerk[j]};
+      }
+      if (fault.active()) {
+        violation_ = fault;
+        violating_joint_ = j;
+      }
+    }
     if (history_[j] < 2) ++history_[j];
     speed_[j] = v;
     acceleration_[j] = a;

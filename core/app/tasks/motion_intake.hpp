@@ -26,6 +26,7 @@
 #include "core/app/links/motion_links.hpp"
 #include "core/kinematics/acceleration_limiter.hpp"
 #include "core/robot/joint_demand.hpp"
+#include "core/robot/joint_fault.hpp"
 #include "hal/time/clock.hpp"
 
 namespace rescue::app {
@@ -37,6 +38,9 @@ struct MotionIntakeSettings {
   // true: a joint the owner no longer drives comes to rest within its deceleration limit; false: its
   // reference stops where it is (the behaviour before issue 21, kept to measure the difference).
   bool ramped_hold{true};
+  // true: every owner reference through the limiter; false: sent as the owner wrote it (a defect
+  // kept to prove that the handler's check of what is sent stops the robot; tests only).
+  bool limit_references{true};
 };
 MotionIntakeSettings default_intake_settings() noexcept;
 
@@ -92,6 +96,10 @@ class MotionIntake {
 
   const MotionIntakeCounters& counters() const noexcept { return counters_; }
   const SentMotionFigures& sent_figures() const noexcept { return sent_; }
+  // The first reference sent beyond a limit (speed, acceleration, jerk; none while every one kept
+  // them): a defect of the limits, which the handler answers with its safe stop.
+  std::size_t violating_joint() const noexcept { return violating_joint_; }
+  const JointFault& violation() const noexcept { return violation_; }
   // The owner task whose references drove the joints last period (kNoOwnerTask: none, or held).
   std::uint8_t driving_task() const noexcept { return driving_; }
   std::uint64_t consecutive_misses() const noexcept { return consecutive_misses_; }
@@ -113,10 +121,13 @@ class MotionIntake {
   std::array<double, kJointCount> manager_ref_{};   // the joint manager's reference seen last period
   std::array<bool, kJointCount> driven_before_{};
   // Measuring what is sent: the last two speeds and the periods of history each joint has.
+  std::array<double, kJointCount> previous_sent_{};
   std::array<double, kJointCount> speed_{};
   std::array<double, kJointCount> acceleration_{};
   std::array<std::uint8_t, kJointCount> history_{};
   SentMotionFigures sent_{};
+  std::size_t violating_joint_{kJointCount};
+  JointFault violation_{};
   ReferenceSnapshot snapshot_{};
   MotionIntakeCounters counters_{};
   std::uint64_t consecutive_misses_{0};
