@@ -102,8 +102,7 @@ void expect_rescue_scenario(const std::string& mode_option, const char* tasks_li
   // After the damage the motion stayed right (docs/kinematics.md "After damage"), from the references sent.
   const std::string left_path = value_of(out.out, "rescue_path_deviation_left_m");
   ASSERT_NE(left_path, "") << out.out;
-  ASSERT_NE(left_path, "n/a") << "measured while the left arm was whole
-" << out.out;
+  ASSERT_NE(left_path, "n/a") << "measured while the left arm was whole\n" << out.out;
   EXPECT_LE(std::atof(left_path.c_str()), 0.001) << out.out;
   EXPECT_LE(std::atof(value_of(out.out, "rescue_path_deviation_right_m").c_str()), 0.005) << out.out;
   const std::string waist = value_of(out.out, "rescue_waist_travel_after_loss_rad");
