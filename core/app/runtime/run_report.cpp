@@ -361,7 +361,9 @@ int sent_joint_limits_exit(const RunControl& state) noexcept {
       {"jerk", "rad/s^3", worst_sent(state.sent_max_jerk_rad_s3, jerk_limit_of), 1e-3}};
   bool within = true;
   for (const Limit& l : limits) {
-    (void)std::printf("sent_worst_%s_ratio: %.4f (%s)\n", l.name, l.worst.ratio, kJoints[l.worst.joint].name);
+    // The joint is named only when one moved (a ratio of 0 has none: no hand moved, no jerk).
+    (void)std::printf("sent_worst_%s_ratio: %.4f (%s)\n", l.name, l.worst.ratio,
+                      l.worst.ratio > 0.0 ? kJoints[l.worst.joint].name : "no joint moved");
     within = within && l.worst.ratio <= 1.0 + l.tolerance;
   }
   (void)std::printf("joint_limits: %s\n", within ? "within" : "exceeded");
