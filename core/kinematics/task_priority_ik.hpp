@@ -26,6 +26,7 @@
 
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/pose.hpp"
+#include "core/kinematics/self_collision.hpp"
 #include "core/base/result.hpp"
 
 namespace rescue::kin {
@@ -51,6 +52,10 @@ struct IkSettings {
   double limit_margin_rad{1e-3};      // joints stop this far inside their position limits
   bool forearm_task{true};
   bool com_task{true};
+  // Self-collision clearance: repulsive rows among the sub-tasks for the closest pairs within the
+  // activation distance; the report's self_collision.stop when a pair is closer than the stop distance.
+  bool self_collision_task{true};
+  ClearanceSettings clearance{};
 };
 
 struct IkTargets {
@@ -74,6 +79,7 @@ struct IkStepReport {
   double velocity_scale{1.0};         // <= 1 when the step was slowed to the velocity limits
   JointMask at_limit{0};              // joints locked at a position limit this step
   int passes{0};                      // solves this step (1 + limit passes)
+  SelfCollisionReport self_collision{};  // at the input configuration (with self_collision_task)
 };
 
 class TaskPriorityIk {
@@ -96,7 +102,8 @@ class TaskPriorityIk {
   using Matrix12 = Eigen::Matrix<double, 12, 12>;
   using Vector12 = Eigen::Matrix<double, 12, 1>;
   using Jacobian12 = Eigen::Matrix<double, 12, kIkDof>;
-  static constexpr int kSubRows = 5;  // forearms level (2), COM x y (2), waist posture (1)
+  // forearms level (2), COM x y (2), waist posture (1), self-collision clearance (kClearanceRows)
+  static constexpr int kSubRows = 5 + kClearanceRows;
   using SubJacobian = Eigen::Matrix<double, kSubRows, kIkDof>;
   using SubVector = Eigen::Matrix<double, kSubRows, 1>;
   using Matrix13 = Eigen::Matrix<double, kIkDof, kIkDof>;
