@@ -334,6 +334,7 @@ def render_collision(links, index):
            "  double half[3];     // box half sizes",
            "  int envelope_axis;  // -1: the box itself; 0 x, 1 y, 2 z: the cylinder about that link axis",
            "  double radius;      // the cylinder's radius (0 for a box)",
+           "  double bound;       // radius of the sphere about the centre that holds the shape (a broad phase)",
            "};", ""]
     shapes = [l for l in links if l["box"] is not None]
     out.append(f"constexpr std::size_t kCollisionShapeCount = {len(shapes)};")
@@ -344,8 +345,12 @@ def render_collision(links, index):
         axis, radius = l.get("envelope", (-1, 0.0))
         if axis >= 0:
             centre = [centre[k] if k == axis else 0.0 for k in range(3)]
+        if axis >= 0:
+            bound = (radius ** 2 + (size[axis] / 2) ** 2) ** 0.5
+        else:
+            bound = sum((v / 2) ** 2 for v in size) ** 0.5
         out.append(f'  {{{index[l["name"]]}, {{{", ".join(num(v) for v in centre)}}}, '
-                   f'{{{", ".join(num(v / 2) for v in size)}}}, {axis}, {num(radius)}}},  // {l["name"]}')
+                   f'{{{", ".join(num(v / 2) for v in size)}}}, {axis}, {num(radius)}, {num(bound)}}},  // {l["name"]}')
     out += ["}};", "// clang-format on", ""]
     return out
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rescue::kin {
 namespace {
@@ -32,7 +33,7 @@ PlacedShape place(const LinkPoses& poses, std::size_t shape) noexcept {
     s.h.setConstant(d.radius);
     s.h(s.axis) = d.half[s.axis];
   }
-  s.bound = s.axis >= 0 ? std::hypot(d.radius, d.half[s.axis]) : s.h.norm();
+  s.bound = d.bound;
   return s;
 }
 
@@ -247,6 +248,19 @@ IkRow distance_row(const LinkPoses& poses, std::size_t link_a, std::size_t link_
 
 PairDistance pair_distance(const LinkPoses& poses, const CollisionPair& pair) noexcept {
   return gjk(place(poses, pair.a), place(poses, pair.b));
+}
+
+const char* stop_reason(const SelfCollisionReport& report, const ClearanceSettings& settings, char* out,
+                        std::size_t size) noexcept {
+  if (size == 0) return out;
+  out[0] = '\0';
+  if (!report.stop || report.closest_pair < 0 || static_cast<std::size_t>(report.closest_pair) >= kCollisionPairs.size()) {
+    return out;
+  }
+  const CollisionPair& pair = kCollisionPairs[static_cast<std::size_t>(report.closest_pair)];
+  (void)std::snprintf(out, size, "self-collision: %s/%s %.5f m < %.5f m", shape_link_name(pair.a),
+                      shape_link_name(pair.b), report.closest_distance_m, settings.stop_m);
+  return out;
 }
 
 SelfCollisionReport clearance_rows(const LinkPoses& poses, const ClearanceSettings& settings, ClearanceRows& rows,

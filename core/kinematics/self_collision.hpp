@@ -103,6 +103,11 @@ struct SelfCollisionReport {
   bool stop{false};                 // a pair is closer than stop_m: the RC task must stop its motion
 };
 
+// The stop's reason for the RC task's log and the operator: "self-collision: LINK/LINK 0.00499 m <
+// 0.00500 m" (the closest pair), "" without a stop. Returns `out`; never writes more than `size` bytes.
+const char* stop_reason(const SelfCollisionReport& report, const ClearanceSettings& settings, char* out,
+                        std::size_t size) noexcept;
+
 constexpr int kClearanceRows = 4;  // rows for the closest pairs; further close pairs wait their turn
 using ClearanceRows = Eigen::Matrix<double, kClearanceRows, kIkDof>;
 using ClearanceErrors = Eigen::Matrix<double, kClearanceRows, 1>;

@@ -1,9 +1,10 @@
 // Task-priority damped least-squares IK, one step per RC period (docs/kinematics.md).
 //
 //   main task  (12 rows): both palms' poses; the waist is in both arms' columns, so it couples them.
-//   sub-tasks   (4 rows): the two forearms level (z of their axis = 0) and the COM's ground
-//                        projection on the centre of the tracks' support polygon, in the main
-//                        task's null space:
+//   sub-tasks   (9 rows): the two forearms level (z of their axis = 0), the COM's ground
+//                        projection on the centre of the tracks' support polygon, the waist's
+//                        posture and the self-collision clearance (self_collision.hpp), in the
+//                        main task's null space:
 //   dq = J1# e1 + (J2 N1)# (e2 - J2 J1# e1),   N1 = I - J1# J1,   J# = J^T (J J^T + lambda^2 I)^-1
 //
 // lambda grows smoothly from a tiny floor to lambda_max as the smallest singular value of J1 (an

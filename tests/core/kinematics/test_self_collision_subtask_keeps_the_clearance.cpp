@@ -10,6 +10,7 @@
 
 #include <fcl/narrowphase/collision.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -93,6 +94,54 @@ TEST(ClearanceSubtask, RowsAreTheDistanceGradientOverTheIkJoints) {
   EXPECT_GT(checked, 100);
 }
 
+// The healthy robot has one null-space direction: the waist turning while both palms hold. With the
+// waist turned to 0.14 rad the torso's corners are 6.3 mm from the tracks' envelopes (both sides);
+// the sub-task turns it back, the palms held, until the clearance is the activation distance.
+// (The waist posture row, which does the same more slowly, is off here so the sub-task acts alone.)
+TEST(ClearanceSubtask, TheTorsoTurnsAwayFromTheTracksWhileThePalmsHold) {
+  JointVector start = ready_posture();
+  start(static_cast<Eigen::Index>(joint_index("waist_yaw"))) = 0.14;
+  LinkPoses poses;
+  forward_kinematics(start, poses);
+  const IkTargets hold{poses[kLeftEe], poses[kRightEe]};
+  for (const bool subtask : {true, false}) {
+    IkSettings settings;
+    settings.waist_weight = 0.0;
+    settings.self_collision_task = subtask;
+    TaskPriorityIk ik(settings);
+    JointVector q = start;
+    JointVector next = q;
+    double palm_drift = 0.0;
+    bool stopped = false;
+    for (int k = 0; k < 2000; ++k) {
+      const Result<IkStepReport> r = ik.step(q, hold, 0, next);
+      ASSERT_TRUE(r.ok());
+      palm_drift = std::max({palm_drift, r.value().position_residual_m[0], r.value().position_residual_m[1]});
+      stopped = stopped || r.value().self_collision.stop;
+      q = next;
+    }
+    forward_kinematics(q, poses);
+    ClearanceRows rows;
+    ClearanceErrors errors;
+    const SelfCollisionReport report = clearance_rows(poses, ClearanceSettings{}, rows, errors);
+    const double waist = q(static_cast<Eigen::Index>(joint_index("waist_yaw")));
+    std::printf("sub-task %s: waist 0.140 -> %.4f rad, %s, palms within %.2g m, no stop: %s\n", subtask ? "on " : "off",
+                waist, report.close_pairs > 0 ? ("clearance " + std::to_string(report.closest_distance_m) + " m").c_str()
+                                              : "no pair within the activation distance",
+                palm_drift, stopped ? "no" : "yes");
+    EXPECT_FALSE(stopped);
+    char reason[96];
+    EXPECT_STREQ(stop_reason(report, ClearanceSettings{}, reason, sizeof reason), "");
+    EXPECT_LT(palm_drift, 1e-4);
+    if (subtask) {
+      EXPECT_LT(waist, 0.11);
+      EXPECT_TRUE(report.close_pairs == 0 || report.closest_distance_m > 0.019);
+    } else {
+      EXPECT_GT(waist, 0.13);
+    }
+  }
+}
+
 struct Sweep {
   const char* name;
   JointMask cut;
@@ -107,6 +156,7 @@ struct Outcome {
   std::string first_overlap;
   bool stopped{false};
   double stopped_at_s{0.0};
+  std::string reason;
   double smallest_distance_m{1e9};  // of the model, over the run (the envelope for the tracks)
   double largest_waist_rad{0.0};
 };
@@ -149,6 +199,8 @@ Outcome run(const Sweep& sweep) {
       if (r.ok() && r.value().self_collision.stop) {
         out.stopped = true;  // the RC task's reaction: hold the references it sent
         out.stopped_at_s = t;
+        char reason[96];
+        out.reason = stop_reason(r.value().self_collision, settings.clearance, reason, sizeof reason);
       } else {
         q = next;
       }
@@ -170,7 +222,7 @@ void print(const Sweep& sweep, const Outcome& out) {
   std::printf("%-32s sub-task %-3s: %d postures, %d overlapping%s%s; %s; waist up to %.3f rad; model clearance %s\n",
               sweep.name, sweep.subtask ? "on" : "off", out.postures, out.overlapping,
               out.first_overlap.empty() ? "" : ", first ", out.first_overlap.c_str(),
-              out.stopped ? ("stopped at t = " + std::to_string(out.stopped_at_s) + " s").c_str() : "no stop",
+              out.stopped ? ("stopped at t = " + std::to_string(out.stopped_at_s) + " s (" + out.reason + ")").c_str() : "no stop",
               out.largest_waist_rad,
               out.smallest_distance_m < 1e9 ? (std::to_string(out.smallest_distance_m) + " m").c_str() : "n/a (no pair within the activation distance)");
 }
@@ -193,6 +245,9 @@ TEST(ClearanceSubtask, RescueMotionWithTurningTracksAndSweepingLegsNeverOverlaps
     const Outcome out = run(sweep);
     print(sweep, out);
     EXPECT_EQ(out.overlapping, 0) << sweep.name << ": " << out.first_overlap;
+    if (out.stopped) {
+      EXPECT_EQ(out.reason.rfind("self-collision: ", 0), 0U) << out.reason;
+    }
     EXPECT_GT(out.postures, 150);
   }
 }
