@@ -18,6 +18,9 @@ exactly, rather than rounding it:
     model adds to URDF's <limit>; urdfdom and kdl_parser ignore it), all positive;
   - an optional jerk (rad/s^3, also this model's attribute) where the drive has a jerk limit: positive
     and finite if given; no jerk attribute means none (0 in the table).
+  - at most one <collision> per link, one <box> with positive sizes, not rotated (self-collision
+    avoidance computes exact box distances); a box turned by a continuous joint is written as its
+    envelope over the whole turn (a cylinder), so only the link the continuous joint moves may have one.
 The limits are written as the URDF gives them; core/kinematics/kinematic_model.hpp checks at
 compile time that they equal core/robot/robot.hpp's kJoints (one source of truth).
 """
@@ -84,6 +87,33 @@ def number(element, attribute, what, positive=False):
     return value
 
 
+def collision_box(link, name):
+    """(centre, size) of the link's one <collision> box in its frame, None without <collision>.
+
+    Self-collision avoidance (core/kinematics/self_collision.hpp) computes exact distances between
+    boxes; what is not one unrotated box with positive sizes is refused, never approximated."""
+    collisions = link.findall("collision")
+    if not collisions:
+        return None
+    if len(collisions) > 1:
+        fail(collisions[1], f"link {name}: a second <collision> (the model has one collision box per link)")
+    collision = collisions[0]
+    geometry = collision.find("geometry")
+    shapes = list(geometry) if geometry is not None else []
+    if len(shapes) != 1 or shapes[0].tag != "box":
+        kind = ", ".join(e.tag for e in shapes) or "none"
+        fail(shapes[0] if shapes else collision,
+             f"link {name}: collision geometry '{kind}' cannot be represented (one <box> per link only)")
+    size = floats(shapes[0], "size", None, 3, f"link {name} collision box")
+    if any(not (v > 0.0 and v != float("inf")) for v in size):
+        fail(shapes[0], f"link {name}: collision box size {' '.join(repr(v) for v in size)} must be positive and finite")
+    origin = collision.find("origin")
+    centre = floats(origin, "xyz", "0 0 0", 3, f"link {name} collision origin")
+    if any(v != 0.0 for v in floats(origin, "rpy", "0 0 0", 3, f"link {name} collision rpy")):
+        fail(origin, f"link {name}: rotated collision box (rpy must be 0 0 0: the boxes are aligned with their link)")
+    return (centre, size)
+
+
 def parse(path):
     """Returns (links, joints, support) in tree order (parents before children)."""
     root = read_with_lines(path)
@@ -113,14 +143,10 @@ def parse(path):
             if i is None:
                 fail(inertial, f"link {name}: <inertial> without <inertia>")
             inertia = [number(i, k, f"link {name} inertia") for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
-        collision = link.find("collision")
-        if collision is not None and collision.find("geometry/box") is not None:
-            box_element = collision.find("geometry/box")
-            size = floats(box_element, "size", None, 3, f"link {name} collision box")
-            centre = floats(collision.find("origin"), "xyz", "0 0 0", 3, f"link {name} collision origin")
-            box = (centre, size)
+        box = collision_box(link, name)
         links[name] = {"name": name, "mass": mass, "com": com, "inertia": inertia, "box": box,
-                       "has_inertial": has_inertial, "element": link}
+                       "has_inertial": has_inertial, "element": link,
+                       "box_element": link.find("collision") if box is not None else None}
     joints = {}
     for joint in root.findall("joint"):
         name, kind = joint.get("name"), joint.get("type")
@@ -190,7 +216,36 @@ def parse(path):
         orphan = next(l for l in links.values() if l["name"] not in ordered)
         fail(orphan["element"], f"link {orphan['name']}: not reached from base_link (a loop or a second tree)")
     support = support_polygon(links, joints, by_child)
+    for name in ordered:
+        collision_envelope(links[name], by_child)
     return [links[n] for n in ordered], by_child, support
+
+
+def collision_envelope(link, by_child):
+    """Marks a box its own continuous joint turns: the model checks its envelope over the whole turn.
+
+    A continuous joint (a track) turns at any speed to any angle, faster than any joint the RC task
+    moves can get out of the way, so its link is checked as the cylinder its box sweeps about the
+    joint's axis (through the link's origin). A box further down, turned by a continuous joint that
+    is not its own, would sweep a torus: refused."""
+    if link["box"] is None:
+        return
+    own = by_child.get(link["name"])
+    name = link["name"]
+    parent = own["parent"] if own else None
+    while parent in by_child:
+        j = by_child[parent]
+        if j["kind"] == "continuous":
+            fail(link["box_element"], f"link {name}: its collision box is turned by the continuous joint {j['name']} "
+                 "of an ancestor (only the link a continuous joint turns can be modelled, by its envelope)")
+        parent = j["parent"]
+    if own is None or own["kind"] != "continuous":
+        return
+    centre, size = link["box"]
+    a = own["axis"]
+    i, k = (a + 1) % 3, (a + 2) % 3
+    radius = ((abs(centre[i]) + size[i] / 2) ** 2 + (abs(centre[k]) + size[k] / 2) ** 2) ** 0.5
+    link["envelope"] = (a, radius)
 
 
 def origin_in_base(name, by_child):
@@ -261,9 +316,43 @@ def render(links, by_child, support, source):
             "// Support polygon of the tracks in base_link (x, y), counter-clockwise.",
             f"constexpr std::size_t kSupportCorners = {len(support)};",
             "constexpr double kSupportPolygon[kSupportCorners][2] = {" +
-            ", ".join(f"{{{num(x)}, {num(y)}}}" for x, y in support) + "};", "",
-            "}  // namespace rescue::robot_description", ""]
+            ", ".join(f"{{{num(x)}, {num(y)}}}" for x, y in support) + "};", ""]
+    out += render_collision(links, index)
+    out += ["}  // namespace rescue::robot_description", ""]
     return "\n".join(out)
+
+
+def render_collision(links, index):
+    """The links' collision boxes (core/kinematics/self_collision.hpp), parents first."""
+    out = ["// Collision shapes: each link's one <collision> box, in the link frame (never rotated). A box",
+           "// its own continuous joint turns (a track) is checked as its envelope over the whole turn: the",
+           "// cylinder about that joint's axis (through the link's origin) of radius `radius`, centred on the",
+           "// axis at centre[axis], half-length half[axis].",
+           "struct CollisionShape {",
+           "  int link;           // index into kLinks",
+           "  double centre[3];   // box centre in the link frame",
+           "  double half[3];     // box half sizes",
+           "  int envelope_axis;  // -1: the box itself; 0 x, 1 y, 2 z: the cylinder about that link axis",
+           "  double radius;      // the cylinder's radius (0 for a box)",
+           "  double bound;       // radius of the sphere about the centre that holds the shape (a broad phase)",
+           "};", ""]
+    shapes = [l for l in links if l["box"] is not None]
+    out.append(f"constexpr std::size_t kCollisionShapeCount = {len(shapes)};")
+    out.append("// clang-format off")
+    out.append("constexpr std::array<CollisionShape, kCollisionShapeCount> kCollisionShapes{{")
+    for l in shapes:
+        centre, size = l["box"]
+        axis, radius = l.get("envelope", (-1, 0.0))
+        if axis >= 0:
+            centre = [centre[k] if k == axis else 0.0 for k in range(3)]
+        if axis >= 0:
+            bound = (radius ** 2 + (size[axis] / 2) ** 2) ** 0.5
+        else:
+            bound = sum((v / 2) ** 2 for v in size) ** 0.5
+        out.append(f'  {{{index[l["name"]]}, {{{", ".join(num(v) for v in centre)}}}, '
+                   f'{{{", ".join(num(v / 2) for v in size)}}}, {axis}, {num(radius)}, {num(bound)}}},  // {l["name"]}')
+    out += ["}};", "// clang-format on", ""]
+    return out
 
 
 def main(argv):

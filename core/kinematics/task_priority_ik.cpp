@@ -129,7 +129,7 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   if (s.com_task) {
     IkJacobian3 jcom;
     centre_of_mass_jacobian(poses_, targets.payload_kg, jcom);
-    j2.bottomRows<2>() = jcom.topRows<2>();
+    j2.middleRows<2>(2) = jcom.topRows<2>();
     e2.segment<2>(2) = s.com_gain * (support_centre() - com.position.head<2>());
   }
   // Waist posture: the waist back to its centre, weighted. In the main task's one-dimensional
@@ -140,6 +140,14 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   if (s.waist_weight > 0.0) {
     j2(4, 0) = s.waist_weight;
     e2(4) = -s.waist_weight * s.waist_gain * q(static_cast<Eigen::Index>(kIkJoints[0]));
+  }
+  // ---- sub-task: self-collision clearance, the last kClearanceRows rows (self_collision.hpp) ----
+  if (s.self_collision_task) {
+    ClearanceRows rows;
+    ClearanceErrors errors;
+    report.self_collision = clearance_rows(poses_, s.clearance, rows, errors);
+    j2.bottomRows<kClearanceRows>() = rows;
+    e2.tail<kClearanceRows>() = errors;
   }
 
   // ---- locked columns: out of service, then joints held at a position limit ----

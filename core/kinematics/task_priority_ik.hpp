@@ -1,9 +1,10 @@
 // Task-priority damped least-squares IK, one step per RC period (docs/kinematics.md).
 //
 //   main task  (12 rows): both palms' poses; the waist is in both arms' columns, so it couples them.
-//   sub-tasks   (4 rows): the two forearms level (z of their axis = 0) and the COM's ground
-//                        projection on the centre of the tracks' support polygon, in the main
-//                        task's null space:
+//   sub-tasks   (9 rows): the two forearms level (z of their axis = 0), the COM's ground
+//                        projection on the centre of the tracks' support polygon, the waist's
+//                        posture and the self-collision clearance (self_collision.hpp), in the
+//                        main task's null space:
 //   dq = J1# e1 + (J2 N1)# (e2 - J2 J1# e1),   N1 = I - J1# J1,   J# = J^T (J J^T + lambda^2 I)^-1
 //
 // lambda grows smoothly from a tiny floor to lambda_max as the smallest singular value of J1 (an
@@ -27,6 +28,7 @@
 
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/pose.hpp"
+#include "core/kinematics/self_collision.hpp"
 #include "core/base/result.hpp"
 
 namespace rescue::kin {
@@ -52,6 +54,10 @@ struct IkSettings {
   double limit_margin_rad{1e-3};      // joints stop this far inside their position limits
   bool forearm_task{true};
   bool com_task{true};
+  // Self-collision clearance: repulsive rows among the sub-tasks for the closest pairs within the
+  // activation distance; the report's self_collision.stop when a pair is closer than the stop distance.
+  bool self_collision_task{true};
+  ClearanceSettings clearance{};
 };
 
 struct IkTargets {
@@ -79,6 +85,7 @@ struct IkStepReport {
   double velocity_scale{1.0};         // <= 1 when the step was slowed to the velocity limits
   JointMask at_limit{0};              // joints locked at a position limit this step
   int passes{0};                      // solves this step (1 + limit passes)
+  SelfCollisionReport self_collision{};  // at the input configuration (with self_collision_task)
 };
 
 class TaskPriorityIk {
@@ -101,7 +108,8 @@ class TaskPriorityIk {
   using Matrix12 = Eigen::Matrix<double, 12, 12>;
   using Vector12 = Eigen::Matrix<double, 12, 1>;
   using Jacobian12 = Eigen::Matrix<double, 12, kIkDof>;
-  static constexpr int kSubRows = 5;  // forearms level (2), COM x y (2), waist posture (1)
+  // forearms level (2), COM x y (2), waist posture (1), self-collision clearance (kClearanceRows)
+  static constexpr int kSubRows = 5 + kClearanceRows;
   using SubJacobian = Eigen::Matrix<double, kSubRows, kIkDof>;
   using SubVector = Eigen::Matrix<double, kSubRows, 1>;
   using Matrix13 = Eigen::Matrix<double, kIkDof, kIkDof>;

@@ -6,7 +6,9 @@ Each mutant is the robot's URDF (core/robot/rescue_robot.urdf) with one change: 
 (0.34 -0.94 0, which the generator once rounded to -y with exit status 0), a non-unit axis, a link
 without <inertial>, lower > upper, a kinematic loop, an unknown joint type, a rotated joint origin,
 a joint without an acceleration limit, a jerk limit that is not a positive finite number (zero,
-negative, not a number, infinite; the jerk limit itself is optional). The message must name the joint (or link) and the line of
+negative, not a number, infinite; the jerk limit itself is optional), collision geometry that is not
+one unrotated box with positive sizes (a cylinder, a mesh, a rotated box, two <collision>, a flat box)
+or a box turned by a continuous joint that is not its link's own. The message must name the joint (or link) and the line of
 the element at fault.
 Usage: test_...py SOURCE_DIR WORK_DIR
 """
@@ -94,6 +96,27 @@ for mutant, value in (("zero_jerk", "0"), ("negative_jerk", "-50.0"), ("jerk_not
                       ("infinite_jerk", "inf")):
     refused(mutant, HAND_LIMIT, HAND_LIMIT.replace('jerk="50.0"', f'jerk="{value}"'), ["joint l_hand"],
             HAND_LIMIT.replace('jerk="50.0"', f'jerk="{value}"'), "jerk")
+# Collision geometry: one unrotated box with positive sizes per link; a box a continuous joint turns
+# only on that joint's own link (the model checks its envelope over the turn).
+FOREARM_COLLISION = ('<collision><origin xyz="0.0 0.0 -0.14" rpy="0 0 0"/><geometry><box size="0.09 0.09 0.3"/>'
+                     '</geometry></collision>')
+refused("collision_cylinder", FOREARM_COLLISION,
+        FOREARM_COLLISION.replace('<box size="0.09 0.09 0.3"/>', '<cylinder radius="0.045" length="0.3"/>'),
+        ["link l_forearm_link", "cylinder"], '<cylinder radius="0.045"', "cannot be represented")
+refused("collision_mesh", FOREARM_COLLISION,
+        FOREARM_COLLISION.replace('<box size="0.09 0.09 0.3"/>', '<mesh filename="forearm.stl"/>'),
+        ["link l_forearm_link", "mesh"], '<mesh filename="forearm.stl"/>', "cannot be represented")
+refused("collision_rotated", FOREARM_COLLISION, FOREARM_COLLISION.replace('rpy="0 0 0"', 'rpy="0 0 0.3"'),
+        ["link l_forearm_link"], '<collision><origin xyz="0.0 0.0 -0.14" rpy="0 0 0.3"/>', "rotated collision box")
+refused("collision_twice", FOREARM_COLLISION, FOREARM_COLLISION + "\n    <!-- second -->" + FOREARM_COLLISION,
+        ["link l_forearm_link"], "<!-- second -->", "a second <collision>")
+refused("collision_flat_box", FOREARM_COLLISION, FOREARM_COLLISION.replace("0.09 0.09 0.3", "0.09 0 0.3"),
+        ["link l_forearm_link"], '<box size="0.09 0 0.3"/>', "must be positive")
+refused("collision_turned_by_ancestor", '<link name="l_ee"/>',
+        '<link name="l_ee"/>\n  <joint name="l_mudguard_fixed" type="fixed"><parent link="l_track_link"/>'
+        '<child link="l_mudguard"/></joint>\n  <link name="l_mudguard">\n    <collision><origin xyz="0 0 0.2" rpy="0 0 0"/>'
+        '<geometry><box size="0.2 0.2 0.02"/></geometry></collision></link>',
+        ["link l_mudguard", "continuous joint l_track"], '<collision><origin xyz="0 0 0.2"', "envelope")
 # No jerk attribute: accepted (no jerk limit, 0 in the table).
 _, out, p = generate("no_jerk", robot.replace(' jerk="50.0"', ""))
 ok = p.returncode == 0 and os.path.exists(out) and "jerk" in open(out, encoding="utf-8").read()

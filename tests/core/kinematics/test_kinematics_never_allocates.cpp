@@ -1,5 +1,5 @@
 // No heap on the RC path: whole RC periods (rescue motion, IK, teleop), a link cut that triggers
-// the lost-capability analysis, and every kernel bench rc measures, run with Eigen's run-time
+// the lost-capability analysis, IK steps with the self-collision sub-task's pairs close, and every kernel bench rc measures, run with Eigen's run-time
 // allocation check (EIGEN_RUNTIME_NO_MALLOC, set_is_malloc_allowed(false)) and the heap guard in
 // strict mode: any allocation would abort the test.
 #include <gtest/gtest.h>
@@ -41,6 +41,22 @@ TEST(NoHeap, RcPeriodsAndKernelsNeverAllocate) {
     (void)arm_velocity_ik(kLeftArm, qa, Vector6::Constant(0.01), qdot);
     checksum += chain_tip_pose(kRightArm, chain_joint_values(kRightArm, q)).p.x() + qdot(0) + com_j(0, 0);
   }
+  // The self-collision sub-task with pairs close: the waist turned towards the tracks' envelopes,
+  // the tracks turning.
+  TaskPriorityIk ik;
+  JointVector q_close = ready_posture();
+  q_close(static_cast<Eigen::Index>(joint_index("waist_yaw"))) = 0.14;
+  JointVector q_next = q_close;
+  forward_kinematics(q_close, poses);
+  const IkTargets hold{poses[kLeftEe], poses[kRightEe]};
+  int close_steps = 0;
+  for (int k = 0; k < 500; ++k) {
+    q_close(static_cast<Eigen::Index>(joint_index("l_track"))) = 0.01 * k;
+    const Result<IkStepReport> r = ik.step(q_close, hold, 0, q_next);
+    if (!r.ok()) ++failures;
+    if (r.ok() && r.value().self_collision.close_pairs > 0) ++close_steps;
+    q_close = q_next;
+  }
   Eigen::internal::set_is_malloc_allowed(true);
   const HeapGuardCounters counters = heap_guard_counters();
   reopen_init_for_testing();
@@ -50,6 +66,7 @@ TEST(NoHeap, RcPeriodsAndKernelsNeverAllocate) {
   EXPECT_EQ(failures, 0);
   EXPECT_TRUE(std::isfinite(checksum));
   EXPECT_EQ(rc.out_of_service(), cut);
+  EXPECT_GT(close_steps, 100);
 }
 
 #ifndef NDEBUG

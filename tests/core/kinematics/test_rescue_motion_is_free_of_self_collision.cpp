@@ -9,7 +9,6 @@
 
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
-#include <fcl/geometry/shape/box.h>
 
 #include <cstdio>
 #include <memory>
@@ -18,36 +17,15 @@
 
 #include "core/kinematics/jacobian.hpp"
 #include "core/kinematics/rc_period.hpp"
-#include "tests/core/kinematics/urdf_oracle.hpp"
+#include "tests/core/kinematics/fcl_collision_boxes.hpp"
 
 namespace rescue::kin {
 namespace {
 
-struct CollisionBox {
-  std::size_t link;
-  std::shared_ptr<fcl::Boxd> shape;
-  Eigen::Isometry3d origin;  // box in the link frame
-};
+using test::collision_boxes;
+using test::CollisionBox;
 
-std::vector<CollisionBox> collision_boxes() {
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(test::robot_urdf_text());
-  std::vector<CollisionBox> boxes;
-  if (!model) return boxes;
-  for (const auto& [name, link] : model->links_) {
-    if (!link->collision || !link->collision->geometry || link->collision->geometry->type != urdf::Geometry::BOX) continue;
-    const auto& box = static_cast<const urdf::Box&>(*link->collision->geometry);
-    const urdf::Pose& o = link->collision->origin;
-    Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
-    origin.linear() = Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z).toRotationMatrix();
-    origin.translation() = Eigen::Vector3d(o.position.x, o.position.y, o.position.z);
-    boxes.push_back({link_index(name.c_str()), std::make_shared<fcl::Boxd>(box.dim.x, box.dim.y, box.dim.z), origin});
-  }
-  return boxes;
-}
-
-bool adjacent(std::size_t a, std::size_t b) {
-  return desc::kLinks[a].parent == static_cast<int>(b) || desc::kLinks[b].parent == static_cast<int>(a);
-}
+bool adjacent(std::size_t a, std::size_t b) { return test::parent_or_child(a, b); }
 
 // Overlapping pairs of link boxes at q, each as "a/b".
 std::vector<std::string> overlapping_pairs(const std::vector<CollisionBox>& boxes, const JointVector& q) {
