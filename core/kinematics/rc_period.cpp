@@ -57,7 +57,15 @@ Result<IkStepReport> RcPeriod::run(double t_s, JointMask out_of_service, const J
       palm_[static_cast<std::size_t>(arm)] = report.value().palm_position[arm];
       path_deviation_m_[static_cast<std::size_t>(arm)] = motion_.distance_to_path(arm, palm_[static_cast<std::size_t>(arm)]);
     }
-    scale_ = feasible_scale(q, locked);
+    const SelfCollisionReport& collision = report.value().self_collision;
+    if (collision.close_pairs > 0) {
+      min_clearance_m_ = close_pair_seen_ ? std::min(min_clearance_m_, collision.closest_distance_m) : collision.closest_distance_m;
+      close_pair_seen_ = true;
+    }
+    // The last resort: a pair closer than the stop distance stops the motion for good (every joint
+    // to rest within its limits; the operator sees the reason).
+    if (collision.stop && !collision_stop_.stop) collision_stop_ = collision;
+    scale_ = collision_stop_.stop ? 0.0 : feasible_scale(q, locked);
     for (const std::size_t j : kIkJoints) {
       if ((locked & joint_bit(j)) != 0) continue;
       const auto row = static_cast<Eigen::Index>(j);

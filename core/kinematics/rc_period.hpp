@@ -47,6 +47,14 @@ class RcPeriod {
   JointMask out_of_service() const noexcept { return out_of_service_; }
   const TaskShape& shape() const noexcept { return shape_; }
 
+  // Stopped for self-collision (the IK's clearance sub-task could not keep a pair apart): the motion
+  // no longer advances, every joint comes to rest within its limits; the report of the stop.
+  bool collision_stopped() const noexcept { return collision_stop_.stop; }
+  const SelfCollisionReport& collision_stop() const noexcept { return collision_stop_; }
+  // The smallest distance of a close pair seen (pairs within the activation distance; none: false).
+  bool close_pair_seen() const noexcept { return close_pair_seen_; }
+  double min_clearance_m() const noexcept { return min_clearance_m_; }
+
   double motion_time_s() const noexcept { return motion_time_s_; }
   double time_scale() const noexcept { return scale_; }              // this period's factor
   std::uint64_t clipped_periods() const noexcept { return clipped_; }  // periods a joint was clipped alone
@@ -68,6 +76,9 @@ class RcPeriod {
   LostCapability lost_;
   TaskShape shape_{};
   JointMask out_of_service_{0};
+  SelfCollisionReport collision_stop_{};
+  bool close_pair_seen_{false};
+  double min_clearance_m_{0.0};
   double motion_time_s_{0.0};
   double scale_{1.0};
   std::uint64_t clipped_{0};

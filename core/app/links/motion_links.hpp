@@ -55,6 +55,14 @@ struct RcTaskState {
   double path_deviation_m[2];
   bool path_measured[2];
   double min_time_scale;               // the slowest the rescue motion ran (1 = its own timing)
+  // Self-collision (kin::self_collision): the smallest distance of a pair within the activation
+  // distance (`close_pair_seen` false: none came that close), and the stop if the clearance could
+  // not be kept (the pair, an index of kin::kCollisionPairs, and its distance).
+  bool close_pair_seen;
+  double min_self_clearance_m;
+  bool collision_stop;
+  std::int16_t collision_pair;
+  double collision_distance_m;
   std::uint64_t clipped_periods;       // periods a joint was limited off the path
 };
 static_assert(std::is_trivial_v<RcTaskState>, "published through a seqlock");

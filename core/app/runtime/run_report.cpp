@@ -8,6 +8,8 @@
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_cpu.hpp"
+#include "core/kinematics/self_collision.hpp"
+#include "core/kinematics/task_priority_ik.hpp"
 #include "core/memory/heap_guard.hpp"
 
 namespace rescue::app {
@@ -54,6 +56,7 @@ const char* rescue_motion_fault(const RcTaskState& rescue) noexcept {
     return "the waist moved after an arm was damaged";
   }
   if (!rescue.margin_measured) return "no support margin was measured";
+  if (rescue.collision_stop) return "the motion stopped to avoid a self-collision";
   return nullptr;
 }
 
@@ -309,6 +312,17 @@ void print_run_summary(const RunSummary& s) noexcept {
                  rescue.palm_travel_after_loss_m[0], 5);
     print_figure("rescue_palm_travel_after_loss_right_m", (rescue.damaged_arms & 2U) != 0,
                  rescue.palm_travel_after_loss_m[1], 5);
+    print_figure("rescue_min_self_clearance_m", rescue.close_pair_seen, rescue.min_self_clearance_m, 5);
+    if (rescue.collision_stop) {
+      kin::SelfCollisionReport stop{};
+      stop.stop = true;
+      stop.closest_pair = rescue.collision_pair;
+      stop.closest_distance_m = rescue.collision_distance_m;
+      char reason[128];
+      (void)std::printf("rescue_self_collision_stop: %s\n", kin::stop_reason(stop, kin::IkSettings{}.clearance, reason, sizeof reason));
+    } else {
+      (void)std::printf("rescue_self_collision_stop: none\n");
+    }
     (void)std::printf("rescue_min_time_scale: %.4f\n", rescue.min_time_scale);
     (void)std::printf("rescue_clipped_periods: %" PRIu64 "\n", rescue.clipped_periods);
     for (std::size_t j = 0; j < kJointCount; ++j) {

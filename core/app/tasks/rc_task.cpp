@@ -137,6 +137,13 @@ void RcTask::measure() noexcept {
       figures_.path_measured[a] = true;
     }
     figures_.min_time_scale = std::min(figures_.min_time_scale, rescue_.time_scale());
+    figures_.close_pair_seen = rescue_.close_pair_seen();
+    figures_.min_self_clearance_m = rescue_.min_clearance_m();
+    if (rescue_.collision_stopped()) {
+      figures_.collision_stop = true;
+      figures_.collision_pair = static_cast<std::int16_t>(rescue_.collision_stop().closest_pair);
+      figures_.collision_distance_m = rescue_.collision_stop().closest_distance_m;
+    }
     figures_.clipped_periods = rescue_.clipped_periods();
   }
   if (damaged == 0 && !figures_.loss_seen) return;
