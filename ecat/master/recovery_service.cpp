@@ -4,20 +4,19 @@
 // through PRE-OP and SAFE-OP to OP, then put back in the exchange ("recovered"). The states and
 // transitions are the table of ecat/master/slave_recovery.hpp; this file does what each state says.
 //
-// Bounded cost: each cycle carries at most options_.recovery_datagrams_per_cycle datagrams of the
+// Bounded cost: each cycle carries at most MasterOptions::recovery_datagrams_per_cycle datagrams of the
 // recovery in all (one per slave being recovered, plus one search), only while something is out of
 // the exchange; the healthy path carries none. Other slaves are only ever addressed by their own
 // station address; the one APWR (by position) writes the device found at the expected position.
-#include <cstring>
+#include "ecat/master/recovery_service.hpp"
 
-#include "ecat/master/master.hpp"
+#include "core/base/endian.hpp"
 #include "ecat/codec/registers.hpp"
 #include "ecat/master/slave_config.hpp"
 
 namespace rescue::ecat {
 namespace {
 
-constexpr std::uint16_t kAlStatusReadLength = 6;
 constexpr std::uint8_t kGonePeriods = 3;
 constexpr std::uint8_t kMaxBounces = 3;  // attempts in a row that lost the device again
 constexpr std::uint16_t kSiiBlockLength = 14;  // 0x0502..0x050F: control, address, data
@@ -25,7 +24,7 @@ constexpr std::uint16_t kDcBlockLength = 0x20;  // 0x0910..0x092F: time, receive
 constexpr std::uint16_t kDcLoopRestart = 0x1000;
 constexpr std::uint64_t kSync0MarginPeriods = 10;
 constexpr std::size_t kIdentityWords = 8;
-constexpr hal::Nanoseconds kSdoResponseTimeout = 100 * hal::kNsPerMs;  // MailboxClient's default
+constexpr std::uint8_t kSearchTag = 0x80;  // tag bit: a search datagram (else a step of the slave's state)
 
 constexpr std::uint16_t al_control_value(reg::AlState state, bool acknowledge) noexcept {
   return static_cast<std::uint16_t>(static_cast<std::uint16_t>(state) | (acknowledge ? reg::kAlErrorBit : 0U));
@@ -57,22 +56,22 @@ const char* to_string(RecoveryState state) noexcept {
   return index < kRecoveryStateCount ? SlaveRecoveryTable::kStates[index].name : "?";
 }
 
-SlaveMask Master::recovering() const noexcept {
+SlaveMask RecoveryService::recovering() const noexcept {
   SlaveMask mask = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if (recovery_[p].state != RecoveryState::idle) mask |= slave_bit(p);
+    if (ctx_.slaves[p].recovery.state != RecoveryState::idle) mask |= slave_bit(p);
   }
   return mask;
 }
 
-Master::Places Master::expected_places(std::size_t position) const noexcept {
+RecoveryService::Places RecoveryService::expected_places(std::size_t position) const noexcept {
   // Every slave before it that answered at bring-up occupies a place when it is known to answer
   // (in the exchange, being configured again, or refused: a foreign device is there); one searched
   // for or waiting after a failure may or may not be there.
   Places places;
   for (std::size_t q = 0; q < position; ++q) {
-    if ((present() & slave_bit(q)) == 0) continue;
-    const RecoveryState s = recovery_[q].state;
+    if ((ctx_.present() & slave_bit(q)) == 0) continue;
+    const RecoveryState s = ctx_.slaves[q].recovery.state;
     if (s == RecoveryState::searching || s == RecoveryState::failed) {
       ++places.unknown;
     } else {
@@ -82,79 +81,31 @@ Master::Places Master::expected_places(std::size_t position) const noexcept {
   return places;
 }
 
-void Master::enter_recovery_state(std::size_t p, RecoveryState state) noexcept {
-  Recovery& r = recovery_[p];
+void RecoveryService::enter_state(std::size_t p, RecoveryState state) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
   r.state = state;
   r.sub = 0;
   r.silent = 0;
   r.acknowledge = false;
-  const hal::Nanoseconds now = link_.clock().now();
+  const hal::Nanoseconds now = ctx_.now();
   r.changed_at = now;
-  r.deadline = now + (state == RecoveryState::failed ? hold_off(r.failures) : options_.recovery_step_timeout);
+  r.deadline = now + (state == RecoveryState::failed ? hold_off(r.failures) : ctx_.options.recovery_step_timeout);
   if (state == RecoveryState::identifying) {
     r.words = 0;
     r.sii.fill(0);
   }
-  if (state == RecoveryState::mailbox && plan_[p].mailbox) {
-    mailbox_.configure(p, setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[1].start, setup_[p].sm[1].length);
+  if (state == RecoveryState::mailbox && ctx_.plan[p].mailbox) {
+    const SlaveSetup& setup = ctx_.slaves[p].setup;
+    mailbox_.configure(p, setup.sm[0].start, setup.sm[0].length, setup.sm[1].start, setup.sm[1].length);
   }
-  if (state == RecoveryState::startup_sdos) {
-    // Its PDO mapping first (read, the differences written, read back), then the owner's start-up
-    // SDOs; one transfer of the slave in the queue at a time (feed_recovery_sdos), so several
-    // slaves recovering at once never overflow it.
-    r.sdos_pending = 0;
-    r.sdo_next = 0;
-    r.sdo_refused = false;
-    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].mailbox ? plan_[p].pdo : nullptr, setup_[p].complete_access);
-    feed_recovery_sdos(p);
-  }
+  // Its PDO mapping first (read, the differences written, read back), then the owner's start-up
+  // SDOs (pdo_setup_service.hpp).
+  if (state == RecoveryState::startup_sdos) sdos_.start(p);
+
 }
 
-void Master::feed_recovery_sdos(std::size_t p) noexcept {
-  Recovery& r = recovery_[p];
-  if (r.state != RecoveryState::startup_sdos || r.sdo_refused || r.sdos_pending != 0 || mailbox_.free_slots() == 0) return;
-  PdoSetup& mapping = pdo_setup_[p];
-  if (mapping.failed()) {
-    r.sdo_refused = true;
-    return;
-  }
-  SdoRequest request;
-  bool have = false;
-  if (!mapping.finished()) {
-    if (mapping.pending()) return;
-    have = mapping.next(request);
-  } else {
-    while (!have && r.sdo_next < options_.startup_sdos.size()) {
-      request = options_.startup_sdos[r.sdo_next++];
-      if (request.position != p) continue;
-      request.tag = MailboxClient::kMasterTagBit | static_cast<std::uint32_t>(p);
-      have = true;
-    }
-  }
-  if (!have) return;
-  const std::size_t ahead = MailboxClient::kQueueCapacity - mailbox_.free_slots();
-  if (!mailbox_.submit(request)) {
-    if (!mapping.finished()) mapping.unsubmit();
-    if ((request.tag & kPdoSetupTagBit) == 0 && r.sdo_next > 0) --r.sdo_next;
-    return;  // waits its turn
-  }
-  if ((request.tag & kPdoSetupTagBit) == 0) r.sdos_pending = 1;
-  // Transfers of other slaves queued before this one each may take their response timeout
-  // (one that vanished meanwhile): waiting for them is not this slave's failure.
-  r.deadline = link_.clock().now() + options_.recovery_step_timeout + static_cast<hal::Nanoseconds>(ahead) * kSdoResponseTimeout;
-}
-
-bool Master::recovery_sdos_done(std::size_t p) const noexcept {
-  const Recovery& r = recovery_[p];
-  if (r.sdo_refused || r.sdos_pending != 0 || !pdo_setup_[p].finished() || pdo_setup_[p].failed()) return false;
-  for (std::size_t i = r.sdo_next; i < options_.startup_sdos.size(); ++i) {
-    if (options_.startup_sdos[i].position == p) return false;
-  }
-  return true;
-}
-
-void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
-  Recovery& r = recovery_[p];
+void RecoveryService::take_input(std::size_t p, RecoveryInput input) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
   if (input == RecoveryInput::gone && r.state != RecoveryState::refused) {
     // A device that answers its search but falls silent in every attempt (e.g. its application
     // refuses AL control) would go round Searching for ever: after kMaxBounces such attempts the
@@ -163,61 +114,61 @@ void Master::recovery_input(std::size_t p, RecoveryInput input) noexcept {
   }
   const RecoveryRow* row = SlaveRecoveryTable::find(r.state, input);
   if (row == nullptr) {
-    ++recovery_stats_.table_refusals;
+    ++stats_.table_refusals;
     return;
   }
   const RecoveryState from = r.state;
   const SlaveMask bit = slave_bit(p);
-  const hal::Nanoseconds now = link_.clock().now();
+  const hal::Nanoseconds now = ctx_.now();
   switch (row->to) {
     case RecoveryState::failed: {
       r.bounces = 0;
       // Every failure is reported; the hold-off before the next attempt (from the start: searching)
       // doubles with each failure in a row, so a slave that cannot be recovered costs little.
-      ++recovery_stats_.failed;
+      ++stats_.failed;
       if (r.failures < 0xFF) ++r.failures;
-      monitor_.recovery_event(LinkEventKind::recovery_failed, bit, cycle_, now,
+      ctx_.monitor.recovery_event(LinkEventKind::recovery_failed, bit, ctx_.cycle, now,
                               {static_cast<std::uint32_t>(from), r.failures,
                                static_cast<std::uint32_t>(hold_off(r.failures) / hal::kNsPerMs), 0});
       break;
     }
     case RecoveryState::refused:
-      ++recovery_stats_.refused;
-      monitor_.recovery_event(LinkEventKind::recovery_refused, bit, cycle_, now,
+      ++stats_.refused;
+      ctx_.monitor.recovery_event(LinkEventKind::recovery_refused, bit, ctx_.cycle, now,
                               {word_pair(r.sii, 0), word_pair(r.sii, 2), word_pair(r.sii, 4), word_pair(r.sii, 6)});
       break;
     case RecoveryState::searching:
       if (input == RecoveryInput::not_this_one) r.withdraw = true;
-      if (input == RecoveryInput::lost) r.started_cycle = cycle_;
+      if (input == RecoveryInput::lost) r.started_cycle = ctx_.cycle;
       break;
     case RecoveryState::idle:
-      ++recovery_stats_.recovered;
+      ++stats_.recovered;
       r.failures = 0;
       r.bounces = 0;
-      monitor_.recovered(bit, cycle_, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
+      ctx_.monitor.recovered(bit, ctx_.cycle, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
       break;
     default:
       break;
   }
-  enter_recovery_state(p, row->to);
+  enter_state(p, row->to);
 }
 
-bool Master::add_search(FrameBuilder& frame) noexcept {
-  const std::uint8_t index = link_.index();
-  for (std::size_t i = 0; i < kMaxSlaves; ++i) {
+bool RecoveryService::add_search(CycleFrame& frame) noexcept {
+    for (std::size_t i = 0; i < kMaxSlaves; ++i) {
     const std::size_t p = (search_rotate_ + i) % kMaxSlaves;
-    Recovery& r = recovery_[p];
+    RecoveryProgress& r = ctx_.slaves[p].recovery;
     if (r.state != RecoveryState::searching && r.state != RecoveryState::refused) continue;
     search_rotate_ = p + 1;
-    Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
+    const auto tag = static_cast<std::uint8_t>(p | kSearchTag);
+    bool added = false;
     if (r.withdraw) {
       std::array<std::uint8_t, 2> value{};
       store_le16(value.data(), r.handover);
-      added = frame.add(Command::FPWR, index, make_address(plan_[p].station_address, reg::kStationAddress), 2, ConstByteSpan(value));
+      added = frame.add(*this, tag, Command::FPWR, make_address(ctx_.plan[p].station_address, reg::kStationAddress), 2, ConstByteSpan(value));
     } else if (r.state == RecoveryState::searching && r.by_address) {
       // Slaves behind a power-cycled or reconnected one come back with their station address: found
       // by it wherever they are, whatever returned before them.
-      added = frame.add(Command::FPRD, index, make_address(plan_[p].station_address, reg::kStationAddress), 2);
+      added = frame.add(*this, tag, Command::FPRD, make_address(ctx_.plan[p].station_address, reg::kStationAddress), 2);
     } else {
       if (r.state == RecoveryState::searching) {
         // Its place: after every slave known to answer, plus any of those that may be there.
@@ -225,17 +176,15 @@ bool Master::add_search(FrameBuilder& frame) noexcept {
         r.adp = position_adp(static_cast<std::uint16_t>(places.first + (r.scan % (places.unknown + 1U))));
         ++r.scan;
       }
-      added = frame.add(Command::APRD, index, make_address(r.adp, reg::kStationAddress), 2);
+      added = frame.add(*this, tag, Command::APRD, make_address(r.adp, reg::kStationAddress), 2);
     }
-    if (!added.ok()) return false;
-    planned_[planned_count_++] = Planned{Role::search, static_cast<std::uint8_t>(p)};
-    return true;
+    return added;
   }
   return false;
 }
 
-void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
-  Recovery& r = recovery_[p];
+void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
   if (r.withdraw) {
     r.withdraw = false;  // taken or not: the device is searched for again either way
     r.handover = 0;
@@ -245,7 +194,7 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
   if (r.state == RecoveryState::refused) {
     // The foreign device keeps the station address it was given; when that place holds anything
     // else (or nothing), it has left.
-    if (d.wkc() == 0 || station != plan_[p].station_address) recovery_input(p, RecoveryInput::gone);
+    if (d.wkc() == 0 || station != ctx_.plan[p].station_address) take_input(p, RecoveryInput::gone);
     return;
   }
   if (r.state != RecoveryState::searching) return;
@@ -254,7 +203,7 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
   if (d.wkc() != 1) return;
   if (by_address) {
     r.lost_address = false;
-    recovery_input(p, RecoveryInput::answered_addressed);
+    take_input(p, RecoveryInput::answered_addressed);
     return;
   }
   if (station == 0) {
@@ -264,35 +213,36 @@ void Master::on_search_datagram(std::size_t p, const DatagramView& d) noexcept {
     std::size_t claimant = p;
     const std::uint32_t place = static_cast<std::uint16_t>(0U - r.adp);
     for (std::size_t q = 0; q < p; ++q) {
-      if (recovery_[q].state != RecoveryState::searching || (present() & slave_bit(q)) == 0) continue;
+      if (ctx_.slaves[q].recovery.state != RecoveryState::searching || (ctx_.present() & slave_bit(q)) == 0) continue;
       const Places places = expected_places(q);
       if (place >= places.first && place <= places.first + places.unknown) {
         claimant = q;
         break;
       }
     }
-    recovery_[claimant].adp = r.adp;
-    recovery_[claimant].lost_address = true;
-    recovery_input(claimant, RecoveryInput::answered_unaddressed);
-  } else if (station == plan_[p].station_address) {
+    ctx_.slaves[claimant].recovery.adp = r.adp;
+    ctx_.slaves[claimant].recovery.lost_address = true;
+    take_input(claimant, RecoveryInput::answered_unaddressed);
+  } else if (station == ctx_.plan[p].station_address) {
     r.lost_address = false;
-    recovery_input(p, RecoveryInput::answered_addressed);
+    take_input(p, RecoveryInput::answered_addressed);
   }
   // Any other address: another slave sits at that position (this one is still absent).
 }
 
-bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
-  Recovery& r = recovery_[p];
-  const std::uint8_t index = link_.index();
-  const std::uint16_t station = plan_[p].station_address;
+bool RecoveryService::add_step(CycleFrame& frame, std::size_t p) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
+  const SlaveRecord& slave = ctx_.slaves[p];
+  const auto tag = static_cast<std::uint8_t>(p);
+    const std::uint16_t station = ctx_.plan[p].station_address;
   std::array<std::uint8_t, std::size_t{2} * reg::kFmmuSize> bytes{};
-  Result<DatagramSlot> added = make_error(Errc::capacity_exceeded, "no room");
+  bool added = false;
   const auto write = [&](std::uint16_t ado, std::size_t length) {
-    added = frame.add(Command::FPWR, index, make_address(station, ado), static_cast<std::uint16_t>(length),
+    added = frame.add(*this, tag, Command::FPWR, make_address(station, ado), static_cast<std::uint16_t>(length),
                       ConstByteSpan(bytes.data(), length));
   };
   const auto read = [&](std::uint16_t ado, std::uint16_t length) {
-    added = frame.add(Command::FPRD, index, make_address(station, ado), length);
+    added = frame.add(*this, tag, Command::FPRD, make_address(station, ado), length);
   };
   if (is_al_step(r.state)) {
     if (r.sub == 0) {
@@ -305,7 +255,7 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
     switch (r.state) {
       case RecoveryState::addressing:
         store_le16(bytes.data(), station);
-        added = frame.add(Command::APWR, index, make_address(r.adp, reg::kStationAddress), 2, ConstByteSpan(bytes.data(), 2));
+        added = frame.add(*this, tag, Command::APWR, make_address(r.adp, reg::kStationAddress), 2, ConstByteSpan(bytes.data(), 2));
         break;
       case RecoveryState::identifying:
         if (r.sub < 2) {
@@ -320,15 +270,15 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
         }
         break;
       case RecoveryState::mailbox:
-        fill_mailbox_sms(p, bytes.data());
+        fill_mailbox_sms(slave.setup, bytes.data());
         write(reg::sync_manager(0), std::size_t{2} * reg::kSyncManagerSize);
         break;
       case RecoveryState::process_data:
         if (r.sub == 0) {
-          fill_process_data_sms(p, bytes.data());
+          fill_process_data_sms(slave.setup, ctx_.plan[p], bytes.data());
           write(reg::sync_manager(2), std::size_t{2} * reg::kSyncManagerSize);
         } else {
-          fill_fmmus(p, bytes.data());
+          fill_fmmus(slave.setup, ctx_.plan[p], ctx_.layout.slaves[p], bytes.data());
           write(reg::fmmu(kFmmuOutputs), std::size_t{2} * reg::kFmmuSize);
         }
         break;
@@ -337,7 +287,7 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
           read(reg::kDcSystemTime, kDcBlockLength);
         } else if (r.sub == 1) {
           store_le64(bytes.data(), r.offset);
-          store_le32(bytes.data() + 8, report_.delays[p]);
+          store_le32(bytes.data() + 8, ctx_.report.delays[p]);
           write(reg::kDcSystemTimeOffset, 12);
         } else {
           store_le16(bytes.data(), kDcLoopRestart);
@@ -345,7 +295,7 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
         }
         break;
       case RecoveryState::sync0: {
-        const auto period = static_cast<std::uint64_t>(options_.cycle_time);
+        const auto period = static_cast<std::uint64_t>(ctx_.options.cycle_time);
         if (r.sub == 0) {
           write(reg::kDcCyclicUnitControl, 2);  // unit to ECAT, activation off
         } else if (r.sub == 1) {
@@ -353,8 +303,8 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
           write(reg::kDcSync0CycleTime, 4);
         } else if (r.sub == 2) {
           // In phase with every other slave's SYNC0: the bring-up's start plus whole periods.
-          const std::uint64_t earliest = latest_reference_time_ + kSync0MarginPeriods * period;
-          const std::uint64_t base = report_.sync0_start;
+          const std::uint64_t earliest = dc_.latest_reference_time() + kSync0MarginPeriods * period;
+          const std::uint64_t base = ctx_.report.sync0_start;
           const std::uint64_t start = earliest <= base ? base : base + ((earliest - base) / period + 1) * period;
           store_le64(bytes.data(), start);
           write(reg::kDcStartTime, 8);
@@ -368,81 +318,79 @@ bool Master::add_recovery_step(FrameBuilder& frame, std::size_t p) noexcept {
         return false;
     }
   }
-  if (!added.ok()) return false;
-  planned_[planned_count_++] = Planned{Role::recovery, static_cast<std::uint8_t>(p)};
-  return true;
+  return added;
 }
 
-void Master::add_recovery_datagrams(FrameBuilder& frame) noexcept {
-  recovery_datagrams_this_cycle_ = 0;
-  if (!options_.online_recovery) return;
-  const unsigned budget = options_.recovery_datagrams_per_cycle;
+void RecoveryService::add_datagrams(CycleFrame& frame) noexcept {
+  if (ctx_.state != MasterState::op) return;
+  datagrams_this_cycle_ = 0;
+  if (!ctx_.options.online_recovery) return;
+  const unsigned budget = ctx_.options.recovery_datagrams_per_cycle;
   bool searching = false;
-  for (const Recovery& r : recovery_) {
+  for (const SlaveRecord& slave : ctx_.slaves) {
+    const RecoveryProgress& r = slave.recovery;
     searching = searching || r.state == RecoveryState::searching || r.state == RecoveryState::refused;
   }
   // One place for a search when something is searched for and the budget has more than one.
   const unsigned for_steps = searching && budget > 1 ? budget - 1 : budget;
-  for (std::size_t i = 0; i < kMaxSlaves && recovery_datagrams_this_cycle_ < for_steps; ++i) {
-    const std::size_t p = (recovery_rotate_ + i) % kMaxSlaves;
-    const RecoveryState s = recovery_[p].state;
+  for (std::size_t i = 0; i < kMaxSlaves && datagrams_this_cycle_ < for_steps; ++i) {
+    const std::size_t p = (rotate_ + i) % kMaxSlaves;
+    const RecoveryState s = ctx_.slaves[p].recovery.state;
     if (s == RecoveryState::idle || s == RecoveryState::searching || s == RecoveryState::refused || s == RecoveryState::failed ||
         s == RecoveryState::startup_sdos) {
       continue;
     }
-    if (add_recovery_step(frame, p)) ++recovery_datagrams_this_cycle_;
+    if (add_step(frame, p)) ++datagrams_this_cycle_;
   }
-  recovery_rotate_ = (recovery_rotate_ + 1) % kMaxSlaves;
-  if (searching && recovery_datagrams_this_cycle_ < budget && add_search(frame)) ++recovery_datagrams_this_cycle_;
-  recovery_stats_.datagrams += recovery_datagrams_this_cycle_;
-  if (recovery_datagrams_this_cycle_ > recovery_stats_.max_datagrams_per_cycle) {
-    recovery_stats_.max_datagrams_per_cycle = recovery_datagrams_this_cycle_;
+  rotate_ = (rotate_ + 1) % kMaxSlaves;
+  if (searching && datagrams_this_cycle_ < budget && add_search(frame)) ++datagrams_this_cycle_;
+  stats_.datagrams += datagrams_this_cycle_;
+  if (datagrams_this_cycle_ > stats_.max_datagrams_per_cycle) {
+    stats_.max_datagrams_per_cycle = datagrams_this_cycle_;
   }
 }
 
-void Master::check_identity(std::size_t p) noexcept {
-  const Recovery& r = recovery_[p];
+void RecoveryService::check_identity(std::size_t p) noexcept {
+  const RecoveryProgress& r = ctx_.slaves[p].recovery;
   const std::uint32_t vendor = word_pair(r.sii, 0);
   const std::uint32_t product = word_pair(r.sii, 2);
   const std::uint32_t revision = word_pair(r.sii, 4);
   const std::uint32_t serial = word_pair(r.sii, 6);
-  if (vendor != plan_[p].vendor_id || product != plan_[p].product_code) {
-    recovery_input(p, RecoveryInput::foreign);
+  if (vendor != ctx_.plan[p].vendor_id || product != ctx_.plan[p].product_code) {
+    take_input(p, RecoveryInput::foreign);
     return;
   }
-  const std::uint8_t found = report_.match.found_of_slot[p];
-  if (found != kNoPosition && found < report_.found.size()) {
-    const FoundSlave& before = report_.found[found];
+  if (ctx_.slaves[p].identified) {
+    const FoundSlave& before = ctx_.slaves[p].identity;
     if (revision != before.revision) {
-      recovery_input(p, RecoveryInput::foreign);
+      take_input(p, RecoveryInput::foreign);
       return;
     }
     if (serial != before.serial_number) {
       // Another slave's device (found at the place this one expected): it gets that slave's
       // station address instead of 0, so that slave's search by address finds it next.
       const std::size_t owner = owner_of_identity(p);
-      recovery_input(p, RecoveryInput::not_this_one);
+      take_input(p, RecoveryInput::not_this_one);
       if (owner < kMaxSlaves) {
-        recovery_[p].handover = plan_[owner].station_address;
-        recovery_[owner].lost_address = true;
-        recovery_[owner].by_address = true;
+        ctx_.slaves[p].recovery.handover = ctx_.plan[owner].station_address;
+        ctx_.slaves[owner].recovery.lost_address = true;
+        ctx_.slaves[owner].recovery.by_address = true;
       }
       return;
     }
-  } else if (revision != plan_[p].revision) {
-    recovery_input(p, RecoveryInput::foreign);
+  } else if (revision != ctx_.plan[p].revision) {
+    take_input(p, RecoveryInput::foreign);
     return;
   }
-  recovery_input(p, RecoveryInput::step_done);
+  take_input(p, RecoveryInput::step_done);
 }
 
-std::size_t Master::owner_of_identity(std::size_t finder) const noexcept {
-  const std::array<std::uint16_t, 8>& w = recovery_[finder].sii;
+std::size_t RecoveryService::owner_of_identity(std::size_t finder) const noexcept {
+  const std::array<std::uint16_t, 8>& w = ctx_.slaves[finder].recovery.sii;
   for (std::size_t q = 0; q < kMaxSlaves; ++q) {
-    if (q == finder || (recovery_[q].state != RecoveryState::searching && recovery_[q].state != RecoveryState::failed)) continue;
-    const std::uint8_t found = report_.match.found_of_slot[q];
-    if (found == kNoPosition || found >= report_.found.size()) continue;
-    const FoundSlave& before = report_.found[found];
+    if (q == finder || (ctx_.slaves[q].recovery.state != RecoveryState::searching && ctx_.slaves[q].recovery.state != RecoveryState::failed)) continue;
+    if (!ctx_.slaves[q].identified) continue;
+    const FoundSlave& before = ctx_.slaves[q].identity;
     if (word_pair(w, 0) == before.vendor_id && word_pair(w, 2) == before.product_code && word_pair(w, 4) == before.revision &&
         word_pair(w, 6) == before.serial_number) {
       return q;
@@ -451,17 +399,16 @@ std::size_t Master::owner_of_identity(std::size_t finder) const noexcept {
   return kMaxSlaves;
 }
 
-hal::Nanoseconds Master::hold_off(std::uint8_t failures) const noexcept {
-  hal::Nanoseconds wait = options_.recovery_hold_off;
-  for (std::uint8_t k = 1; k < failures && wait < options_.recovery_hold_off_max; ++k) wait *= 2;
-  return wait < options_.recovery_hold_off_max ? wait : options_.recovery_hold_off_max;
+hal::Nanoseconds RecoveryService::hold_off(std::uint8_t failures) const noexcept {
+  hal::Nanoseconds wait = ctx_.options.recovery_hold_off;
+  for (std::uint8_t k = 1; k < failures && wait < ctx_.options.recovery_hold_off_max; ++k) wait *= 2;
+  return wait < ctx_.options.recovery_hold_off_max ? wait : ctx_.options.recovery_hold_off_max;
 }
 
-void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept {
-  if (p >= kMaxSlaves) return;
-  Recovery& r = recovery_[p];
+void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
   if (d.wkc() != 1) {
-    if (++r.silent >= kGonePeriods) recovery_input(p, RecoveryInput::gone);
+    if (++r.silent >= kGonePeriods) take_input(p, RecoveryInput::gone);
     return;  // same step again next period
   }
   r.silent = 0;
@@ -472,20 +419,20 @@ void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept
       return;
     }
     const std::uint16_t status = load_le16(data);
-    note_al_status(p, data);
+    ctx_.slaves[p].note_al_status(data);
     const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state));
     if ((status & reg::kAlErrorBit) != 0) {
       r.acknowledge = true;  // acknowledge and ask again
       r.sub = 0;
     } else if ((status & reg::kAlStateMask) == wanted) {
-      recovery_input(p, RecoveryInput::step_done);
+      take_input(p, RecoveryInput::step_done);
     }
     return;
   }
   switch (r.state) {
     case RecoveryState::addressing:
     case RecoveryState::mailbox:
-      recovery_input(p, RecoveryInput::step_done);
+      take_input(p, RecoveryInput::step_done);
       break;
     case RecoveryState::identifying: {
       if (r.sub < 2 || r.sub % 2 == 0) {
@@ -513,29 +460,29 @@ void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept
       if (r.sub == 0) {
         r.sub = 1;
       } else {
-        recovery_input(p, RecoveryInput::step_done);
+        take_input(p, RecoveryInput::step_done);
       }
       break;
     case RecoveryState::clock:
       if (r.sub == 0) {
-        if (frame_reference_time_ == 0) break;  // the reference did not answer: read again
+        if (dc_.frame_reference_time() == 0) break;  // the reference did not answer: read again
         // Its system time should equal the reference's at the instant the frame passed it: the
         // reference's time (read by the same frame) plus the propagation delay between them.
         const std::uint64_t system_time = load_le64(data);
         const std::uint64_t old_offset = load_le64(data + 16);
-        r.offset = old_offset + (frame_reference_time_ + report_.delays[p]) - system_time;
+        r.offset = old_offset + (dc_.frame_reference_time() + ctx_.report.delays[p]) - system_time;
         r.sub = 1;
       } else if (r.sub == 1) {
         r.sub = 2;
       } else {
-        recovery_input(p, RecoveryInput::step_done);
+        take_input(p, RecoveryInput::step_done);
       }
       break;
     case RecoveryState::sync0:
       if (r.sub < 3) {
         ++r.sub;
       } else {
-        recovery_input(p, RecoveryInput::step_done);
+        take_input(p, RecoveryInput::step_done);
       }
       break;
     default:
@@ -543,58 +490,50 @@ void Master::on_recovery_datagram(std::size_t p, const DatagramView& d) noexcept
   }
 }
 
-void Master::step_recovery() noexcept {
-  if (!options_.online_recovery) return;
-  const hal::Nanoseconds now = link_.clock().now();
-  // Completions of the recovery's start-up SDOs, then the next ones in (paced: a transfer that
-  // does not fit the queue waits its turn).
-  SdoCompletion done;
-  while (mailbox_.pop_master_completion(done)) {
-    const std::size_t p = done.request.position;
-    if (p >= kMaxSlaves || recovery_[p].state != RecoveryState::startup_sdos) continue;
-    Recovery& r = recovery_[p];
-    if ((done.request.tag & kPdoSetupTagBit) != 0) {
-      pdo_setup_[p].on_completion(done);
-      if (pdo_setup_[p].failed()) r.sdo_refused = true;
-    } else {
-      r.sdos_pending = 0;
-      if (done.outcome != SdoOutcome::ok) r.sdo_refused = true;
-    }
+void RecoveryService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept {
+  const std::size_t p = tag & static_cast<std::uint8_t>(~kSearchTag);
+  if ((tag & kSearchTag) != 0) {
+    on_search_answer(p, d);
+  } else {
+    on_step_answer(p, d);
   }
-  for (std::size_t i = 0; i < kMaxSlaves; ++i) feed_recovery_sdos((sdo_rotate_ + i) % kMaxSlaves);
-  sdo_rotate_ = (sdo_rotate_ + 1) % kMaxSlaves;
-  const SlaveMask out = monitor_.out_of_exchange() & operated() & ~reintegrating_;
+}
+
+void RecoveryService::settle(CycleResult& /*result*/) noexcept {
+  if (ctx_.state != MasterState::op || !ctx_.options.online_recovery) return;
+  const hal::Nanoseconds now = ctx_.now();
+  const SlaveMask out = ctx_.monitor.out_of_exchange() & ctx_.operated() & ~reintegration_.reintegrating();
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    const Recovery& r = recovery_[p];
+    const RecoveryProgress& r = ctx_.slaves[p].recovery;
     const SlaveMask bit = slave_bit(p);
     if (r.state == RecoveryState::idle) {
-      if ((out & bit) != 0) recovery_input(p, RecoveryInput::lost);
+      if ((out & bit) != 0) take_input(p, RecoveryInput::lost);
       continue;
     }
     // States with nothing to write for this slave are done at once.
-    const bool skip = (r.state == RecoveryState::mailbox && !plan_[p].mailbox) ||
-                      (r.state == RecoveryState::process_data && plan_[p].output_bytes + plan_[p].input_bytes == 0) ||
-                      (r.state == RecoveryState::clock && (dc_slaves_ & bit) == 0) ||
-                      (r.state == RecoveryState::sync0 && (!plan_[p].dc_sync0 || (dc_slaves_ & bit) == 0)) ||
-                      (r.state == RecoveryState::startup_sdos && recovery_sdos_done(p));
+    const bool skip = (r.state == RecoveryState::mailbox && !ctx_.plan[p].mailbox) ||
+                      (r.state == RecoveryState::process_data && ctx_.plan[p].output_bytes + ctx_.plan[p].input_bytes == 0) ||
+                      (r.state == RecoveryState::clock && (ctx_.dc_slaves & bit) == 0) ||
+                      (r.state == RecoveryState::sync0 && (!ctx_.plan[p].dc_sync0 || (ctx_.dc_slaves & bit) == 0)) ||
+                      (r.state == RecoveryState::startup_sdos && sdos_.done(p));
     if (skip) {
-      recovery_input(p, RecoveryInput::step_done);
+      take_input(p, RecoveryInput::step_done);
       continue;
     }
     if (r.state == RecoveryState::failed) {
-      if (now >= r.deadline) recovery_input(p, RecoveryInput::retry);
+      if (now >= r.deadline) take_input(p, RecoveryInput::retry);
       continue;
     }
     // A refused start-up SDO (the mapping could not be set) fails the attempt at once.
     if (r.state == RecoveryState::startup_sdos && r.sdo_refused) {
-      recovery_input(p, RecoveryInput::timeout);
+      take_input(p, RecoveryInput::timeout);
       continue;
     }
     if (r.state != RecoveryState::searching && r.state != RecoveryState::refused && now > r.deadline) {
-      recovery_input(p, RecoveryInput::timeout);
+      take_input(p, RecoveryInput::timeout);
     }
   }
-  monitor_.set_recovering(recovering());
+  ctx_.monitor.set_recovering(recovering());
 }
 
 }  // namespace rescue::ecat
