@@ -106,7 +106,7 @@ class Master {
   [[nodiscard]] bool reintegrate(SlaveMask slaves) noexcept { return reintegration_.reintegrate(slaves); }
 
   // Online recovery (MasterOptions::online_recovery): where each slave stands, and the counters.
-  RecoveryState recovery_state(std::size_t position) const noexcept { return slaves_[position].recovery.state; }
+  RecoveryState recovery_state(std::size_t position) const noexcept { return slaves_[position].recovery.state(); }
   // When the slave's recovery state last changed (master clock; 0 = never since bring-up), and its
   // failed attempts in a row (each one doubles the hold-off before it searches again).
   hal::Nanoseconds recovery_changed_at(std::size_t position) const noexcept { return slaves_[position].recovery.changed_at; }

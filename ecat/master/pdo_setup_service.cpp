@@ -20,7 +20,7 @@ void PdoSetupService::start(std::size_t p) noexcept {
 
 void PdoSetupService::feed(std::size_t p) noexcept {
   RecoveryProgress& r = ctx_.slaves[p].recovery;
-  if (r.state != RecoveryState::startup_sdos || r.sdo_refused || r.sdos_pending != 0 || mailbox_.free_slots() == 0) return;
+  if (r.state() != RecoveryState::startup_sdos || r.sdo_refused || r.sdos_pending != 0 || mailbox_.free_slots() == 0) return;
   PdoSetup& mapping = ctx_.slaves[p].pdo;
   if (mapping.failed()) {
     r.sdo_refused = true;
@@ -71,7 +71,7 @@ void PdoSetupService::settle(CycleResult& /*result*/) noexcept {
   SdoCompletion completion;
   while (mailbox_.pop_master_completion(completion)) {
     const std::size_t p = completion.request.position;
-    if (p >= kMaxSlaves || ctx_.slaves[p].recovery.state != RecoveryState::startup_sdos) continue;
+    if (p >= kMaxSlaves || ctx_.slaves[p].recovery.state() != RecoveryState::startup_sdos) continue;
     RecoveryProgress& r = ctx_.slaves[p].recovery;
     if ((completion.request.tag & kPdoSetupTagBit) != 0) {
       ctx_.slaves[p].pdo.on_completion(completion);

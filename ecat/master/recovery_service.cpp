@@ -59,7 +59,7 @@ const char* to_string(RecoveryState state) noexcept {
 SlaveMask RecoveryService::recovering() const noexcept {
   SlaveMask mask = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if (ctx_.slaves[p].recovery.state != RecoveryState::idle) mask |= slave_bit(p);
+    if (ctx_.slaves[p].recovery.state() != RecoveryState::idle) mask |= slave_bit(p);
   }
   return mask;
 }
@@ -71,7 +71,7 @@ RecoveryService::Places RecoveryService::expected_places(std::size_t position) c
   Places places;
   for (std::size_t q = 0; q < position; ++q) {
     if ((ctx_.present() & slave_bit(q)) == 0) continue;
-    const RecoveryState s = ctx_.slaves[q].recovery.state;
+    const RecoveryState s = ctx_.slaves[q].recovery.state();
     if (s == RecoveryState::searching || s == RecoveryState::failed) {
       ++places.unknown;
     } else {
@@ -81,83 +81,89 @@ RecoveryService::Places RecoveryService::expected_places(std::size_t position) c
   return places;
 }
 
-void RecoveryService::enter_state(std::size_t p, RecoveryState state) noexcept {
-  RecoveryProgress& r = ctx_.slaves[p].recovery;
-  r.state = state;
+void RecoveryActions::enter_state(RecoveryContext& ctx) noexcept {
+  RecoveryService& service = ctx.service;
+  const std::size_t p = ctx.position;
+  RecoveryProgress& r = service.ctx_.slaves[p].recovery;
+  const RecoveryState state = r.state();
   r.sub = 0;
   r.silent = 0;
   r.acknowledge = false;
-  const hal::Nanoseconds now = ctx_.now();
+  const hal::Nanoseconds now = service.ctx_.now();
   r.changed_at = now;
-  r.deadline = now + (state == RecoveryState::failed ? hold_off(r.failures) : ctx_.options.recovery_step_timeout);
+  r.deadline = now + (state == RecoveryState::failed ? service.hold_off(r.failures) : service.ctx_.options.recovery_step_timeout);
   if (state == RecoveryState::identifying) {
     r.words = 0;
     r.sii.fill(0);
   }
-  if (state == RecoveryState::mailbox && ctx_.plan[p].mailbox) {
-    const SlaveSetup& setup = ctx_.slaves[p].setup;
-    mailbox_.configure(p, setup.sm[0].start, setup.sm[0].length, setup.sm[1].start, setup.sm[1].length);
+  if (state == RecoveryState::mailbox && service.ctx_.plan[p].mailbox) {
+    const SlaveSetup& setup = service.ctx_.slaves[p].setup;
+    service.mailbox_.configure(p, setup.sm[0].start, setup.sm[0].length, setup.sm[1].start, setup.sm[1].length);
   }
   // Its PDO mapping first (read, the differences written, read back), then the owner's start-up
   // SDOs (pdo_setup_service.hpp).
-  if (state == RecoveryState::startup_sdos) sdos_.start(p);
+  if (state == RecoveryState::startup_sdos) service.sdos_.start(p);
+}
 
+void RecoveryActions::watch_position(RecoveryContext& ctx) noexcept {
+  ctx.service.ctx_.slaves[ctx.position].recovery.started_cycle = ctx.service.ctx_.cycle;
+}
+
+void RecoveryActions::withdraw_address(RecoveryContext& ctx) noexcept {
+  ctx.service.ctx_.slaves[ctx.position].recovery.withdraw = true;
+}
+
+void RecoveryActions::report_failed(RecoveryContext& ctx) noexcept {
+  RecoveryService& service = ctx.service;
+  RecoveryProgress& r = service.ctx_.slaves[ctx.position].recovery;
+  r.bounces = 0;
+  // Every failure is reported; the hold-off before the next attempt (from the start: searching)
+  // doubles with each failure in a row, so a slave that cannot be recovered costs little.
+  ++service.stats_.failed;
+  if (r.failures < 0xFF) ++r.failures;
+  service.ctx_.monitor.recovery_event(LinkEventKind::recovery_failed, slave_bit(ctx.position), service.ctx_.cycle,
+                                      service.ctx_.now(),
+                                      {static_cast<std::uint32_t>(r.state()), r.failures,
+                                       static_cast<std::uint32_t>(service.hold_off(r.failures) / hal::kNsPerMs), 0});
+}
+
+void RecoveryActions::report_refused(RecoveryContext& ctx) noexcept {
+  RecoveryService& service = ctx.service;
+  const RecoveryProgress& r = service.ctx_.slaves[ctx.position].recovery;
+  ++service.stats_.refused;
+  service.ctx_.monitor.recovery_event(LinkEventKind::recovery_refused, slave_bit(ctx.position), service.ctx_.cycle,
+                                      service.ctx_.now(),
+                                      {word_pair(r.sii, 0), word_pair(r.sii, 2), word_pair(r.sii, 4), word_pair(r.sii, 6)});
+}
+
+void RecoveryActions::report_recovered(RecoveryContext& ctx) noexcept {
+  RecoveryService& service = ctx.service;
+  RecoveryProgress& r = service.ctx_.slaves[ctx.position].recovery;
+  ++service.stats_.recovered;
+  r.failures = 0;
+  r.bounces = 0;
+  service.ctx_.monitor.recovered(slave_bit(ctx.position), service.ctx_.cycle, service.ctx_.now(),
+                                 r.lost_address ? kRecoveredAfterPowerLoss : 0);
 }
 
 void RecoveryService::take_input(std::size_t p, RecoveryInput input) noexcept {
   RecoveryProgress& r = ctx_.slaves[p].recovery;
-  if (input == RecoveryInput::gone && r.state != RecoveryState::refused) {
+  if (input == RecoveryInput::gone && r.state() != RecoveryState::refused) {
     // A device that answers its search but falls silent in every attempt (e.g. its application
     // refuses AL control) would go round Searching for ever: after kMaxBounces such attempts the
     // attempt counts as failed (reported, retried after the hold-off).
     if (++r.bounces >= kMaxBounces) input = RecoveryInput::timeout;
   }
-  const RecoveryRow* row = SlaveRecoveryTable::find(r.state, input);
-  if (row == nullptr) {
-    ++stats_.table_refusals;
-    return;
-  }
-  const RecoveryState from = r.state;
-  const SlaveMask bit = slave_bit(p);
-  const hal::Nanoseconds now = ctx_.now();
-  switch (row->to) {
-    case RecoveryState::failed: {
-      r.bounces = 0;
-      // Every failure is reported; the hold-off before the next attempt (from the start: searching)
-      // doubles with each failure in a row, so a slave that cannot be recovered costs little.
-      ++stats_.failed;
-      if (r.failures < 0xFF) ++r.failures;
-      ctx_.monitor.recovery_event(LinkEventKind::recovery_failed, bit, ctx_.cycle, now,
-                              {static_cast<std::uint32_t>(from), r.failures,
-                               static_cast<std::uint32_t>(hold_off(r.failures) / hal::kNsPerMs), 0});
-      break;
-    }
-    case RecoveryState::refused:
-      ++stats_.refused;
-      ctx_.monitor.recovery_event(LinkEventKind::recovery_refused, bit, ctx_.cycle, now,
-                              {word_pair(r.sii, 0), word_pair(r.sii, 2), word_pair(r.sii, 4), word_pair(r.sii, 6)});
-      break;
-    case RecoveryState::searching:
-      if (input == RecoveryInput::not_this_one) r.withdraw = true;
-      if (input == RecoveryInput::lost) r.started_cycle = ctx_.cycle;
-      break;
-    case RecoveryState::idle:
-      ++stats_.recovered;
-      r.failures = 0;
-      r.bounces = 0;
-      ctx_.monitor.recovered(bit, ctx_.cycle, now, r.lost_address ? kRecoveredAfterPowerLoss : 0);
-      break;
-    default:
-      break;
-  }
-  enter_state(p, row->to);
+  RecoveryContext context{*this, p, input};
+  // A (state, input) pair without a row is refused by the engine: counted (a bug if ever seen).
+  if (!r.machine.dispatch(context, input).ok()) ++stats_.table_refusals;
 }
 
 bool RecoveryService::add_search(CycleFrame& frame) noexcept {
     for (std::size_t i = 0; i < kMaxSlaves; ++i) {
     const std::size_t p = (search_rotate_ + i) % kMaxSlaves;
     RecoveryProgress& r = ctx_.slaves[p].recovery;
-    if (r.state != RecoveryState::searching && r.state != RecoveryState::refused) continue;
+    if (r.state() != RecoveryState::searching && r.state() != RecoveryState::refused) continue;
     search_rotate_ = p + 1;
     const auto tag = static_cast<std::uint8_t>(p | kSearchTag);
     bool added = false;
@@ -165,12 +171,12 @@ bool RecoveryService::add_search(CycleFrame& frame) noexcept {
       std::array<std::uint8_t, 2> value{};
       store_le16(value.data(), r.handover);
       added = frame.add(*this, tag, Command::FPWR, make_address(ctx_.plan[p].station_address, reg::kStationAddress), 2, ConstByteSpan(value));
-    } else if (r.state == RecoveryState::searching && r.by_address) {
+    } else if (r.state() == RecoveryState::searching && r.by_address) {
       // Slaves behind a power-cycled or reconnected one come back with their station address: found
       // by it wherever they are, whatever returned before them.
       added = frame.add(*this, tag, Command::FPRD, make_address(ctx_.plan[p].station_address, reg::kStationAddress), 2);
     } else {
-      if (r.state == RecoveryState::searching) {
+      if (r.state() == RecoveryState::searching) {
         // Its place: after every slave known to answer, plus any of those that may be there.
         const Places places = expected_places(p);
         r.adp = position_adp(static_cast<std::uint16_t>(places.first + (r.scan % (places.unknown + 1U))));
@@ -191,13 +197,13 @@ void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noe
     return;
   }
   const std::uint16_t station = d.wkc() == 1 ? load_le16(d.data().data()) : 0;
-  if (r.state == RecoveryState::refused) {
+  if (r.state() == RecoveryState::refused) {
     // The foreign device keeps the station address it was given; when that place holds anything
     // else (or nothing), it has left.
     if (d.wkc() == 0 || station != ctx_.plan[p].station_address) take_input(p, RecoveryInput::gone);
     return;
   }
-  if (r.state != RecoveryState::searching) return;
+  if (r.state() != RecoveryState::searching) return;
   const bool by_address = r.by_address;
   r.by_address = !by_address;  // the two searches alternate
   if (d.wkc() != 1) return;
@@ -213,7 +219,7 @@ void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noe
     std::size_t claimant = p;
     const std::uint32_t place = static_cast<std::uint16_t>(0U - r.adp);
     for (std::size_t q = 0; q < p; ++q) {
-      if (ctx_.slaves[q].recovery.state != RecoveryState::searching || (ctx_.present() & slave_bit(q)) == 0) continue;
+      if (ctx_.slaves[q].recovery.state() != RecoveryState::searching || (ctx_.present() & slave_bit(q)) == 0) continue;
       const Places places = expected_places(q);
       if (place >= places.first && place <= places.first + places.unknown) {
         claimant = q;
@@ -244,15 +250,15 @@ bool RecoveryService::add_step(CycleFrame& frame, std::size_t p) noexcept {
   const auto read = [&](std::uint16_t ado, std::uint16_t length) {
     added = frame.add(*this, tag, Command::FPRD, make_address(station, ado), length);
   };
-  if (is_al_step(r.state)) {
+  if (is_al_step(r.state())) {
     if (r.sub == 0) {
-      store_le16(bytes.data(), al_control_value(target_al_state(r.state), r.acknowledge || r.state == RecoveryState::resetting));
+      store_le16(bytes.data(), al_control_value(target_al_state(r.state()), r.acknowledge || r.state() == RecoveryState::resetting));
       write(reg::kAlControl, 2);
     } else {
       read(reg::kAlStatus, kAlStatusReadLength);
     }
   } else {
-    switch (r.state) {
+    switch (r.state()) {
       case RecoveryState::addressing:
         store_le16(bytes.data(), station);
         added = frame.add(*this, tag, Command::APWR, make_address(r.adp, reg::kStationAddress), 2, ConstByteSpan(bytes.data(), 2));
@@ -329,13 +335,13 @@ void RecoveryService::add_datagrams(CycleFrame& frame) noexcept {
   bool searching = false;
   for (const SlaveRecord& slave : ctx_.slaves) {
     const RecoveryProgress& r = slave.recovery;
-    searching = searching || r.state == RecoveryState::searching || r.state == RecoveryState::refused;
+    searching = searching || r.state() == RecoveryState::searching || r.state() == RecoveryState::refused;
   }
   // One place for a search when something is searched for and the budget has more than one.
   const unsigned for_steps = searching && budget > 1 ? budget - 1 : budget;
   for (std::size_t i = 0; i < kMaxSlaves && datagrams_this_cycle_ < for_steps; ++i) {
     const std::size_t p = (rotate_ + i) % kMaxSlaves;
-    const RecoveryState s = ctx_.slaves[p].recovery.state;
+    const RecoveryState s = ctx_.slaves[p].recovery.state();
     if (s == RecoveryState::idle || s == RecoveryState::searching || s == RecoveryState::refused || s == RecoveryState::failed ||
         s == RecoveryState::startup_sdos) {
       continue;
@@ -388,7 +394,7 @@ void RecoveryService::check_identity(std::size_t p) noexcept {
 std::size_t RecoveryService::owner_of_identity(std::size_t finder) const noexcept {
   const std::array<std::uint16_t, 8>& w = ctx_.slaves[finder].recovery.sii;
   for (std::size_t q = 0; q < kMaxSlaves; ++q) {
-    if (q == finder || (ctx_.slaves[q].recovery.state != RecoveryState::searching && ctx_.slaves[q].recovery.state != RecoveryState::failed)) continue;
+    if (q == finder || (ctx_.slaves[q].recovery.state() != RecoveryState::searching && ctx_.slaves[q].recovery.state() != RecoveryState::failed)) continue;
     if (!ctx_.slaves[q].identified) continue;
     const FoundSlave& before = ctx_.slaves[q].identity;
     if (word_pair(w, 0) == before.vendor_id && word_pair(w, 2) == before.product_code && word_pair(w, 4) == before.revision &&
@@ -413,14 +419,14 @@ void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexc
   }
   r.silent = 0;
   const std::uint8_t* data = d.data().data();
-  if (is_al_step(r.state)) {
+  if (is_al_step(r.state())) {
     if (r.sub == 0) {
       r.sub = 1;
       return;
     }
     const std::uint16_t status = load_le16(data);
     ctx_.slaves[p].note_al_status(data);
-    const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state));
+    const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state()));
     if ((status & reg::kAlErrorBit) != 0) {
       r.acknowledge = true;  // acknowledge and ask again
       r.sub = 0;
@@ -429,7 +435,7 @@ void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexc
     }
     return;
   }
-  switch (r.state) {
+  switch (r.state()) {
     case RecoveryState::addressing:
     case RecoveryState::mailbox:
       take_input(p, RecoveryInput::step_done);
@@ -506,30 +512,30 @@ void RecoveryService::settle(CycleResult& /*result*/) noexcept {
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     const RecoveryProgress& r = ctx_.slaves[p].recovery;
     const SlaveMask bit = slave_bit(p);
-    if (r.state == RecoveryState::idle) {
+    if (r.state() == RecoveryState::idle) {
       if ((out & bit) != 0) take_input(p, RecoveryInput::lost);
       continue;
     }
     // States with nothing to write for this slave are done at once.
-    const bool skip = (r.state == RecoveryState::mailbox && !ctx_.plan[p].mailbox) ||
-                      (r.state == RecoveryState::process_data && ctx_.plan[p].output_bytes + ctx_.plan[p].input_bytes == 0) ||
-                      (r.state == RecoveryState::clock && (ctx_.dc_slaves & bit) == 0) ||
-                      (r.state == RecoveryState::sync0 && (!ctx_.plan[p].dc_sync0 || (ctx_.dc_slaves & bit) == 0)) ||
-                      (r.state == RecoveryState::startup_sdos && sdos_.done(p));
+    const bool skip = (r.state() == RecoveryState::mailbox && !ctx_.plan[p].mailbox) ||
+                      (r.state() == RecoveryState::process_data && ctx_.plan[p].output_bytes + ctx_.plan[p].input_bytes == 0) ||
+                      (r.state() == RecoveryState::clock && (ctx_.dc_slaves & bit) == 0) ||
+                      (r.state() == RecoveryState::sync0 && (!ctx_.plan[p].dc_sync0 || (ctx_.dc_slaves & bit) == 0)) ||
+                      (r.state() == RecoveryState::startup_sdos && sdos_.done(p));
     if (skip) {
       take_input(p, RecoveryInput::step_done);
       continue;
     }
-    if (r.state == RecoveryState::failed) {
+    if (r.state() == RecoveryState::failed) {
       if (now >= r.deadline) take_input(p, RecoveryInput::retry);
       continue;
     }
     // A refused start-up SDO (the mapping could not be set) fails the attempt at once.
-    if (r.state == RecoveryState::startup_sdos && r.sdo_refused) {
+    if (r.state() == RecoveryState::startup_sdos && r.sdo_refused) {
       take_input(p, RecoveryInput::timeout);
       continue;
     }
-    if (r.state != RecoveryState::searching && r.state != RecoveryState::refused && now > r.deadline) {
+    if (r.state() != RecoveryState::searching && r.state() != RecoveryState::refused && now > r.deadline) {
       take_input(p, RecoveryInput::timeout);
     }
   }

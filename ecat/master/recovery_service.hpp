@@ -46,8 +46,9 @@ class RecoveryService final : public CyclicService {
   bool add_search(CycleFrame& frame) noexcept;
   void on_step_answer(std::size_t position, const DatagramView& datagram) noexcept;
   void on_search_answer(std::size_t position, const DatagramView& datagram) noexcept;
+  // The slave_recovery machine's input; its actions (RecoveryActions) act on this service.
   void take_input(std::size_t position, RecoveryInput input) noexcept;
-  void enter_state(std::size_t position, RecoveryState state) noexcept;
+  friend struct RecoveryActions;
   void check_identity(std::size_t position) noexcept;
   // The slave being searched for whose bring-up identity is this device's (kMaxSlaves: none).
   std::size_t owner_of_identity(std::size_t finder) const noexcept;

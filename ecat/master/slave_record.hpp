@@ -40,7 +40,7 @@ enum class ReStep : std::uint8_t { fmmus, status, acknowledge, request_op };
 
 // Online recovery (recovery_service.hpp), the state of the slave_recovery table and what its steps keep.
 struct RecoveryProgress {
-  RecoveryState state{RecoveryState::idle};
+  SlaveRecoveryMachine machine{};  // its state in the slave_recovery table
   std::uint8_t sub{0};             // step within the state
   std::uint8_t silent{0};          // datagrams in a row with working counter 0
   std::uint8_t words{0};           // SII words 0x08.. read so far
@@ -61,6 +61,8 @@ struct RecoveryProgress {
   std::array<std::uint16_t, 8> sii{};  // SII words 0x08..0x0F
   std::uint64_t offset{0};         // new system time offset (clock)
   std::uint64_t started_cycle{0};
+
+  RecoveryState state() const noexcept { return machine.state(); }
 };
 
 struct SlaveRecord {
