@@ -53,19 +53,19 @@ class CycleFrame;
 
 class CyclicService {
  public:
+  CyclicService() = default;
+  CyclicService(const CyclicService&) = delete;
+  CyclicService& operator=(const CyclicService&) = delete;
+  CyclicService(CyclicService&&) = delete;
+  CyclicService& operator=(CyclicService&&) = delete;
+  // Virtual although no service is ever destroyed through this interface (each is a Master member).
+  virtual ~CyclicService() = default;
+
   virtual void add_datagrams(CycleFrame& frame) noexcept = 0;
   // A datagram this service added came back: `tag` as given to CycleFrame::add.
   virtual void on_answer(std::uint8_t tag, const DatagramView& datagram) noexcept = 0;
   virtual void end_exchange(hal::Nanoseconds /*now*/) noexcept {}
   virtual void settle(CycleResult& /*result*/) noexcept {}
-
- protected:
-  CyclicService() = default;
-  CyclicService(const CyclicService&) = default;
-  CyclicService& operator=(const CyclicService&) = default;
-  CyclicService(CyclicService&&) = default;
-  CyclicService& operator=(CyclicService&&) = default;
-  ~CyclicService() = default;
 };
 
 // The frame under way and, per datagram, the handle of the service that handles its answer.
