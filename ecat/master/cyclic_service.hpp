@@ -7,7 +7,7 @@
 //   5. settle         every service, in schedule order: acts on what this cycle taught it
 // A service owns its state (per slave: its part of the SlaveRecord) and decides for itself whether
 // it runs in the master's current state. A new service is one class and one line in the schedule
-// (Master::schedule_). No heap: the handles of a frame live in a fixed array.
+// (Master::for_each_service). No heap: the handles of a frame live in a fixed array.
 #pragma once
 
 #include <array>
@@ -83,9 +83,15 @@ class CycleFrame {
 
   // Adds a datagram answered to `by` with `tag`; false (frame unchanged) when it does not fit.
   bool add(CyclicService& by, std::uint8_t tag, Command command, std::uint32_t address, std::uint16_t length,
-           ConstByteSpan data = {}) noexcept;
+           ConstByteSpan data = {}) noexcept {
+    if (!builder_->add(command, index_, address, length, data).ok()) return false;
+    note(by, tag);
+    return true;
+  }
   // For a service that adds through the builder itself (the mailbox client): its next datagram's handle.
-  void note(CyclicService& by, std::uint8_t tag) noexcept;
+  void note(CyclicService& by, std::uint8_t tag) noexcept {
+    if (count_ < handles_.size()) handles_[count_++] = Handle{&by, tag};
+  }
   // Whether an optional datagram of `bytes` data fits and still leaves the mailbox its room.
   bool fits(std::size_t bytes) const noexcept { return builder_->remaining_data_capacity() >= bytes + kMailboxReserve; }
   std::size_t remaining() const noexcept { return builder_->remaining_data_capacity(); }
@@ -94,7 +100,14 @@ class CycleFrame {
   std::size_t datagrams() const noexcept { return count_; }
 
   // Hands each datagram of the returned frame to the service that added it, in frame order.
-  void dispatch(const FrameView& back) const noexcept;
+  void dispatch(const FrameView& back) const noexcept {
+    std::size_t i = 0;
+    for (const DatagramView d : back) {
+      if (i >= count_) break;
+      const Handle& h = handles_[i++];
+      h.service->on_answer(h.tag, d);
+    }
+  }
 
  private:
   struct Handle {

@@ -201,8 +201,9 @@ class Master {
   std::uint16_t reference_station_{0};
   SlaveMask dc_slaves_{0};
 
-  // The cyclic services (cyclic_service.hpp) and their schedule: the order in which they add their
-  // datagrams to each frame and settle after it. A new service: its member here, a line in schedule_.
+  // The cyclic services (cyclic_service.hpp) and their schedule (for_each_service): the order in
+  // which they add their datagrams to each frame and settle after it. A new service: its member
+  // here, a line in for_each_service.
   ServiceContext context_;
   DcReferenceService dc_reference_;
   ProcessDataService process_data_;
@@ -213,8 +214,22 @@ class Master {
   EscDiagnosticsService diagnostics_;
   OpStepService op_step_;
   MailboxService mailbox_service_;
-  std::array<CyclicService*, 9> schedule_;
   CycleFrame frame_{};
+
+  // The schedule. Each call names a final class, so it is a direct call (no virtual dispatch in
+  // the cycle but the answers' handles).
+  template <typename Visit>
+  void for_each_service(Visit&& visit) noexcept {
+    visit(dc_reference_);
+    visit(process_data_);
+    visit(probes_);
+    visit(reintegration_);
+    visit(pdo_setup_);
+    visit(recovery_);
+    visit(diagnostics_);
+    visit(op_step_);
+    visit(mailbox_service_);
+  }
 };
 
 }  // namespace rescue::ecat

@@ -42,7 +42,7 @@ CycleResult Master::cycle() noexcept {
 
   FrameBuilder& builder = link_.begin();  // before index(): begin() takes the frame's index
   frame_.begin(builder, link_.index());
-  for (CyclicService* service : schedule_) service->add_datagrams(frame_);
+  for_each_service([this](auto& service) { service.add_datagrams(frame_); });
   if (state_ == MasterState::op) {  // so that a frame back late can be told whole (LinkStats)
     std::uint32_t expected = 0;
     for (std::size_t b = 0; b < kMaxBranches; ++b) expected += layout_.branches[b].length != 0 ? monitor_.expected_wkc(b) : 0U;
@@ -56,8 +56,8 @@ CycleResult Master::cycle() noexcept {
     frame_.dispatch(back.value());
   }
   const hal::Nanoseconds ended = link_.clock().now();
-  for (CyclicService* service : schedule_) service->end_exchange(ended);
-  for (CyclicService* service : schedule_) service->settle(result);
+  for_each_service([ended](auto& service) { service.end_exchange(ended); });
+  for_each_service([&result](auto& service) { service.settle(result); });
   result.out = monitor_.out_of_exchange() | (operated() ^ kAllSlaves);
   for (std::size_t b = 0; b < kMaxBranches; ++b) result.expected_wkc[b] = monitor_.expected_wkc(b);
 
