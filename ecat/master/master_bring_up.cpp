@@ -79,7 +79,23 @@ const char* to_string(MasterState state) noexcept {
 }
 
 Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept
-    : nic_(nic), link_(nic), plan_(plan), layout_(layout), image_(image), monitor_(plan, layout), diagnostics_(plan), mailbox_(plan) {}
+    : nic_(nic),
+      link_(nic),
+      plan_(plan),
+      layout_(layout),
+      image_(image),
+      monitor_(plan, layout),
+      mailbox_(plan),
+      context_{link_, plan_, layout_, image_, options_, report_, state_, cycle_, slaves_, monitor_, dc_slaves_, reference_station_},
+      dc_reference_(context_),
+      process_data_(context_),
+      probes_(context_),
+      reintegration_(context_),
+      pdo_setup_(context_, mailbox_),
+      recovery_(context_, dc_reference_, reintegration_, pdo_setup_, mailbox_),
+      diagnostics_(context_),
+      op_step_(context_),
+      mailbox_service_(context_, mailbox_) {}
 
 Status Master::fail(const char* step, const Error& error) noexcept {
   report_.failed_step = step;
@@ -99,11 +115,14 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   cycle_ = 0;
   // Nothing of an earlier bring-up carries over.
   monitor_.start(0);
-  reintegrating_ = 0;
-  recovery_.fill(Recovery{});
-  recovery_stats_ = RecoveryStats{};
+  reintegration_.reset();
+  recovery_.reset();
   diagnostics_.reset();
-  setup_.fill(SlaveSetup{});
+  for (SlaveRecord& slave : slaves_) {
+    slave.recovery = RecoveryProgress{};
+    slave.setup = SlaveSetup{};
+    slave.identified = false;
+  }
   if (image_.size() < layout_.total_bytes) {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));
   }
@@ -156,12 +175,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   // Cyclic operation starts in SAFE-OP; the first cycles request OP (slaves want valid outputs
   // flowing before they accept it).
   state_ = MasterState::going_op;
-  op_pending_ = operated();
-  op_al_status_.fill(0);
-  op_al_code_.fill(0);
-  op_step_.fill(OpStep::request);
-  op_refusals_.fill(0);
-  op_deadline_ = link_.clock().now() + options_.op_timeout;
+  op_step_.start();
   next_wakeup_ = dc_sync_.first_wakeup(link_.clock().now(), last_reference_read_at_, last_reference_time_);
   return Status::success();
 }
@@ -269,6 +283,7 @@ Status Master::identify() noexcept {
     }
   }
   report_.match = match_network(plan_, report_.found.span(), options_.held_out);
+  record_identities();
   if (report_.match.fatal) {
     const auto fatal = std::count_if(report_.match.differences.begin(), report_.match.differences.end(),
                                      [](const NetworkDifference& d) { return is_fatal(d.kind); });
@@ -276,7 +291,7 @@ Status Master::identify() noexcept {
   }
   for (std::size_t a = 0; a < n; ++a) {
     const std::uint8_t slot = report_.match.slot_of_found[a];
-    if (slot != kNoPosition) setup_[slot] = found_setup[a];
+    if (slot != kNoPosition) slaves_[slot].setup = found_setup[a];
   }
   return Status::success();
 }
@@ -318,15 +333,15 @@ Status Master::configure_mailboxes() noexcept {
   SlaveMask with_mailbox = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     if ((operated() & slave_bit(p)) != 0 && plan_[p].mailbox) {
-      if (!setup_[p].mailbox) return fail("mailbox", make_error(Errc::unsupported, "planned CoE mailbox missing in SII", u32(p)));
+      if (!slaves_[p].setup.mailbox) return fail("mailbox", make_error(Errc::unsupported, "planned CoE mailbox missing in SII", u32(p)));
       with_mailbox |= slave_bit(p);
-      mailbox_.configure(p, setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[1].start, setup_[p].sm[1].length);
+      mailbox_.configure(p, slaves_[p].setup.sm[0].start, slaves_[p].setup.sm[0].length, slaves_[p].setup.sm[1].start, slaves_[p].setup.sm[1].length);
     }
   }
   SlaveMask refused = 0;
   const Status st = for_each_slave(
       link_, plan_, with_mailbox, Command::FPWR, reg::sync_manager(0), 2 * reg::kSyncManagerSize,
-      [&](std::size_t p, ByteSpan out) { fill_mailbox_sms(p, out.data()); },
+      [&](std::size_t p, ByteSpan out) { fill_mailbox_sms(slaves_[p].setup, out.data()); },
       [&](std::size_t p, std::uint16_t wkc, ConstByteSpan) {
         if (wkc != 1) refused |= slave_bit(p);
       },
@@ -339,9 +354,9 @@ Status Master::configure_mailboxes() noexcept {
 Status Master::set_up_pdo_mappings() noexcept {
   SlaveMask busy = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    pdo_setup_[p] = PdoSetup{};
+    slaves_[p].pdo = PdoSetup{};
     if ((operated() & slave_bit(p)) == 0 || plan_[p].pdo == nullptr || !mailbox_.has_mailbox(p)) continue;
-    pdo_setup_[p].start(static_cast<std::uint8_t>(p), plan_[p].pdo, setup_[p].complete_access);
+    slaves_[p].pdo.start(static_cast<std::uint8_t>(p), plan_[p].pdo, slaves_[p].setup.complete_access);
     busy |= slave_bit(p);
   }
   // Each slave one transfer at a time (its writes stay in order), all slaves side by side: a
@@ -350,15 +365,15 @@ Status Master::set_up_pdo_mappings() noexcept {
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
       if ((busy & slave_bit(p)) == 0) continue;
       SdoRequest request;
-      if (mailbox_.free_slots() > 0 && pdo_setup_[p].next(request) && !mailbox_.submit(request)) pdo_setup_[p].unsubmit();
+      if (mailbox_.free_slots() > 0 && slaves_[p].pdo.next(request) && !mailbox_.submit(request)) slaves_[p].pdo.unsubmit();
     }
     const Status ran = mailbox_.run(link_, options_.frame_timeout, options_.startup_sdo_timeout);
     SdoCompletion done;
     while (mailbox_.pop_master_completion(done)) {
-      if (done.request.position < kMaxSlaves) pdo_setup_[done.request.position].on_completion(done);
+      if (done.request.position < kMaxSlaves) slaves_[done.request.position].pdo.on_completion(done);
     }
     for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-      const PdoSetup& mapping = pdo_setup_[p];
+      const PdoSetup& mapping = slaves_[p].pdo;
       if ((busy & slave_bit(p)) == 0) continue;
       if (mapping.failed()) {
         report_.failed_sdo = mapping.failure();
@@ -408,36 +423,11 @@ Status Master::run_startup_sdos() noexcept {
   return Status::success();
 }
 
-void Master::fill_mailbox_sms(std::size_t p, std::uint8_t* out) const noexcept {
-  const SyncManagerEntry sm0 = sync_manager_entry(setup_[p].sm[0].start, setup_[p].sm[0].length, setup_[p].sm[0].control);
-  const SyncManagerEntry sm1 = sync_manager_entry(setup_[p].sm[1].start, setup_[p].sm[1].length, setup_[p].sm[1].control);
-  std::memcpy(out, sm0.data(), sm0.size());
-  std::memcpy(out + sm0.size(), sm1.data(), sm1.size());
-}
-
-void Master::fill_process_data_sms(std::size_t p, std::uint8_t* out) const noexcept {
-  const SyncManagerSetup& o = setup_[p].sm[2];
-  const SyncManagerSetup& i = setup_[p].sm[3];
-  const SyncManagerEntry sm2 = sync_manager_entry(o.start, plan_[p].output_bytes, o.control != 0 ? o.control : kSmControlOutputs);
-  const SyncManagerEntry sm3 = sync_manager_entry(i.start, plan_[p].input_bytes, i.control != 0 ? i.control : kSmControlInputs);
-  std::memcpy(out, sm2.data(), sm2.size());
-  std::memcpy(out + sm2.size(), sm3.data(), sm3.size());
-}
-
-void Master::fill_fmmus(std::size_t p, std::uint8_t* out) const noexcept {
-  const FmmuEntry outputs = fmmu_entry(layout_.slaves[p].output_offset, plan_[p].output_bytes, setup_[p].sm[2].start,
-                                       reg::kFmmuTypeWrite);
-  const FmmuEntry inputs = fmmu_entry(layout_.slaves[p].input_offset, plan_[p].input_bytes, setup_[p].sm[3].start,
-                                      reg::kFmmuTypeRead);
-  std::memcpy(out, outputs.data(), outputs.size());
-  std::memcpy(out + outputs.size(), inputs.data(), inputs.size());
-}
-
 Status Master::configure_process_data() noexcept {
   SlaveMask with_data = 0;
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     if ((operated() & slave_bit(p)) == 0 || plan_[p].output_bytes + plan_[p].input_bytes == 0) continue;
-    if (!setup_[p].sm[2].present || !setup_[p].sm[3].present) {
+    if (!slaves_[p].setup.sm[2].present || !slaves_[p].setup.sm[3].present) {
       return fail("process data", make_error(Errc::unsupported, "SII gives no SM2/SM3 for a slave with process data", u32(p)));
     }
     with_data |= slave_bit(p);
@@ -448,12 +438,12 @@ Status Master::configure_process_data() noexcept {
   };
   Status st = for_each_slave(
       link_, plan_, with_data, Command::FPWR, reg::sync_manager(2), 2 * reg::kSyncManagerSize,
-      [&](std::size_t p, ByteSpan out) { fill_process_data_sms(p, out.data()); },
+      [&](std::size_t p, ByteSpan out) { fill_process_data_sms(slaves_[p].setup, plan_[p], out.data()); },
       check, options_.frame_timeout);
   if (st.ok()) {
     st = for_each_slave(
         link_, plan_, with_data, Command::FPWR, reg::fmmu(kFmmuOutputs), 2 * reg::kFmmuSize,
-        [&](std::size_t p, ByteSpan out) { fill_fmmus(p, out.data()); },
+        [&](std::size_t p, ByteSpan out) { fill_fmmus(slaves_[p].setup, plan_[p], layout_.slaves[p], out.data()); },
         check, options_.frame_timeout);
   }
   if (!st.ok()) return fail("process data", st.error());

@@ -1,10 +1,12 @@
 // Register images the master writes into a slave's ESC during bring-up: SyncManager and FMMU
-// entries (ETG.1000.4 tables 57 and 59; byte layout in ecat/codec/registers.hpp), encoded byte by byte.
+// entries (ETG.1000.4 tables 57 and 59; byte layout in ecat/codec/registers.hpp), each field stored
+// little-endian through core/base/endian.hpp (constexpr, so the entries can be built at compile time).
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "core/base/endian.hpp"
 #include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
@@ -21,10 +23,8 @@ constexpr std::uint8_t kSmControlInputs = 0x20;      // buffered, master reads, 
 constexpr SyncManagerEntry sync_manager_entry(std::uint16_t start, std::uint16_t length, std::uint8_t control,
                                               bool enable = true) noexcept {
   SyncManagerEntry e{};
-  e[reg::kSmPhysicalStart] = static_cast<std::uint8_t>(start);
-  e[reg::kSmPhysicalStart + 1] = static_cast<std::uint8_t>(start >> 8);
-  e[reg::kSmLength] = static_cast<std::uint8_t>(length);
-  e[reg::kSmLength + 1] = static_cast<std::uint8_t>(length >> 8);
+  store_le16(e.data() + reg::kSmPhysicalStart, start);
+  store_le16(e.data() + reg::kSmLength, length);
   e[reg::kSmControl] = control;
   e[reg::kSmActivate] = enable ? reg::kSmEnable : 0;
   return e;
@@ -34,13 +34,11 @@ constexpr SyncManagerEntry sync_manager_entry(std::uint16_t start, std::uint16_t
 constexpr FmmuEntry fmmu_entry(std::uint32_t logical, std::uint16_t length, std::uint16_t physical,
                                std::uint8_t type) noexcept {
   FmmuEntry e{};
-  for (unsigned i = 0; i < 4; ++i) e[reg::kFmmuLogicalStart + i] = static_cast<std::uint8_t>(logical >> (8U * i));
-  e[reg::kFmmuLength] = static_cast<std::uint8_t>(length);
-  e[reg::kFmmuLength + 1] = static_cast<std::uint8_t>(length >> 8);
+  store_le32(e.data() + reg::kFmmuLogicalStart, logical);
+  store_le16(e.data() + reg::kFmmuLength, length);
   e[reg::kFmmuLogicalStartBit] = 0;
   e[reg::kFmmuLogicalStopBit] = 7;
-  e[reg::kFmmuPhysicalStart] = static_cast<std::uint8_t>(physical);
-  e[reg::kFmmuPhysicalStart + 1] = static_cast<std::uint8_t>(physical >> 8);
+  store_le16(e.data() + reg::kFmmuPhysicalStart, physical);
   e[reg::kFmmuPhysicalStartBit] = 0;
   e[reg::kFmmuType] = type;
   e[reg::kFmmuActivate] = 1;

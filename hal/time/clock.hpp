@@ -13,6 +13,9 @@ constexpr Nanoseconds kNsPerUs = 1'000;
 constexpr Nanoseconds kNsPerMs = 1'000'000;
 constexpr Nanoseconds kNsPerSec = 1'000'000'000;
 
+// A duration in seconds, for reports and logs (the one conversion of the program).
+constexpr double seconds(Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(kNsPerSec); }
+
 class Clock {
  public:
   Clock() = default;

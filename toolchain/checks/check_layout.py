@@ -29,7 +29,7 @@ RULES = [
     ("core/kinematics/", ["core/base/", "core/containers/", "core/robot/", "core/kinematics/"]),
     ("core/", ["core/"]),                                              # foundation: nothing outside core/
     ("hal/", ["core/", "hal/"]),
-    ("ecat/", ["core/", "hal/", "ecat/"]),
+    ("ecat/", ["core/", "hal/", "fsm/engine/", "ecat/"]),               # the fsm engine runs ecat's machines
     ("fsm/", ["core/", "fsm/"]),
     ("drivers/sim/", ["core/", "hal/", "ecat/", "fsm/", "drivers/"]),
     ("drivers/", ["core/", "hal/", "ecat/", "fsm/", "drivers/"]),

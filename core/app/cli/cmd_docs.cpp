@@ -4,9 +4,10 @@
 #include <cstring>
 
 #include "core/app/cli/commands.hpp"
-#include "core/app/cli/recovery_machine_view.hpp"
 #include "core/app/config/task_table.hpp"
 #include "core/app/shm/segment_layout.hpp"
+#include "ecat/master/slave_recovery.hpp"
+#include "fsm/engine/machine_view.hpp"
 #include "fsm/engine/table_docs.hpp"
 #include "fsm/machines/documented_machines.hpp"
 
@@ -35,7 +36,7 @@ int docs_main(const ParsedArgs& args) {
 
   // The machines of fsm/, then the master's online recovery (ecat/master/slave_recovery.hpp).
   const char* only = args.value("machine");
-  constexpr fsm::MachineView kRecovery = RecoveryMachineView::view();
+  constexpr fsm::MachineView kRecovery = fsm::ViewOf<ecat::SlaveRecoveryTable>::view();
   if (only != nullptr && fsm::find_documented_machine(only) == nullptr && std::strcmp(only, kRecovery.name) != 0) {
     return fail("docs", "no state machine of that name (see rescue-motion docs fsm)");
   }

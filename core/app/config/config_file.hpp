@@ -1,6 +1,6 @@
 // The configuration file of `rescue-motion run --config FILE` (docs/configuration.md): `key = value`
 // lines, `# comment` lines, and `[task]` sections that set a task's priority and CPU over the task
-// table (runtime/task_table.hpp). The file is untrusted bytes: its size and every line's length are
+// table (config/task_table.hpp). The file is untrusted bytes: its size and every line's length are
 // bounded, every byte is checked, every key validated against its allowed range, and an unknown key is
 // refused. Errors are values naming the line, the key and what is allowed. No heap.
 #pragma once
@@ -83,7 +83,7 @@ ConfigOutcome load_config_file(const char* path, ConfigFile& out) noexcept;
 // "FILE:LINE: key 'KEY': WHAT (allowed: ALLOWED)"; returns the length written (truncated to size).
 std::size_t format_config_error(const char* file, const ConfigError& error, char* out, std::size_t size) noexcept;
 
-// The task placements of the file over the task table (runtime/task_table.hpp).
+// The task placements of the file over the task table (config/task_table.hpp).
 void apply_task_placements(const ConfigFile& config) noexcept;
 
 }  // namespace rescue::app

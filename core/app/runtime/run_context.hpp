@@ -95,6 +95,6 @@ inline RunControl& run() noexcept { return links().run; }
 // processes, from the logger's or the supervisor's loop (a normal thread): `done` once the handler ended.
 void observe_task_cpu(hal::Clock& clock, bool done) noexcept;
 
-inline double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+using hal::seconds;  // hal/time/clock.hpp
 
 }  // namespace rescue::app::runner

@@ -22,7 +22,7 @@ int failed(std::FILE* out, const char* what, const char* detail) noexcept {
   return 1;
 }
 
-double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
+using hal::seconds;  // hal/time/clock.hpp
 
 }  // namespace
 

@@ -21,7 +21,7 @@
 namespace rescue::app::runner {
 namespace {
 
-// Priorities and CPUs: each task's row of the task table (runtime/task_table.cpp; numbers in
+// Priorities and CPUs: each task's row of the task table (config/task_table.cpp; numbers in
 // config/firmware_config.hpp; a configuration file, config/config_file.hpp, may have moved them
 // before the run started), applied by the task itself, in its thread or process.
 constexpr hal::Nanoseconds kRcTaskPeriod = config::kRcTaskPeriodNs;

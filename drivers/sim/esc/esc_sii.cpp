@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/base/endian.hpp"
 #include "drivers/sim/devices/minimal_sii.hpp"
 #include "ecat/codec/registers.hpp"
 
@@ -44,14 +45,13 @@ void EscSii::power_up(EscMemory& memory, const EscConfig& config, ConstByteSpan 
 std::uint16_t EscSii::word(std::uint32_t address) const noexcept {
   const std::size_t at = std::size_t{2} * address;
   if (at + 1 >= eeprom_.size()) return 0xFFFF;
-  return static_cast<std::uint16_t>(eeprom_[at] | (eeprom_[at + 1] << 8U));
+  return load_le16(eeprom_.data() + at);
 }
 
 void EscSii::set_word(std::uint32_t address, std::uint16_t value) noexcept {
   const std::size_t at = std::size_t{2} * address;
   if (at + 1 >= eeprom_.size()) return;
-  eeprom_[at] = static_cast<std::uint8_t>(value & 0xFFU);
-  eeprom_[at + 1] = static_cast<std::uint8_t>(value >> 8U);
+  store_le16(eeprom_.data() + at, value);
 }
 
 void EscSii::on_master_write(EscMemory& memory, const std::uint8_t* written, const bool* mask) noexcept {
@@ -117,10 +117,7 @@ void EscSii::finish(EscMemory& memory) noexcept {
       memory.set_u16(reg::kSiiData + 2U * i, w);
     }
   } else if (command_ == reg::kSiiCommandWrite) {
-    const std::uint16_t w = memory.u16(reg::kSiiData);
-    const std::size_t at = std::size_t{2} * address;
-    eeprom_[at] = static_cast<std::uint8_t>(w);
-    eeprom_[at + 1] = static_cast<std::uint8_t>(w >> 8U);
+    set_word(address, memory.u16(reg::kSiiData));  // an address beyond the EEPROM writes nothing
   }
   if (command_ == reg::kSiiCommandReload) {
     // The ESC re-reads its configuration area (and applies it: it owns those registers).

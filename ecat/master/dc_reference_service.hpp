@@ -1,0 +1,31 @@
+// Distributed clocks in the cycle: FRMW of the reference clock's system time (0x0910), first in
+// every frame. Its answer is the reference time as the frame passed the reference (the master keeps
+// its period in step with it: DcCycleSync) and the other DC slaves' clocks are set from it (static
+// drift compensation goes on cyclically; online recovery sets a returning slave's offset from it).
+#pragma once
+
+#include <cstdint>
+
+#include "ecat/master/cyclic_service.hpp"
+
+namespace rescue::ecat {
+
+class DcReferenceService final : public CyclicService {
+ public:
+  explicit DcReferenceService(ServiceContext& context) noexcept : ctx_(context) {}
+
+  void add_datagrams(CycleFrame& frame) noexcept override;
+  void on_answer(std::uint8_t tag, const DatagramView& datagram) noexcept override;
+  void settle(CycleResult& result) noexcept override { result.reference_time = frame_reference_time_; }
+
+  // This cycle's reference read (0: none), and the last one read (building a frame: the previous cycle's).
+  std::uint64_t frame_reference_time() const noexcept { return frame_reference_time_; }
+  std::uint64_t latest_reference_time() const noexcept { return latest_reference_time_; }
+
+ private:
+  ServiceContext& ctx_;
+  std::uint64_t frame_reference_time_{0};
+  std::uint64_t latest_reference_time_{0};
+};
+
+}  // namespace rescue::ecat
