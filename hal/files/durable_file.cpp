@@ -156,7 +156,7 @@ Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept
   return got;
 }
 
-Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept {
+Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents, DirectorySync sync) noexcept {
   auto target = join_path(dir, name);
   if (!target.ok()) return target.error();
   auto temp = sibling_path(dir, name, ".tmp");
@@ -169,7 +169,7 @@ Status write_file_atomically(const char* dir, const char* name, ConstByteSpan co
   }
   // The rename is atomic but lives in the directory: without this fsync a power cut could bring back
   // the old name after we reported success.
-  return fsync_directory(dir);
+  return sync == DirectorySync::now ? fsync_directory(dir) : Status::success();
 }
 
 Status create_file_durably(const char* dir, const char* name, ConstByteSpan contents, unsigned mode) noexcept {

@@ -44,7 +44,11 @@ Result<std::size_t> read_file_capped(const char* path, ByteSpan buffer) noexcept
 // Atomically and durably replaces dir/name with `contents` (through dir/name.tmp; one writer per file).
 // Success means the new file and its directory entry have been fsynced. On failure dir/name is
 // untouched (old contents) and the temporary file is removed.
-Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents) noexcept;
+// `later`: the directory is not fsynced here; the caller's next write_file_atomically(..., now) in the
+// same directory makes this rename durable too (one directory fsync for two files).
+enum class DirectorySync { now, later };
+Status write_file_atomically(const char* dir, const char* name, ConstByteSpan contents,
+                             DirectorySync sync = DirectorySync::now) noexcept;
 
 // Creates dir/name with `contents` and `mode`, never replacing a file already there: through
 // dir/name.new (removed first if a killed writer left it), fsynced, then renamed to dir/name with

@@ -32,7 +32,7 @@ class ErrorJointsStorage {
 
   virtual ErrorJointsLoad load() noexcept = 0;
   // Durable and atomic: on success the new contents survive a power cut; on failure the old ones stay.
-  // The file storage writes the file, then its second copy: a crash between leaves one of them newer,
+  // The file storage writes the second copy, then the file: a crash between leaves one of them newer,
   // both readable.
   virtual Status save(const ErrorJointsContents& contents) noexcept = 0;
   // Keeps an unusable file for post-mortem, under a name of its own (never replacing an earlier one),
@@ -45,7 +45,8 @@ class ErrorJointsFileStorage final : public ErrorJointsStorage {
   static constexpr const char* kFileName = "error-joints.bin";
   static constexpr const char* kTemporaryName = "error-joints.bin.tmp";  // hal::write_file_atomically's
   static constexpr const char* kSetAsideName = "error-joints.bin.unusable";
-  // The second copy, written (atomically, durably) after the file itself on every save.
+  // The second copy, written (atomically) before the file itself on every save; the file's directory
+  // fsync makes both durable.
   static constexpr const char* kCopyName = "error-joints.bin.copy";
   static constexpr std::uint32_t kMaxSetAside = 999;  // kSetAsideName, then kSetAsideName.1 ... .999
   // Larger than any valid file (kErrorJointsMaxFileSize), so "oversized" is told apart from "too long
