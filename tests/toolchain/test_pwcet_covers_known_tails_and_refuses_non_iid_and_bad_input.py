@@ -12,7 +12,7 @@
   is exit 2 with every pWCET n/a.
 - Bad input: empty file, a non-numeric line, a negative value (each named FILE:LINE), too few
   samples for the method: exit 65; no argument: 64; a missing file: 66.
-- --plot writes a PNG.
+- 2049 periods are 40 blocks (the minimum), the same input gives the same output, --plot writes a PNG.
 Deterministic: fixed seeds for the samples and the bootstrap. Usage: test_...py SOURCE_DIR WORK_DIR
 """
 import math
@@ -114,6 +114,15 @@ bad("too_few", "".join(f"{20000 + i}\n" for i in range(1999)), 65, "{path}: too 
 bad("missing", None, 66, "{path}: cannot read")
 p = subprocess.run([sys.executable, tool], capture_output=True, text=True)
 check(p.returncode == 64, f"no input file is a usage error (exit {p.returncode})")
+
+# 2049 periods: 40 whole blocks (the minimum), the last 49 periods dropped; the same input and seed
+# give the same output.
+edge = write("forty_blocks", 20000 + 500 * np.random.default_rng(7).gumbel(size=2049))
+first = subprocess.run([sys.executable, tool, "--bootstrap", "20", edge], capture_output=True, text=True)
+second = subprocess.run([sys.executable, tool, "--bootstrap", "20", edge], capture_output=True, text=True)
+check(first.returncode in (0, 2) and "forty_blocks.samples: 2049\n" in first.stdout and "forty_blocks.blocks: 40\n" in first.stdout,
+      f"2049 periods make 40 blocks and are analysed (exit {first.returncode})")
+check(first.stdout == second.stdout and "pwcet_1e-9" in first.stdout, "the same input and seed give the same output")
 
 png = os.path.join(work, "pwcet.png")
 if os.path.exists(png):
