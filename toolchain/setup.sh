@@ -15,6 +15,7 @@ packages=(
   graphviz                                           # state-machine diagrams in docs/
   python3 python3-matplotlib                         # plots (Fig. 4 experiment, docs/kinematics.md joint frames)
   python3-jsonschema                                 # ctl --json answers validated against docs/ctl-answer.schema.json
+  python3-scipy                                      # toolchain/wcet/pwcet.py: EVT fit and i.i.d. tests (pWCET)
   stress-ng                                          # bench fig4: CPU and memory load on the basic software CPU
   liburdfdom-tools                                   # check_urdf: the robot description is valid URDF
   liborocos-kdl-dev                                  # Orocos KDL: kinematics oracle in tests and bench rc (never firmware)

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "core/base/le_stream.hpp"
+#include "core/robot/joint_fault.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
 
 namespace rescue::app::protocol {
@@ -406,7 +407,7 @@ void status_fields(F& f, M& m) noexcept {
     f.f64(j.position_rad);
     f.f64(j.velocity_rad_s);
     f.f64(j.torque_nm);
-    f.check(j.state <= 4 && (j.flags & ~kJointFlagsMask) == 0 && j.fault <= 9, "joint status field");
+    f.check(j.state <= 4 && (j.flags & ~kJointFlagsMask) == 0 && is_valid_fault_reason(j.fault), "joint status field");
     f.check(j.owner == kNoOwner || j.owner < kMaxRcTasks, "owner");
   }
 }

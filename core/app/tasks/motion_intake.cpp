@@ -18,8 +18,6 @@ kin::JointArray rest_decelerations() noexcept {
   return braking;
 }
 
-double seconds_of(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
-
 }  // namespace
 
 MotionIntakeSettings default_intake_settings() noexcept {
@@ -33,7 +31,7 @@ MotionIntakeSettings default_intake_settings() noexcept {
 MotionIntake::MotionIntake(const MotionIntakePorts& ports, const MotionIntakeSettings& settings) noexcept
     : ports_(ports),
       settings_(settings),
-      limiter_(kin::JointVector::Zero(), seconds_of(settings.handler_period_ns), kin::kJointJerk, rest_decelerations()),
+      limiter_(kin::JointVector::Zero(), hal::seconds(settings.handler_period_ns), kin::kJointJerk, rest_decelerations()),
       wanted_(kin::JointVector::Zero()) {}
 
 bool MotionIntake::take_owner_references(hal::Nanoseconds now, std::uint64_t word, JointMask driven) noexcept {
@@ -97,7 +95,7 @@ void MotionIntake::limit(JointMask driven) noexcept {
 }
 
 void MotionIntake::measure(JointMask driven) noexcept {
-  const double dt = seconds_of(settings_.handler_period_ns);
+  const double dt = hal::seconds(settings_.handler_period_ns);
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((driven & joint_bit(j)) == 0) {
       history_[j] = 0;

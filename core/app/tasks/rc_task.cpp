@@ -13,11 +13,9 @@
 namespace rescue::app {
 namespace {
 
-double seconds(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerSec); }
-
 kin::IkSettings ik_settings(hal::Nanoseconds period_ns) noexcept {
   kin::IkSettings ik;
-  ik.dt_s = seconds(period_ns);
+  ik.dt_s = hal::seconds(period_ns);
   return ik;
 }
 
@@ -72,8 +70,8 @@ RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcep
       settings_(settings),
       rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
       ik_(ik_settings(settings.period_ns)),
-      teleop_(kin::JointVector::Zero(), seconds(settings.period_ns)),
-      limiter_(kin::JointVector::Zero(), seconds(settings.period_ns)),
+      teleop_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
+      limiter_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
       wanted_(kin::JointVector::Zero()),
       references_(kin::JointVector::Zero()),
       previous_(kin::JointVector::Zero()),
@@ -88,7 +86,7 @@ RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcep
 
 void RcTask::measure() noexcept {
   const bool driving = owns_ && mode_ != RcMode::idle && mode_ != RcMode::teleop;
-  const double dt = seconds(settings_.period_ns);
+  const double dt = hal::seconds(settings_.period_ns);
   JointMask measured = 0;
   // Only the joints it commands: the others' references are whatever the handler sends them.
   const JointMask own = commanded();
@@ -273,7 +271,7 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
       limiter_.reset(sent_);
       return;
     case RcMode::approach: {
-      const double tau = seconds(now - mode_since_) / approach_s_;
+      const double tau = hal::seconds(now - mode_since_) / approach_s_;
       const double s = kin::minimum_jerk(tau).s;
       const kin::JointVector ready = kin::ready_posture();
       for (const std::size_t j : kin::kIkJoints) {
@@ -291,7 +289,7 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
     }
     case RcMode::rescue_motion: {
       const Result<kin::IkStepReport> report =
-          rescue_.run(seconds(now - mode_since_), out_of_service_, kin::JointVector::Zero());
+          rescue_.run(hal::seconds(now - mode_since_), out_of_service_, kin::JointVector::Zero());
       if (report.ok()) {
         ik_report_ = report.value();
         if (owns_) {
