@@ -1,7 +1,7 @@
 // Every `ctl --json` answer has one shape (issue 36 item 6): each verb of ctl's table is run against the
 // simulated robot (answered, refused, and ctl's own errors of each class), and every line it prints
-// on stdout is validated against docs/ctl-answer.schema.json with Python's jsonschema (Debian
-// python3-jsonschema, toolchain/setup.sh). A verb added to the table without a run here fails the test.
+// on stdout is validated against docs/ctl-answer.schema.json with Python's jsonschema (Debian's
+// /usr/bin/python3 and python3-jsonschema, toolchain/setup.sh: another python3 first on PATH may lack it). A verb added to the table without a run here fails the test.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -39,7 +39,7 @@ std::string validate(const std::string& dir, const std::string& lines) {
                            "        print(f'line {n}: not JSON: {e}: {line[:200]}'); continue\n"
                            "    for e in v.iter_errors(d):\n"
                            "        print(f'line {n} ({d.get(\"command\")}): {e.message} at {list(e.path)}')\n";
-  return testing::command_output("python3 '" + script + "' '" + std::string(RESCUE_SOURCE_DIR) +
+  return testing::command_output("/usr/bin/python3 '" + script + "' '" + std::string(RESCUE_SOURCE_DIR) +
                                  "/docs/ctl-answer.schema.json' '" + data + "'");
 }
 
