@@ -60,6 +60,50 @@ Eigen::Matrix<double, 12, 1> palm_damping_share(const IkStepReport& report, cons
   return share;
 }
 
+// The main task at `poses`: both palms' frame Jacobians and clamped pose errors (the trajectory's
+// motion fed forward), the residuals into `report`. A palm out of the main task (IkTargets::palm_active)
+// has its rows and error zero and is marked in `dropped_rows`: its diagonal is 1 in J J^T (a
+// decoupled unit row: it neither takes part in the solve nor looks like a singularity).
+struct MainTask {
+  Eigen::Matrix<double, 12, kIkDof> j1;
+  Eigen::Matrix<double, 12, 1> e1;
+  Eigen::Matrix<double, 12, 1> damping_share;
+  Eigen::Matrix<double, 12, 1> dropped_rows;
+};
+MainTask build_main_task(const LinkPoses& poses, const IkTargets& targets, const IkSettings& s,
+                         IkStepReport& report) noexcept {
+  using Vector12 = Eigen::Matrix<double, 12, 1>;
+  MainTask m;
+  IkJacobian6 jframe;
+  frame_jacobian(poses, kLeftEe, jframe);
+  m.j1.topRows<6>() = jframe;
+  frame_jacobian(poses, kRightEe, jframe);
+  m.j1.bottomRows<6>() = jframe;
+  m.e1.head<6>() = pose_error(targets.left, poses[kLeftEe]);
+  m.e1.tail<6>() = pose_error(targets.right, poses[kRightEe]);
+  for (int arm = 0; arm < 2; ++arm) {
+    const Eigen::Index at = Eigen::Index{6} * arm;
+    report.position_residual_m[arm] = m.e1.segment<3>(at).norm();
+    report.rotation_residual_rad[arm] = m.e1.segment<3>(at + 3).norm();
+    clamp_norm(m.e1.segment<3>(at), s.max_linear_step_m);
+    clamp_norm(m.e1.segment<3>(at + 3), s.max_angular_step_rad);
+  }
+  const bool both_palms = targets.palm_active[0] && targets.palm_active[1];
+  m.damping_share = both_palms ? palm_damping_share(report, s) : Vector12::Ones();
+  m.dropped_rows = Vector12::Zero();
+  for (int arm = 0; arm < 2; ++arm) {
+    if (targets.palm_active[static_cast<std::size_t>(arm)]) continue;
+    m.j1.middleRows<6>(Eigen::Index{6} * arm).setZero();
+    m.dropped_rows.segment<6>(Eigen::Index{6} * arm).setOnes();
+  }
+  // The trajectory's own motion is fed forward; the pose error is fed back with feedback_gain.
+  m.e1 *= s.feedback_gain;
+  m.e1.head<6>() += s.dt_s * targets.left_twist;
+  m.e1.tail<6>() += s.dt_s * targets.right_twist;
+  m.e1 = m.e1.cwiseProduct(Vector12::Ones() - m.dropped_rows);
+  return m;
+}
+
 }  // namespace
 
 TaskPriorityIk::TaskPriorityIk(const IkSettings& settings) noexcept
@@ -80,37 +124,11 @@ Result<IkStepReport> TaskPriorityIk::step(const JointVector& q, const IkTargets&
   report.palm_position[1] = poses_[kRightEe].p;
 
   // ---- main task: both palms ----
-  Jacobian12 j1;
-  IkJacobian6 jframe;
-  frame_jacobian(poses_, kLeftEe, jframe);
-  j1.topRows<6>() = jframe;
-  frame_jacobian(poses_, kRightEe, jframe);
-  j1.bottomRows<6>() = jframe;
-  Vector12 e1;
-  e1.head<6>() = pose_error(targets.left, poses_[kLeftEe]);
-  e1.tail<6>() = pose_error(targets.right, poses_[kRightEe]);
-  for (int arm = 0; arm < 2; ++arm) {
-    const Eigen::Index at = Eigen::Index{6} * arm;
-    report.position_residual_m[arm] = e1.segment<3>(at).norm();
-    report.rotation_residual_rad[arm] = e1.segment<3>(at + 3).norm();
-    clamp_norm(e1.segment<3>(at), s.max_linear_step_m);
-    clamp_norm(e1.segment<3>(at + 3), s.max_angular_step_rad);
-  }
-  // A palm out of the main task: its rows and error are zero, and its diagonal is 1 in J J^T below
-  // (a decoupled unit row: it neither takes part in the solve nor looks like a singularity).
-  const bool both_palms = targets.palm_active[0] && targets.palm_active[1];
-  const Vector12 damping_share = both_palms ? palm_damping_share(report, s) : Vector12::Ones();
-  Vector12 dropped_rows = Vector12::Zero();
-  for (int arm = 0; arm < 2; ++arm) {
-    if (targets.palm_active[static_cast<std::size_t>(arm)]) continue;
-    j1.middleRows<6>(Eigen::Index{6} * arm).setZero();
-    dropped_rows.segment<6>(Eigen::Index{6} * arm).setOnes();
-  }
-  // The trajectory's own motion is fed forward; the pose error is fed back with feedback_gain.
-  e1 *= s.feedback_gain;
-  e1.head<6>() += s.dt_s * targets.left_twist;
-  e1.tail<6>() += s.dt_s * targets.right_twist;
-  e1 = e1.cwiseProduct(Vector12::Ones() - dropped_rows);
+  const MainTask main_task = build_main_task(poses_, targets, s, report);
+  const Jacobian12& j1 = main_task.j1;
+  const Vector12& e1 = main_task.e1;
+  const Vector12& damping_share = main_task.damping_share;
+  const Vector12& dropped_rows = main_task.dropped_rows;
 
   // ---- sub-tasks: forearms level, COM over the support centre ----
   SubJacobian j2 = SubJacobian::Zero();

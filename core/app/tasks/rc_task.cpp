@@ -148,7 +148,7 @@ void RcTask::measure() noexcept {
   // After damage: how far the waist and a damaged arm's palm moved since the loss (FK of what is sent).
   kin::LinkPoses poses;
   kin::forward_kinematics(references_, poses);
-  const std::uint8_t newly = static_cast<std::uint8_t>(damaged & ~figures_.damaged_arms);
+  const auto newly = static_cast<std::uint8_t>(damaged & ~figures_.damaged_arms);
   if (newly != 0 && !figures_.loss_seen) waist_at_loss_ = waist;
   for (int arm = 0; arm < 2; ++arm) {
     const auto a = static_cast<std::size_t>(arm);
