@@ -37,7 +37,7 @@ void print_bring_up_failure(std::FILE* out, const char* first_prefix, const char
   print_numbers(out, r);
   (void)std::fputc('\n', out);
   if (r.slaves_counted != 0) (void)std::fprintf(out, "%s%u slaves answer\n", prefix, static_cast<unsigned>(r.slaves_counted));
-  std::array<char, 256> line{};
+  std::array<char, kDifferenceLineCapacity> line{};
   for (const NetworkDifference& d : r.match.differences) {
     (void)describe(d, master.plan(), r.found.span(), line.data(), line.size());
     (void)std::fprintf(out, "%s%s\n", prefix, line.data());
