@@ -1,7 +1,7 @@
 // The bring-up report (ecat/master/bring_up_report.hpp) as `run`, `run --check` and `bench master`
 // print it, from a bring-up on the simulated robot: a device's SII name is printed whole however
 // long (a real EK1100 calls itself in 34 characters; the SII allows 255), and every number in the
-// headline says what it is.
+// headline says what it is (a state refusal: the slave's position and its AL status code in hex).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -52,6 +52,26 @@ TEST(BringUpReport, NamesAnExtraDeviceWithItsWholeSiiName) {
   EXPECT_STREQ(m.report().found[kSlaveCount].name.data(), kEk1100);
   const std::string report = printed_report(m);
   EXPECT_NE(report.find("extra: device at position 23 (EK1100 EtherCAT-Koppler (2A E-Bus) 0x00000002:0x044c2c52"),
+            std::string::npos)
+      << report;
+}
+
+// Issue 35 item 15: the headline said "(refused; details 5, 29)": which slave, which code, in what base?
+TEST(BringUpReport, LabelsThePositionAndTheAlStatusCodeOfAStateRefusal) {
+  auto rig = std::make_unique<SimulatedRobotRig>();
+  const std::size_t elbow = slave_position_of_joint(joint_index_by_name("r_elbow"));
+  ASSERT_TRUE(rig->segment.refuse_state(elbow, drivers::AlState::safe_op, 0x001D).ok());
+  MasterOptions options = testing::fast_options();
+  options.al.retries = 1;
+  ASSERT_FALSE(rig->bus.bring_up(options).ok());
+  Master& m = rig->bus.master();
+  ASSERT_STREQ(m.report().failed_step, "SAFE-OP") << describe_master_failure(m);
+  const std::string report = printed_report(m);
+  EXPECT_EQ(report.substr(0, report.find('\n') + 1),
+            "bring-up failed at SAFE-OP: slave refused state (refused: slave at position " + std::to_string(elbow) +
+                ", AL status code 0x001d)\n")
+      << report;
+  EXPECT_NE(report.find("r_elbow refused SAFE-OP: AL status 0x0012 (PRE-OP, error), code 0x001d invalid output configuration\n"),
             std::string::npos)
       << report;
 }
