@@ -11,6 +11,10 @@ namespace {
 
 bool is_step(const char* step, const char* name) noexcept { return step != nullptr && std::strcmp(step, name) == 0; }
 
+// The steps that request an AL state (al_control.hpp): their errors carry the slave's position and its
+// AL status code (refused) or AL status (timeout).
+bool is_al_step(const char* step) noexcept { return is_step(step, "INIT") || is_step(step, "PRE-OP") || is_step(step, "SAFE-OP"); }
+
 // The numbers an error carries, said in words where the step tells what they are.
 void print_numbers(std::FILE* out, const BringUpReport& r) noexcept {
   if (is_step(r.failed_step, "count") && r.error.code == Errc::timeout) {
@@ -21,6 +25,16 @@ void print_numbers(std::FILE* out, const BringUpReport& r) noexcept {
   } else if (is_step(r.failed_step, "PRE-OP SDO") && r.error.code == Errc::refused) {
     (void)std::fprintf(out, " (refused: slave at position %" PRIu32 ", object 0x%04" PRIX32 ":%02" PRIX32 ")", r.error.detail0,
                        r.error.detail1 >> 8U, r.error.detail1 & 0xFFU);
+  } else if (is_al_step(r.failed_step) && r.error.code == Errc::refused) {
+    (void)std::fprintf(out, " (refused: slave at position %" PRIu32 ", AL status code 0x%04" PRIx32 ")", r.error.detail0,
+                       r.error.detail1);
+  } else if (is_al_step(r.failed_step) && r.error.code == Errc::timeout) {
+    (void)std::fprintf(out, " (timeout: slave at position %" PRIu32 ", AL status 0x%04" PRIx32 ")", r.error.detail0,
+                       r.error.detail1);
+  } else if (is_al_step(r.failed_step) && r.error.code == Errc::io_error) {
+    (void)std::fprintf(out, " (I/O error: slave at position %" PRIu32 " does not answer)", r.error.detail0);
+  } else if (is_step(r.failed_step, "OP") && r.error.code == Errc::timeout) {
+    (void)std::fprintf(out, " (timeout: slave at position %" PRIu32 " not in OP)", r.error.detail0);
   } else if (r.error.detail0 != 0 || r.error.detail1 != 0) {
     (void)std::fprintf(out, " (%s; details %" PRIu32 ", %" PRIu32 ")", to_string(r.error.code), r.error.detail0, r.error.detail1);
   } else {
@@ -37,7 +51,7 @@ void print_bring_up_failure(std::FILE* out, const char* first_prefix, const char
   print_numbers(out, r);
   (void)std::fputc('\n', out);
   if (r.slaves_counted != 0) (void)std::fprintf(out, "%s%u slaves answer\n", prefix, static_cast<unsigned>(r.slaves_counted));
-  std::array<char, 256> line{};
+  std::array<char, kDifferenceLineCapacity> line{};
   for (const NetworkDifference& d : r.match.differences) {
     (void)describe(d, master.plan(), r.found.span(), line.data(), line.size());
     (void)std::fprintf(out, "%s%s\n", prefix, line.data());

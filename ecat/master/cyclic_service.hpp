@@ -47,6 +47,18 @@ struct ServiceContext {
   SlaveMask operated() const noexcept { return report.match.operated; }
   SlaveMask present() const noexcept { return report.match.present; }
   hal::Nanoseconds now() const noexcept { return link.clock().now(); }
+  // The DC reference clock's position (kMaxSlaves before the distributed clocks are set up).
+  std::size_t reference_position() const noexcept {
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      if ((dc_slaves & slave_bit(p)) != 0 && plan[p].station_address == reference_station) return p;
+    }
+    return kMaxSlaves;
+  }
+  // The reference clock is out of the exchange (lost, restarted, being recovered): its time is not the network's.
+  bool reference_out() const noexcept {
+    const std::size_t p = reference_position();
+    return p < kMaxSlaves && (monitor.out_of_exchange() & slave_bit(p)) != 0;
+  }
 };
 
 class CycleFrame;

@@ -2,6 +2,8 @@
 // every frame. Its answer is the reference time as the frame passed the reference (the master keeps
 // its period in step with it: DcCycleSync) and the other DC slaves' clocks are set from it (static
 // drift compensation goes on cyclically; online recovery sets a returning slave's offset from it).
+// While the reference is out of the exchange (lost, or power-cycled and being recovered) it is read
+// by FPRD: its time is not copied into the other clocks until recovery has set it again from theirs.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +28,7 @@ class DcReferenceService final : public CyclicService {
   ServiceContext& ctx_;
   std::uint64_t frame_reference_time_{0};
   std::uint64_t latest_reference_time_{0};
+  bool answered_{true};  // the last reference read answered
 };
 
 }  // namespace rescue::ecat

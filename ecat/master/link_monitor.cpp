@@ -47,6 +47,8 @@ LinkMonitor::LinkMonitor(const NetworkPlan& plan, const ProcessImageLayout& layo
 
 void LinkMonitor::start(SlaveMask in_exchange) noexcept {
   present_ = in_exchange;
+  counted_ = 0;
+  for (std::size_t b = 0; b < kMaxBranches; ++b) counted_ |= branch_slaves(layout_, b);
   out_ = lost_ = restored_ = fmmus_cleared_ = suspect_ = valid_ = recovering_ = 0;
   pending_lost_ = pending_restored_ = 0;
   watchdog_check_ = rearm_requests_ = rearming_ = pending_expired_ = pending_rearmed_ = 0;
@@ -219,7 +221,18 @@ bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
 }
 
 void LinkMonitor::observe_watch(const ProbeResult& probe, SlaveMask bit) noexcept {
-  if (probe.status_wkc == 0) return;  // not reached: no evidence (the counters judge reachability)
+  if (probe.status_wkc == 0) {
+    // Not reached. The counters judge the reachability of the slaves they count: no evidence. A slave
+    // without process data (a junction) is in no counter: the read is the only evidence there is, so
+    // it becomes a suspect, probed until kLossConfirmFrames returned frames in a row found it silent
+    // (a power cycle took its station address) or one finds it.
+    if ((counted_ & bit) == 0 && (suspect_ & bit) == 0) {
+      suspect_ |= bit;
+      suspect_since_[probe.position] = cycle_;
+      silent_frames_[probe.position] = 1;
+    }
+    return;
+  }
   ++watch_reads_;
   const bool op = (probe.al_status & reg::kAlStateMask) == static_cast<std::uint16_t>(reg::AlState::op);
   if (op && (probe.al_status & reg::kAlErrorBit) == 0) return;

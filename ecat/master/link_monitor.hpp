@@ -39,7 +39,9 @@
 //    kAlWatchPeriods periods (IgH's master reads every slave's AL state cyclically too). One found
 //    out of OP (or with the error bit) is reported `not_operational` with its AL status and code and
 //    taken out of the exchange (online recovery takes it from there); a read that did not reach the
-//    slave is no evidence (the counters judge reachability).
+//    slave is no evidence (the counters judge reachability), except for a slave no counter counts
+//    (a junction: no process data): it becomes a suspect, probed as in item 2 and reported lost
+//    after kLossConfirmFrames silent frames (a power cycle took its station address).
 #pragma once
 
 #include <array>
@@ -206,6 +208,7 @@ class LinkMonitor {
   const NetworkPlan& plan_;
   const ProcessImageLayout& layout_;
   SlaveMask present_{0};       // in the exchange, counted in the expected working counter
+  SlaveMask counted_{0};       // slaves some branch's working counter counts (not junctions: no process data)
   SlaveMask out_{0};           // taken out: lost, not operational or restored
   SlaveMask lost_{0};          // out and unreachable when last probed
   SlaveMask restored_{0};      // out, was lost, answers again

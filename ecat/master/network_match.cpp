@@ -220,7 +220,7 @@ std::size_t describe(const NetworkDifference& d, const NetworkPlan& plan, Span<c
 
 void print_differences(std::FILE* stream, const NetworkMatch& match, const NetworkPlan& plan,
                        Span<const FoundSlave> found) noexcept {
-  std::array<char, 256> line{};
+  std::array<char, kDifferenceLineCapacity> line{};
   for (const NetworkDifference& d : match.differences) {
     (void)describe(d, plan, found, line.data(), line.size());
     (void)std::fprintf(stream, "%s\n", line.data());

@@ -31,6 +31,11 @@ namespace rescue::ecat {
 
 constexpr std::size_t kMaxFoundSlaves = kMaxSlaves + 8;  // room to name a few extra devices
 constexpr std::uint8_t kNoPosition = 0xFF;
+// An SII string's length is one byte: 255 characters is the longest device name the SII reader keeps,
+// and FoundSlave holds it whole (a real EK1100 calls itself in 34).
+constexpr std::size_t kMaxDeviceNameLength = 255;
+// One line of describe(): room for the longest device name whole and the words around it.
+constexpr std::size_t kDifferenceLineCapacity = kMaxDeviceNameLength + 256;
 
 struct FoundSlave {
   std::uint32_t vendor_id{0};
@@ -41,7 +46,7 @@ struct FoundSlave {
   std::uint32_t output_bits{0};  // default RxPDO bits of SM2 from SII (0 when unknown)
   std::uint32_t input_bits{0};   // default TxPDO bits of SM3
   bool pdo_sizes_known{false};
-  std::array<char, 32> name{};   // SII device name, NUL terminated
+  std::array<char, kMaxDeviceNameLength + 1> name{};  // SII device name whole, NUL terminated
 };
 
 enum class DifferenceKind : std::uint8_t {

@@ -21,6 +21,7 @@ constexpr std::uint8_t kGonePeriods = 3;
 constexpr std::uint8_t kMaxBounces = 3;  // attempts in a row that lost the device again
 constexpr std::uint16_t kSiiBlockLength = 14;  // 0x0502..0x050F: control, address, data
 constexpr std::uint16_t kDcBlockLength = 0x20;  // 0x0910..0x092F: time, receive time, offset, delay, difference
+constexpr std::uint8_t kReadStandIn = 3;  // clock step of the reference itself: a stand-in's time read (then sub 1)
 constexpr std::uint16_t kDcLoopRestart = 0x1000;
 constexpr std::uint64_t kSync0MarginPeriods = 10;
 constexpr std::size_t kIdentityWords = 8;
@@ -43,6 +44,12 @@ reg::AlState target_al_state(RecoveryState state) noexcept {
 bool is_al_step(RecoveryState state) noexcept {
   return state == RecoveryState::resetting || state == RecoveryState::pre_op || state == RecoveryState::safe_op ||
          state == RecoveryState::op;
+}
+
+// Whether the state's next AL control write acknowledges an error: when one was seen, and on the
+// way into INIT unless the acknowledging write already left the error bit (see on_step_answer).
+bool acknowledges(const RecoveryProgress& r) noexcept {
+  return r.acknowledge || (r.state() == RecoveryState::resetting && !r.plain_request);
 }
 
 std::uint32_t word_pair(const std::array<std::uint16_t, 8>& w, std::size_t first) noexcept {
@@ -89,6 +96,7 @@ void RecoveryActions::enter_state(RecoveryContext& ctx) noexcept {
   r.sub = 0;
   r.silent = 0;
   r.acknowledge = false;
+  r.plain_request = false;
   const hal::Nanoseconds now = service.ctx_.now();
   r.changed_at = now;
   r.deadline = now + (state == RecoveryState::failed ? service.hold_off(r.failures) : service.ctx_.options.recovery_step_timeout);
@@ -252,7 +260,7 @@ bool RecoveryService::add_step(CycleFrame& frame, std::size_t p) noexcept {
   };
   if (is_al_step(r.state())) {
     if (r.sub == 0) {
-      store_le16(bytes.data(), al_control_value(target_al_state(r.state()), r.acknowledge || r.state() == RecoveryState::resetting));
+      store_le16(bytes.data(), al_control_value(target_al_state(r.state()), acknowledges(r)));
       write(reg::kAlControl, 2);
     } else {
       read(reg::kAlStatus, kAlStatusReadLength);
@@ -289,8 +297,12 @@ bool RecoveryService::add_step(CycleFrame& frame, std::size_t p) noexcept {
         }
         break;
       case RecoveryState::clock:
+        if (r.sub == kReadStandIn && clock_stand_in() == kMaxSlaves) r.sub = 1;  // the stand-in left: its old offset stays
         if (r.sub == 0) {
           read(reg::kDcSystemTime, kDcBlockLength);
+        } else if (r.sub == kReadStandIn) {
+          const std::size_t q = clock_stand_in();
+          added = frame.add(*this, tag, Command::FPRD, make_address(ctx_.plan[q].station_address, reg::kDcSystemTime), 8);
         } else if (r.sub == 1) {
           store_le64(bytes.data(), r.offset);
           store_le32(bytes.data() + 8, ctx_.report.delays[p]);
@@ -405,6 +417,14 @@ std::size_t RecoveryService::owner_of_identity(std::size_t finder) const noexcep
   return kMaxSlaves;
 }
 
+std::size_t RecoveryService::clock_stand_in() const noexcept {
+  const SlaveMask candidates = ctx_.dc_slaves & ctx_.monitor.in_exchange();
+  for (std::size_t q = ctx_.reference_position() + 1; q < kMaxSlaves; ++q) {
+    if ((candidates & slave_bit(q)) != 0) return q;
+  }
+  return kMaxSlaves;
+}
+
 hal::Nanoseconds RecoveryService::hold_off(std::uint8_t failures) const noexcept {
   hal::Nanoseconds wait = ctx_.options.recovery_hold_off;
   for (std::uint8_t k = 1; k < failures && wait < ctx_.options.recovery_hold_off_max; ++k) wait *= 2;
@@ -428,7 +448,12 @@ void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexc
     ctx_.slaves[p].note_al_status(data);
     const auto wanted = static_cast<std::uint16_t>(target_al_state(r.state()));
     if ((status & reg::kAlErrorBit) != 0) {
-      r.acknowledge = true;  // acknowledge and ask again
+      // Acknowledge and ask again; after an acknowledging request ask for the state alone, as bring-up
+      // does: a device that emulates its state machine (a junction) copies AL control into AL status,
+      // acknowledge bit included, so only a request without it clears the bit there.
+      const bool acknowledged = acknowledges(r);
+      r.acknowledge = !acknowledged;
+      r.plain_request = acknowledged;
       r.sub = 0;
     } else if ((status & reg::kAlStateMask) == wanted) {
       take_input(p, RecoveryInput::step_done);
@@ -472,11 +497,26 @@ void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexc
     case RecoveryState::clock:
       if (r.sub == 0) {
         if (dc_.frame_reference_time() == 0) break;  // the reference did not answer: read again
-        // Its system time should equal the reference's at the instant the frame passed it: the
-        // reference's time (read by the same frame) plus the propagation delay between them.
         const std::uint64_t system_time = load_le64(data);
         const std::uint64_t old_offset = load_le64(data + 16);
+        if (p == ctx_.reference_position()) {
+          // The reference itself restarted (its time began again from its power-up): the network's
+          // time is what the other clocks kept. Its old offset now, a stand-in's time next frame.
+          r.offset = old_offset;
+          r.sub = clock_stand_in() == kMaxSlaves ? 1 : kReadStandIn;
+          break;
+        }
+        if (ctx_.reference_out()) break;  // the reference's time is not the network's yet: read again
+        // Its system time should equal the reference's at the instant the frame passed it: the
+        // reference's time (read by the same frame) plus the propagation delay between them.
         r.offset = old_offset + (dc_.frame_reference_time() + ctx_.report.delays[p]) - system_time;
+        r.sub = 1;
+      } else if (r.sub == kReadStandIn) {
+        if (dc_.frame_reference_time() == 0) break;  // the reference did not answer: read again
+        // The reference's time at the instant the frame passed it should be the stand-in's then less
+        // the propagation delay between them (the reference's own delay is 0).
+        const std::size_t q = clock_stand_in();
+        if (q != kMaxSlaves) r.offset += (load_le64(data) - ctx_.report.delays[q]) - dc_.frame_reference_time();
         r.sub = 1;
       } else if (r.sub == 1) {
         r.sub = 2;

@@ -60,6 +60,9 @@ class RecoveryService final : public CyclicService {
     std::uint16_t unknown{0};
   };
   Places expected_places(std::size_t position) const noexcept;
+  // The DC slave in the exchange nearest after the reference clock: its clock stands in for the
+  // network's time while the reference, restarted, is set again (kMaxSlaves: none).
+  std::size_t clock_stand_in() const noexcept;
 
   ServiceContext& ctx_;
   const DcReferenceService& dc_;

@@ -45,6 +45,7 @@ struct RecoveryProgress {
   std::uint8_t silent{0};          // datagrams in a row with working counter 0
   std::uint8_t words{0};           // SII words 0x08.. read so far
   bool acknowledge{false};         // next AL control write acknowledges an error
+  bool plain_request{false};       // an acknowledging write left the error bit: ask for the state alone
   bool withdraw{false};            // searching: first write its station address back to 0
   bool lost_address{false};        // found with station address 0: its power was cycled
   bool by_address{false};          // searching: the next search reads 0x0010 by its own station address

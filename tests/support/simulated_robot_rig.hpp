@@ -66,9 +66,22 @@ struct SimulatedRobotRig {
   Status built{};
 };
 
+// One device more, cabled behind l_hand (the last slave, port 1): an unexpected device plugged in.
+// Pass it to SimulatedRobotRig::build; `device` stays the test's.
+inline drivers::SegmentSlave extra_slave_behind_the_last(drivers::SlaveDevice& device, const char* name) {
+  drivers::SegmentSlave extra;
+  extra.name = name;
+  extra.upstream = kSlaveCount - 1;
+  extra.upstream_port = 1;
+  extra.esc = drivers::joint_esc_config();
+  extra.link_delay_ns = drivers::kPhyPairDelayNs + 5;
+  extra.device = &device;
+  return extra;
+}
+
 // The bring-up report in words: failed step, error, AL failure, every network difference.
 inline std::string describe_master_failure(const ecat::Master& m) {
-  char line[256];
+  char line[ecat::kDifferenceLineCapacity];
   std::string s = m.report().failed_step != nullptr ? m.report().failed_step : "-";
   s += ": ";
   s += m.report().error.what;

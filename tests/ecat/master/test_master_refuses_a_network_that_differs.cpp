@@ -52,13 +52,7 @@ TEST(MasterRefuses, MissingJointsAreNamed) {
 TEST(MasterRefuses, ExtraDeviceIsNamed) {
   auto rig = std::make_unique<SimulatedRobotRig>(false);
   testing::SiiImageDevice stranger(stranger_image());
-  drivers::SegmentSlave extra;
-  extra.name = "stranger";
-  extra.upstream = 22;  // behind l_hand, port 1
-  extra.upstream_port = 1;
-  extra.esc = drivers::joint_esc_config();
-  extra.link_delay_ns = drivers::kPhyPairDelayNs + 5;
-  extra.device = &stranger;
+  const drivers::SegmentSlave extra = testing::extra_slave_behind_the_last(stranger, "stranger");
   rig->build({}, &extra);
   const Status up = bring_up(*rig);
   ASSERT_FALSE(up.ok());

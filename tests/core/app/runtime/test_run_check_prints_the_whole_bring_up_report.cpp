@@ -97,7 +97,7 @@ TEST_F(RunCheckReport, ASlaveRefusingAStateIsNamedWithItsAlStatusCode) {
   start_sim_with("refuse r_elbow safe-op 0x001D");
   std::string out;
   EXPECT_EQ(check(out), 1);
-  EXPECT_NE(out.find(kFailed + "SAFE-OP: slave refused state (refused; details 5, 29)\n"), std::string::npos) << out;
+  EXPECT_NE(out.find(kFailed + "SAFE-OP: slave refused state (refused: slave at position 5, AL status code 0x001d)\n"), std::string::npos) << out;
   EXPECT_NE(out.find(kLine + "23 slaves answer\n"), std::string::npos) << out;
   EXPECT_NE(out.find(kLine + "r_elbow refused SAFE-OP: AL status 0x0012 (PRE-OP, error), code 0x001d invalid output configuration\n"),
             std::string::npos)
