@@ -1,4 +1,5 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
+#include <cstdio>
 #include <cstring>
 
 #include "core/app/bench/bench_codec.hpp"
@@ -87,6 +88,9 @@ int unknown_bench(const char* name) noexcept {
 }
 
 int bench_main(const ParsedArgs& args) {
+  // Each line reaches a pipe when written: the header at once, each figure as it is measured
+  // (stdout is block-buffered when piped). Before any output, as setvbuf requires.
+  (void)std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const Bench* bench = find_bench(args.positional(0));
   if (bench == nullptr) return unknown_bench(args.positional(0));
   // An option the benchmark does not take is refused, not silently ignored.

@@ -66,6 +66,9 @@ void report_privileges(const NicChoice& nic) noexcept {
 }
 
 int run_main(const ParsedArgs& args) {
+  // --check: each line reaches a pipe when written (stdout is block-buffered when piped); set before
+  // the first output, as setvbuf requires.
+  if (args.has("check")) (void)std::setvbuf(stdout, nullptr, _IOLBF, 0);
   FirmwareOptions options;
   if (args.value("config") != nullptr) {
     const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
@@ -98,6 +101,7 @@ int run_main(const ParsedArgs& args) {
     check.nic = options.nic;
     check.nic_text = options.nic_text;
     check.capture_path = args.value("capture");
+    check.progress = stderr;
     return run_self_check(check, stdout, nullptr);
   }
   report_privileges(options.nic);
@@ -185,7 +189,7 @@ const CommandSpec kRunCommand{
     "which of CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK, RLIMIT_RTPRIO and RLIMIT_MEMLOCK it lacks and\n"
     "what that costs.\n"
     "--check brings the network to OP and back to INIT without enabling a drive, prints one line and\n"
-    "exits 0 (OK) or 1 (docs/deploy.md).",
+    "exits 0 (OK) or 1 (docs/deploy.md); a line per phase goes to standard error as it starts.",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app
