@@ -7,14 +7,27 @@ binary=$1 version=$2 out=$3
 here=$(cd "$(dirname "$0")" && pwd)
 include=$(mktemp)
 trap 'rm -f "$include"' EXIT
+commands="run sim ctl decode bench docs"
+# roff: a backslash is written \e; a line starting with . or ' is protected by \&, and so is one
+# starting with [, which help2man would take for a section of this include file.
+roff_text() { sed -e 's/\\/\\e/g' -e "s/^\\([.'[]\\)/\\\\\\&\\1/"; }
 {
+  # Each command's form: the first line of its --help ("usage: rescue-motion run [OPTIONS]").
+  echo "[SYNOPSIS]"
+  echo ".nh"
+  echo ".SY rescue-motion"
+  echo "\\-\\-help | \\-\\-version"
+  for cmd in $commands; do
+    echo ".SY rescue-motion"
+    "$binary" "$cmd" --help | sed -n -e "1s/^usage: rescue-motion //p" | roff_text
+  done
+  echo ".YS"
   echo "[COMMANDS IN DETAIL]"
-  for cmd in run sim ctl decode bench docs; do
+  for cmd in $commands; do
     echo ".SS \"rescue-motion $cmd\""
     echo ".nf"
-    # roff: a backslash is written \e; a line starting with . or ' is protected by \&.
     # Wrapped to 72 columns: the man page's blocks are indented, the page stays within 80 columns.
-    "$binary" "$cmd" --help | python3 "$here/wrap-help.py" 72 | sed -e 's/\\/\\e/g' -e "s/^\\([.']\\)/\\\\\\&\\1/"
+    "$binary" "$cmd" --help | python3 "$here/wrap-help.py" 72 | roff_text
     echo ".fi"
   done
   cat <<'TXT'

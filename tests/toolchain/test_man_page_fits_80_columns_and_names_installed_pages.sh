@@ -7,8 +7,7 @@ set -euo pipefail
 source=$1 binary=$2
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-bash "$source/packaging/make-man.sh" "$binary" 0.0-test "$out/rescue-motion.1"
-page=$(MANWIDTH=80 MAN_KEEP_FORMATTING= man -l "$out/rescue-motion.1" 2>/dev/null | col -b)
+page=$(bash "$source/tests/toolchain/render_man_page.sh" "$source" "$binary" "$out")
 long=$(echo "$page" | awk 'length > 80' | head -5)
 [ -z "$long" ] || { echo "FAILED: lines over 80 columns:"; echo "$long"; exit 1; }
 for section in "EXIT STATUS" "EXAMPLES" "FILES" "SEE ALSO"; do

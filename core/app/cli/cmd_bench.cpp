@@ -1,4 +1,5 @@
 // rescue-motion bench NAME: measuring commands. Each prints what it ran on, then `key: value unit`.
+#include <cstdio>
 #include <cstring>
 
 #include "core/app/bench/bench_codec.hpp"
@@ -87,6 +88,9 @@ int unknown_bench(const char* name) noexcept {
 }
 
 int bench_main(const ParsedArgs& args) {
+  // Each line reaches a pipe when written: the header at once, each figure as it is measured
+  // (stdout is block-buffered when piped). Before any output, as setvbuf requires.
+  (void)std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const Bench* bench = find_bench(args.positional(0));
   if (bench == nullptr) return unknown_bench(args.positional(0));
   // An option the benchmark does not take is refused, not silently ignored.
@@ -110,7 +114,9 @@ int bench_help(const ParsedArgs& args) {
   }
   const Bench* bench = find_bench(args.positional(0));
   if (bench == nullptr) return unknown_bench(args.positional(0));
-  (void)std::printf("usage: rescue-motion bench %s [OPTIONS]\n\n%s\n\nOptions:\n", bench->name, bench->what);
+  (void)std::printf("usage: rescue-motion bench %s [OPTIONS]\n\n", bench->name);
+  print_help_text(stdout, bench->what);
+  (void)std::printf("\nOptions:\n");
   bool any = false;
   for (const OptionSpec& option : kOptions) {
     if (!takes(*bench, option.name)) continue;
@@ -123,11 +129,11 @@ int bench_help(const ParsedArgs& args) {
     char left[64];
     (void)std::snprintf(left, sizeof left, "--%s%s%s", option.name, option.value_name != nullptr ? " " : "",
                         option.value_name != nullptr ? option.value_name : "");
-    (void)std::printf("  %-28s %s\n", left, option.help);
+    print_help_row(stdout, left, option.help);
     any = true;
   }
   if (!any) (void)std::printf("  (none)\n");
-  (void)std::printf("  %-28s %s\n", "-h, --help", "show this help and exit");
+  print_help_row(stdout, "-h, --help", "show this help and exit");
   return 0;
 }
 
@@ -136,16 +142,24 @@ int bench_help(const ParsedArgs& args) {
 const CommandSpec kBenchCommand{
     "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods, fig4)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
-    "  nic    round trip of a 60-byte frame through what answers on --nic (e.g. `sim --iface` on a veth pair)\n"
-    "  core   TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init\n"
-    "  codec  build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time\n"
-    "  master EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init\n"
-    "  sim    simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second\n"
-    "  rc     RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step,\n"
-    "         whole RC period (median/p99/max ns), heap after init; KDL ratios: rescue-bench-rc-kdl\n"
-    "  latency wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU; ratio\n"
-    "  periods the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time (toolchain/instructions.sh)\n"
-    "  fig4   the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
+    "  nic      round trip of a 60-byte frame through what answers on --nic (`sim --iface` on a veth)\n"
+    "  core     TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap\n"
+    "           and page faults after init\n"
+    "  codec    build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of\n"
+    "           its wire time\n"
+    "  master   EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap\n"
+    "           after init\n"
+    "  sim      simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per\n"
+    "           host second\n"
+    "  rc       RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority\n"
+    "           IK step, whole RC period (median/p99/max ns), heap after init; KDL ratios:\n"
+    "           rescue-bench-rc-kdl\n"
+    "  latency  wake-up latency of the handler's 1 ms loop and of cyclictest, same priority and CPU;\n"
+    "           ratio\n"
+    "  periods  the handler's cycle, the joint manager's step and the RC period on the simulated robot\n"
+    "           in virtual time (toolchain/instructions.sh)\n"
+    "  fig4     the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with\n"
+    "           Table I affinity; CSV, PNG, summary",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main, bench_help};
 
 }  // namespace rescue::app

@@ -139,13 +139,14 @@ const CommandSpec kCtlCommand{
     "  version                              the robot's program version, layout and build type, and ctl's own\n"
     "  upload JOINT INDEX:SUB               read a CoE object of the joint's drive (SDO; e.g. 0x100A:00), --type\n"
     "  download JOINT INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
-    "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master configures;\n"
-    "                                       with JOINT also read back from its drive (SDO), each same or not\n"
+    "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master\n"
+    "                                       configures; with JOINT also read back from its drive (SDO),\n"
+    "                                       each same or not\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
-    "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or the\n"
-    "drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic answer\n"
-    "in time, or another robot id); 4 local (the key or configuration file unusable); 5 an answer that\n"
-    "does not fit the request.",
+    "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or\n"
+    "the drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic\n"
+    "answer in time, or another robot id); 4 local (the key or configuration file unusable); 5 an\n"
+    "answer that does not fit the request.",
     Span<const OptionSpec>(kOptions), 1, 4, ctl_main};
 
 }  // namespace rescue::app

@@ -19,6 +19,12 @@ const OptionSpec kOptions[] = {
     {"machine", "NAME", "only this state machine (default: all)"},
 };
 
+// A topic or option value the command does not know: a usage error (exit 2), worded as bench's.
+int usage_error(const char* what, const char* given, const char* hint) noexcept {
+  (void)std::fprintf(stderr, "rescue-motion docs: %s '%s' (%s)\n", what, given, hint);
+  return 2;
+}
+
 int docs_main(const ParsedArgs& args) {
   const char* topic = args.positional(0);
   if (std::strcmp(topic, "tasks") == 0) {
@@ -29,16 +35,16 @@ int docs_main(const ParsedArgs& args) {
     shm::write_segment_map_markdown(stdout);
     return std::fflush(stdout) == 0 ? 0 : fail("docs", "cannot write to standard output");
   }
-  if (std::strcmp(topic, "fsm") != 0) return fail("docs", "unknown topic (known: fsm, tasks, shared-memory)");
+  if (std::strcmp(topic, "fsm") != 0) return usage_error("unknown topic", topic, "known: fsm, tasks, shared-memory");
   const char* format = args.value("format") != nullptr ? args.value("format") : "markdown";
   const bool dot = std::strcmp(format, "dot") == 0;
-  if (!dot && std::strcmp(format, "markdown") != 0) return fail("docs", "--format must be markdown or dot");
+  if (!dot && std::strcmp(format, "markdown") != 0) return usage_error("unknown --format", format, "known: markdown, dot");
 
   // The machines of fsm/, then the master's online recovery (ecat/master/slave_recovery.hpp).
   const char* only = args.value("machine");
   constexpr fsm::MachineView kRecovery = fsm::ViewOf<ecat::SlaveRecoveryTable>::view();
   if (only != nullptr && fsm::find_documented_machine(only) == nullptr && std::strcmp(only, kRecovery.name) != 0) {
-    return fail("docs", "no state machine of that name (see rescue-motion docs fsm)");
+    return usage_error("unknown --machine", only, "see rescue-motion docs fsm");
   }
   bool first = true;
   const auto print = [&](const fsm::MachineView& machine) {
@@ -65,7 +71,7 @@ const CommandSpec kDocsCommand{
     "  fsm    every state machine: states, inputs, the (state, input) grid, guards and actions.\n"
     "  tasks  the firmware's tasks (paper Table I): scheduling, CPU, period, shared memory, role.\n"
     "  shared-memory  the tasks' shared-memory segment byte by byte: header, then every member.\n"
-    "docs/fsm.md, docs/tasks.md and docs/shared-memory.md hold this output; render a state-machine diagram with\n"
+    "docs/fsm.md, docs/tasks.md and docs/shared-memory.md hold this output; a state-machine diagram:\n"
     "  rescue-motion docs fsm --format dot | dot -Tsvg > fsm.svg",
     Span<const OptionSpec>(kOptions), 1, 1, docs_main};
 

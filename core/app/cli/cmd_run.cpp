@@ -66,6 +66,9 @@ void report_privileges(const NicChoice& nic) noexcept {
 }
 
 int run_main(const ParsedArgs& args) {
+  // --check: each line reaches a pipe when written (stdout is block-buffered when piped); set before
+  // the first output, as setvbuf requires.
+  if (args.has("check")) (void)std::setvbuf(stdout, nullptr, _IOLBF, 0);
   FirmwareOptions options;
   if (args.value("config") != nullptr) {
     const ConfigOutcome loaded = load_config_file(args.value("config"), g_config);
@@ -98,6 +101,7 @@ int run_main(const ParsedArgs& args) {
     check.nic = options.nic;
     check.nic_text = options.nic_text;
     check.capture_path = args.value("capture");
+    check.progress = stderr;
     return run_self_check(check, stdout, nullptr);
   }
   report_privileges(options.nic);
@@ -175,16 +179,17 @@ const CommandSpec kRunCommand{
     "Reads the error-joints file of the state directory, brings the EtherCAT network up to OP with\n"
     "distributed clocks, and runs the EtherCAT handler (1 ms) and the joint manager. SIGINT or SIGTERM\n"
     "stop it cleanly: drives disabled, state saved. Exit status 0 on a clean stop, 3 when the robot\n"
-    "ended in error (every joint in Error), 1 on any other failure.\n"
+    "ended in error (every joint in Error), 1 on any other failure (4, 5, 6: the man page's EXIT STATUS).\n"
     "After a repair, --clear-joint names the joints to clear: they must answer at bring-up; once they\n"
     "do in OP they leave the error-joints file (logged) and are reset to Idle.\n"
     "With a key file the operator's commands arrive on the control port and IMU/GPS records on the\n"
     "sensor port (docs/protocol.md); `rescue-motion ctl` is the operator client (docs/operator.md).\n"
-    "--config FILE reads these settings and each task's priority and CPU from a file (docs/configuration.md);\n"
-    "an option on the command line overrides the file. At start the run says which of CAP_NET_RAW,\n"
-    "CAP_SYS_NICE, CAP_IPC_LOCK, RLIMIT_RTPRIO and RLIMIT_MEMLOCK it lacks and what that costs.\n"
+    "--config FILE reads these settings and each task's priority and CPU from a file\n"
+    "(docs/configuration.md); an option on the command line overrides the file. At start the run says\n"
+    "which of CAP_NET_RAW, CAP_SYS_NICE, CAP_IPC_LOCK, RLIMIT_RTPRIO and RLIMIT_MEMLOCK it lacks and\n"
+    "what that costs.\n"
     "--check brings the network to OP and back to INIT without enabling a drive, prints one line and\n"
-    "exits 0 (OK) or 1 (docs/deploy.md).",
+    "exits 0 (OK) or 1 (docs/deploy.md); a line per phase goes to standard error as it starts.",
     Span<const OptionSpec>(kOptions), 0, 0, run_main};
 
 }  // namespace rescue::app

@@ -133,9 +133,101 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
   return parsed;
 }
 
+namespace {
+
+constexpr std::size_t kLeftColumn = 2;   // "  --option VALUE"
+constexpr std::size_t kTextColumn = 31;  // after the option's 28 columns and a space
+
+void print_spaces(std::FILE* out, std::size_t n) noexcept {
+  for (std::size_t i = 0; i < n; ++i) (void)std::fputc(' ', out);
+}
+
+// Writes the words of [text, end) from column `at`, breaking before a word that would pass
+// kHelpColumns; a continuation starts at `indent`. A word wider than a line stays whole. Ends the line.
+void print_words(std::FILE* out, const char* text, const char* end, std::size_t at, std::size_t indent) noexcept {
+  bool line_empty = true;
+  while (text < end) {
+    while (text < end && *text == ' ') ++text;
+    const char* word_end = text;
+    while (word_end < end && *word_end != ' ') ++word_end;
+    if (word_end == text) break;
+    const auto length = static_cast<std::size_t>(word_end - text);
+    if (!line_empty && at + 1 + length > kHelpColumns) {
+      (void)std::fputc('\n', out);
+      print_spaces(out, indent);
+      at = indent;
+      line_empty = true;
+    }
+    if (!line_empty) {
+      (void)std::fputc(' ', out);
+      ++at;
+    }
+    (void)std::fwrite(text, 1, length, out);
+    at += length;
+    line_empty = false;
+    text = word_end;
+  }
+  (void)std::fputc('\n', out);
+}
+
+// One line of help text (no newline inside).
+void print_help_line(std::FILE* out, const char* line, const char* end) noexcept {
+  if (static_cast<std::size_t>(end - line) <= kHelpColumns) {  // as written: a table keeps its spacing
+    (void)std::fwrite(line, 1, static_cast<std::size_t>(end - line), out);
+    (void)std::fputc('\n', out);
+    return;
+  }
+  const char* text = line;
+  while (text < end && *text == ' ') ++text;
+  auto indent = static_cast<std::size_t>(text - line);
+  // The description column: after the first run of two or more spaces that follows a word.
+  const char* column = text;
+  while (column < end && !(column[0] == ' ' && column + 1 < end && column[1] == ' ')) ++column;
+  const char* description = column;
+  while (description < end && *description == ' ') ++description;
+  const auto description_at = static_cast<std::size_t>(description - line);
+  if (column < end && description < end && description_at < kHelpColumns / 2) {
+    (void)std::fwrite(line, 1, description_at, out);  // the name and its spaces, as written
+    indent = description_at;
+    text = description;
+  } else {
+    print_spaces(out, indent);
+  }
+  print_words(out, text, end, indent, indent);
+}
+
+}  // namespace
+
+void print_help_row(std::FILE* out, const char* left, const char* text) noexcept {
+  const std::size_t width = std::strlen(left);
+  print_spaces(out, kLeftColumn);
+  (void)std::fputs(left, out);
+  if (kLeftColumn + width + 1 > kTextColumn) {
+    (void)std::fputc('\n', out);
+    print_spaces(out, kTextColumn);
+  } else {
+    print_spaces(out, kTextColumn - kLeftColumn - width);
+  }
+  print_words(out, text, text + std::strlen(text), kTextColumn, kTextColumn);
+}
+
+void print_help_text(std::FILE* out, const char* text) noexcept {
+  for (const char* line = text;;) {
+    const char* end = std::strchr(line, '\n');
+    if (end == nullptr) end = line + std::strlen(line);
+    print_help_line(out, line, end);
+    if (*end == '\0') return;
+    line = end + 1;
+  }
+}
+
 void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept {
-  std::fprintf(out, "usage: rescue-motion %s\n\n%s\n", spec.usage, spec.summary);
-  if (spec.details[0] != '\0') std::fprintf(out, "\n%s\n", spec.details);
+  std::fprintf(out, "usage: rescue-motion %s\n\n", spec.usage);
+  print_help_text(out, spec.summary);
+  if (spec.details[0] != '\0') {
+    (void)std::fputc('\n', out);
+    print_help_text(out, spec.details);
+  }
   std::fprintf(out, "\noptions:\n");
   for (const OptionSpec& opt : spec.options) {
     char left[64];
@@ -148,9 +240,9 @@ void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept {
         (void)std::snprintf(left, sizeof left, "--%s", opt.name);
       }
     }
-    std::fprintf(out, "  %-28s %s\n", left, opt.help);
+    print_help_row(out, left, opt.help);
   }
-  std::fprintf(out, "  %-28s %s\n", "-h, --help", "show this help and exit");
+  print_help_row(out, "-h, --help", "show this help and exit");
 }
 
 int fail(const char* command, const char* what, const Error& error) noexcept {

@@ -70,6 +70,15 @@ Result<ParsedArgs> parse_args(const CommandSpec& spec, int argc, const char* con
 
 void print_command_help(std::FILE* out, const CommandSpec& spec) noexcept;
 
+// Help text fits kHelpColumns (a terminal of 100 columns; the man page wraps again to 72). Lines break
+// at spaces only, a continuation indented to its line's description column.
+inline constexpr std::size_t kHelpColumns = 100;
+// "  LEFT  TEXT": TEXT in the column after LEFT's 28 (on the next line when LEFT is wider).
+void print_help_row(std::FILE* out, const char* left, const char* text) noexcept;
+// Paragraphs of help, line by line: a continuation indented after the line's first run of two or more
+// spaces ("  fsm    every state machine"), else to the line's own indentation.
+void print_help_text(std::FILE* out, const char* text) noexcept;
+
 // Prints "rescue-motion <cmd>: <what>: <reason>" to stderr; returns the exit status for failures.
 int fail(const char* command, const char* what, const Error& error) noexcept;
 int fail(const char* command, const char* message) noexcept;

@@ -98,6 +98,9 @@ constexpr std::int64_t kOwnerDeadAfterPeriods = 50;
 // few ms), far below the drives' SyncManager watchdog (kDriveWatchdogNs). `run --config`: the
 // `[supervisor]` section's `task_silent_ms`.
 constexpr std::int64_t kTaskSilentAfterNs = 30'000'000;
+// At most one silence line per task in this long (core/app/runtime/repeat_limiter.hpp): the silences
+// in between are counted and the next line says how many, so a loaded host's log stays readable.
+constexpr std::int64_t kSilenceReportIntervalNs = 10'000'000'000;
 // The drives' SyncManager watchdog: without a frame for this long they disable their outputs.
 constexpr std::int64_t kDriveWatchdogNs = 100'000'000;
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/app/runtime/liveness_watch.hpp"
+#include "core/app/runtime/repeat_limiter.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "hal/time/wall_clock.hpp"
 
@@ -76,6 +77,8 @@ const char* consequence_of_silence(std::size_t task) noexcept {
 // The supervisor's liveness watch (the logging thread under --threads): one check per pass.
 void liveness_pass(hal::Nanoseconds now) noexcept {
   static LivenessWatch watch(g_run.tasks.options->task_silent_after, kWatchedTasks);
+  static RepeatLimiter<kTaskStatSlots> limiter(config::kSilenceReportIntervalNs);
+  static std::array<bool, kTaskStatSlots> shown{};  // whether each task's latest silence was printed
   std::array<LivenessChange, kTaskStatSlots> changes{};
   const std::size_t n = watch.check(now, links().task_heartbeat_ns, changes);
   RunControl& state = run();
@@ -83,9 +86,19 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
     const LivenessChange& c = changes[i];
     const double at = seconds(now - g_run.tasks.start);
     if (c.kind == LivenessChange::Kind::silent) {
-      (void)std::printf("[%8.3f s] supervisor: %s has completed no period for %.1f ms (silent after %.1f ms): %s\n", at,
-                        kWatchedNames[c.task], static_cast<double>(c.silent_ns) / 1e6,
-                        static_cast<double>(watch.silent_after()) / 1e6, consequence_of_silence(c.task));
+      // Repeats rate-limited: the first line whole, then at most one per interval, with the count left out.
+      const RepeatLimiter<kTaskStatSlots>::Decision line = limiter.admit(c.task, now);
+      shown[c.task] = line.print;
+      if (line.print) {
+        (void)std::printf("[%8.3f s] supervisor: %s has completed no period for %.1f ms (silent after %.1f ms)", at,
+                          kWatchedNames[c.task], static_cast<double>(c.silent_ns) / 1e6,
+                          static_cast<double>(watch.silent_after()) / 1e6);
+        if (line.suppressed > 0) {
+          (void)std::printf("; %llu silences of it left out since its last line (one line per %.0f s at most)",
+                            static_cast<unsigned long long>(line.suppressed), static_cast<double>(limiter.interval()) / 1e9);
+        }
+        (void)std::printf(": %s\n", line.first ? consequence_of_silence(c.task) : "what it means: its first line");
+      }
       state.silent_tasks.fetch_or(1U << c.task, std::memory_order_relaxed);
       state.silences_reported.fetch_add(1, std::memory_order_relaxed);
       if (c.silent_ns > state.silence_report_age_max_ns.load(std::memory_order_relaxed)) {
@@ -93,6 +106,9 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
       }
     } else {
       const bool past_watchdog = c.task == static_cast<std::size_t>(StatTask::ethercat_handler) && c.silent_ns >= config::kDriveWatchdogNs;
+      state.silent_tasks.fetch_and(~(1U << c.task), std::memory_order_relaxed);
+      // A silence left out leaves out its end, unless the drives were disabled meanwhile: that always shows.
+      if (!shown[c.task] && !past_watchdog) continue;
       (void)std::printf("[%8.3f s] supervisor: %s runs again after %.1f ms without a period%s\n", at, kWatchedNames[c.task],
                         static_cast<double>(c.silent_ns) / 1e6,
                         past_watchdog ? ": longer than the drives' watchdog; the handler re-arms them to OP and enables "
@@ -100,7 +116,6 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
                                         "the robot moves again only when the operator says (ctl owner N; docs/tasks.md "
                                         "\"Liveness\")"
                                       : "");
-      state.silent_tasks.fetch_and(~(1U << c.task), std::memory_order_relaxed);
     }
   }
 }

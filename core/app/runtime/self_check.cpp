@@ -24,6 +24,11 @@ int failed(std::FILE* out, const char* what, const char* detail) noexcept {
 
 using hal::seconds;  // hal/time/clock.hpp
 
+// A phase line written: out to whoever reads it now, not when the check ends (a pipe is block-buffered).
+void phase_done(std::FILE* progress) noexcept {
+  if (progress != nullptr) (void)std::fflush(progress);
+}
+
 }  // namespace
 
 int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckReport* report) noexcept {
@@ -69,6 +74,9 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   } const closer;
   ecat::MasterOptions master_options;
   master_options.stop_requested = []() noexcept { return stop_signal() != 0; };
+  std::FILE* const progress = options.progress;
+  if (progress != nullptr) (void)std::fprintf(progress, "%s: bringing the network up (nic %s)\n", kPrefix, options.nic_text);
+  phase_done(progress);
   const hal::Nanoseconds start = clock.now();
   const Status up = bus.bring_up(master_options);
   if (!up.ok()) {
@@ -77,6 +85,11 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
     return 1;
   }
   r.slaves = bus.master().report().slaves_counted;
+  if (progress != nullptr) {
+    (void)std::fprintf(progress, "%s: %u slaves in SAFE-OP after %.3f s; to OP with every output zero\n", kPrefix,
+                       r.slaves, seconds(clock.now() - start));
+  }
+  phase_done(progress);
 
   // Cycles with every output zero until OP, then a short hold in OP. The wait for OP counts from
   // here (SAFE-OP), and is never shorter than the master's own OP limit: a slave that does not
@@ -101,6 +114,11 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
       op_at = now;
       r.reached_op = true;
       r.op_after_s = seconds(now - start);
+      if (progress != nullptr) {
+        (void)std::fprintf(progress, "%s: OP after %.3f s; exchanging frames for %.3f s\n", kPrefix, r.op_after_s,
+                           seconds(options.hold_in_op));
+      }
+      phase_done(progress);
     }
     if (op_at >= 0) ++r.cycles_in_op;
     if (stop_signal() != 0) break;
@@ -109,6 +127,8 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   }
 
   // Back to INIT, every slave that answered at bring-up.
+  if (progress != nullptr) (void)std::fprintf(progress, "%s: back to INIT\n", kPrefix);
+  phase_done(progress);
   ecat::AlFailure failure{};
   const Status init = ecat::request_al_state(bus.master().link(), bus.master().plan(), bus.master().present(),
                                              ecat::reg::AlState::init, ecat::AlOptions{}, failure);

@@ -21,6 +21,10 @@ struct SelfCheckOptions {
   hal::Nanoseconds op_timeout{5 * hal::kNsPerSec};      // from SAFE-OP to OP
   hal::Nanoseconds hold_in_op{200 * hal::kNsPerMs};     // frames exchanged in OP before going back
   const char* capture_path{nullptr};  // every frame of the check recorded there (pcapng), when given
+  // One line per phase (bringing the network up, SAFE-OP, OP, back to INIT), each flushed at once so
+  // a pipe sees it while the check runs; nullptr: none. `run --check` gives stderr: stdout keeps its
+  // one verdict line for scripts.
+  std::FILE* progress{nullptr};
 };
 
 struct SelfCheckReport {
@@ -33,7 +37,7 @@ struct SelfCheckReport {
   double op_after_s{0.0};
 };
 
-// Writes its one line to `out`; fills `report` when not nullptr. Returns the exit status.
+// Writes its one verdict line to `out` (the phases to options.progress); fills `report` when not nullptr. Returns the exit status.
 int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckReport* report) noexcept;
 
 }  // namespace rescue::app

@@ -50,6 +50,8 @@ void Supervisor::describe_wait_status(int wait_status, char* buffer, std::size_t
   }
 }
 
+double Supervisor::seconds_now() const noexcept { return hal::seconds(clock_.now() - origin_); }
+
 void Supervisor::reaped(Slot& slot, int wait_status, Death& death, std::size_t index) noexcept {
   const pid_t dead = slot.pid;
   slot.pid = -1;
@@ -58,12 +60,12 @@ void Supervisor::reaped(Slot& slot, int wait_status, Death& death, std::size_t i
   describe_wait_status(wait_status, how, sizeof how);
   const hal::Nanoseconds now = clock_.now();
   if (slot.schedule.died(now) == DeathVerdict::stop_run) {
-    (void)std::fprintf(log_, "supervisor: %s (pid %d) %s: a critical task; stopping the run\n", slot.task.name,
+    (void)std::fprintf(log_, "[%8.3f s] supervisor: %s (pid %d) %s: a critical task; stopping the run\n", seconds_now(), slot.task.name,
                        static_cast<int>(dead), how);
     if (!death.critical) death = Death{true, index, wait_status};
     return;
   }
-  (void)std::fprintf(log_, "supervisor: %s (pid %d) %s; restart %u in %lld ms\n", slot.task.name, static_cast<int>(dead),
+  (void)std::fprintf(log_, "[%8.3f s] supervisor: %s (pid %d) %s; restart %u in %lld ms\n", seconds_now(), slot.task.name, static_cast<int>(dead),
                      how, slot.schedule.restarts(), static_cast<long long>(slot.schedule.last_backoff() / hal::kNsPerMs));
 }
 
@@ -84,12 +86,12 @@ Supervisor::Death Supervisor::poll() noexcept {
     ++slot.incarnation;
     const Status started = start(i);
     if (!started.ok()) {
-      (void)std::fprintf(log_, "supervisor: cannot restart %s: %s (errno %u)\n", slot.task.name, started.error().what,
+      (void)std::fprintf(log_, "[%8.3f s] supervisor: cannot restart %s: %s (errno %u)\n", seconds_now(), slot.task.name, started.error().what,
                          started.error().detail0);
       (void)slot.schedule.died(now);  // try again after the next back-off
       continue;
     }
-    (void)std::fprintf(log_, "supervisor: %s restarted (pid %d)\n", slot.task.name, static_cast<int>(slot.pid));
+    (void)std::fprintf(log_, "[%8.3f s] supervisor: %s restarted (pid %d)\n", seconds_now(), slot.task.name, static_cast<int>(slot.pid));
   }
   (void)std::fflush(log_);
   return death;

@@ -39,7 +39,13 @@ class Supervisor {
   static constexpr std::size_t kMaxTasks = 8;
 
   Supervisor(hal::Clock& clock, const RestartPolicy& policy, std::FILE* log) noexcept
-      : clock_(clock), policy_(policy), log_(log) {}
+      : clock_(clock), policy_(policy), log_(log), origin_(clock.now()) {}
+
+  // Every log line starts "[SECONDS s]" since `origin` on this supervisor's clock (default: its
+  // construction), so its lines read on the same time as the run's other lines.
+  void set_time_origin(hal::Nanoseconds origin) noexcept { origin_ = origin; }
+  // Seconds since the origin now: the stamp of a line about these tasks printed elsewhere.
+  double seconds_now() const noexcept;
 
   // Adds a task (not started). Errors: capacity_exceeded, invalid_argument (no body).
   Result<std::size_t> add(const SupervisedTask& task) noexcept;
@@ -84,6 +90,7 @@ class Supervisor {
   hal::Clock& clock_;
   RestartPolicy policy_;
   std::FILE* log_;
+  hal::Nanoseconds origin_;
   std::array<Slot, kMaxTasks> tasks_{};
   std::size_t count_{0};
   bool restarting_{true};

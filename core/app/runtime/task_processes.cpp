@@ -176,7 +176,7 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
       if (id != TaskId::ethercat_handler) RESCUE_TRY(give_back_start_up_scheduling());
       RESCUE_TRY(supervisor.start(index));
       if (id == TaskId::ethercat_handler) RESCUE_TRY(give_back_start_up_scheduling());
-      (void)std::printf("supervisor: started %s (pid %d)\n", supervisor.name(index), static_cast<int>(supervisor.pid(index)));
+      (void)std::printf("[%8.3f s] supervisor: started %s (pid %d)\n", supervisor.seconds_now(), supervisor.name(index), static_cast<int>(supervisor.pid(index)));
     }
   }
   RESCUE_TRY(give_back_start_up_scheduling());
@@ -203,7 +203,7 @@ void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) n
   (void)supervisor.wait_exit(p.manager, kTaskStopLimit);
   supervisor.signal_all(SIGKILL);  // any that did not stop within its limit (said below)
   for (const std::size_t i : {p.parser, p.socket, p.rc_rescue, p.rc_teleop, p.manager}) {
-    if (supervisor.running(i)) (void)std::printf("supervisor: %s did not stop within its limit: killed\n", supervisor.name(i));
+    if (supervisor.running(i)) (void)std::printf("[%8.3f s] supervisor: %s did not stop within its limit: killed\n", supervisor.seconds_now(), supervisor.name(i));
   }
 }
 
@@ -249,6 +249,8 @@ int run_task_processes(OperatorSide& side) noexcept {
   RunControl& state = run();
   static hal::MonotonicClock supervisor_clock;
   static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
+  // Its lines on the run's time, as the logger's: the run's age now, measured on the run's clock.
+  supervisor.set_time_origin(supervisor_clock.now() - (g_run.tasks.clock->now() - g_run.tasks.start));
   const Result<TaskProcesses> started = start_task_processes(supervisor);
   if (!started.ok()) return fail("run", "cannot start the task processes", started.error());
   const TaskProcesses& p = started.value();

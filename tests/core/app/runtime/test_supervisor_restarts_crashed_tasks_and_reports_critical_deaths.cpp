@@ -64,6 +64,11 @@ TEST(Supervisor, CrashedRestartableTaskIsRestartedAfterItsBackoff) {
   EXPECT_NE(text.find("supervisor: crasher restarted (pid " + std::to_string(supervisor.pid(task.value())) + ")"),
             std::string::npos)
       << text;
+  // Every line carries its time ("[   0.021 s] supervisor: ..."), on the supervisor's clock.
+  for (std::size_t at = 0; at < text.size(); at = text.find('\n', at) + 1) {
+    EXPECT_EQ(text.compare(at, 1, "["), 0) << text.substr(at, 80);
+    EXPECT_EQ(text.compare(at + 9, 15, " s] supervisor:"), 0) << text.substr(at, 80);
+  }
   // An ordered stop: not a death, not restarted.
   supervisor.expect_exit(task.value());
   supervisor.signal_all(SIGTERM);
