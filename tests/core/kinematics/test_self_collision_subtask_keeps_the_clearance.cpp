@@ -18,6 +18,7 @@
 
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/kinematics/self_collision.hpp"
+#include "core/kinematics/task_shape.hpp"
 #include "core/kinematics/task_priority_ik.hpp"
 #include "tests/core/kinematics/fcl_collision_boxes.hpp"
 #include "tests/core/kinematics/random_configurations.hpp"
@@ -162,7 +163,7 @@ struct Outcome {
   double largest_waist_rad{0.0};
 };
 
-// The rescue motion, then one second more, as RcPeriod steps it (IK from its own plan), with the
+// The rescue motion, then one second more, as RcPeriod steps it (its task shape after a cut), with the
 // tracks turning (left 5 rad/s, right -3 rad/s: many whole turns) and the legs sweeping -0.3 .. 2 rad
 // and back every 4 s, both written into the plan every period (they are not the IK's joints).
 Outcome run(const Sweep& sweep) {
@@ -203,8 +204,13 @@ Outcome run(const Sweep& sweep) {
         twist->head<3>() = turn * twist->head<3>();
         twist->tail<3>() = turn * twist->tail<3>();
       }
-      const Result<IkStepReport> r =
-          ik.step(q, IkTargets{s.left, s.right, s.payload_kg, s.left_twist, s.right_twist}, t >= sweep.cut_at_s ? sweep.cut : 0, next);
+      // After a cut, the task stack the RC period uses (kin::TaskShape): the damaged arm's palm out of
+      // the main task, its healthy joints and the waist held.
+      const JointMask lost = t >= sweep.cut_at_s ? sweep.cut : 0;
+      const TaskShape shape = task_shape_for(lost);
+      IkTargets targets{s.left, s.right, s.payload_kg, s.left_twist, s.right_twist};
+      targets.palm_active = shape.palm_active;
+      const Result<IkStepReport> r = ik.step(q, targets, lost | shape.held, next);
       EXPECT_TRUE(r.ok());
       if (r.ok() && r.value().self_collision.stop) {
         out.stopped = true;  // the RC task's reaction: hold the references it sent
