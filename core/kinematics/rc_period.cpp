@@ -43,8 +43,9 @@ Result<IkStepReport> RcPeriod::run(double t_s, JointMask out_of_service, const J
   }
   const double dt = ik_.settings().dt_s;
   sample_ = motion_.sample(motion_time_s_);
-  IkTargets targets{sample_.left, sample_.right, sample_.payload_kg, sample_.left_twist, sample_.right_twist,
-                    shape_.palm_active};
+  IkTargets targets{sample_.left, sample_.right, sample_.payload_kg, shape_.palm_active};
+  targets.left_twist = sample_.left_twist;
+  targets.right_twist = sample_.right_twist;
   // The IK steps from what was sent (the limiter's references), so every figure it reports is the
   // commanded robot's.
   const JointVector& q = limiter_.position();

@@ -64,13 +64,14 @@ struct IkTargets {
   Pose left;
   Pose right;
   double payload_kg{0.0};
+  // A palm out of the main task (its arm damaged, kin::TaskShape): its six rows are removed, so no
+  // joint moves for it; its residual is still reported. (Beside the payload: no padding before the
+  // twists, which Eigen aligns to 16 bytes.)
+  std::array<bool, 2> palm_active{{true, true}};
   // The targets' velocities (twists [v; w] in base_link, per second): the feed-forward of a
   // trajectory. The step is twist * dt + feedback_gain * (clamped) pose error.
   Vector6 left_twist{Vector6::Zero()};
   Vector6 right_twist{Vector6::Zero()};
-  // A palm out of the main task (its arm damaged, kin::TaskShape): its six rows are removed, so no
-  // joint moves for it; its residual is still reported.
-  std::array<bool, 2> palm_active{{true, true}};
 };
 
 struct IkStepReport {

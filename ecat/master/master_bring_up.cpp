@@ -118,10 +118,10 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   reintegration_.reset();
   recovery_.reset();
   diagnostics_.reset();
-  for (SlaveRecord& slave : slaves_) {
-    slave.recovery = RecoveryProgress{};
-    slave.setup = SlaveSetup{};
-    slave.identified = false;
+  for (SlaveRecord& record : slaves_) {
+    record.recovery = RecoveryProgress{};
+    record.setup = SlaveSetup{};
+    record.identified = false;
   }
   if (image_.size() < layout_.total_bytes) {
     return fail("plan", make_error(Errc::invalid_argument, "image smaller than the layout", u32(image_.size()), layout_.total_bytes));

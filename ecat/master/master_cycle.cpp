@@ -9,10 +9,10 @@ namespace rescue::ecat {
 
 void Master::record_identities() noexcept {
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    SlaveRecord& slave = slaves_[p];
+    SlaveRecord& record = slaves_[p];
     const std::uint8_t found = report_.match.found_of_slot[p];
-    slave.identified = found != kNoPosition && found < report_.found.size();
-    slave.identity = slave.identified ? report_.found[found] : FoundSlave{};
+    record.identified = found != kNoPosition && found < report_.found.size();
+    record.identity = record.identified ? report_.found[found] : FoundSlave{};
   }
 }
 

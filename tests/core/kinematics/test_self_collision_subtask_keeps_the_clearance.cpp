@@ -208,8 +208,9 @@ Outcome run(const Sweep& sweep) {
       // the main task, its healthy joints and the waist held.
       const JointMask lost = t >= sweep.cut_at_s ? sweep.cut : 0;
       const TaskShape shape = task_shape_for(lost);
-      IkTargets targets{s.left, s.right, s.payload_kg, s.left_twist, s.right_twist};
-      targets.palm_active = shape.palm_active;
+      IkTargets targets{s.left, s.right, s.payload_kg, shape.palm_active};
+      targets.left_twist = s.left_twist;
+      targets.right_twist = s.right_twist;
       const Result<IkStepReport> r = ik.step(q, targets, lost | shape.held, next);
       EXPECT_TRUE(r.ok());
       if (r.ok() && r.value().self_collision.stop) {
