@@ -8,6 +8,8 @@
 // and the interleaved reference's figures, says why there is no ratio to cyclictest, and exits 1.
 #include <gtest/gtest.h>
 
+#include "core/base/sanitizers.hpp"
+
 #include <cstdlib>
 #include <string>
 
@@ -33,6 +35,8 @@ void expect_no_cyclictest_ratio(const test::CommandOutput& out) {
 }
 
 TEST(BenchLatency, RunsTheHandlersLoopAndCyclictestWithThePmQosRequest) {
+  // A sanitizer build refuses SCHED_FIFO (docs/build.md): latency is measured on optimised builds.
+  if (kSanitizerSpinsBySchedYield) GTEST_SKIP() << "a sanitizer build refuses SCHED_FIFO";
   if (!have_cyclictest()) GTEST_SKIP() << "cyclictest not installed (rt-tests, toolchain/setup.sh)";
   const test::CommandOutput out = test::run_command(kBinary + " bench latency --periods 200 2>&1");
   if (fifo_refused(out.out)) {
@@ -59,6 +63,8 @@ TEST(BenchLatency, RunsTheHandlersLoopAndCyclictestWithThePmQosRequest) {
 }
 
 TEST(BenchLatency, NoPmQosLeavesTheRequestToNeitherLoop) {
+  // A sanitizer build refuses SCHED_FIFO (docs/build.md): latency is measured on optimised builds.
+  if (kSanitizerSpinsBySchedYield) GTEST_SKIP() << "a sanitizer build refuses SCHED_FIFO";
   if (!have_cyclictest()) GTEST_SKIP() << "cyclictest not installed (rt-tests, toolchain/setup.sh)";
   const test::CommandOutput out = test::run_command(kBinary + " bench latency --periods 200 --no-pm-qos 2>&1");
   if (fifo_refused(out.out)) {

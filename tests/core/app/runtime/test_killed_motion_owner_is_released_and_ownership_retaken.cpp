@@ -18,6 +18,10 @@
 // read only), the operator's view from `ctl`. Labelled `serial`: a whole wall-clock run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "core/kinematics/kinematic_model.hpp"
+
 #include <signal.h>
 #include <unistd.h>
 
@@ -286,7 +290,14 @@ class KilledOwner : public ::testing::Test {
     // The robot holds. What the handler sends (the firmware's part): the dead owner's joints came to
     // rest within their deceleration limit (at most kStopFromVelocityLimitS after the owner's last
     // period, docs/motion-owner.md) and then keep the same reference, to the bit, 200 ms apart.
-    std::this_thread::sleep_for(milliseconds(static_cast<int>(kStopFromVelocityLimitS * 1000.0)));
+    // (The intake brings a joint to rest at the smaller of its deceleration and acceleration limits:
+    // wait for the slowest joint's stop from its velocity limit.)
+    double longest_stop_s = kStopFromVelocityLimitS;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      const double rest = std::min(deceleration_limit_rad_s2(kJoints[j].limits), kin::kJointAcceleration[j]);
+      longest_stop_s = std::max(longest_stop_s, kJoints[j].limits.velocity_max_rad_s / rest);
+    }
+    std::this_thread::sleep_for(milliseconds(static_cast<int>(longest_stop_s * 1000.0) + 50));
     const RobotSample sent_first = sample();
     std::this_thread::sleep_for(milliseconds(200));
     const RobotSample sent_second = sample();
