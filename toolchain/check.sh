@@ -27,10 +27,16 @@ cd "$(dirname "$0")/.."
 stages=("$@")
 [ "${#stages[@]}" -gt 0 ] || stages=(setup run load test analysis verify tsan asan fuzz cross package)
 jobs=$(nproc)
-fuzz_seconds=${RESCUE_FUZZ_SECONDS:-20}  # the short CI form; a full run: RESCUE_FUZZ_SECONDS=600 bash toolchain/check.sh fuzz
+fuzz_seconds=${RESCUE_FUZZ_SECONDS:-10}  # the short CI form; a full run: RESCUE_FUZZ_SECONDS=600 bash toolchain/check.sh fuzz
 
 want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
-banner() { printf '\n==== %s ====\n' "$*"; }
+# Each banner also says how long the stage before it took, so a slow stage is seen in CI's log.
+stage_start=$(date +%s)
+banner() {
+  local now; now=$(date +%s)
+  printf '\n(%s s)\n==== %s ====\n' "$(( now - stage_start ))" "$*"
+  stage_start=$now
+}
 disk_report() {  # free space where the builds go, and what each build directory takes
   local builds
   builds=$({ du -sh build/*/ 2>/dev/null || true; } | awk '{sub("/$", "", $2); printf " %s %s", $2, $1}')
