@@ -23,18 +23,28 @@ inline std::string command_output(const std::string& command) {
   return out;
 }
 
+// What Debian's Python prints for `script` (written to DIR/NAME.py) run on `text` (written to
+// DIR/NAME.data, the script's last argument); `arguments` come first. Debian's interpreter, because
+// toolchain/setup.sh installs the modules the scripts use (jsonschema) there.
+inline std::string python_output(const std::string& dir, const std::string& name, const std::string& script,
+                                 const std::string& text, const std::string& arguments = "") {
+  const std::string data = dir + "/" + name + ".data";
+  const std::string path = dir + "/" + name + ".py";
+  std::ofstream(data) << text;
+  std::ofstream(path) << script;
+  return command_output("/usr/bin/python3 '" + path + "' " + arguments + " '" + data + "'");
+}
+
 // json.dumps(EXPR) for `d` = json.loads(text); `dir`: a writable directory for the two files.
 inline std::string json_query(const std::string& dir, const std::string& text, const std::string& expr) {
-  const std::string data = dir + "/answer.json";
-  const std::string script = dir + "/query.py";
-  std::ofstream(data) << text;
-  std::ofstream(script) << "import json, sys\n"
-                           "try:\n"
-                           "    d = json.loads(open(sys.argv[1]).read())\n"
-                           "except ValueError as e:\n"
-                           "    print('INVALID JSON: ' + str(e)); sys.exit(0)\n"
-                           "print(json.dumps(" << expr << "))\n";
-  return command_output("python3 '" + script + "' '" + data + "'");
+  return python_output(dir, "query",
+                       "import json, sys\n"
+                       "try:\n"
+                       "    d = json.loads(open(sys.argv[-1]).read())\n"
+                       "except ValueError as e:\n"
+                       "    print('INVALID JSON: ' + str(e)); sys.exit(0)\n"
+                       "print(json.dumps(" + expr + "))\n",
+                       text);
 }
 
 }  // namespace rescue::app::testing

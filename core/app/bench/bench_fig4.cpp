@@ -5,6 +5,7 @@
 #include <sched.h>
 #include <spawn.h>
 #include <sys/stat.h>
+#include <sys/utsname.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -364,9 +365,10 @@ bool matplotlib_available() noexcept {
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-int run_plot(const char* script, const char* csv, const char* png) noexcept {
+int run_plot(const char* script, const char* csv, const char* png, const char* conditions) noexcept {
   char python[] = "/usr/bin/python3";  // Debian's, with python3-matplotlib
-  char* argv[] = {python, const_cast<char*>(script), const_cast<char*>(csv), const_cast<char*>(png), nullptr};  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
+  char* argv[] = {python, const_cast<char*>(script), const_cast<char*>(csv), const_cast<char*>(png),  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
+                  const_cast<char*>(conditions), nullptr};  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
   pid_t pid = -1;
   if (posix_spawn(&pid, python, nullptr, nullptr, argv, environ) != 0) return -1;
   int status = 0;
@@ -482,6 +484,22 @@ void print_other_rt_threads(const char* when) noexcept {
     (void)std::printf("other_rt_threads_%s_cpu%ld: %d threads (highest SCHED_FIFO/RR priority %d)\n", when, c, count[c],
                       top[c]);
   }
+}
+
+// The conditions the figure was measured under, for the PNG (a reader of the picture alone must
+// know them): kernel and PREEMPT_RT, CPUs, whether the Table I affinity was applied, the load.
+void describe_conditions(char* out, std::size_t size, const char* load, std::int64_t periods) noexcept {
+  struct utsname host {};
+  const char* release = ::uname(&host) == 0 ? host.release : "unknown";
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  bool applied = true;
+  for (int t = 0; t < kTasks; ++t) applied = applied && g_shared.rt[t][kCases - 1].fully_applied();
+  (void)std::snprintf(out, size,
+                      "kernel %s, PREEMPT_RT %s, %ld CPUs online; Table I affinity %s%s; load: %s; %" PRId64
+                      " periods per case; timer %s",
+                      release, kernel_is_preempt_rt() ? "yes" : "no", online, applied ? "applied" : "refused in part",
+                      online < 4 ? " but degraded (fewer than 4 CPUs: tasks share CPUs)" : "", load, periods,
+                      hal::to_string(g_shared.timer.source()));
 }
 
 void print_machine() noexcept {
@@ -679,7 +697,9 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   if (plot) {
     char png[512];
     (void)std::snprintf(png, sizeof png, "%s/fig4.png", out_dir);
-    const int plotted = run_plot(script, csv, png);
+    char conditions[512];
+    describe_conditions(conditions, sizeof conditions, load, periods.value());
+    const int plotted = run_plot(script, csv, png, conditions);
     if (plotted != 0) {
       (void)std::fprintf(stderr, "rescue-motion bench: fig4: the plot script %s exited %d (its error above); the CSV files are written\n",
                          script, plotted);

@@ -23,6 +23,12 @@ JointEvent event(JointEventKind kind, hal::Nanoseconds now) noexcept {
   return e;
 }
 
+JointEvent joints_event(JointEventKind kind, JointMask joints, hal::Nanoseconds now) noexcept {
+  JointEvent e = event(kind, now);
+  e.joints = joints;
+  return e;
+}
+
 JointEvent joint_event(JointEventKind kind, std::size_t joint, hal::Nanoseconds now) noexcept {
   JointEvent e = event(kind, now);
   e.joint = static_cast<std::uint8_t>(joint);
@@ -100,8 +106,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
     }
     if (load.temporary.sequence > recorded_.sequence) recorded_.sequence = load.temporary.sequence;
     rewrite = true;
-    JointEvent e = event(JointEventKind::file_newer_temporary, now);
-    e.joints = report.from_temporary;
+    JointEvent e = joints_event(JointEventKind::file_newer_temporary, report.from_temporary, now);
     e.count = load.temporary.sequence;
     emit(e);
   }
@@ -125,9 +130,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
       }
     }
     if (report.added_behind != 0) {
-      JointEvent e = event(JointEventKind::file_wiring_added, now);
-      e.joints = report.added_behind;
-      emit(e);
+      emit(joints_event(JointEventKind::file_wiring_added, report.added_behind, now));
     }
     // No readable record: which other joints were lost cannot be known, so none of them may enable
     // until the operator clears it by name (its held position unknown: the clear confirms it).
@@ -140,9 +143,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
       report.held_unreadable |= joint_bit(j);
     }
     if (report.held_unreadable != 0) {
-      JointEvent e = event(JointEventKind::file_unreadable_held, now);
-      e.joints = report.held_unreadable;
-      emit(e);
+      emit(joints_event(JointEventKind::file_unreadable_held, report.held_unreadable, now));
     }
   }
 
@@ -151,9 +152,8 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
     report.restored |= joint_bit(r.joint);
   }
   if (damaged) {
-    JointEvent e = event(JointEventKind::file_unusable, now);
+    JointEvent e = joints_event(JointEventKind::file_unusable, report.salvaged, now);
     e.error = report.file_status.error();
-    e.joints = report.salvaged;
     e.count = decoded.records_rejected;
     emit(e);
   }
@@ -174,9 +174,7 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   }
   if (rewrite && !recorded_.records.empty()) write_at_start_up(now);
   if (report.restored != 0 || decoded.status.ok() || report.from_copy) {
-    JointEvent e = event(JointEventKind::file_restored, now);
-    e.joints = report.restored;
-    emit(e);
+    emit(joints_event(JointEventKind::file_restored, report.restored, now));
   }
   publish();
   return report;
@@ -320,9 +318,8 @@ void JointManager::answer(JointMask joints, std::uint64_t cycle, const Error& fi
   notice.cycle = cycle;
   notice.file_status = file.code;
   send_notice(notice, now);
-  JointEvent e = event(JointEventKind::reconfiguration_step, now);
+  JointEvent e = joints_event(JointEventKind::reconfiguration_step, joints, now);
   e.step = 4;
-  e.joints = joints;
   e.error = file;
   emit(e);
 }
@@ -821,9 +818,8 @@ void JointManager::flush_notices() noexcept {
 }
 
 void JointManager::emit_step(std::uint8_t step, JointMask joints, hal::Nanoseconds now) const noexcept {
-  JointEvent e = event(JointEventKind::reconfiguration_step, now);
+  JointEvent e = joints_event(JointEventKind::reconfiguration_step, joints, now);
   e.step = step;
-  e.joints = joints;
   emit(e);
 }
 

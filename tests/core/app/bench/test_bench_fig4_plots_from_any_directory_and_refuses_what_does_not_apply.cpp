@@ -1,5 +1,6 @@
 // Issue 24, `rescue-motion bench`: `bench fig4 --periods 500` run from an empty directory (no source
-// tree around it) finds its plot script beside the program and writes its PNG; a plot script that is
+// tree around it) finds its plot script beside the program and writes its PNG, which states its
+// conditions (issue 36 item 12: kernel, PREEMPT_RT, CPUs, affinity, load, in its Description chunk); a plot script that is
 // not there is named with where it was looked for, before any measuring; `bench NAME --help` describes
 // NAME's own options; an unknown name, and an option the benchmark does not take, are refused.
 #include <gtest/gtest.h>
@@ -7,6 +8,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "tests/support/run_command.hpp"
@@ -30,6 +33,11 @@ TEST(BenchFig4Plot, FromAnEmptyDirectoryItWritesItsPng) {
   struct stat st {};
   ASSERT_EQ(::stat((std::string(dir) + "/out/fig4.png").c_str(), &st), 0) << out.out;
   EXPECT_GT(st.st_size, 1000) << "a PNG, not an empty file";
+  std::ifstream png(std::string(dir) + "/out/fig4.png", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(png)), std::istreambuf_iterator<char>());
+  for (const char* condition : {"Description", "kernel ", "PREEMPT_RT ", "CPUs online", "Table I affinity ", "load: stress,udp"}) {
+    EXPECT_TRUE(has(bytes, condition)) << "the PNG's text chunk names " << condition;
+  }
   EXPECT_EQ(std::system(("rm -rf '" + std::string(dir) + "'").c_str()), 0);
 }
 

@@ -24,23 +24,21 @@ using Args = std::vector<std::string>;
 // Validates each line of `lines` (one JSON object per line) against the schema; "" when all are
 // valid, else each failure with its line.
 std::string validate(const std::string& dir, const std::string& lines) {
-  const std::string data = dir + "/answers.jsonl";
-  const std::string script = dir + "/validate.py";
-  std::ofstream(data) << lines;
   // Every failure of every line, with the line and its command (nothing printed: all valid).
-  std::ofstream(script) << "import json, sys, jsonschema\n"
-                           "schema = json.load(open(sys.argv[1]))\n"
-                           "jsonschema.Draft202012Validator.check_schema(schema)\n"
-                           "v = jsonschema.Draft202012Validator(schema)\n"
-                           "for n, line in enumerate(open(sys.argv[2]), 1):\n"
-                           "    try:\n"
-                           "        d = json.loads(line)\n"
-                           "    except ValueError as e:\n"
-                           "        print(f'line {n}: not JSON: {e}: {line[:200]}'); continue\n"
-                           "    for e in v.iter_errors(d):\n"
-                           "        print(f'line {n} ({d.get(\"command\")}): {e.message} at {list(e.path)}')\n";
-  return testing::command_output("/usr/bin/python3 '" + script + "' '" + std::string(RESCUE_SOURCE_DIR) +
-                                 "/docs/ctl-answer.schema.json' '" + data + "'");
+  return testing::python_output(
+      dir, "validate",
+      "import json, sys, jsonschema\n"
+      "schema = json.load(open(sys.argv[1]))\n"
+      "jsonschema.Draft202012Validator.check_schema(schema)\n"
+      "v = jsonschema.Draft202012Validator(schema)\n"
+      "for n, line in enumerate(open(sys.argv[2]), 1):\n"
+      "    try:\n"
+      "        d = json.loads(line)\n"
+      "    except ValueError as e:\n"
+      "        print(f'line {n}: not JSON: {e}: {line[:200]}'); continue\n"
+      "    for e in v.iter_errors(d):\n"
+      "        print(f'line {n} ({d.get(\"command\")}): {e.message} at {list(e.path)}')\n",
+      lines, "'" + std::string(RESCUE_SOURCE_DIR) + "/docs/ctl-answer.schema.json'");
 }
 
 TEST(CtlJsonSchema, EveryVerbsAnswersValidate) {
