@@ -76,26 +76,18 @@ double per_op_ns(const hal::TscTimer& timer, std::uint64_t ticks, std::uint64_t 
 
 }  // namespace
 
-int bench_core(const ParsedArgs& /*args*/) noexcept {
-  // ---- init: everything that may allocate or fault ----
-  print_bench_header(stdout, "core");
-  hal::RtConfig rt;
-  rt.prefault_stack_bytes = std::size_t{256} * 1024;
-  const hal::RtReport report = hal::apply_rt_config(rt);
-  report.print(stdout);
-  const hal::TscTimer timer = hal::TscTimer::calibrate();
-  g_timer_ticks.reset();
-  g_clock_ns.reset();
-  g_round_trip_ns.reset();
-  g_record_probe.reset();
-  g_period_probe.start(g_probe_slot, "probe", -1, 0, 1.0 / timer.ticks_per_ns());
-  g_period_ns.reset();
-  std::thread second(partner);
-  (void)std::fflush(stdout);
-  const hal::PageFaults faults_at_init = hal::page_faults_of_process();
-  declare_init_complete(HeapGuardMode::count);
+namespace {
 
-  // ---- measured: nothing below may allocate ----
+// The measured parts of bench_core, in its order; nothing in them may allocate.
+struct CoreTicks {
+  std::uint64_t stream{0};         // kThroughputMessages through the queue to the partner thread
+  std::uint64_t seqlock_write{0};  // kSeqlockOps writes
+  std::uint64_t seqlock_read{0};   // kSeqlockOps reads
+  std::uint64_t read_failures{0};
+  std::uint64_t record{0};         // kSeqlockOps histogram records
+};
+
+void measure_timer_and_clock(const hal::TscTimer& timer) noexcept {
   for (std::uint64_t i = 0; i < kTimerPairs; ++i) {
     const std::uint64_t start = timer.start();
     g_timer_ticks.record(timer.stop() - start);
@@ -107,7 +99,9 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
     for (std::uint64_t i = 0; i < kClockBatch; ++i) (void)clock.now();
     g_clock_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - start)) / kClockBatch);
   }
+}
 
+std::uint64_t measure_queues(const hal::TscTimer& timer) noexcept {
   Message m{};
   for (std::uint64_t i = 0; i < kRoundTrips; ++i) {
     const std::uint64_t start = timer.start();
@@ -129,7 +123,10 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   while (g_drained.load(std::memory_order_relaxed) < kThroughputMessages) {
   }
   const std::uint64_t stream_ticks = timer.stop() - stream_start;
+  return stream_ticks;
+}
 
+void measure_seqlock_and_histogram(const hal::TscTimer& timer, CoreTicks& ticks) noexcept {
   Snapshot s{};
   const std::uint64_t write_start = timer.start();
   for (std::uint64_t i = 0; i < kSeqlockOps; ++i) {
@@ -147,7 +144,13 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   const std::uint64_t record_start = timer.start();
   for (std::uint64_t i = 0; i < kSeqlockOps; ++i) g_record_probe.record(i & 0xFFFFU);
   const std::uint64_t record_ticks = timer.stop() - record_start;
+  ticks.seqlock_write = write_ticks;
+  ticks.seqlock_read = read_ticks;
+  ticks.read_failures = read_failures;
+  ticks.record = record_ticks;
+}
 
+void measure_period_recording(const hal::TscTimer& timer) noexcept {
   // What the firmware's task loops add per period (runtime/task_loops.cpp, task_timing.hpp): the timer read
   // before and after the work, and TaskRecorder::period: the two histogram records, the late-period
   // count and the countdown to the next publication of the live figures (every
@@ -178,13 +181,9 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
     g_publish_probe.publish();
     g_publish_ns.record(static_cast<std::uint64_t>(timer.to_ns(timer.stop() - publish_start)));
   }
+}
 
-  const HeapGuardCounters heap = heap_guard_counters();
-  const hal::PageFaults faults_after = hal::page_faults_of_process();
-  g_phase.store(Phase::stop, std::memory_order_release);
-  second.join();
-
-  // ---- report ----
+void print_core_figures(const hal::TscTimer& timer, const CoreTicks& ticks) noexcept {
   (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
   (void)std::printf("timer_reason: %s\n", timer.reason());
   (void)std::printf("timer_ticks_per_ns: %.4f ticks/ns\n", timer.ticks_per_ns());
@@ -193,14 +192,50 @@ int bench_core(const ParsedArgs& /*args*/) noexcept {
   (void)std::printf("clock_gettime_p50: %" PRIu64 " ns\n", g_clock_ns.percentile(50.0));
   g_round_trip_ns.print(stdout, "spsc_round_trip", "ns");
   (void)std::printf("spsc_throughput: %.1f Mmsg/s\n",
-                    1e3 * static_cast<double>(kThroughputMessages) / static_cast<double>(timer.to_ns(stream_ticks)));
-  (void)std::printf("seqlock_write: %.1f ns\n", per_op_ns(timer, write_ticks, kSeqlockOps));
-  (void)std::printf("seqlock_read: %.1f ns\n", per_op_ns(timer, read_ticks, kSeqlockOps));
-  (void)std::printf("seqlock_read_failures: %" PRIu64 " reads\n", read_failures);
-  (void)std::printf("histogram_record: %.1f ns\n", per_op_ns(timer, record_ticks, kSeqlockOps));
+                    1e3 * static_cast<double>(kThroughputMessages) / static_cast<double>(timer.to_ns(ticks.stream)));
+  (void)std::printf("seqlock_write: %.1f ns\n", per_op_ns(timer, ticks.seqlock_write, kSeqlockOps));
+  (void)std::printf("seqlock_read: %.1f ns\n", per_op_ns(timer, ticks.seqlock_read, kSeqlockOps));
+  (void)std::printf("seqlock_read_failures: %" PRIu64 " reads\n", ticks.read_failures);
+  (void)std::printf("histogram_record: %.1f ns\n", per_op_ns(timer, ticks.record, kSeqlockOps));
   (void)std::printf("period_recording_p50: %" PRIu64 " ns\n", g_period_ns.percentile(50.0));
   (void)std::printf("period_recording_p90: %" PRIu64 " ns\n", g_period_ns.percentile(90.0));
   (void)std::printf("task_figures_publish_p50: %" PRIu64 " ns\n", g_publish_ns.percentile(50.0));
+}
+
+}  // namespace
+
+int bench_core(const ParsedArgs& /*args*/) noexcept {
+  // ---- init: everything that may allocate or fault ----
+  print_bench_header(stdout, "core");
+  hal::RtConfig rt;
+  rt.prefault_stack_bytes = std::size_t{256} * 1024;
+  const hal::RtReport report = hal::apply_rt_config(rt);
+  report.print(stdout);
+  const hal::TscTimer timer = hal::TscTimer::calibrate();
+  g_timer_ticks.reset();
+  g_clock_ns.reset();
+  g_round_trip_ns.reset();
+  g_record_probe.reset();
+  g_period_probe.start(g_probe_slot, "probe", -1, 0, 1.0 / timer.ticks_per_ns());
+  g_period_ns.reset();
+  std::thread second(partner);
+  (void)std::fflush(stdout);
+  const hal::PageFaults faults_at_init = hal::page_faults_of_process();
+  declare_init_complete(HeapGuardMode::count);
+
+  // ---- measured: nothing below may allocate ----
+  CoreTicks ticks;
+  measure_timer_and_clock(timer);
+  ticks.stream = measure_queues(timer);
+  measure_seqlock_and_histogram(timer, ticks);
+  measure_period_recording(timer);
+  const HeapGuardCounters heap = heap_guard_counters();
+  const hal::PageFaults faults_after = hal::page_faults_of_process();
+  g_phase.store(Phase::stop, std::memory_order_release);
+  second.join();
+
+  // ---- report ----
+  print_core_figures(timer, ticks);
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   (void)std::printf("page_faults_after_init: %" PRIu64 " faults\n",

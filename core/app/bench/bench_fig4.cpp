@@ -521,6 +521,106 @@ void print_machine() noexcept {
   }
 }
 
+// The report's figures: each task's real-time set-up per case, then its execution and wake-up figures.
+void print_fig4_figures() noexcept {
+  for (int c = 0; c < kCases; ++c) {
+    for (int t = 0; t < kTasks; ++t) {
+      (void)std::printf("rt_%s: %s\n", g_names[t][c], g_shared.rt[t][c].fully_applied() ? "applied" : "refused in part:");
+      if (!g_shared.rt[t][c].fully_applied()) g_shared.rt[t][c].print(stdout);
+    }
+  }
+  (void)std::printf("timer_source: %s\n", hal::to_string(g_shared.timer.source()));
+  (void)std::printf("periods_per_case: %" PRId64 " periods\n", static_cast<std::int64_t>(g_shared.periods));
+  for (int c = 0; c < kCases; ++c) {
+    for (int t = 0; t < kTasks; ++t) {
+      char key_name[192];  // a name of g_names and a suffix, with room for GCC's -Wformat-truncation bound
+      (void)std::snprintf(key_name, sizeof key_name, "%s_execution", g_names[t][c]);
+      print_figures(key_name, g_recorders[t][c].execution());
+      (void)std::snprintf(key_name, sizeof key_name, "%s_wakeup_latency", g_names[t][c]);
+      print_figures(key_name, g_recorders[t][c].latency());
+      if (t != kEthercat) continue;
+      // The handler's execution split: handler_only is the paper's Fig. 4 figure (docs/timing.md).
+      for (int p = 0; p < kParts; ++p) {
+        (void)std::snprintf(key_name, sizeof key_name, "%s_%s", g_names[t][c], kPartNames[p]);
+        print_figures(key_name, g_parts[c][p]);
+      }
+    }
+  }
+}
+
+// The CSV files into --out, then the PNG drawn by the plot script (nullptr: --no-plot) with the
+// conditions it was measured under. 0, or the exit status.
+int write_and_plot(const hal::OpenFile& out, const char* out_dir, const char* script, const char* load,
+                   std::int64_t periods) noexcept {
+  char csv[512];
+  char summary[512];
+  if (!write_file(out, out_dir, "fig4.csv", write_series, csv, sizeof csv) ||
+      !write_file(out, out_dir, "fig4-summary.csv", write_summary, summary, sizeof summary)) {
+    return fail("bench", "cannot write the CSV files into --out");
+  }
+  (void)std::printf("csv: %s\n", csv);
+  (void)std::printf("summary_csv: %s\n", summary);
+  if (script != nullptr) {
+    char png[512];
+    (void)std::snprintf(png, sizeof png, "%s/fig4.png", out_dir);
+    char conditions[512];
+    describe_conditions(conditions, sizeof conditions, load, periods);
+    const int plotted = run_plot(script, csv, png, conditions);
+    if (plotted != 0) {
+      (void)std::fprintf(stderr, "rescue-motion bench: fig4: the plot script %s exited %d (its error above); the CSV files are written\n",
+                         script, plotted);
+      return 1;
+    }
+    (void)std::printf("png: %s\n", png);
+  }
+  return 0;
+}
+
+// Before measuring: the plot script and matplotlib (with --plot), and --out, created if needed and
+// opened as a directory of our own (written through this descriptor only: a directory another user
+// owns or may write, as the default under /tmp made by someone else, is refused). 0, or the exit status.
+int check_prerequisites(const ParsedArgs& args, bool plot, const char* out_dir, char* script, std::size_t script_size,
+                        Result<hal::OpenFile>& out) noexcept {
+  char looked[1400];
+  if (plot && !find_plot_script(args.value("plot-script"), script, script_size, looked, sizeof looked)) {
+    (void)std::fprintf(stderr, "rescue-motion bench: fig4: no plot script (looked: %s); give --plot-script PATH or --no-plot\n",
+                       looked);
+    return 1;
+  }
+  if (plot && !matplotlib_available()) {
+    return fail("bench", "fig4: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
+  }
+  if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "cannot create the --out directory");
+  // Checked before minutes of measuring, and written through this descriptor only: a directory
+  // another user owns or may write (the default under /tmp, made by someone else) is refused.
+  hal::FileProblem out_why;
+  out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
+  if (!out.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion bench: fig4: --out: %s\n", out_why.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+// The load beside the measured tasks (--load): stress-ng on the basic software CPU, said in the
+// report with what was started; the UDP sender is started with the tasks. The stress-ng process, or -1.
+pid_t start_load(const char* load, bool want_stress, bool want_udp, std::int64_t periods) noexcept {
+  const int basic_cpu = table_cpu_on_this_machine(task_spec(TaskId::basic_software).cpu);
+  const std::int64_t stress_seconds = 2 * periods / 1000 + 30;  // ends by itself if we die
+  const pid_t stress = want_stress ? start_stress(basic_cpu, stress_seconds) : -1;
+  (void)std::printf("load: %s\n", load);
+  if (want_stress) {
+    (void)std::printf("load_stress: %s\n", stress > 0 ? "stress-ng --cpu 1 --vm 1 --vm-bytes 128M on the basic software CPU"
+                                                       : "stress-ng not started (not installed? toolchain/setup.sh)");
+    (void)std::printf("load_stress_cpu: %d\n", basic_cpu);
+  }
+  if (want_udp) {
+    (void)std::printf("load_udp: %d datagrams/s to the socket handler (3 of 4 authenticated status queries, 1 garbage)\n",
+                      kUdpPerSecond);
+  }
+  return stress;
+}
+
 }  // namespace
 
 int bench_fig4(const ParsedArgs& args) noexcept {
@@ -534,26 +634,12 @@ int bench_fig4(const ParsedArgs& args) noexcept {
   }
   const char* out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-fig4";
   const bool plot = !args.has("no-plot");
-  // The plot's prerequisites first, each failure with its own cause, before minutes of measuring.
+  // The plot's prerequisites and the output directory first, each failure with its own cause,
+  // before minutes of measuring.
   char script[640];
-  char looked[1400];
-  if (plot && !find_plot_script(args.value("plot-script"), script, sizeof script, looked, sizeof looked)) {
-    (void)std::fprintf(stderr, "rescue-motion bench: fig4: no plot script (looked: %s); give --plot-script PATH or --no-plot\n",
-                       looked);
-    return 1;
-  }
-  if (plot && !matplotlib_available()) {
-    return fail("bench", "fig4: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
-  }
-  if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "cannot create the --out directory");
-  // Checked before minutes of measuring, and written through this descriptor only: a directory
-  // another user owns or may write (the default under /tmp, made by someone else) is refused.
-  hal::FileProblem out_why;
-  const Result<hal::OpenFile> out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
-  if (!out.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion bench: fig4: --out: %s\n", out_why.c_str());
-    return 1;
-  }
+  Result<hal::OpenFile> out = make_error(Errc::not_found, "not opened");
+  const int ready = check_prerequisites(args, plot, out_dir, script, sizeof script, out);
+  if (ready != 0) return ready;
 
   print_bench_header(stdout, "fig4");
   print_machine();
@@ -607,19 +693,7 @@ int bench_fig4(const ParsedArgs& args) noexcept {
     if (!s.ok()) return fail("bench", "cannot open the socket handler's ports", s.error());
   }
 
-  const int basic_cpu = table_cpu_on_this_machine(task_spec(TaskId::basic_software).cpu);
-  const std::int64_t stress_seconds = 2 * periods.value() / 1000 + 30;  // ends by itself if we die
-  const pid_t stress = want_stress ? start_stress(basic_cpu, stress_seconds) : -1;
-  (void)std::printf("load: %s\n", load);
-  if (want_stress) {
-    (void)std::printf("load_stress: %s\n", stress > 0 ? "stress-ng --cpu 1 --vm 1 --vm-bytes 128M on the basic software CPU"
-                                                       : "stress-ng not started (not installed? toolchain/setup.sh)");
-    (void)std::printf("load_stress_cpu: %d\n", basic_cpu);
-  }
-  if (want_udp) {
-    (void)std::printf("load_udp: %d datagrams/s to the socket handler (3 of 4 authenticated status queries, 1 garbage)\n",
-                      kUdpPerSecond);
-  }
+  const pid_t stress = start_load(load, want_stress, want_udp, periods.value());
   print_other_rt_threads("before");
   (void)std::fflush(stdout);
 
@@ -657,56 +731,15 @@ int bench_fig4(const ParsedArgs& args) noexcept {
 
   // ---- report ----
   locked.print(stdout);
-  for (int c = 0; c < kCases; ++c) {
-    for (int t = 0; t < kTasks; ++t) {
-      (void)std::printf("rt_%s: %s\n", g_names[t][c], g_shared.rt[t][c].fully_applied() ? "applied" : "refused in part:");
-      if (!g_shared.rt[t][c].fully_applied()) g_shared.rt[t][c].print(stdout);
-    }
-  }
-  (void)std::printf("timer_source: %s\n", hal::to_string(g_shared.timer.source()));
-  (void)std::printf("periods_per_case: %" PRId64 " periods\n", periods.value());
-  for (int c = 0; c < kCases; ++c) {
-    for (int t = 0; t < kTasks; ++t) {
-      char key_name[192];  // a name of g_names and a suffix, with room for GCC's -Wformat-truncation bound
-      (void)std::snprintf(key_name, sizeof key_name, "%s_execution", g_names[t][c]);
-      print_figures(key_name, g_recorders[t][c].execution());
-      (void)std::snprintf(key_name, sizeof key_name, "%s_wakeup_latency", g_names[t][c]);
-      print_figures(key_name, g_recorders[t][c].latency());
-      if (t != kEthercat) continue;
-      // The handler's execution split: handler_only is the paper's Fig. 4 figure (docs/timing.md).
-      for (int p = 0; p < kParts; ++p) {
-        (void)std::snprintf(key_name, sizeof key_name, "%s_%s", g_names[t][c], kPartNames[p]);
-        print_figures(key_name, g_parts[c][p]);
-      }
-    }
-  }
+  print_fig4_figures();
   if (want_udp) {
     const SocketCounters& counters = socket.counters();
     (void)std::printf("udp_datagrams: %" PRIu64 " datagrams\n", counters.datagrams);
     (void)std::printf("udp_accepted: %" PRIu64 " datagrams\n", counters.accepted);
   }
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
-  char csv[512];
-  char summary[512];
-  if (!write_file(out.value(), out_dir, "fig4.csv", write_series, csv, sizeof csv) ||
-      !write_file(out.value(), out_dir, "fig4-summary.csv", write_summary, summary, sizeof summary)) {
-    return fail("bench", "cannot write the CSV files into --out");
-  }
-  (void)std::printf("csv: %s\n", csv);
-  (void)std::printf("summary_csv: %s\n", summary);
-  if (plot) {
-    char png[512];
-    (void)std::snprintf(png, sizeof png, "%s/fig4.png", out_dir);
-    char conditions[512];
-    describe_conditions(conditions, sizeof conditions, load, periods.value());
-    const int plotted = run_plot(script, csv, png, conditions);
-    if (plotted != 0) {
-      (void)std::fprintf(stderr, "rescue-motion bench: fig4: the plot script %s exited %d (its error above); the CSV files are written\n",
-                         script, plotted);
-      return 1;
-    }
-    (void)std::printf("png: %s\n", png);
-  }
+  const int written = write_and_plot(out.value(), out_dir, plot ? script : nullptr, load, periods.value());
+  if (written != 0) return written;
   return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");
 }
 

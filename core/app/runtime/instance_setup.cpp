@@ -54,7 +54,7 @@ int take_instance_locks(const FirmwareOptions& options, const char* dir) noexcep
 
 int create_segment(const FirmwareOptions& options, const char* state_dir) noexcept {
   if (g_run.segment.created()) {  // a second run in this process (tests): the run's words start afresh
-    new (&links().run) RunControl();
+    new (&shared_links().run) RunControl();
     return 0;
   }
   shm::SegmentName name = shm::default_segment_name(state_dir);

@@ -15,8 +15,8 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
   ControlRequest request;
   request.type = type;
   request.joints = joints;
-  if (links().local_requests.try_push(request)) return true;
-  run().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
+  if (shared_links().local_requests.try_push(request)) return true;
+  run_control().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
   (void)std::printf("operator: request queue full, %s dropped\n", protocol::to_string(type));
   return false;
 }
@@ -24,7 +24,7 @@ bool send_local(protocol::MessageType type, JointMask joints) noexcept {
 // Whether the handler's latest published values show every joint of `joints` reachable.
 bool all_reachable(JointMask joints) noexcept {
   RobotSample sample{};
-  if (!links().samples.try_read(sample)) return false;
+  if (!shared_links().samples.try_read(sample)) return false;
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((joints & joint_bit(j)) != 0 && !sample[j].reachable) return false;
   }
@@ -33,7 +33,7 @@ bool all_reachable(JointMask joints) noexcept {
 
 // The scenario's cut, from the handler's words in the segment (its process or thread).
 void announce_scenario(OperatorSide& side) noexcept {
-  const RunControl& state = run();
+  const RunControl& state = run_control();
   if (side.scenario_announced || !state.scenario_acted.load(std::memory_order_acquire)) return;
   side.scenario_announced = true;
   if (!state.scenario_ok.load(std::memory_order_relaxed)) return;  // the handler's side says why
@@ -80,8 +80,8 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
   static RepeatLimiter<kTaskStatSlots> limiter(config::kSilenceReportIntervalNs);
   static std::array<bool, kTaskStatSlots> shown{};  // whether each task's latest silence was printed
   std::array<LivenessChange, kTaskStatSlots> changes{};
-  const std::size_t n = watch.check(now, links().task_heartbeat_ns, changes);
-  RunControl& state = run();
+  const std::size_t n = watch.check(now, shared_links().task_heartbeat_ns, changes);
+  RunControl& state = run_control();
   for (std::size_t i = 0; i < n; ++i) {
     const LivenessChange& c = changes[i];
     const double at = seconds(now - g_run.tasks.start);
@@ -127,7 +127,7 @@ void operator_side_pass(OperatorSide& side) noexcept {
   const MotionSnapshot motion = read_motion();
   liveness_pass(clock.now());
   announce_scenario(side);
-  const bool op = run().op.load(std::memory_order_acquire);
+  const bool op = run_control().op.load(std::memory_order_acquire);
   // The DFA takes its steps only for reachable joints: wait until the handler's published values
   // show every joint that is not recorded lost reachable (the first OP cycles may not).
   if (op && !side.clear_sent && all_reachable(side.to_clear)) {
@@ -149,8 +149,8 @@ void operator_side_pass(OperatorSide& side) noexcept {
       ControlRequest take;
       take.type = protocol::MessageType::take_owner;
       take.task = static_cast<std::uint8_t>(RcTaskId::rescue);
-      if (!links().local_requests.try_push(take)) {
-        run().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
+      if (!shared_links().local_requests.try_push(take)) {
+        run_control().dropped[static_cast<std::size_t>(DropCounter::local_requests_dropped)].fetch_add(1, std::memory_order_relaxed);
         (void)std::printf("operator: request queue full, owner dropped\n");
       }
     }
@@ -163,7 +163,7 @@ void operator_side_pass(OperatorSide& side) noexcept {
 void disable_enabled_joints() noexcept {
   RobotDemand demand{};
   JointMask enabled = 0;
-  if (links().demand.try_read(demand)) {
+  if (shared_links().demand.try_read(demand)) {
     for (std::size_t j = 0; j < kJointCount; ++j) {
       if (demand[j].enable) enabled |= joint_bit(j);
     }
@@ -171,7 +171,7 @@ void disable_enabled_joints() noexcept {
   if (enabled == 0 || !send_local(protocol::MessageType::disable, enabled)) return;
   hal::MonotonicClock wait_clock;
   const hal::Nanoseconds give_up = wait_clock.now() + MessageParser::kReplyTimeout + 100 * hal::kNsPerMs;
-  while (links().local_replies.empty_approx() && wait_clock.now() < give_up) {
+  while (shared_links().local_replies.empty_approx() && wait_clock.now() < give_up) {
     wait_clock.sleep_until(wait_clock.now() + hal::kNsPerMs);
   }
   print_local_replies(g_run.tasks.clock->now() - g_run.tasks.start);

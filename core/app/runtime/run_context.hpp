@@ -82,14 +82,16 @@ struct RunContext {  // NOLINT(clang-analyzer-optin.performance.Padding)
 // points (std::thread's, the supervisor's) take no argument. Defined in run_context.cpp.
 extern RunContext g_run;
 
-inline TaskLinks& links() noexcept { return g_run.segment.links(); }
+// The segment's TaskLinks and RunControl, named for what they are (the tasks themselves see only
+// their ports, task_ports.hpp; these serve the runner's own loops and report).
+inline TaskLinks& shared_links() noexcept { return g_run.segment.links(); }
 
 // How many tasks run: the socket handler only with the operator's port (a key file).
 inline int task_count() noexcept { return g_run.tasks.operator_port ? 6 : 5; }
 
 // The run's coordination lives in the segment too (core/app/links/run_control.hpp): the same code
 // stops and reports the tasks whether they are threads or processes.
-inline RunControl& run() noexcept { return links().run; }
+inline RunControl& run_control() noexcept { return shared_links().run; }
 
 // One pass of the per-task CPU meter (runtime/task_cpu.hpp) over this process and the task
 // processes, from the logger's or the supervisor's loop (a normal thread): `done` once the handler ended.

@@ -117,8 +117,8 @@ void print_joint_events(JointEventQueue& events, JointEventPrinter& printer) noe
 
 MotionSnapshot read_motion() noexcept {
   MotionSnapshot snap;
-  snap.owner_word = links().motion.owner.word();
-  for (std::size_t k = 0; k < kRcTasksRun; ++k) snap.read[k] = links().motion.task_state[k].try_read(snap.state[k]);
+  snap.owner_word = shared_links().motion.owner.word();
+  for (std::size_t k = 0; k < kRcTasksRun; ++k) snap.read[k] = shared_links().motion.task_state[k].try_read(snap.state[k]);
   return snap;
 }
 
@@ -164,7 +164,7 @@ void print_motion_changes(MotionLog& log, const MotionSnapshot& snap, hal::Nanos
 
 void print_local_replies(hal::Nanoseconds at) noexcept {
   ControlReply reply;
-  while (links().local_replies.try_pop(reply)) {
+  while (shared_links().local_replies.try_pop(reply)) {
     // The text is read at most to its array's end: a damaged segment's reply need not hold its NUL.
     (void)std::printf("[%8.3f s] operator: %s: %s%s%.*s\n", seconds(at), protocol::to_string(reply.request_type),
                       reply.outcome == protocol::Outcome::accepted ? "accepted" : "refused: ",
@@ -184,7 +184,7 @@ Status finish_capture(const char* path) noexcept {
 }
 
 void report_if_never_in_op() noexcept {
-  if (run().op.load(std::memory_order_acquire) || g_run.tasks.handler == nullptr) return;
+  if (run_control().op.load(std::memory_order_acquire) || g_run.tasks.handler == nullptr) return;
   ecat::Master& master = g_run.tasks.handler->bus().master();
   const ecat::BringUpReport& r = master.report();
   (void)std::printf("rescue-motion run: the network never reached OP\n");
@@ -198,7 +198,7 @@ void report_if_never_in_op() noexcept {
 }
 
 void handler_side_pass() noexcept {
-  RunControl& state = run();
+  RunControl& state = run_control();
   const FirmwareOptions& options = *g_run.tasks.options;
   const ScenarioRunner& scenario = *g_run.tasks.scenario;
   // The scenario's cut is announced by the operator's side (with the motion it causes); a failed

@@ -85,7 +85,7 @@ const char* const kTaskNames[kTaskStatSlots] = {"ethercat-handler", "joint-manag
 void print_task_health(bool operator_port) noexcept {
   for (std::size_t i = 0; i < kTaskStatSlots; ++i) {
     if (!operator_port && static_cast<StatTask>(i) == StatTask::socket_handler) continue;
-    const TaskHealth& h = run().health[i];
+    const TaskHealth& h = run_control().health[i];
     if (!h.reported.load(std::memory_order_acquire)) {
       (void)std::printf("%s heap allocations after init: unknown (it did not report)\n", kTaskNames[i]);
       continue;
@@ -94,7 +94,7 @@ void print_task_health(bool operator_port) noexcept {
     (void)std::printf("%s page faults after init: %" PRIu64 "\n", kTaskNames[i], h.page_faults.load());
     (void)std::printf("%s restarts: %u\n", kTaskNames[i], h.restarts.load());
     TaskStat stat{};
-    if (links().task_stats[i].try_read(stat)) {
+    if (shared_links().task_stats[i].try_read(stat)) {
       (void)std::printf("%s periods: %" PRIu64 "\n", kTaskNames[i], stat.periods);
       (void)std::printf("%s periods missed: %" PRIu64 "\n", kTaskNames[i], stat.missed);
       (void)std::printf("%s max execution time: %" PRIu64 " ns\n", kTaskNames[i], stat.max_execution_ns);
@@ -105,7 +105,7 @@ void print_task_health(bool operator_port) noexcept {
 }  // namespace
 
 std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHandler& socket) noexcept {
-  RunControl& state = run();
+  RunControl& state = run_control();
   const bool operator_port = g_run.tasks.operator_port;
   const HeapGuardCounters heap = heap_guard_counters();
   const JointMask lost = state.lost_joints.load();
@@ -149,7 +149,7 @@ std::uint64_t print_run_figures(const FirmwareOptions& options, const SocketHand
   (void)std::printf("\n");
   print_task_health(operator_port);
   SocketCounters counted{};
-  (void)links().socket_counters.try_read(counted);
+  (void)shared_links().socket_counters.try_read(counted);
   if (operator_port) {
     (void)std::printf("rescue-motion run: datagrams %" PRIu64 ", accepted %" PRIu64, counted.datagrams, counted.accepted);
     for (std::size_t i = 0; i < protocol::kRejectionCount; ++i) {
@@ -199,7 +199,7 @@ int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask 
   // A joint outside the cut (and not restored in Error from the file) must end where the scenario
   // left it: a drive fault or a limit on a healthy joint fails the scenario, whatever else held.
   RobotJointStatus ended{};
-  if (!links().joint_status.try_read(ended)) return fail("run", "the joint manager's status could not be read");
+  if (!shared_links().joint_status.try_read(ended)) return fail("run", "the joint manager's status could not be read");
   const JointMask faulted = joints_ended_in_error(ended, ever_lost | restored);
   if (faulted != 0) {
     char names[kJointNamesCapacity];
@@ -221,7 +221,7 @@ int scenario_verdict(const Scenario& wanted, const RunControl& state, JointMask 
       return fail("run", "the rescue motion did not reach its end before the stop");
     }
     RcTaskState rescue{};
-    if (!links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+    if (!shared_links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
       return fail("run", "the rescue RC task's figures could not be read");
     }
     if (!rescue_within_limits(rescue)) return fail("run", "a rescue reference exceeded a joint's speed or acceleration limit");
@@ -246,19 +246,19 @@ void print_run_summary(const RunSummary& s) noexcept {
   // Time to OP, from the run's clock origin (the NIC opened), as "network in OP" says it.
   if (s.bring_up != nullptr) {
     (void)std::printf("bring_up_to_safe_op_ms: %.1f\n", static_cast<double>(s.bring_up->safe_op_at - s.start) / 1e6);
-    const hal::Nanoseconds op_at = run().op.load() ? run().op_at.load() : -1;
+    const hal::Nanoseconds op_at = run_control().op.load() ? run_control().op_at.load() : -1;
     if (op_at >= 0) (void)std::printf("bring_up_to_op_ms: %.1f\n", static_cast<double>(op_at - s.start) / 1e6);
     (void)std::printf("bring_up_sii_cache_hits: %" PRIu32 " of %u slaves\n", s.bring_up->sii.cache_hits,
                       static_cast<unsigned>(s.bring_up->slaves_counted));
   }
   for (std::size_t k = 0; k < kTaskStatSlots; ++k) {
     TaskStat stat{};
-    if (!links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
+    if (!shared_links().task_stats[k].try_read(stat) || stat.name[0] == '\0') continue;
     char key[protocol::kNameSize + 1];
     std::size_t n = 0;
     for (; n < protocol::kNameSize && stat.name[n] != '\0'; ++n) key[n] = stat.name[n] == '-' ? '_' : stat.name[n];
     key[n] = '\0';
-    const TaskHealth& health = links().run.health[k];
+    const TaskHealth& health = shared_links().run.health[k];
     (void)std::printf("periods_run_%s: %" PRIu64 "\n", key, stat.periods);
     (void)std::printf("periods_missed_%s: %" PRIu64 "\n", key, stat.missed);
     (void)std::printf("max_execution_ns_%s: %" PRIu64 "\n", key, stat.max_execution_ns);
@@ -270,12 +270,12 @@ void print_run_summary(const RunSummary& s) noexcept {
   run_task_cpu().print(stdout);
   // The supervisor's liveness watch (docs/tasks.md "Liveness"): real-time tasks reported silent, and
   // the largest heartbeat age at such a report (the limit plus the supervisor's own delay).
-  (void)std::printf("task_silences_reported: %" PRIu64 "\n", links().run.silences_reported.load());
+  (void)std::printf("task_silences_reported: %" PRIu64 "\n", shared_links().run.silences_reported.load());
   (void)std::printf("task_silence_report_age_max_ms: %.3f\n",
-                    static_cast<double>(links().run.silence_report_age_max_ns.load()) / 1e6);
+                    static_cast<double>(shared_links().run.silence_report_age_max_ns.load()) / 1e6);
   // The queues between the tasks: what each dropped (or deferred), run_control.hpp's DropCounter.
   for (std::size_t i = 0; i < kDropCounters; ++i) {
-    (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], links().run.dropped[i].load(std::memory_order_relaxed));
+    (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], shared_links().run.dropped[i].load(std::memory_order_relaxed));
   }
   char names[kJointNamesCapacity];
   format_joint_names(s.lost, names, sizeof names);
@@ -293,7 +293,7 @@ void print_run_summary(const RunSummary& s) noexcept {
   (void)std::printf("owner_releases: %" PRIu64 "\n", s.intake.releases);
   (void)std::printf("rescue_phase_reached: %s\n", kin::to_string(static_cast<kin::RescuePhase>(s.rescue_phase_reached)));
   RcTaskState rescue{};
-  if (links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
+  if (shared_links().motion.task_state[static_cast<std::size_t>(RcTaskId::rescue)].try_read(rescue)) {
     // The palms' distance from their targets at the references sent (n/a: the palm left the task
     // when its arm was damaged).
     const bool left_in_task = (rescue.damaged_arms & 1U) == 0;

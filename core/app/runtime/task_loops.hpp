@@ -2,7 +2,7 @@
 // process or as processes: each task applies its row of the task table, records its periods and its
 // health, runs its object once per period, and publishes its final figures. A loop reaches the
 // shared state only through its ports (TaskLoopPorts, runtime/task_ports.hpp) and its object's; the
-// layout check's ports rule fails a call of links() or run() here. The entry points take no
+// layout check's ports rule fails a call of shared_links() or run_control() here. The entry points take no
 // argument: they run on the objects of g_run.tasks (run_context.hpp) with g_run.tasks.ports.
 #pragma once
 

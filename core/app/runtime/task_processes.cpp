@@ -129,8 +129,8 @@ int rc_teleop_process(void* /*context*/, unsigned /*incarnation*/) noexcept {
   return task_process("rc-teleop", "rc-teleop", run_rc_teleop, nullptr);
 }
 
-bool handler_finished() noexcept { return run().handler_done.load(std::memory_order_acquire); }
-bool manager_finished() noexcept { return run().manager_done.load(std::memory_order_acquire); }
+bool handler_finished() noexcept { return run_control().handler_done.load(std::memory_order_acquire); }
+bool manager_finished() noexcept { return run_control().manager_done.load(std::memory_order_acquire); }
 
 // The tasks as processes (the default): this process is the supervisor.
 struct TaskProcesses {
@@ -186,7 +186,7 @@ Result<TaskProcesses> start_task_processes(Supervisor& supervisor) noexcept {
 // Stops the operator's tasks, then the joint manager, in that order (docs/tasks.md); the handler
 // has ended already.
 void stop_operator_and_manager(Supervisor& supervisor, const TaskProcesses& p) noexcept {
-  RunControl& state = run();
+  RunControl& state = run_control();
   supervisor.stop_restarting();
   supervisor.expect_exit(p.parser);
   if (g_run.tasks.operator_port) supervisor.expect_exit(p.socket);
@@ -246,7 +246,7 @@ int stop_on_damaged_segment(Supervisor& supervisor, const TaskProcesses& p, cons
 }  // namespace
 
 int run_task_processes(OperatorSide& side) noexcept {
-  RunControl& state = run();
+  RunControl& state = run_control();
   static hal::MonotonicClock supervisor_clock;
   static Supervisor supervisor(supervisor_clock, RestartPolicy{}, stdout);
   // Its lines on the run's time, as the logger's: the run's age now, measured on the run's clock.

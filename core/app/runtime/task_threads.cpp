@@ -17,7 +17,7 @@ namespace rescue::app::runner {
 
 int run_task_threads(OperatorSide& side) noexcept {
   (void)std::fflush(stdout);
-  RunControl& state = run();
+  RunControl& state = run_control();
   g_run.storage_stop.store(false, std::memory_order_relaxed);
   std::thread storage_thread(run_storage_worker);  // normal priority: created by this (normal) thread
   std::thread manager_thread(run_manager);

@@ -146,14 +146,36 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   build_outputs();
   const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
+  handle_link_reports(result, now);
+  // After the reports above: a joint back after a power cycle is queued before it shows reachable.
+  publish_sample(result);
+  report_waiting_for_op(result, now);
+  // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,
+  // and the cycle that first reports OP carries inputs from before the switch; so from the next.
+  const bool counting = op_seen_;
+  if (result.state == ecat::MasterState::op) op_seen_ = true;
+  if (counting) track_losses(result, now);
+  check_limits(result, now);
+  watch_drives_disabled(result, now);
+  // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
+  sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
+  return result;
+}
 
+HandlerEvent EthercatHandler::event(HandlerEventKind kind, const drivers::JointCycleResult& result,
+                                    hal::Nanoseconds now) noexcept {
+  HandlerEvent e{};
+  e.kind = kind;
+  e.cycle = result.cycle;
+  e.time = now;
+  return e;
+}
+
+void EthercatHandler::handle_link_reports(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
   // Master's link events (lost, restored, not operational), for the log.
   drivers::JointLinkReport link{};
   while (bus_.pop_report(link)) {
-    HandlerEvent e{};
-    e.kind = HandlerEventKind::link_report;
-    e.cycle = result.cycle;
-    e.time = link.link.time;
+    HandlerEvent e = event(HandlerEventKind::link_report, result, link.link.time);
     e.joints = link.joints;
     e.link = link.link;
     post(e);
@@ -177,71 +199,59 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
       if (!ports_.reports->try_send(back)) ++power_cycle_reports_dropped_;
     }
   }
-  // After the reports above: a joint back after a power cycle is queued before it shows reachable.
-  publish_sample(result);
+}
 
+void EthercatHandler::report_waiting_for_op(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
   // Never silent before OP: about once a second, which slaves are not in OP yet and why.
-  if (result.state != ecat::MasterState::op && !op_seen_) {
-    if (not_in_op_since_ < 0) {
-      not_in_op_since_ = now;
-      next_waiting_word_ = now + hal::kNsPerSec;
-    } else if (now >= next_waiting_word_) {
-      next_waiting_word_ += hal::kNsPerSec;
-      const ecat::Master& master = bus_.master();
-      HandlerEvent e{};
-      e.kind = HandlerEventKind::waiting_for_op;
-      e.cycle = result.cycle;
-      e.time = now;
-      e.link.slaves = master.not_in_op();
-      e.link.time = now - not_in_op_since_;
-      e.joints = drivers::joints_of_slaves(e.link.slaves);
-      const std::uint8_t first = drivers::first_slave(e.link.slaves);
-      if (first < ecat::kMaxSlaves) {
-        e.link.al_status = master.op_al_status(first);
-        e.link.al_status_code = master.op_al_status_code(first);
-      }
-      post(e);
-    }
+  if (result.state == ecat::MasterState::op || op_seen_) return;
+  if (not_in_op_since_ < 0) {
+    not_in_op_since_ = now;
+    next_waiting_word_ = now + hal::kNsPerSec;
+    return;
   }
-
-  // Reconfiguration steps 1 and 6, once the network is operational: before OP no joint is valid,
-  // and the cycle that first reports OP carries inputs from before the switch; so from the next.
-  const bool counting = op_seen_;
-  if (result.state == ecat::MasterState::op) op_seen_ = true;
-  if (counting) {
-    // The master alone decides a loss (ecat/master/link_monitor.hpp): the joints it holds out of
-    // the exchange are reported; a joint merely invalid this cycle (a short working counter being
-    // probed, a late frame) is not.
-    tracker_.on_cycle(result.cycle, now, result.out);
-    if (tracker_.reports_sent() != last_reports_sent_) {
-      last_reports_sent_ = tracker_.reports_sent();
-      HandlerEvent e{};
-      e.kind = HandlerEventKind::loss_reported;
-      e.cycle = result.cycle;
-      e.time = now;
-      e.joints = tracker_.pending() & ~last_pending_;
-      post(e);
-    }
-    if (tracker_.last_answer_cycle() != last_answer_cycle_) {
-      last_answer_cycle_ = tracker_.last_answer_cycle();
-      HandlerEvent e{};
-      e.kind = HandlerEventKind::loss_recorded;
-      e.cycle = result.cycle;
-      e.time = now;
-      e.joints = tracker_.confirmed();
-      e.file_status = tracker_.last_file_status();
-      post(e);
-    }
-    last_pending_ = tracker_.pending();
-
-    // A frame that did not come back in time (host scheduling, a dropped frame) is counted apart:
-    // it costs every joint the cycle, whatever the network's state.
-    if (!result.frame_received) ++frames_missing_;
-    for (std::size_t j = 0; result.frame_received && j < kJointCount; ++j) {
-      if ((result.valid & joint_bit(j)) == 0) ++missed_[j];
-    }
+  if (now < next_waiting_word_) return;
+  next_waiting_word_ += hal::kNsPerSec;
+  const ecat::Master& master = bus_.master();
+  HandlerEvent e = event(HandlerEventKind::waiting_for_op, result, now);
+  e.link.slaves = master.not_in_op();
+  e.link.time = now - not_in_op_since_;
+  e.joints = drivers::joints_of_slaves(e.link.slaves);
+  const std::uint8_t first = drivers::first_slave(e.link.slaves);
+  if (first < ecat::kMaxSlaves) {
+    e.link.al_status = master.op_al_status(first);
+    e.link.al_status_code = master.op_al_status_code(first);
   }
+  post(e);
+}
 
+void EthercatHandler::track_losses(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
+  // The master alone decides a loss (ecat/master/link_monitor.hpp): the joints it holds out of the
+  // exchange are reported; a joint merely invalid this cycle (a short working counter being probed,
+  // a late frame) is not.
+  tracker_.on_cycle(result.cycle, now, result.out);
+  if (tracker_.reports_sent() != last_reports_sent_) {
+    last_reports_sent_ = tracker_.reports_sent();
+    HandlerEvent e = event(HandlerEventKind::loss_reported, result, now);
+    e.joints = tracker_.pending() & ~last_pending_;
+    post(e);
+  }
+  if (tracker_.last_answer_cycle() != last_answer_cycle_) {
+    last_answer_cycle_ = tracker_.last_answer_cycle();
+    HandlerEvent e = event(HandlerEventKind::loss_recorded, result, now);
+    e.joints = tracker_.confirmed();
+    e.file_status = tracker_.last_file_status();
+    post(e);
+  }
+  last_pending_ = tracker_.pending();
+  // A frame that did not come back in time (host scheduling, a dropped frame) is counted apart: it
+  // costs every joint the cycle, whatever the network's state.
+  if (!result.frame_received) ++frames_missing_;
+  for (std::size_t j = 0; result.frame_received && j < kJointCount; ++j) {
+    if ((result.valid & joint_bit(j)) == 0) ++missed_[j];
+  }
+}
+
+void EthercatHandler::check_limits(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
   // The handler's own limit check over the joints it drives this cycle.
   JointMask monitored = 0;
   for (std::size_t j = 0; j < kJointCount; ++j) {
@@ -257,37 +267,24 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
     decision.first_joint = static_cast<std::uint8_t>(intake_.violating_joint());
     decision.first = intake_.violation();
   }
-  if (decision.stop && !safe_stopped_ && !stopping_) {
-    safe_stopped_ = true;
-    HandlerEvent e{};
-    e.kind = HandlerEventKind::safe_stop;
-    e.cycle = result.cycle;
-    e.time = now;
-    e.joints = decision.violating;
-    e.stop = decision;
-    post(e);
-  }
+  if (!decision.stop || safe_stopped_ || stopping_) return;
+  safe_stopped_ = true;
+  HandlerEvent e = event(HandlerEventKind::safe_stop, result, now);
+  e.joints = decision.violating;
+  e.stop = decision;
+  post(e);
+}
 
-  if (stopping_ && !drives_disabled_) {
-    bool all_off = true;
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if ((result.valid & joint_bit(j)) == 0) continue;
-      if ((feedback_.joints[j].statusword & (kSwOperationEnabled | kSwSwitchedOn)) != 0) all_off = false;
-    }
-    if (all_off) {
-      drives_disabled_ = true;
-      HandlerEvent e{};
-      e.kind = HandlerEventKind::drives_disabled;
-      e.cycle = result.cycle;
-      e.time = now;
-      e.joints = result.valid;
-      post(e);
-    }
+void EthercatHandler::watch_drives_disabled(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
+  if (!stopping_ || drives_disabled_) return;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if ((result.valid & joint_bit(j)) == 0) continue;
+    if ((feedback_.joints[j].statusword & (kSwOperationEnabled | kSwSwitchedOn)) != 0) return;
   }
-
-  // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
-  sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
-  return result;
+  drives_disabled_ = true;
+  HandlerEvent e = event(HandlerEventKind::drives_disabled, result, now);
+  e.joints = result.valid;
+  post(e);
 }
 
 void EthercatHandler::publish_figures(const drivers::JointCycleResult& result, hal::Nanoseconds now,

@@ -127,6 +127,13 @@ class EthercatHandler {
   void build_outputs() noexcept;
   void publish_sample(const drivers::JointCycleResult& result) noexcept;
   void post(const HandlerEvent& event) noexcept;
+  // cycle()'s parts, in its order.
+  static HandlerEvent event(HandlerEventKind kind, const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
+  void handle_link_reports(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
+  void report_waiting_for_op(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
+  void track_losses(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
+  void check_limits(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
+  void watch_drives_disabled(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept;
   void publish_master_status(const drivers::JointCycleResult& result, hal::Nanoseconds now, std::uint64_t late_periods) noexcept;
   void publish_link_diag(std::uint64_t cycle) noexcept;
   void take_diag_reset(std::uint64_t cycle) noexcept;

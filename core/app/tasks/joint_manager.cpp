@@ -94,58 +94,11 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   durable_joints_ = recorded_.joints();
   if (damaged) report.salvaged = recorded_.joints();
 
-  // A complete newer temporary file: the last write reached the disk but not its name. Its joints were
-  // being recorded lost; holding them out is the safe reading (an operator clears them again).
   if (load.newer_temporary) {
-    report.newer_temporary = true;
-    report.temporary_sequence = load.temporary.sequence;
-    for (const LostJointRecord& r : load.temporary.records) {
-      if (recorded_.find(r.joint) != nullptr) continue;
-      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
-      report.from_temporary |= joint_bit(r.joint);
-    }
-    if (load.temporary.sequence > recorded_.sequence) recorded_.sequence = load.temporary.sequence;
+    take_newer_temporary(load, report, now);
     rewrite = true;
-    JointEvent e = joints_event(JointEventKind::file_newer_temporary, report.from_temporary, now);
-    e.count = load.temporary.sequence;
-    emit(e);
   }
-
-  // A damaged file's salvage follows the wiring: a joint behind a salvaged lost joint on its branch
-  // could not be reached either (its own record is the damaged one), so it is recorded lost as well.
-  if (damaged) {
-    const JointMask salvaged = recorded_.joints();
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      const LostJointRecord* found = recorded_.find(j);
-      if (found == nullptr || (salvaged & joint_bit(j)) == 0) continue;
-      const LostJointRecord upstream = *found;
-      const JointMask behind = joints_lost_by_link_failure_at(j) & ~recorded_.joints();
-      for (std::size_t k = 0; k < kJointCount; ++k) {
-        if ((behind & joint_bit(k)) == 0) continue;
-        LostJointRecord r = upstream;  // same loss: its time and cycle; the held position is unknown
-        r.joint = static_cast<std::uint8_t>(k);
-        r.last_position_counts = 0;
-        (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
-        report.added_behind |= joint_bit(k);
-      }
-    }
-    if (report.added_behind != 0) {
-      emit(joints_event(JointEventKind::file_wiring_added, report.added_behind, now));
-    }
-    // No readable record: which other joints were lost cannot be known, so none of them may enable
-    // until the operator clears it by name (its held position unknown: the clear confirms it).
-    for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (recorded_.find(j) != nullptr) continue;
-      LostJointRecord r;
-      r.joint = static_cast<std::uint8_t>(j);
-      r.reason = FaultReason::record_unreadable;
-      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
-      report.held_unreadable |= joint_bit(j);
-    }
-    if (report.held_unreadable != 0) {
-      emit(joints_event(JointEventKind::file_unreadable_held, report.held_unreadable, now));
-    }
-  }
+  if (damaged) salvage_damaged_file(report, now);
 
   for (const LostJointRecord& r : recorded_.records) {
     latch_loss(r.joint, r.reason, drivers::counts_to_rad(r.last_position_counts), now);
@@ -178,6 +131,58 @@ RestoreReport JointManager::restore(hal::Nanoseconds now) noexcept {
   }
   publish();
   return report;
+}
+
+// A complete newer temporary file: the last write reached the disk but not its name. Its joints were
+// being recorded lost; holding them out is the safe reading (an operator clears them again).
+void JointManager::take_newer_temporary(const ErrorJointsLoad& load, RestoreReport& report, hal::Nanoseconds now) noexcept {
+  report.newer_temporary = true;
+  report.temporary_sequence = load.temporary.sequence;
+  for (const LostJointRecord& r : load.temporary.records) {
+    if (recorded_.find(r.joint) != nullptr) continue;
+    (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+    report.from_temporary |= joint_bit(r.joint);
+  }
+  if (load.temporary.sequence > recorded_.sequence) recorded_.sequence = load.temporary.sequence;
+  JointEvent e = joints_event(JointEventKind::file_newer_temporary, report.from_temporary, now);
+  e.count = load.temporary.sequence;
+  emit(e);
+}
+
+// A damaged file's salvage follows the wiring: a joint behind a salvaged lost joint on its branch
+// could not be reached either (its own record is the damaged one), so it is recorded lost as well.
+void JointManager::salvage_damaged_file(RestoreReport& report, hal::Nanoseconds now) noexcept {
+  const JointMask salvaged = recorded_.joints();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const LostJointRecord* found = recorded_.find(j);
+    if (found == nullptr || (salvaged & joint_bit(j)) == 0) continue;
+    const LostJointRecord upstream = *found;
+    const JointMask behind = joints_lost_by_link_failure_at(j) & ~recorded_.joints();
+    for (std::size_t k = 0; k < kJointCount; ++k) {
+      if ((behind & joint_bit(k)) == 0) continue;
+      LostJointRecord r = upstream;  // same loss: its time and cycle; the held position is unknown
+      r.joint = static_cast<std::uint8_t>(k);
+      r.last_position_counts = 0;
+      (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+      report.added_behind |= joint_bit(k);
+    }
+  }
+  if (report.added_behind != 0) {
+    emit(joints_event(JointEventKind::file_wiring_added, report.added_behind, now));
+  }
+  // No readable record: which other joints were lost cannot be known, so none of them may enable
+  // until the operator clears it by name (its held position unknown: the clear confirms it).
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    if (recorded_.find(j) != nullptr) continue;
+    LostJointRecord r;
+    r.joint = static_cast<std::uint8_t>(j);
+    r.reason = FaultReason::record_unreadable;
+    (void)recorded_.records.push_back(r);  // cannot fail: one record per joint at most
+    report.held_unreadable |= joint_bit(j);
+  }
+  if (report.held_unreadable != 0) {
+    emit(joints_event(JointEventKind::file_unreadable_held, report.held_unreadable, now));
+  }
 }
 
 void JointManager::step(hal::Nanoseconds now) noexcept {

@@ -172,6 +172,10 @@ class JointManager {
   void auto_clear_returned(hal::Nanoseconds now) noexcept;
   // restore() only (start-up, before any period): saves recorded_ synchronously (sequence + 1).
   void write_at_start_up(hal::Nanoseconds now) noexcept;
+  // restore()'s parts: a newer complete temporary file's joints held out; a damaged file's salvage
+  // (the joints behind a salvaged loss on its branch, and every other joint held until cleared).
+  void take_newer_temporary(const ErrorJointsLoad& load, RestoreReport& report, hal::Nanoseconds now) noexcept;
+  void salvage_damaged_file(RestoreReport& report, hal::Nanoseconds now) noexcept;
   // The storage worker's side (steps 2 and 6 of the period).
   void collect_file_results(hal::Nanoseconds now) noexcept;
   void send_file_write(hal::Nanoseconds now) noexcept;

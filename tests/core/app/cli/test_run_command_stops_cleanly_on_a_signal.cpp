@@ -1,5 +1,5 @@
-// Issue 11 item 5: SIGINT or SIGTERM at any moment of `rescue-motion run`, bring-up included, stops it
-// cleanly: exit 0, one line saying where it stopped. Before the fix a signal before OP killed the
+// Issue 11 item 5: SIGINT or SIGTERM at any moment of `rescue-motion run` stops it cleanly: exit 0,
+// one line saying where it stopped (here: in OP; during bring-up: the first-contact test). Before the fix a signal before OP killed the
 // process with no message (exit status 130/143 from the shell, here: terminated by the signal).
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -84,20 +84,9 @@ Stopped run_and_signal(int signal_number, std::chrono::milliseconds delay, const
   return s;
 }
 
-TEST(RunCommandSignals, SigtermDuringBringUpStopsCleanlyAndSaysWhere) {
-  // Sent as soon as bring-up begins: it takes about 120 ms (the simulated drives' EEPROM reads).
-  const Stopped s = run_and_signal(SIGTERM, std::chrono::milliseconds(0), "bringing the EtherCAT network up");
-  EXPECT_TRUE(s.exited) << "killed by the signal: " << s.out;
-  EXPECT_EQ(s.status, 0) << s.out;
-  EXPECT_NE(s.out.find("stopped by signal 15 during bring-up"), std::string::npos) << s.out;
-}
-
-TEST(RunCommandSignals, SigintDuringBringUpStopsCleanlyAndSaysWhere) {
-  const Stopped s = run_and_signal(SIGINT, std::chrono::milliseconds(0), "bringing the EtherCAT network up");
-  EXPECT_TRUE(s.exited) << "killed by the signal: " << s.out;
-  EXPECT_EQ(s.status, 0) << s.out;
-  EXPECT_NE(s.out.find("stopped by signal 2 during bring-up"), std::string::npos) << s.out;
-}
+// A signal during bring-up: tests/core/app/cli/test_run_command_reports_its_wait_for_first_contact.cpp,
+// where the bring-up lasts until it is stopped (no segment answers). Against the simulated robot it
+// lasts about 100 ms, less than a loaded host may take to deliver the signal after the line.
 
 TEST(RunCommandSignals, SigtermInOpStopsCleanlyWithDrivesDisabled) {
   const Stopped s = run_and_signal(SIGTERM, std::chrono::milliseconds(100), "network in OP");
