@@ -15,7 +15,7 @@ Knot rule: no two folders anywhere include each other, directly or through any p
 (a cycle in the folder graph), whatever the other rules allow.
 
 Ports rule: the tasks' period loops (TASK_LOOPS) reach the shared state only through their ports
-(docs/architecture.md "How a task reaches shared state"): no call of the runner's links() or run(),
+(docs/architecture.md "How a task reaches shared state"): no call of the runner's shared_links() or run_control(),
 no use of the segment (g_run.segment).
 """
 import os
@@ -62,7 +62,7 @@ SOURCE_FOLDERS = ("core/", "hal/", "ecat/", "fsm/", "drivers/")
 
 # The tasks' period loops, and what in them would reach TaskLinks around the tasks' ports.
 TASK_LOOPS = ("core/app/runtime/task_loops.cpp", "core/app/runtime/task_loops.hpp")
-AROUND_PORTS = re.compile(r"(?<![\w.>:])(?:links|run)\(\)|\bg_run\.segment\b")
+AROUND_PORTS = re.compile(r"(?<![\w.>:])(?:shared_links|run_control)\(\)|\bg_run\.segment\b")
 
 
 def port_findings(files, read):
@@ -236,7 +236,7 @@ def main(argv):
         for base, floors in FLOORS.items():
             print(f"floors of {base:13} {' < '.join(floors)}")
         print("no knots: no two folders include each other through any path")
-        print(f"ports: {' '.join(TASK_LOOPS)} never call links() or run() nor use g_run.segment")
+        print(f"ports: {' '.join(TASK_LOOPS)} never call shared_links() or run_control() nor use g_run.segment")
         return 0
     root = os.path.abspath(argv[1] if len(argv) > 1 else ".")
     try:

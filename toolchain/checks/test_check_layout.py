@@ -47,7 +47,7 @@ GOOD = {
     "ecat/sii/sii_reader.hpp": '#include "ecat/link/datagram_link.hpp"\n',
     "ecat/mailbox/mailbox_client.hpp": '#include "ecat/link/datagram_link.hpp"\n',
     "core/app/runtime/task_loops.cpp": "void run_manager() noexcept { task(g_run.tasks.ports->task_loop(k)); }\n"
-                                       "// not links() in a comment\n",
+                                       "// not shared_links() in a comment\n",
     "docs/architecture.md": "See `ecat/master/master.hpp`, `core/app/cli/main` and `drivers/sim/`.\n",
 }
 
@@ -80,8 +80,8 @@ def main():
                                       '// and core/app/tasks/joint_manager.hpp includes it back (below)\n',
          "knot: folders core/app/tasks/, core/app/tasks/rc/"),
         # Ports: a task loop reaching TaskLinks around its ports.
-        ("core/app/runtime/task_loops.cpp", "void f() { links().joint_status.write(s); }\n", "links() reaches the shared state"),
-        ("core/app/runtime/task_loops.cpp", "void f() { run().stop.load(); }\n", "run() reaches the shared state"),
+        ("core/app/runtime/task_loops.cpp", "void f() { shared_links().joint_status.write(s); }\n", "shared_links() reaches the shared state"),
+        ("core/app/runtime/task_loops.cpp", "void f() { run_control().stop.load(); }\n", "run_control() reaches the shared state"),
     ]
     for path, text, expected in wrong:
         files = dict(GOOD)

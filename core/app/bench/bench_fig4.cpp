@@ -493,7 +493,7 @@ void describe_conditions(char* out, std::size_t size, const char* load, std::int
   const char* release = ::uname(&host) == 0 ? host.release : "unknown";
   const long online = sysconf(_SC_NPROCESSORS_ONLN);
   bool applied = true;
-  for (int t = 0; t < kTasks; ++t) applied = applied && g_shared.rt[t][kCases - 1].fully_applied();
+  for (const auto& task : g_shared.rt) applied = applied && task[kCases - 1].fully_applied();  // the with-affinity case
   (void)std::snprintf(out, size,
                       "kernel %s, PREEMPT_RT %s, %ld CPUs online; Table I affinity %s%s; load: %s; %" PRId64
                       " periods per case; timer %s",
