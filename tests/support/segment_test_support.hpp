@@ -127,7 +127,11 @@ class Rig {
     }
     std::array<SegmentSlave, kSlaveCount> slaves{};
     EXPECT_TRUE(describe_robot_segment(Span<SlaveDevice* const>(devices), options, Span<SegmentSlave>(slaves)).ok());
-    EXPECT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), 0).ok());
+    if (options.ring) {
+      EXPECT_TRUE(rig->segment.build_ring(Span<const SegmentSlave>(slaves), robot_ring_cable(), 0).ok());
+    } else {
+      EXPECT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), 0).ok());
+    }
     return rig;
   }
 
@@ -160,7 +164,7 @@ class Rig {
     const ConstByteSpan built = builder.finish();
     std::array<std::uint8_t, ecat::kMaxFrameSize> frame{};
     std::memcpy(frame.data(), built.data(), built.size());
-    const auto outcome = segment.process(ByteSpan(frame.data(), built.size()), now);
+    const auto outcome = segment.process(ByteSpan(frame.data(), built.size()), now, send_port);
     EXPECT_TRUE(outcome.ok());
     DatagramResult r;
     r.returned = outcome.ok() && outcome.value().returned;
@@ -215,6 +219,7 @@ class Rig {
   SimulatedSegment& segment;
   hal::Nanoseconds now{0};
   FrameOutcome last_outcome{};
+  MasterPort send_port{MasterPort::main};  // the master port exchange() sends from (ring segments)
   std::vector<std::unique_ptr<TestDevice>> devices;
   std::vector<std::unique_ptr<JunctionDevice>> junctions;
   std::array<TestDevice*, kMaxSegmentSlaves> by_position{};
