@@ -228,6 +228,15 @@ class Rig {
   std::uint8_t index_{0};
 };
 
+// A frame with one broadcast read of the ESC type register (2 bytes), as the NIC tests send it.
+inline std::vector<std::uint8_t> brd_frame(std::uint8_t index) {
+  ecat::FrameBuilder b;
+  b.reset(ecat::MacAddress{0, 0, 0, 0, 0, 1});
+  EXPECT_TRUE(b.add(Command::BRD, index, ecat::make_address(0, reg::kType), 2).ok());
+  const ConstByteSpan f = b.finish();
+  return {f.begin(), f.end()};
+}
+
 inline std::vector<std::uint8_t> le16(std::uint16_t v) {
   return {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8)};
 }
