@@ -112,7 +112,8 @@ class Rig {
   explicit Rig(SimulatedSegment& external) : segment(external) {}
 
   // The robot: junctions and 21 test devices as joints.
-  static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}) {
+  // With options.ring: the ring configuration. With `ring_on_the_tree`: the tree plus that ring cable.
+  static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}, const RingCable* ring_on_the_tree = nullptr) {
     auto rig = std::make_unique<Rig>();
     std::array<SlaveDevice*, kSlaveCount> devices{};
     for (std::size_t p = 0; p < kSlaveCount; ++p) {
@@ -127,8 +128,9 @@ class Rig {
     }
     std::array<SegmentSlave, kSlaveCount> slaves{};
     EXPECT_TRUE(describe_robot_segment(Span<SlaveDevice* const>(devices), options, Span<SegmentSlave>(slaves)).ok());
-    if (options.ring) {
-      EXPECT_TRUE(rig->segment.build_ring(Span<const SegmentSlave>(slaves), robot_ring_cable(), 0).ok());
+    if (options.ring || ring_on_the_tree != nullptr) {
+      const RingCable ring = ring_on_the_tree != nullptr ? *ring_on_the_tree : robot_ring_cable();
+      EXPECT_TRUE(rig->segment.build_ring(Span<const SegmentSlave>(slaves), ring, 0).ok());
     } else {
       EXPECT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), 0).ok());
     }
