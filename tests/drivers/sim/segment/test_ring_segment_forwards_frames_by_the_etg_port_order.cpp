@@ -113,6 +113,19 @@ TEST(RingSegment, ACutRingCableMakesItATreeAgain) {
   EXPECT_EQ(rig->last_outcome.port, MasterPort::main);
 }
 
+TEST(RingSegment, AnEscWithEveryPortClosedKeepsTheFrameAndItIsCountedLost) {
+  auto rig = line_of_three(ring_onto_last());
+  rig->assign_station_addresses();
+  // "middle": every port's loop forced closed (DL control loop bits 11), port 0 included.
+  std::uint32_t closed = 0x00070000;  // the other DL control bits as the robot's tests write them
+  for (unsigned port = 0; port < kMaxEscPorts; ++port) closed |= 3U << reg::dl_control_loop_shift(port);
+  EXPECT_EQ(rig->write(Command::FPWR, 0x1001, reg::kDlControl, le32(closed)).wkc, 1);
+  // A frame from the ring port now enters "last", goes on to "middle" and never leaves it.
+  rig->send_port = MasterPort::ring;
+  EXPECT_FALSE(rig->read(Command::BRD, 0, reg::kType, 1).returned);
+  EXPECT_EQ(rig->segment.counters().lost_circulating, 1u);
+}
+
 TEST(RingSegment, BadRingCablesAreRefusedAndNothingIsBuilt) {
   Status st;
   auto cabled = line_of_three(RingCable{1, 1, kRingLink, 0}, &st);  // "last" hangs off middle's port 1
