@@ -168,8 +168,8 @@ int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, 
   (void)std::printf("frames sent back on the other port: %llu from main, %llu from ring\n",
                     static_cast<unsigned long long>(main_port.sent_on_other_port()),
                     static_cast<unsigned long long>(ring_port.sent_on_other_port()));
-  (void)std::printf("send errors on the other port: %llu\n",
-                    static_cast<unsigned long long>(main_port.other_port_send_errors() + ring_port.other_port_send_errors()));
+  const std::uint64_t other_port_errors = main_port.other_port_send_errors() + ring_port.other_port_send_errors();
+  (void)std::printf("send errors on the other port: %llu\n", static_cast<unsigned long long>(other_port_errors));
   (void)std::fflush(stdout);
   return exit_status;
 }
