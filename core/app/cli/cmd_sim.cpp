@@ -239,7 +239,7 @@ int sim_main(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kSimCommand{
-    "sim", "sim --iface IFACE [--ring-iface IFACE2] [--priority N] [--cpu N|any] [--through-qdisc]",
+    "sim", "sim --iface IFACE [--ring-iface IFACE2] [--priority N] [--cpu N|any] [...]",
     "serve the simulated robot's EtherCAT segment on a network interface",
     "A master on the other end of the wire (or of a veth pair) sees the 23 slaves of the robot.\n"
     "With --ring-iface the robot is cabled as a ring (one line through every slave, closed back to\n"
