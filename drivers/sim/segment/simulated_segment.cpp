@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 #include "ecat/codec/frame.hpp"
 #include "ecat/codec/registers.hpp"
@@ -93,22 +94,75 @@ Status SimulatedSegment::build(Span<const SegmentSlave> slaves, hal::Nanoseconds
   return Status::success();
 }
 
-Status SimulatedSegment::build_ring(Span<const SegmentSlave> slaves, const RingCable& ring, hal::Nanoseconds now) noexcept {
-  count_ = 0;
-  has_ring_ = false;
-  if (ring.position >= slaves.size()) return make_error(Errc::invalid_argument, "ring cable onto no slave", ring.position);
-  if (ring.port == 0 || ring.port >= slaves[ring.position].esc.port_count) {
-    return make_error(Errc::invalid_argument, "ring cable onto port 0 or a port the ESC lacks", ring.port);
+namespace {
+
+// Whether a cable may end at `position`'s `port` (not port 0, a port the ESC has, no slave cabled there).
+Status check_spare_port(Span<const SegmentSlave> slaves, std::size_t position, unsigned port, const char* cable) noexcept {
+  if (position >= slaves.size()) return make_error(Errc::invalid_argument, cable, static_cast<std::uint32_t>(position));
+  if (port == 0 || port >= slaves[position].esc.port_count) {
+    return make_error(Errc::invalid_argument, "ring cable onto port 0 or a port the ESC lacks", port);
   }
   for (std::size_t p = 1; p < slaves.size(); ++p) {
-    if (slaves[p].upstream == ring.position && slaves[p].upstream_port == ring.port) {
-      return make_error(Errc::invalid_argument, "ring cable onto a port already cabled", ring.position, ring.port);
+    if (slaves[p].upstream == position && slaves[p].upstream_port == port) {
+      return make_error(Errc::invalid_argument, "ring cable onto a port already cabled", static_cast<std::uint32_t>(position), port);
+    }
+  }
+  return Status::success();
+}
+
+}  // namespace
+
+Status SimulatedSegment::build_ring(Span<const SegmentSlave> slaves, const RingCable& ring, hal::Nanoseconds now,
+                                    Span<const LoopCable> loops) noexcept {
+  count_ = 0;
+  has_ring_ = false;
+  loop_count_ = 0;
+  RESCUE_TRY(check_spare_port(slaves, ring.position, ring.port, "ring cable onto no slave"));
+  if (loops.size() > kMaxLoopCables) return make_error(Errc::capacity_exceeded, "loop cables", static_cast<std::uint32_t>(loops.size()));
+  // Every cable end once: the ring cable's and both ends of each loop cable.
+  std::array<std::uint8_t, 1 + 2 * kMaxLoopCables> end_position{};
+  std::array<std::uint8_t, 1 + 2 * kMaxLoopCables> end_port{};
+  std::size_t ends = 0;
+  end_position[ends] = ring.position;
+  end_port[ends++] = ring.port;
+  for (const LoopCable& loop : loops) {
+    RESCUE_TRY(check_spare_port(slaves, loop.a, loop.a_port, "loop cable onto no slave"));
+    RESCUE_TRY(check_spare_port(slaves, loop.b, loop.b_port, "loop cable onto no slave"));
+    for (const auto& [position, port] : {std::pair<std::uint8_t, std::uint8_t>{loop.a, loop.a_port}, {loop.b, loop.b_port}}) {
+      for (std::size_t e = 0; e < ends; ++e) {
+        if (end_position[e] == position && end_port[e] == port) return make_error(Errc::invalid_argument, "ring cable onto a port already cabled", position, port);
+      }
+      end_position[ends] = position;
+      end_port[ends++] = port;
     }
   }
   Status built = build(slaves, now);
   if (!built.ok()) return built;
   ring_ = ring;
   has_ring_ = true;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    loops_[i] = loops[i];
+    loop_cut_[i] = false;
+  }
+  loop_count_ = loops.size();
+  update_links();
+  return Status::success();
+}
+
+std::size_t SimulatedSegment::loop_at(std::size_t position, unsigned port) const noexcept {
+  for (std::size_t i = 0; i < loop_count_; ++i) {
+    if ((loops_[i].a == position && loops_[i].a_port == port) || (loops_[i].b == position && loops_[i].b_port == port)) return i;
+  }
+  return loop_count_;
+}
+
+bool SimulatedSegment::loop_up(std::size_t index) const noexcept {
+  return index < loop_count_ && !loop_cut_[index] && escs_[loops_[index].a].powered() && escs_[loops_[index].b].powered();
+}
+
+Status SimulatedSegment::set_loop_cable_cut(std::size_t index, bool cut) noexcept {
+  if (index >= loop_count_) return make_error(Errc::out_of_range, "loop cable", static_cast<std::uint32_t>(index));
+  loop_cut_[index] = cut;
   update_links();
   return Status::success();
 }
@@ -128,7 +182,14 @@ void SimulatedSegment::update_links() noexcept {
     for (unsigned port = 1; port < kMaxEscPorts; ++port) {
       const std::uint8_t c = children_[p][port];
       const bool ring = has_ring_ && p == ring_.position && port == ring_.port;
-      escs_[p].set_link(port, ring ? ring_up() : c != kUpstreamIsMaster && cable_up(c));
+      const std::size_t loop = loop_at(p, port);
+      bool up = c != kUpstreamIsMaster && cable_up(c);
+      if (ring) {
+        up = ring_up();
+      } else if (loop < loop_count_) {
+        up = loop_up(loop);
+      }
+      escs_[p].set_link(port, up);
     }
   }
 }
@@ -287,6 +348,15 @@ SimulatedSegment::CableEnd SimulatedSegment::far_end(std::size_t position, unsig
     end.master = true;
     end.master_port = MasterPort::ring;
     end.delay = ring_.link_delay_ns + ring_.return_skew_ns;
+    return end;
+  }
+  const std::size_t loop = loop_at(position, port);
+  if (loop < loop_count_) {
+    const LoopCable& l = loops_[loop];
+    const bool from_a = l.a == position && l.a_port == port;
+    end.position = from_a ? l.b : l.a;
+    end.port = from_a ? l.b_port : l.a_port;
+    end.delay = l.link_delay_ns;
     return end;
   }
   const std::uint8_t c = children_[position][port];

@@ -75,6 +75,17 @@ struct RingCable {
   hal::Nanoseconds return_skew_ns{0};
 };
 
+// A cable between two slaves' spare ports (a loop through the tree, docs/redundancy.md form 4): from
+// `a`'s port `a_port` to `b`'s port `b_port`, the same delay both ways. Ring segments only.
+struct LoopCable {
+  std::uint8_t a{0};
+  std::uint8_t a_port{1};
+  std::uint8_t b{0};
+  std::uint8_t b_port{1};
+  hal::Nanoseconds link_delay_ns{0};
+};
+constexpr std::size_t kMaxLoopCables = 4;
+
 // What became of one frame.
 struct FrameOutcome {
   bool returned{false};            // false: lost (see the segment's counters for why)
@@ -111,7 +122,10 @@ class SimulatedSegment {
   Status build(Span<const SegmentSlave> slaves, hal::Nanoseconds now) noexcept;
   // The same slaves plus the ring cable. Refused (nothing built) when `ring` names no slave, port 0,
   // a port the ESC does not have, or a port a slave is already cabled to.
-  Status build_ring(Span<const SegmentSlave> slaves, const RingCable& ring, hal::Nanoseconds now) noexcept;
+  // `loops`: cables between spare ports of two slaves (at most kMaxLoopCables), refused like the ring
+  // cable onto a port that is taken, port 0 or a missing port.
+  Status build_ring(Span<const SegmentSlave> slaves, const RingCable& ring, hal::Nanoseconds now,
+                    Span<const LoopCable> loops = {}) noexcept;
   bool has_ring() const noexcept { return has_ring_; }
   const RingCable& ring_cable() const noexcept { return ring_; }
 
@@ -138,6 +152,8 @@ class SimulatedSegment {
   Status cut_ring_cable() noexcept;
   Status restore_ring_cable() noexcept;
   bool ring_cable_cut() const noexcept { return has_ring_ && ring_cut_; }
+  // Loop cable `index` (build_ring's `loops`) cut and reconnected.
+  Status set_loop_cable_cut(std::size_t index, bool cut) noexcept;
   // A hung application: the ESC still forwards and answers registers, AL control/mailbox/process
   // data are no longer served.
   Status freeze(std::size_t position, bool frozen) noexcept;
@@ -193,6 +209,9 @@ class SimulatedSegment {
   void update_links() noexcept;
   bool cable_up(std::size_t position) const noexcept;
   bool ring_up() const noexcept;
+  // The loop cable on `position`'s `port`, or loop_count_ when none ends there.
+  std::size_t loop_at(std::size_t position, unsigned port) const noexcept;
+  bool loop_up(std::size_t index) const noexcept;
   void enter(std::size_t position, ecat::MutableFrameView* view, hal::Nanoseconds t) noexcept;
   // The tree walk (frames from main on a segment without ring): sets `outcome.first_bit_back`;
   // false when the frame was lost.
@@ -236,6 +255,9 @@ class SimulatedSegment {
   RingCable ring_{};
   bool has_ring_{false};
   bool ring_cut_{false};
+  std::array<LoopCable, kMaxLoopCables> loops_{};
+  std::array<bool, kMaxLoopCables> loop_cut_{};
+  std::size_t loop_count_{0};
   // The ring walk's record of one frame at each ESC: port arrivals before its processing unit ran
   // (replayed to the ESC when it runs), whether it ran; the ESCs in processing order.
   struct Passage {
