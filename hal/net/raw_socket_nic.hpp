@@ -106,6 +106,9 @@ class RawSocketNic final : public Nic {
   Status open(const char* interface_name, const RawSocketSettings& settings = RawSocketSettings{}) noexcept;
   void close() noexcept;
   bool is_open() const noexcept { return fd_ >= 0; }
+  // The socket, for a caller that waits on several interfaces in one poll() (`sim --ring-iface`);
+  // -1 when closed. Reading it bypasses receive()'s filter: poll it, then call receive().
+  int fd() const noexcept { return fd_; }
 
   // Sends one Ethernet frame as given (14..1514 bytes). busy when the driver's queue is full.
   Status send(ConstByteSpan frame) noexcept override;

@@ -2,6 +2,8 @@
 // frames (any EtherType, any datagrams, any lengths) through a junction with two slaves behind it,
 // so every datagram kind reaches every register block, SyncManager, FMMU, the SII interface and the
 // DC unit. Inputs starting with '#' are fault commands instead (the simulator's text interface).
+// Every frame also goes round a ring (the same three slaves with a ring cable onto the last one's
+// port 1, docs/redundancy.md), sent from the main and the ring port in turn: the ring walk.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -70,10 +72,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   slaves[2].esc = joint_esc_config();
   slaves[2].device = &second;
   if (!segment.build(Span<const SegmentSlave>(slaves), 0).ok()) __builtin_trap();
+  static JunctionDevice ring_junction(0);
+  static EchoDevice ring_first;
+  static EchoDevice ring_second;
+  static SimulatedSegment ring;
+  slaves[0].device = &ring_junction;
+  slaves[1].device = &ring_first;
+  slaves[2].device = &ring_second;
+  if (!ring.build_ring(Span<const SegmentSlave>(slaves), RingCable{2, 1, kPhyPairDelayNs, 3}, 0).ok()) __builtin_trap();
 
   if (size > 0 && data[0] == '#') {
     const auto command = parse_fault_command(reinterpret_cast<const char*>(data + 1), size - 1, segment);
     if (command.ok()) (void)apply_fault_command(command.value(), segment, 0);
+    const auto ring_command = parse_fault_command(reinterpret_cast<const char*>(data + 1), size - 1, ring);
+    if (ring_command.ok()) (void)apply_fault_command(ring_command.value(), ring, 0);
     return 0;
   }
   // The same frame three times (state carries over: SII busy, mailboxes, SM buffers, DC loop).
@@ -83,6 +95,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto outcome = segment.process(ByteSpan(frame.data(), frame.size()), round * 300'000);
     if (!outcome.ok()) __builtin_trap();  // only an empty frame may be refused
     if (frame.size() != size) __builtin_trap();
+    std::vector<std::uint8_t> round_the_ring(data, data + size);
+    const MasterPort from = round == 1 ? MasterPort::ring : MasterPort::main;
+    if (!ring.process(ByteSpan(round_the_ring.data(), round_the_ring.size()), round * 300'000, from).ok()) __builtin_trap();
   }
   return 0;
 }

@@ -112,7 +112,8 @@ class Rig {
   explicit Rig(SimulatedSegment& external) : segment(external) {}
 
   // The robot: junctions and 21 test devices as joints.
-  static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}) {
+  // With options.ring: the ring configuration. With `ring_on_the_tree`: the tree plus that ring cable.
+  static std::unique_ptr<Rig> robot(const RobotSegmentOptions& options = {}, const RingCable* ring_on_the_tree = nullptr) {
     auto rig = std::make_unique<Rig>();
     std::array<SlaveDevice*, kSlaveCount> devices{};
     for (std::size_t p = 0; p < kSlaveCount; ++p) {
@@ -127,7 +128,12 @@ class Rig {
     }
     std::array<SegmentSlave, kSlaveCount> slaves{};
     EXPECT_TRUE(describe_robot_segment(Span<SlaveDevice* const>(devices), options, Span<SegmentSlave>(slaves)).ok());
-    EXPECT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), 0).ok());
+    if (options.ring || ring_on_the_tree != nullptr) {
+      const RingCable ring = ring_on_the_tree != nullptr ? *ring_on_the_tree : robot_ring_cable();
+      EXPECT_TRUE(rig->segment.build_ring(Span<const SegmentSlave>(slaves), ring, 0).ok());
+    } else {
+      EXPECT_TRUE(rig->segment.build(Span<const SegmentSlave>(slaves), 0).ok());
+    }
     return rig;
   }
 
@@ -160,7 +166,7 @@ class Rig {
     const ConstByteSpan built = builder.finish();
     std::array<std::uint8_t, ecat::kMaxFrameSize> frame{};
     std::memcpy(frame.data(), built.data(), built.size());
-    const auto outcome = segment.process(ByteSpan(frame.data(), built.size()), now);
+    const auto outcome = segment.process(ByteSpan(frame.data(), built.size()), now, send_port);
     EXPECT_TRUE(outcome.ok());
     DatagramResult r;
     r.returned = outcome.ok() && outcome.value().returned;
@@ -215,6 +221,7 @@ class Rig {
   SimulatedSegment& segment;
   hal::Nanoseconds now{0};
   FrameOutcome last_outcome{};
+  MasterPort send_port{MasterPort::main};  // the master port exchange() sends from (ring segments)
   std::vector<std::unique_ptr<TestDevice>> devices;
   std::vector<std::unique_ptr<JunctionDevice>> junctions;
   std::array<TestDevice*, kMaxSegmentSlaves> by_position{};
@@ -222,6 +229,15 @@ class Rig {
  private:
   std::uint8_t index_{0};
 };
+
+// A frame with one broadcast read of the ESC type register (2 bytes), as the NIC tests send it.
+inline std::vector<std::uint8_t> brd_frame(std::uint8_t index) {
+  ecat::FrameBuilder b;
+  b.reset(ecat::MacAddress{0, 0, 0, 0, 0, 1});
+  EXPECT_TRUE(b.add(Command::BRD, index, ecat::make_address(0, reg::kType), 2).ok());
+  const ConstByteSpan f = b.finish();
+  return {f.begin(), f.end()};
+}
 
 inline std::vector<std::uint8_t> le16(std::uint16_t v) {
   return {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8)};

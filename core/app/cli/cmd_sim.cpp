@@ -5,6 +5,9 @@
 // Fault commands (drivers/sim/segment/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
 // can be typed on standard input while it serves; docs/simulator.md lists them. One more, of the host
 // rather than the segment: "stall MS" holds every reply back for MS ms and sends them together.
+// With --ring-iface B it serves the robot's ring configuration (core/robot/robot_ring.hpp,
+// docs/redundancy.md): IFACE is the master's main port, B its ring port; a frame from either is
+// sent back out of the interface of the port it comes back to.
 #include <poll.h>
 #include <unistd.h>
 
@@ -58,7 +61,7 @@ void print_counters(const FrameServerCounters& served, const hal::NicStats& nic)
 class FaultConsole {
  public:
   // Reads what is available without waiting; applies every complete line.
-  void poll_once(drivers::SimulatedSegment& segment, FrameServer& server, hal::Nanoseconds now) noexcept {
+  void poll_once(drivers::SimulatedSegment& segment, FrameServer& server, hal::Nanoseconds now, FrameServer* ring_server = nullptr) noexcept {
     if (closed_) return;
     pollfd p{STDIN_FILENO, POLLIN, 0};
     if (::poll(&p, 1, 0) <= 0) return;
@@ -71,7 +74,7 @@ class FaultConsole {
     std::size_t start = 0;
     for (std::size_t i = 0; i < length_; ++i) {
       if (line_[i] != '\n') continue;
-      apply(line_.data() + start, i - start, segment, server, now);
+      apply(line_.data() + start, i - start, segment, server, ring_server, now);
       start = i + 1;
     }
     if (start == 0 && length_ == line_.size()) start = length_;  // an endless line: dropped
@@ -81,7 +84,7 @@ class FaultConsole {
 
  private:
   static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, FrameServer& server,
-                    hal::Nanoseconds now) noexcept {
+                    FrameServer* ring_server, hal::Nanoseconds now) noexcept {
     // "stall MS" (1..1000): the host's part, not the segment's: replies held back MS ms, then bunched.
     if (length > 6 && std::strncmp(text, "stall ", 6) == 0) {
       unsigned ms = 0;
@@ -89,6 +92,7 @@ class FaultConsole {
       for (; i < length && text[i] >= '0' && text[i] <= '9' && ms <= 1000; ++i) ms = ms * 10 + static_cast<unsigned>(text[i] - '0');
       if (i == length && ms >= 1 && ms <= 1000) {
         server.stall_until(now + static_cast<hal::Nanoseconds>(ms) * hal::kNsPerMs);
+        if (ring_server != nullptr) ring_server->stall_until(now + static_cast<hal::Nanoseconds>(ms) * hal::kNsPerMs);
         (void)std::printf("fault: ok %.*s\n", static_cast<int>(length), text);
       } else {
         (void)std::printf("fault: refused %.*s: stall takes 1..1000 (ms)\n", static_cast<int>(length), text);
@@ -111,8 +115,68 @@ class FaultConsole {
   bool closed_{false};
 };
 
+int serve_tree(drivers::SimulatedSegment& segment, hal::RawSocketNic& nic) noexcept {
+  static SegmentFrameProcessor processor(segment);
+  static FrameServer server(nic, processor);  // static: it holds the frames of a stall (25 KiB)
+  FaultConsole faults;
+  int exit_status = 0;
+  while (stop_signal() == 0) {
+    faults.poll_once(segment, server, nic.clock().now());
+    const Status served = server.serve_one(nic.clock().now() + kIdleStep);
+    if (!served.ok() && served.error().code != Errc::timeout) {
+      exit_status = fail("sim", "serving stopped", served.error());
+      break;
+    }
+  }
+  if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
+  print_counters(server.counters(), nic.stats());
+  return exit_status;
+}
+
+// Both master ports in one thread: poll() on the two sockets, then each ready one served at once.
+int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, hal::RawSocketNic& ring_nic) noexcept {
+  static RingPortFrameProcessor main_port(segment, drivers::MasterPort::main, ring_nic);
+  static RingPortFrameProcessor ring_port(segment, drivers::MasterPort::ring, main_nic);
+  static FrameServer main_server(main_nic, main_port);
+  static FrameServer ring_server(ring_nic, ring_port);
+  FaultConsole faults;
+  int exit_status = 0;
+  while (stop_signal() == 0 && exit_status == 0) {
+    faults.poll_once(segment, main_server, main_nic.clock().now(), &ring_server);
+    std::array<pollfd, 2> sockets{{{main_nic.fd(), POLLIN, 0}, {ring_nic.fd(), POLLIN, 0}}};
+    const int ready = ::poll(sockets.data(), sockets.size(), static_cast<int>(kIdleStep / hal::kNsPerMs));
+    const hal::Nanoseconds now = main_nic.clock().now();
+    if (ready <= 0) {
+      main_port.idle(now);
+      continue;
+    }
+    const std::array<FrameServer*, 2> servers{&main_server, &ring_server};
+    for (std::size_t i = 0; i < servers.size(); ++i) {
+      if ((sockets[i].revents & (POLLIN | POLLERR)) == 0) continue;
+      const Status served = servers[i]->serve_one(now);  // the frame is queued: no wait
+      if (!served.ok() && served.error().code != Errc::timeout) {
+        exit_status = fail("sim", "serving stopped", served.error());
+        break;
+      }
+    }
+  }
+  if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
+  (void)std::printf("main port:\n");
+  print_counters(main_server.counters(), main_nic.stats());
+  (void)std::printf("ring port:\n");
+  print_counters(ring_server.counters(), ring_nic.stats());
+  (void)std::printf("frames sent back on the other port: %llu from main, %llu from ring\n",
+                    static_cast<unsigned long long>(main_port.sent_on_other_port()),
+                    static_cast<unsigned long long>(ring_port.sent_on_other_port()));
+  const std::uint64_t other_port_errors = main_port.other_port_send_errors() + ring_port.other_port_send_errors();
+  (void)std::printf("send errors on the other port: %llu\n", static_cast<unsigned long long>(other_port_errors));
+  (void)std::fflush(stdout);
+  return exit_status;
+}
+
 const OptionSpec kOptions[] = {
     {"iface", "IFACE", "network interface to serve the segment on (required)"},
+    {"ring-iface", "IFACE", "serve the robot's ring configuration: IFACE is the master's ring port (--iface its main port)"},
     {"priority", "N", "SCHED_FIFO priority 1..99 while serving, 0 for normal scheduling (default 90)"},
     {"cpu", "N|any", "serve on CPU N (default: the EtherCAT task's CPU, where a real NIC's interrupt goes); any: wherever the scheduler puts it"},
     {"through-qdisc", nullptr, "send replies through the interface's queueing discipline (e.g. `tc qdisc ... netem` delay and reordering); default: bypass it, as hardware has none"},
@@ -135,14 +199,22 @@ int sim_main(const ParsedArgs& args) {
     cpu = static_cast<int>(chosen.value());
   }
 
-  static hal::RawSocketNic nic;  // static, like the server that refers to it
   hal::RawSocketSettings settings;
   settings.qdisc_bypass = !args.has("through-qdisc");
+  const char* ring_iface = args.value("ring-iface");
+  if (ring_iface != nullptr && std::strcmp(ring_iface, iface) == 0) {
+    return fail("sim", "--ring-iface must name another interface than --iface (the master's two ports)");
+  }
+  static hal::RawSocketNic nic;  // static, like the server that refers to it
   const Status opened = nic.open(iface, settings);
   if (!opened.ok()) return fail_nic("sim", iface, opened.error());
-  drivers::SimulatedRobot& robot = simulated_robot(nic.clock().now());
+  static hal::RawSocketNic ring_nic;
+  if (ring_iface != nullptr) {
+    const Status ring_opened = ring_nic.open(ring_iface, settings);
+    if (!ring_opened.ok()) return fail_nic("sim", ring_iface, ring_opened.error());
+  }
+  drivers::SimulatedRobot& robot = ring_iface != nullptr ? simulated_ring_robot(nic.clock().now()) : simulated_robot(nic.clock().now());
   if (!robot.status().ok()) return fail("sim", "cannot build the simulated robot", robot.status().error());
-  static SegmentFrameProcessor segment(robot.segment());
   if (!install_stop_handlers()) return fail("sim", "cannot install SIGINT/SIGTERM handlers");
   // Best effort, each item reported: without privilege the simulator still serves, only slower
   // to answer on a loaded host.
@@ -154,31 +226,24 @@ int sim_main(const ParsedArgs& args) {
 
   std::size_t powered = 0;
   for (std::size_t p = 0; p < robot.segment().slave_count(); ++p) powered += robot.segment().esc(p).powered() ? 1U : 0U;
-  (void)std::printf("serving %zu slaves on %s (and a spare one behind the last, unplugged: `extra-slave` plugs it in)\n",
-                    powered, iface);
-  (void)std::fflush(stdout);  // scripts and tests wait for this line
-
-  static FrameServer server(nic, segment);  // static: it holds the frames of a stall (25 KiB)
-  FaultConsole faults;
-  int exit_status = 0;
-  while (stop_signal() == 0) {
-    faults.poll_once(robot.segment(), server, nic.clock().now());
-    const Status served = server.serve_one(nic.clock().now() + kIdleStep);
-    if (!served.ok() && served.error().code != Errc::timeout) {
-      exit_status = fail("sim", "serving stopped", served.error());
-      break;
-    }
+  if (ring_iface != nullptr) {
+    (void)std::printf("serving %zu slaves in a ring on %s (main) and %s (ring)\n", powered, iface, ring_iface);
+  } else {
+    (void)std::printf("serving %zu slaves on %s (and a spare one behind the last, unplugged: `extra-slave` plugs it in)\n",
+                      powered, iface);
   }
-  if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
-  print_counters(server.counters(), nic.stats());
-  return exit_status;
+  (void)std::fflush(stdout);  // scripts and tests wait for this line
+  return ring_iface != nullptr ? serve_ring(robot.segment(), nic, ring_nic) : serve_tree(robot.segment(), nic);
 }
 
 }  // namespace
 
 const CommandSpec kSimCommand{
-    "sim", "sim --iface IFACE [--priority N] [--cpu N|any] [--through-qdisc]", "serve the simulated robot's EtherCAT segment on a network interface",
+    "sim", "sim --iface IFACE [--ring-iface IFACE2] [--priority N] [--cpu N|any] [...]",
+    "serve the simulated robot's EtherCAT segment on a network interface",
     "A master on the other end of the wire (or of a veth pair) sees the 23 slaves of the robot.\n"
+    "With --ring-iface the robot is cabled as a ring (one line through every slave, closed back to\n"
+    "IFACE2, the master's second port; docs/redundancy.md): `cut ring` cuts the ring-return cable.\n"
     "Needs CAP_NET_RAW (root, or `setcap cap_net_raw+ep rescue-motion`). It serves at SCHED_FIFO\n"
     "priority 90 with its memory locked when allowed, on the EtherCAT task's CPU (where a real NIC's\n"
     "interrupt goes; each item is reported), so that it answers as fast as hardware on a busy host.\n"

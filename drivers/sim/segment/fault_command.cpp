@@ -126,7 +126,13 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
   FaultCommand command;
   command.kind = verb->kind;
   std::size_t next = 1;
-  if (verb->needs_slave) {
+  if (verb->needs_slave && tokens[next].is(kRingCableWord)) {
+    const bool cable_verb = command.kind == FaultKind::cut || command.kind == FaultKind::restore || command.kind == FaultKind::replace_cable;
+    if (!cable_verb) return make_error(Errc::invalid_argument, "the ring cable takes cut, restore and replace-cable only");
+    if (!segment.has_ring()) return make_error(Errc::not_found, "no ring cable: the segment is a tree");
+    command.ring_cable = true;
+    ++next;
+  } else if (verb->needs_slave) {
     if (!find_slave(tokens[next], segment, command.position)) return make_error(Errc::not_found, "unknown slave");
     ++next;
   }
@@ -159,8 +165,8 @@ Result<FaultCommand> parse_fault_command(const char* text, std::size_t length, c
 
 Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
   switch (command.kind) {
-    case FaultKind::cut: return segment.cut_link(command.position);
-    case FaultKind::restore: return segment.restore_link(command.position);
+    case FaultKind::cut: return command.ring_cable ? segment.cut_ring_cable() : segment.cut_link(command.position);
+    case FaultKind::restore: return command.ring_cable ? segment.restore_ring_cable() : segment.restore_link(command.position);
     case FaultKind::freeze: return segment.freeze(command.position, true);
     case FaultKind::thaw: return segment.freeze(command.position, false);
     case FaultKind::power_off: return segment.set_power(command.position, false, now);
@@ -174,7 +180,13 @@ Status apply_fault_command(const FaultCommand& command, SimulatedSegment& segmen
     case FaultKind::drive_fault:
       return segment.inject_device_fault(command.position, static_cast<std::uint16_t>(command.value));
     case FaultKind::power_cycle: return segment.power_cycle(command.position, now);
-    case FaultKind::replace_cable: return segment.replace_cable(command.position);
+    case FaultKind::replace_cable:
+      if (!command.ring_cable) return segment.replace_cable(command.position);
+      {
+        Status st = segment.cut_ring_cable();
+        if (st.ok()) st = segment.restore_ring_cable();
+        return st;
+      }
     case FaultKind::foreign: return segment.plug_device(command.position, true, now);
     case FaultKind::original: return segment.plug_device(command.position, false, now);
     case FaultKind::corrupt_port: return segment.corrupt_port(command.position, command.port, command.value);

@@ -1,8 +1,11 @@
 // Fault injection as text, for a running simulator (`rescue-motion sim`, an operator console, a
 // test script): one command per line, slaves by name (as in kSlaves) or auto-increment position.
 //
-//   cut SLAVE            cut the cable into SLAVE's port 0 (SLAVE and everything behind it drop off)
+//   cut SLAVE            cut the cable into SLAVE's port 0 (SLAVE and everything behind it drop off;
+//                        on a ring the slaves behind answer the ring port's frames instead)
 //   restore SLAVE        reconnect it
+//   cut ring, restore ring, replace-cable ring   the same for the ring-return cable (ring segments:
+//                        from the last slave's free port to the master's ring port; refused on a tree)
 //   freeze SLAVE         hang SLAVE's application (the ESC keeps forwarding and answering)
 //   thaw SLAVE           let it run again
 //   power-off SLAVE      SLAVE dies (links down on both sides)
@@ -65,7 +68,11 @@ struct FaultCommand {
   std::uint32_t value{0};   // count (drop, corrupt, corrupt-port) or error code (drive-fault, safe-op)
   std::uint32_t port{0};    // corrupt-port
   AlState state{AlState::init};  // refuse
+  bool ring_cable{false};   // cut, restore, replace-cable: the ring-return cable, not a slave's
 };
+
+// The word that names the ring-return cable in place of a slave.
+constexpr const char* kRingCableWord = "ring";
 
 // Parses one line (at most `length` characters, stops at the first NUL). Slave names are looked up
 // in `segment`. Errors name what was wrong (unknown command, unknown slave, bad number, extra words).

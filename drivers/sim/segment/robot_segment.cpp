@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/robot/robot.hpp"
+#include "core/robot/robot_ring.hpp"
 
 namespace rescue::drivers {
 namespace {
@@ -26,6 +27,10 @@ constexpr double kMasterCable = 3.0;
 constexpr double kJunctionToJunction = 0.3;
 constexpr double kJunctionToBranch = 1.5;
 constexpr double kJointToJoint = 0.6;
+// Ring configuration only: the line from one branch's last joint to the next branch's first, and
+// from l_hand back to the master.
+constexpr double kBranchToBranch = 1.5;
+constexpr double kRingReturnCable = 3.5;
 
 hal::Nanoseconds cable_delay(double metres) noexcept {
   return kPhyPairDelayNs + static_cast<hal::Nanoseconds>(std::lround(metres * kCableNsPerMetre));
@@ -79,17 +84,24 @@ Status describe_robot_segment(Span<SlaveDevice* const> devices, const RobotSegme
     s.esc.local_time_at_zero = next_random(random) % (50ULL * 1000 * 1000);
     s.esc.processing_delay_ns += std::lround(8.0 * next_symmetric(random));
     s.esc.forwarding_delay_ns += std::lround(8.0 * next_symmetric(random));
-    s.upstream = info.upstream == kMasterUpstream ? kUpstreamIsMaster : info.upstream;
-    s.upstream_port = info.upstream_port;
+    const std::uint8_t upstream = options.ring ? kRingCabling[p].upstream : info.upstream;
+    s.upstream = upstream == kMasterUpstream ? kUpstreamIsMaster : upstream;
+    s.upstream_port = options.ring ? kRingCabling[p].upstream_port : info.upstream_port;
     double metres = kJointToJoint;
-    if (info.upstream == kMasterUpstream) {
+    if (upstream == kMasterUpstream) {
       metres = kMasterCable;
-    } else if (kSlaves[info.upstream].kind == SlaveKind::junction) {
+    } else if (kSlaves[upstream].kind == SlaveKind::junction) {
       metres = info.kind == SlaveKind::junction ? kJunctionToJunction : kJunctionToBranch;
+    } else if (info.kind == SlaveKind::joint_drive && kJoints[kSlaves[upstream].joint].branch != kJoints[info.joint].branch) {
+      metres = kBranchToBranch;
     }
     s.link_delay_ns = cable_delay(metres);
   }
   return Status::success();
+}
+
+RingCable robot_ring_cable() noexcept {
+  return RingCable{kRingReturnSlave, kRingReturnPort, cable_delay(kRingReturnCable), 0};
 }
 
 }  // namespace rescue::drivers

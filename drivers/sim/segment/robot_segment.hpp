@@ -23,6 +23,9 @@ struct RobotSegmentOptions {
   // SimulatedRobot only: one more slave, a spare uncommissioned junction behind the last slave's
   // port 1, powered off (the fault command `extra-slave` powers it on).
   bool spare_slave{false};
+  // The ring configuration (core/robot/robot_ring.hpp): one line through every slave, closed back
+  // to the master's ring port. Not with spare_slave (the ring cable takes its port).
+  bool ring{false};
 };
 
 // Cables (100BASE-TX): propagation 5 ns/m plus the two PHYs' latency.
@@ -33,8 +36,12 @@ EscConfig junction_esc_config() noexcept;
 EscConfig joint_esc_config() noexcept;
 
 // Fills `out` (kSlaveCount entries) with the robot's slaves in kSlaves order, with `devices[p]` as
-// the device of position p. Fails when the spans are too short or a device is missing.
+// the device of position p, cabled as the tree or (options.ring) as the ring's line. Fails when the
+// spans are too short or a device is missing. Drifts and delays are the same in both.
 Status describe_robot_segment(Span<SlaveDevice* const> devices, const RobotSegmentOptions& options,
                               Span<SegmentSlave> out) noexcept;
+
+// The ring configuration's ring-return cable (l_hand's port 1 to the master's ring port).
+RingCable robot_ring_cable() noexcept;
 
 }  // namespace rescue::drivers

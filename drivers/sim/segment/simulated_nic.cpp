@@ -14,24 +14,59 @@ Status SimulatedNic::send(ConstByteSpan frame) noexcept {
   const std::size_t wire_bytes = std::max(frame.size(), ecat::kMinFrameSize) + kWireOverheadBytes + kInterFrameGapBytes;
   wire_free_at_ = sent_at + static_cast<hal::Nanoseconds>(wire_bytes) * kNsPerByte;
   ++stats_.frames_sent;
+  if (peer_ != nullptr) {
+    send_paired(frame, sent_at);
+    return Status::success();
+  }
 
   if (count_ == kQueueDepth) {
     // The receive ring is full: the frame still goes round the segment, its answer is lost.
     std::array<std::uint8_t, kMaxFrame> scratch{};
     std::memcpy(scratch.data(), frame.data(), frame.size());
-    (void)segment_.process(ByteSpan(scratch.data(), frame.size()), sent_at);
+    (void)segment_.process(ByteSpan(scratch.data(), frame.size()), sent_at, port_);
     ++stats_.frames_dropped;
     return Status::success();
   }
   Pending& slot = queue_[(head_ + count_) % kQueueDepth];
   std::memcpy(slot.bytes.data(), frame.data(), frame.size());
   slot.length = frame.size();
-  const Result<FrameOutcome> outcome = segment_.process(ByteSpan(slot.bytes.data(), slot.length), sent_at);
+  const Result<FrameOutcome> outcome = segment_.process(ByteSpan(slot.bytes.data(), slot.length), sent_at, port_);
   if (outcome.ok() && outcome.value().returned) {
     slot.ready_at = outcome.value().last_bit_back;
     ++count_;
   }
   return Status::success();
+}
+
+void SimulatedNic::send_paired(ConstByteSpan frame, hal::Nanoseconds sent_at) noexcept {
+  std::memcpy(scratch_.data(), frame.data(), frame.size());
+  const ByteSpan in_flight(scratch_.data(), frame.size());
+  const Result<FrameOutcome> outcome = segment_.process(in_flight, sent_at, port_);
+  if (!outcome.ok() || !outcome.value().returned) return;
+  SimulatedNic& back_on = outcome.value().port == port_ ? *this : *peer_;
+  back_on.enqueue(in_flight, outcome.value().last_bit_back);
+}
+
+void SimulatedNic::enqueue(ConstByteSpan frame, hal::Nanoseconds ready_at) noexcept {
+  if (count_ == kQueueDepth) {
+    ++stats_.frames_dropped;  // the receive ring of the port it came back to is full
+    return;
+  }
+  Pending& slot = queue_[(head_ + count_) % kQueueDepth];
+  std::memcpy(slot.bytes.data(), frame.data(), frame.size());
+  slot.length = frame.size();
+  slot.ready_at = ready_at;
+  ++count_;
+}
+
+SimulatedNicPair::SimulatedNicPair(SimulatedSegment& segment, hal::Clock& clock, hal::Nanoseconds receive_spin) noexcept
+    : main_(segment, clock, MasterPort::main, receive_spin), ring_(segment, clock, MasterPort::ring, receive_spin) {
+  if (!segment.has_ring()) {
+    status_ = make_error(Errc::invalid_argument, "ring NICs on a segment without a ring cable");
+    return;
+  }
+  main_.peer_ = &ring_;
+  ring_.peer_ = &main_;
 }
 
 Result<std::size_t> SimulatedNic::receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept {

@@ -14,7 +14,14 @@ SimulatedRobot::SimulatedRobot(const RobotSegmentOptions& options, hal::Nanoseco
   spare.link_delay_ns = kPhyPairDelayNs + 5;
   spare.device = &spare_;
   const std::size_t count = options.spare_slave ? kSlaveCount + 1 : kSlaveCount;
-  if (status_.ok()) status_ = segment_.build(Span<const SegmentSlave>(slaves.data(), count), now);
+  if (status_.ok() && options.ring && options.spare_slave) {
+    status_ = make_error(Errc::invalid_argument, "no spare slave in the ring configuration (the ring cable takes its port)");
+  }
+  if (status_.ok() && options.ring) {
+    status_ = segment_.build_ring(Span<const SegmentSlave>(slaves.data(), kSlaveCount), robot_ring_cable(), now);
+  } else if (status_.ok()) {
+    status_ = segment_.build(Span<const SegmentSlave>(slaves.data(), count), now);
+  }
   if (status_.ok() && options.spare_slave) status_ = segment_.set_power(kSparePosition, false, now);
 }
 

@@ -2,6 +2,11 @@
 // joint drives (drivers/sim/devices/joint_drive_device.hpp), cabled as core/robot/robot.hpp says, with per-slave
 // crystal drifts and delays from a seed (drivers/sim/segment/robot_segment.hpp). What `run --nic sim` and
 // `sim --iface` put behind the master. Large (the ESC memories): give it static storage.
+//
+// With RobotSegmentOptions::ring it is the ring configuration (core/robot/robot_ring.hpp,
+// docs/redundancy.md): the same 23 slaves in the same auto-increment order, cabled as one line closed
+// back to the master's ring port (`sim --iface A --ring-iface B`). The master's two ports are then a
+// SimulatedNicPair over segment() (drivers/sim/segment/simulated_nic.hpp). No spare slave in it.
 #pragma once
 
 #include <cstddef>

@@ -78,5 +78,45 @@ TEST(FaultCommands, ApplyingACutTakesTheBranchTailAway) {
   EXPECT_FALSE(rig->read(Command::BRD, 0, reg::kType, 1).returned);
 }
 
+// On the ring configuration every cable takes the cable commands: the slaves' (by name) and the
+// ring-return cable ("ring"); power-cycle works on every slave. On a tree "ring" is refused.
+TEST(FaultCommands, RingCableCommandsWorkOnEveryCableOfTheRing) {
+  RobotSegmentOptions options;
+  options.ring = true;
+  auto rig = Rig::robot(options);
+  const auto apply = [&](const char* text) {
+    const auto c = parse(rig->segment, text);
+    return c.ok() ? apply_fault_command(c.value(), rig->segment, rig->now) : Status(c.error());
+  };
+  const auto ring_wkc = [&] {
+    rig->send_port = MasterPort::ring;
+    const auto r = rig->read(Command::BRD, 0, reg::kType, 1);
+    rig->send_port = MasterPort::main;
+    return r.returned ? static_cast<int>(r.wkc) : -1;
+  };
+  ASSERT_TRUE(apply("cut ring").ok());
+  EXPECT_TRUE(rig->segment.ring_cable_cut());
+  EXPECT_EQ(ring_wkc(), -1);  // the ring port's cable is cut: nothing comes back on it
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount);
+  EXPECT_EQ(rig->last_outcome.port, MasterPort::main);
+  ASSERT_TRUE(apply("restore ring").ok());
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount);
+  EXPECT_EQ(rig->last_outcome.port, MasterPort::ring);
+  ASSERT_TRUE(apply("replace-cable ring").ok());
+  EXPECT_FALSE(rig->segment.ring_cable_cut());
+  EXPECT_EQ(rig->segment.esc(kSlaveCount - 1).register_u32(reg::kLostLinkCounter) >> 8 & 0xFFU, 2u);  // port 1 lost its link twice (cut, replaced)
+
+  ASSERT_TRUE(apply("cut l_elbow").ok());
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc + ring_wkc(), kSlaveCount);
+  ASSERT_TRUE(apply("restore l_elbow").ok());
+  ASSERT_TRUE(apply("power-cycle l_hand").ok());  // the slave the ring cable ends at
+  EXPECT_EQ(rig->read(Command::BRD, 0, reg::kType, 1).wkc, kSlaveCount);
+  EXPECT_EQ(rig->last_outcome.port, MasterPort::ring);
+
+  EXPECT_STREQ(parse(rig->segment, "freeze ring").error().what, "the ring cable takes cut, restore and replace-cable only");
+  auto tree = Rig::robot();
+  EXPECT_STREQ(parse(tree->segment, "cut ring").error().what, "no ring cable: the segment is a tree");
+}
+
 }  // namespace
 }  // namespace rescue::drivers::testing

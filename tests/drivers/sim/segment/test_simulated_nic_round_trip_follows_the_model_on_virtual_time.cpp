@@ -22,14 +22,6 @@ hal::Nanoseconds model_round_trip(const SimulatedSegment& segment) {
   return total;
 }
 
-std::vector<std::uint8_t> brd_frame(std::uint8_t index) {
-  ecat::FrameBuilder b;
-  b.reset(ecat::MacAddress{0, 0, 0, 0, 0, 1});
-  EXPECT_TRUE(b.add(Command::BRD, index, ecat::make_address(0, reg::kType), 2).ok());
-  const ConstByteSpan f = b.finish();
-  return {f.begin(), f.end()};
-}
-
 class NicRoundTrip : public ::testing::Test {
  protected:
   void SetUp() override { rig = Rig::robot(); }

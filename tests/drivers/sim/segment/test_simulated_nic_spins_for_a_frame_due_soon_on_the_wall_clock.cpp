@@ -13,14 +13,6 @@
 namespace rescue::drivers::testing {
 namespace {
 
-std::vector<std::uint8_t> brd_frame(std::uint8_t index) {
-  ecat::FrameBuilder b;
-  b.reset(ecat::MacAddress{0, 0, 0, 0, 0, 1});
-  EXPECT_TRUE(b.add(Command::BRD, index, ecat::make_address(0, reg::kType), 2).ok());
-  const ConstByteSpan f = b.finish();
-  return {f.begin(), f.end()};
-}
-
 TEST(SimulatedNicSpin, OnTheWallClockAFrameComesBackNoEarlierThanTheModelSays) {
   auto rig = Rig::robot();
   hal::MonotonicClock wall;
