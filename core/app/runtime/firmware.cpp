@@ -203,6 +203,10 @@ int run_firmware(const FirmwareOptions& options) noexcept {
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return fail_nic("run", options.nic_text, opened.error());
+  if (options.ring_nic_text != nullptr) {
+    const Status ring = selected.open_ring(options.ring_nic);
+    if (!ring.ok()) return fail_nic("run", options.ring_nic_text, ring.error());
+  }
   hal::Nic& nic = *selected.nic();
   hal::Clock& clock = nic.clock();
   const hal::Nanoseconds start = clock.now();
@@ -237,6 +241,7 @@ int run_firmware(const FirmwareOptions& options) noexcept {
 
   // 3. The network.
   static drivers::JointBus bus(nic);
+  if (selected.ring_nic() != nullptr) bus.master().use_ring(*selected.ring_nic());  // docs/redundancy.md
   if (options.capture_path != nullptr) {
     ecat::CaptureWriterOptions capture_options;
     capture_options.timestamp_offset = ecat::unix_time_offset(clock);

@@ -147,6 +147,17 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   const drivers::JointCycleResult result = bus_.cycle(outputs_, feedback_);
   const hal::Nanoseconds now = result.received_at != 0 ? result.received_at : result.sent_at;
 
+  // The ring's changes (cable redundancy: each reported once by the master), for the log.
+  ecat::RingReport ring{};
+  while (bus_.master().pop_ring_report(ring)) {
+    HandlerEvent e{};
+    e.kind = HandlerEventKind::ring_report;
+    e.cycle = result.cycle;
+    e.time = ring.time;
+    e.ring = ring;
+    post(e);
+  }
+
   // Master's link events (lost, restored, not operational), for the log.
   drivers::JointLinkReport link{};
   while (bus_.pop_report(link)) {
