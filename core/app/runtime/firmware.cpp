@@ -104,6 +104,7 @@ struct StartUp {
   SocketHandler* socket{nullptr};
   bool operator_port{false};
   hal::Nic* nic{nullptr};
+  hal::Nic* ring_nic{nullptr};  // --ring-nic: the master's second port (cable redundancy)
   hal::Clock* clock{nullptr};
   hal::Nanoseconds start{0};
   RestoreReport restored{};
@@ -228,6 +229,11 @@ int open_nic_and_restore_joints(StartUp& up) noexcept {
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return fail_nic("run", options.nic_text, opened.error());
+  if (options.ring_nic_text != nullptr) {
+    const Status ring = selected.open_ring(options.ring_nic);
+    if (!ring.ok()) return fail_nic("run", options.ring_nic_text, ring.error());
+    up.ring_nic = selected.ring_nic();
+  }
   up.nic = selected.nic();
   up.clock = &up.nic->clock();
   up.start = up.clock->now();
@@ -320,6 +326,7 @@ int bring_up_network(StartUp& up, TaskTimingCalibration& calibration) noexcept {
 
   static drivers::JointBus bus(*up.nic);
   up.bus = &bus;
+  if (up.ring_nic != nullptr) bus.master().use_ring(*up.ring_nic);  // docs/redundancy.md
   const int capture_status = open_capture(up);
   if (capture_status != 0) return capture_status;
   ecat::MasterOptions master_options = run_master_options(options);
