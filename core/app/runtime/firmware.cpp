@@ -113,6 +113,14 @@ struct StartUp {
   drivers::JointBus* bus{nullptr};
 };
 
+// The simulated segment the scenario's faults act on: the ring robot's with --ring-nic sim, nullptr
+// on a real NIC (the faults are then the simulator's commands on its own interface).
+drivers::SimulatedSegment* scenario_segment(const FirmwareOptions& options, hal::Nanoseconds now) noexcept {
+  if (options.nic.kind != NicKind::sim) return nullptr;
+  const bool ring = options.ring_nic_text != nullptr && options.ring_nic.kind == NicKind::sim;
+  return ring ? &simulated_ring_robot(now).segment() : &simulated_robot(now).segment();
+}
+
 // Step 1: the state directory (ours or root's, writable by nobody else: docs/security.md
 // "StrictModes"), --timing-out checked now rather than after the run, the instance locks and the
 // shared-memory segment.
@@ -343,7 +351,7 @@ int bring_up_network(StartUp& up, TaskTimingCalibration& calibration) noexcept {
   (void)std::fflush(stdout);
   if (options.scenario.mapping_fault) {
     // half-mapped, foreign-mapping: the drive's mapping is wrong before the master first sees it.
-    ScenarioRunner first(options.scenario, options.nic.kind == NicKind::sim ? &simulated_robot(up.clock->now()).segment() : nullptr);
+    ScenarioRunner first(options.scenario, scenario_segment(options, up.clock->now()));
     const Status faulted = first.before_bring_up();
     if (!faulted.ok()) return fail("run", "the scenario's mapping fault could not be applied", faulted.error());
   }
@@ -377,8 +385,7 @@ int run_tasks(const StartUp& up, OperatorSide& operator_side) noexcept {
                       "written together)\n");
   }
   if (g_run.capture.is_open()) up.bus->master().set_tap(ecat::capture_queue_tap, &g_run.capture_queue);
-  drivers::SimulatedSegment* segment =
-      options.nic.kind == NicKind::sim ? &simulated_robot(up.clock->now()).segment() : nullptr;
+  drivers::SimulatedSegment* segment = scenario_segment(options, up.clock->now());
   static EthercatHandler handler(*up.bus, up.ports->ethercat_handler(), up.restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   static hal::MonotonicClock operator_clock;

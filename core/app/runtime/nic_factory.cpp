@@ -42,9 +42,22 @@ Status SelectedNic::open_ring(const NicChoice& choice, const ReceiveWaitChoice& 
   ring_ = nullptr;
   if (active_ == nullptr) return make_error(Errc::invalid_argument, "the ring NIC opens after the main one");
   if (choice.kind == NicKind::sim) {
-    return make_error(Errc::unsupported,
-                      "the in-process simulated robot has no ring port yet (the simulator's ring, issue 34 item 1); "
-                      "serve the ring with `sim --iface A --ring-iface B` and use --nic raw:A --ring-nic raw:B");
+    // The in-process robot in its ring configuration: both master ports on one segment and clock.
+    // The main NIC opened on the tree robot is replaced by the ring robot's main port (nothing has
+    // used it yet: open_ring follows open at start-up).
+    if (simulated_.empty() || active_ != &simulated_[0]) {
+      return make_error(Errc::invalid_argument, "a simulated ring NIC needs the simulated main NIC (--nic sim)");
+    }
+    drivers::SimulatedRobot& robot = simulated_ring_robot(g_real_time.now());
+    RESCUE_TRY(robot.status());
+    ring_pair_.clear();
+    drivers::SimulatedNicPair* pair = ring_pair_.emplace_back(robot.segment(), g_real_time, wait.spin);
+    if (pair == nullptr) return make_error(Errc::capacity_exceeded, "no room for the ring's NIC pair");
+    RESCUE_TRY(pair->status());
+    simulated_.clear();
+    active_ = &pair->main();
+    ring_ = &pair->ring();
+    return Status::success();
   }
   if (active_ != &raw_) return make_error(Errc::invalid_argument, "a raw ring NIC needs a raw main NIC");
   hal::RawSocketSettings settings;

@@ -37,9 +37,8 @@ class SelectedNic {
   Status open(const NicChoice& choice, const ReceiveWaitChoice& wait) noexcept;
   // --ring-nic (cable redundancy, docs/redundancy.md): opens the second master port after open().
   // raw: a second raw socket on another interface (its own receive wait as the main one's). sim: the
-  // in-process simulated robot's ring port. THE SEAM for the simulator's ring (issue 34, item 1): when
-  // drivers/sim's robot exposes its ring hal::Nic, open_ring takes it from the same robot as open()
-  // took the main one; until then `--ring-nic sim` is refused with that reason, never run on one port.
+  // in-process simulated robot in its ring configuration (simulated_ring_robot: both ports of one
+  // drivers::SimulatedNicPair; the main NIC becomes the pair's main port), with --nic sim only.
   Status open_ring(const NicChoice& choice, const ReceiveWaitChoice& wait = ReceiveWaitChoice{}) noexcept;
   // The open NIC; nullptr before a successful open().
   hal::Nic* nic() noexcept { return active_; }
@@ -53,6 +52,7 @@ class SelectedNic {
   FixedVector<drivers::SimulatedNic, 1> simulated_;  // the loopback NIC over the simulated robot
   hal::Nic* active_{nullptr};
   hal::RawSocketNic ring_raw_;
+  FixedVector<drivers::SimulatedNicPair, 1> ring_pair_;  // --nic sim --ring-nic sim: the ring robot's two ports
   hal::Nic* ring_{nullptr};
 };
 
