@@ -573,22 +573,41 @@ void owner_state_fields(F& f, M& m) noexcept {
   }
 }
 
-// sdo_upload: joint, subindex, index, 4 reserved bytes. sdo_download adds the size and the value in
-// a fixed 256-byte field (bytes past the size zero).
+// Whom a transfer addresses (SdoTarget): a joint (slave 0) or a slave's position (joint 0).
+template <typename F>
+void sdo_target_checks(F& f, std::uint8_t joint, SdoTarget target, std::uint8_t slave) noexcept {
+  f.check(static_cast<std::uint8_t>(target) <= kSdoTargetLast, "sdo target kind");
+  if (target == SdoTarget::slave) {
+    f.check(joint == 0 && slave < kMaxSlaves, "slave position (joint 0)");
+  } else {
+    f.check(joint < kJointCount && slave == 0, "joint index (slave 0)");
+  }
+}
+
+// sdo_upload: joint, subindex, index, target kind, slave position, 2 reserved bytes. sdo_download:
+// joint, subindex, index, the size, target kind, slave position and the value in a fixed 256-byte
+// field (bytes past the size zero).
 template <typename F, typename M>
 void sdo_address_fields(F& f, M& m) noexcept {
   f.u8(m.sdo.joint);
   f.u8(m.sdo.subindex);
   f.u16(m.sdo.index);
-  f.check(m.sdo.joint < kJointCount, "joint index");
   f.check(m.sdo.index != 0, "object index 0");
+}
+
+template <typename F, typename M>
+void sdo_target_fields(F& f, M& m) noexcept {
+  f.u8(m.sdo.target);
+  f.u8(m.sdo.slave);
+  sdo_target_checks(f, m.sdo.joint, m.sdo.target, m.sdo.slave);
 }
 
 template <typename F, typename M>
 void sdo_upload_fields(F& f, M& m) noexcept {
   f.length(kSdoUploadSize);
   sdo_address_fields(f, m);
-  f.reserved(4);
+  sdo_target_fields(f, m);
+  f.reserved(2);
 }
 
 template <typename F, typename M>
@@ -596,7 +615,7 @@ void sdo_download_fields(F& f, M& m) noexcept {
   f.length(kSdoDownloadSize);
   sdo_address_fields(f, m);
   f.u16(m.sdo.size);
-  f.reserved(2);
+  sdo_target_fields(f, m);
   f.bytes(m.sdo.data);
   f.check(m.sdo.size >= 1 && m.sdo.size <= kSdoDataSize, "value size (1..256 bytes)");
   bool padding_zero = true;
@@ -620,11 +639,13 @@ void sdo_result_fields(F& f, M& m) noexcept {
   f.u8(r.al_state);
   f.u8(r.flags);
   f.u32(r.exchanges);
-  f.reserved(4);
+  f.u8(r.target);
+  f.u8(r.slave);
+  f.reserved(2);
   f.text(r.text, "sdo result text not NUL-terminated");
   f.bytes(r.data);
   f.check(r.request_type == MessageType::sdo_upload || r.request_type == MessageType::sdo_download, "sdo request type");
-  f.check(r.joint < kJointCount, "joint index");
+  sdo_target_checks(f, r.joint, r.target, r.slave);
   f.check(static_cast<std::uint8_t>(r.status) <= kSdoStatusLast, "sdo status");
   f.check(r.size <= kSdoDataSize, "value size");
   f.check((r.flags & ~kSdoSegmented) == 0, "sdo result flags");

@@ -24,6 +24,8 @@ protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayl
   protocol::SdoResultPayload r;
   r.request_type = type;
   r.joint = sdo.joint;
+  r.target = sdo.target;
+  r.slave = sdo.slave;
   r.index = sdo.index;
   r.subindex = sdo.subindex;
   r.status = status;

@@ -523,6 +523,24 @@ TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
   m.sdo.joint = kJointCount;
   EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
 
+  // By slave position (the junctions too): the position travels, the joint stays 0.
+  m.sdo.joint = 0;
+  m.sdo.target = SdoTarget::slave;
+  m.sdo.slave = 1;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.sdo.target, SdoTarget::slave);
+  EXPECT_EQ(back.sdo.slave, 1);
+  m.sdo.slave = kMaxSlaves;  // no such position
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.slave = 1;
+  m.sdo.joint = 3;  // a joint beside a position: which one?
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.joint = 0;
+  m.sdo.target = static_cast<SdoTarget>(kSdoTargetLast + 1);
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.target = SdoTarget::joint;  // a position beside a joint
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
   Message r = addressed();
   r.header.type = MessageType::sdo_result;
   r.sdo_result.request_sequence = 77;
@@ -542,9 +560,17 @@ TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
   EXPECT_STREQ(back.sdo_result.text.data(), "done (segmented)");
   r.sdo_result.status = static_cast<SdoStatus>(kSdoStatusLast + 1);
   EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sdo_result.status = SdoStatus::no_mailbox;
+  r.sdo_result.joint = 0;
+  r.sdo_result.target = SdoTarget::slave;
+  r.sdo_result.slave = 0;  // junction_a
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.sdo_result.target, SdoTarget::slave);
+  r.sdo_result.slave = kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
 
   for (const char* seed : {"sdo_upload_payload", "sdo_download_payload", "sdo_result_segmented_upload_payload",
-                           "sdo_result_refused_payload"}) {
+                           "sdo_result_refused_payload", "sdo_upload_by_slave_payload", "sdo_result_by_slave_payload"}) {
     std::ifstream in(std::string(RESCUE_SOURCE_DIR) + "/tests/fuzz/seeds-fuzz_protocol_decoder/" + seed, std::ios::binary);
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     ASSERT_GT(bytes.size(), 1U) << seed;
