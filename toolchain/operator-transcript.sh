@@ -173,6 +173,9 @@ ctl --refused download l_elbow 0x1008:00 RM-JD403
 ctl upload 19 0x1008:00
 ctl --refused upload junction_a 0x1018:01
 ctl --refused --json upload 1 0x1018:01
+begin sii
+ctl sii_read junction_a
+ctl --cut 200 --json sii_read neck_pan
 begin network
 ctl slaves -v
 ctl --cut 300 --json slaves -v

@@ -39,6 +39,7 @@ const OptionSpec kOptions[] = {
     {"verbose", nullptr, "slaves: each slave's identity (SII: vendor, product, revision, serial) and AL status code", 'v'},
     {"format", "FORMAT", "graph: text (default) or dot (Graphviz)"},
     {"reset", nullptr, "diag: zero the link error counters (all slaves, or SLAVE)"},
+    {"raw", nullptr, "sii_read: the image's bytes themselves on stdout (not a hex dump)"},
 };
 
 char g_error_text[1024];  // the text naming what went wrong (one client process)
@@ -143,6 +144,8 @@ const CommandSpec kCtlCommand{
     "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master\n"
     "                                       configures; with JOINT also read back from its drive (SDO),\n"
     "                                       each same or not\n"
+    "  sii_read SLAVE [--raw]               the slave's SII as the master read it at bring-up: hex dump,\n"
+    "                                       or the bytes themselves (--raw)\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or\n"
     "the drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic\n"

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_output.hpp"
 #include "core/robot/robot.hpp"
 #include "ecat/mailbox/coe.hpp"
@@ -79,16 +80,8 @@ Status target_of(const char* name, protocol::SdoPayload& sdo) noexcept {
     sdo.joint = static_cast<std::uint8_t>(joint);
     return Status::success();
   }
-  std::size_t position = kSlaveCount;
-  for (std::size_t p = 0; p < kSlaveCount; ++p) {
-    if (std::strcmp(kSlaves[p].name, name) == 0) position = p;
-  }
-  char* end = nullptr;
-  const long number = std::strtol(name, &end, 10);
-  if (position == kSlaveCount && name[0] >= '0' && name[0] <= '9' && *end == '\0' && number < static_cast<long>(kSlaveCount)) {
-    position = static_cast<std::size_t>(number);
-  }
-  if (position == kSlaveCount) {
+  const std::size_t position = planned_slave_named(name);
+  if (position >= kSlaveCount) {
     (void)std::snprintf(g_text, sizeof g_text,
                         "SLAVE: '%.40s' is not a slave; a joint's or a slave's name (ctl slaves) or a position 0..%zu",
                         name, kSlaveCount - 1);
