@@ -170,6 +170,12 @@ ctl --refused --json download l_elbow 0x6040:00 0x0f --type u16
 ctl --refused download l_elbow 0x1C12:00 0 --type u8
 ctl --refused upload l_elbow 0x5FFF:00
 ctl --refused download l_elbow 0x1008:00 RM-JD403
+ctl upload 19 0x1008:00
+ctl --refused upload junction_a 0x1018:01
+ctl --refused --json upload 1 0x1018:01
+begin sii
+ctl sii_read junction_a
+ctl --cut 200 --json sii_read neck_pan
 begin network
 ctl slaves -v
 ctl --cut 300 --json slaves -v

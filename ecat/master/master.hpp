@@ -140,6 +140,9 @@ class Master {
   // answer at its planned place), and the AL status register and code the master read last from it
   // (al_status_read(position): false when none was read since bring-up).
   const FoundSlave* identity(std::size_t position) const noexcept;
+  // The SII image the master read from the planned slave at `position` at bring-up (as read: a
+  // Strings category it skipped reads 0), or nullptr when no slave was identified there.
+  const SiiImage* sii_image(std::size_t position) const noexcept;
   bool al_status_read(std::size_t position) const noexcept { return slaves_[position].al.read; }
   std::uint16_t last_al_status(std::size_t position) const noexcept { return slaves_[position].al.status; }
   std::uint16_t last_al_status_code(std::size_t position) const noexcept { return slaves_[position].al.code; }

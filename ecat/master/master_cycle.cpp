@@ -21,6 +21,12 @@ const FoundSlave* Master::identity(std::size_t position) const noexcept {
   return slaves_[position].identified ? &slaves_[position].identity : nullptr;
 }
 
+const SiiImage* Master::sii_image(std::size_t position) const noexcept {
+  if (identity(position) == nullptr) return nullptr;
+  const std::size_t found = report_.match.found_of_slot[position];
+  return found < sii_.size() ? &sii_[found] : nullptr;
+}
+
 void Master::realign_schedule() noexcept {
   const hal::Nanoseconds now = link_.clock().now();
   if (next_wakeup_ > now || options_.cycle_time <= 0) return;

@@ -4,7 +4,8 @@
 // re-encodes to the same payload bytes. Seeds (seeds-fuzz_protocol_decoder/): payloads of a type
 // (first byte the type), and whole datagrams of version 2: get_epoch, the epoch answer, an enable for
 // robot 3 in an epoch, a reply, an sdo_upload (their tags are not checked here); payloads of
-// sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal).
+// sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal), and an upload and its
+// result addressed by slave position (a junction); a get_sii and an sii answer (a junction's image).
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -39,6 +39,7 @@ const OptionSpec kOptions[] = {
     {"verbose", nullptr, "slaves: each slave's identity (SII: vendor, product, revision, serial) and AL status code", 'v'},
     {"format", "FORMAT", "graph: text (default) or dot (Graphviz)"},
     {"reset", nullptr, "diag: zero the link error counters (all slaves, or SLAVE)"},
+    {"raw", nullptr, "sii_read: the image's bytes themselves on stdout (not a hex dump)"},
 };
 
 char g_error_text[1024];  // the text naming what went wrong (one client process)
@@ -137,11 +138,14 @@ const CommandSpec kCtlCommand{
     "  owner TASK                           RC task TASK takes the motion\n"
     "  owner                                which RC task owns the motion, each task alive or not, its phase\n"
     "  version                              the robot's program version, layout and build type, and ctl's own\n"
-    "  upload JOINT INDEX:SUB               read a CoE object of the joint's drive (SDO; e.g. 0x100A:00), --type\n"
-    "  download JOINT INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
+    "  upload SLAVE INDEX:SUB               read a CoE object (SDO; e.g. 0x100A:00), --type; SLAVE: a joint,\n"
+    "                                       a slave's name or position (junctions too; e.g. upload 1 0x1018:01)\n"
+    "  download SLAVE INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
     "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master\n"
     "                                       configures; with JOINT also read back from its drive (SDO),\n"
     "                                       each same or not\n"
+    "  sii_read SLAVE [--raw]               the slave's SII as the master read it at bring-up: hex dump,\n"
+    "                                       or the bytes themselves (--raw)\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or\n"
     "the drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic\n"

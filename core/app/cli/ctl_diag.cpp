@@ -20,12 +20,8 @@ constexpr std::size_t kPlanned = drivers::kRobotNetworkPlan.size();
 
 // The slave (position) SLAVE names: a slave's name or its position.
 Result<std::uint32_t> slave_argument(const char* text) noexcept {
-  for (std::size_t p = 0; p < kPlanned; ++p) {
-    if (std::strcmp(text, planned_slave_name(p)) == 0) return std::uint32_t{1} << p;
-  }
-  char* end = nullptr;
-  const long p = std::strtol(text, &end, 10);
-  if (end != text && *end == '\0' && p >= 0 && p < static_cast<long>(kPlanned)) return std::uint32_t{1} << p;
+  const std::size_t p = planned_slave_named(text);
+  if (p < kPlanned) return std::uint32_t{1} << p;
   return make_error(Errc::invalid_argument, "diag --reset SLAVE: a slave's name (ctl slaves) or its position 0..22");
 }
 
@@ -45,8 +41,10 @@ const char* warning_state(const protocol::DiagSlaveRecord& s, unsigned port) noe
 // named below the table ('*': warned earlier, quiet now).
 void print_diag(const Message& m, bool json) noexcept {
   const protocol::DiagPayload& d = m.diag;
+  const protocol::FiguresAge age{d.stale != 0, d.age_ms};
   if (json) {
     begin_json(true);
+    print_age_json(age);
     (void)std::printf(",\"cycle\":%" PRIu64 ",\"sweeps\":%" PRIu64 ",\"slaves\":[", d.cycle, d.sweeps);
     for (std::size_t i = 0; i < d.count; ++i) {
       const protocol::DiagSlaveRecord& s = d.slaves[i];
@@ -66,6 +64,7 @@ void print_diag(const Message& m, bool json) noexcept {
     end_json();
     return;
   }
+  print_age_text(age);
   if (d.cycle == 0) {
     (void)std::printf("no diagnostics sweep completed yet (the master reads them in OP)\n");
     return;

@@ -272,6 +272,17 @@ const char* planned_slave_name(std::size_t position) noexcept {
   return drivers::slave_end_name(static_cast<std::uint8_t>(position));
 }
 
+std::size_t planned_slave_named(const char* text) noexcept {
+  constexpr std::size_t kPlanned = drivers::kRobotNetworkPlan.size();
+  for (std::size_t p = 0; p < kPlanned; ++p) {
+    if (std::strcmp(text, planned_slave_name(p)) == 0) return p;
+  }
+  char* end = nullptr;
+  const long p = std::strtol(text, &end, 10);
+  const bool number = text[0] >= '0' && text[0] <= '9' && end != text && *end == '\0';
+  return number && p < static_cast<long>(kPlanned) ? static_cast<std::size_t>(p) : kPlanned;
+}
+
 const char* slave_service_name(std::uint8_t flags) noexcept {
   return (flags & protocol::kSlaveLost) != 0            ? "lost"
          : (flags & protocol::kSlaveOutOfService) != 0  ? "out of service"

@@ -28,5 +28,8 @@ int print_diag_answer(const protocol::Message& request, const protocol::Message&
 const char* al_state_name(std::uint8_t state) noexcept;
 const char* slave_service_name(std::uint8_t flags) noexcept;
 const char* planned_slave_name(std::size_t position) noexcept;
+// The planned slave SLAVE names: a slave's name (ctl slaves: a joint's drive bears its joint's name)
+// or its position, decimal 0..22. The number of planned slaves when it names none.
+std::size_t planned_slave_named(const char* text) noexcept;
 
 }  // namespace rescue::app

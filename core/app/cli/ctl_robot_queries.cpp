@@ -124,11 +124,13 @@ void print_master(const Message& m, bool json) noexcept {
 void print_tasks(const Message& m, bool json) noexcept {
   if (json) {
     begin_json(true);
+    print_age_json(m.tasks.age);
     (void)std::printf(",\"tasks\":[");
   }
   // POLICY, PRIO and CPU are what the kernel reports for the task's thread (the task reads them at each
   // publication); TABLE is what the task table asked for (priority/CPU on this machine).
   if (!json) {
+    print_age_text(m.tasks.age);
     (void)std::printf("%-16s %7s %-6s %4s %3s %7s %10s %7s %12s\n", "TASK", "PID", "POLICY", "PRIO", "CPU", "TABLE",
                       "PERIODS", "MISSED", "MAX EXEC(us)");
   }
@@ -211,6 +213,7 @@ void print_owner(const Message& m, bool json) noexcept {
   };
   if (json) {
     begin_json(true);
+    print_age_json(o.age);
     (void)std::printf(",\"owner\":");
     if (o.owner == protocol::kNoOwner) {
       (void)std::printf("null");
@@ -241,6 +244,7 @@ void print_owner(const Message& m, bool json) noexcept {
     end_json();
     return;
   }
+  print_age_text(o.age);
   if (o.owner == protocol::kNoOwner) {
     (void)std::printf("owner: none (generation %" PRIu64 "): the joints hold their references\n", o.generation);
   } else {

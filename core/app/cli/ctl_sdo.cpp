@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_output.hpp"
 #include "core/robot/robot.hpp"
 #include "ecat/mailbox/coe.hpp"
@@ -71,14 +72,31 @@ bool parse_hex(const char* begin, const char* end, std::uint32_t max, std::uint3
   return true;
 }
 
-Result<std::uint8_t> joint_of(const char* name) noexcept {
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if (std::strcmp(kJoints[j].name, name) == 0) return static_cast<std::uint8_t>(j);
+// SLAVE: a joint's name (its drive), a slave's name (the junctions too) or a slave's position.
+Status target_of(const char* name, protocol::SdoPayload& sdo) noexcept {
+  const std::size_t joint = joint_index_by_name(name);
+  if (joint < kJointCount) {
+    sdo.target = protocol::SdoTarget::joint;
+    sdo.joint = static_cast<std::uint8_t>(joint);
+    return Status::success();
   }
-  char names[kJointNamesCapacity];
-  format_joint_names(kAllJoints, names, sizeof names);
-  (void)std::snprintf(g_text, sizeof g_text, "JOINT: '%.40s' is not a joint; the joints: %s", name, names);
-  return bad(g_text);
+  const std::size_t position = planned_slave_named(name);
+  if (position >= kSlaveCount) {
+    (void)std::snprintf(g_text, sizeof g_text,
+                        "SLAVE: '%.40s' is not a slave; a joint's or a slave's name (ctl slaves) or a position 0..%zu",
+                        name, kSlaveCount - 1);
+    return bad(g_text);
+  }
+  sdo.target = protocol::SdoTarget::slave;
+  sdo.joint = 0;
+  sdo.slave = static_cast<std::uint8_t>(position);
+  return Status::success();
+}
+
+// The slave a result names (its position) and its name.
+std::size_t position_of(const protocol::SdoResultPayload& r) noexcept {
+  if (r.target == protocol::SdoTarget::slave) return r.slave < kSlaveCount ? r.slave : kSlaveCount;
+  return r.joint < kJointCount ? slave_position_of_joint(r.joint) : kSlaveCount;
 }
 
 Status address_of(const char* text, protocol::SdoPayload& sdo) noexcept {
@@ -244,9 +262,7 @@ Result<Message> build_sdo_request(const ParsedArgs& args, CtlPeer& peer) noexcep
   }
   Message m;
   m.header.type = download ? MessageType::sdo_download : MessageType::sdo_upload;
-  const Result<std::uint8_t> joint = joint_of(args.positional(1));
-  if (!joint.ok()) return joint.error();
-  m.sdo.joint = joint.value();
+  RESCUE_TRY(target_of(args.positional(1), m.sdo));
   RESCUE_TRY(address_of(args.positional(2), m.sdo));
   if (!download) return m;
   if (type == nullptr) {
@@ -284,19 +300,23 @@ int print_sdo_result(const Message& /*request*/, const Message& answer) noexcept
   const bool json = ctl_output().json;
   const protocol::SdoResultPayload& r = answer.sdo_result;
   const bool ok = r.status == SdoStatus::ok;
-  const char* joint = r.joint < kJointCount ? kJoints[r.joint].name : "?";
+  const std::size_t position = position_of(r);
+  const char* name = position < kSlaveCount ? kSlaves[position].name : "?";
   const bool upload = r.request_type == MessageType::sdo_upload;
   const TypeName* asked = g_type != ValueType::none ? type_of(g_type) : nullptr;
   if (ok && upload && asked != nullptr && asked->size != 0 && asked->size != r.size) {
     // --type u8 on a 152-byte string would show its first byte as the value (issue 36 item 4).
     (void)std::snprintf(g_text, sizeof g_text,
                         "upload: %s 0x%04X:%02X holds %u bytes, --type %s is %zu; give --type hex or string, or the "
-                        "object's own type", joint, r.index, r.subindex, static_cast<unsigned>(r.size), asked->name, asked->size);
+                        "object's own type", name, r.index, r.subindex, static_cast<unsigned>(r.size), asked->name, asked->size);
     return ctl_error(CtlExit::usage, g_text);
   }
   if (json) {
     begin_json(ok);
-    (void)std::printf(R"(,"joint":"%s","index":"0x%04X","subindex":"0x%02X","status":"%s")", joint, r.index, r.subindex,
+    const bool drive = position < kSlaveCount && kSlaves[position].joint < kJointCount;
+    (void)std::printf(R"(,"slave":"%s","position":%zu,"joint":%s%s%s)", name, position, drive ? "\"" : "",
+                      drive ? name : "null", drive ? "\"" : "");
+    (void)std::printf(R"(,"index":"0x%04X","subindex":"0x%02X","status":"%s")", r.index, r.subindex,
                       protocol::to_string(r.status));
     if (ok) {
       (void)std::printf(R"(,"segmented":%s,"exchanges":%)" PRIu32, (r.flags & protocol::kSdoSegmented) != 0 ? "true" : "false",
@@ -316,15 +336,15 @@ int print_sdo_result(const Message& /*request*/, const Message& answer) noexcept
   }
   if (ok) {
     if (upload) print_value(r, false);
-    else (void)std::printf("download: %s 0x%04X:%02X written\n", joint, r.index, r.subindex);
+    else (void)std::printf("download: %s 0x%04X:%02X written\n", name, r.index, r.subindex);
     return 0;
   }
   if (r.status == SdoStatus::aborted) {
-    (void)std::printf("%s: %s 0x%04X:%02X: aborted: ", verb_of(r), joint, r.index, r.subindex);
+    (void)std::printf("%s: %s 0x%04X:%02X: aborted: ", verb_of(r), name, r.index, r.subindex);
     print_text_string(r.text.data());
     (void)std::printf(" (SDO abort code 0x%08" PRIX32 ")\n", r.abort_code);
   } else {
-    (void)std::printf("%s: %s 0x%04X:%02X: refused: %s: ", verb_of(r), joint, r.index, r.subindex, protocol::to_string(r.status));
+    (void)std::printf("%s: %s 0x%04X:%02X: refused: %s: ", verb_of(r), name, r.index, r.subindex, protocol::to_string(r.status));
     print_text_string(r.text.data());
     (void)std::printf("\n");
   }

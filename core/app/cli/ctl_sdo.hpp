@@ -1,10 +1,12 @@
-// ctl upload / ctl download (docs/operator.md "SDO"): a CoE SDO transfer to one joint's drive
-// through the robot's EtherCAT handler, like IgH's `ethercat upload/download`.
+// ctl upload / ctl download (docs/operator.md "SDO"): a CoE SDO transfer to one slave through the
+// robot's EtherCAT handler, like IgH's `ethercat upload/download`.
 //
-//   ctl upload JOINT INDEX:SUB [--type T]          prints the value: a number in hex and decimal,
+//   ctl upload SLAVE INDEX:SUB [--type T]          prints the value: a number in hex and decimal,
 //                                                  a string, or hex bytes
-//   ctl download JOINT INDEX:SUB VALUE [--type T]  writes VALUE
+//   ctl download SLAVE INDEX:SUB VALUE [--type T]  writes VALUE
 //
+// SLAVE is a joint's name (its drive), a slave's name (ctl slaves: the junctions too) or a slave's
+// position (0 is the first slave in frame order), as IgH's `-p POSITION`.
 // INDEX and SUB are hexadecimal (0x optional), as an object is written in ESI files and drive
 // manuals: 0x100A:00. --type is u8, u16, u32, i8, i16, i32, string or hex (bytes, e.g. 0a0b0c).
 // Without --type an upload is shown by its size (1, 2, 4 bytes: unsigned; else a string when it is

@@ -10,6 +10,7 @@
 #include "core/app/cli/ctl_pdos.hpp"
 #include "core/app/cli/ctl_robot_queries.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
+#include "core/app/cli/ctl_sii.hpp"
 #include "core/app/cli/ctl_target.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
 
@@ -60,11 +61,13 @@ constexpr CtlVerb kVerbs[] = {
     {"owner", "owner [TASK] (TASK: 0..3)", build_owner, print_owner_answer, nullptr, 0, 1, CtlRun::exchange},
     {"version", "version", query<MessageType::get_version>, answer_of<MessageType::version, print_version>, nullptr, 0,
      0, CtlRun::exchange},
-    {"upload", "upload JOINT INDEX:SUB [--type T] (e.g. upload l_elbow 0x100A:00)", build_sdo_request, print_sdo_result,
-     nullptr, 2, 2, CtlRun::exchange},
-    {"download", "download JOINT INDEX:SUB VALUE [--type T] (e.g. download l_elbow 0x6065:00 5000 --type u32)",
+    {"upload", "upload SLAVE INDEX:SUB [--type T] (e.g. upload l_elbow 0x100A:00, upload 1 0x1018:01)", build_sdo_request,
+     print_sdo_result, nullptr, 2, 2, CtlRun::exchange},
+    {"download", "download SLAVE INDEX:SUB VALUE [--type T] (e.g. download l_elbow 0x6065:00 5000 --type u32)",
      build_sdo_request, print_sdo_result, nullptr, 3, 3, CtlRun::exchange},
     {"pdos", "pdos [JOINT]", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
+    {"sii_read", "sii_read SLAVE [--raw] (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_sii_read, 1, 1,
+     CtlRun::own},
     {"keygen", "keygen [--key FILE]", nullptr, nullptr, ctl_keygen, 0, 0, CtlRun::own},
 };
 

@@ -81,6 +81,7 @@ inline constexpr CtlVerbOption kCtlVerbOptions[] = {
     {"count", {"watch", nullptr}, "--count goes with watch"},
     {"interval", {"watch", nullptr}, "--interval goes with watch"},
     {"task", {"move", "hand"}, "--task goes with move and hand"},
+    {"raw", {"sii_read", nullptr}, "--raw goes with sii_read"},
 };
 
 }  // namespace rescue::app

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "core/app/links/sdo_messages.hpp"
+#include "core/app/links/sii_messages.hpp"
 #include "core/robot/robot.hpp"
 #include "core/timing/period_recorder.hpp"
 
@@ -49,6 +50,7 @@ enum class MessageType : std::uint8_t {
   get_owner = 0x08,    // which RC task owns the motion, alive, its phase (ctl owner)
   get_graph = 0x09,    // the topology as the robot sees it now (ctl graph)
   get_slave_info = 0x0A,  // each slave's SII identity and AL status code (ctl slaves -v)
+  get_sii = 0x0B,         // a chunk of one slave's SII image as the master read it (ctl sii_read)
   initialize = 0x10,
   enable = 0x11,
   disable = 0x12,
@@ -78,6 +80,7 @@ enum class MessageType : std::uint8_t {
   graph = 0x89,
   slave_info = 0x8A,
   sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
+  sii = 0x8C,         // the answer to get_sii
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -300,6 +303,7 @@ struct TaskRecord {
 
 struct TasksPayload {
   std::uint8_t count{0};
+  FiguresAge age{};  // the EtherCAT handler's (as status): stale, the handler has stopped
   std::array<TaskRecord, kMaxTasks> tasks{};
   // What each bounded queue between the tasks dropped (or deferred), in the order of
   // core/app/links/run_control.hpp's kDropCounterNames.
@@ -332,7 +336,11 @@ struct DiagPayload {
   std::uint64_t sweeps;   // completed round-robin sweeps of the counters
   std::uint8_t count;
   std::array<DiagSlaveRecord, kMaxSlaves> slaves;
-  std::uint64_t spare;       // not on the wire; 0: makes Seqlock<DiagPayload> 960 bytes, a cache-line multiple (TaskLinks' padding)
+  // The figures' age (FiguresAge, kept trivial: this is also the handler's published record): the
+  // socket handler fills them when it answers; the handler's publication leaves them 0.
+  std::uint32_t age_ms;
+  std::uint8_t stale;        // 0 or 1
+  std::array<std::uint8_t, 3> spare;  // not on the wire; keeps Seqlock<DiagPayload> 960 bytes (TaskLinks' padding)
 };
 
 // The answer to get_epoch: the request's sequence echoed (the robot's epoch and id are in the header).
@@ -360,6 +368,7 @@ struct RcTaskRecord {
 };
 struct OwnerStatePayload {
   std::uint8_t owner{kNoOwner};     // RC task owning the motion, kNoOwner: nobody
+  FiguresAge age{};                 // the EtherCAT handler's (it applies the owner's references)
   std::uint64_t generation{0};      // the owner word's generation (every change counts)
   std::array<RcTaskRecord, kMaxRcTasks> tasks{};
 };
@@ -439,6 +448,8 @@ struct Message {
   OwnerStatePayload owner_state{};
   SdoPayload sdo{};               // sdo_upload, sdo_download
   SdoResultPayload sdo_result{};  // sdo_result
+  SiiRequestPayload sii_request{};  // get_sii
+  SiiPayload sii{};                 // sii
   SlaveInfoPayload slave_info{};
   GraphPayload graph{};
   DiagResetPayload diag_reset{};

@@ -15,12 +15,20 @@ enum class MessageType : std::uint8_t;
 
 constexpr std::size_t kSdoDataSize = 256;  // the longest value of one transfer (ecat::kMaxSdoData)
 
+// Whom a transfer addresses: a joint's drive (joint), or a slave by its position (slave), which
+// reaches the junctions too (ctl upload SLAVE).
+enum class SdoTarget : std::uint8_t { joint = 0, slave = 1 };
+constexpr std::uint8_t kSdoTargetLast = 1;
+
 // sdo_upload (size 0, data zero) and sdo_download (size 1..kSdoDataSize bytes of data, the value
-// little-endian as the object holds it).
+// little-endian as the object holds it). target joint: `joint` names it, slave 0; target slave:
+// `slave` is its position, joint 0.
 struct SdoPayload {
   std::uint8_t joint{0};
   std::uint8_t subindex{0};
   std::uint16_t index{0};
+  SdoTarget target{SdoTarget::joint};
+  std::uint8_t slave{0};
   std::uint16_t size{0};
   std::array<std::uint8_t, kSdoDataSize> data{};
 };
@@ -66,10 +74,12 @@ constexpr std::uint8_t kSdoSegmented = 0x01;  // flags: the value travelled in s
 struct SdoResultPayload {
   std::uint64_t request_sequence{0};
   MessageType request_type{};          // sdo_upload or sdo_download
-  std::uint8_t joint{0};
+  std::uint8_t joint{0};               // the request's target, echoed (SdoPayload)
   std::uint8_t subindex{0};
   SdoStatus status{SdoStatus::ok};
   std::uint16_t index{0};
+  SdoTarget target{SdoTarget::joint};
+  std::uint8_t slave{0};
   std::uint16_t size{0};               // upload: bytes of the value in data
   std::uint32_t abort_code{0};         // aborted: the drive's SDO abort code
   std::uint16_t mailbox_error{0};      // mailbox_error: the reply's detail

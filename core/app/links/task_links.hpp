@@ -65,11 +65,12 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
   X(sdo_requests, "socket handler -> EtherCAT handler (ctl upload/download, one in flight)", SpscQueue<SdoLinkRequest, config::kSdoQueueDepth>) \
   X(sdo_results, "EtherCAT handler -> socket handler (the transfer's end)", SpscQueue<SdoLinkResult, config::kSdoQueueDepth>) \
+  X(sii_images, "EtherCAT handler (after bring-up, one slave per period) -> socket handler (ctl sii_read)", std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>) \
   X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 11;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 12;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;

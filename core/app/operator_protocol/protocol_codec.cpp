@@ -41,11 +41,13 @@ constexpr std::size_t kSdoResultSize = 32 + kSdoTextSize + kSdoDataSize;
 constexpr std::size_t kSlaveInfoRecordSize = 28;
 constexpr std::size_t kGraphRecordSize = 12;
 constexpr std::size_t kDiagResetSize = 4;
+constexpr std::size_t kSiiRequestSize = 4;
+constexpr std::size_t kSiiSize = 8 + kSiiChunkBytes;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload,
+                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload && kSiiSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -377,8 +379,9 @@ void reply_fields(F& f, M& m) noexcept {
   f.check((m.reply.refused_joints & ~kAllJoints) == 0, "refused joint mask");
 }
 
-// How old a status, slaves or master answer's figures are (FiguresAge): flags (bit 0 stale), 2 reserved
-// bytes, the age in ms; in the 7 bytes after the answer's first field.
+// How old an answer's figures are (FiguresAge; DiagPayload's own two fields): flags (bit 0 stale), 2
+// reserved bytes, the age in ms; in the 7 bytes after the answer's first field (status, slaves,
+// master, tasks, diag, owner_state, slave_info, graph).
 template <typename F, typename A>
 void age_fields(F& f, A& age) noexcept {
   std::uint8_t flags = age.stale ? kFiguresStale : std::uint8_t{0};
@@ -493,7 +496,7 @@ void timing_fields(F& f, T& t) noexcept {
 template <typename F, typename M>
 void tasks_fields(F& f, M& m) noexcept {
   const std::size_t count = list_head(f, m.tasks.count, kMaxTasks, kListHeadSize, "payload shorter than its list header",
-                                      "task count");
+                                      "task count", [&f, &m] { age_fields(f, m.tasks.age); });
   // The queues' drop counters follow the records: their count is checked before a record is read.
   const std::size_t drops_at = kListHeadSize + count * kTaskRecordSize;
   f.at_least(drops_at + kListHeadSize, "payload shorter than its drop counters' header");
@@ -526,7 +529,7 @@ void tasks_fields(F& f, M& m) noexcept {
 template <typename F, typename M>
 void diag_fields(F& f, M& m) noexcept {
   const std::size_t count = list_head(f, m.diag.count, kMaxSlaves, kDiagHeadSize, "payload shorter than its diag header",
-                                      "slave count");
+                                      "slave count", [&f, &m] { age_fields(f, m.diag); });
   f.length(kDiagHeadSize + count * kDiagRecordSize);
   f.u64(m.diag.cycle);
   f.u64(m.diag.sweeps);
@@ -560,7 +563,7 @@ template <typename F, typename M>
 void owner_state_fields(F& f, M& m) noexcept {
   f.length(kOwnerStateSize);
   f.u8(m.owner_state.owner);
-  f.reserved(7);
+  age_fields(f, m.owner_state.age);
   f.u64(m.owner_state.generation);
   f.check(m.owner_state.owner < kMaxRcTasks || m.owner_state.owner == kNoOwner, "owner task");
   for (auto& t : m.owner_state.tasks) {
@@ -573,22 +576,41 @@ void owner_state_fields(F& f, M& m) noexcept {
   }
 }
 
-// sdo_upload: joint, subindex, index, 4 reserved bytes. sdo_download adds the size and the value in
-// a fixed 256-byte field (bytes past the size zero).
+// Whom a transfer addresses (SdoTarget): a joint (slave 0) or a slave's position (joint 0).
+template <typename F>
+void sdo_target_checks(F& f, std::uint8_t joint, SdoTarget target, std::uint8_t slave) noexcept {
+  f.check(static_cast<std::uint8_t>(target) <= kSdoTargetLast, "sdo target kind");
+  if (target == SdoTarget::slave) {
+    f.check(joint == 0 && slave < kMaxSlaves, "slave position (joint 0)");
+  } else {
+    f.check(joint < kJointCount && slave == 0, "joint index (slave 0)");
+  }
+}
+
+// sdo_upload: joint, subindex, index, target kind, slave position, 2 reserved bytes. sdo_download:
+// joint, subindex, index, the size, target kind, slave position and the value in a fixed 256-byte
+// field (bytes past the size zero).
 template <typename F, typename M>
 void sdo_address_fields(F& f, M& m) noexcept {
   f.u8(m.sdo.joint);
   f.u8(m.sdo.subindex);
   f.u16(m.sdo.index);
-  f.check(m.sdo.joint < kJointCount, "joint index");
   f.check(m.sdo.index != 0, "object index 0");
+}
+
+template <typename F, typename M>
+void sdo_target_fields(F& f, M& m) noexcept {
+  f.u8(m.sdo.target);
+  f.u8(m.sdo.slave);
+  sdo_target_checks(f, m.sdo.joint, m.sdo.target, m.sdo.slave);
 }
 
 template <typename F, typename M>
 void sdo_upload_fields(F& f, M& m) noexcept {
   f.length(kSdoUploadSize);
   sdo_address_fields(f, m);
-  f.reserved(4);
+  sdo_target_fields(f, m);
+  f.reserved(2);
 }
 
 template <typename F, typename M>
@@ -596,7 +618,7 @@ void sdo_download_fields(F& f, M& m) noexcept {
   f.length(kSdoDownloadSize);
   sdo_address_fields(f, m);
   f.u16(m.sdo.size);
-  f.reserved(2);
+  sdo_target_fields(f, m);
   f.bytes(m.sdo.data);
   f.check(m.sdo.size >= 1 && m.sdo.size <= kSdoDataSize, "value size (1..256 bytes)");
   bool padding_zero = true;
@@ -620,11 +642,13 @@ void sdo_result_fields(F& f, M& m) noexcept {
   f.u8(r.al_state);
   f.u8(r.flags);
   f.u32(r.exchanges);
-  f.reserved(4);
+  f.u8(r.target);
+  f.u8(r.slave);
+  f.reserved(2);
   f.text(r.text, "sdo result text not NUL-terminated");
   f.bytes(r.data);
   f.check(r.request_type == MessageType::sdo_upload || r.request_type == MessageType::sdo_download, "sdo request type");
-  f.check(r.joint < kJointCount, "joint index");
+  sdo_target_checks(f, r.joint, r.target, r.slave);
   f.check(static_cast<std::uint8_t>(r.status) <= kSdoStatusLast, "sdo status");
   f.check(r.size <= kSdoDataSize, "value size");
   f.check((r.flags & ~kSdoSegmented) == 0, "sdo result flags");
@@ -679,6 +703,38 @@ void diag_reset_fields(F& f, M& m) noexcept {
   f.check((m.diag_reset.slaves >> kMaxSlaves) == 0, "slave mask names a slave the robot does not have");
 }
 
+// get_sii: slave position, 1 reserved byte, offset into the image.
+template <typename F, typename M>
+void sii_request_fields(F& f, M& m) noexcept {
+  f.length(kSiiRequestSize);
+  f.u8(m.sii_request.slave);
+  f.reserved(1);
+  f.u16(m.sii_request.offset);
+  f.check(m.sii_request.slave < kMaxSlaves, "slave position");
+  f.check(m.sii_request.offset < kSiiImageBytes, "offset into the SII image");
+}
+
+// sii: slave position, flags, the image's size, this chunk's offset and length, then the chunk in
+// a fixed kSiiChunkBytes field (bytes past the length zero).
+template <typename F, typename M>
+void sii_fields(F& f, M& m) noexcept {
+  f.length(kSiiSize);
+  auto& c = m.sii;
+  f.u8(c.slave);
+  f.u8(c.flags);
+  f.u16(c.size);
+  f.u16(c.offset);
+  f.u16(c.length);
+  f.bytes(c.bytes);
+  f.check(c.slave < kMaxSlaves, "slave position");
+  f.check((c.flags & ~kSiiFlagsMask) == 0, "SII flags");
+  f.check(c.size <= kSiiImageBytes && c.length <= kSiiChunkBytes, "SII image or chunk size");
+  f.check(std::size_t{c.offset} + c.length <= c.size || (c.length == 0 && c.offset <= c.size), "SII chunk past the image");
+  bool padding_zero = true;
+  for (std::size_t i = c.length; i < kSiiChunkBytes; ++i) padding_zero = padding_zero && c.bytes[i] == 0;
+  f.require(padding_zero, Errc::malformed, "bytes past the chunk's length not zero");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -698,6 +754,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::get_owner, "get_owner", no_payload, no_payload},
     {MessageType::get_graph, "get_graph", no_payload, no_payload},
     {MessageType::get_slave_info, "get_slave_info", no_payload, no_payload},
+    {MessageType::get_sii, "get_sii", sii_request_fields, sii_request_fields},
     {MessageType::initialize, "initialize", joints_fields, joints_fields},
     {MessageType::enable, "enable", joints_fields, joints_fields},
     {MessageType::disable, "disable", joints_fields, joints_fields},
@@ -725,6 +782,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::sdo_result, "sdo_result", sdo_result_fields, sdo_result_fields},
     {MessageType::graph, "graph", graph_fields, graph_fields},
     {MessageType::slave_info, "slave_info", slave_info_fields, slave_info_fields},
+    {MessageType::sii, "sii", sii_fields, sii_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {
@@ -744,7 +802,7 @@ bool is_known(std::uint8_t type) noexcept { return layout_of(type) != nullptr; }
 
 bool is_query(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);
-  return (t >= 0x01 && t <= 0x05) || (t >= 0x07 && t <= 0x0A);  // get_epoch (0x06) is answered before any query
+  return (t >= 0x01 && t <= 0x05) || (t >= 0x07 && t <= 0x0B);  // get_epoch (0x06) is answered before any query
 }
 bool is_control_request(MessageType type) noexcept {
   const auto t = static_cast<std::uint8_t>(type);

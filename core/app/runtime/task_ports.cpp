@@ -63,6 +63,7 @@ EthercatHandlerPorts TaskPorts::ethercat_handler() noexcept {
   p.link_diag = &links_.link_diag;
   p.slave_info = &links_.slave_info;
   p.diag_reset = &links_.diag_reset;
+  p.sii_images = &links_.sii_images;
   return p;
 }
 
@@ -124,6 +125,7 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.diag = &links_.link_diag;
   p.slave_info = &links_.slave_info;
   p.diag_reset = &links_.diag_reset;
+  p.sii_images = &links_.sii_images;
   p.tasks = &links_.task_stats;
   p.drops = &links_.run.dropped;
   p.motion = &links_.motion;

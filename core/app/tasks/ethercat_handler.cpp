@@ -1,5 +1,7 @@
 #include "core/app/tasks/ethercat_handler.hpp"
 
+#include <cstring>
+
 #include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_units.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
@@ -300,6 +302,7 @@ void EthercatHandler::publish_figures(const drivers::JointCycleResult& result, h
   publish_link_diag(result.cycle);
   take_diag_reset(result.cycle);
   publish_slave_info(result.cycle);
+  publish_next_sii_image();
 }
 
 // ctl master: the master's counters, every period.
@@ -413,6 +416,23 @@ void EthercatHandler::publish_slave_info(std::uint64_t cycle) noexcept {
     if (master.al_status_read(p)) r.flags |= protocol::kSlaveInfoAlRead;
   }
   ports_.slave_info->write(published);
+}
+
+// ctl sii_read: the SII images the master read at bring-up, one slave per period (a 1 KiB copy)
+// until each is published; they do not change while the run lasts.
+void EthercatHandler::publish_next_sii_image() noexcept {
+  constexpr std::size_t kCount = drivers::kRobotNetworkPlan.size();
+  if (ports_.sii_images == nullptr || sii_published_ >= kCount) return;
+  const std::size_t p = sii_published_++;
+  SiiImageRecord& r = sii_record_;
+  r = SiiImageRecord{};
+  if (const ecat::SiiImage* image = bus_.master().sii_image(p); image != nullptr) {
+    r.size = image->size <= r.bytes.size() ? image->size : static_cast<std::uint16_t>(r.bytes.size());
+    std::memcpy(r.bytes.data(), image->bytes.data(), r.size);
+    r.flags = static_cast<std::uint8_t>(protocol::kSiiRead | (image->from_cache ? protocol::kSiiFromCache : 0) |
+                                        (image->strings_skipped != 0 ? protocol::kSiiStringsSkipped : 0));
+  }
+  (*ports_.sii_images)[p].write(r);
 }
 
 }  // namespace rescue::app

@@ -80,6 +80,9 @@ struct EthercatHandlerPorts {
   Seqlock<protocol::DiagPayload>* link_diag{nullptr};
   Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};
   DiagResetLink* diag_reset{nullptr};
+  // ctl sii_read: each slave's SII image as the master read it at bring-up, published once, one
+  // slave per period (null: not published).
+  std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>* sii_images{nullptr};
 };
 
 class EthercatHandler {
@@ -141,6 +144,7 @@ class EthercatHandler {
   void publish_link_diag(std::uint64_t cycle) noexcept;
   void take_diag_reset(std::uint64_t cycle) noexcept;
   void publish_slave_info(std::uint64_t cycle) noexcept;
+  void publish_next_sii_image() noexcept;
 
   // Largest and most aligned first (the event queue's indices sit on cache lines of their own).
   SpscQueue<HandlerEvent, kEventQueueDepth> events_;
@@ -158,6 +162,8 @@ class EthercatHandler {
   // slave table (compared each period), the diagnostics sweep and reset it published the table at.
   MasterStatus master_status_{};
   protocol::SlaveInfoTable slave_info_{};
+  std::size_t sii_published_{0};  // slaves whose SII image is published (in position order)
+  SiiImageRecord sii_record_{};   // the one being published (not on the stack: 1 KiB)
   std::uint64_t diag_sweeps_published_{0};
   std::uint64_t diag_resets_published_{0};
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP

@@ -90,19 +90,27 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
   protocol::SdoResultPayload& r = result.result;
   r.request_type = request.download ? protocol::MessageType::sdo_download : protocol::MessageType::sdo_upload;
   r.joint = request.sdo.joint;
+  r.target = request.sdo.target;
+  r.slave = request.sdo.slave;
   r.index = request.sdo.index;
   r.subindex = request.sdo.subindex;
   r.al_state = op ? kAlOp : kAlSafeOp;
-  if (request.sdo.joint >= kJointCount) {
+  const bool by_slave = request.sdo.target == protocol::SdoTarget::slave;
+  const std::size_t position = by_slave ? request.sdo.slave : slave_position_of_joint(request.sdo.joint);
+  if (position >= kSlaveCount || (!by_slave && request.sdo.joint >= kJointCount)) {
     r.status = SdoStatus::unreachable;
     return answer(result);
   }
-  if ((unreachable & joint_bit(request.sdo.joint)) != 0) {
+  // A drive is judged by its joint (out of service or lost: unreachable), a junction by the master.
+  const std::uint8_t joint = kSlaves[position].joint;
+  const bool lost = joint < kJointCount ? (unreachable & joint_bit(joint)) != 0
+                                        : (bus_.master().monitor().lost() & ecat::slave_bit(position)) != 0;
+  if (lost) {
     r.status = SdoStatus::unreachable;
     r.al_state = 0;
     return answer(result);
   }
-  if (request.download) {
+  if (request.download && joint < kJointCount) {
     r.status = judge_sdo_download(request.sdo.index, request.sdo.subindex, true);
     if (r.status != SdoStatus::ok) return answer(result);
   }
@@ -110,13 +118,12 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
     r.status = SdoStatus::busy;
     return answer(result);
   }
-  const auto position = static_cast<std::uint8_t>(slave_position_of_joint(request.sdo.joint));
   tag_ = ecat::MailboxClient::kOperatorTagBit | (++transfers_started_ & 0x3FFFFFFFU);
   const ecat::SdoRequest sdo =
       request.download
-          ? ecat::sdo_download_bytes(position, request.sdo.index, request.sdo.subindex,
+          ? ecat::sdo_download_bytes(static_cast<std::uint8_t>(position), request.sdo.index, request.sdo.subindex,
                                      ConstByteSpan(request.sdo.data.data(), request.sdo.size), tag_)
-          : ecat::sdo_upload(position, request.sdo.index, request.sdo.subindex, tag_);
+          : ecat::sdo_upload(static_cast<std::uint8_t>(position), request.sdo.index, request.sdo.subindex, tag_);
   if (!mailbox.submit(sdo)) {
     r.status = SdoStatus::busy;
     return answer(result);
@@ -143,7 +150,8 @@ void describe_sdo_result(protocol::SdoResultPayload& r) noexcept {
                           (r.index == 0x1C12 || r.index == 0x1C13) ? "assignment" : "mapping",
                           r.al_state == kAlOp ? "OP" : "SAFE-OP");
       break;
-    case SdoStatus::unreachable: (void)std::snprintf(text, sizeof text, "the joint is lost or out of the exchange"); break;
+    case SdoStatus::unreachable: (void)std::snprintf(text, sizeof text, "%s is lost or out of the exchange",
+                                                     r.target == protocol::SdoTarget::slave ? "the slave" : "the joint"); break;
     case SdoStatus::mailbox_error: (void)std::snprintf(text, sizeof text, "mailbox error reply 0x%04X", r.mailbox_error); break;
     case SdoStatus::bad_response: (void)std::snprintf(text, sizeof text, "the drive's answer could not be used"); break;
     case SdoStatus::too_long: (void)std::snprintf(text, sizeof text, "the value is longer than 256 bytes"); break;

@@ -24,6 +24,8 @@ protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayl
   protocol::SdoResultPayload r;
   r.request_type = type;
   r.joint = sdo.joint;
+  r.target = sdo.target;
+  r.slave = sdo.slave;
   r.index = sdo.index;
   r.subindex = sdo.subindex;
   r.status = status;
@@ -116,6 +118,7 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       break;
     case MessageType::get_tasks:
       m.header.type = MessageType::tasks;
+      m.tasks.age = handler_figures_age();
       if (ports_.tasks != nullptr) {
         for (const Seqlock<TaskStat>& slot : *ports_.tasks) {
           TaskStat t{};
@@ -132,6 +135,11 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
     case MessageType::get_diag:
       m.header.type = MessageType::diag;
       if (ports_.diag != nullptr && !ports_.diag->try_read(m.diag)) m.diag = protocol::DiagPayload{};
+      {
+        const protocol::FiguresAge age = handler_figures_age();
+        m.diag.age_ms = age.age_ms;
+        m.diag.stale = age.stale ? 1 : 0;
+      }
       break;
     case MessageType::get_version:
       m.header.type = MessageType::version;
@@ -139,8 +147,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       break;
     case MessageType::get_graph: return answer_graph(from);
     case MessageType::get_slave_info: return answer_slave_info(from);
+    case MessageType::get_sii: return answer_sii(request, from);
     case MessageType::get_owner: {
       m.header.type = MessageType::owner_state;
+      m.owner_state.age = handler_figures_age();
       const std::uint64_t word = ports_.motion != nullptr ? ports_.motion->owner.word() : MotionOwner::kNobody;
       m.owner_state.owner = MotionOwner::task_of(word);
       m.owner_state.generation = MotionOwner::generation_of(word);

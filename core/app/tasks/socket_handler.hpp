@@ -72,6 +72,7 @@ struct SocketHandlerPorts {
   MessageSink<SdoLinkRequest>* sdo_requests{nullptr};  // ctl upload/download, to the EtherCAT handler
   MessageSource<SdoLinkResult>* sdo_results{nullptr};  // and their results
   const Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};  // ctl slaves -v: SII identity, AL status code
+  const std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>* sii_images{nullptr};  // ctl sii_read
   DiagResetLink* diag_reset{nullptr};                 // ctl diag --reset: posted here, taken by the EtherCAT handler
 };
 
@@ -122,6 +123,7 @@ class SocketHandler {
   // socket_network_answers.cpp: ctl graph, ctl slaves -v, ctl diag --reset.
   void answer_graph(const hal::UdpDatagram& from) noexcept;
   void answer_slave_info(const hal::UdpDatagram& from) noexcept;
+  void answer_sii(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
   // Posts a diag_reset to the EtherCAT handler (TaskLinks::diag_reset); the reply follows when the
   // handler has applied it (finish_diag_resets, each wake-up), or a refusal after kDiagResetTimeout.
   void post_diag_reset(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
@@ -149,6 +151,7 @@ class SocketHandler {
   hal::UdpSocket sensor_;
   std::array<hal::UdpDatagram, kBatch> batch_{};
   SocketCounters counters_{};
+  SiiImageRecord sii_scratch_{};  // ctl sii_read: the slave's published image (1 KiB: not on the stack)
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
   std::size_t max_per_wakeup_{0};

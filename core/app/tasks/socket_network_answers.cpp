@@ -3,6 +3,7 @@
 // and AL status code, as the EtherCAT handler published them), and ctl diag --reset (posted to the
 // EtherCAT handler through TaskLinks::diag_reset, answered once the handler applied it).
 #include <algorithm>
+#include <cstring>
 
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/socket_handler.hpp"
@@ -129,6 +130,26 @@ void SocketHandler::finish_diag_resets() noexcept {
                "the EtherCAT handler did not take the reset within 0.5 s", p.address, p.port);
     }
   }
+}
+
+// ctl sii_read: a chunk of one slave's SII image from the copy the EtherCAT handler published
+// (size 0, flags 0: none yet, or no slave identified there).
+void SocketHandler::answer_sii(const Message& request, const hal::UdpDatagram& from) noexcept {
+  const std::uint8_t slave = request.sii_request.slave;
+  Message m;
+  m.header.type = MessageType::sii;
+  m.sii.slave = slave;
+  if (ports_.sii_images != nullptr && slave < ports_.sii_images->size() &&
+      (*ports_.sii_images)[slave].try_read(sii_scratch_) && sii_scratch_.size <= sii_scratch_.bytes.size()) {
+    const std::size_t offset = std::min<std::size_t>(request.sii_request.offset, sii_scratch_.size);
+    const std::size_t length = std::min(protocol::kSiiChunkBytes, sii_scratch_.size - offset);
+    m.sii.flags = static_cast<std::uint8_t>(sii_scratch_.flags & protocol::kSiiFlagsMask);
+    m.sii.size = sii_scratch_.size;
+    m.sii.offset = static_cast<std::uint16_t>(offset);
+    m.sii.length = static_cast<std::uint16_t>(length);
+    std::memcpy(m.sii.bytes.data(), sii_scratch_.bytes.data() + offset, length);
+  }
+  send(m, from.address, from.port);
 }
 
 }  // namespace rescue::app

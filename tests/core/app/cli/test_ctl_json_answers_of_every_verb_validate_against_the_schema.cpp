@@ -68,8 +68,11 @@ TEST(CtlJsonSchema, EveryVerbsAnswersValidate) {
       {"move", {{{"move", "left", "0.4,0.2,0.3,0,0,0", "--task", "0"}, 1}}},
       {"hand", {{{"hand", "left", "close", "--task", "1"}, 1}}},  // run before owner 1: not owner
       {"version", {{{"version"}, 0}}},
-      {"upload", {{{"upload", "l_elbow", "0x1008:00"}, 0}, {{"upload", "l_elbow", "0x5FFF:00"}, 1}}},
+      {"upload", {{{"upload", "l_elbow", "0x1008:00"}, 0}, {{"upload", "l_elbow", "0x5FFF:00"}, 1},
+                  {{"upload", "13", "0x1008:00"}, 0}, {{"upload", "junction_a", "0x1018:01"}, 1},
+                  {{"upload", "23", "0x1018:01"}, 2}}},
       {"pdos", {{{"pdos"}, 0}, {{"pdos", "l_elbow"}, 0}, {{"pdos", "junction_a"}, 2}}},
+      {"sii_read", {{{"sii_read", "l_elbow"}, 0}, {{"sii_read", "0"}, 0}, {{"sii_read", "23"}, 2}}},
       {"download", {{{"download", "l_elbow", "0x6066:00", "100", "--type", "u16"}, 0},
                     {{"download", "l_elbow", "0x607A:00", "1000", "--type", "i32"}, 1}}},
   };

@@ -41,7 +41,8 @@ TEST(OperatorCtlDiagEndToEnd, ShowsTheDamagedPortsCountersAndTheCable) {
 
   const CommandResult json = run.ctl({"--json", "diag"});
   EXPECT_EQ(json.status, 0) << json.out;
-  EXPECT_EQ(json.out.rfind(R"({"command":"diag","ok":true,"cycle":)", 0), 0U) << json.out;
+  EXPECT_EQ(json.out.rfind(R"({"command":"diag","ok":true,"age_ms":)", 0), 0U) << json.out;
+  EXPECT_TRUE(has(json.out, R"("stale":false,"cycle":)")) << json.out;
   EXPECT_TRUE(has(json.out, R"({"position":19,"name":"l_elbow","ports":[{"port":0,"invalid_frames":5,"rx_errors":0,"forwarded_rx_errors":0,"lost_links":0,"warning":")"))
       << json.out;
   EXPECT_TRUE(has(json.out, R"("cable_to":"l_shoulder_yaw"})")) << json.out;

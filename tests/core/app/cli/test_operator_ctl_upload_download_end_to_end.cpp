@@ -94,7 +94,7 @@ TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
 
   const CommandResult bad = run.ctl({"--json", "upload", "l_elbw", "0x1008:00"});
   EXPECT_EQ(bad.status, 2);
-  EXPECT_TRUE(has(bad.out, "'l_elbw' is not a joint")) << bad.out;
+  EXPECT_TRUE(has(bad.out, "'l_elbw' is not a slave")) << bad.out;
 
   EXPECT_FALSE(late_before.empty()) << before.out;
   constexpr std::uint64_t kTransfersPerWindow = 9;
@@ -126,6 +126,45 @@ TEST(OperatorSdoVerbs, UploadDownloadAndRefusalsAgainstARunningRobot) {
   } else if (fifo) {
     EXPECT_LT(fewest_late, kTransfersPerWindow) << "a late period per transfer in every window:" << windows;
   }
+  EXPECT_EQ(run.stop(), 0) << run.output();
+}
+
+// Issue 36 item 4: SLAVE is a joint, a slave's name or its position (IgH's `-p`), so the junctions
+// are addressed too: a drive by its position answers as by its joint; junction_a (no mailbox) is
+// refused with that reason, exit 1; a position past the last slave is usage, exit 2, nothing sent.
+TEST(OperatorSdoVerbs, UploadAndDownloadAddressASlaveByItsPositionAndTheJunctions) {
+  OperatorRun run;
+  ASSERT_TRUE(run.wait_for("network in OP")) << run.output();
+  const std::string elbow = std::to_string(slave_position_of_joint(joint_index_by_name("l_elbow")));
+  const CommandResult by_position = run.ctl({"--json", "upload", elbow, "0x1008:00"});
+  ASSERT_EQ(by_position.status, 0) << by_position.out;
+  EXPECT_EQ(json_field(by_position.out, "value"), "RM-JD402") << by_position.out;
+  EXPECT_EQ(json_field(by_position.out, "slave"), "l_elbow") << by_position.out;
+  EXPECT_EQ(json_field(by_position.out, "position"), elbow) << by_position.out;
+  EXPECT_EQ(json_field(by_position.out, "joint"), "l_elbow") << by_position.out;
+  EXPECT_EQ(run.ctl({"upload", elbow, "0x1008:00"}).out, "RM-JD402\n");
+
+  const CommandResult written = run.ctl({"download", elbow, "0x6065:00", "1234"});  // size from the object
+  EXPECT_EQ(written.status, 0) << written.out;
+  EXPECT_EQ(written.out, "download: l_elbow 0x6065:00 written\n");
+  EXPECT_EQ(json_field(run.ctl({"--json", "upload", "l_elbow", "0x6065:00"}).out, "value"), "1234");
+  const CommandResult mapped = run.ctl({"download", elbow, "0x607A:00", "1000", "--type", "i32"});
+  EXPECT_EQ(mapped.status, 1) << mapped.out;
+  EXPECT_TRUE(has(mapped.out, "refused: mapped object")) << mapped.out;
+
+  const CommandResult junction = run.ctl({"--json", "upload", "junction_a", "0x1018:01"});
+  EXPECT_EQ(junction.status, 1) << junction.out;
+  EXPECT_EQ(json_field(junction.out, "slave"), "junction_a") << junction.out;
+  EXPECT_EQ(json_field(junction.out, "position"), "0") << junction.out;
+  EXPECT_EQ(json_field(junction.out, "joint"), "null") << junction.out;
+  EXPECT_EQ(json_field(junction.out, "status"), "no mailbox") << junction.out;
+  const CommandResult junction_text = run.ctl({"upload", "1", "0x1018:01"});
+  EXPECT_EQ(junction_text.status, 1);
+  EXPECT_EQ(junction_text.out, "upload: junction_b 0x1018:01: refused: no mailbox: the slave has no CoE mailbox\n");
+
+  const CommandResult past = run.ctl({"upload", "23", "0x1018:01"});
+  EXPECT_EQ(past.status, 2);
+  EXPECT_TRUE(has(past.out, "'23' is not a slave")) << past.out;
   EXPECT_EQ(run.stop(), 0) << run.output();
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -158,7 +159,10 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   m.tasks.tasks[1].max_execution_ns = 77;
   m.tasks.tasks[1].execution = TimingFigures{1, 2, 3, 4, 5, 6, 7};
   m.tasks.tasks[1].latency = TimingFigures{8, 9, 10, 11, 12, 13, 0xFFFFFFFFU};
+  m.tasks.age = FiguresAge{true, 4321};  // the figures' age travels in the list head (issue 36)
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_TRUE(back.tasks.age.stale);
+  EXPECT_EQ(back.tasks.age.age_ms, 4321U);
   EXPECT_EQ(back.tasks.tasks[1].max_execution_ns, 77U);
   EXPECT_EQ(back.tasks.tasks[1].execution.min, 1U);
   EXPECT_EQ(back.tasks.tasks[1].execution.p9999, 7U);
@@ -178,6 +182,14 @@ TEST(ProtocolCodec, EveryTypeRoundTrips) {
   ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
   EXPECT_EQ(back.tasks.count, kMaxTasks);
   EXPECT_EQ(back.tasks.drop_count, kMaxDropCounters);
+
+  m.header.type = MessageType::owner_state;  // ctl owner: the figures' age after the owner byte
+  m.owner_state.owner = 1;
+  m.owner_state.age = FiguresAge{false, 12};
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.owner_state.owner, 1U);
+  EXPECT_FALSE(back.owner_state.age.stale);
+  EXPECT_EQ(back.owner_state.age.age_ms, 12U);
 }
 
 // ctl diag's answer (get_diag/diag): the largest answer (23 slaves) fits one datagram and every
@@ -206,11 +218,15 @@ TEST(ProtocolCodec, DiagRoundTripsAndMalformedDiagIsRejected) {
   m.diag.slaves[22].processing_unit_errors = 3;
   m.diag.slaves[22].pdi_errors = 4;
   m.diag.slaves[22].reads = 65535;
+  m.diag.age_ms = 77;
+  m.diag.stale = 1;
   const Sealed good = seal_ok(m, k);
   EXPECT_EQ(good.size, kHeaderSize + 24 + kMaxSlaves * 40 + kTagSize);
   ASSERT_EQ(judge(good, k, &back), -1);
   EXPECT_EQ(back.diag.cycle, m.diag.cycle);
   EXPECT_EQ(back.diag.sweeps, 42U);
+  EXPECT_EQ(back.diag.age_ms, 77U);
+  EXPECT_EQ(back.diag.stale, 1U);
   EXPECT_EQ(back.diag.count, kMaxSlaves);
   EXPECT_EQ(back.diag.slaves[19].ports[0].invalid_frames, 5U);
   EXPECT_EQ(back.diag.slaves[19].ports[0].rx_errors, 1U);
@@ -492,6 +508,21 @@ TEST(ProtocolCodec, TheRobotIdAndTheEpochAreAuthenticatedHeaderFields) {
 namespace rescue::app::protocol {
 namespace {
 
+// Each seed of the protocol decoder's fuzz target (tests/fuzz/seeds-fuzz_protocol_decoder/NAME: first
+// byte the type, then the payload) decodes.
+void expect_seeds_decode(std::initializer_list<const char*> seeds) {
+  for (const char* seed : seeds) {
+    std::ifstream in(std::string(RESCUE_SOURCE_DIR) + "/tests/fuzz/seeds-fuzz_protocol_decoder/" + seed, std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 1U) << seed;
+    Header h;
+    h.type = static_cast<MessageType>(static_cast<std::uint8_t>(bytes[0]));
+    const Result<Message> decoded =
+        decode_payload(h, ConstByteSpan(reinterpret_cast<const std::uint8_t*>(bytes.data()) + 1, bytes.size() - 1));
+    EXPECT_TRUE(decoded.ok()) << seed << ": " << (decoded.ok() ? "" : decoded.error().what);
+  }
+}
+
 // ctl upload/download (0x18, 0x19) and their answer (0x8B): round trips, the ranges, and the fuzz
 // target's seeds decode (tests/fuzz/seeds-fuzz_protocol_decoder/sdo_*: first byte the type).
 TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
@@ -523,6 +554,24 @@ TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
   m.sdo.joint = kJointCount;
   EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
 
+  // By slave position (the junctions too): the position travels, the joint stays 0.
+  m.sdo.joint = 0;
+  m.sdo.target = SdoTarget::slave;
+  m.sdo.slave = 1;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.sdo.target, SdoTarget::slave);
+  EXPECT_EQ(back.sdo.slave, 1);
+  m.sdo.slave = kMaxSlaves;  // no such position
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.slave = 1;
+  m.sdo.joint = 3;  // a joint beside a position: which one?
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.joint = 0;
+  m.sdo.target = static_cast<SdoTarget>(kSdoTargetLast + 1);
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo.target = SdoTarget::joint;  // a position beside a joint
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
   Message r = addressed();
   r.header.type = MessageType::sdo_result;
   r.sdo_result.request_sequence = 77;
@@ -542,18 +591,66 @@ TEST(ProtocolCodec, SdoMessagesRoundTripAndTheirRangesAreChecked) {
   EXPECT_STREQ(back.sdo_result.text.data(), "done (segmented)");
   r.sdo_result.status = static_cast<SdoStatus>(kSdoStatusLast + 1);
   EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sdo_result.status = SdoStatus::no_mailbox;
+  r.sdo_result.joint = 0;
+  r.sdo_result.target = SdoTarget::slave;
+  r.sdo_result.slave = 0;  // junction_a
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.sdo_result.target, SdoTarget::slave);
+  r.sdo_result.slave = kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
 
-  for (const char* seed : {"sdo_upload_payload", "sdo_download_payload", "sdo_result_segmented_upload_payload",
-                           "sdo_result_refused_payload"}) {
-    std::ifstream in(std::string(RESCUE_SOURCE_DIR) + "/tests/fuzz/seeds-fuzz_protocol_decoder/" + seed, std::ios::binary);
-    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    ASSERT_GT(bytes.size(), 1U) << seed;
-    Header h;
-    h.type = static_cast<MessageType>(static_cast<std::uint8_t>(bytes[0]));
-    const Result<Message> decoded =
-        decode_payload(h, ConstByteSpan(reinterpret_cast<const std::uint8_t*>(bytes.data()) + 1, bytes.size() - 1));
-    EXPECT_TRUE(decoded.ok()) << seed << ": " << (decoded.ok() ? "" : decoded.error().what);
-  }
+  expect_seeds_decode({"sdo_upload_payload", "sdo_download_payload", "sdo_result_segmented_upload_payload",
+                       "sdo_result_refused_payload", "sdo_upload_by_slave_payload", "sdo_result_by_slave_payload"});
+}
+
+// ctl sii_read (get_sii 0x0B, sii 0x8C): round trips, the ranges, and the fuzz target's seeds decode.
+TEST(ProtocolCodec, SiiMessagesRoundTripAndTheirRangesAreChecked) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(2);
+  Message m = addressed();
+  m.header.sender = 9;
+  m.header.type = MessageType::get_sii;
+  m.sii_request.slave = 22;
+  m.sii_request.offset = 512;
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.sii_request.slave, 22U);
+  EXPECT_EQ(back.sii_request.offset, 512U);
+  EXPECT_TRUE(is_query(MessageType::get_sii));
+  m.sii_request.slave = kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sii_request.slave = 0;
+  m.sii_request.offset = kSiiImageBytes;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
+  Message r = addressed();
+  r.header.type = MessageType::sii;
+  r.sii.slave = 19;
+  r.sii.flags = kSiiRead | kSiiStringsSkipped;
+  r.sii.size = 624;
+  r.sii.offset = 512;
+  r.sii.length = 112;
+  for (std::size_t i = 0; i < r.sii.length; ++i) r.sii.bytes[i] = static_cast<std::uint8_t>(i + 1);
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.sii.slave, 19U);
+  EXPECT_EQ(back.sii.flags, kSiiRead | kSiiStringsSkipped);
+  EXPECT_EQ(back.sii.size, 624U);
+  EXPECT_EQ(back.sii.offset, 512U);
+  EXPECT_EQ(back.sii.bytes, r.sii.bytes);
+  r.sii.length = 113;  // past the image's end
+  r.sii.bytes[112] = 1;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sii.length = 112;  // a byte past the chunk's length
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::malformed));
+  r.sii.bytes[112] = 0;
+  r.sii.flags = 0x08;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sii.flags = kSiiRead;
+  r.sii.size = kSiiImageBytes + 2;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+
+  expect_seeds_decode({"get_sii_payload", "sii_payload"});
 }
 
 // Text fields hold printable ASCII then NUL padding (docs/protocol.md "Text fields", issue 35 item 4):

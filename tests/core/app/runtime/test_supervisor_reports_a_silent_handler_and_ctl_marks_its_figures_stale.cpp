@@ -2,8 +2,9 @@
 // EtherCAT handler's process is stopped (SIGSTOP) for 1 s while the robot is in OP. The supervisor's
 // liveness watch reports it (the run's figures: task_silences_reported, and the handler's heartbeat
 // age when it did, within the documented time: the limit, 30 ms, plus the supervisor's own delay,
-// docs/tasks.md "Liveness"); meanwhile `ctl --json status`, `slaves` and `master` mark the handler's
-// figures stale with their age; once it runs again they are fresh, the run goes on and stops cleanly.
+// docs/tasks.md "Liveness"); meanwhile `ctl --json status`, `slaves`, `master`, `tasks`, `diag` and
+// `owner` mark the handler's figures stale with their age (`ctl tasks` in text says so on its first
+// line); once it runs again they are fresh, the run goes on and stops cleanly.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -48,20 +49,26 @@ TEST(Liveness, ASilentHandlerIsReportedAndCtlMarksItsFiguresStale) {
   const testing::CommandResult status = run.ctl({"--json", "status"});
   const testing::CommandResult master = run.ctl({"--json", "master"});
   const testing::CommandResult slaves = run.ctl({"--json", "slaves"});
+  const testing::CommandResult tasks = run.ctl({"--json", "tasks"});
+  const testing::CommandResult diag = run.ctl({"--json", "diag"});
+  const testing::CommandResult owner = run.ctl({"--json", "owner"});
+  const testing::CommandResult tasks_text = run.ctl({"tasks"});
   std::this_thread::sleep_for(milliseconds(500));
   ASSERT_EQ(::kill(handler, SIGCONT), 0);
 
-  for (const testing::CommandResult* r : {&status, &master, &slaves}) {
+  for (const testing::CommandResult* r : {&status, &master, &slaves, &tasks, &diag, &owner}) {
     EXPECT_EQ(r->status, 0) << r->out;
     EXPECT_EQ(json_field(r->out, "stale"), "true") << r->out;
     EXPECT_GE(std::atoi(json_field(r->out, "age_ms").c_str()), 400) << r->out;
   }
+  EXPECT_EQ(tasks_text.out.rfind("STALE: the EtherCAT handler has completed no period for ", 0), 0U) << tasks_text.out;
   // Running again: fresh figures (asked until they are, up to 5 s: the handler first re-arms the
   // drives its silence let the watchdog stop).
   bool fresh_again = false;
   for (int i = 0; i < 50 && !fresh_again; ++i) {
     std::this_thread::sleep_for(milliseconds(100));
-    fresh_again = json_field(run.ctl({"--json", "status"}).out, "stale") == "false";
+    fresh_again = json_field(run.ctl({"--json", "status"}).out, "stale") == "false" &&
+                  json_field(run.ctl({"--json", "tasks"}).out, "stale") == "false";
   }
   EXPECT_TRUE(fresh_again) << run.output();
 

@@ -4,8 +4,10 @@
 // a segmented upload and a segmented download run with the heap guard counting (0 allocations) and
 // no joint missing a cycle; downloads of objects in the RxPDO/TxPDO and of the PDO mapping and
 // assignment are refused with their reason; a second request while one is in flight is refused
-// busy (the first still answered); a joint behind a cut cable is refused unreachable; answers the
-// result queue cannot take wait and are delivered in order, none lost.
+// busy (the first still answered); a joint behind a cut cable is refused unreachable; a slave
+// addressed by its position is reached like its joint, a junction answers that it has no mailbox and
+// is refused unreachable once lost; answers the result queue cannot take wait and are delivered in
+// order, none lost.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -34,6 +36,15 @@ class SdoRelayOnTheRobot : public ::testing::Test {
     SdoLinkRequest r;
     r.id = id;
     r.sdo.joint = static_cast<std::uint8_t>(joint_index_by_name(joint));
+    r.sdo.index = index;
+    r.sdo.subindex = sub;
+    return r;
+  }
+  static SdoLinkRequest at(std::uint32_t id, std::size_t position, std::uint16_t index, std::uint8_t sub) {
+    SdoLinkRequest r;
+    r.id = id;
+    r.sdo.target = protocol::SdoTarget::slave;
+    r.sdo.slave = static_cast<std::uint8_t>(position);
     r.sdo.index = index;
     r.sdo.subindex = sub;
     return r;
@@ -169,6 +180,38 @@ TEST_F(SdoRelayOnTheRobot, AJointBehindACutCableIsRefusedUnreachable) {
   EXPECT_EQ(got[0].result.status, SdoStatus::unreachable);
   EXPECT_EQ(got[0].result.exchanges, 0U);
   EXPECT_EQ(got[1].result.status, SdoStatus::ok);
+}
+
+TEST_F(SdoRelayOnTheRobot, ASlaveByPositionIsReachedLikeItsJointAndAJunctionHasNoMailbox) {
+  const std::size_t elbow = slave_position_of_joint(joint_index_by_name("l_elbow"));
+  ASSERT_TRUE(fw->links->sdo_requests.try_push(at(1, elbow, 0x1008, 0)));
+  std::vector<SdoLinkResult> got = results(1);
+  ASSERT_TRUE(fw->links->sdo_requests.try_push(at(2, 0, 0x1018, 1)));  // junction_a
+  const std::vector<SdoLinkResult> junction = results(1);
+  SdoLinkRequest mapped = at(3, elbow, 0x607A, 0);  // the RxPDO's target position, by position too
+  mapped.download = true;
+  mapped.sdo.size = 4;
+  ASSERT_TRUE(fw->links->sdo_requests.try_push(mapped));
+  const std::vector<SdoLinkResult> refused = results(1);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].result.status, SdoStatus::ok);
+  EXPECT_EQ(text_of(got[0]), "RM-JD402");
+  EXPECT_EQ(got[0].result.target, protocol::SdoTarget::slave);
+  EXPECT_EQ(got[0].result.slave, elbow);
+  ASSERT_EQ(junction.size(), 1U);
+  EXPECT_EQ(junction[0].result.status, SdoStatus::no_mailbox);
+  EXPECT_EQ(junction[0].result.slave, 0U);
+  ASSERT_EQ(refused.size(), 1U);
+  EXPECT_EQ(refused[0].result.status, SdoStatus::mapped_object);
+
+  ASSERT_TRUE(fw->rig->segment.cut_link(1).ok());  // junction_b and everything behind it
+  for (int i = 0; i < 50; ++i) (void)fw->period();
+  ASSERT_TRUE(fw->links->sdo_requests.try_push(at(4, 1, 0x1018, 1)));
+  got = results(1);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].result.status, SdoStatus::unreachable);
+  describe_sdo_result(got[0].result);
+  EXPECT_STREQ(got[0].result.text.data(), "the slave is lost or out of the exchange");
 }
 
 TEST_F(SdoRelayOnTheRobot, AnswersTheResultQueueCannotTakeWaitAndAreDeliveredInOrder) {

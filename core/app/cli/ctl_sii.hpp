@@ -1,0 +1,16 @@
+// ctl sii_read SLAVE [--raw] (docs/operator.md "SII"): the slave's SII image as the master read it from
+// its EEPROM at bring-up, like IgH's `ethercat sii_read`: a hex dump (offset, 16 bytes, their
+// printable characters), with --raw the bytes themselves on stdout, with --json one object (the
+// bytes as hex). SLAVE: a slave's name (ctl slaves) or its position. The robot answers from the
+// copy its EtherCAT handler published after bring-up, in chunks of 512 bytes (get_sii, sii).
+#pragma once
+
+#include "core/app/cli/ctl_verbs.hpp"
+#include "core/app/config/command_line.hpp"
+
+namespace rescue::app {
+
+// CtlConverse: asks for the chunks until the image is whole, then prints it; returns the exit status.
+int ctl_sii_read(const ParsedArgs& args, CtlPeer& peer) noexcept;
+
+}  // namespace rescue::app
