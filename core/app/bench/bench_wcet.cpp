@@ -231,6 +231,9 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   if (!periods.ok()) return fail("bench", "wcet: --periods must be 2000..200000 (40 blocks of 50 at least)", periods.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "wcet: --seed must be 0..1000000", seed.error());
+  const Result<std::int64_t> block = args.integer("block", 50, 1, 100000);
+  if (!block.ok()) return fail("bench", "wcet: --block must be 1..100000", block.error());
+  if (periods.value() / block.value() < 40) return fail("bench", "wcet: --periods must hold at least 40 blocks of --block periods (pwcet.py's least)");
   const char* scenario_name = args.value("scenario") != nullptr ? args.value("scenario") : "worst";
   const WcetScenarioSpec* scenario = find_wcet_scenario(scenario_name);
   if (scenario == nullptr) {
@@ -308,7 +311,20 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   const auto motion_periods = static_cast<std::int64_t>(rc.motion().duration_s() * 1000.0);
 
   std::int64_t rc_k = 0;
-  auto period = [&](std::int64_t k, bool record) noexcept {
+  // Bring-up and settling: the same work, outside the measured functions (callgrind counts only the
+  // measured periods: toolchain/wcet/instructions.sh).
+  auto unmeasured_period = [&]() noexcept {
+    g_clock.sleep_until(bus.next_wakeup());
+    const drivers::JointCycleResult r = handler.cycle();
+    handler.publish_figures(r, g_clock.now(), 0);
+    manager.step(g_clock.now());
+    (void)storage_worker.serve_one();
+    parser.step(g_clock.now());
+    (void)rc.run(static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001, r.out | manager.lost_joints(),
+                 kin::JointVector::Zero());
+    return r;
+  };
+  auto period = [&](std::int64_t k) noexcept {
     g_clock.sleep_until(bus.next_wakeup());
     drivers::JointCycleResult r;
     const std::uint64_t t0 = timer.start();
@@ -325,24 +341,22 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     const std::uint64_t t5 = timer.start();
     wcet_rc_period(rc, t_s, out_of_service);
     const std::uint64_t t6 = timer.stop();
-    if (record) {
-      const auto at = static_cast<std::size_t>(k);
-      samples.ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
-      samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t1));
-      samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
-      samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
-    }
+    const auto at = static_cast<std::size_t>(k);
+    samples.ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
+    samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t1));
+    samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
+    samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
     return r;
   };
   int to_op = 0;
-  while (to_op < kMaxCyclesToOp && period(0, false).state != ecat::MasterState::op) ++to_op;
+  while (to_op < kMaxCyclesToOp && unmeasured_period().state != ecat::MasterState::op) ++to_op;
   if (to_op == kMaxCyclesToOp) return fail("bench", "wcet: the network did not reach OP");
   MessageSink<JointCommand>& commands = *ports.message_parser().joint_commands;
   for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
     // cppcheck-suppress useStlAlgorithm
     if (!commands.try_send(c)) return fail("bench", "wcet: joint handle queue full");
   }
-  for (int i = 0; i < kSettleCycles; ++i) (void)period(0, false);
+  for (int i = 0; i < kSettleCycles; ++i) (void)unmeasured_period();
 
   // ---- measured: nothing may allocate ----
   declare_init_complete(HeapGuardMode::count);
@@ -377,7 +391,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
       down_since = k;
       went_down = false;
     }
-    last_out = period(k, true).out;
+    last_out = period(k).out;
     driver.after();
     if (capture_on) (void)g_capture.drain(g_capture_file, ecat::CaptureQueue::kCapacity);  // the logger's side, untimed
     periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
@@ -402,9 +416,26 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   (void)std::printf("sdo_transfers: %" PRIu64 "\n", driver.sdo_transfers());
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", periods_with_lost);
+  // Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
+  (void)std::printf("at_end_joints_out_of_exchange: 0x%06x\n", static_cast<unsigned>(last_out));
+  (void)std::printf("at_end_joints_lost: 0x%06x\n", static_cast<unsigned>(manager.lost_joints()));
+  (void)std::printf("at_end_joints_not_enabled:");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const fsm::JointState state = manager.statuses()[j].state;
+    if (state != fsm::JointState::enabled) (void)std::printf(" %s=%s", kJoints[j].name, fsm::to_string(state));
+  }
+  (void)std::printf("\n");
+  (void)std::printf("at_end_slaves_recovering:");
+  for (std::size_t position = 0; position < robot.segment().slave_count(); ++position) {
+    const ecat::RecoveryState state = bus.master().recovery_state(position);
+    if (state == ecat::RecoveryState::idle) continue;
+    (void)std::printf(" %s=%s(failures %u)", robot.segment().slave(position).name, ecat::to_string(state),
+                      static_cast<unsigned>(bus.master().recovery_failures(position)));
+  }
+  (void)std::printf("\n");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
-  (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --seed %" PRId64 "\n",
-                      scenario->name, periods.value(), seed.value());
+  (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --block %" PRId64 " --seed %" PRId64 "\n",
+                      scenario->name, periods.value(), block.value(), seed.value());
   (void)std::remove(state_dir);
   if (heap.allocations != 0) return fail("bench", "wcet: heap allocation after init complete");
 
@@ -427,8 +458,11 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   char bootstrap[8];
   (void)std::snprintf(bootstrap, sizeof bootstrap, "%d", short_form ? 100 : 500);
   char plot_flag[] = "--plot";
-  char* argv[12] = {script, bootstrap_flag, bootstrap};
-  int argc = 3;
+  char block_flag[] = "--block";
+  char block_size[16];
+  (void)std::snprintf(block_size, sizeof block_size, "%" PRId64, block.value());
+  char* argv[14] = {script, bootstrap_flag, bootstrap, block_flag, block_size};
+  int argc = 5;
   if (plot) {
     argv[argc++] = plot_flag;
     argv[argc++] = png;

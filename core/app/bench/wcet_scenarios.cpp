@@ -17,7 +17,7 @@ const WcetScenarioSpec kScenarios[] = {
 
 }  // namespace
 
-Span<const WcetScenarioSpec> wcet_scenarios() noexcept { return Span<const WcetScenarioSpec>(kScenarios); }
+Span<const WcetScenarioSpec> wcet_scenarios() noexcept { return {kScenarios}; }
 
 const WcetScenarioSpec* find_wcet_scenario(const char* name) noexcept {
   for (const WcetScenarioSpec& spec : kScenarios) {
