@@ -129,7 +129,7 @@ void copy_to_stdout(const char* path) noexcept {
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
-  ScenarioDriver(drivers::SimulatedSegment& segment, SocketHandlerPorts operator_side,
+  ScenarioDriver(drivers::SimulatedSegment& segment, const SocketHandlerPorts& operator_side,
                  MessageSink<ControlRequest>& local, MessageSource<ControlReply>& local_replies, std::uint64_t seed) noexcept
       : segment_(segment), operator_(operator_side), local_(local), local_replies_(local_replies),
         random_(seed * 0x9E3779B97F4A7C15ULL + 1) {
@@ -211,6 +211,110 @@ class ScenarioDriver {
   std::uint64_t sequence_{0};
   bool sdo_in_flight_{false};
 };
+
+// Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
+void print_end_state(const JointManager& manager, drivers::JointBus& bus, const drivers::SimulatedSegment& segment,
+                     JointMask last_out) noexcept {
+  (void)std::printf("at_end_joints_out_of_exchange: 0x%06x\n", static_cast<unsigned>(last_out));
+  (void)std::printf("at_end_joints_lost: 0x%06x\n", static_cast<unsigned>(manager.lost_joints()));
+  (void)std::printf("at_end_joints_not_enabled:");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const fsm::JointState state = manager.statuses()[j].state;
+    if (state != fsm::JointState::enabled) (void)std::printf(" %s=%s", kJoints[j].name, fsm::to_string(state));
+  }
+  (void)std::printf("\n");
+  (void)std::printf("at_end_slaves_recovering:");
+  for (std::size_t position = 0; position < segment.slave_count(); ++position) {
+    const ecat::RecoveryState state = bus.master().recovery_state(position);
+    if (state == ecat::RecoveryState::idle) continue;
+    (void)std::printf(" %s=%s(failures %u)", segment.slave(position).name, ecat::to_string(state),
+                      static_cast<unsigned>(bus.master().recovery_failures(position)));
+  }
+  (void)std::printf("\n");
+}
+
+// The budget against Table I from pwcet.py's output (wcet_budget.hpp); true when a task is over.
+bool print_budget(const char* result_path) noexcept {
+  WcetBound bounds[kTasks];
+  BudgetLine lines[kTasks];
+  for (int t = 0; t < kTasks; ++t) {
+    bounds[t].task = kTaskIds[t];
+    bounds[t].given = pwcet_figure(result_path, kTaskFiles[t], "pwcet_1e-9_ci_high_ns", bounds[t].pwcet_ns);
+  }
+  judge_budget(Span<const WcetBound>(bounds), task_table(), Span<BudgetLine>(lines));
+  bool over = false;
+  for (int t = 0; t < kTasks; ++t) {
+    const BudgetLine& line = lines[t];
+    const char* task = kTaskFiles[t];
+    if (line.period_ns > 0) {
+      (void)std::printf("%s.budget_period_ns: %" PRId64 " (Table I CPU %d)\n", task, line.period_ns, line.cpu);
+    } else {
+      (void)std::printf("%s.budget_period_ns: n/a (event driven, Table I CPU %d)\n", task, line.cpu);
+    }
+    if (line.verdict == BudgetVerdict::within || line.verdict == BudgetVerdict::over) {
+      (void)std::printf("%s.budget_share_of_period: %.4f\n", task, line.share);
+      (void)std::printf("%s.budget_response_bound_ns: %.0f\n", task, line.response_ns);
+    } else {
+      (void)std::printf("%s.budget_share_of_period: n/a\n%s.budget_response_bound_ns: n/a\n", task, task);
+    }
+    (void)std::printf("%s.budget: %s\n", task, to_string(line.verdict));
+    over = over || line.verdict == BudgetVerdict::over;
+  }
+  return over;
+}
+
+// The samples written into --out, pwcet.py run on them, the budget: bench wcet's exit status.
+int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool short_form, bool plot, std::int64_t block) noexcept {
+  static char paths[kTasks][512];
+  static const int indices[kTasks] = {0, 1, 2, 3};
+  char names[kTasks][64];
+  for (int t = 0; t < kTasks; ++t) {
+    (void)std::snprintf(names[t], sizeof names[t], "%s.txt", kTaskFiles[t]);
+    if (!write_file("wcet", dir, out_dir, names[t], write_task, &indices[t], paths[t], sizeof paths[t])) {
+      return fail("bench", "wcet: cannot write the samples into --out");
+    }
+    (void)std::printf("samples_%s: %s\n", kTaskFiles[t], paths[t]);
+  }
+  char result_path[512];
+  char png[512];
+  (void)std::snprintf(result_path, sizeof result_path, "%s/pwcet.txt", out_dir);
+  (void)std::snprintf(png, sizeof png, "%s/pwcet.png", out_dir);
+  char bootstrap_flag[] = "--bootstrap";
+  char bootstrap[8];
+  (void)std::snprintf(bootstrap, sizeof bootstrap, "%d", short_form ? 100 : 500);
+  char plot_flag[] = "--plot";
+  char block_flag[] = "--block";
+  char block_size[16];
+  (void)std::snprintf(block_size, sizeof block_size, "%" PRId64, block);
+  char* argv[14] = {script, bootstrap_flag, bootstrap, block_flag, block_size};
+  int argc = 5;
+  if (plot) {
+    argv[argc++] = plot_flag;
+    argv[argc++] = png;
+  }
+  for (auto& path : paths) argv[argc++] = path;
+  argv[argc] = nullptr;
+  (void)::unlink(result_path);  // pwcet.py's output is created anew (O_NOFOLLOW: never through a link)
+  const int statistics = run_python(argv, result_path);
+  copy_to_stdout(result_path);
+  if (statistics != 0 && statistics != 2) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: %s exited %d (its error above)\n", script, statistics);
+    return 1;
+  }
+
+  const bool over = print_budget(result_path);
+  if (plot) (void)std::printf("png: %s\n", png);
+  if (over) {
+    (void)std::printf("wcet_verdict: over budget (a task's response bound exceeds its period)\n");
+    return 3;
+  }
+  if (statistics == 2) {
+    (void)std::printf("wcet_verdict: refused (a task's samples failed a test: no pWCET for it; see its verdict)\n");
+    return 2;
+  }
+  (void)std::printf("wcet_verdict: every task has a pWCET within its budget\n");
+  return 0;
+}
 
 }  // namespace
 
@@ -330,6 +434,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     const std::uint64_t t0 = timer.start();
     wcet_handler_period(handler, r);
     const std::uint64_t t1 = timer.stop();
+    const std::uint64_t t2_start = timer.start();
     wcet_joint_manager_period(manager);
     const std::uint64_t t2 = timer.stop();
     (void)storage_worker.serve_one();  // a thread of its own in run: untimed
@@ -343,7 +448,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     const std::uint64_t t6 = timer.stop();
     const auto at = static_cast<std::size_t>(k);
     samples.ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
-    samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t1));
+    samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t2_start));
     samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
     samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
     return r;
@@ -416,104 +521,14 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   (void)std::printf("sdo_transfers: %" PRIu64 "\n", driver.sdo_transfers());
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", periods_with_lost);
-  // Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
-  (void)std::printf("at_end_joints_out_of_exchange: 0x%06x\n", static_cast<unsigned>(last_out));
-  (void)std::printf("at_end_joints_lost: 0x%06x\n", static_cast<unsigned>(manager.lost_joints()));
-  (void)std::printf("at_end_joints_not_enabled:");
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    const fsm::JointState state = manager.statuses()[j].state;
-    if (state != fsm::JointState::enabled) (void)std::printf(" %s=%s", kJoints[j].name, fsm::to_string(state));
-  }
-  (void)std::printf("\n");
-  (void)std::printf("at_end_slaves_recovering:");
-  for (std::size_t position = 0; position < robot.segment().slave_count(); ++position) {
-    const ecat::RecoveryState state = bus.master().recovery_state(position);
-    if (state == ecat::RecoveryState::idle) continue;
-    (void)std::printf(" %s=%s(failures %u)", robot.segment().slave(position).name, ecat::to_string(state),
-                      static_cast<unsigned>(bus.master().recovery_failures(position)));
-  }
-  (void)std::printf("\n");
+  print_end_state(manager, bus, robot.segment(), last_out);
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
   (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --block %" PRId64 " --seed %" PRId64 "\n",
                       scenario->name, periods.value(), block.value(), seed.value());
   (void)std::remove(state_dir);
   if (heap.allocations != 0) return fail("bench", "wcet: heap allocation after init complete");
 
-  // ---- files and the statistics ----
-  static char paths[kTasks][512];
-  static const int indices[kTasks] = {0, 1, 2, 3};
-  char names[kTasks][64];
-  for (int t = 0; t < kTasks; ++t) {
-    (void)std::snprintf(names[t], sizeof names[t], "%s.txt", kTaskFiles[t]);
-    if (!write_file("wcet", out.value(), out_dir, names[t], write_task, &indices[t], paths[t], sizeof paths[t])) {
-      return fail("bench", "wcet: cannot write the samples into --out");
-    }
-    (void)std::printf("samples_%s: %s\n", kTaskFiles[t], paths[t]);
-  }
-  char result_path[512];
-  char png[512];
-  (void)std::snprintf(result_path, sizeof result_path, "%s/pwcet.txt", out_dir);
-  (void)std::snprintf(png, sizeof png, "%s/pwcet.png", out_dir);
-  char bootstrap_flag[] = "--bootstrap";
-  char bootstrap[8];
-  (void)std::snprintf(bootstrap, sizeof bootstrap, "%d", short_form ? 100 : 500);
-  char plot_flag[] = "--plot";
-  char block_flag[] = "--block";
-  char block_size[16];
-  (void)std::snprintf(block_size, sizeof block_size, "%" PRId64, block.value());
-  char* argv[14] = {script, bootstrap_flag, bootstrap, block_flag, block_size};
-  int argc = 5;
-  if (plot) {
-    argv[argc++] = plot_flag;
-    argv[argc++] = png;
-  }
-  for (auto& path : paths) argv[argc++] = path;
-  argv[argc] = nullptr;
-  (void)::unlink(result_path);  // pwcet.py's output is created anew (O_NOFOLLOW: never through a link)
-  const int statistics = run_python(argv, result_path);
-  copy_to_stdout(result_path);
-  if (statistics != 0 && statistics != 2) {
-    (void)std::fprintf(stderr, "rescue-motion bench: wcet: %s exited %d (its error above)\n", script, statistics);
-    return 1;
-  }
-
-  // ---- the budget (Table I) ----
-  WcetBound bounds[kTasks];
-  BudgetLine lines[kTasks];
-  for (int t = 0; t < kTasks; ++t) {
-    bounds[t].task = kTaskIds[t];
-    bounds[t].given = pwcet_figure(result_path, kTaskFiles[t], "pwcet_1e-9_ci_high_ns", bounds[t].pwcet_ns);
-  }
-  judge_budget(Span<const WcetBound>(bounds), task_table(), Span<BudgetLine>(lines));
-  bool over = false;
-  for (int t = 0; t < kTasks; ++t) {
-    const BudgetLine& line = lines[t];
-    const char* task = kTaskFiles[t];
-    if (line.period_ns > 0) {
-      (void)std::printf("%s.budget_period_ns: %" PRId64 " (Table I CPU %d)\n", task, line.period_ns, line.cpu);
-    } else {
-      (void)std::printf("%s.budget_period_ns: n/a (event driven, Table I CPU %d)\n", task, line.cpu);
-    }
-    if (line.verdict == BudgetVerdict::within || line.verdict == BudgetVerdict::over) {
-      (void)std::printf("%s.budget_share_of_period: %.4f\n", task, line.share);
-      (void)std::printf("%s.budget_response_bound_ns: %.0f\n", task, line.response_ns);
-    } else {
-      (void)std::printf("%s.budget_share_of_period: n/a\n%s.budget_response_bound_ns: n/a\n", task, task);
-    }
-    (void)std::printf("%s.budget: %s\n", task, to_string(line.verdict));
-    over = over || line.verdict == BudgetVerdict::over;
-  }
-  if (plot) (void)std::printf("png: %s\n", png);
-  if (over) {
-    (void)std::printf("wcet_verdict: over budget (a task's response bound exceeds its period)\n");
-    return 3;
-  }
-  if (statistics == 2) {
-    (void)std::printf("wcet_verdict: refused (a task's samples failed a test: no pWCET for it; see its verdict)\n");
-    return 2;
-  }
-  (void)std::printf("wcet_verdict: every task has a pWCET within its budget\n");
-  return 0;
+  return analyse(out.value(), out_dir, script, short_form, plot, block.value());
 }
 
 }  // namespace rescue::app

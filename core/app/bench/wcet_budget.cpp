@@ -1,22 +1,19 @@
 #include "core/app/bench/wcet_budget.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rescue::app {
 namespace {
 
 const TaskSpec* spec_of(Span<const TaskSpec> table, TaskId id) noexcept {
-  for (const TaskSpec& spec : table) {
-    if (spec.id == id) return &spec;
-  }
-  return nullptr;
+  const TaskSpec* found = std::find_if(table.begin(), table.end(), [id](const TaskSpec& spec) { return spec.id == id; });
+  return found != table.end() ? found : nullptr;
 }
 
 const WcetBound* bound_of(Span<const WcetBound> bounds, TaskId id) noexcept {
-  for (const WcetBound& bound : bounds) {
-    if (bound.task == id) return &bound;
-  }
-  return nullptr;
+  const WcetBound* found = std::find_if(bounds.begin(), bounds.end(), [id](const WcetBound& bound) { return bound.task == id; });
+  return found != bounds.end() ? found : nullptr;
 }
 
 // The task's own pWCET plus the interference of every other task of higher or equal priority on its

@@ -31,11 +31,11 @@ enum class BudgetVerdict : std::uint8_t {
 };
 
 struct BudgetLine {
-  TaskId task{TaskId::ethercat_handler};
-  int cpu{0};                   // Table I's CPU
   std::int64_t period_ns{0};    // 0: event driven
   double share{0.0};            // pWCET / period (0 when n/a)
   double response_ns{0.0};      // own pWCET + the interference above (0 when n/a)
+  int cpu{0};                   // Table I's CPU
+  TaskId task{TaskId::ethercat_handler};
   BudgetVerdict verdict{BudgetVerdict::not_measured};
 };
 
