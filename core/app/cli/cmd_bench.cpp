@@ -29,7 +29,7 @@ const OptionSpec kOptions[] = {
     {"dc-in-flight", "N", "master: static drift compensation frames on their way at a time, 1..8 (default 2; 1 = each waits for the one before)"},
     {"sii-cache-dir", "DIR", "master: keep the SII cache in DIR/sii-cache as `run` keeps it in its state directory (loaded first, saved when bring-up read a new image); default: a cache in memory only"},
     {"cold-start", "yes|no", "master: also measure a bring-up without static drift compensation and, on sim, a bring-up with the SII cache warm (default yes); no: bring-up and the cycles only, as SOEM's test program"},
-    {"seed", "S", "master, sim, periods, wcet: seed of the simulated robot's clocks and delays (default 1)"},
+    {"seed", "S", "master, sim, periods, wcet: seed of the simulated robot's clocks and delays, and of wcet's random gaps (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
     {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the master's receive wait (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},
     {"receive-wait", "spin|adaptive|sleep", "master (raw NIC, rt): how the socket waits for the frame: spin up to --receive-spin-us then sleep; adaptive = sleep through the learnt round trip, spin from 20 us before it; sleep = at once (default)"},
@@ -40,7 +40,7 @@ const OptionSpec kOptions[] = {
     {"plot-script", "PATH", "fig4: the matplotlib script (default plot_fig4.py beside the program: <prefix>/share/rescue-motion/ when installed, toolchain/ of the source tree for a build)"},
     {"no-plot", nullptr, "fig4: write the CSV files only; wcet: no exceedance plot"},
     {"scenario", "NAME", "wcet: typical, recovery, services, worst (default) or mixed (docs/timing.md \"Worst-path scenarios\")"},
-    {"block", "N", "wcet: periods per block of the block maxima (default 50; longer than the scenario's cycle of heavy periods, so each block sees one)"},
+    {"block", "N", "wcet: periods per block of the block maxima (default 50; make it longer than the scenario's cycle of heavy periods so that each block holds one)"},
     {"short", nullptr, "wcet: the CI form: 2500 periods, 100 bootstrap resamples (checks the method and the refusal, not the bound)"},
 };
 
