@@ -374,6 +374,15 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   const hal::RtReport rt_report = hal::apply_rt_config(rt);
   rt_report.print(stdout);
+  // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
+  char load[64] = "n/a";
+  if (std::FILE* loadavg = std::fopen("/proc/loadavg", "r"); loadavg != nullptr) {
+    if (std::fgets(load, sizeof load, loadavg) == nullptr) (void)std::snprintf(load, sizeof load, "n/a");
+    load[std::strcspn(load, "\n")] = '\0';
+    (void)std::fclose(loadavg);
+  }
+  (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
+  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", load);
 
   // ---- init: everything that may allocate, as run_firmware wires the tasks (one thread steps them all) ----
   if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve()) {
