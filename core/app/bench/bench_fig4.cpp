@@ -20,6 +20,7 @@
 #include <ctime>
 #include <thread>
 
+#include "core/app/bench/bench_files.hpp"
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/bench/timed_nic.hpp"
 #include "core/app/config/firmware_config.hpp"
@@ -322,61 +323,7 @@ void stop_child(pid_t pid) noexcept {
   (void)::waitpid(pid, &status, 0);
 }
 
-// The plot script: --plot-script, else beside the program: the package's
-// <prefix>/share/rescue-motion/plot_fig4.py (/usr/bin/rescue-motion -> /usr/share/rescue-motion/), else the
-// source tree's toolchain/plot_fig4.py (build/PRESET/rescue-motion -> toolchain/). Empty when none exists;
-// `looked` lists where it looked.
-bool find_plot_script(const char* option, char* out, std::size_t size, char* looked, std::size_t looked_size) noexcept {
-  looked[0] = '\0';
-  if (option != nullptr) {
-    (void)std::snprintf(out, size, "%s", option);
-    (void)std::snprintf(looked, looked_size, "%s (--plot-script)", option);
-    return ::access(option, R_OK) == 0;
-  }
-  char exe[512];
-  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (n <= 0) return false;
-  exe[n] = '\0';
-  char* slash = std::strrchr(exe, '/');
-  if (slash == nullptr) return false;
-  *slash = '\0';  // the program's directory
-  const char* const candidates[] = {"../share/rescue-motion/plot_fig4.py", "../../toolchain/plot_fig4.py"};
-  std::size_t used = 0;
-  for (const char* relative : candidates) {
-    (void)std::snprintf(out, size, "%s/%s", exe, relative);
-    const int w = std::snprintf(looked + used, looked_size - used, "%s%s", used == 0 ? "" : ", ", out);
-    if (w > 0 && used + static_cast<std::size_t>(w) < looked_size) used += static_cast<std::size_t>(w);
-    if (::access(out, R_OK) == 0) return true;
-  }
-  out[0] = '\0';
-  return false;
-}
-
-// Whether /usr/bin/python3 can import matplotlib (Debian's python3-matplotlib).
-bool matplotlib_available() noexcept {
-  char python[] = "/usr/bin/python3";
-  char dash_c[] = "-c";
-  char import[] = "import matplotlib";
-  char* argv[] = {python, dash_c, import, nullptr};
-  pid_t pid = -1;
-  if (::access(python, X_OK) != 0 || posix_spawn(&pid, python, nullptr, nullptr, argv, environ) != 0) return false;
-  int status = 0;
-  if (::waitpid(pid, &status, 0) != pid) return false;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-int run_plot(const char* script, const char* csv, const char* png, const char* conditions) noexcept {
-  char python[] = "/usr/bin/python3";  // Debian's, with python3-matplotlib
-  char* argv[] = {python, const_cast<char*>(script), const_cast<char*>(csv), const_cast<char*>(png),  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
-                  const_cast<char*>(conditions), nullptr};  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
-  pid_t pid = -1;
-  if (posix_spawn(&pid, python, nullptr, nullptr, argv, environ) != 0) return -1;
-  int status = 0;
-  if (::waitpid(pid, &status, 0) != pid) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-bool write_series(std::FILE* out) noexcept {
+bool write_series(std::FILE* out, const void* /*unused*/) noexcept {
   // execution_ns is the whole period's work; for the handler it splits into handler_only_ns (the
   // handler alone: the paper's Fig. 4), simulator_ns and frame_wait_ns (0 for the RC task).
   bool ok = std::fprintf(out, "case,task,period,execution_ns,latency_ns,handler_only_ns,simulator_ns,frame_wait_ns\n") > 0;
@@ -393,29 +340,10 @@ bool write_series(std::FILE* out) noexcept {
   return ok;
 }
 
-bool write_summary(std::FILE* out) noexcept {
+bool write_summary(std::FILE* out, const void* /*unused*/) noexcept {
   const PeriodRecorder* all[kTasks * kCases] = {&g_recorders[0][0], &g_recorders[1][0], &g_recorders[0][1],
                                                 &g_recorders[1][1]};
   return PeriodRecorder::write_csv(out, Span<const PeriodRecorder* const>(all));
-}
-
-// `name` in the checked --out directory (hal/files/trusted_file.hpp: never through a link, never a
-// FIFO or another user's file), its path into `path` for the report.
-bool write_file(const hal::OpenFile& dir, const char* dir_path, const char* name, bool (*write)(std::FILE*), char* path,
-                std::size_t path_size) noexcept {
-  const int n = std::snprintf(path, path_size, "%s/%s", dir_path, name);
-  if (n < 0 || static_cast<std::size_t>(n) >= path_size) return false;
-  hal::FileProblem why;
-  Result<hal::OpenFile> file = hal::create_regular_in(dir, dir_path, name, 0644, why);
-  if (!file.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion bench: fig4: %s\n", why.c_str());
-    return false;
-  }
-  std::FILE* out = ::fdopen(file.value().fd(), "w");
-  if (out == nullptr) return false;
-  (void)file.value().release();  // fclose closes it
-  const bool written = write(out);
-  return std::fclose(out) == 0 && written;
 }
 
 void print_figures(const char* key, const LatencyHistogram& h) noexcept {
@@ -554,8 +482,8 @@ int write_and_plot(const hal::OpenFile& out, const char* out_dir, const char* sc
                    std::int64_t periods) noexcept {
   char csv[512];
   char summary[512];
-  if (!write_file(out, out_dir, "fig4.csv", write_series, csv, sizeof csv) ||
-      !write_file(out, out_dir, "fig4-summary.csv", write_summary, summary, sizeof summary)) {
+  if (!write_file("fig4", out, out_dir, "fig4.csv", write_series, nullptr, csv, sizeof csv) ||
+      !write_file("fig4", out, out_dir, "fig4-summary.csv", write_summary, nullptr, summary, sizeof summary)) {
     return fail("bench", "cannot write the CSV files into --out");
   }
   (void)std::printf("csv: %s\n", csv);
@@ -565,7 +493,8 @@ int write_and_plot(const hal::OpenFile& out, const char* out_dir, const char* sc
     (void)std::snprintf(png, sizeof png, "%s/fig4.png", out_dir);
     char conditions[512];
     describe_conditions(conditions, sizeof conditions, load, periods);
-    const int plotted = run_plot(script, csv, png, conditions);
+    char* argv[] = {const_cast<char*>(script), csv, png, conditions, nullptr};  // NOLINT(cppcoreguidelines-pro-type-const-cast): argv is not written
+    const int plotted = run_python(argv, nullptr);
     if (plotted != 0) {
       (void)std::fprintf(stderr, "rescue-motion bench: fig4: the plot script %s exited %d (its error above); the CSV files are written\n",
                          script, plotted);
@@ -582,12 +511,12 @@ int write_and_plot(const hal::OpenFile& out, const char* out_dir, const char* sc
 int check_prerequisites(const ParsedArgs& args, bool plot, const char* out_dir, char* script, std::size_t script_size,
                         Result<hal::OpenFile>& out) noexcept {
   char looked[1400];
-  if (plot && !find_plot_script(args.value("plot-script"), script, script_size, looked, sizeof looked)) {
+  if (plot && !find_script(args.value("plot-script"), "plot_fig4.py", "toolchain/plot_fig4.py", script, script_size, looked, sizeof looked)) {
     (void)std::fprintf(stderr, "rescue-motion bench: fig4: no plot script (looked: %s); give --plot-script PATH or --no-plot\n",
                        looked);
     return 1;
   }
-  if (plot && !matplotlib_available()) {
+  if (plot && !python_imports("matplotlib")) {
     return fail("bench", "fig4: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
   }
   if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "cannot create the --out directory");

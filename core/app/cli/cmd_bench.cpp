@@ -11,6 +11,7 @@
 #include "core/app/bench/bench_periods.hpp"
 #include "core/app/bench/bench_rc.hpp"
 #include "core/app/bench/bench_sim.hpp"
+#include "core/app/bench/bench_wcet.hpp"
 #include "core/app/cli/commands.hpp"
 #include "core/app/config/nic_option.hpp"
 
@@ -29,16 +30,19 @@ const OptionSpec kOptions[] = {
     {"dc-in-flight", "N", "master: static drift compensation frames on their way at a time, 1..8 (default 2; 1 = each waits for the one before)"},
     {"sii-cache-dir", "DIR", "master: keep the SII cache in DIR/sii-cache as `run` keeps it in its state directory (loaded first, saved when bring-up read a new image); default: a cache in memory only"},
     {"cold-start", "yes|no", "master: also measure a bring-up without static drift compensation and, on sim, a bring-up with the SII cache warm (default yes); no: bring-up and the cycles only, as SOEM's test program"},
-    {"seed", "S", "master, sim, periods: seed of the simulated robot's clocks and delays (default 1)"},
+    {"seed", "S", "master, sim, periods, wcet: seed of the simulated robot's clocks and delays, and of wcet's random gaps (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
     {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the master's receive wait (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},
     {"receive-wait", "spin|adaptive|sleep", "master (raw NIC, rt): how the socket waits for the frame: spin up to --receive-spin-us then sleep; adaptive = sleep through the learnt round trip, spin from 20 us before it; sleep = at once (default)"},
     {"receive-spin-us", "US", "master (raw NIC, rt): the receive spin's limit in us (default 150)"},
-    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000)"},
+    {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000); wcet: measured periods per task (default 20000, 2500 with --short)"},
     {"load", "LIST", "fig4: background load: stress,udp (default), stress, udp or none"},
-    {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4)"},
+    {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4); wcet: directory for one samples file per task, pwcet.txt, pwcet.png, capture.pcapng (default /tmp/rescue-wcet)"},
     {"plot-script", "PATH", "fig4: the matplotlib script (default plot_fig4.py beside the program: <prefix>/share/rescue-motion/ when installed, toolchain/ of the source tree for a build)"},
-    {"no-plot", nullptr, "fig4: write the CSV files only"},
+    {"no-plot", nullptr, "fig4: write the CSV files only; wcet: no exceedance plot"},
+    {"scenario", "NAME", "wcet: typical, recovery, services, worst (default) or mixed (docs/timing.md \"Worst-path scenarios\")"},
+    {"block", "N", "wcet: periods per block of the block maxima (default 50; make it longer than the scenario's cycle of heavy periods so that each block holds one)"},
+    {"short", nullptr, "wcet: the CI form: 2500 periods, 100 bootstrap resamples (checks the method and the refusal, not the bound)"},
 };
 
 struct Bench {
@@ -62,6 +66,8 @@ const Bench kBenches[] = {
     {"periods", bench_periods, "the handler's cycle, the joint manager's step and the RC period on the simulated robot in virtual time", "cycles seed"},
     {"fig4", bench_fig4, "the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
      "periods load out plot-script no-plot"},
+    {"wcet", bench_wcet, "pWCET per real-time task on its worst path (--scenario): per-period times on the simulated robot in virtual time, i.i.d. tests, GEV fit, pWCET at 1e-9 and 1e-12 with their interval or a refusal, plot, the budget against Table I; exit 2 refused, 3 over budget",
+     "periods scenario block short seed out no-plot"},
 };
 
 const Bench* find_bench(const char* name) noexcept {
@@ -83,7 +89,7 @@ bool takes(const Bench& bench, const char* option) noexcept {
 }
 
 int unknown_bench(const char* name) noexcept {
-  (void)std::fprintf(stderr, "rescue-motion bench: unknown benchmark '%s' (known: nic, core, codec, master, sim, rc, latency, periods, fig4)\n",
+  (void)std::fprintf(stderr, "rescue-motion bench: unknown benchmark '%s' (known: nic, core, codec, master, sim, rc, latency, periods, fig4, wcet)\n",
                      name != nullptr ? name : "");
   return 2;
 }
@@ -141,7 +147,7 @@ int bench_help(const ParsedArgs& args) {
 }  // namespace
 
 const CommandSpec kBenchCommand{
-    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods, fig4)",
+    "bench", "bench NAME [OPTIONS]", "run a measuring command (nic, core, codec, master, sim, rc, latency, periods, fig4, wcet)",
     "Prints the CPU, kernel and privileges it ran with, then one 'key: value unit' line per figure.\n"
     "  nic      round trip of a 60-byte frame through what answers on --nic (`sim --iface` on a veth)\n"
     "  core     TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap\n"
@@ -160,7 +166,9 @@ const CommandSpec kBenchCommand{
     "  periods  the handler's cycle, the joint manager's step and the RC period on the simulated robot\n"
     "           in virtual time (toolchain/instructions.sh)\n"
     "  fig4     the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with\n"
-    "           Table I affinity; CSV, PNG, summary",
+    "           Table I affinity; CSV, PNG, summary\n"
+    "  wcet     pWCET of each real-time task on its worst path (--scenario), its interval or a refusal,\n"
+    "           the budget against Table I (toolchain/wcet/pwcet.py)",
     Span<const OptionSpec>(kOptions), 1, 1, bench_main, bench_help};
 
 }  // namespace rescue::app

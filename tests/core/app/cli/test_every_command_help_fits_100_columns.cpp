@@ -29,7 +29,7 @@ TEST(CommandHelp, EveryCommandFits100Columns) {
 }
 
 TEST(CommandHelp, EveryBenchmarkFits100Columns) {
-  for (const char* bench : {"nic", "core", "codec", "master", "sim", "rc", "latency", "periods", "fig4"}) {
+  for (const char* bench : {"nic", "core", "codec", "master", "sim", "rc", "latency", "periods", "fig4", "wcet"}) {
     expect_fits({"bench", bench, "--help"});
   }
 }

@@ -51,7 +51,7 @@ TEST(BenchHelp, ListsOnlyBenchmarksThatExist) {
   EXPECT_FALSE(contains(out.out, "\n  tables ")) << out.out;  // no such benchmark
   EXPECT_TRUE(contains(out.out, "\n  rc ")) << out.out;  // core/app/bench/bench_rc.cpp
   // Every benchmark the help names runs: an unknown one is refused with its reason.
-  for (const char* name : {"nic", "core", "codec", "master", "sim", "rc", "latency", "periods", "fig4"}) {
+  for (const char* name : {"nic", "core", "codec", "master", "sim", "rc", "latency", "periods", "fig4", "wcet"}) {
     EXPECT_TRUE(contains(out.out, std::string("\n  ") + name + " ")) << name;
   }
 }

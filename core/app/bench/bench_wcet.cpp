@@ -1,0 +1,543 @@
+#include "core/app/bench/bench_wcet.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "core/app/bench/bench_files.hpp"
+#include "core/app/bench/bench_header.hpp"
+#include "core/app/bench/wcet_budget.hpp"
+#include "core/app/bench/wcet_scenarios.hpp"
+#include "core/app/config/firmware_config.hpp"
+#include "core/app/config/task_table.hpp"
+#include "core/app/links/task_links.hpp"
+#include "core/app/runtime/task_ports.hpp"
+#include "core/app/tasks/error_joints_storage.hpp"
+#include "core/app/tasks/ethercat_handler.hpp"
+#include "core/app/tasks/joint_manager.hpp"
+#include "core/app/tasks/message_parser.hpp"
+#include "core/app/tasks/predefined_messages.hpp"
+#include "core/kinematics/rc_period.hpp"
+#include "core/kinematics/rescue_motion.hpp"
+#include "core/memory/heap_guard.hpp"
+#include "core/memory/start_up_slot.hpp"
+#include "drivers/joint/joint_bus.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "ecat/capture/capture_queue.hpp"
+#include "ecat/capture/capture_writer.hpp"
+#include "hal/rt/rt_setup.hpp"
+#include "hal/time/clock.hpp"
+#include "hal/time/tsc_timer.hpp"
+#include "hal/time/wall_clock.hpp"
+
+namespace rescue::app {
+namespace {
+
+constexpr std::int64_t kDefaultPeriods = 20000;
+constexpr std::int64_t kShortPeriods = 2500;  // 50 blocks of 50: just above the method's 40
+constexpr std::int64_t kMaxPeriods = 200000;
+constexpr int kMaxCyclesToOp = 3000;
+constexpr int kSettleCycles = 200;
+// The next power cycle of every slave comes once every joint is Enabled again, after a hold at
+// random in [0, kHoldSpread) periods (so the heavy periods fall at no fixed phase of the 50-period
+// blocks), and never within kMinGap periods of the last (the loss takes a few periods to show).
+constexpr std::uint64_t kHoldSpread = 200;
+constexpr std::int64_t kMinGap = 50;
+// While joints are down the operator's side sends a request in a period with probability 1 in
+// kRequestOdds (at random: no period the blocks' phase could lock onto).
+constexpr std::uint64_t kRequestOdds = 20;
+constexpr std::size_t kSdoLabelBytes = 200;  // an SDO value several mailbox segments long
+
+enum Task : std::uint8_t { kHandler, kManager, kParser, kRc, kTasks };
+constexpr const char* kTaskFiles[kTasks] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks"};
+constexpr TaskId kTaskIds[kTasks] = {TaskId::ethercat_handler, TaskId::joint_manager, TaskId::message_parser, TaskId::rc_tasks};
+
+struct Samples {
+  std::array<std::array<std::uint32_t, kMaxPeriods>, kTasks> ns;
+};
+
+class NoEvents final : public JointEventSink {
+ public:
+  void on_event(const JointEvent& /*event*/) noexcept override {}
+};
+
+hal::VirtualClock g_clock{hal::kNsPerSec};
+TaskLinks g_links;
+StartUpSlot<Samples> g_samples_slot;
+StartUpSlot<drivers::SimulatedRobot> g_robot_slot;
+StartUpSlot<drivers::JointBus> g_bus_slot;
+ecat::CaptureQueue g_capture;
+ecat::CaptureWriter g_capture_file;
+std::int64_t g_periods = 0;
+char g_conditions[512];
+
+// xorshift64: the power cycles' gaps from --seed, no heap, the same run for the same seed.
+std::uint64_t next_random(std::uint64_t& state) noexcept {
+  state ^= state << 13U;
+  state ^= state >> 7U;
+  state ^= state << 17U;
+  return state;
+}
+
+std::uint32_t clamp_u32(hal::Nanoseconds v) noexcept {
+  return v <= 0 ? 0U : v > 0xFFFFFFFF ? 0xFFFFFFFFU : static_cast<std::uint32_t>(v);
+}
+
+bool write_task(std::FILE* out, const void* context) noexcept {
+  const auto task = static_cast<std::size_t>(*static_cast<const int*>(context));
+  bool ok = std::fprintf(out, "# %s: one period's execution time in ns per line, period order\n%s", kTaskFiles[task], g_conditions) > 0;
+  const Samples& s = g_samples_slot.emplace();
+  for (std::int64_t k = 0; ok && k < g_periods; ++k) ok = std::fprintf(out, "%u\n", s.ns[task][static_cast<std::size_t>(k)]) > 0;
+  return ok;
+}
+
+// The value of `TASK.KEY: VALUE` in pwcet.py's output; false when absent or not a number.
+bool pwcet_figure(const char* path, const char* task, const char* key, double& value) noexcept {
+  std::FILE* in = std::fopen(path, "r");
+  if (in == nullptr) return false;
+  char want[96];
+  (void)std::snprintf(want, sizeof want, "%s.%s: ", task, key);
+  char line[512];
+  bool found = false;
+  while (!found && std::fgets(line, sizeof line, in) != nullptr) {
+    if (std::strncmp(line, want, std::strlen(want)) != 0) continue;
+    char* end = nullptr;
+    const char* at = line + std::strlen(want);
+    value = std::strtod(at, &end);
+    found = end != at;
+  }
+  (void)std::fclose(in);
+  return found;
+}
+
+void copy_to_stdout(const char* path) noexcept {
+  std::FILE* in = std::fopen(path, "r");
+  if (in == nullptr) return;
+  char line[1024];
+  while (std::fgets(line, sizeof line, in) != nullptr) (void)std::fputs(line, stdout);
+  (void)std::fclose(in);
+}
+
+// The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
+class ScenarioDriver {
+ public:
+  ScenarioDriver(drivers::SimulatedSegment& segment, const SocketHandlerPorts& operator_side,
+                 MessageSink<ControlRequest>& local, MessageSource<ControlReply>& local_replies, std::uint64_t seed) noexcept
+      : segment_(segment), operator_(operator_side), local_(local), local_replies_(local_replies),
+        random_(seed * 0x9E3779B97F4A7C15ULL + 1) {
+    for (std::size_t i = 0; i < kSdoLabelBytes; ++i) label_.sdo.data[i] = static_cast<std::uint8_t>('a' + i % 26);
+  }
+
+  // Before period k's work.
+  // `out`: the joints out of the exchange last period; `enabled`, `lost`: the joint manager's.
+  void before(const WcetStress& stress, std::int64_t k, JointMask out, JointMask enabled, JointMask lost) noexcept {
+    if (stress.power_cycles) power_cycles_when_due(k, enabled);
+    if (stress.services) services();
+    if (enabled == kAllJoints || next_random(random_) % kRequestOdds != 0) return;
+    // The operator's side while joints are down: once the master has a lost joint's drive back in
+    // the exchange, its clear (the positions confirmed: the joints may have moved), then the
+    // re-initialise of every joint not lost (the parser's heaviest request: each joint's three steps),
+    // joint by joint, as run's runtime sends its own requests.
+    ControlRequest request;
+    request.sequence = ++sequence_;
+    const JointMask back = lost & ~out;
+    request.type = back != 0 ? protocol::MessageType::clear_moved : protocol::MessageType::initialize;
+    request.joints = back != 0 ? back : kAllJoints & ~lost;
+    (void)local_.try_send(request);
+  }
+
+  // After the period: take the answers (the socket handler's and the runtime's side, untimed).
+  void after() noexcept {
+    ControlReply reply;
+    while (local_replies_.try_receive(reply)) {
+    }
+    SdoLinkResult result;
+    while (operator_.sdo_results->try_receive(result)) sdo_in_flight_ = false;
+  }
+
+  std::uint64_t power_cycles() const noexcept { return power_cycles_; }
+  std::uint64_t sdo_transfers() const noexcept { return sdo_sent_; }
+
+ private:
+  void power_cycles_when_due(std::int64_t k, JointMask enabled) noexcept {
+    if (enabled != kAllJoints || (power_cycles_ != 0 && k - last_power_cycle_ < kMinGap)) return;
+    if (next_power_cycle_ < 0) next_power_cycle_ = k + static_cast<std::int64_t>(next_random(random_) % kHoldSpread);
+    if (k < next_power_cycle_) return;
+    for (std::size_t position = 0; position < segment_.slave_count(); ++position) {
+      (void)segment_.power_cycle(position, g_clock.now());
+    }
+    ++power_cycles_;
+    last_power_cycle_ = k;
+    next_power_cycle_ = -1;
+  }
+
+  void services() noexcept {
+    // A diagnostics reset of every slave each period (ctl diag --reset: the handler zeroes the
+    // counters and publishes the table).
+    DiagResetLink& reset = g_links.diag_reset;
+    const std::uint64_t generation = DiagResetLink::generation_of(reset.requested.load(std::memory_order_relaxed)) + 1;
+    reset.requested.store((generation << 32U) | DiagResetLink::kMaskBits, std::memory_order_release);
+    // Segmented SDO transfers back to back: a 200-byte download, then its upload, on the next joint.
+    if (!sdo_in_flight_) {
+      SdoLinkRequest request = label_;
+      request.id = static_cast<std::uint32_t>(++sdo_sent_);
+      request.download = (sdo_sent_ % 2) == 1;
+      request.sdo.joint = static_cast<std::uint8_t>((sdo_sent_ / 2) % kJointCount);
+      request.sdo.index = 0x2010;  // the drive's label (a visible string of up to 256 bytes)
+      request.sdo.subindex = 0;
+      request.sdo.size = request.download ? static_cast<std::uint16_t>(kSdoLabelBytes) : 0;
+      sdo_in_flight_ = operator_.sdo_requests->try_send(request);
+    }
+  }
+
+  drivers::SimulatedSegment& segment_;
+  SocketHandlerPorts operator_;
+  MessageSink<ControlRequest>& local_;
+  MessageSource<ControlReply>& local_replies_;
+  std::uint64_t random_;
+  SdoLinkRequest label_{};
+  std::int64_t next_power_cycle_{-1};
+  std::int64_t last_power_cycle_{0};
+  std::uint64_t power_cycles_{0};
+  std::uint64_t sdo_sent_{0};
+  std::uint64_t sequence_{0};
+  bool sdo_in_flight_{false};
+};
+
+// Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
+void print_end_state(const JointManager& manager, drivers::JointBus& bus, const drivers::SimulatedSegment& segment,
+                     JointMask last_out) noexcept {
+  (void)std::printf("at_end_joints_out_of_exchange: 0x%06x\n", static_cast<unsigned>(last_out));
+  (void)std::printf("at_end_joints_lost: 0x%06x\n", static_cast<unsigned>(manager.lost_joints()));
+  (void)std::printf("at_end_joints_not_enabled:");
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const fsm::JointState state = manager.statuses()[j].state;
+    if (state != fsm::JointState::enabled) (void)std::printf(" %s=%s", kJoints[j].name, fsm::to_string(state));
+  }
+  (void)std::printf("\n");
+  (void)std::printf("at_end_slaves_recovering:");
+  for (std::size_t position = 0; position < segment.slave_count(); ++position) {
+    const ecat::RecoveryState state = bus.master().recovery_state(position);
+    if (state == ecat::RecoveryState::idle) continue;
+    (void)std::printf(" %s=%s(failures %u)", segment.slave(position).name, ecat::to_string(state),
+                      static_cast<unsigned>(bus.master().recovery_failures(position)));
+  }
+  (void)std::printf("\n");
+}
+
+// The budget against Table I from pwcet.py's output (wcet_budget.hpp); true when a task is over.
+bool print_budget(const char* result_path) noexcept {
+  WcetBound bounds[kTasks];
+  BudgetLine lines[kTasks];
+  for (int t = 0; t < kTasks; ++t) {
+    bounds[t].task = kTaskIds[t];
+    bounds[t].given = pwcet_figure(result_path, kTaskFiles[t], "pwcet_1e-9_ci_high_ns", bounds[t].pwcet_ns);
+  }
+  judge_budget(Span<const WcetBound>(bounds), task_table(), Span<BudgetLine>(lines));
+  bool over = false;
+  for (int t = 0; t < kTasks; ++t) {
+    const BudgetLine& line = lines[t];
+    const char* task = kTaskFiles[t];
+    if (line.period_ns > 0) {
+      (void)std::printf("%s.budget_period_ns: %" PRId64 " (Table I CPU %d)\n", task, line.period_ns, line.cpu);
+    } else {
+      (void)std::printf("%s.budget_period_ns: n/a (event driven, Table I CPU %d)\n", task, line.cpu);
+    }
+    if (line.verdict == BudgetVerdict::within || line.verdict == BudgetVerdict::over) {
+      (void)std::printf("%s.budget_share_of_period: %.4f\n", task, line.share);
+      (void)std::printf("%s.budget_response_bound_ns: %.0f\n", task, line.response_ns);
+    } else {
+      (void)std::printf("%s.budget_share_of_period: n/a\n%s.budget_response_bound_ns: n/a\n", task, task);
+    }
+    (void)std::printf("%s.budget: %s\n", task, to_string(line.verdict));
+    over = over || line.verdict == BudgetVerdict::over;
+  }
+  return over;
+}
+
+// The samples written into --out, pwcet.py run on them, the budget: bench wcet's exit status.
+int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool short_form, bool plot, std::int64_t block) noexcept {
+  static char paths[kTasks][512];
+  static const int indices[kTasks] = {0, 1, 2, 3};
+  char names[kTasks][64];
+  for (int t = 0; t < kTasks; ++t) {
+    (void)std::snprintf(names[t], sizeof names[t], "%s.txt", kTaskFiles[t]);
+    if (!write_file("wcet", dir, out_dir, names[t], write_task, &indices[t], paths[t], sizeof paths[t])) {
+      return fail("bench", "wcet: cannot write the samples into --out");
+    }
+    (void)std::printf("samples_%s: %s\n", kTaskFiles[t], paths[t]);
+  }
+  char result_path[512];
+  char png[512];
+  (void)std::snprintf(result_path, sizeof result_path, "%s/pwcet.txt", out_dir);
+  (void)std::snprintf(png, sizeof png, "%s/pwcet.png", out_dir);
+  char bootstrap_flag[] = "--bootstrap";
+  char bootstrap[8];
+  (void)std::snprintf(bootstrap, sizeof bootstrap, "%d", short_form ? 100 : 500);
+  char plot_flag[] = "--plot";
+  char block_flag[] = "--block";
+  char block_size[16];
+  (void)std::snprintf(block_size, sizeof block_size, "%" PRId64, block);
+  char* argv[14] = {script, bootstrap_flag, bootstrap, block_flag, block_size};
+  int argc = 5;
+  if (plot) {
+    argv[argc++] = plot_flag;
+    argv[argc++] = png;
+  }
+  for (auto& path : paths) argv[argc++] = path;
+  argv[argc] = nullptr;
+  (void)::unlink(result_path);  // pwcet.py's output is created anew (O_NOFOLLOW: never through a link)
+  const int statistics = run_python(argv, result_path);
+  copy_to_stdout(result_path);
+  if (statistics != 0 && statistics != 2) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: %s exited %d (its error above)\n", script, statistics);
+    return 1;
+  }
+
+  const bool over = print_budget(result_path);
+  if (plot) (void)std::printf("png: %s\n", png);
+  if (over) {
+    (void)std::printf("wcet_verdict: over budget (a task's response bound exceeds its period)\n");
+    return 3;
+  }
+  if (statistics == 2) {
+    (void)std::printf("wcet_verdict: refused (a task's samples failed a test: no pWCET for it; see its verdict)\n");
+    return 2;
+  }
+  (void)std::printf("wcet_verdict: every task has a pWCET within its budget\n");
+  return 0;
+}
+
+}  // namespace
+
+// The measured periods: out of line, with stable names, for callgrind's --toggle-collect.
+__attribute__((noinline)) void wcet_handler_period(EthercatHandler& handler, drivers::JointCycleResult& result) noexcept {
+  result = handler.cycle();
+  handler.publish_figures(result, g_clock.now(), 0);
+}
+__attribute__((noinline)) void wcet_joint_manager_period(JointManager& manager) noexcept { manager.step(g_clock.now()); }
+__attribute__((noinline)) void wcet_message_parser_period(MessageParser& parser) noexcept { parser.step(g_clock.now()); }
+__attribute__((noinline)) void wcet_rc_period(kin::RcPeriod& rc, double t_s, JointMask out_of_service) noexcept {
+  (void)rc.run(t_s, out_of_service, kin::JointVector::Zero());
+}
+
+int bench_wcet(const ParsedArgs& args) noexcept {
+  const bool short_form = args.has("short");
+  const Result<std::int64_t> periods = args.integer("periods", short_form ? kShortPeriods : kDefaultPeriods, 2000, kMaxPeriods);
+  if (!periods.ok()) return fail("bench", "wcet: --periods must be 2000..200000 (40 blocks of 50 at least)", periods.error());
+  const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
+  if (!seed.ok()) return fail("bench", "wcet: --seed must be 0..1000000", seed.error());
+  const Result<std::int64_t> block = args.integer("block", 50, 1, 100000);
+  if (!block.ok()) return fail("bench", "wcet: --block must be 1..100000", block.error());
+  if (periods.value() / block.value() < 40) return fail("bench", "wcet: --periods must hold at least 40 blocks of --block periods (pwcet.py's least)");
+  const char* scenario_name = args.value("scenario") != nullptr ? args.value("scenario") : "worst";
+  const WcetScenarioSpec* scenario = find_wcet_scenario(scenario_name);
+  if (scenario == nullptr) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: unknown scenario '%s' (known:", scenario_name);
+    for (const WcetScenarioSpec& s : wcet_scenarios()) (void)std::fprintf(stderr, " %s", s.name);
+    (void)std::fprintf(stderr, ")\n");
+    return 1;
+  }
+  const char* out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-wcet";
+  const bool plot = !args.has("no-plot");
+  // The statistics' prerequisites first, before the measuring.
+  char script[640];
+  char looked[1400];
+  if (!find_script(nullptr, "pwcet.py", "toolchain/wcet/pwcet.py", script, sizeof script, looked, sizeof looked)) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: no pwcet.py (looked: %s)\n", looked);
+    return 1;
+  }
+  if (!python_imports("scipy, numpy")) return fail("bench", "wcet: /usr/bin/python3 cannot import scipy (apt install python3-scipy)");
+  if (plot && !python_imports("matplotlib")) return fail("bench", "wcet: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
+  if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "wcet: cannot create the --out directory");
+  hal::FileProblem out_why;
+  const Result<hal::OpenFile> out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
+  if (!out.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: --out: %s\n", out_why.c_str());
+    return 1;
+  }
+  print_bench_header(stdout, "wcet");
+  // One thread steps every task: at the EtherCAT handler's SCHED_FIFO priority on its CPU (the last
+  // one on a smaller machine), memory locked, so what is measured is the tasks' code and not the
+  // other processes of a busy machine. Refused (no privilege): measured at normal scheduling, said so.
+  hal::RtConfig rt;
+  rt.fifo_priority = config::kEthercatHandlerPriority;
+  rt.cpu = table_cpu_on_this_machine(config::kEthercatHandlerCpu);
+  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
+  const hal::RtReport rt_report = hal::apply_rt_config(rt);
+  rt_report.print(stdout);
+  // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
+  char load[64] = "n/a";
+  if (std::FILE* loadavg = std::fopen("/proc/loadavg", "r"); loadavg != nullptr) {
+    if (std::fgets(load, sizeof load, loadavg) == nullptr) (void)std::snprintf(load, sizeof load, "n/a");
+    load[std::strcspn(load, "\n")] = '\0';
+    (void)std::fclose(loadavg);
+  }
+  (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
+  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", load);
+
+  // ---- init: everything that may allocate, as run_firmware wires the tasks (one thread steps them all) ----
+  if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve()) {
+    return fail("bench", "wcet: not enough memory for the samples and the simulated robot");
+  }
+  Samples& samples = g_samples_slot.emplace();
+  drivers::RobotSegmentOptions robot_options;
+  robot_options.seed = static_cast<std::uint64_t>(seed.value());
+  drivers::SimulatedRobot& robot = g_robot_slot.emplace(robot_options, g_clock.now());
+  if (!robot.status().ok()) return fail("bench", "wcet: cannot build the simulated robot", robot.status().error());
+  static drivers::SimulatedNic nic(robot.segment(), g_clock);
+  drivers::JointBus& bus = g_bus_slot.emplace(nic);
+  char state_dir[] = "/tmp/rescue-bench-wcet-XXXXXX";
+  if (mkdtemp(state_dir) == nullptr) return fail("bench", "wcet: cannot create a temporary state directory");
+  static ErrorJointsFileStorage storage(state_dir);
+  static TaskPorts ports(g_links);
+  static hal::ManualWallClock wall;
+  static NoEvents events;
+  static ErrorJointsStorageWorker storage_worker(ports.storage_worker_requests(), ports.storage_worker_results(), storage);
+  static JointManager manager(ports.joint_manager(storage, wall, events));
+  manager.set_auto_clear_power_cycled(true);  // a power-cycled joint returns through the clear (run --auto-clear-power-cycled)
+  (void)manager.restore(g_clock.now());
+  static MessageParser parser(ports.message_parser());
+  ecat::MasterOptions master_options;
+  master_options.online_recovery = true;  // as run: returning slaves back to OP while cycling
+  const Status up = bus.bring_up(master_options);
+  if (!up.ok()) return fail("bench", "wcet: bring-up failed", up.error());
+  static EthercatHandler handler(bus, ports.ethercat_handler(), 0);
+  static kin::RcPeriod rc(kin::ready_posture());
+  static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> local(g_links.local_requests);
+  static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> local_replies(g_links.local_replies);
+  static ScenarioDriver driver(robot.segment(), ports.socket_handler(), local, local_replies,
+                               static_cast<std::uint64_t>(seed.value()));
+  char capture_path[512];
+  (void)std::snprintf(capture_path, sizeof capture_path, "%s/capture.pcapng", out_dir);
+  (void)::unlink(capture_path);
+  if (!g_capture_file.open(capture_path, ecat::CaptureWriterOptions{}).ok()) return fail("bench", "wcet: cannot open the capture file in --out");
+  const hal::TscTimer timer = hal::TscTimer::calibrate();
+  const auto motion_periods = static_cast<std::int64_t>(rc.motion().duration_s() * 1000.0);
+
+  std::int64_t rc_k = 0;
+  // Bring-up and settling: the same work, outside the measured functions (callgrind counts only the
+  // measured periods: toolchain/wcet/instructions.sh).
+  auto unmeasured_period = [&]() noexcept {
+    g_clock.sleep_until(bus.next_wakeup());
+    const drivers::JointCycleResult r = handler.cycle();
+    handler.publish_figures(r, g_clock.now(), 0);
+    manager.step(g_clock.now());
+    (void)storage_worker.serve_one();
+    parser.step(g_clock.now());
+    (void)rc.run(static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001, r.out | manager.lost_joints(),
+                 kin::JointVector::Zero());
+    return r;
+  };
+  auto period = [&](std::int64_t k) noexcept {
+    g_clock.sleep_until(bus.next_wakeup());
+    drivers::JointCycleResult r;
+    const std::uint64_t t0 = timer.start();
+    wcet_handler_period(handler, r);
+    const std::uint64_t t1 = timer.stop();
+    const std::uint64_t t2_start = timer.start();
+    wcet_joint_manager_period(manager);
+    const std::uint64_t t2 = timer.stop();
+    (void)storage_worker.serve_one();  // a thread of its own in run: untimed
+    const std::uint64_t t3 = timer.start();
+    wcet_message_parser_period(parser);
+    const std::uint64_t t4 = timer.stop();
+    const double t_s = static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001;
+    const JointMask out_of_service = r.out | manager.lost_joints();
+    const std::uint64_t t5 = timer.start();
+    wcet_rc_period(rc, t_s, out_of_service);
+    const std::uint64_t t6 = timer.stop();
+    const auto at = static_cast<std::size_t>(k);
+    samples.ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
+    samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t2_start));
+    samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
+    samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
+    return r;
+  };
+  int to_op = 0;
+  while (to_op < kMaxCyclesToOp && unmeasured_period().state != ecat::MasterState::op) ++to_op;
+  if (to_op == kMaxCyclesToOp) return fail("bench", "wcet: the network did not reach OP");
+  MessageSink<JointCommand>& commands = *ports.message_parser().joint_commands;
+  for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
+    // cppcheck-suppress useStlAlgorithm
+    if (!commands.try_send(c)) return fail("bench", "wcet: joint handle queue full");
+  }
+  for (int i = 0; i < kSettleCycles; ++i) (void)unmeasured_period();
+
+  // ---- measured: nothing may allocate ----
+  declare_init_complete(HeapGuardMode::count);
+  bool capture_on = false;
+  std::uint64_t periods_all_enabled = 0;
+  std::uint64_t periods_with_lost = 0;
+  std::uint64_t cycles_seen = 0;
+  JointMask last_out = 0;
+  std::int64_t down_since = -1;       // the period of the power cycle not yet recovered from
+  std::int64_t longest_recovery = -1;  // periods from a power cycle to every joint Enabled again
+  std::uint64_t recoveries = 0;
+  bool went_down = false;
+  for (std::int64_t k = 0; k < periods.value(); ++k) {
+    const WcetStress stress = wcet_stress(scenario->id, k, periods.value());
+    if (stress.services && !capture_on) {
+      bus.master().set_tap(ecat::capture_queue_tap, &g_capture);  // capture on: every frame queued for the logger
+      capture_on = true;
+    }
+    JointMask enabled = 0;
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      if (manager.statuses()[j].state == fsm::JointState::enabled) enabled |= JointMask{1} << j;
+    }
+    if (down_since >= 0 && enabled != kAllJoints) went_down = true;
+    if (down_since >= 0 && went_down && enabled == kAllJoints) {
+      longest_recovery = std::max(longest_recovery, k - down_since);
+      ++recoveries;
+      down_since = -1;
+    }
+    driver.before(stress, k, last_out, enabled, manager.lost_joints());
+    if (driver.power_cycles() != cycles_seen) {
+      cycles_seen = driver.power_cycles();
+      down_since = k;
+      went_down = false;
+    }
+    last_out = period(k).out;
+    driver.after();
+    if (capture_on) (void)g_capture.drain(g_capture_file, ecat::CaptureQueue::kCapacity);  // the logger's side, untimed
+    periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
+    periods_with_lost += manager.lost_joints() != 0 ? 1U : 0U;
+  }
+  const HeapGuardCounters heap = heap_guard_counters();
+  (void)g_capture_file.close();
+  g_periods = periods.value();
+
+  (void)std::printf("scenario: %s (%s)\n", scenario->name, scenario->what);
+  (void)std::printf("form: %s\n", short_form ? "short (CI: the method and the refusal, not the bound)" : "full");
+  (void)std::printf("clock: virtual (the simulated robot; execution times by %s on the host)\n", hal::to_string(timer.source()));
+  (void)std::printf("measured_periods: %" PRId64 " periods per task\n", periods.value());
+  (void)std::printf("cycles_to_op: %d cycles\n", to_op);
+  (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", driver.power_cycles());
+  (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", recoveries);
+  if (longest_recovery >= 0) {
+    (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle of every slave to every joint Enabled)\n", longest_recovery);
+  } else {
+    (void)std::printf("longest_recovery: n/a\n");
+  }
+  (void)std::printf("sdo_transfers: %" PRIu64 "\n", driver.sdo_transfers());
+  (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", periods_all_enabled);
+  (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", periods_with_lost);
+  print_end_state(manager, bus, robot.segment(), last_out);
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
+  (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --block %" PRId64 " --seed %" PRId64 "\n",
+                      scenario->name, periods.value(), block.value(), seed.value());
+  (void)std::remove(state_dir);
+  if (heap.allocations != 0) return fail("bench", "wcet: heap allocation after init complete");
+
+  return analyse(out.value(), out_dir, script, short_form, plot, block.value());
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,40 @@
+#include "core/app/bench/wcet_scenarios.hpp"
+
+#include <cstring>
+
+namespace rescue::app {
+namespace {
+
+const WcetScenarioSpec kScenarios[] = {
+    {WcetScenario::typical, "typical", "every joint Enabled following its reference, the RC tasks doing the rescue motion"},
+    {WcetScenario::recovery, "recovery",
+     "every slave power-cycled at once, again and again: recovery and re-integration of all 23, loss of every joint, "
+     "re-initialise, RC reshaping"},
+    {WcetScenario::services, "services", "segmented SDO transfers back to back, a diagnostics reset every period, capture on"},
+    {WcetScenario::worst, "worst", "recovery and services at once: every service busy together"},
+    {WcetScenario::mixed, "mixed", "typical for the first half, worst for the second: not i.i.d. by construction (must be refused)"},
+};
+
+}  // namespace
+
+Span<const WcetScenarioSpec> wcet_scenarios() noexcept { return {kScenarios}; }
+
+const WcetScenarioSpec* find_wcet_scenario(const char* name) noexcept {
+  for (const WcetScenarioSpec& spec : kScenarios) {
+    if (name != nullptr && std::strcmp(spec.name, name) == 0) return &spec;
+  }
+  return nullptr;
+}
+
+WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept {
+  switch (scenario) {
+    case WcetScenario::typical: return {};
+    case WcetScenario::recovery: return {true, false};
+    case WcetScenario::services: return {false, true};
+    case WcetScenario::worst: return {true, true};
+    case WcetScenario::mixed: return k < periods / 2 ? WcetStress{} : WcetStress{true, true};
+  }
+  return {};
+}
+
+}  // namespace rescue::app

@@ -1,0 +1,42 @@
+// bench wcet's scenarios (docs/timing.md "Worst-path scenarios"): what makes each real-time task's
+// period heaviest, and the load bench wcet puts on it to drive that path on purpose, on the simulated
+// robot in virtual time. A scenario is a set of stresses; bench_wcet.cpp applies them.
+//   typical   every joint Enabled, following its reference; the RC tasks doing the rescue motion
+//   recovery  every slave power-cycled at once, again and again (at a seeded random gap): the master
+//             loses all 23, recovers and re-integrates each (recovery, re-integration, PDO set-up,
+//             OP step, start-up SDOs in the mailbox, link probes); the joint manager handles the loss
+//             of every joint (its DFAs, the error-joints file) and clears them when they return; the
+//             message parser re-initialises every joint; the RC tasks reshape after each change
+//   services  the operator's segmented SDO transfers back to back in the mailbox, a diagnostics
+//             reset every period, the capture on
+//   worst     recovery and services at once: every service busy together (the handler's heaviest)
+//   mixed     typical for the first half of the periods, worst for the second: not identically
+//             distributed by construction, so the statistics must refuse it (CI checks the refusal)
+#pragma once
+
+#include <cstdint>
+
+#include "core/base/span.hpp"
+
+namespace rescue::app {
+
+enum class WcetScenario : std::uint8_t { typical, recovery, services, worst, mixed };
+
+struct WcetScenarioSpec {
+  WcetScenario id;
+  const char* name;
+  const char* what;  // one line for --help and the output
+};
+
+Span<const WcetScenarioSpec> wcet_scenarios() noexcept;
+// The scenario called `name`; null when none is.
+const WcetScenarioSpec* find_wcet_scenario(const char* name) noexcept;
+
+// What a scenario does in measured period `k` of `periods`.
+struct WcetStress {
+  bool power_cycles{false};  // every slave power-cycled at a random gap
+  bool services{false};      // SDO transfers, diagnostics reset every period, capture on
+};
+WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept;
+
+}  // namespace rescue::app
