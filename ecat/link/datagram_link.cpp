@@ -30,7 +30,7 @@ FrameBuilder& DatagramLink::begin() noexcept {
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
   const Status sent = send_frame();
   if (!sent.ok()) return sent.error();
-  return await_frame(deadline);
+  return ring_ != nullptr ? await_copies(deadline) : await_frame(deadline);
 }
 
 Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexcept {
@@ -38,7 +38,8 @@ Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexce
   if (!sent.ok()) return sent.error();
   // The wait is measured from the moment the frame left: a process preempted between preparing the
   // exchange and sending it (a slow host, not a slow network) must not use up the frame's timeout.
-  return await_frame(nic_.clock().now() + timeout);
+  const hal::Nanoseconds deadline = nic_.clock().now() + timeout;
+  return ring_ != nullptr ? await_copies(deadline) : await_frame(deadline);
 }
 
 Status DatagramLink::send_frame() noexcept {
@@ -58,7 +59,98 @@ Status DatagramLink::send_frame() noexcept {
     ++stats_.send_errors;
     return sent.error();
   }
+  if (ring_ != nullptr) {
+    const Result<std::size_t> copy = make_ring_copy(sent_, ByteSpan(ring_tx_));
+    if (!copy.ok() || !ring_->send(ConstByteSpan(ring_tx_.data(), copy.value())).ok()) ++stats_.ring_send_errors;
+  }
   return Status::success();
+}
+
+bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
+  const ConstByteSpan frame(scratch_.data(), length);
+  if (tap_ != nullptr) tap_(tap_context_, frame, nic_.clock().now(), TapDirection::inbound);
+  const Result<FrameView> view = FrameView::parse(frame);
+  if (!view.ok()) {
+    ++stats_.malformed;
+    return false;
+  }
+  if (view.value().datagram_count() == 0 || (*view.value().begin()).index() != index_) {
+    note_stale(view.value());
+    return false;
+  }
+  // A second copy of the same kind (the same frame twice) is ignored: the first one counts.
+  if (is_ring_copy(frame)) {
+    if (returns_.ring_back) return false;
+    returns_.ring_back = true;
+    returns_.ring_on = on;
+    std::memcpy(ring_back_.data(), frame.data(), length);
+    ring_back_length_ = length;
+  } else {
+    if (returns_.main_back) return false;
+    returns_.main_back = true;
+    returns_.main_on = on;
+    std::memcpy(main_back_.data(), frame.data(), length);
+    main_back_length_ = length;
+  }
+  return true;
+}
+
+Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {
+  returns_ = CopyReturns{};
+  hal::Clock& clock = nic_.clock();
+  // Both NICs are looked at without waiting; when neither had a copy, the main NIC is waited on for
+  // at most kRingPollSlice. Bounded: each turn either takes a frame or moves the clock on.
+  while (!(returns_.main_back && returns_.ring_back)) {
+    bool took = false;
+    for (const Port port : {Port::main, Port::ring}) {
+      hal::Nic& nic = port == Port::main ? nic_ : *ring_;
+      const Result<std::size_t> got = nic.receive(ByteSpan(scratch_), clock.now());
+      if (got.ok()) {
+        took = true;
+        (void)take_copy(port, got.value());
+      } else if (got.error().code != Errc::timeout) {
+        return got.error();
+      }
+    }
+    if (took) continue;
+    const hal::Nanoseconds now = clock.now();
+    if (now >= deadline) break;
+    const hal::Nanoseconds slice_end = now + kRingPollSlice < deadline ? now + kRingPollSlice : deadline;
+    const Result<std::size_t> got = nic_.receive(ByteSpan(scratch_), slice_end);
+    if (got.ok()) {
+      (void)take_copy(Port::main, got.value());
+    } else if (got.error().code != Errc::timeout) {
+      return got.error();
+    }
+  }
+  if (!returns_.main_back && !returns_.ring_back) {
+    ++stats_.timeouts;
+    return make_error(Errc::timeout, "no copy of the frame came back on either NIC");
+  }
+  Result<FrameView> main_view = FrameView::parse(ConstByteSpan(main_back_.data(), main_back_length_));
+  Result<FrameView> ring_view = FrameView::parse(ConstByteSpan(ring_back_.data(), ring_back_length_));
+  const Result<FrameView> merged =
+      merge_copies(sent_view_, returns_.main_back && main_view.ok() ? &main_view.value() : nullptr,
+                   returns_.ring_back && ring_view.ok() ? &ring_view.value() : nullptr, ByteSpan(rx_), returns_.counters);
+  if (!merged.ok()) {
+    ++stats_.malformed;
+    return make_error(Errc::malformed, "returned frame differs from the frame sent", index_);
+  }
+  return merged;
+}
+
+void DatagramLink::note_stale(const FrameView& view) noexcept {
+  ++stats_.stale_frames;
+  if (view.datagram_count() == 0) return;
+  const hal::Nanoseconds age = nic_.clock().now() - sent_at_[(*view.begin()).index()];
+  if (age > stats_.stale_age_max) stats_.stale_age_max = age;
+  if (age > kSoemReceiveTimeout) return;
+  ++stats_.stale_within_2ms;
+  const std::uint16_t expected = expected_wkc_[(*view.begin()).index()];
+  std::uint32_t wkc = 0;
+  // cppcheck-suppress useStlAlgorithm ; frame views have no standard iterators
+  for (const DatagramView d : view) wkc += d.command() == Command::LRW ? d.wkc() : 0U;
+  if (expected != 0 && wkc >= expected) ++stats_.stale_within_2ms_full_wkc;
 }
 
 Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept {
@@ -76,19 +168,7 @@ Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept 
       continue;
     }
     if (view.value().datagram_count() == 0 || (*view.value().begin()).index() != index_) {
-      ++stats_.stale_frames;
-      if (view.value().datagram_count() != 0) {
-        const hal::Nanoseconds age = nic_.clock().now() - sent_at_[(*view.value().begin()).index()];
-        if (age > stats_.stale_age_max) stats_.stale_age_max = age;
-        if (age <= kSoemReceiveTimeout) {
-          ++stats_.stale_within_2ms;
-          const std::uint16_t expected = expected_wkc_[(*view.value().begin()).index()];
-          std::uint32_t wkc = 0;
-          // cppcheck-suppress useStlAlgorithm ; frame views have no standard iterators
-          for (const DatagramView d : view.value()) wkc += d.command() == Command::LRW ? d.wkc() : 0U;
-          if (expected != 0 && wkc >= expected) ++stats_.stale_within_2ms_full_wkc;
-        }
-      }
+      note_stale(view.value());
       continue;
     }
     if (!same_datagrams(sent_view_, view.value())) {
@@ -134,6 +214,7 @@ Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t addr
 Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t address, ByteSpan data, unsigned count,
                                            unsigned in_flight, hal::Nanoseconds timeout) noexcept {
   if (data.size() > kMaxDatagramDataLength) return make_error(Errc::invalid_argument, "transfer too long");
+  if (ring_ != nullptr) return stream_redundant(command, address, data, count, timeout);
   const auto length = static_cast<std::uint16_t>(data.size());
   const unsigned window = in_flight == 0 ? 1 : (in_flight > kMaxStreamInFlight ? kMaxStreamInFlight : in_flight);
   // The frames on their way, oldest first: their index and when each was sent.
@@ -189,6 +270,31 @@ Result<StreamOutcome> DatagramLink::stream(Command command, std::uint32_t addres
     outcome.lost += k;
     head = (head + k + 1) % kMaxStreamInFlight;
     flying -= k + 1;
+    ++outcome.returned;
+    outcome.last_wkc = d.wkc();
+    outcome.last_back_at = nic_.clock().now();
+    if (reads_slave(command) && length > 0) std::memcpy(data.data(), d.data().data(), length);
+  }
+  return outcome;
+}
+
+// Redundant: one frame at a time (its copies come back on either NIC), each merged.
+Result<StreamOutcome> DatagramLink::stream_redundant(Command command, std::uint32_t address, ByteSpan data,
+                                                     unsigned count, hal::Nanoseconds timeout) noexcept {
+  const auto length = static_cast<std::uint16_t>(data.size());
+  StreamOutcome outcome;
+  for (unsigned i = 0; i < count; ++i) {
+    FrameBuilder& frame = begin();
+    const Result<DatagramSlot> slot =
+        frame.add(command, index_, address, length, writes_slave(command) ? ConstByteSpan(data) : ConstByteSpan{});
+    if (!slot.ok()) return slot.error();
+    const Result<FrameView> back = exchange_within(timeout);
+    if (!back.ok()) {
+      if (back.error().code != Errc::timeout) return back.error();
+      ++outcome.lost;
+      continue;
+    }
+    const DatagramView d = *back.value().begin();
     ++outcome.returned;
     outcome.last_wkc = d.wkc();
     outcome.last_back_at = nic_.clock().now();

@@ -7,6 +7,10 @@
 // dropped and counted when it turns up, never mistaken for the current one. The returned frame
 // must have the datagrams that were sent (count, commands, lengths), else it is refused.
 //
+// Cable redundancy (set_ring): with a second NIC every frame also goes out on it as its ring copy
+// (redundant_merge.hpp), the copies are collected from both NICs by index until both are back or
+// the deadline passes, and the exchange returns their merge. Without it nothing changes.
+//
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
 // optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
 #pragma once
@@ -18,6 +22,7 @@
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
 #include "ecat/codec/frame.hpp"
+#include "ecat/link/redundant_merge.hpp"
 #include "hal/net/nic.hpp"
 
 namespace rescue::ecat {
@@ -50,6 +55,7 @@ struct LinkStats {
   std::uint64_t stale_within_2ms_full_wkc{0};
   std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
   std::uint64_t send_errors{0};
+  std::uint64_t ring_send_errors{0};  // ring copies the ring NIC refused (the main copy still went)
 };
 
 class DatagramLink {
@@ -63,6 +69,17 @@ class DatagramLink {
     tap_ = tap;
     tap_context_ = context;
   }
+
+  // Cable redundancy: every frame from now on also goes out on `ring` (nullptr: main NIC only).
+  // Between exchanges only; `ring` must share the main NIC's clock.
+  void set_ring(hal::Nic* ring) noexcept { ring_ = ring; }
+  bool redundant() const noexcept { return ring_ != nullptr; }
+  hal::Nic* ring_nic() noexcept { return ring_; }
+  // Where the copies of the last exchange came back, and each datagram's counter in each copy.
+  const CopyReturns& copy_returns() const noexcept { return returns_; }
+  // While both copies are awaited, the main NIC is waited on for at most this long at a time before
+  // the ring NIC is looked at again (hal::Nic waits on one NIC): a ring copy waits this much at most.
+  static constexpr hal::Nanoseconds kRingPollSlice = 20 * hal::kNsPerUs;
 
   // Starts a new frame; datagrams are added with index() as their index.
   FrameBuilder& begin() noexcept;
@@ -102,6 +119,12 @@ class DatagramLink {
   Status send_frame() noexcept;                                     // the frame built since begin()
   Result<FrameView> await_frame(hal::Nanoseconds deadline) noexcept;  // its return, until `deadline`
   Result<FrameView> exchange_within(hal::Nanoseconds timeout) noexcept;
+  Result<FrameView> await_copies(hal::Nanoseconds deadline) noexcept;  // redundant: both NICs, merged
+  // A received frame: true when it is a copy of the current exchange (kept), false when stale or malformed (counted).
+  bool take_copy(Port on, std::size_t length) noexcept;
+  void note_stale(const FrameView& view) noexcept;
+  Result<StreamOutcome> stream_redundant(Command command, std::uint32_t address, ByteSpan data, unsigned count,
+                                         hal::Nanoseconds timeout) noexcept;
 
   hal::Nic& nic_;
   FrameBuilder builder_{};
@@ -112,6 +135,16 @@ class DatagramLink {
   std::array<hal::Nanoseconds, 256> sent_at_{};  // when the frame of each index was last sent (stale ages)
   std::array<std::uint16_t, 256> expected_wkc_{};  // expect_process_data_wkc of each index's last frame
   std::uint16_t expected_wkc_next_{0};
+  // Cable redundancy (set_ring): the ring NIC, the ring copy sent, the copies back, the merge.
+  using FrameBuffer = std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize + 4>;
+  hal::Nic* ring_{nullptr};
+  FrameBuffer ring_tx_{};
+  FrameBuffer scratch_{};
+  FrameBuffer main_back_{};
+  FrameBuffer ring_back_{};
+  std::size_t main_back_length_{0};
+  std::size_t ring_back_length_{0};
+  CopyReturns returns_{};
   FrameTapFn tap_{nullptr};
   void* tap_context_{nullptr};
   LinkStats stats_{};

@@ -7,6 +7,7 @@ rescue_add_fuzzer(fuzz_sii_cache_file SOURCES fuzz_sii_cache_file.cpp DEPS rescu
 rescue_add_fuzzer(fuzz_coe_decoder SOURCES fuzz_coe_decoder.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_error_joints_file SOURCES fuzz_error_joints_file.cpp DEPS rescue_core)
 rescue_add_fuzzer(fuzz_frame_decoder SOURCES fuzz_frame_decoder.cpp DEPS rescue_ecat)
+rescue_add_fuzzer(fuzz_redundant_merge SOURCES fuzz_redundant_merge.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_capture_reader SOURCES fuzz_capture_reader.cpp DEPS rescue_ecat)
 rescue_add_fuzzer(fuzz_captured_link SOURCES fuzz_captured_link.cpp DEPS rescue_ecat)
 rescue_add_fuzz_seeds(make_ecat_fuzz_seeds SOURCES make_ecat_fuzz_seeds.cpp DEPS rescue_ecat)

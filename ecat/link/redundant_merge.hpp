@@ -1,0 +1,75 @@
+// Cable redundancy: one frame goes out on both master ports (the main NIC and the ring NIC) and
+// comes back as two copies; this file makes the ring copy and merges the copies into the one
+// frame the master reads (docs/redundancy.md, "The merge").
+//
+// The ring copy is the main frame with the same index and the same datagrams, except:
+//   - its source MAC ends in kRingCopyMacTail (the ESCs never touch it past the first byte), so a
+//     copy tells which port it left by, whichever port it comes back on;
+//   - its position-addressed datagrams (APRD/APWR/APRW/ARMW) and the reference clock's FRMW go as
+//     NOP of the same length: from the ring port, position n means another slave, and an FRMW
+//     entering behind a break would write an unread time into the clocks there.
+//
+// The merge, per datagram:
+//   working counter = main copy's + ring copy's (saturating at 0xFFFF);
+//   data            = the main copy's bytes, and the ring copy's byte wherever the ring copy
+//                     differs from the bytes sent.
+// Why it is right: in a ring each slave processes exactly one of the copies (closed: the main copy
+// passes every processing unit and the ring copy none; open between X and Y: the main copy reaches
+// the slaves up to X, the ring copy those from Y), so a byte one slave wrote differs from the sent
+// byte in that copy only. Limits: a slave writing the very byte that was sent is indistinguishable
+// from no slave (harmless: the merged byte is the same); if both copies changed a byte (a broadcast
+// read, BRD, answered by slaves on both sides: data ORed by each side) the ring copy's wins, so a
+// BRD's data is that of the ring side only (its working counter is still the sum). Copies that do
+// not carry the datagrams sent (count, lengths, index, command as sent or NOP) are refused.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/frame.hpp"
+
+namespace rescue::ecat {
+
+// The last byte of the ring copy's source MAC (the main copy's is DatagramLink::kMasterMac's, 0x01).
+constexpr std::uint8_t kRingCopyMacTail = 0x02;
+constexpr std::size_t kSourceMacTailOffset = 11;  // destination (6) + source bytes 0..4
+
+// Whether `command` goes as NOP in the ring copy.
+constexpr bool main_port_only(Command command) noexcept {
+  return address_kind(command) == AddressKind::position || command == Command::FRMW;
+}
+
+// Writes the ring copy of `main` (a whole frame, as sent on the main NIC) into `out`; its length.
+Result<std::size_t> make_ring_copy(ConstByteSpan main, ByteSpan out) noexcept;
+
+// Which port a returned copy left by: its source MAC's last byte.
+bool is_ring_copy(ConstByteSpan frame) noexcept;
+
+// Each datagram's working counter in each copy (0 for a copy that did not come back).
+struct CopyCounters {
+  std::array<std::uint16_t, kMaxDatagramsPerFrame> main{};
+  std::array<std::uint16_t, kMaxDatagramsPerFrame> ring{};
+  std::size_t datagrams{0};
+};
+
+// Where the copies of the last exchange came back (DatagramLink::copy_returns()): the ring state's
+// evidence. A copy that came back on the other port than it left by went round a closed ring.
+enum class Port : std::uint8_t { main, ring };
+struct CopyReturns {
+  bool main_back{false};        // the copy sent on the main NIC came back ...
+  Port main_on{Port::main};     // ... on this NIC
+  bool ring_back{false};        // the copy sent on the ring NIC came back ...
+  Port ring_on{Port::ring};     // ... on this NIC
+  CopyCounters counters{};
+};
+
+// Merges the copies that came back (either may be null: it did not) into `out`, which receives the
+// frame as sent on the main NIC with each datagram's merged data and working counter. `sent` is the
+// main frame as sent. Returns the merged frame's view (into `out`).
+Result<FrameView> merge_copies(const FrameView& sent, const FrameView* main_copy, const FrameView* ring_copy,
+                               ByteSpan out, CopyCounters& counters) noexcept;
+
+}  // namespace rescue::ecat
