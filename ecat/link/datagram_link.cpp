@@ -44,6 +44,7 @@ Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexce
 
 Status DatagramLink::send_frame() noexcept {
   ++stats_.exchanges;
+  if (ring_ != nullptr) returns_ = CopyReturns{};
   sent_ = builder_.finish();
   const Result<FrameView> sent_view = FrameView::parse(sent_);
   if (!sent_view.ok() || sent_view.value().datagram_count() == 0) {

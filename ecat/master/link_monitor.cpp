@@ -297,7 +297,8 @@ void LinkMonitor::observe_branches(const std::array<std::uint16_t, kMaxBranches>
     const bool placed = ((probed_silent_ | probed_in_op_) & present) == present &&
                         wkc == kLrwWkcPerSlave * popcount(in_op);
     if (placed) valid_ |= in_op;
-    std::uint16_t fine = !placed && wkc % kLrwWkcPerSlave == 0 ? static_cast<std::uint16_t>(wkc / kLrwWkcPerSlave) : 0;
+    std::uint16_t fine =
+        !placed && !redundant_ && wkc % kLrwWkcPerSlave == 0 ? static_cast<std::uint16_t>(wkc / kLrwWkcPerSlave) : 0;
     for (std::size_t i = 0; i < branch.slave_count; ++i) {
       const std::size_t p = branch.slaves[i];
       if ((present & slave_bit(p)) == 0) continue;

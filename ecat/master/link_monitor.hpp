@@ -134,6 +134,9 @@ class LinkMonitor {
 
   // The slaves in the exchange at start (bring-up's operated set).
   void start(SlaveMask in_exchange) noexcept;
+  // Cable redundancy: the counters are the merge of two copies (each port reaches a part of a
+  // branch), so a short counter is never placed as "the first k slaves"; the probes place it.
+  void set_redundant(bool on) noexcept { redundant_ = on; }
 
   // Probes the next frame should carry, most urgent first (suspects, then slaves out of the
   // exchange, rotating). Fills `out`, returns how many.
@@ -245,6 +248,7 @@ class LinkMonitor {
   std::uint64_t watch_reads_{0};
   std::uint64_t glitches_{0};
   std::uint64_t reports_dropped_{0};
+  bool redundant_{false};
 
   // Established by the current frame's probes, merged into one report per kind.
   SlaveMask pending_lost_{0};

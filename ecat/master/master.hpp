@@ -22,7 +22,7 @@
 // Cycle (cycle(), once per period, no heap, no system call but the NIC's send/receive): a schedule
 // of cyclic services (cyclic_service.hpp), each adding its datagrams to the one frame and handling
 // its own answers; per slave, one record (slave_record.hpp):
-//   frame = DC reference FRMW 0x0910 | process data LRW per branch | link probes and AL watch |
+//   frame = DC reference FRMW 0x0910 | process data LRW per branch | ring watch (redundant only) | link probes and AL watch |
 //           re-integration | online recovery | ESC diagnostics | OP step | mailbox
 //   send, receive until the deadline, each answer to its service, then every service settles.
 #pragma once
@@ -50,6 +50,7 @@
 #include "ecat/master/process_data_service.hpp"
 #include "ecat/master/recovery_service.hpp"
 #include "ecat/master/reintegration_service.hpp"
+#include "ecat/master/ring_service.hpp"
 #include "ecat/master/slave_record.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
@@ -70,6 +71,14 @@ class Master {
   Master(Master&&) = delete;
   Master& operator=(Master&&) = delete;
   ~Master() = default;
+
+  // Cable redundancy (docs/redundancy.md): every frame also goes out on `ring`, the second master port
+  // cabled to the segment's far end; the copies are merged (ecat/link/redundant_merge.hpp). Call
+  // before bring_up(), which then refuses a ring that does not close. `ring` shares the NIC's clock.
+  void use_ring(hal::Nic& ring) noexcept { link_.set_ring(&ring); }
+  // The ring's state (RingState::none without a ring NIC) and its changes, each reported once.
+  const RingStatus& ring_status() const noexcept { return ring_.monitor().status(); }
+  [[nodiscard]] bool pop_ring_report(RingReport& out) noexcept { return ring_.pop_report(out); }
 
   // Frames sent and received are also handed to `tap` (capture writer).
   void set_tap(FrameTapFn tap, void* context) noexcept { link_.set_tap(tap, context); }
@@ -160,6 +169,7 @@ class Master {
  private:
   // Bring-up steps (master_bring_up.cpp).
   Status count_and_reset() noexcept;
+  Status check_ring_closes() noexcept;  // redundant: the first contact's copies went round the ring
   Status identify() noexcept;
   Status assign_addresses() noexcept;
   Status configure_mailboxes() noexcept;
@@ -207,6 +217,7 @@ class Master {
   ServiceContext context_;
   DcReferenceService dc_reference_;
   ProcessDataService process_data_;
+  RingService ring_;
   LinkProbeService probes_;
   ReintegrationService reintegration_;
   PdoSetupService pdo_setup_;
@@ -222,6 +233,7 @@ class Master {
   void for_each_service(Visit&& visit) noexcept {
     visit(dc_reference_);
     visit(process_data_);
+    visit(ring_);
     visit(probes_);
     visit(reintegration_);
     visit(pdo_setup_);

@@ -89,6 +89,7 @@ Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout&
       context_{link_, plan_, layout_, image_, options_, report_, state_, cycle_, slaves_, monitor_, dc_slaves_, reference_station_},
       dc_reference_(context_),
       process_data_(context_),
+      ring_(context_),
       probes_(context_),
       reintegration_(context_),
       pdo_setup_(context_, mailbox_),
@@ -115,6 +116,10 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   cycle_ = 0;
   // Nothing of an earlier bring-up carries over.
   monitor_.start(0);
+  // With a ring a short merged counter is the sum of what each port reached: it cannot be placed as
+  // "the first k of the branch" (link_monitor.cpp), only by the probes.
+  monitor_.set_redundant(link_.redundant());
+  ring_.stop();
   reintegration_.reset();
   recovery_.reset();
   diagnostics_.reset();
@@ -171,6 +176,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   report_.frames = link_.stats().exchanges - frames_before;
   if (!st.ok()) return st;
   report_.safe_op_at = link_.clock().now();
+  ring_.start();
 
   // Cyclic operation starts in SAFE-OP; the first cycles request OP (slaves want valid outputs
   // flowing before they accept it).
@@ -186,6 +192,27 @@ Status Master::check_stop(const char* step) noexcept {
   }
   if (options_.stop_requested == nullptr || !options_.stop_requested()) return Status::success();
   return fail(step, make_error(Errc::refused, "stopped on request"));
+}
+
+// The first contact's BRD went out on both ports: a closed ring brings the main copy back on the ring
+// NIC, through every slave. A ring NIC that received nothing (its cable not in the segment's last
+// free port, or the wrong interface), or a ring open already, refuses the bring-up with the reason:
+// never a silent single-port run. (Position-addressed bring-up datagrams go by the main port only,
+// so an open ring could not be brought up whole.)
+Status Master::check_ring_closes() noexcept {
+  const CopyReturns& r = link_.copy_returns();
+  if (r.main_back && r.main_on == Port::ring) return Status::success();
+  const std::uint32_t main_reach = r.main_back && r.counters.datagrams > 0 ? r.counters.main[0] : 0U;
+  const std::uint32_t ring_reach = r.ring_back && r.counters.datagrams > 0 ? r.counters.ring[0] : 0U;
+  const bool ring_nic_heard = (r.main_back && r.main_on == Port::ring) || (r.ring_back && r.ring_on == Port::ring);
+  if (!ring_nic_heard) {
+    return fail("ring", make_error(Errc::not_found,
+                                   "the ring does not close: the ring NIC received nothing (is the segment's last free "
+                                   "port cabled to it?); slaves reached from the main port",
+                                   main_reach));
+  }
+  return fail("ring", make_error(Errc::refused, "the ring is open at bring-up; slaves reached from the main port, the ring port",
+                                 main_reach, ring_reach));
 }
 
 Status Master::count_and_reset() noexcept {
@@ -224,6 +251,10 @@ Status Master::count_and_reset() noexcept {
   if (!counted.ok()) return fail("count", counted.error());
   report_.slaves_counted = counted.value();
   if (counted.value() == 0) return fail("count", make_error(Errc::not_found, "no slave answers"));
+  if (link_.redundant()) {
+    const Status ring = check_ring_closes();
+    if (!ring.ok()) return ring;
+  }
 
   FrameBuilder& frame = link_.begin();
   std::array<std::uint8_t, std::size_t{4} * reg::kFmmuSize> bytes{};

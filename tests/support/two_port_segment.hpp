@@ -8,8 +8,9 @@
 //                 by [last cut, n), back on ring; no cut: by none, back on main;
 //   a cut at the port it was sent on: lost.
 // Each slave (station address kStation0 + i) answers: BRD/BWR with working counter +1; FPRD/FPWR of
-// its station with +1 (an FPRD reads kFprdByte(i) into every byte); LRW over the image with +3, its
-// input byte (logical 2i+1) set to input_byte(i), its output byte (logical 2i) taken; APRD/APWR at
+// its station with +1 (an FPRD reads fprd_byte(i) into every byte, of the AL status 0x0130: OP); LRW
+// over one branch's image (outputs first) with +3, its input byte (logical n + i) set to
+// input_byte(i), its output byte (logical i) taken; APRD/APWR at
 // position 0 with +1 (counted: position_hits); FRMW +1 (counted: frmw_hits). NOP: nothing.
 #pragma once
 
@@ -31,6 +32,8 @@ class TwoPortSegment {
  public:
   static constexpr std::size_t kMaxSlaves = 16;
   static constexpr std::uint16_t kStation0 = 0x1000;
+  static constexpr std::uint16_t kAlStatusRegister = 0x0130;
+  static constexpr std::uint16_t kAlStateOp = 0x0008;
   static constexpr hal::Nanoseconds kRoundTrip = 10 * hal::kNsPerUs;
   static constexpr std::uint8_t input_byte(std::size_t i) noexcept { return static_cast<std::uint8_t>(0x80U | i); }
   static constexpr std::uint8_t fprd_byte(std::size_t i) noexcept { return static_cast<std::uint8_t>(0x40U | i); }
@@ -141,15 +144,24 @@ class TwoPortSegment {
           break;
         case Command::FPRD: case Command::FPWR:
           if (d.adp() != kStation0 + i) break;
-          if (d.command() == Command::FPRD) std::memset(data, fprd_byte(i), length);
+          if (d.command() == Command::FPRD) {
+            std::memset(data, fprd_byte(i), length);
+            if (d.ado() == kAlStatusRegister && length >= 6) {  // AL status: OP, code 0
+              store_le16(data, kAlStateOp);
+              store_le16(data + 2, 0);
+              store_le16(data + 4, 0);
+            }
+          }
           d.set_wkc(static_cast<std::uint16_t>(d.wkc() + 1));
           break;
         case Command::LRW: {
+          // One branch of n slaves with a byte each way: outputs at logical i, inputs at n + i.
           const std::uint32_t logical = d.address();
-          const std::size_t out_at = 2 * i;
-          if (out_at + 1 < logical || out_at + 1 >= logical + length || out_at < logical) break;
+          const std::size_t out_at = i;
+          const std::size_t in_at = n_ + i;
+          if (out_at < logical || in_at >= logical + length) break;
           outputs_[i] = data[out_at - logical];
-          data[out_at + 1 - logical] = input_byte(i);
+          data[in_at - logical] = input_byte(i);
           d.set_wkc(static_cast<std::uint16_t>(d.wkc() + 3));
           break;
         }

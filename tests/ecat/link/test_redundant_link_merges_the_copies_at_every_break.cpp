@@ -44,7 +44,7 @@ class RedundantLink : public ::testing::Test {
     Exchanged e;
     FrameBuilder& frame = link.begin();
     std::array<std::uint8_t, 2 * kSlaves> outputs{};
-    for (std::size_t i = 0; i < kSlaves; ++i) outputs[2 * i] = static_cast<std::uint8_t>(0x10 + i);
+    for (std::size_t i = 0; i < kSlaves; ++i) outputs[i] = static_cast<std::uint8_t>(0x10 + i);
     EXPECT_TRUE(frame.add(Command::LRW, link.index(), 0, 2 * kSlaves, ConstByteSpan(outputs)).ok());
     EXPECT_TRUE(frame.add(Command::BRD, link.index(), make_address(0, reg::kDlStatus), 2).ok());
     for (std::size_t i = 0; i < kSlaves; ++i) {
@@ -88,8 +88,8 @@ TEST_F(RedundantLink, EveryBreakPositionGivesFullCountersAndEverySlavesData) {
     EXPECT_EQ(e.lrw_wkc, 3 * kSlaves);
     EXPECT_EQ(e.brd_wkc, kSlaves);
     for (std::size_t i = 0; i < kSlaves; ++i) {
-      EXPECT_EQ(e.image[2 * i + 1], TwoPortSegment::input_byte(i)) << "slave " << i;
-      EXPECT_EQ(e.image[2 * i], 0x10 + i) << "outputs come back as sent";
+      EXPECT_EQ(e.image[kSlaves + i], TwoPortSegment::input_byte(i)) << "slave " << i;
+      EXPECT_EQ(e.image[i], 0x10 + i) << "outputs come back as sent";
       EXPECT_EQ(segment.output_of(i), 0x10 + i);
       EXPECT_EQ(e.fprd_wkc[i], 1U) << "slave " << i;
       EXPECT_EQ(e.fprd_data[i], TwoPortSegment::fprd_byte(i));
@@ -132,7 +132,7 @@ TEST_F(RedundantLink, TwoCutsLeaveExactlyTheSlavesBetweenThemUnanswered) {
       for (std::size_t i = 0; i < kSlaves; ++i) {
         const bool between = i >= a && i < b;
         EXPECT_EQ(e.fprd_wkc[i], between ? 0U : 1U) << "slave " << i;
-        EXPECT_EQ(e.image[2 * i + 1], between ? 0 : TwoPortSegment::input_byte(i)) << "slave " << i;
+        EXPECT_EQ(e.image[kSlaves + i], between ? 0 : TwoPortSegment::input_byte(i)) << "slave " << i;
       }
     }
   }

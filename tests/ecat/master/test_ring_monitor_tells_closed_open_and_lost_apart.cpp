@@ -1,0 +1,130 @@
+// The ring monitor (ecat/master/ring_monitor.hpp) over a redundant link and a two-port fake segment
+// of 6 slaves: the ring closed, open at each cable (the place named by the slaves either side, or the
+// master's port), and broken twice (the slaves between the cuts reachable from neither port) are
+// told apart from the first frame after the change; each change is reported exactly once, the
+// repair too, with its place. Virtual time.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "ecat/codec/registers.hpp"
+#include "ecat/master/ring_monitor.hpp"
+#include "tests/support/two_port_rig.hpp"
+
+namespace rescue::ecat {
+namespace {
+
+using test::kRingRigSlaves;
+
+class RingWatch : public ::testing::Test {
+ protected:
+  RingWatch() {
+    std::array<std::uint8_t, kMaxSlaves> planned{};
+    planned.fill(RingMonitor::kNoSlavePosition);
+    for (std::size_t i = 0; i < kRingRigSlaves; ++i) planned[i] = static_cast<std::uint8_t>(i);
+    monitor.start(planned, kRingRigSlaves);
+  }
+
+  // One cycle: a frame with the DL-status BRD, its copies observed.
+  void cycle() {
+    ++n;
+    FrameBuilder& frame = rig.link.begin();
+    ASSERT_TRUE(frame.add(Command::BRD, rig.link.index(), make_address(0, reg::kDlStatus), 2).ok());
+    (void)rig.link.exchange(rig.segment.clock().now() + 100 * hal::kNsPerUs);
+    const CopyReturns& r = rig.link.copy_returns();
+    monitor.observe(n, rig.segment.clock().now(), r, r.counters.main[0], r.counters.ring[0]);
+    RingReport report;
+    while (monitor.pop_report(report)) reports.push_back(report);
+  }
+  void cycles(int count) {
+    for (int i = 0; i < count; ++i) cycle();
+  }
+
+  test::TwoPortRig rig;
+  RingMonitor monitor;
+  std::uint64_t n = 0;
+  std::vector<RingReport> reports;
+};
+
+TEST_F(RingWatch, ClosedRingStaysClosedWithoutReports) {
+  cycles(20);
+  EXPECT_EQ(monitor.status().state, RingState::closed);
+  EXPECT_TRUE(reports.empty());
+}
+
+TEST_F(RingWatch, EachSingleBreakIsReportedOnceWithItsPlaceAndSoIsItsRepair) {
+  for (std::size_t cable = 0; cable <= kRingRigSlaves; ++cable) {
+    SCOPED_TRACE("cable " + std::to_string(cable));
+    reports.clear();
+    rig.segment.cut(cable);
+    const std::uint64_t cut_in = n + 1;
+    cycles(10);
+    ASSERT_EQ(reports.size(), 1U);
+    EXPECT_EQ(reports[0].kind, RingEventKind::opened);
+    EXPECT_EQ(reports[0].cycle, cut_in) << "decided from the first frame after the cut";
+    const std::uint8_t before = cable == 0 ? kMainPort : static_cast<std::uint8_t>(cable - 1);
+    const std::uint8_t after = cable == kRingRigSlaves ? kRingPort : static_cast<std::uint8_t>(cable);
+    EXPECT_EQ(reports[0].before, before);
+    EXPECT_EQ(reports[0].after, after);
+    EXPECT_EQ(monitor.status().state, RingState::open);
+    EXPECT_EQ(monitor.status().unreachable, 0U);
+
+    rig.segment.restore(cable);
+    const std::uint64_t repaired_in = n + 1;
+    cycles(10);
+    ASSERT_EQ(reports.size(), 2U);
+    EXPECT_EQ(reports[1].kind, RingEventKind::closed);
+    EXPECT_EQ(reports[1].cycle, repaired_in);
+    EXPECT_EQ(reports[1].before, before) << "the repair names the place repaired";
+    EXPECT_EQ(reports[1].after, after);
+    EXPECT_EQ(monitor.status().state, RingState::closed);
+  }
+  EXPECT_EQ(monitor.status().breaks, kRingRigSlaves + 1);
+  EXPECT_EQ(monitor.status().repairs, kRingRigSlaves + 1);
+}
+
+TEST_F(RingWatch, TwoBreaksMakeExactlyTheSlavesBetweenThemUnreachable) {
+  rig.segment.cut(2);
+  cycles(3);
+  rig.segment.cut(5);  // slaves 2, 3, 4 are now between the cuts
+  cycles(3);
+  ASSERT_EQ(reports.size(), 2U);
+  EXPECT_EQ(reports[1].kind, RingEventKind::split);
+  EXPECT_EQ(reports[1].unreachable, slave_bit(2) | slave_bit(3) | slave_bit(4));
+  EXPECT_EQ(reports[1].before, 1U);
+  EXPECT_EQ(reports[1].after, 5U);
+  EXPECT_EQ(monitor.status().state, RingState::lost);
+  rig.segment.restore(5);
+  cycles(3);
+  ASSERT_EQ(reports.size(), 3U);
+  EXPECT_EQ(reports[2].kind, RingEventKind::opened);
+  EXPECT_EQ(reports[2].before, 1U);
+  EXPECT_EQ(reports[2].after, 2U);
+  rig.segment.restore(2);
+  cycles(3);
+  ASSERT_EQ(reports.size(), 4U);
+  EXPECT_EQ(reports[3].kind, RingEventKind::closed);
+  EXPECT_EQ(monitor.status().breaks, 1U) << "one break: closed to open (the second cut split an open ring)";
+}
+
+TEST_F(RingWatch, NoCopyBackIsNoEvidence) {
+  rig.segment.cut(0);
+  rig.segment.cut(kRingRigSlaves);
+  cycles(5);
+  EXPECT_EQ(monitor.status().state, RingState::closed);
+  EXPECT_TRUE(reports.empty());
+}
+
+TEST_F(RingWatch, TheReportReadsAsOneLineNamingBothSides) {
+  rig.segment.cut(3);
+  cycle();
+  ASSERT_EQ(reports.size(), 1U);
+  std::array<char, 160> line{};
+  (void)describe(reports[0], rig.plan, line.data(), line.size());
+  EXPECT_STREQ(line.data(), "ring open between s2 (position 2) and s3 (position 3) (cycle 1)");
+}
+
+}  // namespace
+}  // namespace rescue::ecat
