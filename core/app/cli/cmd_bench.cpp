@@ -19,6 +19,7 @@ namespace {
 
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
+    {"ring-nic", "sim|raw:IFACE", "master: cable redundancy, the second master port (another interface than --nic; docs/redundancy.md)"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000); periods: measured periods (default 1000)"},
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},

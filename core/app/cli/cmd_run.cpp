@@ -19,8 +19,9 @@ namespace {
 
 const OptionSpec kOptions[] = {
     {"config", "FILE", "configuration file (docs/configuration.md; /etc/rescue-motion/rescue-motion.conf in the package); options given here override it"},
-    {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line (and the bring-up report when bring-up fails); takes only --config, --nic and --capture"},
+    {"check", nullptr, "self-test and exit: bring the network to OP and back to INIT with every drive disabled; exit 0/1, one line (and the bring-up report when bring-up fails); takes only --config, --nic, --ring-nic and --capture"},
     {"nic", "sim|raw:IFACE", "EtherCAT NIC: the built-in simulated robot (default) or a raw socket"},
+    {"ring-nic", "sim|raw:IFACE", "cable redundancy: the second master port, cabled to the segment's far end (another interface than --nic; docs/redundancy.md); a ring that does not close refuses the bring-up"},
     {"scenario", "NAME", "simulated scenario: link-cut (cut the cable into l_elbow 1 s after OP), rescue (the rescue motion, owned by RC task 0, with that cut mid-motion), power-cycle (power-cycle l_elbow's drive 1 s after OP), half-mapped / foreign-mapping (l_elbow's PDO mapping half-written / another drive's default before bring-up and again before a power cycle 1 s after OP: the master rewrites it both times), cable-damage (5 frames damaged on the cable into l_elbow 1 s after OP), flaky-cable (that damage again every 2 s)"},
     {"duration", "SECONDS", "stop after this long, decimal, at least 0.001 (one period), at most 604800 (default: until SIGINT/SIGTERM, or 1 s after a scenario acted)"},
     {"first-contact-limit", "SECONDS", "give the bring-up up (exit status 1) when no frame has come back for this long, decimal, at most 604800; 0: keep trying until SIGINT/SIGTERM (default 5); meanwhile the wait is reported every second"},
@@ -85,14 +86,22 @@ int run_main(const ParsedArgs& args) {
   if (!nic.ok()) return fail("run", nic.error().what);
   options.nic = nic.value();
   if (nic_text != nullptr) options.nic_text = nic_text;
+  const char* ring_nic_text = option_or_file(args, "ring-nic", g_config.ring_nic_text);
+  if (ring_nic_text != nullptr) {
+    const Result<NicChoice> ring = parse_ring_nic_option(ring_nic_text, options.nic);
+    if (!ring.ok()) return fail("run", ring.error().what);
+    options.ring_nic = ring.value();
+    options.ring_nic_text = ring_nic_text;
+  }
   if (args.has("check")) {
     // --check takes the NIC (and --config, --capture); the options of a running robot mean nothing to
     // it and are refused by name rather than silently dropped.
     for (const OptionSpec& o : kOptions) {
       const bool applies = std::strcmp(o.name, "check") == 0 || std::strcmp(o.name, "config") == 0 ||
-                           std::strcmp(o.name, "nic") == 0 || std::strcmp(o.name, "capture") == 0;
+                           std::strcmp(o.name, "nic") == 0 || std::strcmp(o.name, "ring-nic") == 0 ||
+                           std::strcmp(o.name, "capture") == 0;
       if (!applies && args.has(o.name)) {
-        (void)std::fprintf(stderr, "rescue-motion run: --%s does not apply to --check (it takes --config, --nic and --capture)\n", o.name);
+        (void)std::fprintf(stderr, "rescue-motion run: --%s does not apply to --check (it takes --config, --nic, --ring-nic and --capture)\n", o.name);
         return 1;
       }
     }
@@ -100,6 +109,8 @@ int run_main(const ParsedArgs& args) {
     SelfCheckOptions check;
     check.nic = options.nic;
     check.nic_text = options.nic_text;
+    check.ring_nic = options.ring_nic;
+    check.ring_nic_text = options.ring_nic_text;
     check.capture_path = args.value("capture");
     check.progress = stderr;
     return run_self_check(check, stdout, nullptr);

@@ -56,7 +56,7 @@ constexpr TaskSection kSections[] = {
 constexpr const char* kSectionNames =
     "[ethercat_handler], [joint_manager], [rc_tasks], [socket_handler], [message_parser]";
 constexpr const char* kTopKeys =
-    "nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled, "
+    "nic, ring_nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled, "
     "task_silent_ms (before any section)";
 constexpr const char* kCpuRange = "0..1023";
 
@@ -138,6 +138,13 @@ class Parser {
       if (!nic.ok()) return fail(key, nic.error().what, "sim or raw:IFACE (an interface name of at most 15 bytes)");
       out_.nic = nic.value();
       out_.has_nic = true;
+    } else if (key.equals("ring_nic")) {
+      // Its syntax here; whether it pairs with `nic` (another interface, both raw or both sim) when run
+      // has both (parse_ring_nic_option), since --nic may override the file's.
+      if (!first_time(key, seen_.ring_nic) || !copy_text(key, value, out_.ring_nic_text, false)) return;
+      if (!parse_nic_option(out_.ring_nic_text.data()).ok()) {
+        return fail(key, "not a NIC", "sim or raw:IFACE (an interface name of at most 15 bytes)");
+      }
     } else if (key.equals("state_dir")) {
       if (first_time(key, seen_.state_dir)) (void)copy_text(key, value, out_.state_dir, true);
     } else if (key.equals("key_file")) {
@@ -330,7 +337,7 @@ class Parser {
   const TaskSection* section_{nullptr};
   std::array<bool, kConfigTaskCount> seen_section_{};
   struct Seen {
-    bool nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled,
+    bool nic, ring_nic, state_dir, key_file, listen, duration, control_port, sensor_port, robot_id, auto_clear_power_cycled,
         task_silent_ms;
   } seen_{};
 };

@@ -35,6 +35,7 @@ struct ConfigFile {
   bool has_nic{false};
   NicChoice nic{};
   ConfigText nic_text{};
+  ConfigText ring_nic_text{};  // ring_nic: the second master port (cable redundancy; empty: none)
   ConfigText state_dir{};
   ConfigText key_file{};
   ConfigText listen{};

@@ -42,4 +42,26 @@ Result<NicChoice> parse_nic_option(const char* text) noexcept {
   return choice;
 }
 
+Result<NicChoice> parse_ring_nic_option(const char* text, const NicChoice& main) noexcept {
+  if (std::strcmp(text, "sim") == 0) {
+    if (main.kind != NicKind::sim) {
+      return make_error(Errc::invalid_argument, "--ring-nic sim is the simulated robot's second port: it needs --nic sim");
+    }
+    return NicChoice{};
+  }
+  if (std::strncmp(text, kRawPrefix, kRawPrefixLength) != 0) {
+    return make_error(Errc::invalid_argument, "--ring-nic must be 'sim' or 'raw:IFACE' (e.g. raw:eth1)");
+  }
+  const Result<NicChoice> ring = parse_nic_option(text);
+  if (!ring.ok()) return make_error(Errc::invalid_argument, "--ring-nic raw:IFACE: not an interface name (at most 15 bytes, no '/', ':' or spaces)");
+  if (main.kind != NicKind::raw) {
+    return make_error(Errc::invalid_argument, "--ring-nic raw:IFACE needs --nic raw:IFACE (both master ports on the wire)");
+  }
+  if (std::strcmp(ring.value().interface_name.data(), main.interface_name.data()) == 0) {
+    return make_error(Errc::invalid_argument,
+                      "--ring-nic is the --nic interface itself: the ring's second port must be another interface");
+  }
+  return ring;
+}
+
 }  // namespace rescue::app

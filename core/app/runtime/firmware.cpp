@@ -104,6 +104,7 @@ struct StartUp {
   SocketHandler* socket{nullptr};
   bool operator_port{false};
   hal::Nic* nic{nullptr};
+  hal::Nic* ring_nic{nullptr};  // --ring-nic: the second master port (cable redundancy), nullptr: none
   hal::Clock* clock{nullptr};
   hal::Nanoseconds start{0};
   RestoreReport restored{};
@@ -228,7 +229,12 @@ int open_nic_and_restore_joints(StartUp& up) noexcept {
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return fail_nic("run", options.nic_text, opened.error());
+  if (options.ring_nic_text != nullptr) {
+    const Status ring = selected.open_ring(options.ring_nic);
+    if (!ring.ok()) return fail_nic("run", options.ring_nic_text, ring.error());
+  }
   up.nic = selected.nic();
+  up.ring_nic = selected.ring_nic();
   up.clock = &up.nic->clock();
   up.start = up.clock->now();
   up.event_printer.set_origin(up.start);
@@ -319,6 +325,7 @@ int bring_up_network(StartUp& up, TaskTimingCalibration& calibration) noexcept {
   if (!rt.fully_applied()) rt.print(stdout);
 
   static drivers::JointBus bus(*up.nic);
+  if (up.ring_nic != nullptr) bus.master().use_ring(*up.ring_nic);  // docs/redundancy.md
   up.bus = &bus;
   const int capture_status = open_capture(up);
   if (capture_status != 0) return capture_status;

@@ -29,6 +29,9 @@ namespace rescue::app {
 struct FirmwareOptions {
   NicChoice nic{};
   const char* nic_text{"sim"};
+  // --ring-nic: the second master port (cable redundancy); nullptr text: none.
+  NicChoice ring_nic{};
+  const char* ring_nic_text{nullptr};
   Scenario scenario{};
   hal::Nanoseconds duration{0};      // 0: until SIGINT/SIGTERM (or the scenario's own end)
   // Bring-up gives up when no frame has come back for this long (exit status 1); 0: keeps trying.

@@ -38,6 +38,24 @@ Status SelectedNic::open(const NicChoice& choice, const ReceiveWaitChoice& wait)
   return Status::success();
 }
 
+Status SelectedNic::open_ring(const NicChoice& choice, const ReceiveWaitChoice& wait) noexcept {
+  ring_ = nullptr;
+  if (active_ == nullptr) return make_error(Errc::invalid_argument, "the ring NIC opens after the main one");
+  if (choice.kind == NicKind::sim) {
+    return make_error(Errc::unsupported,
+                      "the in-process simulated robot has no ring port yet (the simulator's ring, issue 34 item 1); "
+                      "serve the ring with `sim --iface A --ring-iface B` and use --nic raw:A --ring-nic raw:B");
+  }
+  if (active_ != &raw_) return make_error(Errc::invalid_argument, "a raw ring NIC needs a raw main NIC");
+  hal::RawSocketSettings settings;
+  settings.receive_spin = wait.spin;
+  settings.receive_wait = wait.wait;
+  settings.adaptive_lead = wait.adaptive_lead;
+  RESCUE_TRY(ring_raw_.open(choice.interface_name.data(), settings));
+  ring_ = &ring_raw_;
+  return Status::success();
+}
+
 int fail_nic(const char* command, const char* nic_text, const Error& error) noexcept {
   if (error.code == Errc::io_error && error.detail0 != 0) {
     // Start-up only, one thread: strerror's static buffer is not shared with anyone.

@@ -35,8 +35,16 @@ class SelectedNic {
   Status open(const NicChoice& choice, hal::Nanoseconds receive_spin = kMasterReceiveSpin) noexcept;
   // The same with the raw socket's whole receive wait chosen (the simulated robot takes its spin).
   Status open(const NicChoice& choice, const ReceiveWaitChoice& wait) noexcept;
+  // --ring-nic (cable redundancy, docs/redundancy.md): opens the second master port after open().
+  // raw: a second raw socket on another interface (its own receive wait as the main one's). sim: the
+  // in-process simulated robot's ring port. THE SEAM for the simulator's ring (issue 34, item 1): when
+  // drivers/sim's robot exposes its ring hal::Nic, open_ring takes it from the same robot as open()
+  // took the main one; until then `--ring-nic sim` is refused with that reason, never run on one port.
+  Status open_ring(const NicChoice& choice, const ReceiveWaitChoice& wait = ReceiveWaitChoice{}) noexcept;
   // The open NIC; nullptr before a successful open().
   hal::Nic* nic() noexcept { return active_; }
+  // The ring NIC; nullptr without a successful open_ring().
+  hal::Nic* ring_nic() noexcept { return ring_; }
   // The raw socket when that is the open NIC, else nullptr (its receive-wait figures).
   const hal::RawSocketNic* raw() const noexcept { return active_ == &raw_ ? &raw_ : nullptr; }
 
@@ -44,6 +52,8 @@ class SelectedNic {
   hal::RawSocketNic raw_;
   FixedVector<drivers::SimulatedNic, 1> simulated_;  // the loopback NIC over the simulated robot
   hal::Nic* active_{nullptr};
+  hal::RawSocketNic ring_raw_;
+  hal::Nic* ring_{nullptr};
 };
 
 // Prints "rescue-motion COMMAND: cannot open NIC_TEXT: reason (kind[, OS reason])" to stderr and

@@ -61,6 +61,12 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;
+    case HandlerEventKind::ring_report: {
+      char line[256];
+      (void)ecat::describe(e.ring, drivers::kRobotNetworkPlan, line, sizeof line);
+      (void)std::printf("[%8.3f s] ethercat: %s\n", t, line);
+      break;
+    }
     case HandlerEventKind::loss_reported:
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64
                         ": step 1: cannot reach %s; excluded from commands, reported to the joint manager\n",

@@ -48,10 +48,15 @@ int run_self_check(const SelfCheckOptions& options, std::FILE* out, SelfCheckRep
   static SelectedNic selected;
   const Status opened = selected.open(options.nic);
   if (!opened.ok()) return failed(out, "cannot open the NIC", opened.error().what);
+  if (options.ring_nic_text != nullptr) {
+    const Status ring = selected.open_ring(options.ring_nic);
+    if (!ring.ok()) return failed(out, "cannot open the ring NIC", ring.error().what);
+  }
   hal::Clock& clock = selected.nic()->clock();
   static StartUpSlot<drivers::JointBus> bus_slot;  // not in every command's image (start_up_slot.hpp)
   if (!bus_slot.reserve()) return failed(out, "not enough memory for the bus", "");
   drivers::JointBus& bus = bus_slot.emplace(*selected.nic());
+  if (selected.ring_nic() != nullptr) bus.master().use_ring(*selected.ring_nic());  // docs/redundancy.md
   // --capture: every frame of the check, written by this thread as it goes (nothing here is periodic).
   static ecat::CaptureWriter capture;
   if (options.capture_path != nullptr) {

@@ -18,6 +18,9 @@ namespace rescue::app {
 struct SelfCheckOptions {
   NicChoice nic{};
   const char* nic_text{"sim"};
+  // --ring-nic: the second master port (cable redundancy); nullptr text: none.
+  NicChoice ring_nic{};
+  const char* ring_nic_text{nullptr};
   hal::Nanoseconds op_timeout{5 * hal::kNsPerSec};      // from SAFE-OP to OP
   hal::Nanoseconds hold_in_op{200 * hal::kNsPerMs};     // frames exchanged in OP before going back
   const char* capture_path{nullptr};  // every frame of the check recorded there (pcapng), when given

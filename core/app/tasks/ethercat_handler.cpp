@@ -172,6 +172,14 @@ HandlerEvent EthercatHandler::event(HandlerEventKind kind, const drivers::JointC
 }
 
 void EthercatHandler::handle_link_reports(const drivers::JointCycleResult& result, hal::Nanoseconds now) noexcept {
+  // The ring's changes (cable redundancy: each reported once by the master), for the log.
+  ecat::RingReport ring{};
+  while (bus_.master().pop_ring_report(ring)) {
+    HandlerEvent e = event(HandlerEventKind::ring_report, result, ring.time);
+    e.ring = ring;
+    post(e);
+  }
+
   // Master's link events (lost, restored, not operational), for the log.
   drivers::JointLinkReport link{};
   while (bus_.pop_report(link)) {

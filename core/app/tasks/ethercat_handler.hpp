@@ -35,6 +35,7 @@
 #include "core/robot/joint_limits.hpp"
 #include "drivers/joint/joint_bus.hpp"
 #include "ecat/master/link_monitor.hpp"
+#include "ecat/master/ring_monitor.hpp"
 
 namespace rescue::app {
 
@@ -46,6 +47,7 @@ enum class HandlerEventKind : std::uint8_t {
   drives_disabled,  // shutdown: every reachable drive reports its power stage off
   waiting_for_op,   // about once a second while the network is not in OP: the slaves not in OP yet
                     // (link.slaves; link.al_status/al_status_code of the first), link.time = since
+  ring_report,      // cable redundancy: the ring opened, split or closed again (ring: where)
 };
 
 struct HandlerEvent {
@@ -56,6 +58,7 @@ struct HandlerEvent {
   ecat::LinkReport link{};       // link_report (its slaves; `joints` holds their joints)
   Errc file_status{Errc::ok};    // loss_recorded
   SafeStopDecision stop{};       // safe_stop
+  ecat::RingReport ring{};       // ring_report
 };
 
 // What the handler reaches of the tasks' shared state, each at the end it uses (built with the other

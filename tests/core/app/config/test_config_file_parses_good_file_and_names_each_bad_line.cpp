@@ -26,6 +26,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
   const std::string text =
       "# the motion PC\n"
       "nic = raw:enp2s0\r\n"
+      "ring_nic = raw:enp3s0\n"
       "state_dir = /var/lib/rescue-motion\n"
       "key_file = /var/lib/rescue-motion/operator.key\n"
       "listen = 192.168.10.2\n"
@@ -51,6 +52,7 @@ TEST(ConfigFile, GoodFileSetsEveryKey) {
   EXPECT_TRUE(c.has_nic);
   EXPECT_EQ(c.nic.kind, NicKind::raw);
   EXPECT_STREQ(c.nic.interface_name.data(), "enp2s0");
+  EXPECT_STREQ(c.ring_nic_text.data(), "raw:enp3s0");
   EXPECT_STREQ(c.state_dir.data(), "/var/lib/rescue-motion");
   EXPECT_STREQ(c.key_file.data(), "/var/lib/rescue-motion/operator.key");
   EXPECT_STREQ(c.listen.data(), "192.168.10.2");
@@ -88,7 +90,7 @@ struct BadLine {
 
 TEST(ConfigFile, EachKindOfBadLineIsNamed) {
   const BadLine cases[] = {
-      {"nic = sim\nspeed = 3\n", 2, "speed", "unknown key", "nic, state_dir"},
+      {"nic = sim\nspeed = 3\n", 2, "speed", "unknown key", "nic, ring_nic, state_dir"},
       {"[joint_manager]\nperiod = 3\n", 2, "period", "unknown key in a task section", "priority, cpu"},
       {"[kinematics]\n", 1, "kinematics", "unknown section", "[ethercat_handler]"},
       {"[joint_manager\n", 1, "[joint_manager", "section without closing ']'", "[ethercat_handler]"},
@@ -100,6 +102,7 @@ TEST(ConfigFile, EachKindOfBadLineIsNamed) {
       {"Nic = sim\n", 1, "Nic", "key has a character other than a-z, 0-9, _", "lower-case"},
       {"nic =\n", 1, "nic", "empty value", "a value"},
       {"nic = tap:eth0\n", 1, "nic", "", "sim or raw:IFACE"},
+      {"ring_nic = eth1\n", 1, "ring_nic", "not a NIC", "sim or raw:IFACE"},
       {"state_dir = var/lib\n", 1, "state_dir", "not an absolute path", "absolute path"},
       {"listen = 300.1.1.1\n", 1, "listen", "not an IPv4 address", "dotted IPv4"},
       {"duration = 0\n", 1, "duration", "not a duration in range", "at least 0.001"},

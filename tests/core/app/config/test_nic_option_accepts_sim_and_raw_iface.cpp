@@ -1,4 +1,6 @@
-// --nic sim|raw:IFACE: the default and both forms parse; anything else is a clear error.
+// --nic sim|raw:IFACE: the default and both forms parse; anything else is a clear error. --ring-nic
+// (cable redundancy) pairs with it: another raw interface beside a raw one, sim beside sim; the main
+// interface itself and a mixed pair are refused with the reason.
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -53,6 +55,40 @@ TEST(NicOption, BadInterfaceNamesAreRefused) {
     auto choice = parse_nic_option(bad);
     ASSERT_FALSE(choice.ok()) << bad;
     EXPECT_EQ(choice.error().code, Errc::invalid_argument) << bad;
+  }
+}
+
+TEST(RingNicOption, AnotherRawInterfaceBesideARawOne) {
+  const Result<NicChoice> main = parse_nic_option("raw:eth1");
+  ASSERT_TRUE(main.ok());
+  const Result<NicChoice> ring = parse_ring_nic_option("raw:eth2", main.value());
+  ASSERT_TRUE(ring.ok());
+  EXPECT_EQ(ring.value().kind, NicKind::raw);
+  EXPECT_STREQ(ring.value().interface_name.data(), "eth2");
+}
+
+TEST(RingNicOption, TheMainInterfaceItselfIsRefusedWithTheReason) {
+  const Result<NicChoice> main = parse_nic_option("raw:eth1");
+  ASSERT_TRUE(main.ok());
+  const Result<NicChoice> ring = parse_ring_nic_option("raw:eth1", main.value());
+  ASSERT_FALSE(ring.ok());
+  EXPECT_EQ(ring.error().code, Errc::invalid_argument);
+  EXPECT_NE(std::strstr(ring.error().what, "is the --nic interface itself"), nullptr) << ring.error().what;
+}
+
+TEST(RingNicOption, MixedPairsAndBadTextAreRefused) {
+  const Result<NicChoice> sim = parse_nic_option("sim");
+  const Result<NicChoice> raw = parse_nic_option("raw:eth1");
+  ASSERT_TRUE(sim.ok() && raw.ok());
+  EXPECT_TRUE(parse_ring_nic_option("sim", sim.value()).ok());
+  const Result<NicChoice> raw_beside_sim = parse_ring_nic_option("raw:eth2", sim.value());
+  ASSERT_FALSE(raw_beside_sim.ok());
+  EXPECT_NE(std::strstr(raw_beside_sim.error().what, "needs --nic raw:IFACE"), nullptr);
+  const Result<NicChoice> sim_beside_raw = parse_ring_nic_option("sim", raw.value());
+  ASSERT_FALSE(sim_beside_raw.ok());
+  EXPECT_NE(std::strstr(sim_beside_raw.error().what, "needs --nic sim"), nullptr);
+  for (const char* bad : {"", "eth2", "raw:", "raw:eth/2"}) {
+    EXPECT_FALSE(parse_ring_nic_option(bad, raw.value()).ok()) << bad;
   }
 }
 

@@ -33,7 +33,7 @@ TEST(RunCheckOptions, OptionsOfARunningRobotAreRefusedByName) {
     const test::CommandOutput check = test::run_command(kBinary + " run --check " + option + " 2>&1");
     EXPECT_EQ(check.exit_status, 1) << option << ": " << check.out;
     const std::string name = option.substr(0, option.find(' '));
-    EXPECT_NE(check.out.find("rescue-motion run: " + name + " does not apply to --check (it takes --config, --nic and --capture)"),
+    EXPECT_NE(check.out.find("rescue-motion run: " + name + " does not apply to --check (it takes --config, --nic, --ring-nic and --capture)"),
               std::string::npos)
         << option << ": " << check.out;
   }
