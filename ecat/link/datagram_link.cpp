@@ -77,6 +77,8 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
   }
   if (view.value().datagram_count() == 0 || (*view.value().begin()).index() != index_) {
     note_stale(view.value());
+    // A copy not waited for came back after all (late): wait for it again from now on.
+    (is_ring_copy(frame) ? expect_ring_ : expect_main_) = true;
     return false;
   }
   // A second copy of the same kind (the same frame twice) is ignored: the first one counts.
@@ -99,9 +101,10 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
 Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {
   returns_ = CopyReturns{};
   hal::Clock& clock = nic_.clock();
-  // Both NICs are looked at without waiting; when neither had a copy, the main NIC is waited on for
-  // at most kRingPollSlice. Bounded: each turn either takes a frame or moves the clock on.
-  while (!(returns_.main_back && returns_.ring_back)) {
+  // Both NICs are looked at without waiting; when neither had a copy, the NIC where a missing copy
+  // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a frame or moves the clock on. Ends when
+  // the copies expected (those that came back last time) are in, after one more look at both NICs.
+  for (;;) {
     bool took = false;
     for (const Port port : {Port::main, Port::ring}) {
       hal::Nic& nic = port == Port::main ? nic_ : *ring_;
@@ -113,24 +116,32 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
         return got.error();
       }
     }
+    if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) break;
     if (took) continue;
     const hal::Nanoseconds now = clock.now();
     if (now >= deadline) break;
     const hal::Nanoseconds slice_end = now + kRingPollSlice < deadline ? now + kRingPollSlice : deadline;
-    const Result<std::size_t> got = nic_.receive(ByteSpan(scratch_), slice_end);
+    // Wait where the copy still missing came back last time (the main copy's first).
+    const Port wait_on = expect_main_ && !returns_.main_back ? main_came_on_ : ring_came_on_;
+    const Result<std::size_t> got = (wait_on == Port::main ? nic_ : *ring_).receive(ByteSpan(scratch_), slice_end);
     if (got.ok()) {
-      (void)take_copy(Port::main, got.value());
+      (void)take_copy(wait_on, got.value());
     } else if (got.error().code != Errc::timeout) {
       return got.error();
     }
   }
+  // What to wait for next time: the copies that came back (both again when none did).
+  if (returns_.main_back) main_came_on_ = returns_.main_on;
+  if (returns_.ring_back) ring_came_on_ = returns_.ring_on;
+  expect_main_ = returns_.main_back || !returns_.ring_back;
+  expect_ring_ = returns_.ring_back || !returns_.main_back;
   if (!returns_.main_back && !returns_.ring_back) {
     ++stats_.timeouts;
     return make_error(Errc::timeout, "no copy of the frame came back on either NIC");
   }
-  Result<FrameView> main_view = FrameView::parse(ConstByteSpan(main_back_.data(), main_back_length_));
-  Result<FrameView> ring_view = FrameView::parse(ConstByteSpan(ring_back_.data(), ring_back_length_));
-  const Result<FrameView> merged =
+  const Result<FrameView> main_view = FrameView::parse(ConstByteSpan(main_back_.data(), main_back_length_));
+  const Result<FrameView> ring_view = FrameView::parse(ConstByteSpan(ring_back_.data(), ring_back_length_));
+  Result<FrameView> merged =
       merge_copies(sent_view_, returns_.main_back && main_view.ok() ? &main_view.value() : nullptr,
                    returns_.ring_back && ring_view.ok() ? &ring_view.value() : nullptr, ByteSpan(rx_), returns_.counters);
   if (!merged.ok()) {

@@ -9,7 +9,11 @@
 //
 // Cable redundancy (set_ring): with a second NIC every frame also goes out on it as its ring copy
 // (redundant_merge.hpp), the copies are collected from both NICs by index until both are back or
-// the deadline passes, and the exchange returns their merge. Without it nothing changes.
+// the deadline passes, and the exchange returns their merge. A copy that did not come back last
+// time (a break at a master port) is not waited for: the exchange ends once the others are in,
+// after one more look at both NICs, so a cut at a port does not hold every cycle to its deadline;
+// such a copy turning up late (stale) makes the next exchanges wait for it again. Without a ring
+// NIC nothing changes.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
 // optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
@@ -77,8 +81,9 @@ class DatagramLink {
   hal::Nic* ring_nic() noexcept { return ring_; }
   // Where the copies of the last exchange came back, and each datagram's counter in each copy.
   const CopyReturns& copy_returns() const noexcept { return returns_; }
-  // While both copies are awaited, the main NIC is waited on for at most this long at a time before
-  // the ring NIC is looked at again (hal::Nic waits on one NIC): a ring copy waits this much at most.
+  // While a copy is awaited, the NIC it came back on last time is waited on for at most this long
+  // before both are looked at again (hal::Nic waits on one NIC): a copy on the other NIC waits this
+  // much at most.
   static constexpr hal::Nanoseconds kRingPollSlice = 20 * hal::kNsPerUs;
 
   // Starts a new frame; datagrams are added with index() as their index.
@@ -145,6 +150,10 @@ class DatagramLink {
   std::size_t main_back_length_{0};
   std::size_t ring_back_length_{0};
   CopyReturns returns_{};
+  bool expect_main_{true};  // the main copy came back last time: wait for it
+  bool expect_ring_{true};
+  Port main_came_on_{Port::ring};  // where each copy came back last time (a closed ring to begin with)
+  Port ring_came_on_{Port::main};
   FrameTapFn tap_{nullptr};
   void* tap_context_{nullptr};
   LinkStats stats_{};

@@ -42,6 +42,9 @@ void RingMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, const Copy
                           std::uint16_t main_brd_wkc, std::uint16_t ring_brd_wkc) noexcept {
   if (status_.state == RingState::none) return;
   if (!returns.main_back && !returns.ring_back) return;  // no evidence
+  // The ring copy went all the way round (a ring closed again) but the main copy, the one that
+  // counts then, was not waited for: no evidence this cycle either.
+  if (!returns.main_back && returns.ring_on == Port::main) return;
   cycle_ = cycle;
   time_ = time;
   const std::size_t m = returns.main_back ? (main_brd_wkc < slaves_ ? main_brd_wkc : slaves_) : 0;

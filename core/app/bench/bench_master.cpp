@@ -387,6 +387,9 @@ int bench_master(const ParsedArgs& args) noexcept {
   std::int64_t latch_samples = 0;
   std::array<std::uint32_t, ecat::kLinkEventKindCount> reports_by_kind{};
   ecat::LinkReport report;
+  ecat::RingReport ring_report;
+  std::uint64_t ring_reports = 0;  // cable redundancy: changes of the ring during the measured run
+  const bool ring = selected.ring_nic() != nullptr;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
     clock.sleep_until(bus.next_wakeup());
@@ -402,6 +405,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     all_valid += r.valid == kAllJoints ? 1 : 0;
     frames_lost += r.frame_received ? 0 : 1;
     while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
+    while (bus.master().pop_ring_report(ring_report)) ++ring_reports;
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
@@ -445,6 +449,12 @@ int bench_master(const ParsedArgs& args) noexcept {
 
   (void)std::printf("nic: %s\n", simulated ? "sim (in-process simulated robot, virtual time)" : nic.name());
   (void)std::printf("time_base: %s\n", simulated ? "simulated (virtual clock)" : "wall (CLOCK_MONOTONIC)");
+  if (ring) {  // docs/redundancy.md: the state at the end, and the changes seen during the measured run
+    const ecat::RingStatus& rs = bus.master().ring_status();
+    (void)std::printf("ring_nic: %s\n", selected.ring_nic()->name());
+    (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
+                      ecat::to_string(rs.state), rs.breaks, rs.repairs, ring_reports);
+  }
   (void)std::printf("slaves: %u slaves\n", static_cast<unsigned>(first.slaves_counted));
   (void)std::printf("cycle_time: %.0f us\n", us(static_cast<std::uint64_t>(options.cycle_time)));
   (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));

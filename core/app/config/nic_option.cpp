@@ -52,7 +52,7 @@ Result<NicChoice> parse_ring_nic_option(const char* text, const NicChoice& main)
   if (std::strncmp(text, kRawPrefix, kRawPrefixLength) != 0) {
     return make_error(Errc::invalid_argument, "--ring-nic must be 'sim' or 'raw:IFACE' (e.g. raw:eth1)");
   }
-  const Result<NicChoice> ring = parse_nic_option(text);
+  Result<NicChoice> ring = parse_nic_option(text);
   if (!ring.ok()) return make_error(Errc::invalid_argument, "--ring-nic raw:IFACE: not an interface name (at most 15 bytes, no '/', ':' or spaces)");
   if (main.kind != NicKind::raw) {
     return make_error(Errc::invalid_argument, "--ring-nic raw:IFACE needs --nic raw:IFACE (both master ports on the wire)");

@@ -149,6 +149,27 @@ TEST_F(RedundantLink, NothingBackOnEitherNicIsATimeout) {
   EXPECT_EQ(link.stats().timeouts, 1U);
 }
 
+TEST_F(RedundantLink, ACutAtAMasterPortDoesNotHoldEveryExchangeToItsDeadline) {
+  constexpr hal::Nanoseconds kWindow = 100 * hal::kNsPerUs;
+  for (const std::size_t port_cable : {std::size_t{0}, kSlaves}) {
+    SCOPED_TRACE("cable " + std::to_string(port_cable));
+    segment.restore_all();
+    (void)exchange();
+    segment.cut(port_cable);
+    hal::Nanoseconds sent = segment.clock().now();
+    (void)exchange();  // the copy sent by the cut port is waited for until the deadline, once
+    EXPECT_EQ(segment.clock().now() - sent, kWindow);
+    sent = segment.clock().now();
+    const Exchanged e = exchange();
+    EXPECT_EQ(segment.clock().now() - sent, TwoPortSegment::kRoundTrip) << "then no longer";
+    EXPECT_EQ(e.lrw_wkc, 3 * kSlaves);
+    segment.restore(port_cable);
+    for (int i = 0; i < 3; ++i) (void)exchange();
+    EXPECT_TRUE(link.copy_returns().main_back && link.copy_returns().ring_back) << "repaired: both copies again";
+    EXPECT_EQ(link.copy_returns().main_on, Port::ring);
+  }
+}
+
 TEST_F(RedundantLink, TransfersAndStreamsAreMergedToo) {
   segment.cut(3);
   std::array<std::uint8_t, 2> data{};
