@@ -102,8 +102,9 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
   returns_ = CopyReturns{};
   hal::Clock& clock = nic_.clock();
   // Both NICs are looked at without waiting; when neither had a copy, the NIC where a missing copy
-  // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a frame or moves the clock on. Ends when
-  // the copies expected (those that came back last time) are in, after one more look at both NICs.
+  // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a
+  // frame or moves the clock on. Ends when the copies expected (those that came back last time) are
+  // in, after one more look at both NICs.
   for (;;) {
     bool took = false;
     for (const Port port : {Port::main, Port::ring}) {
