@@ -293,22 +293,58 @@ int parse_dc_options(const ParsedArgs& args, ecat::MasterOptions& options) noexc
   return 0;
 }
 
+// The header, the handler's real-time set-up (each item announced), the histograms emptied.
+void start_bench(bool real_time, const ReceiveWaitChoice& wait) noexcept {
+  print_bench_header(stdout, "master");
+  hal::apply_rt_config(master_rt_config(real_time)).print(stdout);
+  print_scheduling(real_time, wait);
+  g_master_ns.reset();
+  g_nic_ns.reset();
+  g_latch_spread_ns.reset();
+  g_phase_error_ns.reset();
+}
+
+// --ring-nic (cable redundancy, docs/redundancy.md): parsed beside --nic, opened, given to the
+// master; 0, or the exit status of a refusal. The ring port is not timed (nic_ns times the main
+// NIC's calls only). The benchmark's simulated robot is its own (virtual time, seeded): its ring is
+// the seam of SelectedNic::open_ring, not there yet (issue 34 item 1), so `sim` is refused.
+int attach_ring(const ParsedArgs& args, const NicChoice& main, SelectedNic& selected, const ReceiveWaitChoice& wait,
+                ecat::Master& master) noexcept {
+  if (args.value("ring-nic") == nullptr) return 0;
+  const Result<NicChoice> ring = parse_ring_nic_option(args.value("ring-nic"), main);
+  if (!ring.ok()) return fail("bench", ring.error().what);
+  if (ring.value().kind == NicKind::sim) {
+    return fail("bench", "--ring-nic sim: the simulated robot has no ring port yet (the simulator's ring, issue 34 item 1)");
+  }
+  const Status opened = selected.open_ring(ring.value(), wait);
+  if (!opened.ok()) return fail_nic("bench", args.value("ring-nic"), opened.error());
+  master.use_ring(*selected.ring_nic());
+  return 0;
+}
+
+// Changes of the ring seen during the measured run.
+std::uint64_t g_ring_changes = 0;
+std::uint64_t drain_ring_reports(ecat::Master& master) noexcept {
+  std::uint64_t n = 0;
+  ecat::RingReport report;
+  while (master.pop_ring_report(report)) ++n;
+  return n;
+}
+
+// With a ring: its state at the end, and the changes seen during the measured run.
+void print_ring(const ecat::Master& master, SelectedNic& selected) noexcept {
+  if (selected.ring_nic() == nullptr) return;
+  const ecat::RingStatus& rs = master.ring_status();
+  (void)std::printf("ring_nic: %s\n", selected.ring_nic()->name());
+  (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
+                    ecat::to_string(rs.state), rs.breaks, rs.repairs, g_ring_changes);
+}
+
 }  // namespace
 
 int bench_master(const ParsedArgs& args) noexcept {
   const Result<NicChoice> choice = parse_nic_option(args.value("nic"));
   if (!choice.ok()) return fail("bench", choice.error().what);
-  NicChoice ring_choice{};
-  if (args.value("ring-nic") != nullptr) {
-    const Result<NicChoice> ring = parse_ring_nic_option(args.value("ring-nic"), choice.value());
-    if (!ring.ok()) return fail("bench", ring.error().what);
-    ring_choice = ring.value();
-    // The benchmark's simulated robot is its own (virtual time, seeded): its ring is the seam of
-    // SelectedNic::open_ring, not there yet (issue 34 item 1).
-    if (ring_choice.kind == NicKind::sim) {
-      return fail("bench", "--ring-nic sim: the simulated robot has no ring port yet (the simulator's ring, issue 34 item 1)");
-    }
-  }
   const Result<std::int64_t> cycles = args.integer("cycles", kDefaultCycles, 100, 1'000'000);
   if (!cycles.ok()) return fail("bench", "--cycles must be 100..1000000", cycles.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
@@ -329,13 +365,7 @@ int bench_master(const ParsedArgs& args) noexcept {
 
   // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
   // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
-  print_bench_header(stdout, "master");
-  hal::apply_rt_config(master_rt_config(real_time)).print(stdout);
-  print_scheduling(real_time, wait);
-  g_master_ns.reset();
-  g_nic_ns.reset();
-  g_latch_spread_ns.reset();
-  g_phase_error_ns.reset();
+  start_bench(real_time, wait);
 
   static SelectedNic selected;
   static StartUpSlot<drivers::JointBus> bus_slot;
@@ -350,17 +380,12 @@ int bench_master(const ParsedArgs& args) noexcept {
   } else {
     const Status opened = selected.open(choice.value(), wait);
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
-    if (args.value("ring-nic") != nullptr) {
-      const Status ring = selected.open_ring(ring_choice, wait);
-      if (!ring.ok()) return fail_nic("bench", args.value("ring-nic"), ring.error());
-    }
     inner = selected.nic();
   }
   static const hal::TscTimer timer = hal::TscTimer::calibrate();
   static TimedNic nic(*inner, timer);
   drivers::JointBus& bus = bus_slot.emplace(nic);
-  // Redundant: the ring port unwrapped (nic_ns times the main NIC's calls only).
-  if (selected.ring_nic() != nullptr) bus.master().use_ring(*selected.ring_nic());
+  if (const int bad = attach_ring(args, choice.value(), selected, wait, bus.master()); bad != 0) return bad;
   static Enabler enabler;
   hal::Clock& clock = nic.clock();
 
@@ -387,9 +412,6 @@ int bench_master(const ParsedArgs& args) noexcept {
   std::int64_t latch_samples = 0;
   std::array<std::uint32_t, ecat::kLinkEventKindCount> reports_by_kind{};
   ecat::LinkReport report;
-  ecat::RingReport ring_report;
-  std::uint64_t ring_reports = 0;  // cable redundancy: changes of the ring during the measured run
-  const bool ring = selected.ring_nic() != nullptr;
   for (std::int64_t i = 0; i < cycles.value(); ++i) {
     enabler.step();
     clock.sleep_until(bus.next_wakeup());
@@ -405,7 +427,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     all_valid += r.valid == kAllJoints ? 1 : 0;
     frames_lost += r.frame_received ? 0 : 1;
     while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
-    while (bus.master().pop_ring_report(ring_report)) ++ring_reports;
+    g_ring_changes += drain_ring_reports(bus.master());
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
@@ -449,12 +471,7 @@ int bench_master(const ParsedArgs& args) noexcept {
 
   (void)std::printf("nic: %s\n", simulated ? "sim (in-process simulated robot, virtual time)" : nic.name());
   (void)std::printf("time_base: %s\n", simulated ? "simulated (virtual clock)" : "wall (CLOCK_MONOTONIC)");
-  if (ring) {  // docs/redundancy.md: the state at the end, and the changes seen during the measured run
-    const ecat::RingStatus& rs = bus.master().ring_status();
-    (void)std::printf("ring_nic: %s\n", selected.ring_nic()->name());
-    (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
-                      ecat::to_string(rs.state), rs.breaks, rs.repairs, ring_reports);
-  }
+  print_ring(bus.master(), selected);
   (void)std::printf("slaves: %u slaves\n", static_cast<unsigned>(first.slaves_counted));
   (void)std::printf("cycle_time: %.0f us\n", us(static_cast<std::uint64_t>(options.cycle_time)));
   (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));
