@@ -100,7 +100,7 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
 
 Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {
   returns_ = CopyReturns{};
-  hal::Clock& clock = nic_.clock();
+  hal::Clock& time = nic_.clock();
   // Both NICs are looked at without waiting; when neither had a copy, the NIC where a missing copy
   // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a
   // frame or moves the clock on. Ends when the copies expected (those that came back last time) are
@@ -108,8 +108,8 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
   for (;;) {
     bool took = false;
     for (const Port port : {Port::main, Port::ring}) {
-      hal::Nic& nic = port == Port::main ? nic_ : *ring_;
-      const Result<std::size_t> got = nic.receive(ByteSpan(scratch_), clock.now());
+      hal::Nic& port_nic = port == Port::main ? nic_ : *ring_;
+      const Result<std::size_t> got = port_nic.receive(ByteSpan(scratch_), time.now());
       if (got.ok()) {
         took = true;
         (void)take_copy(port, got.value());
@@ -119,7 +119,7 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
     }
     if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) break;
     if (took) continue;
-    const hal::Nanoseconds now = clock.now();
+    const hal::Nanoseconds now = time.now();
     if (now >= deadline) break;
     const hal::Nanoseconds slice_end = now + kRingPollSlice < deadline ? now + kRingPollSlice : deadline;
     // Wait where the copy still missing came back last time (the main copy's first).
