@@ -35,6 +35,9 @@ void print_numbers(std::FILE* out, const BringUpReport& r) noexcept {
     (void)std::fprintf(out, " (I/O error: slave at position %" PRIu32 " does not answer)", r.error.detail0);
   } else if (is_step(r.failed_step, "OP") && r.error.code == Errc::timeout) {
     (void)std::fprintf(out, " (timeout: slave at position %" PRIu32 " not in OP)", r.error.detail0);
+  } else if (is_step(r.failed_step, "ring")) {  // cable redundancy (master_bring_up.cpp, check_ring_closes)
+    (void)std::fprintf(out, " (the main port reaches %" PRIu32 " slaves, the ring port %" PRIu32 ")", r.error.detail0,
+                       r.error.detail1);
   } else if (r.error.detail0 != 0 || r.error.detail1 != 0) {
     (void)std::fprintf(out, " (%s; details %" PRIu32 ", %" PRIu32 ")", to_string(r.error.code), r.error.detail0, r.error.detail1);
   } else {

@@ -208,11 +208,10 @@ Status Master::check_ring_closes() noexcept {
   if (!ring_nic_heard) {
     return fail("ring", make_error(Errc::not_found,
                                    "the ring does not close: the ring NIC received nothing (is the segment's last free "
-                                   "port cabled to it?); slaves reached from the main port",
+                                   "port cabled to it?)",
                                    main_reach));
   }
-  return fail("ring", make_error(Errc::refused, "the ring is open at bring-up; slaves reached from the main port, the ring port",
-                                 main_reach, ring_reach));
+  return fail("ring", make_error(Errc::refused, "the ring is open at bring-up", main_reach, ring_reach));
 }
 
 Status Master::count_and_reset() noexcept {

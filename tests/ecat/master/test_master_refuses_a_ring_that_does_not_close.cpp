@@ -6,8 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
+#include "ecat/master/bring_up_report.hpp"
 #include "ecat/master/master.hpp"
 #include "tests/support/two_port_rig.hpp"
 
@@ -44,6 +48,18 @@ TEST_F(RingBringUp, ARingNicThatHearsNothingIsRefusedWithTheReason) {
   EXPECT_EQ(st.error().code, Errc::not_found);
   EXPECT_NE(std::strstr(st.error().what, "ring NIC received nothing"), nullptr) << st.error().what;
   EXPECT_EQ(st.error().detail0, kRingRigSlaves) << "slaves reached from the main port";
+  // The headline says what the numbers are.
+  char* text = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&text, &size);
+  ASSERT_NE(out, nullptr);
+  print_bring_up_failure(out, "", "", master);
+  std::fclose(out);
+  const std::string line(text, size);
+  std::free(text);
+  EXPECT_NE(line.find("bring-up failed at ring: the ring does not close: the ring NIC received nothing"), std::string::npos)
+      << line;
+  EXPECT_NE(line.find("(the main port reaches 6 slaves, the ring port 0)"), std::string::npos) << line;
 }
 
 TEST_F(RingBringUp, ARingOpenAtBringUpIsRefusedNamingEachPortsReach) {
