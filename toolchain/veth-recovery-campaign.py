@@ -12,15 +12,18 @@ Cases (each in a run of its own):
 
 Per case it prints: faults injected, losses reported, false losses (a joint reported lost or not
 operational while no fault held it), missed losses (a joint a fault held for 100 ms or more, never
-reported), recoveries (joints reported `recovered`), stuck (a joint that became reachable again and
-was not recovered within STUCK_S), and the time from each restore (power-on, restore, or the drop) to
+reported), recoveries (joints reported `recovered`), slow (every recovery that took longer than a
+hold-off would explain: NORMAL_S after the joint returned, plus what was left then of the hold-off
+of a `recovery failed` line the master printed before the return; a failure after the return
+explains nothing: a returned, healthy drive must not fail), stuck (a joint that became reachable
+again and was not recovered within STUCK_S by the end of the run), and the time from each restore (power-on, restore, or the drop) to
 the `recovered` line of each returned joint: median and max. Times are the campaign's monotonic
 clock at the command and at the run's log line (line-buffered): a few ms of logging latency included.
 
 usage: toolchain/veth-recovery-campaign.py BINARY [--cases power,branches,random] [--seeds 1,2,3,4,5]
                                            [--seconds 60] [--off-ms 500] [--prefix rcv]
   docs/master.md figures: flock /tmp/rescue-serial.lock toolchain/veth-recovery-campaign.py build/release/rescue-motion
-Exit status: 0 when every case had 0 false, 0 missed and 0 stuck, 1 otherwise, 2 on a set-up error.
+Exit status: 0 when every case had 0 false, 0 missed, 0 slow and 0 stuck, 1 otherwise, 2 on a set-up error.
 """
 import argparse
 import os
@@ -50,7 +53,9 @@ DRIVES = [n for n, _ in SLAVES if not n.startswith("junction")]
 BRANCH_HEADS = ["r_shoulder_pitch", "l_leg", "waist_yaw", "l_shoulder_pitch"]
 MISS_MIN_S = 0.1  # a fault held this long must be reported
 STUCK_S = 5.0
+NORMAL_S = 0.5  # a returned drive is back in OP within this (median 73-83 ms over veth), no hold-off
 LINE = re.compile(r"link (lost|not operational|recovered): ([a-z_,]+)")
+FAILED = re.compile(r"recovery failed: ([a-z_,]+) \(in (\w+), attempt (\d+) in a row\), trying again from the start in (\d+) ms")
 
 
 def path_to_master(name):
@@ -94,6 +99,9 @@ class Run:
         self.missed = 0
         self.recovery_times = []
         self.stuck = 0
+        self.slow = 0
+        self.hold_off_until = {}    # joint -> end of the hold-off of its last `recovery failed` line
+        self.failed_since_return = {}  # joint -> the states its recovery failed in since it returned
         self.recovered = 0
         self.losses = 0
         self.reported_down = set()  # reported lost/not operational, not yet recovered
@@ -120,6 +128,14 @@ class Run:
         return False
 
     def take(self, t, line):
+        f = FAILED.search(line)
+        if f:
+            for j in f.group(1).split(","):
+                if j in self.reachable_since:  # after its return: explains nothing
+                    self.failed_since_return.setdefault(j, []).append(f.group(2))
+                else:
+                    self.hold_off_until[j] = t + int(f.group(4)) / 1000
+            return
         m = LINE.search(line)
         if not m:
             return
@@ -137,7 +153,16 @@ class Run:
             self.recovered += len(joints)
             for j in joints:
                 if j in self.reachable_since:
-                    self.recovery_times.append(t - self.reachable_since.pop(j))
+                    returned = self.reachable_since.pop(j)
+                    self.recovery_times.append(t - returned)
+                    # What a hold-off running at the return explains, and the normal recovery after it.
+                    explained = max(0.0, self.hold_off_until.get(j, 0.0) - returned) + NORMAL_S
+                    failures = self.failed_since_return.pop(j, [])
+                    if t - returned > explained:
+                        self.slow += 1
+                        print("  slow: %s recovered %.2f s after it returned at %.3f s (%.2f s explained by a hold-off); "
+                              "failed since the return in: %s" % (j, t - returned, returned - self.t0, explained,
+                                                                   ", ".join(failures) if failures else "none"))
             self.reported_down -= joints
 
     def pump(self, until):
@@ -168,6 +193,7 @@ class Run:
             if j not in self.reachable_since and j not in self.reported_down:
                 self.down_since[j] = t
             self.reachable_since.pop(j, None)
+            self.failed_since_return.pop(j, None)
         for j in before - after:
             self.release(j, t)
         if verb == "safe-op":
@@ -201,11 +227,11 @@ def summary(run):
     times = sorted(run.recovery_times)
     med = "%.0f" % (statistics.median(times) * 1000) if times else "-"
     mx = "%.0f" % (max(times) * 1000) if times else "-"
-    print("%-14s faults %3d, losses reported %3d, false %d, missed %d, recoveries %3d, stuck %d, "
+    print("%-14s faults %3d, losses reported %3d, false %d, missed %d, recoveries %3d, slow %d, stuck %d, "
           "restore to OP median %s ms, max %s ms (%d returns), exit %s" %
-          (run.name, run.injected, run.losses, run.false_losses, run.missed, run.recovered, run.stuck, med, mx,
+          (run.name, run.injected, run.losses, run.false_losses, run.missed, run.recovered, run.slow, run.stuck, med, mx,
            len(times), run.proc.returncode))
-    return run.false_losses == 0 and run.missed == 0 and run.stuck == 0
+    return run.false_losses == 0 and run.missed == 0 and run.slow == 0 and run.stuck == 0
 
 
 def start_run(args, work, sim, name, duration):

@@ -28,6 +28,19 @@ RampState ramp(std::size_t j, RampState state, double gap, double wanted_velocit
     desired = wanted_velocity + std::copysign(closing, gap);
   }
   double v = std::clamp(desired, low, high);
+  if (braking <= 0.0) {
+    // Never past where the wanted motion can still stop (at a_max from its rate): a ramp closing a
+    // gap on a motion that then slows would otherwise overshoot it and come back (a reversal the
+    // motion never asked for). As far as the acceleration allows (a motion stopping harder than
+    // a_max is overshot, at a_max). In exact arithmetic a motion within the limits is never held
+    // back by it (the bound is its own rate); the slack absorbs the rounding.
+    constexpr double kSlack = 1e-9;  // rad/s
+    const double ahead = gap + wanted_velocity * dt_s;  // where the wanted motion is now, from x
+    const double stop_up = ahead + stopping_distance(std::max(0.0, wanted_velocity), a_max, dt_s);
+    const double stop_down = ahead - stopping_distance(std::max(0.0, -wanted_velocity), a_max, dt_s);
+    v = std::min(v, std::max(low, braking_speed(std::max(0.0, stop_up), a_max, dt_s) + kSlack));
+    v = std::max(v, std::min(high, -braking_speed(std::max(0.0, -stop_down), a_max, dt_s) - kSlack));
+  }
   if (!kJoints[j].continuous) {
     // Braking in time for the position limits. The intervals meet in exact arithmetic (see the
     // header); a rounding's worth apart, the position limit wins.

@@ -7,7 +7,10 @@
 //   v_d = v* + sign(e) min(braking_speed(|e|), |e| / dt)      (about sqrt(2 a_max |e|))
 // then v = v_d clamped to the interval every limit allows this period:
 //   [v - a_max dt, v + a_max dt]  and  [-v_max, v_max]  and  [-braking_speed(x - x_min), braking_speed(x_max - x)]
-// and x += v dt. The last interval brakes in time for the position limits: a joint never moves
+// and x += v dt, never past the point where the wanted motion can still stop at a_max from its rate
+// (x* + stopping_distance(v*), either way: a ramp closing a gap on a motion that then slows does not
+// overshoot it and come back), as far as [v - a_max dt, v + a_max dt] allows. The last interval
+// brakes in time for the position limits: a joint never moves
 // faster than it can still stop before a limit at a_max, so it arrives at a limit at rest, whatever
 // the wanted motion does (a blip, a reversal, a target beyond the limit). The three intervals always
 // meet: a speed allowed last period is within a_max dt of one allowed now (braking_speed's sequence
@@ -44,6 +47,15 @@ inline double braking_speed(double distance, double a_max, double dt_s) noexcept
   const double n = std::floor(std::sqrt(0.25 + 2.0 * distance / (step * dt_s)) - 0.5);
   const double left = distance - step * dt_s * n * (n + 1.0) / 2.0;
   return step * n + left / ((n + 1.0) * dt_s);
+}
+
+// How far a motion at `speed` (>= 0) goes after this period when its speed falls by a_max dt each
+// period from the next: dt (n speed - a_max dt n (n + 1) / 2), n = floor(speed / (a_max dt)). The
+// inverse of braking_speed: braking_speed(speed dt + stopping_distance(speed)) == speed.
+inline double stopping_distance(double speed, double a_max, double dt_s) noexcept {
+  const double step = a_max * dt_s;
+  const double n = std::floor(speed / step);
+  return dt_s * (n * speed - step * n * (n + 1.0) / 2.0);
 }
 
 // Joints with a jerk limit the limiter can hold, and its longest moving average (periods).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace rescue::drivers {
 namespace {
@@ -21,8 +22,14 @@ std::size_t joint_limit_sdos(std::size_t joint, const JointLimits& limits, ecat:
   const JointInfo& info = kJoints[joint];
   std::size_t n = 0;
   if (!info.continuous) {
-    out[n++] = ecat::sdo_download(position, 0x607D, 1, static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_min_rad)), 4);
-    out[n++] = ecat::sdo_download(position, 0x607D, 2, static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_max_rad)), 4);
+    // The drive refuses a limit that would leave min > max (0x06090036), and it may hold anything
+    // (another tool's INT32_MIN for both): min widened to INT32_MIN first, then max, then min, each
+    // step keeping min <= max whatever the drive held.
+    const auto min_counts = static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_min_rad));
+    const auto max_counts = static_cast<std::uint32_t>(drivers::rad_to_counts(limits.position_max_rad));
+    out[n++] = ecat::sdo_download(position, 0x607D, 1, static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::min()), 4);
+    out[n++] = ecat::sdo_download(position, 0x607D, 2, max_counts, 4);
+    out[n++] = ecat::sdo_download(position, 0x607D, 1, min_counts, 4);
   }
   out[n++] = ecat::sdo_download(position, 0x607F, 0, saturate_u32(limits.velocity_max_rad_s * drivers::kCountsPerRad), 4);
   const double per_mille = info.rated_torque_nm > 0.0 ? 1000.0 * limits.torque_max_nm / info.rated_torque_nm : 0.0;

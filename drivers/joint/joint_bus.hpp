@@ -33,10 +33,11 @@ struct JointFeedback {
 };
 
 // SDO downloads that set a joint's limits in its drive (PRE-OP at start-up, or at run time):
-// 0x607D:01/02 software position limits (not for continuous joints), 0x607F max profile
+// 0x607D:01/02 software position limits (not for continuous joints; written :01 = INT32_MIN, :02,
+// :01 so that the drive, which refuses min > max, accepts them whatever it held), 0x607F max profile
 // velocity, 0x6072 max torque (per mille of the rated torque). Returns how many it wrote.
 std::size_t joint_limit_sdos(std::size_t joint, const JointLimits& limits, ecat::SdoRequest* out, std::size_t capacity) noexcept;
-constexpr std::size_t kLimitSdosPerJoint = 4;
+constexpr std::size_t kLimitSdosPerJoint = 5;
 
 // One cycle, in joints (what the EtherCAT handler sees; the master's ecat::CycleResult stays here).
 struct JointCycleResult {

@@ -1,5 +1,6 @@
 #include "ecat/capture/capture_reader.hpp"
 
+#include <array>
 #include <limits>
 
 #include "core/base/endian.hpp"
@@ -186,7 +187,12 @@ Result<bool> CaptureReader::read_block(CapturedFrame& out) noexcept {
   const std::uint32_t type = u32(at);
   const std::uint32_t length = u32(at + 4);
   if (length < kMinBlockSize || length % 4 != 0) return fail(error_at(Errc::malformed, "block length", at + 4));
-  if (source_ != nullptr && length > window_.size()) return fail(error_at(Errc::capacity_exceeded, "block length", at + 4));
+  if (source_ != nullptr && length > window_.size()) {
+    // Too large for the window: refused for its size only when the file really holds it (a
+    // length running past the end of the file is the truncation the whole-file reader reports).
+    RESCUE_TRY(block_fits_in_file(at, length));
+    return fail(error_at(Errc::capacity_exceeded, "block length", at + 4));
+  }
   const Result<std::size_t> whole = bytes_from(at, length);
   if (!whole.ok()) return fail(whole.error());
   size = whole.value();
@@ -206,6 +212,14 @@ Result<bool> CaptureReader::read_block(CapturedFrame& out) noexcept {
   offset_ = at + length;
   if (packet) ++frames_read_;
   return packet;
+}
+
+Status CaptureReader::block_fits_in_file(std::size_t at, std::size_t length) noexcept {
+  std::array<std::uint8_t, kBlockTrailerSize> trailer{};
+  const Result<std::size_t> got = source_->read_at(at + length - kBlockTrailerSize, ByteSpan(trailer.data(), trailer.size()));
+  if (!got.ok()) return fail(error_at(Errc::io_error, "read", at + length - kBlockTrailerSize));
+  if (got.value() < trailer.size()) return fail(error_at(Errc::truncated, "block length", at + 4));
+  return Status::success();
 }
 
 Status CaptureReader::read_section_header(std::size_t at, std::size_t length) noexcept {

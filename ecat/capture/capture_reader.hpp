@@ -11,6 +11,11 @@
 // if_tsoffset, if_fcslen and epb_flags; other blocks are skipped. Classic pcap in either byte
 // order, microsecond and nanosecond magic, and the FCS-length bits of the link-type field.
 //
+// A section header's section length is advisory and not read: the pcapng spec lets it be -1
+// (unknown) and uses it only to skip a section; blocks are walked one by one, each checked by its
+// own length, so a section length of any value (0xffffffffffffffc9, or one disagreeing with the
+// blocks that follow) changes nothing the reader returns.
+//
 // Error values (Error::what, code; detail0 = number of the frame being read, 1-based, i.e. frames
 // read so far + 1; detail1 = byte offset in the file of the field that failed, low 32 bits):
 //   "file header"            truncated    fewer bytes than the format's file header
@@ -32,7 +37,8 @@
 //   "option length"          malformed    an option runs past the block body
 //   "if_tsresol"             unsupported  a resolution finer than 64-bit nanoseconds can hold
 //   "timestamp"              out_of_range the timestamp in ns does not fit 64 bits (or is < 0)
-//   "block length"           capacity_exceeded  (streamed) a block larger than the reader's window
+//   "block length"           capacity_exceeded  (streamed) a block larger than the reader's window that
+//                                               the file holds whole (else truncated, as above)
 //   "read"                   io_error     (streamed) the source could not be read
 // After an error, next() returns the same error again.
 #pragma once
@@ -111,6 +117,8 @@ class CaptureReader {
   Status read_section_header(std::size_t at, std::size_t length) noexcept;
   Status read_interface(std::size_t at, std::size_t length) noexcept;
   Result<bool> read_block(CapturedFrame& out) noexcept;  // one pcapng block; true when it was a packet
+  // Streamed, a block longer than the window: truncated "block length" when the file ends before it.
+  Status block_fits_in_file(std::size_t at, std::size_t length) noexcept;
   Status read_packet(std::uint32_t type, std::size_t at, std::size_t length, CapturedFrame& out) noexcept;
   Error fail(Error error) noexcept;  // remembers the error: next() repeats it
 

@@ -326,7 +326,8 @@ void LinkMonitor::reintegrated(SlaveMask slaves, std::uint64_t cycle, hal::Nanos
   report(LinkEventKind::reintegrated, slaves, cycle);
 }
 
-void LinkMonitor::recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept {
+void LinkMonitor::recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause,
+                            std::uint32_t pdo_writes) noexcept {
   slaves &= out_;
   if (slaves == 0) return;
   present_ |= slaves;
@@ -341,7 +342,7 @@ void LinkMonitor::recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseco
   }
   cycle_ = cycle;
   time_ = time;
-  report(LinkEventKind::recovered, slaves, cycle, 0, 0, {cause, 0, 0, 0});
+  report(LinkEventKind::recovered, slaves, cycle, 0, 0, {cause, pdo_writes, 0, 0});
 }
 
 void LinkMonitor::recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,

@@ -84,7 +84,8 @@ struct LinkReport {
   std::uint64_t detected_cycle{0};  // cycle whose working counter first showed it
   hal::Nanoseconds time{0};
   // recovered: found[0] = kRecoveredAfterPowerLoss when the slave had lost its station address (its
-  // power was cycled), 0 when it kept its configuration (a cable: link lost and back);
+  // power was cycled), 0 when it kept its configuration (a cable: link lost and back); found[1] =
+  // SDO writes that brought its PDO mapping back to the plan (0: it held the plan);
   // recovery_refused: the SII identity found (vendor, product, revision, serial);
   // recovery_failed: found[0] = the recovery state that timed out (or lost the device in the third
   // attempt in a row), found[1] = failed attempts in a row, found[2] = hold-off before the next (ms).
@@ -156,7 +157,9 @@ class LinkMonitor {
   // Online recovery: slaves it works on are left out of the restoration probes (it talks to them);
   // recovered() puts slaves back in the exchange (from lost, restored or not operational).
   void set_recovering(SlaveMask slaves) noexcept { recovering_ = slaves; }
-  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause) noexcept;
+  // `pdo_writes`: SDO writes its recovery made to bring its PDO mapping back to the plan (found[1]).
+  void recovered(SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time, std::uint32_t cause,
+                 std::uint32_t pdo_writes = 0) noexcept;
   void recovery_event(LinkEventKind kind, SlaveMask slaves, std::uint64_t cycle, hal::Nanoseconds time,
                       const std::array<std::uint32_t, 4>& found) noexcept;
 

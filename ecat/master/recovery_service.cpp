@@ -151,7 +151,7 @@ void RecoveryActions::report_recovered(RecoveryContext& ctx) noexcept {
   r.failures = 0;
   r.bounces = 0;
   service.ctx_.monitor.recovered(slave_bit(ctx.position), service.ctx_.cycle, service.ctx_.now(),
-                                 r.lost_address ? kRecoveredAfterPowerLoss : 0);
+                                 r.lost_address ? kRecoveredAfterPowerLoss : 0, service.ctx_.slaves[ctx.position].pdo.writes());
 }
 
 void RecoveryService::take_input(std::size_t p, RecoveryInput input) noexcept {

@@ -58,6 +58,13 @@ void print_handler_event(const HandlerEvent& e, hal::Nanoseconds start) noexcept
         (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": back in OP after the watchdog: %s\n", t, e.cycle, names);
         break;
       }
+      if (e.link.kind == ecat::LinkEventKind::recovered && e.link.found[1] != 0) {
+        // As bring-up says it: the drive came back with another mapping, which the recovery wrote.
+        (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link recovered: %s (first seen in cycle %" PRIu64
+                          "); PDO mapping rewritten (it differed from the plan): %" PRIu32 " SDO writes\n",
+                          t, e.cycle, names, e.link.detected_cycle, e.link.found[1]);
+        break;
+      }
       (void)std::printf("[%8.3f s] ethercat: cycle %" PRIu64 ": link %s: %s (first seen in cycle %" PRIu64 ")\n", t,
                         e.cycle, ecat::to_string(e.link.kind), names, e.link.detected_cycle);
       break;

@@ -223,8 +223,11 @@ TEST(AccelerationLimiterProperty, ABrakingJointComesToRestAndResumesWithoutAJump
   const JointVector start = ready_posture();
   AccelerationLimiter limiter(start, kDt);
   JointVector wanted = start;
+  // Up to 0.5 rad/s within the acceleration limit (the limiter passes it unchanged), then cruising.
+  double speed = 0.0;
   for (int k = 0; k < 500; ++k) {
-    wanted(row) = start(row) + 0.5 * k * kDt;
+    speed = std::min(0.5, speed + 0.5 * kJointAcceleration[j] * kDt);
+    wanted(row) += speed * kDt;
     (void)limiter.step(wanted, 0);
   }
   ASSERT_NEAR(limiter.velocity()(row), 0.5, 1e-6);

@@ -176,6 +176,23 @@ TEST(PcapngFile, SectionsMayChangeByteOrderAndRestartInterfaceIds) {
   EXPECT_TRUE(same_bytes(frames[1].bytes, f2));
 }
 
+// The section length is advisory (-1 = unknown in the spec); the reader walks blocks by their own
+// lengths, so a bogus one (the fuzzer's 0xffffffffffffffc9) or one that disagrees with the blocks that
+// follow reads the same frames.
+TEST(PcapngFile, SectionLengthIsAdvisoryAndNotRead) {
+  const auto f1 = frame_bytes(1);
+  test::PcapngBuilder ng(false);
+  ng.interface().packet(0, 5, f1);
+  const std::vector<std::uint8_t> original = ng.bytes();
+  for (const std::uint64_t section_length : std::vector<std::uint64_t>{0xFFFFFFFFFFFFFFC9ULL, 0, 16}) {
+    std::vector<std::uint8_t> file = original;
+    for (std::size_t i = 0; i < 8; ++i) file[16 + i] = static_cast<std::uint8_t>(section_length >> (8 * i));
+    const auto frames = read_all(file, CaptureFormat::pcapng);
+    ASSERT_EQ(frames.size(), 1U) << section_length;
+    EXPECT_TRUE(same_bytes(frames[0].bytes, f1));
+  }
+}
+
 TEST(PcapngFile, SectionWithoutPacketsIsEmpty) {
   test::PcapngBuilder ng(false);
   EXPECT_TRUE(read_all(ng.bytes(), CaptureFormat::pcapng).empty());

@@ -4,7 +4,8 @@
 // window it gives exactly the frames (numbers, bytes, times, interfaces) the whole-file reader gives,
 // for pcap and pcapng of many windows' size with sections and interfaces changing on the way; no read
 // asks for more than the window; a pcapng block larger than the window is refused, not read in part;
-// a file cut short reports the same truncation either way.
+// a file cut short reports the same truncation either way, also where a block larger than the window
+// runs past its end (a fuzz finding).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -75,7 +76,8 @@ std::vector<std::uint8_t> frame_of(std::size_t n, std::size_t size) {
   return f;
 }
 
-void expect_same_both_ways(const std::vector<std::uint8_t>& file, std::size_t expected_frames) {
+// The frames and the end of both readers, compared; the end returned.
+Error expect_same_end_both_ways(const std::vector<std::uint8_t>& file, std::size_t expected_frames) {
   Error whole_end;
   const std::vector<Seen> whole = walk(CaptureReader::open(ConstByteSpan(file.data(), file.size())), whole_end);
   std::vector<std::uint8_t> window(CaptureReader::kMinWindow);
@@ -89,7 +91,12 @@ void expect_same_both_ways(const std::vector<std::uint8_t>& file, std::size_t ex
   EXPECT_EQ(streamed_end.detail0, whole_end.detail0);
   EXPECT_EQ(streamed_end.detail1, whole_end.detail1);
   EXPECT_LE(source.largest_request, window.size());
-  EXPECT_GT(file.size(), 4 * window.size()) << "the file spans several windows";
+  return whole_end;
+}
+
+void expect_same_both_ways(const std::vector<std::uint8_t>& file, std::size_t expected_frames) {
+  (void)expect_same_end_both_ways(file, expected_frames);
+  EXPECT_GT(file.size(), 4 * CaptureReader::kMinWindow) << "the file spans several windows";
 }
 
 TEST(StreamedCapture, PcapngOfManyWindowsGivesTheFramesOfTheWholeFileReader) {
@@ -139,6 +146,39 @@ TEST(StreamedCapture, ABlockLargerThanTheWindowIsRefusedNotReadInPart) {
   Error whole_end;
   EXPECT_EQ(walk(CaptureReader::open(ConstByteSpan(ng.bytes().data(), ng.bytes().size())), whole_end).size(), 2U);
   EXPECT_EQ(whole_end.code, Errc::ok);
+}
+
+// Found by fuzz_capture_reader: a section header (section length 0xffffffffffffffc9, advisory) whose
+// block length, 0x0032001c, is larger than the window and runs past the end of the 147-byte file. The
+// whole-file reader said truncated, the streamed one capacity_exceeded; both now say truncated there.
+TEST(StreamedCapture, ABlockLargerThanTheWindowPastTheEndOfTheFileIsATruncationEitherWay) {
+  const std::vector<std::uint8_t> fuzz_finding = {
+      0x0a, 0x0d, 0x0d, 0x0a, 0x1c, 0x00, 0x32, 0x00, 0x4d, 0x3c, 0x2b, 0x1a, 0x01, 0x00, 0x00, 0x00,
+      0xc9, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x1c, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00,
+      0x14, 0x00, 0x00, 0x00, 0x71, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x14, 0x00, 0x00, 0x00,
+      0x06, 0x00, 0x00, 0x00, 0x60, 0xf8, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x4e, 0x3c, 0xb2,
+      0xa1, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x3e, 0x00, 0x00, 0x00, 0x3e, 0x00, 0x00, 0x00,
+      0x00, 0x04, 0x00, 0x01, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0x02, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x60, 0x00,
+      0x00, 0x00, 0x06, 0x00, 0x00, 0x00, 0x60, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x60,
+      0x00, 0x00, 0x00,
+  };
+  ASSERT_EQ(fuzz_finding.size(), 147U);
+  const Error end = expect_same_end_both_ways(fuzz_finding, 0);
+  EXPECT_EQ(end.code, Errc::truncated);
+  EXPECT_STREQ(end.what, "block length");
+  EXPECT_EQ(end.detail1, 4U);
+  // The same later in a file, after a packet: a block larger than the window, cut short.
+  test::PcapngBuilder ng;
+  ng.interface().packet(0, 1, frame_of(0, 100));
+  const std::size_t block_at = ng.bytes().size();
+  ng.block(0x0BADBAD0, std::vector<std::uint8_t>(CaptureReader::kMinWindow, 0));
+  std::vector<std::uint8_t> cut = ng.bytes();
+  cut.resize(block_at + 64);
+  const Error later = expect_same_end_both_ways(cut, 1);
+  EXPECT_EQ(later.code, Errc::truncated);
+  EXPECT_EQ(later.detail1, block_at + 4);
 }
 
 TEST(StreamedCapture, AWindowSmallerThanTheLargestRecordIsRefused) {

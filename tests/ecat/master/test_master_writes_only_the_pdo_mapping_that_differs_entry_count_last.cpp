@@ -8,6 +8,8 @@
 // access does not give); many drives recovering at once never overflow the 32-deep mailbox queue.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <string>
 
 #include <vector>
@@ -311,8 +313,11 @@ MasterOptions recovery_options() {
   return options;
 }
 
-// Cycles until every slave of `slaves` is back in the exchange (recovered) or `limit` periods passed.
-SlaveMask cycle_until_recovered(SimulatedRobotRig& rig, SlaveMask slaves, int limit) {
+// Cycles until every slave of `slaves` is back in the exchange (recovered) or `limit` periods passed;
+// `reported_writes` (when given) gets the PDO mapping writes each `recovered` report names (found[1],
+// what the run's log line prints as bring-up does).
+SlaveMask cycle_until_recovered(SimulatedRobotRig& rig, SlaveMask slaves, int limit,
+                                std::array<std::uint32_t, kMaxSlaves>* reported_writes = nullptr) {
   drivers::JointReferences refs{};
   drivers::JointFeedback fb{};
   SlaveMask recovered = 0;
@@ -322,7 +327,11 @@ SlaveMask cycle_until_recovered(SimulatedRobotRig& rig, SlaveMask slaves, int li
     // Each recovering slave holds one place in the queue at most: the owner's room stays.
     EXPECT_GE(rig.bus.master().mailbox().free_slots(), MailboxClient::kQueueCapacity - kMaxSlaves);
     while (rig.bus.master().pop_report(report)) {
-      if (report.kind == LinkEventKind::recovered) recovered |= report.slaves;
+      if (report.kind != LinkEventKind::recovered) continue;
+      recovered |= report.slaves;
+      for (std::size_t p = 0; p < kMaxSlaves && reported_writes != nullptr; ++p) {
+        if ((report.slaves & slave_bit(p)) != 0) (*reported_writes)[p] = report.found[1];
+      }
     }
   }
   return recovered;
@@ -334,10 +343,18 @@ TEST(MasterPdoMappingInRecovery, APowerCycledDriveWithAHalfWrittenMappingIsRepai
   const std::size_t p = slave_position_of_joint(joint);
   ASSERT_TRUE(rig->segment.corrupt_pdo_mapping(p, PdoMappingFault::half_written).ok());
   ASSERT_TRUE(rig->segment.power_cycle(p, rig->clock.now()).ok());
-  EXPECT_EQ(cycle_until_recovered(*rig, slave_bit(p), 2000), slave_bit(p));
+  std::array<std::uint32_t, kMaxSlaves> reported{};
+  EXPECT_EQ(cycle_until_recovered(*rig, slave_bit(p), 2000, &reported), slave_bit(p));
   EXPECT_EQ(rig->bus.master().recovery_pdo_writes(p), 3u);
+  EXPECT_EQ(reported[p], 3u) << "the recovered report says the mapping was rewritten (issue 35 item 15)";
   EXPECT_TRUE(drive_holds_the_plan(*rig, joint));
   EXPECT_EQ(rig->segment.esc(p).al_state(), reg::AlState::op);
+  // A drive that comes back holding the plan: nothing written, nothing said.
+  const std::size_t other = slave_position_of_joint(joint_index_by_name("r_elbow"));
+  ASSERT_TRUE(rig->segment.power_cycle(other, rig->clock.now()).ok());
+  reported[other] = 99;
+  EXPECT_EQ(cycle_until_recovered(*rig, slave_bit(other), 2000, &reported), slave_bit(other));
+  EXPECT_EQ(reported[other], 0u);
 }
 
 TEST(MasterPdoMappingInRecovery, EveryDriveWithAForeignMappingPowerCycledAtOnceReturnsWithoutOverflowingTheQueue) {
@@ -351,11 +368,13 @@ TEST(MasterPdoMappingInRecovery, EveryDriveWithAForeignMappingPowerCycledAtOnceR
   for (std::size_t j = 0; j < kJointCount; ++j) {
     ASSERT_TRUE(rig->segment.power_cycle(slave_position_of_joint(j), rig->clock.now()).ok());
   }
-  // 21 drives x (17 reads + 17 writes + 17 read back + 4 limits): far more than the queue's 32.
-  EXPECT_EQ(cycle_until_recovered(*rig, drives, 30000), drives);
+  // 21 drives x (17 reads + 17 writes + 17 read back + 5 limits): far more than the queue's 32.
+  std::array<std::uint32_t, kMaxSlaves> reported{};
+  EXPECT_EQ(cycle_until_recovered(*rig, drives, 30000, &reported), drives);
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const std::size_t p = slave_position_of_joint(j);
     EXPECT_EQ(rig->bus.master().recovery_pdo_writes(p), 17u) << kJoints[j].name;
+    EXPECT_EQ(reported[p], 17u) << kJoints[j].name;
     EXPECT_TRUE(drive_holds_the_plan(*rig, j)) << kJoints[j].name;
     EXPECT_EQ(rig->segment.esc(p).al_state(), reg::AlState::op) << kJoints[j].name;
   }
