@@ -55,6 +55,7 @@ int main(int argc, char **argv) {
   }
   if (ec_slave[0].state != EC_STATE_OPERATIONAL) { printf("op: no\n"); return 1; }
   printf("op: yes\nexpected_wkc: %d\n", expected);
+  fflush(stdout);  /* the script starts its break schedule at this line */
 
   int full = 0, short_cycles = 0, run = 0, longest_run = 0;
   long dc_before = 0, dc_broken = 0, dc_repaired = 0;

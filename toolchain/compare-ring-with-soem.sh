@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# SOEM 1.4.0's cable redundancy and ours side by side (issue 34 item 4, docs/redundancy.md "Side by
+# side with SOEM"): one `rescue-motion sim --iface rga1 --ring-iface rgb1` (the robot's ring
+# configuration) on two veth pairs, the master's main port on rga0 and its ring port on rgb0. Each
+# side in turn: the master brings the ring up, then CABLE (a slave's name: the cable into it; or
+# `ring`: the ring-return cable) is cut BREAK_S seconds after the master reached OP and restored at
+# REPAIR_S (the simulator's fault commands on its standard input), and the master runs to SECONDS.
+#   SOEM  toolchain/soem/soem_ring_cycle.c (ec_init_redundant, ec_config_map, ec_configdc, 1 ms
+#         cycles): its own count of cycles with the full working counter, the largest |0x092C| before
+#         the break, from 100 ms after it to the repair, from 100 ms after the repair, slaves not in
+#         OP at the end.
+#   ours  `rescue-motion run --nic raw:rga0 --ring-nic raw:rgb0 --duration SECONDS`: the end-of-run
+#         figures (cycles, joints lost), the ring's reports (each break and repair, with its place).
+# A figure a side does not give is printed as n/a.
+#
+# usage: toolchain/compare-ring-with-soem.sh RESCUE_MOTION_BINARY [RUNS] [CABLE]   (root; RUNS 3, CABLE r_elbow)
+# environment: ANCHORS (default ../shared/anchors beside this tree), SOEM_BUILD (default
+#   /tmp/soem-anchor, shared with compare-with-soem.sh), BREAK_S (2), REPAIR_S (5), SECONDS_RUN (8).
+# Timing figures depend on the machine's load: run it on a quiet machine.
+set -euo pipefail
+bin=$(readlink -f "$1"); runs=${2:-3}; cable=${3:-r_elbow}
+break_s=${BREAK_S:-2} repair_s=${REPAIR_S:-5} seconds=${SECONDS_RUN:-8}
+here=$(cd "$(dirname "$0")" && pwd)
+anchors=$(readlink -f "${ANCHORS:-$here/../../shared/anchors}")
+work=${SOEM_BUILD:-/tmp/soem-anchor}
+src=$work/SOEM-1.4.0
+if [[ ! -f $src/build/libsoem.a ]]; then  # as compare-with-soem.sh builds it
+  mkdir -p "$work" && tar -xzf "$anchors/soem-1.4.0.tar.gz" -C "$work"
+  sed -i 's/ -Werror//' "$src/CMakeLists.txt"
+  cmake -S "$src" -B "$src/build" -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build "$src/build" -j2 >/dev/null
+fi
+cc -O2 -I"$src/soem" -I"$src/osal" -I"$src/osal/linux" -I"$src/oshw/linux" "$here/soem/soem_ring_cycle.c" \
+   "$src/build/libsoem.a" -lpthread -lrt -o "$work/soem_ring_cycle"
+
+tmp=$(mktemp -d /tmp/compare-ring.XXXXXX)
+sim=""
+cleanup() {
+  { exec 7>&-; } 2>/dev/null || true
+  [[ -n $sim ]] && kill "$sim" 2>/dev/null
+  ip link del rga0 2>/dev/null || true
+  ip link del rgb0 2>/dev/null || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+ip link del rga0 2>/dev/null || true
+ip link del rgb0 2>/dev/null || true
+ip link add rga0 type veth peer name rga1 && ip link add rgb0 type veth peer name rgb1
+for i in rga0 rga1 rgb0 rgb1; do ip link set "$i" up; done
+
+# start_sim: a fresh simulator (every side starts from the same robot), its commands from fd 7.
+start_sim() {
+  { exec 7>&-; } 2>/dev/null || true
+  [[ -n $sim ]] && { kill "$sim" 2>/dev/null; wait "$sim" 2>/dev/null || true; }
+  rm -f "$tmp/commands" && mkfifo "$tmp/commands"
+  "$bin" sim --iface rga1 --ring-iface rgb1 <"$tmp/commands" >"$tmp/sim.log" 2>&1 & sim=$!
+  exec 7>"$tmp/commands"
+  sleep 1
+}
+# break_and_repair OUTPUT MARK: once OUTPUT shows MARK (the master is in OP), cut CABLE at BREAK_S and
+# restore it at REPAIR_S.
+break_and_repair() {
+  local waited=0
+  until grep -q "$2" "$1" 2>/dev/null; do sleep 0.05; waited=$((waited + 1)); [[ $waited -gt 400 ]] && return 0; done
+  sleep "$break_s"; echo "cut $cable" >&7
+  sleep "$(awk -v a="$repair_s" -v b="$break_s" 'BEGIN {print a - b}')"; echo "restore $cable" >&7
+}
+field() { awk -v k="$2:" '$1 == k {print $2; found = 1; exit} END {if (!found) print "n/a"}' "$1"; }
+
+for ((r = 1; r <= runs; r++)); do
+  start_sim
+  break_and_repair "$tmp/soem.out" "^op: yes" & schedule=$!
+  "$work/soem_ring_cycle" rga0 rgb0 $((seconds * 1000)) "$break_s" "$repair_s" >"$tmp/soem.out" 2>&1 || true
+  wait "$schedule" || true
+  echo "run${r}_soem_op: $(field "$tmp/soem.out" op)"
+  echo "run${r}_soem_cycles_full_wkc: $(field "$tmp/soem.out" cycles_full_wkc) of $((seconds * 1000))"
+  echo "run${r}_soem_cycles_without_full_wkc: $(field "$tmp/soem.out" cycles_without_full_wkc)"
+  echo "run${r}_soem_dc_max_abs_before_break_ns: $(field "$tmp/soem.out" dc_max_abs_before_break)"
+  echo "run${r}_soem_dc_max_abs_after_break_100ms_ns: $(field "$tmp/soem.out" dc_max_abs_after_break_100ms)"
+  echo "run${r}_soem_dc_max_abs_after_repair_100ms_ns: $(field "$tmp/soem.out" dc_max_abs_after_repair_100ms)"
+  echo "run${r}_soem_slaves_not_op_at_end: $(field "$tmp/soem.out" slaves_not_op_at_end)"
+
+  start_sim
+  state=$(mktemp -d "$tmp/state.XXXXXX")
+  break_and_repair "$tmp/ours.out" "network in OP" & schedule=$!
+  "$bin" run --nic raw:rga0 --ring-nic raw:rgb0 --duration "$seconds" --state-dir "$state" >"$tmp/ours.out" 2>&1 || true
+  wait "$schedule" || true
+  if grep -q "network in OP" "$tmp/ours.out"; then echo "run${r}_rescue_op: yes"; else echo "run${r}_rescue_op: no"; fi
+  echo "run${r}_rescue_cycles: $(field "$tmp/ours.out" rescue_cycles)"
+  echo "run${r}_rescue_joints_lost: $(grep -c "link lost" "$tmp/ours.out" || true) link-lost reports"
+  echo "run${r}_rescue_ring_reports: $(grep -c "ethercat: ring" "$tmp/ours.out" || true)"
+  grep "ethercat: ring" "$tmp/ours.out" | sed "s/^/run${r}_rescue_ring_report: /" || true
+  grep -E "bring-up failed" "$tmp/ours.out" | sed "s/^/run${r}_rescue_/" || true
+done
