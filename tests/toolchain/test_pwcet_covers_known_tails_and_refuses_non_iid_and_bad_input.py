@@ -8,7 +8,8 @@
   but at most one of the accepted (the measured coverage is printed).
 - Not i.i.d.: a strongly autocorrelated series (AR(1), phi 0.999, under the same Gumbel noise) is
   refused for independence; a step of +10% in the middle is refused for identical distribution; i.i.d.
-  samples whose block maxima are no GEV (a rare second mode) are refused for goodness of fit. A refusal
+  samples whose block maxima are no GEV (a rare second mode) are refused for goodness of fit, and i.i.d.
+  samples with a tail of no finite mean (Pareto, index 1) for a heavy tail (GEV xi >= 0.5). A refusal
   is exit 2 with every pWCET n/a.
 - Bad input: empty file, a non-numeric line, a negative value (each named FILE:LINE), too few
   samples for the method: exit 65; no argument: 64; a missing file: 66.
@@ -97,6 +98,8 @@ step[N // 2:] += 2000
 refused("step_in_the_middle", step, "identical distribution")
 rare = np.where(rng.uniform(size=N) < 0.02, 30000, 20000) + 200 * rng.normal(size=N)
 refused("two_modes", rare, "goodness of fit")
+# A tail with no finite mean (Pareto, tail index 1: GEV xi = 1), i.i.d.: no time bound follows from it.
+refused("heavy_tail", 20000 + 500 * rng.pareto(1.0, size=N), "heavy tail")
 
 
 def bad(name, text, status, message, *extra):

@@ -63,6 +63,8 @@ def ljung_box(x, lags):
 
 
 # GEV with shape xi (xi > 0 heavy tail, xi < 0 bounded tail, xi = 0 Gumbel); scipy's c is -xi.
+# The largest shape accepted: from 0.5 up the fitted tail has no finite variance (refused above).
+MAX_SHAPE = 0.5
 def gev_nll(theta, x):
     mu, log_sigma, xi = theta
     sigma = math.exp(log_sigma)
@@ -170,6 +172,12 @@ def analyse(name, samples, args):
                 ("goodness_of_fit_p", fmt_p(p_gof))]
         if not p_gof >= args.alpha:
             refusals.append(f"goodness of fit: KS p = {fmt_p(p_gof)} < alpha {args.alpha}")
+        if fit[2] >= MAX_SHAPE:
+            # A tail this heavy has no finite variance (xi >= 1: no finite mean): execution times of
+            # bounded code paths are not like that, so the maxima measured are interference (a
+            # preempted or delayed period), and extrapolating them gives no time bound (a single
+            # run gave pWCET(1e-9) = 7e12 ns with xi 1.44).
+            refusals.append(f"heavy tail: GEV shape xi = {fit[2]:.2f} >= {MAX_SHAPE} (no finite variance: interference, not the program's paths)")
         plot.update(fit=fit, boot=boot)
 
     out.append(("interval", f"{args.confidence:g} two-sided, parametric bootstrap percentile ({args.bootstrap} resamples of the maxima, refitted)"))
