@@ -99,7 +99,6 @@ void MotionIntake::measure(JointMask driven) noexcept {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((driven & joint_bit(j)) == 0) {
       history_[j] = 0;
-      sent_speed_[j] = 0.0;
       continue;
     }
     // What was sent: the references themselves (history 0: the joint manager set it this period).
@@ -128,11 +127,16 @@ void MotionIntake::measure(JointMask driven) noexcept {
     }
     if (history_[j] < 2) ++history_[j];
     speed_[j] = v;
-    // Published: within the speed limit (a rounding above it is not a new fault: one beyond it is
-    // the violation above).
-    sent_speed_[j] = std::clamp(v, -kJoints[j].limits.velocity_max_rad_s, kJoints[j].limits.velocity_max_rad_s);
     acceleration_[j] = a;
   }
+}
+
+double MotionIntake::sent_speed(std::size_t joint) const noexcept {
+  // No history: not driven, or back from the watchdog (rest_at). Within the speed limit: a rounding
+  // above it is not a new fault (one beyond it is measure()'s violation).
+  if (history_[joint] == 0) return 0.0;
+  const double limit = kJoints[joint].limits.velocity_max_rad_s;
+  return std::clamp(speed_[joint], -limit, limit);
 }
 
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,

@@ -97,7 +97,7 @@ class MotionIntake {
   // The speed of `joint`'s reference sent this period (rad/s; 0 for a joint not driven, or set anew
   // by the joint manager), within its speed limit: what a new owner continues from (the handler
   // publishes it as JointSample::velocity_ref_rad_s).
-  double sent_speed(std::size_t joint) const noexcept { return sent_speed_[joint]; }
+  double sent_speed(std::size_t joint) const noexcept;
 
   const MotionIntakeCounters& counters() const noexcept { return counters_; }
   const SentMotionFigures& sent_figures() const noexcept { return sent_; }
@@ -128,7 +128,6 @@ class MotionIntake {
   // Measuring what is sent: the last two speeds and the periods of history each joint has.
   std::array<double, kJointCount> previous_sent_{};
   std::array<double, kJointCount> speed_{};
-  std::array<double, kJointCount> sent_speed_{};
   std::array<double, kJointCount> acceleration_{};
   std::array<std::uint8_t, kJointCount> history_{};
   SentMotionFigures sent_{};
