@@ -93,13 +93,17 @@ void AccelerationLimiter::plan_from_references() noexcept {
   }
 }
 
-void AccelerationLimiter::reset(const JointVector& position) noexcept {
+void AccelerationLimiter::reset(const JointVector& position) noexcept { reset(position, JointVector::Zero()); }
+
+void AccelerationLimiter::reset(const JointVector& position, const JointVector& velocity) noexcept {
   position_ = position;
   last_wanted_ = position;
-  velocity_.setZero();
+  velocity_ = velocity;
   limited_ = 0;
   for (std::size_t f = 0; f < filter_count_; ++f) {
-    filters_[f].restart(position(static_cast<Eigen::Index>(filters_[f].joint)));
+    const auto row = static_cast<Eigen::Index>(filters_[f].joint);
+    filters_[f].restart(position(row));
+    velocity_(row) = 0.0;
   }
 }
 

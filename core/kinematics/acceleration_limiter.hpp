@@ -90,8 +90,15 @@ class AccelerationLimiter {
   AccelerationLimiter(const JointVector& start, double dt_s, const JointArray& jerk = kJointJerk,
                       const JointArray& braking = kJointAcceleration) noexcept;
 
-  // Restarts at `position` at rest (a new owner of the motion, a restart).
+  // Restarts at `position` at rest (a restart).
   void reset(const JointVector& position) noexcept;
+  // Restarts at `position` moving at `velocity` (a new owner of the motion taking over the references
+  // being sent and their speed: bumpless, its first references continue that motion within the
+  // limits). A jerk-limited joint restarts at rest: its moving average runs (N - 1) / 2 periods
+  // behind what it is asked, so no state continues a speed without a step back (no RC task's
+  // limiter takes a hand at speed: the rescue task does not command the hands, the teleop task has
+  // no such filter; the handler's intake, which smooths every reference, is never reset at speed).
+  void reset(const JointVector& position, const JointVector& velocity) noexcept;
   // Restarts one joint at `position` at rest (another authority set its reference).
   void reset_joint(std::size_t joint, double position) noexcept;
 

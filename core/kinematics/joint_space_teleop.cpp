@@ -41,8 +41,12 @@ Status JointSpaceTeleop::step(const JointVector& velocity_command, JointMask out
 }
 
 void JointSpaceTeleop::take_ownership(const JointVector& current_references) noexcept {
+  take_ownership(current_references, JointVector::Zero());
+}
+
+void JointSpaceTeleop::take_ownership(const JointVector& current_references, const JointVector& current_velocities) noexcept {
   references_ = current_references;
-  velocities_.setZero();
+  velocities_ = current_velocities;
   owns_motion_ = true;
 }
 

@@ -20,8 +20,11 @@ class JointSpaceTeleop {
   // Errors: invalid_argument for a non-finite command (the references are left unchanged).
   Status step(const JointVector& velocity_command, JointMask out_of_service) noexcept;
 
-  // The operator gives this task the motion: it continues from `current_references` (the owner's).
+  // The operator gives this task the motion: it continues from `current_references` (the owner's)
+  // and their speeds `current_velocities` (default: at rest): with no command its joints then brake
+  // from that speed at their acceleration limits, they never stop dead.
   void take_ownership(const JointVector& current_references) noexcept;
+  void take_ownership(const JointVector& current_references, const JointVector& current_velocities) noexcept;
   void release_ownership() noexcept { owns_motion_ = false; }
   bool owns_motion() const noexcept { return owns_motion_; }
 

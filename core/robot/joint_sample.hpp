@@ -22,7 +22,7 @@ struct JointSample {
   double velocity_rad_s;
   double torque_nm;
   double position_ref_rad;         // what the handler sends this cycle
-  double velocity_ref_rad_s;
+  double velocity_ref_rad_s;       // the speed of the position references sent (CSP: no velocity target is sent)
   double torque_ref_nm;
   bool drive_fault;                // statusword fault bit
   std::uint16_t drive_error_code;  // CiA 402 error code (0x603F)

@@ -1,6 +1,6 @@
 // Both RC tasks and the EtherCAT handler's motion intake over one TaskLinks, in virtual time, one
 // period of each per millisecond: the rig plays the handler (it publishes as joint samples the
-// references the intake chose, as the handler does) and the joint manager (every joint Enabled in
+// references the intake chose and their speeds, as the handler does) and the joint manager (every joint Enabled in
 // its default mode, status published). Tests stop a task's periods to make it "die".
 #pragma once
 
@@ -58,6 +58,7 @@ struct RcTaskRig {
       sample[j].reachable = (unreachable & joint_bit(j)) == 0;
       if (!sample[j].reachable) continue;
       sample[j].position_ref_rad = sent[j];
+      sample[j].velocity_ref_rad_s = intake.sent_speed(j);
       sample[j].position_rad = sent[j];
     }
     links->samples.write(sample);

@@ -106,7 +106,8 @@ void EthercatHandler::build_outputs() noexcept {
       }
     }
     // No velocity reference: the joints run in CSP, which takes positions; the fixed mapping's
-    // target velocity (0x60FF, for CSV) is sent 0, and so is the samples' velocity_ref_rad_s.
+    // target velocity (0x60FF, for CSV) is sent 0. The samples' velocity_ref_rad_s is the speed of
+    // the position references sent (publish_sample), for a new owner to continue from.
     out.target_velocity = 0;
     out.target_torque = 0;
   }
@@ -118,7 +119,9 @@ void EthercatHandler::publish_sample(const drivers::JointCycleResult& result) no
     JointSample& s = sample_[j];
     const drivers::JointOutputs& out = outputs_[j];
     s.position_ref_rad = reference_rad_[j];
-    s.velocity_ref_rad_s = 0.0;
+    // The rate of the references sent (the intake's; 0 where the reference is the drive's actual
+    // position: back from the watchdog, or not driven).
+    s.velocity_ref_rad_s = (rest_after_watchdog_ & joint_bit(j)) != 0 ? 0.0 : intake_.sent_speed(j);
     s.torque_ref_nm = drivers::per_mille_to_nm(out.target_torque, kJoints[j]);
     const bool valid = (result.valid & joint_bit(j)) != 0;
     // A joint driven this period whose inputs this frame did not bring stays reachable while it is

@@ -131,6 +131,14 @@ void MotionIntake::measure(JointMask driven) noexcept {
   }
 }
 
+double MotionIntake::sent_speed(std::size_t joint) const noexcept {
+  // No history: not driven, or back from the watchdog (rest_at). Within the speed limit: a rounding
+  // above it is not a new fault (one beyond it is measure()'s violation).
+  if (history_[joint] == 0) return 0.0;
+  const double limit = kJoints[joint].limits.velocity_max_rad_s;
+  return std::clamp(speed_[joint], -limit, limit);
+}
+
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,
                                                             JointMask driven) noexcept {
   decide(now, demand, driven);

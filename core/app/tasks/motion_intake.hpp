@@ -94,6 +94,11 @@ class MotionIntake {
     history_[joint] = 0;
   }
 
+  // The speed of `joint`'s reference sent this period (rad/s; 0 for a joint not driven, or set anew
+  // by the joint manager), within its speed limit: what a new owner continues from (the handler
+  // publishes it as JointSample::velocity_ref_rad_s).
+  double sent_speed(std::size_t joint) const noexcept;
+
   const MotionIntakeCounters& counters() const noexcept { return counters_; }
   const SentMotionFigures& sent_figures() const noexcept { return sent_; }
   // The first reference sent beyond a limit (speed, acceleration, jerk; none while every one kept

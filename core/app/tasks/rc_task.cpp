@@ -76,6 +76,7 @@ RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcep
       references_(kin::JointVector::Zero()),
       previous_(kin::JointVector::Zero()),
       sent_(kin::JointVector::Zero()),
+      sent_speed_(kin::JointVector::Zero()),
       approach_from_(kin::JointVector::Zero()),
       next_(kin::JointVector::Zero()),
       teleop_velocity_(kin::JointVector::Zero()),
@@ -173,6 +174,7 @@ void RcTask::read_joints() noexcept {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
     sent_(row) = sample_[j].position_ref_rad;
+    sent_speed_(row) = sample_[j].velocity_ref_rad_s;
     if (!sample_[j].reachable || status_[j].lost || status_[j].state == fsm::JointState::error) {
       out_of_service_ |= joint_bit(j);
     }
@@ -181,7 +183,7 @@ void RcTask::read_joints() noexcept {
     have_joints_ = true;
     references_ = sent_;
     previous_ = sent_;
-    teleop_.take_ownership(sent_);
+    teleop_.take_ownership(sent_, sent_speed_);
     teleop_.release_ownership();
   }
 }
@@ -189,14 +191,14 @@ void RcTask::read_joints() noexcept {
 void RcTask::on_take(hal::Nanoseconds now) noexcept {
   ++counters_.takes;
   mode_since_ = now;
-  references_ = sent_;  // bumpless: continue from what the handler sends
+  references_ = sent_;  // bumpless: continue from what the handler sends, at the speed it sends it
   if (settings_.id == RcTaskId::teleop) {
-    teleop_.take_ownership(sent_);
+    teleop_.take_ownership(sent_, sent_speed_);
     return;
   }
   approach_from_ = sent_;
   wanted_ = sent_;
-  limiter_.reset(sent_);
+  limiter_.reset(sent_, sent_speed_);
   // Minimum jerk over D peaks at 1.875 D / T in speed and 5.77 D / T^2 in acceleration.
   approach_s_ = settings_.approach_s;
   const kin::JointVector ready = kin::ready_posture();

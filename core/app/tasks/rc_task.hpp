@@ -5,13 +5,15 @@
 //   2. takes its inputs from its queue (ports.inputs, filled by the message parser):
 //      take_ownership (`ctl owner TASK`), end-effector targets (`ctl move`), hand open/close;
 //   3. computes its references (kinematics, core/kinematics/):
-//        rescue  taking the motion starts the rescue motion from the references being sent: a
+//        rescue  taking the motion starts the rescue motion from the references being sent (their
+//                positions and speeds: a joint moving at the take brakes within its limits): a
 //                minimum-jerk joint-space approach to kin::ready_posture(), then kin::RcPeriod
 //                (lowering, forwarding, backwarding through the task-priority IK); after it, the
 //                end pose is held. An end-effector target moves that palm there (IK), the other
 //                palm held. Joints out of service are locked and left out of the solution.
 //        teleop  joint-space teleoperation (kin::JointSpaceTeleop): the hands open or close at a
-//                fixed speed; taking the motion continues from the references being sent.
+//                fixed speed; taking the motion continues from the references being sent and their
+//                speeds (with no command a moving joint brakes at its acceleration limit).
 //      Every reference respects the joints' velocity and acceleration limits (the rescue task's
 //      through kin::AccelerationLimiter, teleoperation's in kin::JointSpaceTeleop).
 //   4. writes them into its own reference space (ports.references) under the
@@ -120,6 +122,7 @@ class RcTask {
   kin::JointVector references_;
   kin::JointVector previous_;
   kin::JointVector sent_;        // what the handler sends (samples' position_ref_rad)
+  kin::JointVector sent_speed_;  // and its speed (samples' velocity_ref_rad_s)
   kin::JointVector approach_from_;
   kin::JointVector next_;
   kin::JointVector teleop_velocity_;

@@ -1,6 +1,7 @@
 // The last stage of the RC tasks' references: a jump in what a task wants becomes a ramp within
 // every joint's velocity and acceleration limits that ends on the wanted position without
-// overshoot; a motion already within the limits passes unchanged; joints out of service hold.
+// overshoot; a motion already within the limits passes unchanged, also when taken over at speed (a
+// reset at the references sent and their speed: bumpless); joints out of service hold.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -50,6 +51,46 @@ TEST(AccelerationLimiter, AMotionWithinTheLimitsPassesUnchanged) {
     ASSERT_LT((q - wanted).cwiseAbs().maxCoeff(), 1e-12) << k;
     ASSERT_EQ(limiter.limited(), 0U) << k;
   }
+}
+
+TEST(AccelerationLimiter, AMotionTakenOverAtSpeedContinuesUnchangedOrBrakesWithinTheLimit) {
+  // Every IK joint at half its speed limit when a new owner takes over (reset at position and speed).
+  const JointVector start = ready_posture();
+  JointVector speed = JointVector::Zero();
+  for (const std::size_t j : kIkJoints) speed(static_cast<Eigen::Index>(j)) = 0.5 * kJoints[j].limits.velocity_max_rad_s;
+  AccelerationLimiter limiter(start, kDt);
+  limiter.reset(start, speed);
+  EXPECT_EQ(limiter.velocity(), speed);
+  // An owner continuing the motion: passes unchanged from the first period.
+  for (int k = 1; k <= 50; ++k) {
+    const JointVector wanted = start + speed * (k * kDt);
+    ASSERT_LT((limiter.step(wanted, 0) - wanted).cwiseAbs().maxCoeff(), 1e-12) << k;
+  }
+  // An owner that wants the joints where they are taken over: each brakes at its acceleration limit
+  // (never a stop dead), comes back without overshooting the wanted position, within its limits.
+  const JointVector here = limiter.position();
+  limiter.reset(here, speed);
+  JointVector previous = here;
+  JointVector v_before = speed;
+  for (int k = 0; k < 2000; ++k) {
+    const JointVector& q = limiter.step(here, 0);
+    for (const std::size_t j : kIkJoints) {
+      const auto row = static_cast<Eigen::Index>(j);
+      const double v = (q(row) - previous(row)) / kDt;
+      ASSERT_LE(std::fabs(v), kJoints[j].limits.velocity_max_rad_s * (1.0 + 1e-9)) << kJoints[j].name;
+      ASSERT_LE(std::fabs(v - v_before(row)), kJointAcceleration[j] * kDt * (1.0 + 1e-6)) << kJoints[j].name << " " << k;
+      v_before(row) = v;
+    }
+    previous = q;
+  }
+  EXPECT_LT((limiter.position() - here).cwiseAbs().maxCoeff(), 1e-9) << "back where it was taken over";
+  // A joint with a jerk limit (the hands) restarts at rest: its moving average has no state that
+  // continues a speed without a step back.
+  JointVector hand_speed = JointVector::Zero();
+  const auto hand = static_cast<Eigen::Index>(joint_index("l_hand"));
+  hand_speed(hand) = 0.5;
+  limiter.reset(here, hand_speed);
+  EXPECT_EQ(limiter.velocity()(hand), 0.0);
 }
 
 TEST(AccelerationLimiter, JointsOutOfServiceHoldWhereTheyAre) {
