@@ -58,7 +58,10 @@ struct JointLinkReport {
 
 class JointBus {
  public:
-  explicit JointBus(hal::Nic& nic) noexcept : master_(nic, kRobotNetworkPlan, kRobotImageLayout, ByteSpan(image_)) {}
+  // `plan`: the tree's (kRobotNetworkPlan) or the ring configuration's (kRobotRingNetworkPlan, with a
+  // ring NIC): the same slaves, positions and process image, other cables.
+  explicit JointBus(hal::Nic& nic, const ecat::NetworkPlan& plan = kRobotNetworkPlan) noexcept
+      : master_(nic, plan, kRobotImageLayout, ByteSpan(image_)) {}
 
   // Brings the network up; adds the limits of every joint in service (core/robot/robot.hpp) as
   // start-up SDOs. The joints of `out_of_service` (recorded lost) are held out: when their slaves

@@ -184,6 +184,9 @@ class Master {
   Status check_stop(const char* step) noexcept;
   // Distributed clocks (master_dc.cpp).
   Status configure_dc() noexcept;
+  // Redundant only: the ring's end closed for the DC latch and reopened after it (master_dc.cpp).
+  Result<std::uint32_t> close_ring_end() noexcept;
+  Status reopen_ring_end(std::uint32_t before) noexcept;
   Status compensate_static_drift() noexcept;
   Status start_sync0() noexcept;
   // Cycle (master_cycle.cpp).
@@ -212,6 +215,7 @@ class Master {
   std::uint64_t last_reference_time_{0};
   hal::Nanoseconds last_reference_read_at_{0};
   std::uint16_t reference_station_{0};
+  std::uint16_t ring_end_station_{0};  // the slave whose ring port close_ring_end closed
   SlaveMask dc_slaves_{0};
 
   // The cyclic services (cyclic_service.hpp) and their schedule (for_each_service): the order in

@@ -38,12 +38,18 @@ Status Master::configure_dc() noexcept {
   if (reference == kMaxSlaves) return fail("DC", make_error(Errc::unsupported, "no slave with a DC unit"));
   reference_station_ = plan_[reference].station_address;
 
-  // 1. Latch the receive time of every port of every slave with one broadcast write.
+  // 1. Latch the receive time of every port of every slave with one broadcast write. On a closed
+  // ring the frame would leave the last slave for the master's ring port and no port would latch its
+  // return: the ring's end is closed for that one frame, so the line is measured as a tree.
+  const Result<std::uint32_t> ring_end = close_ring_end();
+  if (!ring_end.ok()) return fail("DC ring end", ring_end.error());
   std::array<std::uint8_t, 4> zero{};
   const hal::Nanoseconds latched_at = link_.clock().now();
   const Result<std::uint16_t> latch =
       link_.transfer(Command::BWR, make_address(0, reg::kDcReceiveTimePort0), ByteSpan(zero), options_.frame_timeout);
+  const Status reopened = reopen_ring_end(ring_end.value());
   if (!latch.ok()) return fail("DC latch", latch.error());
+  if (!reopened.ok()) return fail("DC ring end", reopened.error());
 
   // 2. Read the four port times and the 64-bit local time of the port 0 latch.
   std::array<PortReceiveTimes, kMaxSlaves> times{};
@@ -90,6 +96,50 @@ Status Master::configure_dc() noexcept {
   }
   if (!st.ok()) return fail("DC offsets", st.error());
   if (refused != 0) return fail("DC offsets", make_error(Errc::io_error, "DC offset/delay not written", refused));
+  return Status::success();
+}
+
+// The last present slave in processing order is the ring's end: its ports other than port 0 that lead
+// to no planned child (the ring-return cable's) are closed by DL control. Returns the DL control it
+// had, for reopen_ring_end; without a ring NIC nothing is written.
+Result<std::uint32_t> Master::close_ring_end() noexcept {
+  if (!link_.redundant()) return std::uint32_t{0};
+  std::size_t last = kMaxSlaves;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((present() & slave_bit(p)) != 0) last = p;
+  }
+  if (last == kMaxSlaves) return make_error(Errc::not_found, "no slave present");
+  const std::uint16_t station = plan_[last].station_address;
+  std::array<std::uint8_t, 4> control{};
+  const Result<std::uint16_t> read =
+      link_.transfer(Command::FPRD, make_address(station, reg::kDlControl), ByteSpan(control), options_.frame_timeout);
+  if (!read.ok()) return read.error();
+  if (read.value() != 1) return make_error(Errc::io_error, "DL control not read", u32(last));
+  const std::uint32_t before = load_le32(control.data());
+  std::uint32_t closed = before;
+  const ChildPorts children = child_ports(plan_, present(), last);
+  for (unsigned port = 1; port < kEscPorts; ++port) {
+    bool to_child = false;
+    for (std::size_t k = 0; k < children.count; ++k) to_child = to_child || children.port[k] == port;
+    if (!to_child) closed |= 0x03U << reg::dl_control_loop_shift(port);
+  }
+  ring_end_station_ = station;
+  store_le32(control.data(), closed);
+  const Result<std::uint16_t> written =
+      link_.transfer(Command::FPWR, make_address(station, reg::kDlControl), ByteSpan(control), options_.frame_timeout);
+  if (!written.ok()) return written.error();
+  if (written.value() != 1) return make_error(Errc::io_error, "ring end not closed", u32(last));
+  return before;
+}
+
+Status Master::reopen_ring_end(std::uint32_t before) noexcept {
+  if (!link_.redundant()) return Status::success();
+  std::array<std::uint8_t, 4> control{};
+  store_le32(control.data(), before);
+  const Result<std::uint16_t> written =
+      link_.transfer(Command::FPWR, make_address(ring_end_station_, reg::kDlControl), ByteSpan(control), options_.frame_timeout);
+  if (!written.ok()) return written.error();
+  if (written.value() != 1) return make_error(Errc::io_error, "ring end not reopened", ring_end_station_);
   return Status::success();
 }
 

@@ -18,6 +18,7 @@
 #include "core/timing/latency_histogram.hpp"
 #include "drivers/cia402/cia402_enable.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
 #include "drivers/sim/segment/robot_segment.hpp"
 #include "drivers/sim/segment/simulated_nic.hpp"
 #include "drivers/sim/segment/simulated_robot.hpp"
@@ -46,12 +47,17 @@ drivers::SimulatedSegment* g_segment = nullptr;
 // Three simulated robots with different seeds: the measured run (0), the cold start (1), the
 // bring-up with the SII cache warm (2). About a megabyte each of ESC memories, reserved when the
 // bench starts (StartUpSlot: not in every command's image) and each built when first used.
+// With --ring-nic sim each is the ring configuration and the master's two ports are a NIC pair.
 constexpr std::size_t kRobots = 3;
 StartUpSlot<drivers::SimulatedRobot> g_robots[kRobots];
+StartUpSlot<drivers::SimulatedNic> g_robot_nics[kRobots];
+StartUpSlot<drivers::SimulatedNicPair> g_robot_pairs[kRobots];
+bool g_ring_robots = false;
 
 bool reserve_robots() noexcept {
-  for (StartUpSlot<drivers::SimulatedRobot>& slot : g_robots) {
-    if (!slot.reserve()) return false;
+  for (std::size_t i = 0; i < kRobots; ++i) {
+    if (!g_robots[i].reserve()) return false;
+    if (!(g_ring_robots ? g_robot_pairs[i].reserve() : g_robot_nics[i].reserve())) return false;
   }
   return true;
 }
@@ -60,7 +66,21 @@ drivers::SimulatedRobot& simulated_robot(std::uint64_t seed, std::size_t which) 
   drivers::RobotSegmentOptions options;
   options.seed = seed;
   options.max_drift_ppm = 100.0;
+  options.ring = g_ring_robots;
   return g_robots[which].emplace(options, g_virtual_clock.now());
+}
+
+// The master's ports on `robot` (simulated_robot's `which`): `ring` is nullptr on the tree.
+struct RobotPorts {
+  hal::Nic* main{nullptr};
+  hal::Nic* ring{nullptr};
+};
+RobotPorts robot_ports(drivers::SimulatedRobot& robot, std::size_t which) noexcept {
+  drivers::SimulatedSegment& segment = robot.segment();
+  g_segment = &segment;
+  if (!g_ring_robots) return RobotPorts{&g_robot_nics[which].emplace(segment, g_virtual_clock), nullptr};
+  drivers::SimulatedNicPair& pair = g_robot_pairs[which].emplace(segment, g_virtual_clock);
+  return RobotPorts{&pair.main(), &pair.ring()};
 }
 
 // The SII cache of the bring-ups (in memory, or --sii-cache-dir's file as `run` keeps it).
@@ -256,9 +276,9 @@ int warm_bring_up(drivers::JointBus& bus, TimedNic& nic, Enabler& enabler, const
                   std::uint64_t seed, ecat::BringUpReport& out) noexcept {
   drivers::SimulatedRobot& robot = simulated_robot(seed, 2);
   if (!robot.status().ok()) return fail("bench", "cannot build the third simulated robot", robot.status().error());
-  static drivers::SimulatedNic warm_nic(robot.segment(), g_virtual_clock);
-  g_segment = &robot.segment();
-  nic.set_inner(warm_nic);
+  const RobotPorts ports = robot_ports(robot, 2);
+  nic.set_inner(*ports.main);
+  if (ports.ring != nullptr) bus.master().use_ring(*ports.ring);
   enabler = Enabler{};
   if (!bus.bring_up(options).ok() || up_to_op(bus, nic.clock(), enabler) != 0) {
     print_failure(bus.master());
@@ -306,16 +326,14 @@ void start_bench(bool real_time, const ReceiveWaitChoice& wait) noexcept {
 
 // --ring-nic (cable redundancy, docs/redundancy.md): parsed beside --nic, opened, given to the
 // master; 0, or the exit status of a refusal. The ring port is not timed (nic_ns times the main
-// NIC's calls only). The benchmark's simulated robot is its own (virtual time, seeded): its ring is
-// the seam of SelectedNic::open_ring, not there yet (issue 34 item 1), so `sim` is refused.
+// NIC's calls only). `sim`: the benchmark's simulated robots are its own (virtual time, seeded),
+// built as the ring configuration with their ring ports (robot_ports); nothing to open here.
 int attach_ring(const ParsedArgs& args, const NicChoice& main, SelectedNic& selected, const ReceiveWaitChoice& wait,
                 ecat::Master& master) noexcept {
   if (args.value("ring-nic") == nullptr) return 0;
   const Result<NicChoice> ring = parse_ring_nic_option(args.value("ring-nic"), main);
   if (!ring.ok()) return fail("bench", ring.error().what);
-  if (ring.value().kind == NicKind::sim) {
-    return fail("bench", "--ring-nic sim: the simulated robot has no ring port yet (the simulator's ring, issue 34 item 1)");
-  }
+  if (ring.value().kind == NicKind::sim) return 0;
   const Status opened = selected.open_ring(ring.value(), wait);
   if (!opened.ok()) return fail_nic("bench", args.value("ring-nic"), opened.error());
   master.use_ring(*selected.ring_nic());
@@ -333,9 +351,9 @@ std::uint64_t drain_ring_reports(ecat::Master& master) noexcept {
 
 // With a ring: its state at the end, and the changes seen during the measured run.
 void print_ring(const ecat::Master& master, SelectedNic& selected) noexcept {
-  if (selected.ring_nic() == nullptr) return;
+  if (selected.ring_nic() == nullptr && !g_ring_robots) return;
   const ecat::RingStatus& rs = master.ring_status();
-  (void)std::printf("ring_nic: %s\n", selected.ring_nic()->name());
+  (void)std::printf("ring_nic: %s\n", g_ring_robots ? "sim (the simulated robot's ring port)" : selected.ring_nic()->name());
   (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
                     ecat::to_string(rs.state), rs.breaks, rs.repairs, g_ring_changes);
 }
@@ -352,6 +370,8 @@ int bench_master(const ParsedArgs& args) noexcept {
   ecat::MasterOptions options;
   if (const int bad = parse_dc_options(args, options); bad != 0) return bad;
   const bool simulated = choice.value().kind == NicKind::sim;
+  // --ring-nic sim beside --nic sim: the robots in their ring configuration (refused with raw in attach_ring).
+  g_ring_robots = simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
   const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
   if (!measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
@@ -371,12 +391,13 @@ int bench_master(const ParsedArgs& args) noexcept {
   static StartUpSlot<drivers::JointBus> bus_slot;
   if (!bus_slot.reserve() || (simulated && !reserve_robots())) return fail("bench", "not enough memory for the simulated robots");
   hal::Nic* inner = nullptr;
+  hal::Nic* sim_ring = nullptr;  // --ring-nic sim: the robot's ring port
   if (simulated) {
     drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()), 0);
     if (!robot.status().ok()) return fail("bench", "cannot build the simulated robot", robot.status().error());
-    static drivers::SimulatedNic sim_nic(robot.segment(), g_virtual_clock);
-    g_segment = &robot.segment();
-    inner = &sim_nic;
+    const RobotPorts ports = robot_ports(robot, 0);
+    inner = ports.main;
+    sim_ring = ports.ring;
   } else {
     const Status opened = selected.open(choice.value(), wait);
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
@@ -384,7 +405,8 @@ int bench_master(const ParsedArgs& args) noexcept {
   }
   static const hal::TscTimer timer = hal::TscTimer::calibrate();
   static TimedNic nic(*inner, timer);
-  drivers::JointBus& bus = bus_slot.emplace(nic);
+  drivers::JointBus& bus = bus_slot.emplace(nic, g_ring_robots ? drivers::kRobotRingNetworkPlan : drivers::kRobotNetworkPlan);
+  if (sim_ring != nullptr) bus.master().use_ring(*sim_ring);
   if (const int bad = attach_ring(args, choice.value(), selected, wait, bus.master()); bad != 0) return bad;
   static Enabler enabler;
   hal::Clock& clock = nic.clock();
@@ -446,9 +468,9 @@ int bench_master(const ParsedArgs& args) noexcept {
   if (measure_cold && simulated) {
     drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1, 1);
     if (!robot.status().ok()) return fail("bench", "cannot build the second simulated robot", robot.status().error());
-    static drivers::SimulatedNic cold_nic(robot.segment(), g_virtual_clock);
-    g_segment = &robot.segment();
-    nic.set_inner(cold_nic);
+    const RobotPorts ports = robot_ports(robot, 1);
+    nic.set_inner(*ports.main);
+    if (ports.ring != nullptr) bus.master().use_ring(*ports.ring);
   }
   ecat::MasterOptions cold = options;
   cold.drift_compensation_frames = 0;

@@ -58,7 +58,7 @@ const Bench kBenches[] = {
     {"core", bench_core, "TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init", ""},
     {"codec", bench_codec, "build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time", "frames"},
     {"master", bench_master, "EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init",
-     "nic cycles dc-static-frames dc-target-ns dc-in-flight seed scheduling sii-cache-dir cold-start receive-wait receive-spin-us"},
+     "nic ring-nic cycles dc-static-frames dc-target-ns dc-in-flight seed scheduling sii-cache-dir cold-start receive-wait receive-spin-us"},
     {"sim", bench_sim, "simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
      "cycles motion seed"},
     {"rc", bench_rc, "RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step, whole RC period (median/p99/max ns), heap after init", "periods"},

@@ -40,6 +40,7 @@
 #include "core/app/tasks/socket_handler.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
 #include "ecat/capture/capture_tap.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "hal/files/state_dir.hpp"
@@ -332,7 +333,8 @@ int bring_up_network(StartUp& up, TaskTimingCalibration& calibration) noexcept {
   const hal::RtReport rt = hal::apply_rt_config(process_rt);
   if (!rt.fully_applied()) rt.print(stdout);
 
-  static drivers::JointBus bus(*up.nic);
+  // With a ring NIC the robot is cabled as the ring configuration's line (docs/redundancy.md).
+  static drivers::JointBus bus(*up.nic, up.ring_nic != nullptr ? drivers::kRobotRingNetworkPlan : drivers::kRobotNetworkPlan);
   up.bus = &bus;
   if (up.ring_nic != nullptr) bus.master().use_ring(*up.ring_nic);  // docs/redundancy.md
   const int capture_status = open_capture(up);
@@ -419,6 +421,14 @@ void print_scenario_passed(const StartUp& up, JointMask lost, JointMask lost_sin
 }
 
 // Step 7: what happened, and the exit status (docs/firmware.md "Exit status").
+// With a ring NIC: the ring's state at the end (the tasks have stopped: the master is this thread's).
+void print_ring_state(const StartUp& up) noexcept {
+  if (up.ring_nic == nullptr) return;
+  const ecat::RingStatus& rs = up.bus->master().ring_status();
+  (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ")\n", ecat::to_string(rs.state), rs.breaks,
+                    rs.repairs);
+}
+
 int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator_side) noexcept {
   const FirmwareOptions& options = up.options;
   RunControl& state = run_control();
@@ -455,6 +465,7 @@ int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator
   summary.start = up.start;
   summary.bring_up = &up.bus->master().report();
   print_run_summary(summary);
+  print_ring_state(up);
   const int limits = sent_joint_limits_exit(state);
   if (verdict != 0) return verdict;
   if (limits != 0) return limits;
