@@ -39,6 +39,7 @@ cleanup() {
   [[ -n $sim ]] && kill "$sim" 2>/dev/null
   ip link del rga0 2>/dev/null || true
   ip link del rgb0 2>/dev/null || true
+  if [[ -n ${KEEP_OUTPUT:-} ]]; then cp "$tmp"/*.out "$KEEP_OUTPUT"/ 2>/dev/null || true; fi
   rm -rf "$tmp"
 }
 trap cleanup EXIT
