@@ -316,6 +316,49 @@ int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool sh
   return 0;
 }
 
+// pwcet.py, scipy (and matplotlib with the plot), and --out created and opened as a directory of our
+// own. 0, or the exit status.
+int check_wcet_prerequisites(bool plot, const char* out_dir, char* script, std::size_t script_size,
+                             Result<hal::OpenFile>& out) noexcept {
+  char looked[1400];
+  if (!find_script(nullptr, "pwcet.py", "toolchain/wcet/pwcet.py", script, script_size, looked, sizeof looked)) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: no pwcet.py (looked: %s)\n", looked);
+    return 1;
+  }
+  if (!python_imports("scipy, numpy")) return fail("bench", "wcet: /usr/bin/python3 cannot import scipy (apt install python3-scipy)");
+  if (plot && !python_imports("matplotlib")) return fail("bench", "wcet: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
+  if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "wcet: cannot create the --out directory");
+  hal::FileProblem out_why;
+  out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
+  if (!out.ok()) {
+    (void)std::fprintf(stderr, "rescue-motion bench: wcet: --out: %s\n", out_why.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+// The measuring thread's real-time set-up, and the conditions a figure is read with.
+void apply_and_print_conditions() noexcept {
+  // One thread steps every task: at the EtherCAT handler's SCHED_FIFO priority on its CPU (the last
+  // one on a smaller machine), memory locked, so what is measured is the tasks' code and not the
+  // other processes of a busy machine. Refused (no privilege): measured at normal scheduling, said so.
+  hal::RtConfig rt;
+  rt.fifo_priority = config::kEthercatHandlerPriority;
+  rt.cpu = table_cpu_on_this_machine(config::kEthercatHandlerCpu);
+  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
+  const hal::RtReport rt_report = hal::apply_rt_config(rt);
+  rt_report.print(stdout);
+  // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
+  char load[64] = "n/a";
+  if (std::FILE* loadavg = std::fopen("/proc/loadavg", "r"); loadavg != nullptr) {
+    if (std::fgets(load, sizeof load, loadavg) == nullptr) (void)std::snprintf(load, sizeof load, "n/a");
+    load[std::strcspn(load, "\n")] = '\0';
+    (void)std::fclose(loadavg);
+  }
+  (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
+  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", load);
+}
+
 }  // namespace
 
 // The measured periods: out of line, with stable names, for callgrind's --toggle-collect.
@@ -350,39 +393,11 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   const bool plot = !args.has("no-plot");
   // The statistics' prerequisites first, before the measuring.
   char script[640];
-  char looked[1400];
-  if (!find_script(nullptr, "pwcet.py", "toolchain/wcet/pwcet.py", script, sizeof script, looked, sizeof looked)) {
-    (void)std::fprintf(stderr, "rescue-motion bench: wcet: no pwcet.py (looked: %s)\n", looked);
-    return 1;
-  }
-  if (!python_imports("scipy, numpy")) return fail("bench", "wcet: /usr/bin/python3 cannot import scipy (apt install python3-scipy)");
-  if (plot && !python_imports("matplotlib")) return fail("bench", "wcet: /usr/bin/python3 cannot import matplotlib (apt install python3-matplotlib), or --no-plot");
-  if (::mkdir(out_dir, 0755) != 0 && errno != EEXIST) return fail("bench", "wcet: cannot create the --out directory");
-  hal::FileProblem out_why;
-  const Result<hal::OpenFile> out = hal::open_trusted_directory(out_dir, hal::DirectoryUse::output, out_why);
-  if (!out.ok()) {
-    (void)std::fprintf(stderr, "rescue-motion bench: wcet: --out: %s\n", out_why.c_str());
-    return 1;
-  }
+  Result<hal::OpenFile> out = make_error(Errc::not_found, "not opened");
+  const int ready = check_wcet_prerequisites(plot, out_dir, script, sizeof script, out);
+  if (ready != 0) return ready;
   print_bench_header(stdout, "wcet");
-  // One thread steps every task: at the EtherCAT handler's SCHED_FIFO priority on its CPU (the last
-  // one on a smaller machine), memory locked, so what is measured is the tasks' code and not the
-  // other processes of a busy machine. Refused (no privilege): measured at normal scheduling, said so.
-  hal::RtConfig rt;
-  rt.fifo_priority = config::kEthercatHandlerPriority;
-  rt.cpu = table_cpu_on_this_machine(config::kEthercatHandlerCpu);
-  rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
-  const hal::RtReport rt_report = hal::apply_rt_config(rt);
-  rt_report.print(stdout);
-  // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
-  char load[64] = "n/a";
-  if (std::FILE* loadavg = std::fopen("/proc/loadavg", "r"); loadavg != nullptr) {
-    if (std::fgets(load, sizeof load, loadavg) == nullptr) (void)std::snprintf(load, sizeof load, "n/a");
-    load[std::strcspn(load, "\n")] = '\0';
-    (void)std::fclose(loadavg);
-  }
-  (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
-  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", load);
+  apply_and_print_conditions();
 
   // ---- init: everything that may allocate, as run_firmware wires the tasks (one thread steps them all) ----
   if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve()) {
