@@ -45,7 +45,7 @@ Status SelectedNic::open_ring(const NicChoice& choice, const ReceiveWaitChoice& 
     // The in-process robot in its ring configuration: both master ports on one segment and clock.
     // The main NIC opened on the tree robot is replaced by the ring robot's main port (nothing has
     // used it yet: open_ring follows open at start-up).
-    if (simulated_.empty() || active_ != &simulated_[0]) {
+    if (simulated_.empty() || active_ != simulated_.data()) {
       return make_error(Errc::invalid_argument, "a simulated ring NIC needs the simulated main NIC (--nic sim)");
     }
     drivers::SimulatedRobot& robot = simulated_ring_robot(g_real_time.now());

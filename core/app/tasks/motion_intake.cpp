@@ -135,8 +135,8 @@ double MotionIntake::sent_speed(std::size_t joint) const noexcept {
   // No history: not driven, or back from the watchdog (rest_at). Within the speed limit: a rounding
   // above it is not a new fault (one beyond it is measure()'s violation).
   if (history_[joint] == 0) return 0.0;
-  const double limit = kJoints[joint].limits.velocity_max_rad_s;
-  return std::clamp(speed_[joint], -limit, limit);
+  const double speed_limit = kJoints[joint].limits.velocity_max_rad_s;
+  return std::clamp(speed_[joint], -speed_limit, speed_limit);
 }
 
 const std::array<double, kJointCount>& MotionIntake::period(hal::Nanoseconds now, const RobotDemand& demand,
