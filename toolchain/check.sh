@@ -141,16 +141,39 @@ if want fuzz; then
   banner "libFuzzer: ${fuzz_seconds}s per target"
   cmake --preset fuzz >/dev/null
   cmake --build --preset fuzz -j "$jobs"
+  # The fuzzers run $jobs at a time (each is single-threaded and gets a CPU of its own for its
+  # ${fuzz_seconds} s), each into its own log, printed in order; any fuzzer's failure fails the stage.
+  fuzz_one() {  # fuzz_one FUZZER LOG: a bounded run; the exit status is the fuzzer's
+    local f=$1 corpus seeds
+    corpus="build/fuzz/fuzz/corpus-$(basename "$f")"
+    seeds="$(dirname "$f")/seeds-$(basename "$f")"
+    mkdir -p "$corpus"
+    "$f" -max_total_time="$fuzz_seconds" -artifact_prefix="build/fuzz/fuzz/" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) >"$2" 2>&1
+  }
+  fuzz_collect() {  # waits for the running fuzzers and prints each one's last lines, in order
+    local i
+    for i in "${!fuzz_pids[@]}"; do
+      wait "${fuzz_pids[$i]}" || { echo "fuzz: ${fuzz_names[$i]} FAILED"; fuzz_failed=1; }
+      echo "fuzz: ${fuzz_names[$i]}"; tail -n 12 "${fuzz_names[$i]}.log"
+    done
+    fuzz_pids=(); fuzz_names=()
+  }
   fuzzers=0
+  fuzz_failed=0
+  fuzz_pids=()
+  fuzz_names=()
   for f in build/fuzz/fuzz/fuzz_*; do
     [ -x "$f" ] || continue  # also the unexpanded pattern when there is no fuzzer yet
     fuzzers=$((fuzzers + 1))
-    corpus="build/fuzz/fuzz/corpus-$(basename "$f")"
-    mkdir -p "$corpus"
-    seeds="$(dirname "$f")/seeds-$(basename "$f")"
-    echo "fuzz: $f"
-    "$f" -max_total_time="$fuzz_seconds" -artifact_prefix="build/fuzz/fuzz/" -print_final_stats=1 "$corpus" $( [ -d "$seeds" ] && echo "$seeds" ) 2>&1 | tail -n 12
+    fuzz_one "$f" "$f.log" &
+    fuzz_pids+=("$!")
+    fuzz_names+=("$f")
+    if [ "${#fuzz_pids[@]}" -ge "$jobs" ]; then
+      fuzz_collect
+    fi
   done
+  fuzz_collect
+  [ "$fuzz_failed" -eq 0 ]
   [ "$fuzzers" -gt 0 ] || echo "fuzz: no fuzz targets yet (tests/fuzz/fuzzers.cmake lists none)"
   finished_with fuzz fuzz
 fi
