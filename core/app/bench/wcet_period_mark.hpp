@@ -1,9 +1,9 @@
 // The end of one measured period of a task in bench wcet, marked for valgrind's callgrind:
-// toolchain/wcet/instructions.sh runs bench wcet under callgrind with collection on only
-// inside the measured period functions, and this mark dumps the counters there, so each dump is one
-// period's instructions of one task (callgrind's --dump-after did not fire for a function that is
-// also a --toggle-collect target: valgrind 3.19). Outside valgrind the client request is a few
-// no-op instructions; without valgrind's header it is nothing.
+// toolchain/wcet/instructions.sh runs bench wcet under callgrind with collection on only inside
+// the measured period functions, and this mark dumps the counters there, so each dump is one
+// period's instructions of one task (with --dump-after and --toggle-collect both naming the same
+// functions, valgrind 3.19 applied only one of the two to each function). Outside valgrind the
+// client request is a few no-op instructions; without valgrind's header it is nothing.
 #pragma once
 
 #if defined(__has_include)
