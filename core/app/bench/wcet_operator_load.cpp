@@ -36,8 +36,8 @@ Status WcetOperatorLoad::open() noexcept {
   options.listen = "127.0.0.1";
   options.control_port = 0;
   options.sensor_port = 0;
-  const Status handler = handler_.open(options);
-  if (!handler.ok()) return handler;
+  const Status ports = handler_.open(options);
+  if (!ports.ok()) return ports;
   const Status client = client_.open("127.0.0.1", 0);
   if (!client.ok()) return client;
   const Result<std::uint32_t> loopback = hal::parse_ipv4("127.0.0.1");
