@@ -14,6 +14,9 @@
 #include "core/app/bench/bench_files.hpp"
 #include "core/app/bench/bench_header.hpp"
 #include "core/app/bench/wcet_budget.hpp"
+#include "core/app/bench/wcet_conditions.hpp"
+#include "core/app/bench/wcet_operator_load.hpp"
+#include "core/app/bench/wcet_period_mark.hpp"
 #include "core/app/bench/wcet_scenarios.hpp"
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/config/task_table.hpp"
@@ -54,11 +57,11 @@ constexpr std::int64_t kMinGap = 50;
 // While joints are down the operator's side sends a request in a period with probability 1 in
 // kRequestOdds (at random: no period the blocks' phase could lock onto).
 constexpr std::uint64_t kRequestOdds = 20;
-constexpr std::size_t kSdoLabelBytes = 200;  // an SDO value several mailbox segments long
 
-enum Task : std::uint8_t { kHandler, kManager, kParser, kRc, kTasks };
-constexpr const char* kTaskFiles[kTasks] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks"};
-constexpr TaskId kTaskIds[kTasks] = {TaskId::ethercat_handler, TaskId::joint_manager, TaskId::message_parser, TaskId::rc_tasks};
+enum Task : std::uint8_t { kHandler, kManager, kParser, kRc, kSocket, kTasks };
+constexpr const char* kTaskFiles[kTasks] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks", "socket_handler"};
+constexpr TaskId kTaskIds[kTasks] = {TaskId::ethercat_handler, TaskId::joint_manager, TaskId::message_parser, TaskId::rc_tasks,
+                                     TaskId::socket_handler};
 
 struct Samples {
   std::array<std::array<std::uint32_t, kMaxPeriods>, kTasks> ns;
@@ -77,7 +80,9 @@ StartUpSlot<drivers::JointBus> g_bus_slot;
 ecat::CaptureQueue g_capture;
 ecat::CaptureWriter g_capture_file;
 std::int64_t g_periods = 0;
-char g_conditions[512];
+char g_conditions[1024];
+char g_load_at_start[64] = "n/a";
+bool g_rt_applied = false;
 
 // xorshift64: the power cycles' gaps from --seed, no heap, the same run for the same seed.
 std::uint64_t next_random(std::uint64_t& state) noexcept {
@@ -126,21 +131,26 @@ void copy_to_stdout(const char* path) noexcept {
   (void)std::fclose(in);
 }
 
+// A diagnostics reset of every slave (ctl diag --reset: the handler zeroes the counters and
+// publishes the table). The services' SDO transfers come through the socket handler (WcetOperatorLoad).
+void reset_diagnostics() noexcept {
+  DiagResetLink& reset = g_links.diag_reset;
+  const std::uint64_t generation = DiagResetLink::generation_of(reset.requested.load(std::memory_order_relaxed)) + 1;
+  reset.requested.store((generation << 32U) | DiagResetLink::kMaskBits, std::memory_order_release);
+}
+
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
-  ScenarioDriver(drivers::SimulatedSegment& segment, const SocketHandlerPorts& operator_side,
-                 MessageSink<ControlRequest>& local, MessageSource<ControlReply>& local_replies, std::uint64_t seed) noexcept
-      : segment_(segment), operator_(operator_side), local_(local), local_replies_(local_replies),
-        random_(seed * 0x9E3779B97F4A7C15ULL + 1) {
-    for (std::size_t i = 0; i < kSdoLabelBytes; ++i) label_.sdo.data[i] = static_cast<std::uint8_t>('a' + i % 26);
-  }
+  ScenarioDriver(drivers::SimulatedSegment& segment, MessageSink<ControlRequest>& local, MessageSource<ControlReply>& local_replies,
+                 std::uint64_t seed) noexcept
+      : segment_(segment), local_(local), local_replies_(local_replies), random_(seed * 0x9E3779B97F4A7C15ULL + 1) {}
 
   // Before period k's work.
   // `out`: the joints out of the exchange last period; `enabled`, `lost`: the joint manager's.
   void before(const WcetStress& stress, std::int64_t k, JointMask out, JointMask enabled, JointMask lost) noexcept {
     if (stress.power_cycles) power_cycles_when_due(k, enabled);
-    if (stress.services) services();
+    if (stress.services) reset_diagnostics();
     if (enabled == kAllJoints || next_random(random_) % kRequestOdds != 0) return;
     // The operator's side while joints are down: once the master has a lost joint's drive back in
     // the exchange, its clear (the positions confirmed: the joints may have moved), then the
@@ -154,17 +164,14 @@ class ScenarioDriver {
     (void)local_.try_send(request);
   }
 
-  // After the period: take the answers (the socket handler's and the runtime's side, untimed).
+  // After the period: take the answers (the runtime's side, untimed).
   void after() noexcept {
     ControlReply reply;
     while (local_replies_.try_receive(reply)) {
     }
-    SdoLinkResult result;
-    while (operator_.sdo_results->try_receive(result)) sdo_in_flight_ = false;
   }
 
   std::uint64_t power_cycles() const noexcept { return power_cycles_; }
-  std::uint64_t sdo_transfers() const noexcept { return sdo_sent_; }
 
  private:
   void power_cycles_when_due(std::int64_t k, JointMask enabled) noexcept {
@@ -179,37 +186,14 @@ class ScenarioDriver {
     next_power_cycle_ = -1;
   }
 
-  void services() noexcept {
-    // A diagnostics reset of every slave each period (ctl diag --reset: the handler zeroes the
-    // counters and publishes the table).
-    DiagResetLink& reset = g_links.diag_reset;
-    const std::uint64_t generation = DiagResetLink::generation_of(reset.requested.load(std::memory_order_relaxed)) + 1;
-    reset.requested.store((generation << 32U) | DiagResetLink::kMaskBits, std::memory_order_release);
-    // Segmented SDO transfers back to back: a 200-byte download, then its upload, on the next joint.
-    if (!sdo_in_flight_) {
-      SdoLinkRequest request = label_;
-      request.id = static_cast<std::uint32_t>(++sdo_sent_);
-      request.download = (sdo_sent_ % 2) == 1;
-      request.sdo.joint = static_cast<std::uint8_t>((sdo_sent_ / 2) % kJointCount);
-      request.sdo.index = 0x2010;  // the drive's label (a visible string of up to 256 bytes)
-      request.sdo.subindex = 0;
-      request.sdo.size = request.download ? static_cast<std::uint16_t>(kSdoLabelBytes) : 0;
-      sdo_in_flight_ = operator_.sdo_requests->try_send(request);
-    }
-  }
-
   drivers::SimulatedSegment& segment_;
-  SocketHandlerPorts operator_;
   MessageSink<ControlRequest>& local_;
   MessageSource<ControlReply>& local_replies_;
   std::uint64_t random_;
-  SdoLinkRequest label_{};
   std::int64_t next_power_cycle_{-1};
   std::int64_t last_power_cycle_{0};
   std::uint64_t power_cycles_{0};
-  std::uint64_t sdo_sent_{0};
   std::uint64_t sequence_{0};
-  bool sdo_in_flight_{false};
 };
 
 // Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
@@ -231,6 +215,41 @@ void print_end_state(const JointManager& manager, drivers::JointBus& bus, const 
                       static_cast<unsigned>(bus.master().recovery_failures(position)));
   }
   (void)std::printf("\n");
+}
+
+// `TASK.verdict`'s text in pwcet.py's output into `out` ("n/a" when absent).
+void pwcet_verdict(const char* path, const char* task, char* out, std::size_t size) noexcept {
+  (void)std::snprintf(out, size, "n/a");
+  std::FILE* in = std::fopen(path, "r");
+  if (in == nullptr) return;
+  char want[96];
+  (void)std::snprintf(want, sizeof want, "%s.verdict: ", task);
+  char line[1024];
+  while (std::fgets(line, sizeof line, in) != nullptr) {
+    if (std::strncmp(line, want, std::strlen(want)) != 0) continue;
+    line[std::strcspn(line, "\n")] = '\0';
+    (void)std::snprintf(out, size, "%s", line + std::strlen(want));
+    break;
+  }
+  (void)std::fclose(in);
+}
+
+// One line per task a reader takes alone: observed maximum, pWCET(1e-9) or n/a with the reason.
+void print_task_summaries(const char* result_path) noexcept {
+  const Samples& s = g_samples_slot.emplace();
+  for (int t = 0; t < kTasks; ++t) {
+    const auto& ns = s.ns[static_cast<std::size_t>(t)];
+    const std::uint32_t observed = *std::max_element(ns.begin(), ns.begin() + g_periods);
+    double pwcet = 0;
+    double high = 0;
+    char verdict[900];
+    pwcet_verdict(result_path, kTaskFiles[t], verdict, sizeof verdict);
+    if (pwcet_figure(result_path, kTaskFiles[t], "pwcet_1e-9_ns", pwcet) && pwcet_figure(result_path, kTaskFiles[t], "pwcet_1e-9_ci_high_ns", high)) {
+      (void)std::printf("%s.summary: observed max %u ns; pWCET(1e-9) %.0f ns (interval up to %.0f ns)\n", kTaskFiles[t], observed, pwcet, high);
+    } else {
+      (void)std::printf("%s.summary: observed max %u ns; pWCET(1e-9) n/a (%s)\n", kTaskFiles[t], observed, verdict);
+    }
+  }
 }
 
 // The budget against Table I from pwcet.py's output (wcet_budget.hpp); true when a task is over.
@@ -266,8 +285,12 @@ bool print_budget(const char* result_path) noexcept {
 // The samples written into --out, pwcet.py run on them, the budget: bench wcet's exit status.
 int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool short_form, bool plot, std::int64_t block) noexcept {
   static char paths[kTasks][512];
-  static const int indices[kTasks] = {0, 1, 2, 3};
+  static const int indices[kTasks] = {0, 1, 2, 3, 4};
   char names[kTasks][64];
+  char conditions[400];
+  describe_wcet_conditions(conditions, sizeof conditions, g_load_at_start, g_rt_applied);
+  const std::size_t used = std::strlen(g_conditions);
+  (void)std::snprintf(g_conditions + used, sizeof g_conditions - used, "# conditions: %s\n", conditions);
   for (int t = 0; t < kTasks; ++t) {
     (void)std::snprintf(names[t], sizeof names[t], "%s.txt", kTaskFiles[t]);
     if (!write_file("wcet", dir, out_dir, names[t], write_task, &indices[t], paths[t], sizeof paths[t])) {
@@ -302,6 +325,8 @@ int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool sh
     return 1;
   }
 
+  (void)std::printf("conditions: %s\n", conditions);
+  print_task_summaries(result_path);
   const bool over = print_budget(result_path);
   if (plot) (void)std::printf("png: %s\n", png);
   if (over) {
@@ -348,28 +373,33 @@ void apply_and_print_conditions() noexcept {
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
   const hal::RtReport rt_report = hal::apply_rt_config(rt);
   rt_report.print(stdout);
+  g_rt_applied = rt_report.fully_applied();
   // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
-  char load[64] = "n/a";
-  if (std::FILE* loadavg = std::fopen("/proc/loadavg", "r"); loadavg != nullptr) {
-    if (std::fgets(load, sizeof load, loadavg) == nullptr) (void)std::snprintf(load, sizeof load, "n/a");
-    load[std::strcspn(load, "\n")] = '\0';
-    (void)std::fclose(loadavg);
-  }
+  read_load_average(g_load_at_start, sizeof g_load_at_start);
   (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
-  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", load);
+  (void)std::printf("load_average_at_start: %s (1, 5, 15 min; /proc/loadavg)\n", g_load_at_start);
 }
 
 }  // namespace
 
-// The measured periods: out of line, with stable names, for callgrind's --toggle-collect.
+// The measured periods: out of line, with stable names, for callgrind's --toggle-collect; each
+// marks its end for toolchain/wcet/instructions.sh (wcet_period_mark.hpp).
 __attribute__((noinline)) void wcet_handler_period(EthercatHandler& handler, drivers::JointCycleResult& result) noexcept {
   result = handler.cycle();
   handler.publish_figures(result, g_clock.now(), 0);
+  mark_wcet_period_end("ethercat_handler");
 }
-__attribute__((noinline)) void wcet_joint_manager_period(JointManager& manager) noexcept { manager.step(g_clock.now()); }
-__attribute__((noinline)) void wcet_message_parser_period(MessageParser& parser) noexcept { parser.step(g_clock.now()); }
+__attribute__((noinline)) void wcet_joint_manager_period(JointManager& manager) noexcept {
+  manager.step(g_clock.now());
+  mark_wcet_period_end("joint_manager");
+}
+__attribute__((noinline)) void wcet_message_parser_period(MessageParser& parser) noexcept {
+  parser.step(g_clock.now());
+  mark_wcet_period_end("message_parser");
+}
 __attribute__((noinline)) void wcet_rc_period(kin::RcPeriod& rc, double t_s, JointMask out_of_service) noexcept {
   (void)rc.run(t_s, out_of_service, kin::JointVector::Zero());
+  mark_wcet_period_end("rc_tasks");
 }
 
 int bench_wcet(const ParsedArgs& args) noexcept {
@@ -429,8 +459,9 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   static kin::RcPeriod rc(kin::ready_posture());
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> local(g_links.local_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> local_replies(g_links.local_replies);
-  static ScenarioDriver driver(robot.segment(), ports.socket_handler(), local, local_replies,
-                               static_cast<std::uint64_t>(seed.value()));
+  static ScenarioDriver driver(robot.segment(), local, local_replies, static_cast<std::uint64_t>(seed.value()));
+  static WcetOperatorLoad operator_load(ports.socket_handler());
+  if (const Status opened = operator_load.open(); !opened.ok()) return fail("bench", "wcet: cannot open the socket handler on 127.0.0.1", opened.error());
   char capture_path[512];
   (void)std::snprintf(capture_path, sizeof capture_path, "%s/capture.pcapng", out_dir);
   (void)::unlink(capture_path);
@@ -455,6 +486,9 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   auto period = [&](std::int64_t k) noexcept {
     g_clock.sleep_until(bus.next_wakeup());
     drivers::JointCycleResult r;
+    const std::uint64_t ts = timer.start();
+    wcet_socket_handler_period(operator_load.handler(), g_clock.now());
+    const std::uint64_t ts_end = timer.stop();
     const std::uint64_t t0 = timer.start();
     wcet_handler_period(handler, r);
     const std::uint64_t t1 = timer.stop();
@@ -475,6 +509,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t2_start));
     samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
     samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
+    samples.ns[kSocket][at] = clamp_u32(timer.to_ns(ts_end - ts));
     return r;
   };
   int to_op = 0;
@@ -515,6 +550,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
       down_since = -1;
     }
     driver.before(stress, k, last_out, enabled, manager.lost_joints());
+    operator_load.before(stress.services);
     if (driver.power_cycles() != cycles_seen) {
       cycles_seen = driver.power_cycles();
       down_since = k;
@@ -522,6 +558,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     }
     last_out = period(k).out;
     driver.after();
+    operator_load.after();
     if (capture_on) (void)g_capture.drain(g_capture_file, ecat::CaptureQueue::kCapacity);  // the logger's side, untimed
     periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
     periods_with_lost += manager.lost_joints() != 0 ? 1U : 0U;
@@ -542,7 +579,11 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   } else {
     (void)std::printf("longest_recovery: n/a\n");
   }
-  (void)std::printf("sdo_transfers: %" PRIu64 "\n", driver.sdo_transfers());
+  (void)std::printf("sdo_transfers: %" PRIu64 " (%" PRIu64 " answered ok)\n", operator_load.sdo_transfers(), operator_load.sdo_transfers_ok());
+  (void)std::printf("operator_datagrams: %" PRIu64 " sent, %" PRIu64 " answered, %" PRIu64 " send failures\n", operator_load.datagrams_sent(),
+                    operator_load.answers(), operator_load.send_failures());
+  (void)std::printf("socket_handler_max_datagrams_per_wakeup: %zu (its budget %zu)\n", operator_load.handler().max_per_wakeup(),
+                    SocketHandler::kBudget);
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", periods_with_lost);
   print_end_state(manager, bus, robot.segment(), last_out);

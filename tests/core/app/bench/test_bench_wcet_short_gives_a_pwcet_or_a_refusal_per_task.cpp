@@ -2,8 +2,9 @@
 // toolchain/check.sh on the release build): on the worst-path scenario every task gets either a pWCET
 // (a number, its budget judged) or a refusal naming the failed test (every pWCET n/a), and the exit
 // status says which (0 all given and within, 2 refused, 3 over budget); the worst path was driven
-// (every slave power-cycled and recovered, SDO transfers) with no heap after init, and the samples
-// written. A run whose first half is typical and second half worst (`--scenario mixed`) is refused by
+// (every slave power-cycled and recovered, SDO transfers, the socket handler's budget of operator
+// datagrams every period) with no heap after init, and the samples written; the conditions (kernel,
+// PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half worst (`--scenario mixed`) is refused by
 // the identical-distribution test. It checks the method and the refusal, not the bound.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,7 +19,7 @@ namespace rescue {
 namespace {
 
 const std::string kProgram = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
-const char* const kTasks[] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks"};
+const char* const kTasks[] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks", "socket_handler"};
 
 // The value of `key: value` in `text` ("" when absent).
 std::string value_of(const std::string& text, const std::string& key) {
@@ -50,6 +51,11 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
   EXPECT_GE(std::atoi(value_of(out, "power_cycles_of_every_slave").c_str()), 1) << out;
   EXPECT_GE(std::atoi(value_of(out, "recoveries_to_every_joint_enabled").c_str()), 1) << "the worst path ran to its end: " << out;
   EXPECT_GT(std::atoi(value_of(out, "sdo_transfers").c_str()), 100) << out;
+  EXPECT_EQ(value_of(out, "socket_handler_max_datagrams_per_wakeup"), "64 (its budget 64)") << out;
+  const std::string conditions = value_of(out, "conditions");
+  for (const char* part : {"kernel ", "PREEMPT_RT ", " CPUs online", "load average (1 5 15 min) "}) {
+    EXPECT_NE(conditions.find(part), std::string::npos) << part << "\n" << out;
+  }
   bool any_refused = false;
   bool any_over = false;
   for (const char* task : kTasks) {
@@ -62,6 +68,7 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
       EXPECT_EQ(pwcet, "n/a") << t << ": a refused task has no pWCET\n" << out;
       EXPECT_EQ(value_of(out, t + ".pwcet_1e-12_ci_high_ns"), "n/a") << out;
       EXPECT_EQ(value_of(out, t + ".budget_share_of_period"), "n/a") << out;
+      EXPECT_NE(value_of(out, t + ".summary").find("pWCET(1e-9) n/a (refused: "), std::string::npos) << out;
     } else {
       EXPECT_EQ(verdict, "pWCET given (all tests passed)") << out;
       EXPECT_GE(std::atof(pwcet.c_str()), std::atof(value_of(out, t + ".observed_max_ns").c_str()) * 0.5) << out;
@@ -74,6 +81,7 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
     EXPECT_EQ(values, 2500) << t;
   }
   EXPECT_EQ(value_of(out, "message_parser.budget"), "n/a (event driven: no period)") << out;
+  EXPECT_EQ(value_of(out, "socket_handler.budget"), "n/a (event driven: no period)") << out;
   EXPECT_EQ(run.exit_status, any_over ? 3 : any_refused ? 2 : 0) << out;
   EXPECT_EQ(::access((std::string(dir_) + "/out/pwcet.png").c_str(), R_OK), 0) << out;
 }
