@@ -15,10 +15,10 @@ const char* to_string(RcMode mode) noexcept {
 
 RcTaskFrame::RcTaskFrame(const RcTaskPorts& ports, RcTaskId id) noexcept
     : ports_(ports),
-      id_(id),
       sent_(kin::JointVector::Zero()),
       sent_speed_(kin::JointVector::Zero()),
-      references_(kin::JointVector::Zero()) {}
+      references_(kin::JointVector::Zero()),
+      id_(id) {}
 
 bool RcTaskFrame::read_joints() noexcept {
   if (ports_.samples->version() == 0) return false;  // the handler has published nothing yet
@@ -83,7 +83,7 @@ void RcTaskFrame::publish_references(hal::Nanoseconds now, std::uint64_t word, J
   space.complete(owns_ ? word : 0, counters_.periods, commanded, now);
 }
 
-void RcTaskFrame::publish_state(hal::Nanoseconds now, RcTaskState& state) noexcept {
+void RcTaskFrame::publish_state(hal::Nanoseconds now, RcTaskState& state) const noexcept {
   state.owns = owns_;
   state.out_of_service = out_of_service_;
   state.periods = counters_.periods;

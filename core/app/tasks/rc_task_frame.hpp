@@ -138,10 +138,9 @@ class RcTaskFrame {
   // The owner word after this period's releases and retakes; sets owns_ and released_.
   std::uint64_t settle_ownership() noexcept;
   void publish_references(hal::Nanoseconds now, std::uint64_t word, JointMask commanded) noexcept;
-  void publish_state(hal::Nanoseconds now, RcTaskState& state) noexcept;
+  void publish_state(hal::Nanoseconds now, RcTaskState& state) const noexcept;
 
   RcTaskPorts ports_;
-  RcTaskId id_;
   RcTaskCounters counters_{};
   RobotSample sample_{};
   RobotJointStatus status_{};
@@ -149,6 +148,7 @@ class RcTaskFrame {
   kin::JointVector sent_speed_;  // and its speed (samples' velocity_ref_rad_s)
   kin::JointVector references_;
   JointMask out_of_service_{0};
+  RcTaskId id_;
   bool owns_{false};
   bool released_{false};  // this period: lost the motion, the operator's choice no longer standing
   bool have_joints_{false};

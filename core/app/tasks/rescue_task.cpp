@@ -46,11 +46,11 @@ RescueTaskSettings default_rescue_task_settings() noexcept {
 }
 
 RescueTask::RescueTask(const RcTaskPorts& ports, const RescueTaskSettings& settings) noexcept
-    : frame_(ports, RcTaskId::rescue),
-      settings_(settings),
-      rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
+    : rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
       ik_(ik_settings(settings.period_ns)),
       limiter_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
+      frame_(ports, RcTaskId::rescue),
+      settings_(settings),
       wanted_(kin::JointVector::Zero()),
       previous_(kin::JointVector::Zero()),
       approach_from_(kin::JointVector::Zero()),

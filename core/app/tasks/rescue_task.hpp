@@ -63,24 +63,25 @@ class RescueTask {
   void measure_speeds(bool driving) noexcept;
   void measure_after_loss(double waist, std::uint8_t damaged) noexcept;
 
-  RcTaskFrame frame_;
-  RescueTaskSettings settings_;
+  // Members by alignment (the kinematics' Eigen members first): no padding between them.
   kin::RcPeriod rescue_;
+  kin::IkTargets targets_;
   kin::TaskPriorityIk ik_;
   kin::AccelerationLimiter limiter_;  // every mode's references within the joints' limits
+  RcTaskFrame frame_;
+  RescueTaskSettings settings_;
   kin::JointVector wanted_;           // what the mode computed, before the limiter
-  double approach_s_{0.0};            // this approach's duration (the limits may lengthen it)
   kin::JointVector previous_;         // last period's references
   kin::JointVector approach_from_;
   kin::JointVector next_;
-  kin::IkTargets targets_;
+  kin::JointVector speed_;            // last period's reference speeds
   kin::IkStepReport ik_report_{};
   RcTaskState figures_{};             // speeds, accelerations, symmetry, COM margin (measure())
-  kin::JointVector speed_;            // last period's reference speeds
-  JointMask measured_{0};             // joints whose speed was measured last period
-  double waist_at_loss_{0.0};         // the waist's reference when an arm was first damaged
   std::array<kin::Vector3, 2> palm_at_loss_{kin::Vector3::Zero(), kin::Vector3::Zero()};
+  double approach_s_{0.0};            // this approach's duration (the limits may lengthen it)
+  double waist_at_loss_{0.0};         // the waist's reference when an arm was first damaged
   hal::Nanoseconds mode_since_{0};
+  JointMask measured_{0};             // joints whose speed was measured last period
   RcMode mode_{RcMode::idle};
   kin::RescuePhase phase_{kin::RescuePhase::lowering};
 };

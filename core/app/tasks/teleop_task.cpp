@@ -57,7 +57,7 @@ void TeleopTask::compute(hal::Nanoseconds /*now*/) noexcept {
 JointMask TeleopTask::commanded() const noexcept { return position_mode_joints() & ~frame_.out_of_service(); }
 
 // It measures nothing: its figures stay at their start (RcTaskState's, the time scale 1).
-void TeleopTask::show(RcTaskState& state) const noexcept {
+void TeleopTask::show(RcTaskState& state) noexcept {
   state = RcTaskState{};
   state.min_time_scale = 1.0;
   state.mode = static_cast<std::uint8_t>(RcMode::teleop);

@@ -25,7 +25,7 @@ class TeleopTask {
   // One period at `now` (the tasks' common monotonic clock).
   void period(hal::Nanoseconds now) noexcept { frame_.period(*this, now); }
 
-  RcMode mode() const noexcept { return RcMode::teleop; }
+  static RcMode mode() noexcept { return RcMode::teleop; }
   bool owns() const noexcept { return frame_.owns(); }
   JointMask out_of_service() const noexcept { return frame_.out_of_service(); }
   const RcTaskCounters& counters() const noexcept { return frame_.counters(); }
@@ -40,7 +40,7 @@ class TeleopTask {
   void compute(hal::Nanoseconds now) noexcept;
   JointMask commanded() const noexcept;
   void after_publish() noexcept {}
-  void show(RcTaskState& state) const noexcept;
+  static void show(RcTaskState& state) noexcept;
 
   RcTaskFrame frame_;
   TeleopTaskSettings settings_;
