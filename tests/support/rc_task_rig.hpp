@@ -10,12 +10,13 @@
 #include "core/app/links/task_links.hpp"
 #include "core/app/runtime/task_ports.hpp"
 #include "core/app/tasks/motion_intake.hpp"
-#include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/rescue_task.hpp"
+#include "core/app/tasks/teleop_task.hpp"
 
 namespace rescue::app::testing {
 
-inline RcTaskSettings short_rescue_settings() {
-  RcTaskSettings s = default_rc_task_settings(RcTaskId::rescue);
+inline RescueTaskSettings short_rescue_settings() {
+  RescueTaskSettings s = default_rescue_task_settings();
   s.motion.phase_s = {0.4, 0.4, 0.4};
   return s;
 }
@@ -24,9 +25,8 @@ struct RcTaskRig {
   std::unique_ptr<TaskLinks> links = std::make_unique<TaskLinks>();
   std::unique_ptr<TaskPorts> ports = std::make_unique<TaskPorts>(*links);  // as `run` wires the tasks
   MotionIntake intake{motion_intake_ports(*links), default_intake_settings()};
-  std::unique_ptr<RcTask> rescue = std::make_unique<RcTask>(ports->rc_task(RcTaskId::rescue), short_rescue_settings());
-  std::unique_ptr<RcTask> teleop =
-      std::make_unique<RcTask>(ports->rc_task(RcTaskId::teleop), default_rc_task_settings(RcTaskId::teleop));
+  std::unique_ptr<RescueTask> rescue = std::make_unique<RescueTask>(ports->rc_task(RcTaskId::rescue), short_rescue_settings());
+  std::unique_ptr<TeleopTask> teleop = std::make_unique<TeleopTask>(ports->rc_task(RcTaskId::teleop), default_teleop_task_settings());
   RobotDemand demand{};
   RobotSample sample{};
   RobotJointStatus status{};

@@ -358,48 +358,78 @@ void print_ring(const ecat::Master& master, SelectedNic& selected) noexcept {
                     ecat::to_string(rs.state), rs.breaks, rs.repairs, g_ring_changes);
 }
 
-}  // namespace
+// What bench master's options ask for.
+struct MasterBenchOptions {
+  NicChoice nic{};
+  std::int64_t cycles{0};
+  std::int64_t seed{0};
+  ecat::MasterOptions master{};
+  bool simulated{false};
+  bool measure_cold{false};
+  const char* cache_dir{nullptr};
+  bool real_time{false};
+  ReceiveWaitChoice wait{};
+};
 
-int bench_master(const ParsedArgs& args) noexcept {
+// --nic, --cycles, --seed, the DC options, --ring-nic sim, --cold-start, --sii-cache-dir; 0, or the
+// exit status of a refusal (said).
+int parse_run_options(const ParsedArgs& args, MasterBenchOptions& o) noexcept {
   const Result<NicChoice> choice = parse_nic_option(args.value("nic"));
   if (!choice.ok()) return fail("bench", choice.error().what);
   const Result<std::int64_t> cycles = args.integer("cycles", kDefaultCycles, 100, 1'000'000);
   if (!cycles.ok()) return fail("bench", "--cycles must be 100..1000000", cycles.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "--seed must be 0..1000000", seed.error());
-  ecat::MasterOptions options;
-  if (const int bad = parse_dc_options(args, options); bad != 0) return bad;
-  const bool simulated = choice.value().kind == NicKind::sim;
+  if (const int bad = parse_dc_options(args, o.master); bad != 0) return bad;
+  o.nic = choice.value();
+  o.cycles = cycles.value();
+  o.seed = seed.value();
+  o.simulated = o.nic.kind == NicKind::sim;
   // --ring-nic sim beside --nic sim: the robots in their ring configuration (refused with raw in attach_ring).
-  g_ring_robots = simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
+  g_ring_robots = o.simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
-  const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
-  if (!measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
-  const char* cache_dir = args.value("sii-cache-dir");
-  load_cache(cache_dir);
+  o.measure_cold = std::strcmp(cold_start, "yes") == 0;
+  if (!o.measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
+  o.cache_dir = args.value("sii-cache-dir");
+  return 0;
+}
+
+// --scheduling and the receive wait; 0, or 1 after saying why.
+int parse_scheduling_options(const ParsedArgs& args, MasterBenchOptions& o) noexcept {
   const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
-  const bool real_time = std::strcmp(scheduling, "rt") == 0;
-  if (!real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
-  ReceiveWaitChoice wait;
-  if (!parse_receive_wait(args, real_time, wait)) return 1;
+  o.real_time = std::strcmp(scheduling, "rt") == 0;
+  if (!o.real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "--scheduling must be rt or normal");
+  if (!parse_receive_wait(args, o.real_time, o.wait)) return 1;
+  return 0;
+}
 
-  // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
-  // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
-  start_bench(real_time, wait);
+// The master under test: its NIC (timed), its bus, the enable sequence, the clock it cycles on.
+struct MasterRig {
+  SelectedNic* selected{nullptr};
+  TimedNic* nic{nullptr};
+  drivers::JointBus* bus{nullptr};
+  Enabler* enabler{nullptr};
+  hal::Clock* clock{nullptr};
+  const hal::TscTimer* timer{nullptr};
+};
 
+// Init: everything that may allocate or fault, the NIC (the simulated robot's, or --nic) and the
+// ring port opened. 0, or the exit status.
+int open_master(const ParsedArgs& args, const MasterBenchOptions& o, MasterRig& rig) noexcept {
   static SelectedNic selected;
   static StartUpSlot<drivers::JointBus> bus_slot;
-  if (!bus_slot.reserve() || (simulated && !reserve_robots())) return fail("bench", "not enough memory for the simulated robots");
+  rig.selected = &selected;
+  if (!bus_slot.reserve() || (o.simulated && !reserve_robots())) return fail("bench", "not enough memory for the simulated robots");
   hal::Nic* inner = nullptr;
   hal::Nic* sim_ring = nullptr;  // --ring-nic sim: the robot's ring port
-  if (simulated) {
-    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()), 0);
+  if (o.simulated) {
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(o.seed), 0);
     if (!robot.status().ok()) return fail("bench", "cannot build the simulated robot", robot.status().error());
     const RobotPorts ports = robot_ports(robot, 0);
     inner = ports.main;
     sim_ring = ports.ring;
   } else {
-    const Status opened = selected.open(choice.value(), wait);
+    const Status opened = selected.open(o.nic, o.wait);
     if (!opened.ok()) return fail_nic("bench", args.value("nic"), opened.error());
     inner = selected.nic();
   }
@@ -407,36 +437,61 @@ int bench_master(const ParsedArgs& args) noexcept {
   static TimedNic nic(*inner, timer);
   drivers::JointBus& bus = bus_slot.emplace(nic, g_ring_robots ? drivers::kRobotRingNetworkPlan : drivers::kRobotNetworkPlan);
   if (sim_ring != nullptr) bus.master().use_ring(*sim_ring);
-  if (const int bad = attach_ring(args, choice.value(), selected, wait, bus.master()); bad != 0) return bad;
+  if (const int bad = attach_ring(args, o.nic, selected, o.wait, bus.master()); bad != 0) return bad;
   static Enabler enabler;
-  hal::Clock& clock = nic.clock();
+  rig.timer = &timer;
+  rig.nic = &nic;
+  rig.bus = &bus;
+  rig.enabler = &enabler;
+  rig.clock = &nic.clock();
+  return 0;
+}
 
-  // 1. Bring-up (static drift compensation as --dc-static-frames and --dc-target-ns say), then to OP.
-  options.sii_cache = &g_sii_cache;
-  const Status up = bus.bring_up(options);
+// 1. Bring-up (static drift compensation as --dc-static-frames and --dc-target-ns say), then to OP.
+// 0, or the exit status.
+int bring_up_to_op(MasterBenchOptions& o, MasterRig& rig) noexcept {
+  drivers::JointBus& bus = *rig.bus;
+  o.master.sii_cache = &g_sii_cache;
+  const Status up = bus.bring_up(o.master);
   if (!up.ok()) {
     print_failure(bus.master());
     return fail("bench", "bring-up failed", up.error());
   }
-  if (up_to_op(bus, clock, enabler) != 0) {
+  if (up_to_op(bus, *rig.clock, *rig.enabler) != 0) {
     print_failure(bus.master());
     return fail("bench", "the network did not reach OP");
   }
-  const ecat::BringUpReport first = bus.master().report();
-  const std::int64_t true_offset_after_static = simulated ? true_max_offset_ns() : -1;
+  return 0;
+}
 
-  // 2. The cyclic run, init complete: every allocation from here on is counted.
-  const hal::PageFaults faults_at_init = hal::page_faults_of_process();
-  declare_init_complete(HeapGuardMode::count);
-  const ecat::LinkStats link_before = bus.master().link().stats();
-  std::int64_t all_valid = 0;
-  std::int64_t frames_lost = 0;
-  std::int64_t latch_samples = 0;
+// What the cyclic run measured besides the histograms.
+struct CyclicFigures {
+  std::int64_t all_valid{0};
+  std::int64_t frames_lost{0};
+  std::int64_t latch_samples{0};
   std::array<std::uint32_t, ecat::kLinkEventKindCount> reports_by_kind{};
+  ecat::LinkStats link_before{};
+  ecat::LinkStats link_after{};
+  hal::PageFaults faults_at_init{};
+  hal::PageFaults faults_after_run{};
+  HeapGuardCounters heap_after_run{};
+  Result<ecat::DcSnapshot> after_run = make_error(Errc::not_found, "not read");
+  std::int64_t true_offset_after_run{-1};
+};
+
+// 2. The cyclic run, init complete: every allocation from here on is counted.
+void run_cycles(const MasterBenchOptions& o, MasterRig& rig, CyclicFigures& f) noexcept {
+  drivers::JointBus& bus = *rig.bus;
+  Enabler& enabler = *rig.enabler;
+  TimedNic& nic = *rig.nic;
+  const hal::TscTimer& timer = *rig.timer;
+  f.faults_at_init = hal::page_faults_of_process();
+  declare_init_complete(HeapGuardMode::count);
+  f.link_before = bus.master().link().stats();
   ecat::LinkReport report;
-  for (std::int64_t i = 0; i < cycles.value(); ++i) {
+  for (std::int64_t i = 0; i < o.cycles; ++i) {
     enabler.step();
-    clock.sleep_until(bus.next_wakeup());
+    rig.clock->sleep_until(bus.next_wakeup());
     const std::uint64_t nic_before = nic.ticks();
     const std::uint64_t t0 = timer.start();
     const drivers::JointCycleResult r = bus.cycle(enabler.refs, enabler.feedback);
@@ -446,56 +501,57 @@ int bench_master(const ParsedArgs& args) noexcept {
     g_master_ns.record(static_cast<std::uint64_t>(timer.to_ns(total - std::min(total, in_nic))));
     g_nic_ns.record(static_cast<std::uint64_t>(timer.to_ns(in_nic)));
     g_phase_error_ns.record(static_cast<std::uint64_t>(std::abs(bus.last_cycle().dc_phase_error)));
-    all_valid += r.valid == kAllJoints ? 1 : 0;
-    frames_lost += r.frame_received ? 0 : 1;
-    while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
+    f.all_valid += r.valid == kAllJoints ? 1 : 0;
+    f.frames_lost += r.frame_received ? 0 : 1;
+    while (bus.master().pop_report(report)) ++f.reports_by_kind[static_cast<std::size_t>(report.kind) % f.reports_by_kind.size()];
     g_ring_changes += drain_ring_reports(bus.master());
     std::uint64_t spread = 0;
-    if (simulated && latch_spread_ns(spread)) {
+    if (o.simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
-      ++latch_samples;
+      ++f.latch_samples;
     }
   }
-  const HeapGuardCounters heap_after_run = heap_guard_counters();
-  const ecat::LinkStats link_after = bus.master().link().stats();
-  const hal::PageFaults faults_after_run = hal::page_faults_of_process();
-  const Result<ecat::DcSnapshot> after_run = bus.master().read_dc_snapshot();
-  const std::int64_t true_offset_after_run = simulated ? true_max_offset_ns() : -1;
+  f.heap_after_run = heap_guard_counters();
+  f.link_after = bus.master().link().stats();
+  f.faults_after_run = hal::page_faults_of_process();
+  f.after_run = bus.master().read_dc_snapshot();
+  f.true_offset_after_run = o.simulated ? true_max_offset_ns() : -1;
+}
 
-  // 3. Cold start: no static drift compensation; how many cycles until the cyclic distribution
-  //    brings every slave within 100 ns and 20 ns (0x092C read between cycles).
-  ColdFigures cold_figures;
-  if (measure_cold && simulated) {
-    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(seed.value()) + 1, 1);
+// 3. Cold start: no static drift compensation; how many cycles until the cyclic distribution
+//    brings every slave within 100 ns and 20 ns (0x092C read between cycles). 0, or the exit status.
+int measure_cold_start(const MasterBenchOptions& o, MasterRig& rig, ColdFigures& cold_figures) noexcept {
+  drivers::JointBus& bus = *rig.bus;
+  if (o.measure_cold && o.simulated) {
+    drivers::SimulatedRobot& robot = simulated_robot(static_cast<std::uint64_t>(o.seed) + 1, 1);
     if (!robot.status().ok()) return fail("bench", "cannot build the second simulated robot", robot.status().error());
     const RobotPorts ports = robot_ports(robot, 1);
-    nic.set_inner(*ports.main);
+    rig.nic->set_inner(*ports.main);
     if (ports.ring != nullptr) bus.master().use_ring(*ports.ring);
   }
-  ecat::MasterOptions cold = options;
+  ecat::MasterOptions cold = o.master;
   cold.drift_compensation_frames = 0;
   cold.sii_cache = nullptr;  // read whole, as before the cache: the cold figures stay comparable
-  enabler = Enabler{};
-  if (measure_cold) {
+  *rig.enabler = Enabler{};
+  if (o.measure_cold) {
     const Status cold_up = bus.bring_up(cold);
-    if (!cold_up.ok() || up_to_op(bus, clock, enabler) != 0) {
+    if (!cold_up.ok() || up_to_op(bus, *rig.clock, *rig.enabler) != 0) {
       print_failure(bus.master());
       return fail("bench", "cold bring-up failed");
     }
-    converge_cold(bus, clock, enabler, cold_figures);
+    converge_cold(bus, *rig.clock, *rig.enabler, cold_figures);
   }
-  // 4. On the simulated robot: the bring-up of another robot of the same devices with the SII cache
-  //    warm (what `run` does from its second start on), the default static compensation.
-  ecat::BringUpReport warm{};
-  const bool warm_measured = measure_cold && simulated;
-  if (warm_measured && warm_bring_up(bus, nic, enabler, options, static_cast<std::uint64_t>(seed.value()) + 2, warm) != 0) return 1;
-  const HeapGuardCounters heap = heap_guard_counters();
+  return 0;
+}
 
-  (void)std::printf("nic: %s\n", simulated ? "sim (in-process simulated robot, virtual time)" : nic.name());
-  (void)std::printf("time_base: %s\n", simulated ? "simulated (virtual clock)" : "wall (CLOCK_MONOTONIC)");
-  print_ring(bus.master(), selected);
+// The first bring-up's figures (and the warm one's, when measured).
+void print_bring_up_figures(const MasterBenchOptions& o, const MasterRig& rig, const ecat::BringUpReport& first,
+                            const ecat::BringUpReport* warm) noexcept {
+  (void)std::printf("nic: %s\n", o.simulated ? "sim (in-process simulated robot, virtual time)" : rig.nic->name());
+  (void)std::printf("time_base: %s\n", o.simulated ? "simulated (virtual clock)" : "wall (CLOCK_MONOTONIC)");
+  print_ring(rig.bus->master(), *rig.selected);
   (void)std::printf("slaves: %u slaves\n", static_cast<unsigned>(first.slaves_counted));
-  (void)std::printf("cycle_time: %.0f us\n", us(static_cast<std::uint64_t>(options.cycle_time)));
+  (void)std::printf("cycle_time: %.0f us\n", us(static_cast<std::uint64_t>(o.master.cycle_time)));
   (void)std::printf("bring_up_to_safe_op: %.3f ms\n", ms(first.safe_op_at - first.started_at));
   (void)std::printf("bring_up_to_op: %.3f ms\n", ms(first.op_at - first.started_at));
   (void)std::printf("bring_up_frames: %" PRIu64 " frames\n", first.frames);
@@ -503,20 +559,25 @@ int bench_master(const ParsedArgs& args) noexcept {
   print_startup_sdos(first);
   (void)std::printf("sii_frames: %" PRIu32 " frames\n", first.sii.frames);
   (void)std::printf("sii_cache_hits: %" PRIu32 " of %u slaves (%s)\n", first.sii.cache_hits,
-                    static_cast<unsigned>(first.slaves_counted), cache_dir != nullptr ? "--sii-cache-dir" : "cache in memory, empty at start");
-  if (warm_measured) print_warm(warm);
+                    static_cast<unsigned>(first.slaves_counted), o.cache_dir != nullptr ? "--sii-cache-dir" : "cache in memory, empty at start");
+  if (warm != nullptr) print_warm(*warm);
+}
+
+// Distributed clocks: after the static compensation, after the cycles, the cold start, the phase, SYNC0.
+void print_dc_figures(const MasterBenchOptions& o, const ecat::BringUpReport& first, std::int64_t true_offset_after_static,
+                      const CyclicFigures& f, const ColdFigures& cold_figures) noexcept {
   (void)std::printf("dc_static_compensation: %u frames (at most %u, until every |0x092C| <= %u ns twice)\n",
-                    first.dc_static_frames, options.drift_compensation_frames, options.drift_compensation_target_ns);
+                    first.dc_static_frames, o.master.drift_compensation_frames, o.master.drift_compensation_target_ns);
   (void)std::printf("dc_max_difference_after_static: %" PRIu32 " ns\n", first.dc_max_difference_ns);
-  if (after_run.ok()) {
+  if (f.after_run.ok()) {
     (void)std::printf("dc_max_difference_after_cycles: %" PRIu32 " ns (after %" PRId64 " cycles)\n",
-                      after_run.value().max_difference_ns, cycles.value());
+                      f.after_run.value().max_difference_ns, o.cycles);
   }
-  if (simulated) {
+  if (o.simulated) {
     (void)std::printf("dc_true_max_offset_after_static: %" PRId64 " ns\n", true_offset_after_static);
-    (void)std::printf("dc_true_max_offset_after_cycles: %" PRId64 " ns\n", true_offset_after_run);
+    (void)std::printf("dc_true_max_offset_after_cycles: %" PRId64 " ns\n", f.true_offset_after_run);
   }
-  if (measure_cold) {
+  if (o.measure_cold) {
     (void)std::printf("dc_cold_first_cycle_max_difference: %" PRIu32 " ns (no static compensation)\n", cold_figures.first);
     (void)std::printf("dc_cold_cycles_to_100ns: %d cycles\n", cold_figures.under_100);
     (void)std::printf("dc_cold_cycles_to_20ns: %d cycles\n", cold_figures.under_20);
@@ -525,39 +586,77 @@ int bench_master(const ParsedArgs& args) noexcept {
   const HistogramSummary phase = g_phase_error_ns.summary();
   (void)std::printf("dc_phase_error_p99: %" PRIu64 " ns\n", phase.p99);
   (void)std::printf("dc_phase_error_max: %" PRIu64 " ns\n", phase.max);
-  if (simulated && latch_samples > 0) {
+  if (o.simulated && f.latch_samples > 0) {
     const HistogramSummary latch = g_latch_spread_ns.summary();
-    (void)std::printf("sync0_latch_spread_median: %" PRIu64 " ns (%" PRId64 " SYNC0 events, 21 joints)\n", latch.p50, latch_samples);
+    (void)std::printf("sync0_latch_spread_median: %" PRIu64 " ns (%" PRId64 " SYNC0 events, 21 joints)\n", latch.p50, f.latch_samples);
     (void)std::printf("sync0_latch_spread_max: %" PRIu64 " ns\n", latch.max);
   } else {
     (void)std::printf("sync0_latch_spread_median: n/a (needs the simulator's view of the slaves)\n");
   }
-  (void)std::printf("cycles: %" PRId64 " cycles\n", cycles.value());
-  (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", all_valid);
-  (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", frames_lost);
+}
+
+// The cyclic run: frames, link reports, the master's CPU per cycle, the NIC, heap and page faults.
+void print_cycle_figures(const MasterBenchOptions& o, const MasterRig& rig, const CyclicFigures& f,
+                         const HeapGuardCounters& heap) noexcept {
+  (void)std::printf("cycles: %" PRId64 " cycles\n", o.cycles);
+  (void)std::printf("cycles_all_joints_valid: %" PRId64 " cycles\n", f.all_valid);
+  (void)std::printf("frames_late_or_lost: %" PRId64 " frames\n", f.frames_lost);
   // A late frame's cycle is never among all_valid (nothing came back in its period): no double count.
-  const auto late_but_whole = static_cast<std::int64_t>(link_after.stale_within_2ms_full_wkc - link_before.stale_within_2ms_full_wkc);
+  const auto late_but_whole = static_cast<std::int64_t>(f.link_after.stale_within_2ms_full_wkc - f.link_before.stale_within_2ms_full_wkc);
   (void)std::printf("cycles_valid_within_2ms: %" PRId64 " cycles (as SOEM's test counts: the frame back within 2 ms of its sending, "
                     "EC_TIMEOUTRET, with its full working counter, whatever the period; %" PRId64 " of them back after their period)\n",
-                    std::min(all_valid + late_but_whole, cycles.value()), late_but_whole);
+                    std::min(f.all_valid + late_but_whole, o.cycles), late_but_whole);
   (void)std::printf("link_reports: %" PRIu32 " lost, %" PRIu32 " not operational, %" PRIu32 " restored, %" PRIu32
                     " silent\n",
-                    reports_by_kind[0], reports_by_kind[1], reports_by_kind[2],
-                    reports_by_kind[static_cast<std::size_t>(ecat::LinkEventKind::silent)]);
+                    f.reports_by_kind[0], f.reports_by_kind[1], f.reports_by_kind[2],
+                    f.reports_by_kind[static_cast<std::size_t>(ecat::LinkEventKind::silent)]);
   const HistogramSummary master = g_master_ns.summary();
-  (void)std::printf("timer_source: %s\n", hal::to_string(timer.source()));
+  (void)std::printf("timer_source: %s\n", hal::to_string(rig.timer->source()));
   (void)std::printf("master_cycle_cpu_median: %.2f us\n", us(master.p50));
   (void)std::printf("master_cycle_cpu_p99: %.2f us\n", us(master.p99));
   (void)std::printf("master_cycle_cpu_max: %.2f us\n", us(master.max));
   const HistogramSummary wire = g_nic_ns.summary();
-  (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), simulated ? "the simulator processing the frame" : "send + wait for the frame");
-  print_receive_wait(selected, link_before, link_after);
+  (void)std::printf("nic_time_median: %.2f us (%s)\n", us(wire.p50), o.simulated ? "the simulator processing the frame" : "send + wait for the frame");
+  print_receive_wait(*rig.selected, f.link_before, f.link_after);
   (void)std::printf("heap_guard_covers_malloc: %s\n", heap_guard_covers_malloc() ? "yes" : "no (sanitizer build)");
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations (cyclic run %" PRIu64 ")\n", heap.allocations,
-                    heap_after_run.allocations);
+                    f.heap_after_run.allocations);
   (void)std::printf("page_faults_after_init: %" PRIu64 " faults (cyclic run)\n",
-                    (faults_after_run.minor - faults_at_init.minor) + (faults_after_run.major - faults_at_init.major));
-  save_cache(cache_dir);
+                    (f.faults_after_run.minor - f.faults_at_init.minor) + (f.faults_after_run.major - f.faults_at_init.major));
+}
+
+}  // namespace
+
+int bench_master(const ParsedArgs& args) noexcept {
+  MasterBenchOptions o;
+  if (const int bad = parse_run_options(args, o); bad != 0) return bad;
+  load_cache(o.cache_dir);
+  if (const int bad = parse_scheduling_options(args, o); bad != 0) return bad;
+
+  // Init: everything that may allocate or fault. The handler's real-time set-up (docs/hal.md), each
+  // item announced; --scheduling normal (comparisons, docs/master.md): as SOEM's test program runs.
+  start_bench(o.real_time, o.wait);
+  MasterRig rig;
+  if (const int bad = open_master(args, o, rig); bad != 0) return bad;
+  if (const int bad = bring_up_to_op(o, rig); bad != 0) return bad;
+  const ecat::BringUpReport first = rig.bus->master().report();
+  const std::int64_t true_offset_after_static = o.simulated ? true_max_offset_ns() : -1;
+
+  CyclicFigures cyclic;
+  run_cycles(o, rig, cyclic);
+  ColdFigures cold_figures;
+  if (const int bad = measure_cold_start(o, rig, cold_figures); bad != 0) return bad;
+  // 4. On the simulated robot: the bring-up of another robot of the same devices with the SII cache
+  //    warm (what `run` does from its second start on), the default static compensation.
+  ecat::BringUpReport warm{};
+  const bool warm_measured = o.measure_cold && o.simulated;
+  if (warm_measured && warm_bring_up(*rig.bus, *rig.nic, *rig.enabler, o.master, static_cast<std::uint64_t>(o.seed) + 2, warm) != 0) return 1;
+  const HeapGuardCounters heap = heap_guard_counters();
+
+  print_bring_up_figures(o, rig, first, warm_measured ? &warm : nullptr);
+  print_dc_figures(o, first, true_offset_after_static, cyclic, cold_figures);
+  print_cycle_figures(o, rig, cyclic, heap);
+  save_cache(o.cache_dir);
   return heap.allocations == 0 ? 0 : fail("bench", "heap allocation after init complete");
 }
 

@@ -402,9 +402,23 @@ __attribute__((noinline)) void wcet_rc_period(kin::RcPeriod& rc, double t_s, Joi
   mark_wcet_period_end("rc_tasks");
 }
 
-int bench_wcet(const ParsedArgs& args) noexcept {
-  const bool short_form = args.has("short");
-  const Result<std::int64_t> periods = args.integer("periods", short_form ? kShortPeriods : kDefaultPeriods, 2000, kMaxPeriods);
+namespace {
+
+// What bench wcet's options ask for.
+struct WcetOptions {
+  bool short_form{false};
+  std::int64_t periods{0};
+  std::int64_t seed{0};
+  std::int64_t block{0};
+  const WcetScenarioSpec* scenario{nullptr};
+  const char* out_dir{nullptr};
+  bool plot{false};
+};
+
+// bench wcet's options, checked. 0, or the exit status of the refusal.
+int parse_wcet_options(const ParsedArgs& args, WcetOptions& options) noexcept {
+  options.short_form = args.has("short");
+  const Result<std::int64_t> periods = args.integer("periods", options.short_form ? kShortPeriods : kDefaultPeriods, 2000, kMaxPeriods);
   if (!periods.ok()) return fail("bench", "wcet: --periods must be 2000..200000 (40 blocks of 50 at least)", periods.error());
   const Result<std::int64_t> seed = args.integer("seed", 1, 0, 1'000'000);
   if (!seed.ok()) return fail("bench", "wcet: --seed must be 0..1000000", seed.error());
@@ -419,30 +433,50 @@ int bench_wcet(const ParsedArgs& args) noexcept {
     (void)std::fprintf(stderr, ")\n");
     return 1;
   }
-  const char* out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-wcet";
-  const bool plot = !args.has("no-plot");
-  // The statistics' prerequisites first, before the measuring.
-  char script[640];
-  Result<hal::OpenFile> out = make_error(Errc::not_found, "not opened");
-  const int ready = check_wcet_prerequisites(plot, out_dir, script, sizeof script, out);
-  if (ready != 0) return ready;
-  print_bench_header(stdout, "wcet");
-  apply_and_print_conditions();
+  options.periods = periods.value();
+  options.seed = seed.value();
+  options.block = block.value();
+  options.scenario = scenario;
+  options.out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-wcet";
+  options.plot = !args.has("no-plot");
+  return 0;
+}
 
-  // ---- init: everything that may allocate, as run_firmware wires the tasks (one thread steps them all) ----
+// The tasks as run_firmware wires them (one thread steps them all), and what the scenario puts on them.
+struct WcetRig {
+  Samples* samples{nullptr};
+  drivers::SimulatedRobot* robot{nullptr};
+  drivers::JointBus* bus{nullptr};
+  TaskPorts* ports{nullptr};
+  ErrorJointsStorageWorker* storage_worker{nullptr};
+  JointManager* manager{nullptr};
+  MessageParser* parser{nullptr};
+  EthercatHandler* handler{nullptr};
+  kin::RcPeriod* rc{nullptr};
+  ScenarioDriver* driver{nullptr};
+  WcetOperatorLoad* operator_load{nullptr};
+  std::int64_t motion_periods{0};
+  std::int64_t rc_k{0};
+  char state_dir[32] = "/tmp/rescue-bench-wcet-XXXXXX";
+};
+
+// Init: everything that may allocate, the network brought up, the capture file opened. 0, or the
+// exit status.
+int wire_wcet_tasks(const WcetOptions& options, WcetRig& rig) noexcept {
   if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve()) {
     return fail("bench", "wcet: not enough memory for the samples and the simulated robot");
   }
-  Samples& samples = g_samples_slot.emplace();
+  rig.samples = &g_samples_slot.emplace();
   drivers::RobotSegmentOptions robot_options;
-  robot_options.seed = static_cast<std::uint64_t>(seed.value());
+  robot_options.seed = static_cast<std::uint64_t>(options.seed);
   drivers::SimulatedRobot& robot = g_robot_slot.emplace(robot_options, g_clock.now());
+  rig.robot = &robot;
   if (!robot.status().ok()) return fail("bench", "wcet: cannot build the simulated robot", robot.status().error());
   static drivers::SimulatedNic nic(robot.segment(), g_clock);
   drivers::JointBus& bus = g_bus_slot.emplace(nic);
-  char state_dir[] = "/tmp/rescue-bench-wcet-XXXXXX";
-  if (mkdtemp(state_dir) == nullptr) return fail("bench", "wcet: cannot create a temporary state directory");
-  static ErrorJointsFileStorage storage(state_dir);
+  rig.bus = &bus;
+  if (mkdtemp(rig.state_dir) == nullptr) return fail("bench", "wcet: cannot create a temporary state directory");
+  static ErrorJointsFileStorage storage(rig.state_dir);
   static TaskPorts ports(g_links);
   static hal::ManualWallClock wall;
   static NoEvents events;
@@ -459,141 +493,198 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   static kin::RcPeriod rc(kin::ready_posture());
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> local(g_links.local_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> local_replies(g_links.local_replies);
-  static ScenarioDriver driver(robot.segment(), local, local_replies, static_cast<std::uint64_t>(seed.value()));
+  static ScenarioDriver driver(robot.segment(), local, local_replies, static_cast<std::uint64_t>(options.seed));
   static WcetOperatorLoad operator_load(ports.socket_handler());
   if (const Status opened = operator_load.open(); !opened.ok()) return fail("bench", "wcet: cannot open the socket handler on 127.0.0.1", opened.error());
+  rig.ports = &ports;
+  rig.storage_worker = &storage_worker;
+  rig.manager = &manager;
+  rig.parser = &parser;
+  rig.handler = &handler;
+  rig.rc = &rc;
+  rig.driver = &driver;
+  rig.operator_load = &operator_load;
   char capture_path[512];
-  (void)std::snprintf(capture_path, sizeof capture_path, "%s/capture.pcapng", out_dir);
+  (void)std::snprintf(capture_path, sizeof capture_path, "%s/capture.pcapng", options.out_dir);
   (void)::unlink(capture_path);
   if (!g_capture_file.open(capture_path, ecat::CaptureWriterOptions{}).ok()) return fail("bench", "wcet: cannot open the capture file in --out");
-  const hal::TscTimer timer = hal::TscTimer::calibrate();
-  const auto motion_periods = static_cast<std::int64_t>(rc.motion().duration_s() * 1000.0);
+  return 0;
+}
 
-  std::int64_t rc_k = 0;
-  // Bring-up and settling: the same work, outside the measured functions (callgrind counts only the
-  // measured periods: toolchain/wcet/instructions.sh).
-  auto unmeasured_period = [&]() noexcept {
-    g_clock.sleep_until(bus.next_wakeup());
-    const drivers::JointCycleResult r = handler.cycle();
-    handler.publish_figures(r, g_clock.now(), 0);
-    manager.step(g_clock.now());
-    (void)storage_worker.serve_one();
-    parser.step(g_clock.now());
-    (void)rc.run(static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001, r.out | manager.lost_joints(),
-                 kin::JointVector::Zero());
-    return r;
-  };
-  auto period = [&](std::int64_t k) noexcept {
-    g_clock.sleep_until(bus.next_wakeup());
-    drivers::JointCycleResult r;
-    const std::uint64_t ts = timer.start();
-    wcet_socket_handler_period(operator_load.handler(), g_clock.now());
-    const std::uint64_t ts_end = timer.stop();
-    const std::uint64_t t0 = timer.start();
-    wcet_handler_period(handler, r);
-    const std::uint64_t t1 = timer.stop();
-    const std::uint64_t t2_start = timer.start();
-    wcet_joint_manager_period(manager);
-    const std::uint64_t t2 = timer.stop();
-    (void)storage_worker.serve_one();  // a thread of its own in run: untimed
-    const std::uint64_t t3 = timer.start();
-    wcet_message_parser_period(parser);
-    const std::uint64_t t4 = timer.stop();
-    const double t_s = static_cast<double>(rc_k++ % (motion_periods > 0 ? motion_periods : 1)) * 0.001;
-    const JointMask out_of_service = r.out | manager.lost_joints();
-    const std::uint64_t t5 = timer.start();
-    wcet_rc_period(rc, t_s, out_of_service);
-    const std::uint64_t t6 = timer.stop();
-    const auto at = static_cast<std::size_t>(k);
-    samples.ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
-    samples.ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t2_start));
-    samples.ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
-    samples.ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
-    samples.ns[kSocket][at] = clamp_u32(timer.to_ns(ts_end - ts));
-    return r;
-  };
-  int to_op = 0;
-  while (to_op < kMaxCyclesToOp && unmeasured_period().state != ecat::MasterState::op) ++to_op;
+// The RC period's time into the rescue motion, which repeats.
+double next_rc_time_s(WcetRig& rig) noexcept {
+  return static_cast<double>(rig.rc_k++ % (rig.motion_periods > 0 ? rig.motion_periods : 1)) * 0.001;
+}
+
+// Bring-up and settling: the same work, outside the measured functions (callgrind counts only the
+// measured periods: toolchain/wcet/instructions.sh).
+drivers::JointCycleResult unmeasured_period(WcetRig& rig) noexcept {
+  g_clock.sleep_until(rig.bus->next_wakeup());
+  const drivers::JointCycleResult r = rig.handler->cycle();
+  rig.handler->publish_figures(r, g_clock.now(), 0);
+  rig.manager->step(g_clock.now());
+  (void)rig.storage_worker->serve_one();
+  rig.parser->step(g_clock.now());
+  (void)rig.rc->run(next_rc_time_s(rig), r.out | rig.manager->lost_joints(), kin::JointVector::Zero());
+  return r;
+}
+
+// Measured period k: each task's execution time into the samples.
+drivers::JointCycleResult measured_period(WcetRig& rig, const hal::TscTimer& timer, std::int64_t k) noexcept {
+  g_clock.sleep_until(rig.bus->next_wakeup());
+  drivers::JointCycleResult r;
+  const std::uint64_t ts = timer.start();
+  wcet_socket_handler_period(rig.operator_load->handler(), g_clock.now());
+  const std::uint64_t ts_end = timer.stop();
+  const std::uint64_t t0 = timer.start();
+  wcet_handler_period(*rig.handler, r);
+  const std::uint64_t t1 = timer.stop();
+  const std::uint64_t t2_start = timer.start();
+  wcet_joint_manager_period(*rig.manager);
+  const std::uint64_t t2 = timer.stop();
+  (void)rig.storage_worker->serve_one();  // a thread of its own in run: untimed
+  const std::uint64_t t3 = timer.start();
+  wcet_message_parser_period(*rig.parser);
+  const std::uint64_t t4 = timer.stop();
+  const double t_s = next_rc_time_s(rig);
+  const JointMask out_of_service = r.out | rig.manager->lost_joints();
+  const std::uint64_t t5 = timer.start();
+  wcet_rc_period(*rig.rc, t_s, out_of_service);
+  const std::uint64_t t6 = timer.stop();
+  const auto at = static_cast<std::size_t>(k);
+  rig.samples->ns[kHandler][at] = clamp_u32(timer.to_ns(t1 - t0));
+  rig.samples->ns[kManager][at] = clamp_u32(timer.to_ns(t2 - t2_start));
+  rig.samples->ns[kParser][at] = clamp_u32(timer.to_ns(t4 - t3));
+  rig.samples->ns[kRc][at] = clamp_u32(timer.to_ns(t6 - t5));
+  rig.samples->ns[kSocket][at] = clamp_u32(timer.to_ns(ts_end - ts));
+  return r;
+}
+
+// The network to OP, every joint initialised, then settling. 0, or the exit status.
+int reach_op_and_settle(WcetRig& rig, int& to_op) noexcept {
+  to_op = 0;
+  while (to_op < kMaxCyclesToOp && unmeasured_period(rig).state != ecat::MasterState::op) ++to_op;
   if (to_op == kMaxCyclesToOp) return fail("bench", "wcet: the network did not reach OP");
-  MessageSink<JointCommand>& commands = *ports.message_parser().joint_commands;
+  MessageSink<JointCommand>& commands = *rig.ports->message_parser().joint_commands;
   for (const JointCommand& c : initialize_robot_commands(kAllJoints)) {
     // cppcheck-suppress useStlAlgorithm
     if (!commands.try_send(c)) return fail("bench", "wcet: joint handle queue full");
   }
-  for (int i = 0; i < kSettleCycles; ++i) (void)unmeasured_period();
+  for (int i = 0; i < kSettleCycles; ++i) (void)unmeasured_period(rig);
+  return 0;
+}
 
-  // ---- measured: nothing may allocate ----
+// What the measured periods saw of the scenario.
+struct WcetRunFigures {
+  int to_op{0};
+  std::uint64_t periods_all_enabled{0};
+  std::uint64_t periods_with_lost{0};
+  JointMask last_out{0};
+  std::int64_t longest_recovery{-1};  // periods from a power cycle to every joint Enabled again
+  std::uint64_t recoveries{0};
+  HeapGuardCounters heap{};
+};
+
+// The measured periods, the scenario's stress before each: nothing may allocate.
+void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTimer& timer, WcetRunFigures& figures) noexcept {
   declare_init_complete(HeapGuardMode::count);
   bool capture_on = false;
-  std::uint64_t periods_all_enabled = 0;
-  std::uint64_t periods_with_lost = 0;
   std::uint64_t cycles_seen = 0;
-  JointMask last_out = 0;
-  std::int64_t down_since = -1;       // the period of the power cycle not yet recovered from
-  std::int64_t longest_recovery = -1;  // periods from a power cycle to every joint Enabled again
-  std::uint64_t recoveries = 0;
+  std::int64_t down_since = -1;  // the period of the power cycle not yet recovered from
   bool went_down = false;
-  for (std::int64_t k = 0; k < periods.value(); ++k) {
-    const WcetStress stress = wcet_stress(scenario->id, k, periods.value());
+  for (std::int64_t k = 0; k < options.periods; ++k) {
+    const WcetStress stress = wcet_stress(options.scenario->id, k, options.periods);
     if (stress.services && !capture_on) {
-      bus.master().set_tap(ecat::capture_queue_tap, &g_capture);  // capture on: every frame queued for the logger
+      rig.bus->master().set_tap(ecat::capture_queue_tap, &g_capture);  // capture on: every frame queued for the logger
       capture_on = true;
     }
     JointMask enabled = 0;
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (manager.statuses()[j].state == fsm::JointState::enabled) enabled |= JointMask{1} << j;
+      if (rig.manager->statuses()[j].state == fsm::JointState::enabled) enabled |= JointMask{1} << j;
     }
     if (down_since >= 0 && enabled != kAllJoints) went_down = true;
     if (down_since >= 0 && went_down && enabled == kAllJoints) {
-      longest_recovery = std::max(longest_recovery, k - down_since);
-      ++recoveries;
+      figures.longest_recovery = std::max(figures.longest_recovery, k - down_since);
+      ++figures.recoveries;
       down_since = -1;
     }
-    driver.before(stress, k, last_out, enabled, manager.lost_joints());
-    operator_load.before(stress.services);
-    if (driver.power_cycles() != cycles_seen) {
-      cycles_seen = driver.power_cycles();
+    rig.driver->before(stress, k, figures.last_out, enabled, rig.manager->lost_joints());
+    rig.operator_load->before(stress.services);
+    if (rig.driver->power_cycles() != cycles_seen) {
+      cycles_seen = rig.driver->power_cycles();
       down_since = k;
       went_down = false;
     }
-    last_out = period(k).out;
-    driver.after();
-    operator_load.after();
+    figures.last_out = measured_period(rig, timer, k).out;
+    rig.driver->after();
+    rig.operator_load->after();
     if (capture_on) (void)g_capture.drain(g_capture_file, ecat::CaptureQueue::kCapacity);  // the logger's side, untimed
-    periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
-    periods_with_lost += manager.lost_joints() != 0 ? 1U : 0U;
+    figures.periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
+    figures.periods_with_lost += rig.manager->lost_joints() != 0 ? 1U : 0U;
   }
-  const HeapGuardCounters heap = heap_guard_counters();
-  (void)g_capture_file.close();
-  g_periods = periods.value();
+  figures.heap = heap_guard_counters();
+}
 
-  (void)std::printf("scenario: %s (%s)\n", scenario->name, scenario->what);
-  (void)std::printf("form: %s\n", short_form ? "short (CI: the method and the refusal, not the bound)" : "full");
+void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal::TscTimer& timer,
+                       const WcetRunFigures& figures) noexcept {
+  (void)std::printf("scenario: %s (%s)\n", options.scenario->name, options.scenario->what);
+  (void)std::printf("form: %s\n", options.short_form ? "short (CI: the method and the refusal, not the bound)" : "full");
   (void)std::printf("clock: virtual (the simulated robot; execution times by %s on the host)\n", hal::to_string(timer.source()));
-  (void)std::printf("measured_periods: %" PRId64 " periods per task\n", periods.value());
-  (void)std::printf("cycles_to_op: %d cycles\n", to_op);
-  (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", driver.power_cycles());
-  (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", recoveries);
-  if (longest_recovery >= 0) {
-    (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle of every slave to every joint Enabled)\n", longest_recovery);
+  (void)std::printf("measured_periods: %" PRId64 " periods per task\n", options.periods);
+  (void)std::printf("cycles_to_op: %d cycles\n", figures.to_op);
+  (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", rig.driver->power_cycles());
+  (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", figures.recoveries);
+  if (figures.longest_recovery >= 0) {
+    (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle of every slave to every joint Enabled)\n", figures.longest_recovery);
   } else {
     (void)std::printf("longest_recovery: n/a\n");
   }
-  (void)std::printf("sdo_transfers: %" PRIu64 " (%" PRIu64 " answered ok)\n", operator_load.sdo_transfers(), operator_load.sdo_transfers_ok());
-  (void)std::printf("operator_datagrams: %" PRIu64 " sent, %" PRIu64 " answered, %" PRIu64 " send failures\n", operator_load.datagrams_sent(),
-                    operator_load.answers(), operator_load.send_failures());
-  (void)std::printf("socket_handler_max_datagrams_per_wakeup: %zu (its budget %zu)\n", operator_load.handler().max_per_wakeup(),
+  const WcetOperatorLoad& load = *rig.operator_load;
+  (void)std::printf("sdo_transfers: %" PRIu64 " (%" PRIu64 " answered ok)\n", load.sdo_transfers(), load.sdo_transfers_ok());
+  (void)std::printf("operator_datagrams: %" PRIu64 " sent, %" PRIu64 " answered, %" PRIu64 " send failures\n", load.datagrams_sent(),
+                    load.answers(), load.send_failures());
+  (void)std::printf("socket_handler_max_datagrams_per_wakeup: %zu (its budget %zu)\n", load.handler().max_per_wakeup(),
                     SocketHandler::kBudget);
-  (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", periods_all_enabled);
-  (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", periods_with_lost);
-  print_end_state(manager, bus, robot.segment(), last_out);
-  (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", heap.allocations);
-  (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --block %" PRId64 " --seed %" PRId64 "\n",
-                      scenario->name, periods.value(), block.value(), seed.value());
-  (void)std::remove(state_dir);
-  if (heap.allocations != 0) return fail("bench", "wcet: heap allocation after init complete");
+  (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", figures.periods_all_enabled);
+  (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", figures.periods_with_lost);
+  print_end_state(*rig.manager, *rig.bus, rig.robot->segment(), figures.last_out);
+  (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", figures.heap.allocations);
+}
 
-  return analyse(out.value(), out_dir, script, short_form, plot, block.value());
+}  // namespace
+
+int bench_wcet(const ParsedArgs& args) noexcept {
+  WcetOptions options;
+  const int parsed = parse_wcet_options(args, options);
+  if (parsed != 0) return parsed;
+  // The statistics' prerequisites first, before the measuring.
+  char script[640];
+  Result<hal::OpenFile> out = make_error(Errc::not_found, "not opened");
+  const int ready = check_wcet_prerequisites(options.plot, options.out_dir, script, sizeof script, out);
+  if (ready != 0) return ready;
+  print_bench_header(stdout, "wcet");
+  apply_and_print_conditions();
+
+  static WcetRig rig;
+  const int wired = wire_wcet_tasks(options, rig);
+  if (wired != 0) return wired;
+  const hal::TscTimer timer = hal::TscTimer::calibrate();
+  rig.motion_periods = static_cast<std::int64_t>(rig.rc->motion().duration_s() * 1000.0);
+  WcetRunFigures figures;
+  const int settled = reach_op_and_settle(rig, figures.to_op);
+  if (settled != 0) return settled;
+
+  measure_periods(options, rig, timer, figures);
+  (void)g_capture_file.close();
+  g_periods = options.periods;
+
+  print_run_figures(options, rig, timer, figures);
+  (void)std::snprintf(g_conditions, sizeof g_conditions, "# bench wcet --scenario %s --periods %" PRId64 " --block %" PRId64 " --seed %" PRId64 "\n",
+                      options.scenario->name, options.periods, options.block, options.seed);
+  (void)std::remove(rig.state_dir);
+  if (figures.heap.allocations != 0) return fail("bench", "wcet: heap allocation after init complete");
+
+  return analyse(out.value(), options.out_dir, script, options.short_form, options.plot, options.block);
 }
 
 }  // namespace rescue::app

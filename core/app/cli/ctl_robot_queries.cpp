@@ -10,7 +10,7 @@
 #include "core/app/cli/ctl_output.hpp"
 #include "core/app/config/build_info.hpp"
 #include "core/app/links/run_control.hpp"
-#include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/rc_task_frame.hpp"
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/robot/joint_fault.hpp"
 #include "ecat/master/master.hpp"

@@ -28,7 +28,7 @@ TaskSpec kTasks[] = {  // NOLINT(cppcoreguidelines-avoid-non-const-global-variab
    "yes", "joint status DFA, limit monitoring, reconfiguration, error-joints file, drive demand", "tasks/joint_manager.cpp",
    "its own", 2, 4, "critical: the handler disables every drive, the others stop, exit status 4 with the reason"},
   {TaskId::rc_tasks, "RC tasks", config::kRcTaskPriority, config::kRcTaskCpu, config::kRcTaskPeriodNs,
-   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rc_task.cpp, links/reference_space.hpp, tasks/motion_intake.cpp",
+   "yes (own reference space)", "kinematics: next joint references every period (rescue, teleop); the Motion owner's drive the joints", "tasks/rescue_task.cpp, tasks/teleop_task.cpp, links/reference_space.hpp, tasks/motion_intake.cpp",
    "one each (rc-rescue, rc-teleop)", 5, 3,
    "restarted after a back-off (100 ms doubling to 5 s), logged, from its initial state; if it owned the motion, the handler's intake releases the owner word once its heartbeat is kOwnerDeadAfterPeriods old (every joint holds), and an operator's take re-takes it"},
   {TaskId::ethercat_handler, "EtherCAT handler", config::kEthercatHandlerPriority, config::kEthercatHandlerCpu, config::kEthercatHandlerPeriodNs,

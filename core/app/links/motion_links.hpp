@@ -24,7 +24,7 @@ constexpr std::size_t kRcTasksRun = 2;
 // What an RC task shows of itself each period (for the log, `ctl status` and tests). Trivial:
 // published through a seqlock as bytes; value-initialise it.
 struct RcTaskState {
-  std::uint8_t mode;            // RcMode (tasks/rc_task.hpp)
+  std::uint8_t mode;            // RcMode (tasks/rc_task_frame.hpp)
   std::uint8_t phase;           // kin::RescuePhase of the rescue motion
   bool owns;                    // it held the Motion owner word this period
   JointMask out_of_service;     // joints it locked (lost, in Error, unreachable)

@@ -35,7 +35,8 @@
 #include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/message_parser.hpp"
-#include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/rescue_task.hpp"
+#include "core/app/tasks/teleop_task.hpp"
 #include "core/app/tasks/repaired_joints.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "core/memory/heap_guard.hpp"
@@ -391,10 +392,10 @@ int run_tasks(const StartUp& up, OperatorSide& operator_side) noexcept {
   static EthercatHandler handler(*up.bus, up.ports->ethercat_handler(), up.restored.restored);
   static ScenarioRunner scenario(options.scenario, segment);
   static hal::MonotonicClock operator_clock;
-  RcTaskSettings rescue_settings = default_rc_task_settings(RcTaskId::rescue);
+  RescueTaskSettings rescue_settings = default_rescue_task_settings();
   if (options.scenario.rescue_motion) rescue_settings.motion.phase_s = options.scenario.motion_phase_s;
-  static RcTask rc_rescue(up.ports->rc_task(RcTaskId::rescue), rescue_settings);
-  static RcTask rc_teleop(up.ports->rc_task(RcTaskId::teleop), default_rc_task_settings(RcTaskId::teleop));
+  static RescueTask rc_rescue(up.ports->rc_task(RcTaskId::rescue), rescue_settings);
+  static TeleopTask rc_teleop(up.ports->rc_task(RcTaskId::teleop), default_teleop_task_settings());
   g_run.tasks = TaskSet{&handler,      &scenario,        up.manager,       up.parser,          up.socket,
                         &rc_rescue,    &rc_teleop,       up.replay,          &up.wall_clock,     up.clock,
                         &operator_clock, &options,       up.operator_port,   up.start,           &up.events,

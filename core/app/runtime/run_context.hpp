@@ -19,7 +19,8 @@
 #include "core/app/tasks/joint_event_queue.hpp"
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/message_parser.hpp"
-#include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/rescue_task.hpp"
+#include "core/app/tasks/teleop_task.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
@@ -41,8 +42,8 @@ struct TaskSet {
   JointManager* manager;
   MessageParser* parser;
   SocketHandler* socket;
-  RcTask* rc_rescue;
-  RcTask* rc_teleop;
+  RescueTask* rc_rescue;
+  TeleopTask* rc_teleop;
   protocol::ReplayWindow* replay;
   hal::WallClock* wall_clock;
   hal::Clock* clock;           // the NIC's: the handler's and the joint manager's

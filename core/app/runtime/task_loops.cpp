@@ -278,13 +278,11 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, const TaskLoop
   state.manager_done.store(true, std::memory_order_release);
 }
 
-// An RC task (tasks/rc_task.hpp): one period every kRcTaskPeriod, on the handler's clock (the
-// heartbeats and reference times the handler's motion intake compares with its own).
-void rc_task(RcTask& task, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
+// An RC task (tasks/rescue_task.hpp, tasks/teleop_task.hpp): one period every kRcTaskPeriod, on the
+// handler's clock (the heartbeats and reference times the handler's motion intake compares with its own).
+template <typename Task>
+void rc_task(Task& task, const char* name, StatTask slot, hal::Clock& clock, const TaskLoopPorts& ports) noexcept {
   const RunControl& state = *ports.run;
-  const bool rescue = task.id() == RcTaskId::rescue;
-  const char* name = rescue ? "rc-rescue" : "rc-teleop";
-  const StatTask slot = rescue ? StatTask::rc_rescue : StatTask::rc_teleop;
   TaskStats stats = start_task(name, TaskId::rc_tasks, slot, ports);
   TaskHealthProbe health(*ports.health);
   run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, ports, stats,
@@ -347,8 +345,12 @@ void run_parser() noexcept {
 void run_socket() noexcept {
   socket_task(*g_run.tasks.socket, *g_run.tasks.operator_clock, g_run.tasks.ports->task_loop(StatTask::socket_handler));
 }
-void run_rc_rescue() noexcept { rc_task(*g_run.tasks.rc_rescue, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_rescue)); }
-void run_rc_teleop() noexcept { rc_task(*g_run.tasks.rc_teleop, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_teleop)); }
+void run_rc_rescue() noexcept {
+  rc_task(*g_run.tasks.rc_rescue, "rc-rescue", StatTask::rc_rescue, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_rescue));
+}
+void run_rc_teleop() noexcept {
+  rc_task(*g_run.tasks.rc_teleop, "rc-teleop", StatTask::rc_teleop, *g_run.tasks.clock, g_run.tasks.ports->task_loop(StatTask::rc_teleop));
+}
 
 void run_storage_worker() noexcept {
   ErrorJointsStorageWorker& worker = *g_run.tasks.storage_worker;

@@ -19,7 +19,7 @@
 #include "core/app/tasks/joint_manager.hpp"
 #include "core/app/tasks/message_parser.hpp"
 #include "core/app/tasks/motion_intake.hpp"
-#include "core/app/tasks/rc_task.hpp"
+#include "core/app/tasks/rc_task_frame.hpp"
 #include "core/app/tasks/socket_handler.hpp"
 #include "core/concurrency/spsc_message_port.hpp"
 #include "core/concurrency/spsc_queue.hpp"

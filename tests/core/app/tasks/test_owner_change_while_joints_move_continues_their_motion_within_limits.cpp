@@ -82,7 +82,7 @@ void take_and_expect_continuation(testing::RcTaskRig& rig, SentJudge& judge, RcT
   ASSERT_TRUE(rig.send(task, RcInputKind::take_ownership));
   judge.step(rig);
   ASSERT_EQ(rig.links->motion.owner.task(), static_cast<std::uint8_t>(task));
-  const kin::JointVector& own = (task == RcTaskId::rescue ? rig.rescue : rig.teleop)->references();
+  const kin::JointVector& own = task == RcTaskId::rescue ? rig.rescue->references() : rig.teleop->references();
   for (std::size_t j = 0; j < kJointCount; ++j) {
     if ((commanded & joint_bit(j)) == 0) continue;
     const double carried = sent[j] + speed[j] * kDt;

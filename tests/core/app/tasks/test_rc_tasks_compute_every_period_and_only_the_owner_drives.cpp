@@ -1,4 +1,4 @@
-// The two RC tasks (core/app/tasks/rc_task.hpp) with the EtherCAT handler's motion intake, in
+// The two RC tasks (core/app/tasks/rescue_task.hpp, teleop_task.hpp) with the handler's motion intake, in
 // virtual time (tests/support/rc_task_rig.hpp):
 //   both compute every period; only the owner's references reach the joints;
 //   the rescue task's motion goes through approach, lowering, forwarding, backwarding to done,
@@ -130,7 +130,7 @@ TEST(RcTasks, ADeadOwnerIsReleasedTheJointsHoldAndTeleopTakesOverBumplessly) {
   EXPECT_EQ(rig.intake.driving_task(), 1);
   for (std::size_t j = 0; j < kJointCount; ++j) EXPECT_NEAR(rig.sent[j], before[j], 1e-12) << kJoints[j].name;
   // The rescue task restarted (a new process): it computes, but waits for the operator.
-  rig.rescue = std::make_unique<RcTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
+  rig.rescue = std::make_unique<RescueTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
   rig.rescue_runs = true;
   rig.steps(10);
   EXPECT_EQ(rig.links->motion.owner.task(), 1);
@@ -154,7 +154,7 @@ TEST(RcTasks, ARestartedTaskThatBeatsBeforeTheReleaseFreesItsPredecessorsWord) {
   rig.rescue_runs = false;  // killed
   rig.steps(10);            // the handler brings its joints to rest; not yet released
   ASSERT_EQ(rig.links->motion.owner.task(), 0);
-  rig.rescue = std::make_unique<RcTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
+  rig.rescue = std::make_unique<RescueTask>(rig.ports->rc_task(RcTaskId::rescue), testing::short_rescue_settings());
   rig.rescue_runs = true;
   rig.step();
   EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << "the predecessor's word is freed at once";
