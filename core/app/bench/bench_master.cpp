@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/bench/bench_ring_break.hpp"
 #include "core/app/bench/timed_nic.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/runtime/nic_factory.hpp"
@@ -340,8 +341,22 @@ int attach_ring(const ParsedArgs& args, const NicChoice& main, SelectedNic& sele
   return 0;
 }
 
-// Changes of the ring seen during the measured run.
+// Changes of the ring seen during the measured run, and the cable cut in it (--ring-cut).
 std::uint64_t g_ring_changes = 0;
+RingBreakRun g_ring_break;
+
+// --ring-cut CABLE|none beside --ring-nic sim: which cable the measured run cuts (default the one
+// into l_leg, position 9; 0..22 the cable into that position, 23 the ring-return cable); 0 or the
+// exit status of a refusal.
+int plan_ring_cut(const ParsedArgs& args, std::int64_t cycles) noexcept {
+  const char* text = args.value("ring-cut");
+  if (text != nullptr && !g_ring_robots) return fail("bench", "--ring-cut needs --nic sim --ring-nic sim");
+  if (!g_ring_robots || (text != nullptr && std::strcmp(text, "none") == 0)) return 0;
+  const Result<std::int64_t> cable = args.integer("ring-cut", 9, 0, static_cast<std::int64_t>(kSlaveCount));
+  if (!cable.ok()) return fail("bench", "--ring-cut must be none or a cable 0..23 (23: the ring-return cable)", cable.error());
+  g_ring_break.plan(static_cast<std::size_t>(cable.value()), cycles);
+  return 0;
+}
 std::uint64_t drain_ring_reports(ecat::Master& master) noexcept {
   std::uint64_t n = 0;
   ecat::RingReport report;
@@ -356,6 +371,7 @@ void print_ring(const ecat::Master& master, SelectedNic& selected) noexcept {
   (void)std::printf("ring_nic: %s\n", g_ring_robots ? "sim (the simulated robot's ring port)" : selected.ring_nic()->name());
   (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
                     ecat::to_string(rs.state), rs.breaks, rs.repairs, g_ring_changes);
+  if (g_ring_robots) g_ring_break.print();
 }
 
 }  // namespace
@@ -372,6 +388,7 @@ int bench_master(const ParsedArgs& args) noexcept {
   const bool simulated = choice.value().kind == NicKind::sim;
   // --ring-nic sim beside --nic sim: the robots in their ring configuration (refused with raw in attach_ring).
   g_ring_robots = simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
+  if (const int bad = plan_ring_cut(args, cycles.value()); bad != 0) return bad;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
   const bool measure_cold = std::strcmp(cold_start, "yes") == 0;
   if (!measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
@@ -450,6 +467,7 @@ int bench_master(const ParsedArgs& args) noexcept {
     frames_lost += r.frame_received ? 0 : 1;
     while (bus.master().pop_report(report)) ++reports_by_kind[static_cast<std::size_t>(report.kind) % reports_by_kind.size()];
     g_ring_changes += drain_ring_reports(bus.master());
+    if (g_ring_robots && !g_ring_break.after_cycle(i, *g_segment, g_virtual_clock.now()).ok()) return fail("bench", "--ring-cut: the cable cannot be cut");
     std::uint64_t spread = 0;
     if (simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);
