@@ -23,7 +23,7 @@ std::uint32_t max_difference(const drivers::SimulatedSegment& segment) noexcept 
 }
 
 // Each slave's system time against the reference's (position 0) at `now`.
-void offsets(const drivers::SimulatedSegment& segment, hal::Nanoseconds now, std::int64_t (&out)[kSlaveCount]) noexcept {
+void offsets(const drivers::SimulatedSegment& segment, hal::Nanoseconds now, std::array<std::int64_t, kSlaveCount>& out) noexcept {
   const std::uint64_t reference = segment.esc(0).system_time_at(now);
   for (std::size_t p = 0; p < kSlaveCount; ++p) out[p] = static_cast<std::int64_t>(segment.esc(p).system_time_at(now) - reference);
 }
@@ -37,25 +37,28 @@ void RingBreakRun::plan(std::size_t cable, std::int64_t cycles) noexcept {
   restore_at_ = 2 * cycles / 3;
 }
 
-Status RingBreakRun::after_cycle(std::int64_t i, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
-  if (!planned_) return {};
+void RingBreakRun::after_cycle(std::int64_t i, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept {
+  if (!planned_) return;
   const bool ring_cable = cable_ == kSlaveCount;
+  const auto note = [this](const Status& st) {
+    if (!st.ok() && refused_ == nullptr) refused_ = st.error().what;
+  };
   if (i < cut_at_ && i >= cut_at_ - kSettleCycles) difference_before_break_ = std::max(difference_before_break_, max_difference(segment));
   if (i == cut_at_) {
     offsets(segment, now, before_);
-    return ring_cable ? segment.cut_ring_cable() : segment.cut_link(cable_);
+    note(ring_cable ? segment.cut_ring_cable() : segment.cut_link(cable_));
+    return;
   }
   if (i > cut_at_ && i <= restore_at_) {
-    std::int64_t now_offsets[kSlaveCount]{};
+    std::array<std::int64_t, kSlaveCount> now_offsets{};
     offsets(segment, now, now_offsets);
     for (std::size_t p = 0; p < kSlaveCount; ++p) {
       if (kSlaves[p].kind == SlaveKind::joint_drive) sync0_moved_ = std::max(sync0_moved_, std::abs(now_offsets[p] - before_[p]));
     }
     if (i > cut_at_ + kSettleCycles) difference_after_break_ = std::max(difference_after_break_, max_difference(segment));
   }
-  if (i == restore_at_) return ring_cable ? segment.restore_ring_cable() : segment.restore_link(cable_);
+  if (i == restore_at_) note(ring_cable ? segment.restore_ring_cable() : segment.restore_link(cable_));
   if (i > restore_at_ + kSettleCycles) difference_after_repair_ = std::max(difference_after_repair_, max_difference(segment));
-  return {};
 }
 
 void RingBreakRun::print() const noexcept {
@@ -67,6 +70,7 @@ void RingBreakRun::print() const noexcept {
   (void)std::printf("ring_cut: %s%s, cut after cycle %" PRId64 ", restored after cycle %" PRId64 "\n",
                     ring_cable ? "the ring-return cable" : "the cable into ", ring_cable ? "" : kSlaves[cable_].name,
                     cut_at_, restore_at_);
+  if (refused_ != nullptr) (void)std::printf("ring_cut_refused: %s\n", refused_);
   (void)std::printf("ring_dc_max_difference_before_break: %" PRIu32 " ns (max |0x092C|, the 100 ms before the cut)\n",
                     difference_before_break_);
   (void)std::printf("ring_dc_max_difference_after_break: %" PRIu32 " ns (max |0x092C|, 100 ms after the cut to the repair)\n",

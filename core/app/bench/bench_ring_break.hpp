@@ -6,6 +6,7 @@
 // |0x092C| of the 100 ms before the cut (the no-fault figure at that time of the run).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -22,16 +23,18 @@ class RingBreakRun {
   // third into the run of `cycles`, restored at two thirds.
   void plan(std::size_t cable, std::int64_t cycles) noexcept;
   bool planned() const noexcept { return planned_; }
-  // After cycle `i` of the measured run: cuts or restores on schedule and measures the clocks.
-  Status after_cycle(std::int64_t i, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept;
+  // After cycle `i` of the measured run: cuts or restores on schedule (a refusal is kept and
+  // printed) and measures the clocks.
+  void after_cycle(std::int64_t i, drivers::SimulatedSegment& segment, hal::Nanoseconds now) noexcept;
   void print() const noexcept;
 
  private:
   bool planned_{false};
+  const char* refused_{nullptr};  // why the simulator refused the cut or the restore
   std::size_t cable_{0};
   std::int64_t cut_at_{0};      // the cable is cut after this cycle
   std::int64_t restore_at_{0};  // ... and restored after this one
-  std::int64_t before_[kSlaveCount]{};
+  std::array<std::int64_t, kSlaveCount> before_{};
   std::uint32_t difference_before_break_{0};
   std::uint32_t difference_after_break_{0};
   std::int64_t sync0_moved_{0};
