@@ -16,7 +16,8 @@ bool carries(const FrameView& sent, const FrameView& copy) noexcept {
     const DatagramView ds = *s;
     const DatagramView dc = *c;
     if (ds.length() != dc.length() || ds.index() != dc.index()) return false;
-    if (dc.command() != ds.command() && dc.command() != Command::NOP) return false;
+    if (dc.command() == ds.command() || dc.command() == Command::NOP) continue;
+    if (!is_ring_side_time_write(ds.command(), ds.address()) || dc.command() != Command::FPWR) return false;
   }
   return true;
 }
@@ -32,7 +33,9 @@ Result<std::size_t> make_ring_copy(ConstByteSpan main, ByteSpan out) noexcept {
   if (!view.ok()) return view.error();
   out[kSourceMacTailOffset] = kRingCopyMacTail;
   for (const MutableDatagramView d : view.value()) {
-    if (main_port_only(d.command())) d.raw()[0] = static_cast<std::uint8_t>(Command::NOP);
+    const Command command = d.command();
+    if (main_port_only(command)) d.raw()[0] = static_cast<std::uint8_t>(Command::NOP);
+    if (is_ring_side_time_write(command, d.address())) d.raw()[0] = static_cast<std::uint8_t>(Command::FPWR);
   }
   return main.size();
 }

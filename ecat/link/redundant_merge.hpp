@@ -7,7 +7,12 @@
 //     copy tells which port it left by, whichever port it comes back on;
 //   - its position-addressed datagrams (APRD/APWR/APRW/ARMW) and the reference clock's FRMW go as
 //     NOP of the same length: from the ring port, position n means another slave, and an FRMW
-//     entering behind a break would write an unread time into the clocks there.
+//     entering behind a break would write an unread time into the clocks there;
+//   - its ring-side time writes go as FPWR: a NOP addressed to a station's system time (0x0910) in
+//     the main frame (no slave acts on a NOP) is, in the ring copy, an FPWR of that register with
+//     the NOP's data. It feeds the clock of a slave behind a break, which only the ring copy
+//     processes (DC across a break: ecat/master/ring_dc_service.hpp); with the ring closed the ring
+//     copy processes no slave, so the write is void, whatever the state was when it was built.
 //
 // The merge, per datagram:
 //   working counter = main copy's + ring copy's (saturating at 0xFFFF);
@@ -30,6 +35,7 @@
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
 #include "ecat/codec/frame.hpp"
+#include "ecat/codec/registers.hpp"
 
 namespace rescue::ecat {
 
@@ -40,6 +46,15 @@ constexpr std::size_t kSourceMacTailOffset = 11;  // destination (6) + source by
 // Whether `command` goes as NOP in the ring copy.
 constexpr bool main_port_only(Command command) noexcept {
   return address_kind(command) == AddressKind::position || command == Command::FRMW;
+}
+
+// The ring-side time write of `station` (data: the system time it is to compare): a NOP in the
+// main frame, an FPWR of 0x0910 in the ring copy.
+constexpr std::uint32_t ring_side_time_write_address(std::uint16_t station) noexcept {
+  return make_address(station, reg::kDcSystemTime);
+}
+constexpr bool is_ring_side_time_write(Command command, std::uint32_t address) noexcept {
+  return command == Command::NOP && address_ado(address) == reg::kDcSystemTime;
 }
 
 // Writes the ring copy of `main` (a whole frame, as sent on the main NIC) into `out`; its length.

@@ -11,7 +11,7 @@ void DcReferenceService::add_datagrams(CycleFrame& frame) noexcept {
   // Capacity was checked at bring-up (the reference read and every branch always fit). A reference out
   // of the exchange (power-cycled: its time began again) is only read, not copied into the other
   // clocks, until online recovery has set its clock again (their clocks run on meanwhile).
-  const Command command = ctx_.reference_out() || !answered_ ? Command::FPRD : Command::FRMW;
+  const Command command = ctx_.reference_out() || !answered_ || behind_break_ ? Command::FPRD : Command::FRMW;
   (void)frame.add(*this, 0, command, make_address(ctx_.reference_station, reg::kDcSystemTime), 8);
 }
 

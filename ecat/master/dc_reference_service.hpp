@@ -20,6 +20,11 @@ class DcReferenceService final : public CyclicService {
   void on_answer(std::uint8_t tag, const DatagramView& datagram) noexcept override;
   void settle(CycleResult& result) noexcept override { result.reference_time = frame_reference_time_; }
 
+  // The ring is open and the reference lies behind the break (ring_dc_service.hpp): only the ring
+  // copy reaches it, in which an FRMW goes as NOP, so it is read by FPRD and its time written to the
+  // others by the ring-side time writes.
+  void set_reference_behind_break(bool behind) noexcept { behind_break_ = behind; }
+
   // This cycle's reference read (0: none), and the last one read (building a frame: the previous cycle's).
   std::uint64_t frame_reference_time() const noexcept { return frame_reference_time_; }
   std::uint64_t latest_reference_time() const noexcept { return latest_reference_time_; }
@@ -29,6 +34,7 @@ class DcReferenceService final : public CyclicService {
   std::uint64_t frame_reference_time_{0};
   std::uint64_t latest_reference_time_{0};
   bool answered_{true};  // the last reference read answered
+  bool behind_break_{false};
 };
 
 }  // namespace rescue::ecat

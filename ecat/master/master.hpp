@@ -22,7 +22,7 @@
 // Cycle (cycle(), once per period, no heap, no system call but the NIC's send/receive): a schedule
 // of cyclic services (cyclic_service.hpp), each adding its datagrams to the one frame and handling
 // its own answers; per slave, one record (slave_record.hpp):
-//   frame = DC reference FRMW 0x0910 | process data LRW per branch | ring watch (redundant only) | link probes and AL watch |
+//   frame = DC reference FRMW 0x0910 | process data LRW per branch | ring watch and DC across a break (redundant only) | link probes and AL watch |
 //           re-integration | online recovery | ESC diagnostics | OP step | mailbox
 //   send, receive until the deadline, each answer to its service, then every service settles.
 #pragma once
@@ -50,6 +50,7 @@
 #include "ecat/master/process_data_service.hpp"
 #include "ecat/master/recovery_service.hpp"
 #include "ecat/master/reintegration_service.hpp"
+#include "ecat/master/ring_dc_service.hpp"
 #include "ecat/master/ring_service.hpp"
 #include "ecat/master/slave_record.hpp"
 #include "ecat/sii/sii_reader.hpp"
@@ -79,6 +80,8 @@ class Master {
   // The ring's state (RingState::none without a ring NIC) and its changes, each reported once.
   const RingStatus& ring_status() const noexcept { return ring_.monitor().status(); }
   [[nodiscard]] bool pop_ring_report(RingReport& out) noexcept { return ring_.pop_report(out); }
+  // DC across a break: what the ring copy gives the clocks behind it (ring_dc_service.hpp).
+  const RingDcStatus& ring_dc_status() const noexcept { return ring_dc_.status(); }
 
   // Frames sent and received are also handed to `tap` (capture writer).
   void set_tap(FrameTapFn tap, void* context) noexcept { link_.set_tap(tap, context); }
@@ -225,6 +228,7 @@ class Master {
   DcReferenceService dc_reference_;
   ProcessDataService process_data_;
   RingService ring_;
+  RingDcService ring_dc_;
   LinkProbeService probes_;
   ReintegrationService reintegration_;
   PdoSetupService pdo_setup_;
@@ -241,6 +245,7 @@ class Master {
     visit(dc_reference_);
     visit(process_data_);
     visit(ring_);
+    visit(ring_dc_);
     visit(probes_);
     visit(reintegration_);
     visit(pdo_setup_);

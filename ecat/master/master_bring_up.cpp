@@ -90,6 +90,7 @@ Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout&
       dc_reference_(context_),
       process_data_(context_),
       ring_(context_),
+      ring_dc_(context_, ring_, dc_reference_),
       probes_(context_),
       reintegration_(context_),
       pdo_setup_(context_, mailbox_),
@@ -120,6 +121,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
   // "the first k of the branch" (link_monitor.cpp), only by the probes.
   monitor_.set_redundant(link_.redundant());
   ring_.stop();
+  ring_dc_.reset();
   reintegration_.reset();
   recovery_.reset();
   diagnostics_.reset();

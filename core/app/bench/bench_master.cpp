@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/bench/bench_ring_break.hpp"
 #include "core/app/bench/timed_nic.hpp"
 #include "core/app/config/nic_option.hpp"
 #include "core/app/runtime/nic_factory.hpp"
@@ -340,13 +341,36 @@ int attach_ring(const ParsedArgs& args, const NicChoice& main, SelectedNic& sele
   return 0;
 }
 
-// Changes of the ring seen during the measured run.
+// Changes of the ring seen during the measured run, and the cable cut in it (--ring-cut).
 std::uint64_t g_ring_changes = 0;
-std::uint64_t drain_ring_reports(ecat::Master& master) noexcept {
+RingBreakRun g_ring_break;
+
+// --ring-cut CABLE|none beside --ring-nic sim: which cable the measured run cuts (default the one
+// into l_leg, position 9; 0..22 the cable into that position, 23 the ring-return cable); 0 or the
+// exit status of a refusal.
+int plan_ring_cut(const ParsedArgs& args, std::int64_t cycles) noexcept {
+  const char* text = args.value("ring-cut");
+  if (text != nullptr && !g_ring_robots) return fail("bench", "--ring-cut needs --nic sim --ring-nic sim");
+  if (!g_ring_robots || (text != nullptr && std::strcmp(text, "none") == 0)) return 0;
+  const Result<std::int64_t> cable = args.integer("ring-cut", 9, 0, static_cast<std::int64_t>(kSlaveCount));
+  if (!cable.ok()) return fail("bench", "--ring-cut must be none or a cable 0..23 (23: the ring-return cable)", cable.error());
+  g_ring_break.plan(static_cast<std::size_t>(cable.value()), cycles);
+  return 0;
+}
+// After each measured cycle: the ring's reports drained (their count), the cable cut or restored on schedule.
+std::uint64_t ring_after_cycle(ecat::Master& master, std::int64_t cycle) noexcept {
   std::uint64_t n = 0;
   ecat::RingReport report;
   while (master.pop_ring_report(report)) ++n;
+  if (g_ring_robots) g_ring_break.after_cycle(cycle, *g_segment, g_virtual_clock.now());
   return n;
+}
+
+// --ring-nic sim beside --nic sim: the robots in their ring configuration (refused with raw in
+// attach_ring), and the cable the measured run cuts; 0 or the exit status of a refusal.
+int choose_ring_robots(const ParsedArgs& args, bool simulated, std::int64_t cycles) noexcept {
+  g_ring_robots = simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
+  return plan_ring_cut(args, cycles);
 }
 
 // With a ring: its state at the end, and the changes seen during the measured run.
@@ -356,6 +380,7 @@ void print_ring(const ecat::Master& master, SelectedNic& selected) noexcept {
   (void)std::printf("ring_nic: %s\n", g_ring_robots ? "sim (the simulated robot's ring port)" : selected.ring_nic()->name());
   (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ", %" PRIu64 " changes in the measured run)\n",
                     ecat::to_string(rs.state), rs.breaks, rs.repairs, g_ring_changes);
+  if (g_ring_robots) g_ring_break.print();
 }
 
 // What bench master's options ask for.
@@ -385,8 +410,7 @@ int parse_run_options(const ParsedArgs& args, MasterBenchOptions& o) noexcept {
   o.cycles = cycles.value();
   o.seed = seed.value();
   o.simulated = o.nic.kind == NicKind::sim;
-  // --ring-nic sim beside --nic sim: the robots in their ring configuration (refused with raw in attach_ring).
-  g_ring_robots = o.simulated && args.value("ring-nic") != nullptr && std::strcmp(args.value("ring-nic"), "sim") == 0;
+  if (const int bad = choose_ring_robots(args, o.simulated, o.cycles); bad != 0) return bad;
   const char* cold_start = args.value("cold-start") != nullptr ? args.value("cold-start") : "yes";
   o.measure_cold = std::strcmp(cold_start, "yes") == 0;
   if (!o.measure_cold && std::strcmp(cold_start, "no") != 0) return fail("bench", "--cold-start must be yes or no");
@@ -504,7 +528,7 @@ void run_cycles(const MasterBenchOptions& o, MasterRig& rig, CyclicFigures& f) n
     f.all_valid += r.valid == kAllJoints ? 1 : 0;
     f.frames_lost += r.frame_received ? 0 : 1;
     while (bus.master().pop_report(report)) ++f.reports_by_kind[static_cast<std::size_t>(report.kind) % f.reports_by_kind.size()];
-    g_ring_changes += drain_ring_reports(bus.master());
+    g_ring_changes += ring_after_cycle(bus.master(), i);
     std::uint64_t spread = 0;
     if (o.simulated && latch_spread_ns(spread)) {
       g_latch_spread_ns.record(spread);

@@ -21,6 +21,7 @@ namespace {
 const OptionSpec kOptions[] = {
     {"nic", "sim|raw:IFACE", "NIC for benchmarks that use the network (default sim)"},
     {"ring-nic", "sim|raw:IFACE", "master: cable redundancy, the second master port (another interface than --nic; docs/redundancy.md)"},
+    {"ring-cut", "CABLE|none", "master with --nic sim --ring-nic sim: the cable cut a third into the measured run and restored at two thirds (0..22: the cable into that slave position, 23: the ring-return cable; default 9, into l_leg; docs/redundancy.md \"DC method\")"},
     {"frames", "N", "nic: frames to send (default 10000); codec: frames to build and decode (default 200000)"},
     {"cycles", "N", "master: cycles of the measured run (default 10000); sim: cycles of each run (default 60000); periods: measured periods (default 1000)"},
     {"periods", "N", "latency: periods of each loop (default 10000, 10 s each)"},
@@ -58,7 +59,7 @@ const Bench kBenches[] = {
     {"core", bench_core, "TSC timer, clock, SPSC queue, seqlock, histogram and per-period recording costs; heap and page faults after init", ""},
     {"codec", bench_codec, "build and decode of the robot's cyclic frame (FRMW + 4 LRW), ns per frame and share of its wire time", "frames"},
     {"master", bench_master, "EtherCAT master: time to OP, DC convergence, SYNC0 simultaneity, cycle CPU time, heap after init",
-     "nic ring-nic cycles dc-static-frames dc-target-ns dc-in-flight seed scheduling sii-cache-dir cold-start receive-wait receive-spin-us"},
+     "nic ring-nic ring-cut cycles dc-static-frames dc-target-ns dc-in-flight seed scheduling sii-cache-dir cold-start receive-wait receive-spin-us"},
     {"sim", bench_sim, "simulated robot speed on virtual time: host ns per 1 ms cycle, simulated seconds per host second",
      "cycles motion seed"},
     {"rc", bench_rc, "RC-task kinematics: FK, Jacobian, DLS of a 7-joint arm, whole-robot FK, task-priority IK step, whole RC period (median/p99/max ns), heap after init", "periods"},

@@ -112,6 +112,8 @@ class Esc final : public EscPdi {
   std::uint32_t register_u32(std::uint32_t a) const noexcept { return memory_.u32(a); }
   std::uint64_t register_u64(std::uint32_t a) const noexcept { return memory_.u64(a); }
   std::uint64_t system_time_at(hal::Nanoseconds t) const noexcept { return dc_.system_time_at(memory_, t); }
+  // The crystal's deviation steps to `drift_ppm` at `now` (a temperature step; the drift loop must follow).
+  void change_crystal_drift(hal::Nanoseconds now, double drift_ppm) noexcept { dc_.change_crystal_drift(now, drift_ppm); }
   std::uint64_t local_time_at(hal::Nanoseconds t) const noexcept { return dc_.local_at(t); }
   const EscDc& dc() const noexcept { return dc_; }
   const EscConfig& config() const noexcept { return config_; }

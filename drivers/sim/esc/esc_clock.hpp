@@ -35,6 +35,12 @@ class EscLocalClock {
 
   // Moves the clock's reference point to `t` (consuming phase budget on the way).
   void advance(hal::Nanoseconds t) noexcept;
+  // The crystal's deviation changes at `t` (a temperature step): the clock runs at the new rate from `t` on.
+  void change_crystal_drift(hal::Nanoseconds t, double drift_ppm) noexcept {
+    advance(t);
+    crystal_rate_ = 1.0 + drift_ppm * 1e-6;
+    memo_valid_ = false;
+  }
 
   // Loop outputs, applied from the last advance on.
   void set_speed_correction(double speed) noexcept {

@@ -39,6 +39,7 @@ class EscDc {
   std::uint64_t local_at(hal::Nanoseconds t) const noexcept { return clock_.local_at(t); }
   std::uint64_t system_time_at(const EscMemory& memory, hal::Nanoseconds t) const noexcept;
   void advance(hal::Nanoseconds t) noexcept { clock_.advance(t); }
+  void change_crystal_drift(hal::Nanoseconds t, double drift_ppm) noexcept { clock_.change_crystal_drift(t, drift_ppm); }
   const EscLocalClock& clock() const noexcept { return clock_; }
 
   // A frame's start reached the ESC (port 0) at `t`: latch the local copy of the system time.

@@ -2,7 +2,8 @@
 // back are merged (redundant_merge.hpp). Against a two-port fake segment of 6 slaves, for the ring
 // closed and for a cut at every cable, every slave's working counter is counted exactly once and
 // every slave's data is in the merged frame; the copies come back on the NIC the ring's shape says;
-// position-addressed datagrams and FRMW never reach a slave through the ring port. Two cuts leave
+// position-addressed datagrams and FRMW never reach a slave through the ring port; a ring-side time
+// write (a NOP at a station's 0x0910) reaches its slave through the ring port only. Two cuts leave
 // exactly the slaves between them unanswered. Virtual time.
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 #include "ecat/codec/frame.hpp"
 #include "ecat/codec/registers.hpp"
 #include "ecat/link/datagram_link.hpp"
+#include "ecat/link/redundant_merge.hpp"
 #include "tests/support/two_port_segment.hpp"
 
 namespace rescue::ecat {
@@ -115,6 +117,35 @@ TEST_F(RedundantLink, EveryBreakPositionGivesFullCountersAndEverySlavesData) {
   for (std::size_t i = 0; i < kSlaves; ++i) EXPECT_EQ(segment.position_hits(i), i == 0 ? kSlaves + 1 : 0U);
   EXPECT_EQ(link.stats().malformed, 0U);
   EXPECT_EQ(link.stats().timeouts, 0U);
+}
+
+// DC across a break (ecat/master/ring_dc_service.hpp): the time write to a slave behind the break is
+// a NOP in the main copy and an FPWR of 0x0910 in the ring copy, so only a slave the ring copy
+// processes takes it; with the ring closed nobody does.
+TEST_F(RedundantLink, RingSideTimeWritesReachOnlyTheSlavesBehindTheBreak) {
+  for (std::size_t cut = 0; cut <= kSlaves + 1; ++cut) {
+    const std::size_t cable = cut == kSlaves + 1 ? kClosed : cut;
+    SCOPED_TRACE(cable == kClosed ? std::string("closed") : "cable " + std::to_string(cable));
+    segment.restore_all();
+    if (cable != kClosed) segment.cut(cable);
+    FrameBuilder& frame = link.begin();
+    const std::array<std::uint8_t, 8> time{1, 2, 3, 4, 5, 6, 7, 8};
+    for (std::size_t i = 0; i < kSlaves; ++i) {
+      const auto station = static_cast<std::uint16_t>(TwoPortSegment::kStation0 + i);
+      ASSERT_TRUE(frame.add(Command::NOP, link.index(), ring_side_time_write_address(station), 8, ConstByteSpan(time)).ok());
+    }
+    const Result<FrameView> back = link.exchange(segment.clock().now() + 100 * hal::kNsPerUs);
+    ASSERT_TRUE(back.ok());
+    std::size_t i = 0;
+    for (const DatagramView d : back.value()) {
+      const bool behind = cable != kClosed && i >= cable;
+      EXPECT_EQ(d.wkc(), behind ? 1U : 0U) << "slave " << i;
+      EXPECT_EQ(d.command(), Command::NOP) << "the merged frame carries the commands sent";
+      EXPECT_EQ(link.copy_returns().counters.main[i], 0U) << "slave " << i << ": a NOP in the main copy";
+      ++i;
+    }
+  }
+  EXPECT_EQ(link.stats().malformed, 0U);
 }
 
 TEST_F(RedundantLink, TwoCutsLeaveExactlyTheSlavesBetweenThemUnanswered) {

@@ -1,0 +1,94 @@
+// Distributed clocks across a break of the ring (docs/redundancy.md, "DC method"). The reference
+// time reaches the other clocks by the FRMW of the main copy, which goes as NOP in the ring copy
+// (redundant_merge.hpp). With the ring open, the slaves behind the break are processed by the ring
+// copy only, so they would get no reference time and their drift loops would stop. This service
+// gives it to them, without stopping the cycle:
+//   1. latch   the first frame after the ring opens (or the break moves) carries a BWR of 0x0900:
+//              each slave latches the time the copy that processed it passed its processing unit;
+//   2. read    FPRD 0x0918..0x092B of the reference and of every DC slave behind the break (as many
+//              a cycle as fit): receive time (local), system time offset, delay. Local + offset is
+//              the system time of the passage, so lead_j = passage_j - passage_ref - delay_j is
+//              where slave j's new path puts it against the reference's read, in the clocks' own
+//              time (the clocks agree when the ring opens: no half round trip is assumed);
+//   3. write   every cycle, per slave behind the break, a ring-side time write (NOP in the main
+//              copy, FPWR 0x0910 in the ring copy) of R + lead_j, R the reference time predicted
+//              for this frame (the last read plus the step between the last two reads). The ESC
+//              compares R + lead_j + delay_j with its own time as the copy passed: the same figure
+//              an FRMW gives on the main path, so the drift loop goes on as before the break.
+// The delay register (0x0928) is not rewritten: it stays true for the main path, so when the ring
+// closes again the main copy's FRMW is right for every slave in the very first frame (the
+// ring-side writes in a frame built before the repair are void: with the ring closed the ring copy
+// processes no slave).
+// The reference is never cut off by one break (it is behind it or before it); behind it (the master
+// cable cut) it is read by FPRD from the ring copy (DcReferenceService::set_reference_behind_break)
+// and every other slave behind the break is written its lead against that read. The slaves on the
+// main side are then not written (none in the robot's ring: its reference is the first slave).
+// Without a ring NIC, or with the ring closed, this service adds nothing.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "ecat/master/cyclic_service.hpp"
+#include "ecat/master/dc_reference_service.hpp"
+#include "ecat/master/ring_service.hpp"
+
+namespace rescue::ecat {
+
+enum class RingDcPhase : std::uint8_t { idle, latch, read, write };
+
+// What the service did (tests and docs read it).
+struct RingDcStatus {
+  RingDcPhase phase{RingDcPhase::idle};
+  std::uint8_t after{kRingPort};  // the break the leads are for: the first slave the ring port reaches
+  SlaveMask written{0};            // slaves given the reference time by the ring copy
+  bool reference_behind_break{false};
+  std::uint64_t calibrations{0};   // latch-and-read rounds completed
+  std::uint64_t writes{0};         // ring-side time writes sent
+};
+
+class RingDcService final : public CyclicService {
+ public:
+  RingDcService(ServiceContext& context, const RingService& ring, DcReferenceService& reference) noexcept
+      : ctx_(context), ring_(ring), reference_(reference) {}
+
+  void reset() noexcept;
+
+  void add_datagrams(CycleFrame& frame) noexcept override;
+  void on_answer(std::uint8_t tag, const DatagramView& datagram) noexcept override;
+  void settle(CycleResult& result) noexcept override;
+
+  const RingDcStatus& status() const noexcept { return status_; }
+
+ private:
+  static constexpr std::uint8_t kLatchTag = 0xFE;
+  static constexpr std::uint8_t kWriteTag = 0xFD;
+  // FPRD 0x0918..0x092B: receive time of the processing unit (u64), offset (u64), delay (u32).
+  static constexpr std::uint16_t kReadLength = 20;
+
+  void begin(std::uint8_t after) noexcept;
+  void add_reads(CycleFrame& frame) noexcept;
+  void add_writes(CycleFrame& frame) noexcept;
+  void finish_calibration() noexcept;
+  // The reference time this frame will read (0: none known yet).
+  std::uint64_t predicted_reference() const noexcept;
+
+  ServiceContext& ctx_;
+  const RingService& ring_;
+  DcReferenceService& reference_;
+  RingDcStatus status_{};
+  SlaveMask behind_{0};    // DC slaves behind the break to be written (the reference excluded)
+  SlaveMask to_read_{0};   // calibration reads outstanding (the reference's among them)
+  std::array<std::uint64_t, kMaxSlaves> passage_{};  // system time of the latched passage
+  std::array<std::uint32_t, kMaxSlaves> delay_{};
+  std::array<std::int64_t, kMaxSlaves> lead_{};
+  std::size_t next_write_{0};  // round robin when the writes do not all fit
+  // The reference reads: the last two, with the cycles they were read in.
+  std::uint64_t frame_cycle_{0};
+  std::uint64_t last_reference_{0};
+  std::uint64_t last_reference_cycle_{0};
+  std::uint64_t previous_reference_{0};
+  std::uint64_t previous_reference_cycle_{0};
+};
+
+}  // namespace rescue::ecat
