@@ -52,6 +52,8 @@ class RecoveryService final : public CyclicService {
   void check_identity(std::size_t position) noexcept;
   // The slave being searched for whose bring-up identity is this device's (kMaxSlaves: none).
   std::size_t owner_of_identity(std::size_t finder) const noexcept;
+  // Whether a slave other than `except` is about to write its station address at that place.
+  bool addressing_at(std::uint16_t adp, std::size_t except) const noexcept;
   hal::Nanoseconds hold_off(std::uint8_t failures) const noexcept;
   // The auto-increment places the slave may be at: `first` slaves before it surely answer, up to
   // `unknown` more may (searched for, or waiting after a failure).
