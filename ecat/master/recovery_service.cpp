@@ -214,6 +214,10 @@ void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noe
   if (r.state() != RecoveryState::searching) return;
   const bool by_address = r.by_address;
   r.by_address = !by_address;  // the two searches alternate
+  if (by_address && d.wkc() > 1) {
+    separate_devices(p);
+    return;
+  }
   if (d.wkc() != 1) return;
   if (by_address) {
     r.lost_address = false;
@@ -448,8 +452,23 @@ hal::Nanoseconds RecoveryService::hold_off(std::uint8_t failures) const noexcept
   return wait < ctx_.options.recovery_hold_off_max ? wait : ctx_.options.recovery_hold_off_max;
 }
 
+void RecoveryService::separate_devices(std::size_t p) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
+  r.withdraw = true;
+  r.handover = 0;
+  ++stats_.shared_addresses;
+}
+
 void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexcept {
   RecoveryProgress& r = ctx_.slaves[p].recovery;
+  if (d.wkc() > 1 && r.state() != RecoveryState::addressing) {
+    // Two devices answer its station address (one given it by a wrong guess while the other kept
+    // it): neither can be configured by address. The address is withdrawn from both (FPWR 0x0010
+    // = 0 at it, the search's first datagram) and each is then found blank at its own place.
+    separate_devices(p);
+    take_input(p, RecoveryInput::gone);
+    return;
+  }
   if (d.wkc() != 1) {
     if (++r.silent >= kGonePeriods) take_input(p, RecoveryInput::gone);
     return;  // same step again next period

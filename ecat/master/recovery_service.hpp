@@ -24,6 +24,7 @@ struct RecoveryStats {
   std::uint32_t refused{0};
   std::uint32_t failed{0};
   std::uint64_t table_refusals{0};       // (state, input) pairs without a row (a bug if ever non-zero)
+  std::uint32_t shared_addresses{0};     // station addresses found on two devices at once, withdrawn
 };
 
 class RecoveryService final : public CyclicService {
@@ -46,6 +47,8 @@ class RecoveryService final : public CyclicService {
   bool add_search(CycleFrame& frame) noexcept;
   void on_step_answer(std::size_t position, const DatagramView& datagram) noexcept;
   void on_search_answer(std::size_t position, const DatagramView& datagram) noexcept;
+  // Its station address answered by more than one device: withdrawn from all (searched for again).
+  void separate_devices(std::size_t position) noexcept;
   // The slave_recovery machine's input; its actions (RecoveryActions) act on this service.
   void take_input(std::size_t position, RecoveryInput input) noexcept;
   friend struct RecoveryActions;
