@@ -214,6 +214,10 @@ void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noe
   if (r.state() != RecoveryState::searching) return;
   const bool by_address = r.by_address;
   r.by_address = !by_address;  // the two searches alternate
+  if (by_address && d.wkc() > 1) {
+    separate_devices(p);
+    return;
+  }
   if (d.wkc() != 1) return;
   if (by_address) {
     r.lost_address = false;
@@ -224,6 +228,9 @@ void RecoveryService::on_search_answer(std::size_t p, const DatagramView& d) noe
     // A blank device at that place. Several slaves searched for may expect the same place (none of
     // the slaves between them answers): the first of them in frame order is the one the device
     // must be if it is any of them; the identity check hands it on when it is another one.
+    // One already taken by a slave about to address it (its APWR still waits for a place in the
+    // frame) is that slave's: a second claim would give it a second station address.
+    if (addressing_at(r.adp, p)) return;
     std::size_t claimant = p;
     const std::uint32_t place = static_cast<std::uint16_t>(0U - r.adp);
     for (std::size_t q = 0; q < p; ++q) {
@@ -374,26 +381,33 @@ void RecoveryService::check_identity(std::size_t p) noexcept {
   const std::uint32_t product = word_pair(r.sii, 2);
   const std::uint32_t revision = word_pair(r.sii, 4);
   const std::uint32_t serial = word_pair(r.sii, 6);
+  const bool identified = ctx_.slaves[p].identified;
+  const bool its_own = identified && vendor == ctx_.slaves[p].identity.vendor_id && product == ctx_.slaves[p].identity.product_code &&
+                       revision == ctx_.slaves[p].identity.revision && serial == ctx_.slaves[p].identity.serial_number;
+  // Another slave's device (found at the place this one expected, whatever its type: a junction
+  // where a drive was expected is no foreign device when the junction is searched for): it gets
+  // that slave's station address instead of 0, so that slave's search by address finds it next.
+  const std::size_t owner = its_own ? kMaxSlaves : owner_of_identity(p);
+  if (owner < kMaxSlaves) {
+    take_input(p, RecoveryInput::not_this_one);
+    ctx_.slaves[p].recovery.handover = ctx_.plan[owner].station_address;
+    ctx_.slaves[owner].recovery.lost_address = true;
+    ctx_.slaves[owner].recovery.by_address = true;
+    return;
+  }
   if (vendor != ctx_.plan[p].vendor_id || product != ctx_.plan[p].product_code) {
     take_input(p, RecoveryInput::foreign);
     return;
   }
-  if (ctx_.slaves[p].identified) {
+  if (identified) {
     const FoundSlave& before = ctx_.slaves[p].identity;
     if (revision != before.revision) {
       take_input(p, RecoveryInput::foreign);
       return;
     }
     if (serial != before.serial_number) {
-      // Another slave's device (found at the place this one expected): it gets that slave's
-      // station address instead of 0, so that slave's search by address finds it next.
-      const std::size_t owner = owner_of_identity(p);
+      // Same type, another serial number, and no slave searched for has it.
       take_input(p, RecoveryInput::not_this_one);
-      if (owner < kMaxSlaves) {
-        ctx_.slaves[p].recovery.handover = ctx_.plan[owner].station_address;
-        ctx_.slaves[owner].recovery.lost_address = true;
-        ctx_.slaves[owner].recovery.by_address = true;
-      }
       return;
     }
   } else if (revision != ctx_.plan[p].revision) {
@@ -417,6 +431,13 @@ std::size_t RecoveryService::owner_of_identity(std::size_t finder) const noexcep
   return kMaxSlaves;
 }
 
+bool RecoveryService::addressing_at(std::uint16_t adp, std::size_t except) const noexcept {
+  for (std::size_t q = 0; q < kMaxSlaves; ++q) {
+    if (q != except && ctx_.slaves[q].recovery.state() == RecoveryState::addressing && ctx_.slaves[q].recovery.adp == adp) return true;
+  }
+  return false;
+}
+
 std::size_t RecoveryService::clock_stand_in() const noexcept {
   const SlaveMask candidates = ctx_.dc_slaves & ctx_.monitor.in_exchange();
   for (std::size_t q = ctx_.reference_position() + 1; q < kMaxSlaves; ++q) {
@@ -431,8 +452,23 @@ hal::Nanoseconds RecoveryService::hold_off(std::uint8_t failures) const noexcept
   return wait < ctx_.options.recovery_hold_off_max ? wait : ctx_.options.recovery_hold_off_max;
 }
 
+void RecoveryService::separate_devices(std::size_t p) noexcept {
+  RecoveryProgress& r = ctx_.slaves[p].recovery;
+  r.withdraw = true;
+  r.handover = 0;
+  ++stats_.shared_addresses;
+}
+
 void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexcept {
   RecoveryProgress& r = ctx_.slaves[p].recovery;
+  if (d.wkc() > 1 && r.state() != RecoveryState::addressing) {
+    // Two devices answer its station address (one given it by a wrong guess while the other kept
+    // it): neither can be configured by address. The address is withdrawn from both (FPWR 0x0010
+    // = 0 at it, the search's first datagram) and each is then found blank at its own place.
+    separate_devices(p);
+    take_input(p, RecoveryInput::gone);
+    return;
+  }
   if (d.wkc() != 1) {
     if (++r.silent >= kGonePeriods) take_input(p, RecoveryInput::gone);
     return;  // same step again next period

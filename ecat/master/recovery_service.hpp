@@ -24,6 +24,7 @@ struct RecoveryStats {
   std::uint32_t refused{0};
   std::uint32_t failed{0};
   std::uint64_t table_refusals{0};       // (state, input) pairs without a row (a bug if ever non-zero)
+  std::uint32_t shared_addresses{0};     // station addresses found on two devices at once, withdrawn
 };
 
 class RecoveryService final : public CyclicService {
@@ -46,12 +47,16 @@ class RecoveryService final : public CyclicService {
   bool add_search(CycleFrame& frame) noexcept;
   void on_step_answer(std::size_t position, const DatagramView& datagram) noexcept;
   void on_search_answer(std::size_t position, const DatagramView& datagram) noexcept;
+  // Its station address answered by more than one device: withdrawn from all (searched for again).
+  void separate_devices(std::size_t position) noexcept;
   // The slave_recovery machine's input; its actions (RecoveryActions) act on this service.
   void take_input(std::size_t position, RecoveryInput input) noexcept;
   friend struct RecoveryActions;
   void check_identity(std::size_t position) noexcept;
   // The slave being searched for whose bring-up identity is this device's (kMaxSlaves: none).
   std::size_t owner_of_identity(std::size_t finder) const noexcept;
+  // Whether a slave other than `except` is about to write its station address at that place.
+  bool addressing_at(std::uint16_t adp, std::size_t except) const noexcept;
   hal::Nanoseconds hold_off(std::uint8_t failures) const noexcept;
   // The auto-increment places the slave may be at: `first` slaves before it surely answer, up to
   // `unknown` more may (searched for, or waiting after a failure).

@@ -86,7 +86,7 @@ struct SlaveRecoveryTable {
   static constexpr A kWatch{&RecoveryActions::watch_position, "watch its position"};
   static constexpr A kFailed{&RecoveryActions::report_failed, "report recovery_failed"};
   static constexpr A kRefused{&RecoveryActions::report_refused, "report recovery_refused with the identity found"};
-  static constexpr A kWithdraw{&RecoveryActions::withdraw_address, "station address withdrawn (FPWR 0x0010 = 0), or handed to the slave searched for whose serial number it has"};
+  static constexpr A kWithdraw{&RecoveryActions::withdraw_address, "station address withdrawn (FPWR 0x0010 = 0), or handed to the slave searched for whose identity it has"};
   static constexpr A kRecovered{&RecoveryActions::report_recovered, "back in the exchange, report recovered"};
   static constexpr const char* kName = "slave_recovery";
   static constexpr RecoveryState kInitial = S::idle;
@@ -94,7 +94,7 @@ struct SlaveRecoveryTable {
   // clang-format off
   static constexpr std::array<StateSpec, kRecoveryStateCount> kStates{{
     {S::idle,         "Idle",         "in the exchange, or not planned to run", kStart},
-    {S::searching,    "Searching",    "out of the exchange; FPRD 0x0010 by its own station address (it kept it: a slave behind a power-cycled or reconnected one) and APRD 0x0010 at the places it may have, in turn (one search per period, rotating among the slaves searched for)", kStart},
+    {S::searching,    "Searching",    "out of the exchange; FPRD 0x0010 by its own station address (two devices answering it: FPWR 0x0010 = 0 at it, both searched for again by place) (it kept it: a slave behind a power-cycled or reconnected one) and APRD 0x0010 at the places it may have, in turn (one search per period, rotating among the slaves searched for)", kStart},
     {S::addressing,   "Addressing",   "APWR 0x0010 by position: its station address (no other slave is written)", kStart},
     {S::resetting,    "Resetting",    "FPWR 0x0120 = INIT + acknowledge, FPRD 0x0130 until INIT", kStart},
     {S::identifying,  "Identifying",  "SII to ECAT (0x0500), then SII words 0x08..0x0F (vendor, product, revision, serial) through 0x0502..0x050F", kStartIdentifying},
@@ -111,12 +111,12 @@ struct SlaveRecoveryTable {
   }};
   static constexpr std::array<fsm::InputSpec<I>, kRecoveryInputCount> kInputs{{
     {I::lost,                 "lost",                 "the link monitor has it out of the exchange (lost, restored, or not operational e.g. answering in INIT)"},
-    {I::answered_unaddressed, "answered_unaddressed", "a device with station address 0 answers at a place it may have (taken by the first slave searched for that may be there)"},
+    {I::answered_unaddressed, "answered_unaddressed", "a device with station address 0 answers at a place it may have (taken by the first slave searched for that may be there; not when another slave is about to address it)"},
     {I::answered_addressed,   "answered_addressed",   "it answers by its own station address (configuration kept)"},
     {I::step_done,            "step_done",            "the state's writes were taken and its state confirmed"},
-    {I::foreign,              "foreign",              "SII vendor, product or revision differ from the plan"},
-    {I::not_this_one,         "not_this_one",         "same device type, another serial number than at bring-up"},
-    {I::gone,                 "gone",                 "silent (working counter 0) for several periods in a row (the third such attempt in a row counts as a timeout)"},
+    {I::foreign,              "foreign",              "SII vendor, product or revision differ from the plan, and no slave searched for has this identity"},
+    {I::not_this_one,         "not_this_one",         "another slave searched for has this identity (whatever its type), or same device type with another serial number than at bring-up"},
+    {I::gone,                 "gone",                 "silent (working counter 0) for several periods in a row, or its station address answered by two devices (then withdrawn from both) (the third such attempt in a row counts as a timeout)"},
     {I::timeout,              "timeout",              "the state's deadline passed"},
     {I::retry,                "retry",                "the hold-off after a failure is over"},
   }};

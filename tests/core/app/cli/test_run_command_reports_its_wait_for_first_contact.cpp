@@ -9,6 +9,7 @@
 #include <signal.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -31,6 +32,19 @@ std::vector<std::string> run_argv(const std::string& state, const char* limit) {
   return {std::string(RESCUE_BINARY_DIR) + "/rescue-motion", "run", "--nic",
           std::string("raw:") + rescue::testing::VethPair::kMasterInterface, "--state-dir", state, "--first-contact-limit",
           limit};
+}
+
+constexpr double kDefaultLimitS = 5.0;  // --first-contact-limit's default
+constexpr double kPatienceS = 120.0;    // the test's own bound on a starved host
+
+// The longest wait a "waiting for first contact: ... (N BRDs in S s)" line reports (0 when none).
+double longest_reported_wait(const std::string& text) {
+  double longest = 0.0;
+  const std::string marker = " BRDs in ";
+  for (std::size_t at = text.find(marker); at != std::string::npos; at = text.find(marker, at + 1)) {
+    longest = std::max(longest, std::strtod(text.c_str() + at + marker.size(), nullptr));
+  }
+  return longest;
 }
 
 double now_s() {
@@ -60,11 +74,15 @@ TEST_F(RunWithoutSegment, KeepsTryingWithoutALimitUntilStopped) {
   ASSERT_NE(::mkdtemp(dir), nullptr);
   rescue::testing::ChildProcess run;
   ASSERT_TRUE(run.start(run_argv(dir, "0"), veth_->master_ns()));
-  // Still waiting, and saying so, after twice the default limit.
-  EXPECT_TRUE(run.wait_for_output("trying until stopped", 3000)) << run.output();
-  const double until = now_s() + 10.5;
-  while (now_s() < until) (void)run.wait_for_output("never printed", 500);
-  EXPECT_GE(count(run.output(), "trying until stopped"), 9u) << run.output();
+  // Still waiting, and saying so, after twice the default limit (5 s) by the run's own account:
+  // how long that takes on the test's clock depends on the CPU the host leaves it (under the load
+  // stage's stress-ng it once printed 5 lines in 10.5 s), so the wait is judged by what it reports.
+  const double deadline = now_s() + kPatienceS;
+  while (longest_reported_wait(run.output()) < 2 * kDefaultLimitS && now_s() < deadline) {
+    (void)run.wait_for_output("never printed", 500);
+  }
+  EXPECT_GE(longest_reported_wait(run.output()), 2 * kDefaultLimitS) << run.output();
+  EXPECT_GE(count(run.output(), "trying until stopped"), 2u) << run.output();
   EXPECT_EQ(run.output().find("bring-up failed"), std::string::npos) << run.output();
   EXPECT_EQ(run.stop(SIGTERM), 0) << run.output();
   EXPECT_NE(run.output().find("stopped by signal 15 during bring-up"), std::string::npos) << run.output();
