@@ -28,7 +28,7 @@ constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NU
 constexpr std::size_t kMaxSlaves = 23;
 constexpr std::uint8_t kRecoveryStates = 15;  // ecat::kRecoveryStateCount (checked where both are seen)
 constexpr std::uint32_t kRecoveryAgeNever = 0xFFFFFFFFU;  // SlaveRecord: not changed since bring-up
-constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 120 bytes and the drop counters fill a payload)
+constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 128 bytes and the drop counters fill a payload)
 constexpr std::size_t kMaxDropCounters = 12;  // after the task records: the queues' drop counters
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
@@ -286,6 +286,8 @@ struct MasterPayload {
   std::array<std::uint64_t, kRejectionCount> rejected{};  // socket handler, per Rejection
 };
 
+constexpr std::uint32_t kUptimeUnknown = 0xFFFFFFFFU;
+constexpr std::uint32_t kUptimeSaturated = 0xFFFFFFFEU;  // 49.7 days
 struct TaskRecord {
   std::array<char, kNameSize> name{};
   std::int32_t pid{0};
@@ -294,6 +296,12 @@ struct TaskRecord {
   std::int8_t policy{-1};     // the kernel's policy: SCHED_OTHER 0, SCHED_FIFO 1, SCHED_RR 2, ...; -1 unknown
   std::int16_t table_cpu{-1};       // what the task table asked for (on this machine)
   std::int16_t table_priority{0};
+  // The task's thread (gettid; in --threads mode each task its own, `pid` the same for all), how
+  // often the supervisor restarted it, and how long its current incarnation has run (ms, saturated
+  // at kUptimeSaturated; kUptimeUnknown: not known).
+  std::int32_t tid{0};
+  std::uint16_t restarts{0};  // saturated at 65535
+  std::uint32_t uptime_ms{0};
   std::uint64_t periods{0};
   std::uint64_t missed{0};
   std::uint64_t max_execution_ns{0};

@@ -29,7 +29,7 @@ constexpr std::size_t kSlaveRecordSize = 40;
 constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
 constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
-constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
+constexpr std::size_t kTaskRecordSize = 72 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority, tid, restarts, uptime
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kVersionSize = kVersionTextSize + 8 + kNameSize;
 constexpr std::size_t kRcTaskRecordSize = 8;
@@ -514,7 +514,9 @@ void tasks_fields(F& f, M& m) noexcept {
     f.reserved(1);
     f.u16(t.table_cpu);
     f.u16(t.table_priority);
-    f.reserved(2);
+    f.u16(t.restarts);
+    f.u32(t.tid);
+    f.u32(t.uptime_ms);
     f.u64(t.periods);
     f.u64(t.missed);
     f.u64(t.max_execution_ns);

@@ -128,6 +128,7 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.sii_images = &links_.sii_images;
   p.tasks = &links_.task_stats;
   p.drops = &links_.run.dropped;
+  p.health = &links_.run.health;
   p.motion = &links_.motion;
   p.handler_heartbeat = &links_.task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
   p.rc_heartbeat_ns = &links_.rc_heartbeat_ns;

@@ -120,10 +120,12 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.header.type = MessageType::tasks;
       m.tasks.age = handler_figures_age();
       if (ports_.tasks != nullptr) {
-        for (const Seqlock<TaskStat>& slot : *ports_.tasks) {
+        const hal::Nanoseconds mono = hal::MonotonicClock().now();  // the clock of TaskHealth::started_ns
+        for (std::size_t k = 0; k < ports_.tasks->size(); ++k) {
           TaskStat t{};
-          if (!slot.try_read(t) || t.name[0] == '\0') continue;
-          m.tasks.tasks[m.tasks.count++] = task_record_of(t);
+          if (!(*ports_.tasks)[k].try_read(t) || t.name[0] == '\0') continue;
+          const TaskHealth* health = ports_.health != nullptr && k < ports_.health->size() ? &(*ports_.health)[k] : nullptr;
+          m.tasks.tasks[m.tasks.count++] = task_record_of(t, health, mono);
         }
       }
       if (ports_.drops != nullptr) {

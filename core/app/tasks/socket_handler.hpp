@@ -60,6 +60,7 @@ struct SocketHandlerPorts {
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const std::array<std::atomic<std::uint64_t>, kDropCounters>* drops{nullptr};  // the queues' drop counters (ctl tasks)
+  const std::array<TaskHealth, kRunHealthSlots>* health{nullptr};  // ctl tasks: each task's thread id, start, restarts
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
   // The EtherCAT handler's heartbeat (TaskLinks::task_heartbeat_ns, the clock of step()'s `now`):
   // status, slaves and master answers say how old its figures are, stale past `stale_after`.
