@@ -176,6 +176,9 @@ ctl --refused --json upload 1 0x1018:01
 begin sii
 ctl sii_read junction_a
 ctl --cut 200 --json sii_read neck_pan
+ctl xml junction_a
+ctl --rows '<Type|<Sm |Pdo |#x6040' xml l_elbow
+ctl --cut 300 --json xml neck_pan
 begin network
 ctl slaves -v
 ctl --cut 300 --json slaves -v

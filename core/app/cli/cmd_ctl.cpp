@@ -146,6 +146,8 @@ const CommandSpec kCtlCommand{
     "                                       each same or not\n"
     "  sii_read SLAVE [--raw]               the slave's SII as the master read it at bring-up: hex dump,\n"
     "                                       or the bytes themselves (--raw)\n"
+    "  xml SLAVE                            an ESI-style XML description built from that SII (vendor,\n"
+    "                                       product, names, sync managers, PDOs), like `ethercat xml`\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or\n"
     "the drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic\n"

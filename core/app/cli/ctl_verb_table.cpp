@@ -68,6 +68,7 @@ constexpr CtlVerb kVerbs[] = {
     {"pdos", "pdos [JOINT]", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
     {"sii_read", "sii_read SLAVE [--raw] (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_sii_read, 1, 1,
      CtlRun::own},
+    {"xml", "xml SLAVE (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_xml, 1, 1, CtlRun::own},
     {"keygen", "keygen [--key FILE]", nullptr, nullptr, ctl_keygen, 0, 0, CtlRun::own},
 };
 
