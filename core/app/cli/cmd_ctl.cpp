@@ -148,6 +148,8 @@ const CommandSpec kCtlCommand{
     "                                       or the bytes themselves (--raw)\n"
     "  xml SLAVE                            an ESI-style XML description built from that SII (vendor,\n"
     "                                       product, names, sync managers, PDOs), like `ethercat xml`\n"
+    "  reg_read SLAVE ADDR [LEN]            read LEN bytes (1..64, default 1) of the slave's ESC registers\n"
+    "                                       from ADDR (e.g. 0x0130 AL status), read only; no reg_write\n"
     "  keygen                               create a new key file (--key FILE), mode 0600\n"
     "Exit status: 0 the robot accepted the command or answered the query; 1 refused (by the robot or\n"
     "the drive, with the reason); 2 usage (a bad verb, option or argument); 3 unreachable (no authentic\n"

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/links/register_messages.hpp"
 #include "core/app/links/sdo_messages.hpp"
 #include "core/app/links/sii_messages.hpp"
 #include "core/robot/robot.hpp"
@@ -61,6 +62,7 @@ enum class MessageType : std::uint8_t {
   diag_reset = 0x17,   // zero the link-quality counters of some slaves (ctl diag --reset), answered by a reply
   sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
   sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
+  reg_read = 0x1A,      // ctl reg_read: a read of a slave's ESC registers (answered by reg_result)
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
@@ -81,6 +83,7 @@ enum class MessageType : std::uint8_t {
   slave_info = 0x8A,
   sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
   sii = 0x8C,         // the answer to get_sii
+  reg_result = 0x8D,  // the end of a reg_read: the bytes, or why not
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -461,6 +464,8 @@ struct Message {
   SlaveInfoPayload slave_info{};
   GraphPayload graph{};
   DiagResetPayload diag_reset{};
+  RegReadPayload reg_read{};      // reg_read
+  RegResultPayload reg_result{};  // reg_result
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 
