@@ -40,6 +40,7 @@ class XmlWriter {
   explicit XmlWriter(Span<char> out) noexcept : out_(out) {
     if (out_.size() > 0) out_.data()[0] = '\0';
   }
+  // NOLINTNEXTLINE(cert-dcl50-cpp): printf-style, checked by its format attribute
   void line(int depth, const char* format, ...) noexcept __attribute__((format(printf, 3, 4))) {
     for (int i = 0; i < depth; ++i) raw("  ");
     std::va_list args;
@@ -71,7 +72,7 @@ class XmlWriter {
   std::size_t used() const noexcept { return used_; }
 
  private:
-  void formatted(const char* format, std::va_list args) noexcept {
+  void formatted(const char* format, std::va_list args) noexcept __attribute__((format(printf, 2, 0))) {
     char text[256];
     const int n = std::vsnprintf(text, sizeof text, format, args);
     if (n < 0 || static_cast<std::size_t>(n) >= sizeof text) {
@@ -189,7 +190,7 @@ void write_device(XmlWriter& w, const Sii& sii, bool skipped) noexcept {
     w.line(4, "<Mailbox>");
     if (sii.supports(ecat::sii::kMailboxCoE)) {
       const std::uint8_t d = sii.has_general ? sii.general.coe_details : 0;
-      w.line(5, "<CoE SdoInfo=\"%d\" PdoAssign=\"%d\" PdoConfig=\"%d\" CompleteAccess=\"%d\"/>",
+      w.line(5, R"(<CoE SdoInfo="%d" PdoAssign="%d" PdoConfig="%d" CompleteAccess="%d"/>)",
              (d & ecat::sii::kCoeDetailSdoInfo) != 0, (d & ecat::sii::kCoeDetailPdoAssign) != 0,
              (d & ecat::sii::kCoeDetailPdoConfig) != 0, (d & ecat::sii::kCoeDetailSdoCompleteAccess) != 0);
     }
