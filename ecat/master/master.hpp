@@ -49,6 +49,7 @@
 #include "ecat/master/pdo_setup_service.hpp"
 #include "ecat/master/process_data_service.hpp"
 #include "ecat/master/recovery_service.hpp"
+#include "ecat/master/register_read_service.hpp"
 #include "ecat/master/reintegration_service.hpp"
 #include "ecat/master/ring_dc_service.hpp"
 #include "ecat/master/ring_service.hpp"
@@ -159,6 +160,14 @@ class Master {
   // Aperiodic CoE SDO transfers, one mailbox datagram pair per cycle (never blocking the cycle).
   MailboxClient& mailbox() noexcept { return mailbox_; }
 
+  // ctl reg_read: one ESC register read of a planned slave, by FPRD in the next cyclic frames
+  // (register_read_service.hpp); false when one is under way or the arguments are out of range.
+  // Its result is taken a period or more later (once).
+  [[nodiscard]] bool request_register_read(std::size_t position, std::uint16_t address, std::uint16_t length) noexcept {
+    return register_read_.request(position, address, length);
+  }
+  [[nodiscard]] bool take_register_read(RegisterReadResult& out) noexcept { return register_read_.take(out); }
+
   // Between cycles, in a frame of its own: every slave's DC time difference (0x092C).
   Result<DcSnapshot> read_dc_snapshot() noexcept;
 
@@ -235,6 +244,7 @@ class Master {
   RecoveryService recovery_;
   EscDiagnosticsService diagnostics_;
   OpStepService op_step_;
+  RegisterReadService register_read_;
   MailboxService mailbox_service_;
   CycleFrame frame_{};
 
@@ -252,6 +262,7 @@ class Master {
     visit(recovery_);
     visit(diagnostics_);
     visit(op_step_);
+    visit(register_read_);
     visit(mailbox_service_);
   }
 };

@@ -97,6 +97,7 @@ Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout&
       recovery_(context_, dc_reference_, reintegration_, pdo_setup_, mailbox_),
       diagnostics_(context_),
       op_step_(context_),
+      register_read_(context_),
       mailbox_service_(context_, mailbox_) {}
 
 Status Master::fail(const char* step, const Error& error) noexcept {

@@ -75,4 +75,6 @@ bool process_alive(const ProcessIdentity& who) noexcept {
   return stat.value().start_time == who.start_time;
 }
 
+std::int32_t own_thread_id() noexcept { return static_cast<std::int32_t>(::gettid()); }
+
 }  // namespace rescue::hal

@@ -22,6 +22,9 @@ Result<std::uint64_t> process_start_time(pid_t pid) noexcept;
 // The calling process.
 Result<ProcessIdentity> own_process_identity() noexcept;
 
+// The calling thread's kernel id (gettid: what `chrt -p`, `ps -L` and /proc/PID/task/ name).
+std::int32_t own_thread_id() noexcept;
+
 // True when `who.pid` runs and started at `who.start_time` (a reused pid is not alive). A zombie
 // (dead, not yet reaped) counts as dead.
 bool process_alive(const ProcessIdentity& who) noexcept;

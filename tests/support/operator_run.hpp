@@ -34,6 +34,14 @@ inline std::string read_text(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// The first line of a file (of /proc: a task's comm or stat); empty when unreadable.
+inline std::string first_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
 // A UDP port of 127.0.0.1 that was free a moment ago (0 on failure).
 inline std::uint16_t free_udp_port() {
   const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
@@ -77,7 +85,8 @@ inline CommandResult run_program(const std::vector<std::string>& args, bool with
 // `scenario` (optional) is passed as --scenario NAME.
 class OperatorRun {
  public:
-  explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr) {
+  // `extra`: further options of `run` (e.g. --threads).
+  explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr, const std::vector<std::string>& extra = {}) {
     control_port = free_udp_port();
     sensor_port = free_udp_port();
     while (sensor_port == control_port) sensor_port = free_udp_port();
@@ -95,6 +104,7 @@ class OperatorRun {
                                     "--listen", "127.0.0.1", "--control-port", control.c_str(), "--sensor-port",
                                     sensor.c_str(), "--duration", duration};
       if (scenario != nullptr) argv.insert(argv.end(), {"--scenario", scenario});
+      for (const std::string& e : extra) argv.push_back(e.c_str());
       argv.push_back(nullptr);
       ::execv(rescue_binary().c_str(), const_cast<char* const*>(argv.data()));
       ::_exit(127);

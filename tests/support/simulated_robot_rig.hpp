@@ -62,6 +62,17 @@ struct SimulatedRobotRig {
     clock.sleep_until(bus.next_wakeup());
     return bus.cycle(references, feedback);
   }
+  // `n` periods with every joint idle (zero references), the master's link reports dropped.
+  void idle_cycles(int n) {
+    drivers::JointReferences refs{};
+    drivers::JointFeedback fb{};
+    ecat::LinkReport report;
+    for (int i = 0; i < n; ++i) {
+      (void)cycle(refs, fb);
+      while (bus.master().pop_report(report)) {
+      }
+    }
+  }
 
   Status built{};
 };

@@ -30,6 +30,7 @@ class WcetOperatorLoad {
   void after() noexcept;
 
   SocketHandler& handler() noexcept { return handler_; }
+  const SocketHandler& handler() const noexcept { return handler_; }
   std::uint64_t datagrams_sent() const noexcept { return sent_; }
   std::uint64_t answers() const noexcept { return answers_; }
   // SDO transfers ended (answered other than `busy`), and of those the ones answered ok.

@@ -131,28 +131,38 @@ void print_tasks(const Message& m, bool json) noexcept {
   // publication); TABLE is what the task table asked for (priority/CPU on this machine).
   if (!json) {
     print_age_text(m.tasks.age);
-    (void)std::printf("%-16s %7s %-6s %4s %3s %7s %10s %7s %12s\n", "TASK", "PID", "POLICY", "PRIO", "CPU", "TABLE",
-                      "PERIODS", "MISSED", "MAX EXEC(us)");
+    (void)std::printf("%-16s %7s %7s %-6s %4s %3s %7s %8s %11s %10s %7s %12s\n", "TASK", "PID", "TID", "POLICY", "PRIO",
+                      "CPU", "TABLE", "RESTARTS", "UPTIME(s)", "PERIODS", "MISSED", "MAX EXEC(us)");
   }
   for (std::size_t i = 0; i < m.tasks.count; ++i) {
     const protocol::TaskRecord& t = m.tasks.tasks[i];
     if (json) {
       (void)std::printf("%s{\"name\":", i == 0 ? "" : ",");
       print_json_string(t.name.data());
-      (void)std::printf(",\"pid\":%d,\"policy\":\"%s\",\"priority\":%d,\"cpu\":%d,"
-                        "\"table_priority\":%d,\"table_cpu\":%d,\"periods\":%" PRIu64 ",\"missed\":%" PRIu64
-                        ",\"max_execution_ns\":%" PRIu64,
-                        t.pid, hal::policy_name(t.policy), t.priority, t.cpu,
-                        t.table_priority, t.table_cpu, t.periods, t.missed, t.max_execution_ns);
+      (void)std::printf(",\"pid\":%d,\"tid\":%d,\"policy\":\"%s\",\"priority\":%d,\"cpu\":%d,"
+                        "\"table_priority\":%d,\"table_cpu\":%d,\"restarts\":%u,\"uptime_ms\":",
+                        t.pid, t.tid, hal::policy_name(t.policy), t.priority, t.cpu, t.table_priority, t.table_cpu,
+                        static_cast<unsigned>(t.restarts));
+      if (t.uptime_ms == protocol::kUptimeUnknown) {
+        (void)std::printf("null");
+      } else {
+        (void)std::printf("%u", t.uptime_ms);
+      }
+      (void)std::printf(",\"periods\":%" PRIu64 ",\"missed\":%" PRIu64 ",\"max_execution_ns\":%" PRIu64, t.periods,
+                        t.missed, t.max_execution_ns);
       print_figures_json("execution_ns", t.execution);
       print_figures_json("wakeup_latency_ns", t.latency);
       (void)std::printf("}");
     } else {
       char table[16];
       (void)std::snprintf(table, sizeof table, "%d/%d", t.table_priority, t.table_cpu);
-      (void)std::printf("%-16s %7d %-6s %4d %3d %7s %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid,
-                        hal::policy_name(t.policy), t.priority, t.cpu, table, t.periods, t.missed,
-                        static_cast<double>(t.max_execution_ns) / 1000.0);
+      char uptime[16] = "n/a";
+      if (t.uptime_ms != protocol::kUptimeUnknown) {
+        (void)std::snprintf(uptime, sizeof uptime, "%.1f", static_cast<double>(t.uptime_ms) / 1000.0);
+      }
+      (void)std::printf("%-16s %7d %7d %-6s %4d %3d %7s %8u %11s %10" PRIu64 " %7" PRIu64 " %12.1f\n", t.name.data(), t.pid,
+                        t.tid, hal::policy_name(t.policy), t.priority, t.cpu, table, static_cast<unsigned>(t.restarts),
+                        uptime, t.periods, t.missed, static_cast<double>(t.max_execution_ns) / 1000.0);
       print_figures_text("execution", t.execution);
       print_figures_text("wake-up", t.latency);
     }

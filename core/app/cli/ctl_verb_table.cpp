@@ -8,6 +8,7 @@
 #include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_output.hpp"
 #include "core/app/cli/ctl_pdos.hpp"
+#include "core/app/cli/ctl_registers.hpp"
 #include "core/app/cli/ctl_robot_queries.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
 #include "core/app/cli/ctl_sii.hpp"
@@ -68,6 +69,9 @@ constexpr CtlVerb kVerbs[] = {
     {"pdos", "pdos [JOINT]", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
     {"sii_read", "sii_read SLAVE [--raw] (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_sii_read, 1, 1,
      CtlRun::own},
+    {"xml", "xml SLAVE (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_xml, 1, 1, CtlRun::own},
+    {"reg_read", "reg_read SLAVE ADDR [LEN] (e.g. reg_read l_elbow 0x0130 2; LEN 1..64, default 1)", build_reg_read,
+     print_reg_result, nullptr, 2, 3, CtlRun::exchange},
     {"keygen", "keygen [--key FILE]", nullptr, nullptr, ctl_keygen, 0, 0, CtlRun::own},
 };
 

@@ -43,6 +43,7 @@ constexpr std::size_t kNoticeQueueDepth = 16;      // joint manager -> handler (
 constexpr std::size_t kJointCommandQueueDepth = 64;  // message parser -> joint manager (joint handle queue)
 constexpr std::size_t kOperatorRequestQueueDepth = 16;  // socket handler -> message parser (operator requests)
 constexpr std::size_t kSdoQueueDepth = 2;  // socket handler <-> EtherCAT handler (ctl upload/download; one in flight)
+constexpr std::size_t kRegQueueDepth = 2;  // socket handler <-> EtherCAT handler (ctl reg_read; one in flight)
 constexpr std::size_t kOperatorReplyQueueDepth = 16;    // message parser -> socket handler (replies)
 constexpr std::size_t kCommandOutcomeQueueDepth = 64;   // joint manager -> message parser (command outcomes)
 constexpr std::size_t kRcInputQueueDepth = 8;           // message parser -> each RC task (operator inputs)

@@ -83,9 +83,14 @@ void write_task_table_markdown(std::FILE* out) noexcept {
   (void)std::fprintf(out, "| task | scheduling | CPU | period | shared memory | role | code (core/app/) |\n");
   (void)std::fprintf(out, "|---|---|---|---|---|---|---|\n");
   for (const TaskSpec& t : kTasks) {
-    char sched[32];
-    if (t.priority > 0) {
-      (void)std::snprintf(sched, sizeof sched, "SCHED_FIFO %d", t.priority);
+    // What the runner applies (runner_priority), not Table I's wish: the socket handler and the
+    // message parser run SCHED_OTHER unless a configuration file sets their priority.
+    char sched[48];
+    const int applied = runner_priority(t.id);
+    if (applied > 0) {
+      (void)std::snprintf(sched, sizeof sched, "SCHED_FIFO %d", applied);
+    } else if (t.priority > 0) {
+      (void)std::snprintf(sched, sizeof sched, "SCHED_OTHER (Table I: FIFO %d)", t.priority);
     } else {
       (void)std::snprintf(sched, sizeof sched, "SCHED_OTHER");
     }

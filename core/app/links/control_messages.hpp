@@ -10,6 +10,7 @@
 
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/protocol_messages.hpp"
+#include "core/app/links/run_control.hpp"
 #include "core/robot/joint_sample.hpp"
 #include "core/robot/robot.hpp"
 
@@ -195,11 +196,23 @@ inline protocol::MasterPayload master_payload_of(const MasterStatus& s) noexcept
 }
 
 // One task's published timing -> its record in the tasks answer: where the kernel ran it, at what
-// policy and priority, beside what the task table asked for.
-inline protocol::TaskRecord task_record_of(const TaskStat& t) noexcept {
+// policy and priority, beside what the task table asked for; from its health slot (nullptr: none),
+// its thread, restarts and uptime at `now_ns` (the monotonic clock of TaskHealth::started_ns).
+inline protocol::TaskRecord task_record_of(const TaskStat& t, const TaskHealth* health, std::int64_t now_ns) noexcept {
   protocol::TaskRecord r;
   r.name = t.name;
   r.pid = t.pid;
+  r.uptime_ms = protocol::kUptimeUnknown;
+  if (health != nullptr) {
+    r.tid = health->tid.load(std::memory_order_relaxed);
+    const std::uint32_t restarts = health->restarts.load(std::memory_order_relaxed);
+    r.restarts = static_cast<std::uint16_t>(restarts > 0xFFFFU ? 0xFFFFU : restarts);
+    const std::int64_t started = health->started_ns.load(std::memory_order_acquire);
+    if (started > 0) {
+      const std::int64_t ms = (now_ns > started ? now_ns - started : 0) / 1000000;
+      r.uptime_ms = ms >= protocol::kUptimeSaturated ? protocol::kUptimeSaturated : static_cast<std::uint32_t>(ms);
+    }
+  }
   r.cpu = t.kernel_cpu;
   r.priority = t.kernel_priority;
   r.policy = t.kernel_policy;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/app/links/register_messages.hpp"
 #include "core/app/links/sdo_messages.hpp"
 #include "core/app/links/sii_messages.hpp"
 #include "core/robot/robot.hpp"
@@ -28,7 +29,7 @@ constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NU
 constexpr std::size_t kMaxSlaves = 23;
 constexpr std::uint8_t kRecoveryStates = 15;  // ecat::kRecoveryStateCount (checked where both are seen)
 constexpr std::uint32_t kRecoveryAgeNever = 0xFFFFFFFFU;  // SlaveRecord: not changed since bring-up
-constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 120 bytes and the drop counters fill a payload)
+constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 128 bytes and the drop counters fill a payload)
 constexpr std::size_t kMaxDropCounters = 12;  // after the task records: the queues' drop counters
 constexpr std::size_t kMaxRcTasks = 4;
 constexpr std::uint8_t kNoOwner = 0xFF;
@@ -61,6 +62,7 @@ enum class MessageType : std::uint8_t {
   diag_reset = 0x17,   // zero the link-quality counters of some slaves (ctl diag --reset), answered by a reply
   sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
   sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
+  reg_read = 0x1A,      // ctl reg_read: a read of a slave's ESC registers (answered by reg_result)
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
@@ -81,6 +83,7 @@ enum class MessageType : std::uint8_t {
   slave_info = 0x8A,
   sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
   sii = 0x8C,         // the answer to get_sii
+  reg_result = 0x8D,  // the end of a reg_read: the bytes, or why not
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -286,6 +289,8 @@ struct MasterPayload {
   std::array<std::uint64_t, kRejectionCount> rejected{};  // socket handler, per Rejection
 };
 
+constexpr std::uint32_t kUptimeUnknown = 0xFFFFFFFFU;
+constexpr std::uint32_t kUptimeSaturated = 0xFFFFFFFEU;  // 49.7 days
 struct TaskRecord {
   std::array<char, kNameSize> name{};
   std::int32_t pid{0};
@@ -294,6 +299,12 @@ struct TaskRecord {
   std::int8_t policy{-1};     // the kernel's policy: SCHED_OTHER 0, SCHED_FIFO 1, SCHED_RR 2, ...; -1 unknown
   std::int16_t table_cpu{-1};       // what the task table asked for (on this machine)
   std::int16_t table_priority{0};
+  // The task's thread (gettid; in --threads mode each task its own, `pid` the same for all), how
+  // often the supervisor restarted it, and how long its current incarnation has run (ms, saturated
+  // at kUptimeSaturated; kUptimeUnknown: not known).
+  std::int32_t tid{0};
+  std::uint16_t restarts{0};  // saturated at 65535
+  std::uint32_t uptime_ms{0};
   std::uint64_t periods{0};
   std::uint64_t missed{0};
   std::uint64_t max_execution_ns{0};
@@ -453,6 +464,8 @@ struct Message {
   SlaveInfoPayload slave_info{};
   GraphPayload graph{};
   DiagResetPayload diag_reset{};
+  RegReadPayload reg_read{};      // reg_read
+  RegResultPayload reg_result{};  // reg_result
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

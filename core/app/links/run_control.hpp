@@ -18,6 +18,11 @@ namespace rescue::app {
 struct TaskHealth {
   std::atomic<std::int32_t> pid;
   std::atomic<std::uint32_t> restarts;              // supervisor
+  // ctl tasks: the task's own thread (gettid, what `chrt -p` and `ps -L` show) and when its current
+  // incarnation started (monotonic ns, 0: not started), both written by the task at its start.
+  std::atomic<std::int32_t> tid;
+  std::atomic<std::int32_t> reserved;
+  std::atomic<std::int64_t> started_ns;
   std::atomic<std::uint64_t> heap_allocations;      // after the task's init (its process's heap guard)
   std::atomic<std::uint64_t> page_faults;           // minor + major of the task's thread after its init
   std::atomic<bool> reported;                       // the figures above are final

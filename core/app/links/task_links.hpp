@@ -14,6 +14,7 @@
 #include "core/app/links/control_messages.hpp"
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/motion_links.hpp"
+#include "core/app/links/register_messages.hpp"
 #include "core/app/links/run_control.hpp"
 #include "core/app/links/sdo_messages.hpp"
 #include "core/concurrency/seqlock.hpp"
@@ -65,6 +66,8 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(rc_inputs, "message parser -> RC task k (its input queue)", std::array<SpscQueue<RcTaskInput, kRcInputQueueDepth>, protocol::kMaxRcTasks>) \
   X(sdo_requests, "socket handler -> EtherCAT handler (ctl upload/download, one in flight)", SpscQueue<SdoLinkRequest, config::kSdoQueueDepth>) \
   X(sdo_results, "EtherCAT handler -> socket handler (the transfer's end)", SpscQueue<SdoLinkResult, config::kSdoQueueDepth>) \
+  X(reg_requests, "socket handler -> EtherCAT handler (ctl reg_read, one in flight)", SpscQueue<RegReadLinkRequest, config::kRegQueueDepth>) \
+  X(reg_results, "EtherCAT handler -> socket handler (the read's end)", SpscQueue<RegReadLinkResult, config::kRegQueueDepth>) \
   X(sii_images, "EtherCAT handler (after bring-up, one slave per period) -> socket handler (ctl sii_read)", std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>) \
   X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)

@@ -29,7 +29,7 @@ constexpr std::size_t kSlaveRecordSize = 40;
 constexpr std::size_t kMasterSize = 64 + kRejectionCount * 8;
 constexpr std::size_t kEpochSize = 8;
 constexpr std::size_t kTimingFiguresSize = 28;  // 7 x u32 ns
-constexpr std::size_t kTaskRecordSize = 64 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority
+constexpr std::size_t kTaskRecordSize = 72 + 2 * kTimingFiguresSize;  // + policy, table CPU and priority, tid, restarts, uptime
 constexpr std::size_t kDiagHeadSize = 24;
 constexpr std::size_t kVersionSize = kVersionTextSize + 8 + kNameSize;
 constexpr std::size_t kRcTaskRecordSize = 8;
@@ -43,11 +43,14 @@ constexpr std::size_t kGraphRecordSize = 12;
 constexpr std::size_t kDiagResetSize = 4;
 constexpr std::size_t kSiiRequestSize = 4;
 constexpr std::size_t kSiiSize = 8 + kSiiChunkBytes;
+constexpr std::size_t kRegReadSize = 8;
+constexpr std::size_t kRegResultSize = 24 + kRegDataSize;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload && kSiiSize <= kMaxPayload,
+                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload && kSiiSize <= kMaxPayload &&
+                  kRegResultSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -514,7 +517,9 @@ void tasks_fields(F& f, M& m) noexcept {
     f.reserved(1);
     f.u16(t.table_cpu);
     f.u16(t.table_priority);
-    f.reserved(2);
+    f.u16(t.restarts);
+    f.u32(t.tid);
+    f.u32(t.uptime_ms);
     f.u64(t.periods);
     f.u64(t.missed);
     f.u64(t.max_execution_ns);
@@ -735,6 +740,46 @@ void sii_fields(F& f, M& m) noexcept {
   f.require(padding_zero, Errc::malformed, "bytes past the chunk's length not zero");
 }
 
+// reg_read: slave position, 1 reserved byte, first register's address, length (1..kRegDataSize),
+// 2 reserved bytes; the range ends at 0xFFFF at most.
+template <typename F, typename M>
+void reg_read_fields(F& f, M& m) noexcept {
+  f.length(kRegReadSize);
+  auto& r = m.reg_read;
+  f.u8(r.slave);
+  f.reserved(1);
+  f.u16(r.address);
+  f.u16(r.length);
+  f.reserved(2);
+  f.check(r.slave < kMaxSlaves, "slave position");
+  f.check(r.length >= 1 && r.length <= kRegDataSize, "register read length");
+  f.check(std::size_t{r.address} + r.length <= 0x10000U, "register range past 0xFFFF");
+}
+
+// reg_result: request sequence, slave, status, address, length, working counter, frames, 7
+// reserved bytes, then the data in a fixed kRegDataSize field (bytes past the length zero).
+template <typename F, typename M>
+void reg_result_fields(F& f, M& m) noexcept {
+  f.length(kRegResultSize);
+  auto& r = m.reg_result;
+  f.u64(r.request_sequence);
+  f.u8(r.slave);
+  f.u8(r.status);
+  f.u16(r.address);
+  f.u16(r.length);
+  f.u16(r.wkc);
+  f.u8(r.frames);
+  f.reserved(7);
+  f.bytes(r.data);
+  f.check(r.slave < kMaxSlaves, "slave position");
+  f.check(static_cast<std::uint8_t>(r.status) <= kRegStatusLast, "register read status");
+  f.check(r.length <= kRegDataSize, "register read length");
+  f.check(std::size_t{r.address} + r.length <= 0x10000U, "register range past 0xFFFF");
+  bool padding_zero = true;
+  for (std::size_t i = r.length; i < kRegDataSize; ++i) padding_zero = padding_zero && r.data[i] == 0;
+  f.require(padding_zero, Errc::malformed, "bytes past the read's length not zero");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -768,6 +813,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::take_owner, "take_owner", owner_fields, owner_fields},
     {MessageType::sdo_upload, "sdo_upload", sdo_upload_fields, sdo_upload_fields},
     {MessageType::sdo_download, "sdo_download", sdo_download_fields, sdo_download_fields},
+    {MessageType::reg_read, "reg_read", reg_read_fields, reg_read_fields},
     {MessageType::imu, "imu", imu_fields, imu_fields},
     {MessageType::gps, "gps", gps_fields, gps_fields},
     {MessageType::reply, "reply", reply_fields, reply_fields},
@@ -783,6 +829,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::graph, "graph", graph_fields, graph_fields},
     {MessageType::slave_info, "slave_info", slave_info_fields, slave_info_fields},
     {MessageType::sii, "sii", sii_fields, sii_fields},
+    {MessageType::reg_result, "reg_result", reg_result_fields, reg_result_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {

@@ -16,6 +16,7 @@
 #include "core/kinematics/rescue_motion.hpp"
 #include "core/memory/heap_guard.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "hal/proc/process_identity.hpp"
 #include "hal/rt/rt_setup.hpp"
 
 namespace rescue::app::runner {
@@ -122,6 +123,9 @@ class TaskStats {
 // slot, then its count in tasks_started (the run's init is complete once every task is past it).
 TaskStats start_task(const char* name, TaskId id, StatTask slot, const TaskLoopPorts& ports) noexcept {
   apply_task_rt(name, id);
+  // ctl tasks: this thread's id and this incarnation's start (the socket handler's uptime).
+  ports.health->tid.store(hal::own_thread_id(), std::memory_order_relaxed);
+  ports.health->started_ns.store(hal::MonotonicClock().now(), std::memory_order_release);
   TaskStats stats(slot, *ports.stats, name, task_cpu(id), task_priority(id));
   ports.run->tasks_started.fetch_add(1, std::memory_order_release);
   return stats;
@@ -353,6 +357,9 @@ void run_rc_teleop() noexcept {
 }
 
 void run_storage_worker() noexcept {
+  // Named for `ps -L` and /proc (not the process's name): a thread of the joint manager's process.
+  const Status named = hal::name_this_thread("joints-storage");
+  if (!named.ok()) (void)std::printf("joints-storage: thread not named: %s\n", named.error().what);
   ErrorJointsStorageWorker& worker = *g_run.tasks.storage_worker;
   hal::MonotonicClock clock;  // a normal-priority thread: it may wait, for the disk and here
   for (;;) {

@@ -41,6 +41,10 @@ TaskPorts::TaskPorts(TaskLinks& links) noexcept
       handler_sdo_requests_(links.sdo_requests),
       handler_sdo_results_(links.sdo_results),
       socket_sdo_results_(links.sdo_results),
+      socket_reg_requests_(links.reg_requests),
+      handler_reg_requests_(links.reg_requests),
+      handler_reg_results_(links.reg_results),
+      socket_reg_results_(links.reg_results),
       parser_rc_inputs_{{Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[0]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[1]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[2]),
@@ -59,6 +63,8 @@ EthercatHandlerPorts TaskPorts::ethercat_handler() noexcept {
   p.motion = motion_intake_ports(links_);
   p.sdo_requests = &handler_sdo_requests_;
   p.sdo_results = &handler_sdo_results_;
+  p.reg_requests = &handler_reg_requests_;
+  p.reg_results = &handler_reg_results_;
   p.master_status = &links_.master_status;
   p.link_diag = &links_.link_diag;
   p.slave_info = &links_.slave_info;
@@ -128,11 +134,14 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.sii_images = &links_.sii_images;
   p.tasks = &links_.task_stats;
   p.drops = &links_.run.dropped;
+  p.health = &links_.run.health;
   p.motion = &links_.motion;
   p.handler_heartbeat = &links_.task_heartbeat_ns[static_cast<std::size_t>(StatTask::ethercat_handler)];
   p.rc_heartbeat_ns = &links_.rc_heartbeat_ns;
   p.sdo_requests = &socket_sdo_requests_;
   p.sdo_results = &socket_sdo_results_;
+  p.reg_requests = &socket_reg_requests_;
+  p.reg_results = &socket_reg_results_;
   return p;
 }
 

@@ -111,6 +111,11 @@ class TaskPorts {
   Source<SdoLinkRequest, config::kSdoQueueDepth> handler_sdo_requests_;
   Sink<SdoLinkResult, config::kSdoQueueDepth> handler_sdo_results_;
   Source<SdoLinkResult, config::kSdoQueueDepth> socket_sdo_results_;
+  // Socket handler <-> EtherCAT handler: ctl reg_read and its answer.
+  Sink<RegReadLinkRequest, config::kRegQueueDepth> socket_reg_requests_;
+  Source<RegReadLinkRequest, config::kRegQueueDepth> handler_reg_requests_;
+  Sink<RegReadLinkResult, config::kRegQueueDepth> handler_reg_results_;
+  Source<RegReadLinkResult, config::kRegQueueDepth> socket_reg_results_;
   // Message parser -> RC task k.
   std::array<Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> parser_rc_inputs_;
   std::array<Source<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs_;

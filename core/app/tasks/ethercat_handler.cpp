@@ -23,7 +23,8 @@ EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPo
       ports_(ports),
       intake_(ports.motion, intake),
       tracker_(*ports.reports, *ports.notices, restored_lost),
-      sdo_relay_(bus, ports.sdo_requests, ports.sdo_results) {
+      sdo_relay_(bus, ports.sdo_requests, ports.sdo_results),
+      register_relay_(bus.master(), ports.reg_requests, ports.reg_results) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
   }
@@ -164,6 +165,8 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   watch_drives_disabled(result, now);
   // ctl upload/download: one request judged and one completion answered, on the cyclic mailbox.
   sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
+  // ctl reg_read: one request handed to the master, one finished read answered.
+  register_relay_.step();
   return result;
 }
 

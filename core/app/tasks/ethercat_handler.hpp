@@ -14,7 +14,8 @@
 //      safely, whatever the joint manager does: every drive disabled, worm gears holding;
 //   6. queues what happened (HandlerEvent) for a lower-priority logger to print;
 //   7. relays the operator's SDO transfers (ctl upload/download) to the master's cyclic mailbox
-//      channel and answers them (SdoRelay, core/app/tasks/sdo_relay.hpp).
+//      channel and answers them (SdoRelay, core/app/tasks/sdo_relay.hpp), and its ESC register
+//      reads (ctl reg_read) to the master's cyclic FPRD (RegisterRelay, register_relay.hpp).
 // After each cycle its loop calls publish_figures(): the master's figures for the operator (ctl
 // master, ctl diag and its reset, ctl slaves -v), each through its port.
 // No heap, no locks, no syscalls but the NIC's; bounded work.
@@ -27,6 +28,7 @@
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/tasks/motion_intake.hpp"
+#include "core/app/tasks/register_relay.hpp"
 #include "core/app/tasks/sdo_relay.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
@@ -72,6 +74,9 @@ struct EthercatHandlerPorts {
   // ctl upload/download from the socket handler, and their answers (both null: no SDO relay).
   MessageSource<SdoLinkRequest>* sdo_requests{nullptr};
   MessageSink<SdoLinkResult>* sdo_results{nullptr};
+  // ctl reg_read from the socket handler, and its answer (both null: no register reads).
+  MessageSource<RegReadLinkRequest>* reg_requests{nullptr};
+  MessageSink<RegReadLinkResult>* reg_results{nullptr};
   // The master's figures for the operator, written by publish_figures() (null: not published): its
   // counters every period (ctl master), the link-quality table once per diagnostics sweep (ctl
   // diag), each slave's identity and AL status when one changed (ctl slaves -v), and the socket
@@ -153,6 +158,7 @@ class EthercatHandler {
   MotionIntake intake_;
   LostJointTracker tracker_;
   SdoRelay sdo_relay_;
+  RegisterRelay register_relay_;
   drivers::JointReferences outputs_{};
   std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   drivers::JointFeedback feedback_{};

@@ -120,10 +120,12 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
       m.header.type = MessageType::tasks;
       m.tasks.age = handler_figures_age();
       if (ports_.tasks != nullptr) {
-        for (const Seqlock<TaskStat>& slot : *ports_.tasks) {
+        const hal::Nanoseconds mono = hal::MonotonicClock().now();  // the clock of TaskHealth::started_ns
+        for (std::size_t k = 0; k < ports_.tasks->size(); ++k) {
           TaskStat t{};
-          if (!slot.try_read(t) || t.name[0] == '\0') continue;
-          m.tasks.tasks[m.tasks.count++] = task_record_of(t);
+          if (!(*ports_.tasks)[k].try_read(t) || t.name[0] == '\0') continue;
+          const TaskHealth* health = ports_.health != nullptr && k < ports_.health->size() ? &(*ports_.health)[k] : nullptr;
+          m.tasks.tasks[m.tasks.count++] = task_record_of(t, health, mono);
         }
       }
       if (ports_.drops != nullptr) {
@@ -224,6 +226,7 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
   if (h.type == MessageType::sdo_upload || h.type == MessageType::sdo_download) return forward_sdo(m, d);
+  if (h.type == MessageType::reg_read) return forward_register_read(m, d);
   if (h.type == MessageType::diag_reset) return post_diag_reset(m, d);  // for the EtherCAT handler, not the parser
 
   const ControlRequest r = request_of(m, d.address, d.port);
@@ -332,6 +335,7 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
     send(m, reply.reply_address, reply.reply_port);
   }
   collect_sdo_result();
+  collect_register_read();
   if (ports_.counters != nullptr) ports_.counters->write(counters_);
 }
 

@@ -60,6 +60,7 @@ struct SocketHandlerPorts {
   const Seqlock<protocol::DiagPayload>* diag{nullptr};  // ctl diag: link-quality counters
   const std::array<Seqlock<TaskStat>, kTaskStatSlots>* tasks{nullptr};
   const std::array<std::atomic<std::uint64_t>, kDropCounters>* drops{nullptr};  // the queues' drop counters (ctl tasks)
+  const std::array<TaskHealth, kRunHealthSlots>* health{nullptr};  // ctl tasks: each task's thread id, start, restarts
   const MotionLinks* motion{nullptr};                 // ctl status: which RC task drives which joint
   // The EtherCAT handler's heartbeat (TaskLinks::task_heartbeat_ns, the clock of step()'s `now`):
   // status, slaves and master answers say how old its figures are, stale past `stale_after`.
@@ -71,6 +72,8 @@ struct SocketHandlerPorts {
   const protocol::VersionPayload* version{nullptr};   // ctl version: what the robot runs
   MessageSink<SdoLinkRequest>* sdo_requests{nullptr};  // ctl upload/download, to the EtherCAT handler
   MessageSource<SdoLinkResult>* sdo_results{nullptr};  // and their results
+  MessageSink<RegReadLinkRequest>* reg_requests{nullptr};  // ctl reg_read, to the EtherCAT handler
+  MessageSource<RegReadLinkResult>* reg_results{nullptr};  // and its result
   const Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};  // ctl slaves -v: SII identity, AL status code
   const std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>* sii_images{nullptr};  // ctl sii_read
   DiagResetLink* diag_reset{nullptr};                 // ctl diag --reset: posted here, taken by the EtherCAT handler
@@ -90,6 +93,8 @@ class SocketHandler {
   // How long an SDO transfer may take before it is answered no_answer (the mailbox's own response
   // timeout is 100 ms per step; a 256-byte value takes at most 4 steps).
   static constexpr hal::Nanoseconds kSdoAnswerLimit = 2 * hal::kNsPerSec;
+  // How long a register read may take (the master tries its FPRD in at most 10 frames).
+  static constexpr hal::Nanoseconds kRegAnswerLimit = 500 * hal::kNsPerMs;
 
   // `robot_id`: this robot's identity (run's robot_id): datagrams naming another are refused.
   SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
@@ -140,6 +145,12 @@ class SocketHandler {
   void answer_sdo(protocol::SdoResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
                   std::uint16_t port) noexcept;
   void collect_sdo_result() noexcept;
+  // socket_register_reads.cpp: ctl reg_read, one in flight (a second is answered busy at once),
+  // answered reg_result (no_answer when the EtherCAT handler says nothing within kRegAnswerLimit).
+  void forward_register_read(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void answer_register_read(protocol::RegResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
+                            std::uint16_t port) noexcept;
+  void collect_register_read() noexcept;
   protocol::FiguresAge handler_figures_age() const noexcept;
 
   SocketHandlerPorts ports_;
@@ -169,6 +180,18 @@ class SocketHandler {
   };
   SdoInFlight sdo_{};
   std::uint32_t sdo_ids_{0};
+  // The register read in flight (one at a time).
+  struct RegInFlight {
+    bool active{false};
+    std::uint32_t id{0};
+    std::uint64_t request_sequence{0};
+    protocol::RegReadPayload read{};
+    std::uint32_t address{0};
+    std::uint16_t port{0};
+    hal::Nanoseconds deadline{0};
+  };
+  RegInFlight reg_{};
+  std::uint32_t reg_ids_{0};
   // diag_reset requests waiting for the EtherCAT handler (a few operators at once; more: busy).
   struct PendingReset {
     bool active{false};

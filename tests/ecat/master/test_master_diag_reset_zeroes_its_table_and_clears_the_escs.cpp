@@ -15,16 +15,7 @@ namespace {
 
 using testing::SimulatedRobotRig;
 
-void run(SimulatedRobotRig& rig, int n) {
-  drivers::JointReferences refs{};
-  drivers::JointFeedback fb{};
-  LinkReport report;
-  for (int i = 0; i < n; ++i) {
-    (void)rig.cycle(refs, fb);
-    while (rig.bus.master().pop_report(report)) {
-    }
-  }
-}
+void run(SimulatedRobotRig& rig, int n) { rig.idle_cycles(n); }
 
 SlaveMask all_slaves() { return (SlaveMask{1} << kSlaveCount) - 1; }
 

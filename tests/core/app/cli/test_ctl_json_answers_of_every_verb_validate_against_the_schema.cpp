@@ -73,6 +73,9 @@ TEST(CtlJsonSchema, EveryVerbsAnswersValidate) {
                   {{"upload", "23", "0x1018:01"}, 2}}},
       {"pdos", {{{"pdos"}, 0}, {{"pdos", "l_elbow"}, 0}, {{"pdos", "junction_a"}, 2}}},
       {"sii_read", {{{"sii_read", "l_elbow"}, 0}, {{"sii_read", "0"}, 0}, {{"sii_read", "23"}, 2}}},
+      {"xml", {{{"xml", "l_elbow"}, 0}, {{"xml", "junction_a"}, 0}, {{"xml", "23"}, 2}}},
+      {"reg_read", {{{"reg_read", "l_elbow", "0x0130", "2"}, 0}, {{"reg_read", "0", "0x0000", "64"}, 0},
+                    {{"reg_read", "l_elbow", "0x0130", "65"}, 2}}},
       {"download", {{{"download", "l_elbow", "0x6066:00", "100", "--type", "u16"}, 0},
                     {{"download", "l_elbow", "0x607A:00", "1000", "--type", "i32"}, 1}}},
   };

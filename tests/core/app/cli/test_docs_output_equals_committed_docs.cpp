@@ -80,6 +80,10 @@ TEST(DocsFsm, RecoveryMachineInMasterDocEqualsCommandOutput) {
 TEST(DocsTasks, TaskTableInDocsEqualsCommandOutput) {
   const std::string printed = run(kProgram + " docs tasks");
   ASSERT_NE(printed.find("| EtherCAT handler | SCHED_FIFO "), std::string::npos) << printed;
+  // The scheduling applied (issue 36 item 9): the socket handler and the message parser run
+  // SCHED_OTHER unless a configuration file sets their priority.
+  EXPECT_NE(printed.find("| socket handler | SCHED_OTHER "), std::string::npos) << printed;
+  EXPECT_NE(printed.find("| message parser | SCHED_OTHER "), std::string::npos) << printed;
   EXPECT_EQ(generated_block(read_file(kTasksDoc), "rescue-motion docs tasks"), printed)
       << "docs/tasks.md is stale; put this between its markers:\n" << printed;
 }

@@ -44,7 +44,17 @@ TEST(LinkRecordsToWire, TaskStatGivesTheKernelsViewBesideTheTaskTables) {
   t.max_execution_ns = 35000;
   t.execution.p99 = 20000;
   t.latency.max = 7000;
-  const protocol::TaskRecord r = task_record_of(t);
+  TaskHealth health{};
+  health.tid.store(4250);
+  health.restarts.store(70000);  // saturates on the wire
+  health.started_ns.store(5'000'000'000);
+  const protocol::TaskRecord r = task_record_of(t, &health, 7'500'000'000);
+  EXPECT_EQ(r.tid, 4250) << "the task's own thread, not its process";
+  EXPECT_EQ(r.restarts, 0xFFFF);
+  EXPECT_EQ(r.uptime_ms, 2500U);
+  EXPECT_EQ(task_record_of(t, nullptr, 7'500'000'000).uptime_ms, protocol::kUptimeUnknown) << "no health slot: not known";
+  health.started_ns.store(0);
+  EXPECT_EQ(task_record_of(t, &health, 7'500'000'000).uptime_ms, protocol::kUptimeUnknown) << "not started: not known";
   EXPECT_STREQ(r.name.data(), "ethercat");
   EXPECT_EQ(r.pid, 4242);
   EXPECT_EQ(r.cpu, 1) << "where the kernel ran it";

@@ -129,6 +129,16 @@ TEST(TaskPorts, TheSocketHandlerAndTheEthercatHandlerMeetOnTheSdoQueues) {
   SdoLinkResult result{};
   result.id = 7;
   EXPECT_EQ(through(handler.sdo_results, socket.sdo_results, result).id, 7U);
+  // ctl reg_read: the same way, its own queue pair.
+  RegReadLinkRequest read{};
+  read.id = 9;
+  read.read.address = 0x0130;
+  const RegReadLinkRequest read_got = through(socket.reg_requests, handler.reg_requests, read);
+  EXPECT_EQ(read_got.id, 9U);
+  EXPECT_EQ(read_got.read.address, 0x0130);
+  RegReadLinkResult read_result{};
+  read_result.id = 9;
+  EXPECT_EQ(through(handler.reg_results, socket.reg_results, read_result).id, 9U);
 }
 
 TEST(TaskPorts, TheHandlersFiguresAreTheOnesTheSocketHandlerAnswersFrom) {
@@ -140,6 +150,7 @@ TEST(TaskPorts, TheHandlersFiguresAreTheOnesTheSocketHandlerAnswersFrom) {
   EXPECT_EQ(handler.slave_info, socket.slave_info);
   EXPECT_EQ(handler.diag_reset, socket.diag_reset);
   EXPECT_EQ(handler.master_status, &rig.links->master_status);
+  EXPECT_EQ(socket.health, &rig.links->run.health) << "ctl tasks: each task's thread, start and restarts";
 }
 
 TEST(TaskPorts, TheJointManagersStepPublishesTheStatusTheOtherTasksRead) {

@@ -3,7 +3,8 @@
 // kernel reports for that thread (the task reads them itself and publishes them), beside the task
 // table's wish; a CPU the machine lacks is replaced by its last one and announced
 // (docs/configuration.md); each process's main thread (its logger) runs at normal scheduling. Against
-// a real `rescue-motion run` (processes mode).
+// a real `rescue-motion run` (processes mode). Issue 36 item 9: `tid` is the task's thread (its name,
+// policy and priority in /proc/PID/task/TID), with restarts and uptime.
 #include <gtest/gtest.h>
 #include <dirent.h>
 #include <unistd.h>
@@ -20,14 +21,8 @@
 namespace rescue::app {
 namespace {
 
+using testing::first_line;
 using testing::OperatorRun;
-
-std::string first_line(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  return line;
-}
 
 // The threads of `pid` whose comm is `name`: their /proc/PID/task/TID/stat.
 std::vector<std::string> threads_named(int pid, const std::string& name) {
@@ -79,15 +74,21 @@ TEST(TaskNamesAndSchedule, EveryTaskProcessAndThreadIsNamedAndCtlTasksShowsTheKe
     EXPECT_EQ(first_line("/proc/" + std::to_string(pid) + "/comm"), name) << "the process carries its task's name";
     const std::vector<std::string> threads = threads_named(pid, name);
     ASSERT_GE(threads.size(), 2U) << name << ": the process and its task thread";
-    // The task thread: the one whose policy the task reported (the process's main thread is the logger).
+    // The task thread is the one `tid` names (issue 36 item 9: what `chrt -p TID` shows), not the
+    // process's main thread (its logger): its name, policy and priority are the ones reported.
     const std::string policy = testing::json_field(object, "policy");
     const long want_policy = policy == "FIFO" ? 1 : policy == "RR" ? 2 : policy == "OTHER" ? 0 : -1;
-    bool matched = false;
-    for (const std::string& stat : threads) {
-      // proc(5): 40 rt_priority, 41 policy.
-      if (stat_field(stat, 41) == want_policy && stat_field(stat, 40) == std::stol(testing::json_field(object, "priority"))) matched = true;
-    }
-    EXPECT_TRUE(matched) << name << ": " << object;
+    const int tid = std::stoi(testing::json_field(object, "tid"));
+    EXPECT_NE(tid, pid) << name << ": the task's thread, not its process";
+    const std::string task_dir = "/proc/" + std::to_string(pid) + "/task/" + std::to_string(tid);
+    EXPECT_EQ(first_line(task_dir + "/comm"), name) << "the thread tid names is the task's";
+    const std::string stat = first_line(task_dir + "/stat");
+    ASSERT_FALSE(stat.empty()) << name << ": tid " << tid << " is a thread of pid " << pid;
+    // proc(5): 40 rt_priority, 41 policy.
+    EXPECT_EQ(stat_field(stat, 41), want_policy) << name << ": " << object;
+    EXPECT_EQ(stat_field(stat, 40), std::stol(testing::json_field(object, "priority"))) << name << ": " << object;
+    EXPECT_EQ(testing::json_field(object, "restarts"), "0") << name;
+    EXPECT_NE(testing::json_field(object, "uptime_ms"), "null") << name << ": started, so its uptime is known";
     // The process's main thread, its logger, runs at normal scheduling: the handler's process is
     // forked at the handler's priority and CPU (its task thread starts at them at once) and gives
     // them back for its logger.
