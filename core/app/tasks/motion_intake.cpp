@@ -6,6 +6,20 @@
 #include "core/app/config/firmware_config.hpp"
 
 namespace rescue::app {
+
+namespace {
+// Dead: silent longer than the dead-after time on the wall clock AND for as many of the handler's
+// own periods (less the one in which the last beat could have been missed). A host stall that holds
+// every task, the handler too, passes the first test but not the second: the owner had no CPU
+// either, so its silence is jitter, not death (issue 35: 218 ms with every task held released a
+// live rescue task under stress-ng). A dead owner still goes within kOwnerDeadAfterPeriods + 1
+// handler periods.
+bool silent_for(hal::Nanoseconds now, std::int64_t beat, std::int64_t handler_periods, const MotionIntakeSettings& s) noexcept {
+  if (now - beat <= s.owner_dead_after_ns) return false;
+  if (s.handler_period_ns <= 0) return true;  // no period known: the wall clock alone
+  return (handler_periods + 1) * s.handler_period_ns > s.owner_dead_after_ns;
+}
+}  // namespace
 namespace {
 
 // A joint brought to rest without the task that moved it: at the smaller of its deceleration limit
@@ -179,7 +193,13 @@ void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, Joint
   }
   ++counters_.owned_periods;
   const std::int64_t beat = (*ports_.rc_heartbeat_ns)[task].load(std::memory_order_acquire);
-  if (beat == 0 || now - beat > settings_.owner_dead_after_ns) {
+  if (beat != beat_seen_[task]) {
+    beat_seen_[task] = beat;
+    periods_beat_unchanged_[task] = 0;
+  } else {
+    ++periods_beat_unchanged_[task];
+  }
+  if (beat == 0 || silent_for(now, beat, periods_beat_unchanged_[task], settings_)) {
     // Dead (or never started): hold this period, and free the motion for another RC task.
     ++counters_.misses;
     ++consecutive_misses_;

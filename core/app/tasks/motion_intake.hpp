@@ -12,7 +12,9 @@
 //     deceleration_limit_rad_s2, core/robot/robot.hpp, and its acceleration limit), then holds: no
 //     abrupt reference stop;
 //   - an owner whose heartbeat is older than kOwnerDeadAfterPeriods RC periods is released
-//     (compare-exchange on the word it saw) in the period the handler notices it;
+//     (compare-exchange on the word it saw) in the period the handler notices it, once the handler
+//     itself has also run that many periods without seeing the heartbeat move: a stall of the whole
+//     host (every task, the handler too, held off its CPU) is jitter, not a dead owner;
 //   - while nobody owns the motion, each joint comes to rest the same way and holds the reference
 //     last sent; a joint the joint manager gives a new reference (set reference, hold, initialize) or
 //     does not drive takes the joint manager's (at once: the joint manager is the authority).
@@ -136,6 +138,10 @@ class MotionIntake {
   ReferenceSnapshot snapshot_{};
   MotionIntakeCounters counters_{};
   std::uint64_t consecutive_misses_{0};
+  // Each RC task's heartbeat as this handler last saw it, and how many of the handler's own periods
+  // it has stayed there: the owner's silence in periods the handler actually ran.
+  std::array<std::int64_t, protocol::kMaxRcTasks> beat_seen_{};
+  std::array<std::int64_t, protocol::kMaxRcTasks> periods_beat_unchanged_{};
   JointMask driven_by_owner_{0};
   JointMask fresh_{0};                          // joints that took a new owner reference this period
   JointMask manager_set_{0};                    // joints that took the joint manager's reference this period

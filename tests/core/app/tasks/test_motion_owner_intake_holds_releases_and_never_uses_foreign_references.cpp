@@ -4,7 +4,8 @@
 //   (a jump becomes a ramp within the joint's limits, so these tests let a reference settle);
 //   a missed deadline holds the last references and is counted; a joint the owner had in motion is
 //   brought to rest within its deceleration limit first (no abrupt reference stop);
-//   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken;
+//   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken; a stall
+//   of the whole host (the handler held off its CPU as long as the owner) releases nobody;
 //   a non-owner's references, references of an older owner word, and incomplete (torn) periods
 //   never reach a joint; joints the handler does not drive are never commanded.
 #include <gtest/gtest.h>
@@ -138,6 +139,31 @@ TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken
   EXPECT_FALSE(rig.links->motion.owner.take_if_free(0, word)) << "only a free motion is taken that way";
   EXPECT_DOUBLE_EQ(rig.settle(1, 0.0015, kAllJoints)[kElbow], 0.0015);
   EXPECT_EQ(rig.intake.driving_task(), 1);
+}
+
+// Issue 35 (load stage): every task, the handler too, held off its CPUs for 218 ms by a loaded host.
+// On the wall clock the owner's heartbeat is 218 ms old when the handler runs again, but the handler
+// ran no period in between either: that is jitter, not a dead owner. The owner keeps the motion,
+// and the first periods after the stall only hold (its references are late) until it writes again.
+TEST(MotionIntake, AStallOfTheWholeHostReleasesNoOwner) {
+  Rig rig;
+  (void)rig.links->motion.owner.take(0);
+  (void)rig.settle(0, 0.001, kAllJoints);
+  rig.now += 218 * kMs;  // nobody ran: neither the owner nor the handler
+  EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001) << "held: the owner's period is late";
+  EXPECT_EQ(rig.links->motion.owner.task(), 0) << "a stalled host is not a dead owner";
+  EXPECT_EQ(rig.intake.counters().releases, 0U);
+  // The owner runs again: its references drive the joint at once.
+  EXPECT_DOUBLE_EQ(rig.settle(0, 0.002, kAllJoints)[kElbow], 0.002);
+  EXPECT_EQ(rig.intake.driving_task(), 0);
+  // A real death after that is still released within the documented periods of the handler.
+  int periods = 0;
+  while (rig.links->motion.owner.task() == 0 && periods < 1000) {
+    (void)rig.handler_period();
+    ++periods;
+  }
+  EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask);
+  EXPECT_LE(periods, config::kOwnerDeadAfterPeriods + 1);
 }
 
 // Issue 21 item 6: an owner that dies while its joint moves at 1.2 rad/s. Its references stop; the
