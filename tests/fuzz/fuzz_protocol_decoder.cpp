@@ -5,7 +5,8 @@
 // (first byte the type), and whole datagrams of version 2: get_epoch, the epoch answer, an enable for
 // robot 3 in an epoch, a reply, an sdo_upload (their tags are not checked here); payloads of
 // sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal), and an upload and its
-// result addressed by slave position (a junction); a get_sii and an sii answer (a junction's image).
+// result addressed by slave position (a junction); a get_sii and an sii answer (a junction's image);
+// a graph of the tree and one of the ring open between positions 18 and 19.
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -74,10 +74,10 @@ inline CommandResult run_program(const std::vector<std::string>& args, bool with
 
 // `rescue-motion run` on the simulator with the operator ports on 127.0.0.1, a fresh key made by
 // `ctl keygen` (its output kept in `keygen`), stopped by SIGTERM in stop() (or by its --duration);
-// `scenario` (optional) is passed as --scenario NAME.
+// `scenario` (optional) is passed as --scenario NAME, `extra` after it (e.g. --ring-nic sim).
 class OperatorRun {
  public:
-  explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr) {
+  explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr, const std::vector<std::string>& extra = {}) {
     control_port = free_udp_port();
     sensor_port = free_udp_port();
     while (sensor_port == control_port) sensor_port = free_udp_port();
@@ -95,6 +95,7 @@ class OperatorRun {
                                     "--listen", "127.0.0.1", "--control-port", control.c_str(), "--sensor-port",
                                     sensor.c_str(), "--duration", duration};
       if (scenario != nullptr) argv.insert(argv.end(), {"--scenario", scenario});
+      for (const std::string& a : extra) argv.push_back(a.c_str());
       argv.push_back(nullptr);
       ::execv(rescue_binary().c_str(), const_cast<char* const*>(argv.data()));
       ::_exit(127);
