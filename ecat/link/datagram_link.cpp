@@ -103,7 +103,7 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
 }
 
 Result<FrameView> DatagramLink::await_merged(hal::Nanoseconds deadline) noexcept {
-  const Result<FrameView> first = await_copies(deadline);
+  Result<FrameView> first = await_copies(deadline);
   if (!first.ok()) return first;
   // Closed while in flight: the ring copy went round the ring, the main copy did not.
   const bool closed_in_flight =
@@ -133,7 +133,7 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal:
   if (!repeat_view.ok()) return first_again();
   sent_view_ = repeat_view.value();
   expected_wkc_[index_] = expected_wkc;
-  if (!send_sent().ok()) return first_again();
+  if (ring_ == nullptr || !send_sent().ok()) return first_again();  // ring_: only a redundant link repeats
   expect_main_ = true;
   expect_ring_ = true;
   const Result<FrameView> again = await_copies(deadline);
