@@ -10,7 +10,8 @@
 #         the break, from 100 ms after it to the repair, from 100 ms after the repair, slaves not in
 #         OP at the end.
 #   ours  `rescue-motion run --nic raw:rga0 --ring-nic raw:rgb0 --duration SECONDS`: the end-of-run
-#         figures (cycles, joints lost), the ring's reports (each break and repair, with its place).
+#         figures (cycles, joints lost, joint-cycles missed by joints never lost: "healthy joints
+#         missed"), the ring's reports (each break and repair, with its place).
 # A figure a side does not give is printed as n/a.
 #
 # usage: toolchain/compare-ring-with-soem.sh RESCUE_MOTION_BINARY [RUNS] [CABLE]   (root; RUNS 3, CABLE r_elbow)
@@ -88,6 +89,8 @@ for ((r = 1; r <= runs; r++)); do
   if grep -q "network in OP" "$tmp/ours.out"; then echo "run${r}_rescue_op: yes"; else echo "run${r}_rescue_op: no"; fi
   echo "run${r}_rescue_cycles: $(field "$tmp/ours.out" rescue_cycles)"
   echo "run${r}_rescue_joints_lost: $(grep -c "link lost" "$tmp/ours.out" || true) link-lost reports"
+  missed=$(grep -oE "healthy joints missed [0-9]+ cycles" "$tmp/ours.out" | awk '{print $4}' || true)
+  echo "run${r}_rescue_joint_cycles_missed: ${missed:-n/a}"
   echo "run${r}_rescue_ring_reports: $(grep -c "ethercat: ring" "$tmp/ours.out" || true)"
   grep "ethercat: ring" "$tmp/ours.out" | sed "s/^/run${r}_rescue_ring_report: /" || true
   grep -E "bring-up failed" "$tmp/ours.out" | sed "s/^/run${r}_rescue_/" || true

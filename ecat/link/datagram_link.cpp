@@ -30,7 +30,7 @@ FrameBuilder& DatagramLink::begin() noexcept {
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
   const Status sent = send_frame();
   if (!sent.ok()) return sent.error();
-  return ring_ != nullptr ? await_copies(deadline) : await_frame(deadline);
+  return ring_ != nullptr ? await_merged(deadline) : await_frame(deadline);
 }
 
 Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexcept {
@@ -39,7 +39,7 @@ Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexce
   // The wait is measured from the moment the frame left: a process preempted between preparing the
   // exchange and sending it (a slow host, not a slow network) must not use up the frame's timeout.
   const hal::Nanoseconds deadline = nic_.clock().now() + timeout;
-  return ring_ != nullptr ? await_copies(deadline) : await_frame(deadline);
+  return ring_ != nullptr ? await_merged(deadline) : await_frame(deadline);
 }
 
 Status DatagramLink::send_frame() noexcept {
@@ -51,6 +51,10 @@ Status DatagramLink::send_frame() noexcept {
     return make_error(Errc::invalid_argument, "exchange of an empty frame");
   }
   sent_view_ = sent_view.value();
+  return send_sent();
+}
+
+Status DatagramLink::send_sent() noexcept {
   if (tap_ != nullptr) tap_(tap_context_, sent_, nic_.clock().now(), TapDirection::outbound);
   sent_at_[index_] = nic_.clock().now();
   expected_wkc_[index_] = expected_wkc_next_;
@@ -96,6 +100,50 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
     main_back_length_ = length;
   }
   return true;
+}
+
+Result<FrameView> DatagramLink::await_merged(hal::Nanoseconds deadline) noexcept {
+  Result<FrameView> first = await_copies(deadline);
+  if (!first.ok()) return first;
+  // Closed while in flight: the ring copy went round the ring, the main copy did not.
+  const bool closed_in_flight =
+      returns_.ring_back && returns_.ring_on == Port::main && !(returns_.main_back && returns_.main_on == Port::ring);
+  if (!closed_in_flight || nic_.clock().now() >= deadline) return first;
+  return repeat_after_repair(first.value(), deadline);
+}
+
+Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal::Nanoseconds deadline) noexcept {
+  const ConstByteSpan first_bytes = first.bytes();  // in rx_, which the repeat's merge overwrites
+  std::memcpy(first_merged_.data(), first_bytes.data(), first_bytes.size());
+  const ByteSpan first_merged(first_merged_.data(), first_bytes.size());
+  first_returns_ = returns_;
+  const ConstByteSpan original = sent_;
+  const std::uint16_t expected_wkc = expected_wkc_[index_];
+  const Result<std::size_t> repeat = make_repeat(original, ByteSpan(repeat_tx_), static_cast<std::uint8_t>(index_ + 1));
+  const auto first_again = [&]() -> Result<FrameView> {
+    std::memcpy(rx_.data(), first_merged_.data(), first_merged.size());
+    returns_ = first_returns_;
+    return FrameView::parse(ConstByteSpan(rx_.data(), first_merged.size()));
+  };
+  if (!repeat.ok() || repeat.value() == 0) return first_again();
+  ++index_;
+  ++stats_.ring_repeats;
+  sent_ = ConstByteSpan(repeat_tx_.data(), repeat.value());
+  const Result<FrameView> repeat_view = FrameView::parse(sent_);
+  if (!repeat_view.ok()) return first_again();
+  sent_view_ = repeat_view.value();
+  expected_wkc_[index_] = expected_wkc;
+  if (ring_ == nullptr || !send_sent().ok()) return first_again();  // ring_: only a redundant link repeats
+  expect_main_ = true;
+  expect_ring_ = true;
+  const Result<FrameView> again = await_copies(deadline);
+  if (!again.ok()) return first_again();
+  const CopyCounters repeat_counters = returns_.counters;
+  CopyCounters merged_counters = first_returns_.counters;
+  if (!take_repeated(again.value(), repeat_counters, first_merged, merged_counters).ok()) return first_again();
+  returns_.counters = merged_counters;
+  first_returns_ = returns_;
+  return first_again();
 }
 
 Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {

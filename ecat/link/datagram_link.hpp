@@ -12,8 +12,11 @@
 // the deadline passes, and the exchange returns their merge. A copy that did not come back last
 // time (a break at a master port) is not waited for: the exchange ends once the others are in,
 // after one more look at both NICs, so a cut at a port does not hold every cycle to its deadline;
-// such a copy turning up late (stale) makes the next exchanges wait for it again. Without a ring
-// NIC nothing changes.
+// such a copy turning up late (stale) makes the next exchanges wait for it again. A ring closed
+// while the frame was in flight (the ring copy came back round the ring, the main copy did not)
+// leaves the slaves after the break in neither copy: the exchange's repeatable datagrams are sent
+// again at once under a new index, within the same deadline, and their answers taken
+// (redundant_merge.hpp, make_repeat). Without a ring NIC nothing changes.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
 // optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
@@ -60,6 +63,8 @@ struct LinkStats {
   std::uint64_t malformed{0};       // frames that did not parse or did not match what was sent
   std::uint64_t send_errors{0};
   std::uint64_t ring_send_errors{0};  // ring copies the ring NIC refused (the main copy still went)
+  // Exchanges sent again because the ring closed while their frame was in flight (await_copies).
+  std::uint64_t ring_repeats{0};
 };
 
 class DatagramLink {
@@ -122,9 +127,13 @@ class DatagramLink {
 
  private:
   Status send_frame() noexcept;                                     // the frame built since begin()
+  Status send_sent() noexcept;  // sent_ (parsed into sent_view_) on the main NIC, its ring copy on the ring NIC
   Result<FrameView> await_frame(hal::Nanoseconds deadline) noexcept;  // its return, until `deadline`
   Result<FrameView> exchange_within(hal::Nanoseconds timeout) noexcept;
   Result<FrameView> await_copies(hal::Nanoseconds deadline) noexcept;  // redundant: both NICs, merged
+  // await_copies, and the repeat when the ring closed while the frame was in flight.
+  Result<FrameView> await_merged(hal::Nanoseconds deadline) noexcept;
+  Result<FrameView> repeat_after_repair(const FrameView& first, hal::Nanoseconds deadline) noexcept;
   // A received frame: true when it is a copy of the current exchange (kept), false when stale or malformed (counted).
   bool take_copy(Port on, std::size_t length) noexcept;
   void note_stale(const FrameView& view) noexcept;
@@ -150,6 +159,9 @@ class DatagramLink {
   std::size_t main_back_length_{0};
   std::size_t ring_back_length_{0};
   CopyReturns returns_{};
+  FrameBuffer repeat_tx_{};     // the repeat after a repair in flight
+  FrameBuffer first_merged_{};  // the first exchange's merge, while the repeat is out
+  CopyReturns first_returns_{};
   bool expect_main_{true};  // the main copy came back last time: wait for it
   bool expect_ring_{true};
   Port main_came_on_{Port::ring};  // where each copy came back last time (a closed ring to begin with)

@@ -91,4 +91,49 @@ Result<FrameView> merge_copies(const FrameView& sent, const FrameView* main_copy
   return FrameView::parse(ConstByteSpan(out.data(), sent_bytes.size()));
 }
 
+Result<std::size_t> make_repeat(ConstByteSpan sent, ByteSpan out, std::uint8_t index) noexcept {
+  if (sent.size() > out.size()) return make_error(Errc::invalid_argument, "repeat does not fit");
+  std::memcpy(out.data(), sent.data(), sent.size());
+  const Result<MutableFrameView> view = MutableFrameView::parse(ByteSpan(out.data(), sent.size()));
+  if (!view.ok()) return view.error();
+  bool any = false;
+  for (const MutableDatagramView d : view.value()) {
+    if (repeatable(d.command())) {
+      any = true;
+    } else {
+      d.raw()[0] = static_cast<std::uint8_t>(Command::NOP);
+    }
+    d.raw()[1] = index;
+  }
+  return any ? sent.size() : 0;
+}
+
+Status take_repeated(const FrameView& repeat, const CopyCounters& repeat_counters, ByteSpan first,
+                     CopyCounters& first_counters) noexcept {
+  const Result<MutableFrameView> merged = MutableFrameView::parse(first);
+  if (!merged.ok()) return merged.error();
+  if (merged.value().datagram_count() != repeat.datagram_count() || repeat_counters.datagrams != repeat.datagram_count()) {
+    return make_error(Errc::malformed, "the repeat differs from the frame sent");
+  }
+  auto c = repeat.begin();
+  for (auto f = merged.value().begin(); f != merged.value().end(); ++c, ++f) {  // checked whole before any change
+    const DatagramView dc = *c;
+    if (dc.command() != Command::NOP && (dc.length() != (*f).length() || dc.command() != (*f).command())) {
+      return make_error(Errc::malformed, "the repeat differs from the frame sent");
+    }
+  }
+  auto r = repeat.begin();
+  auto f = merged.value().begin();
+  for (std::size_t i = 0; i < repeat.datagram_count(); ++i, ++r, ++f) {
+    const DatagramView dr = *r;
+    const MutableDatagramView df = *f;
+    if (dr.command() == Command::NOP) continue;
+    std::memcpy(df.data().data(), dr.data().data(), dr.length());
+    df.set_wkc(dr.wkc());
+    first_counters.main[i] = repeat_counters.main[i];
+    first_counters.ring[i] = repeat_counters.ring[i];
+  }
+  return Status::success();
+}
+
 }  // namespace rescue::ecat

@@ -60,6 +60,22 @@ constexpr bool is_ring_side_time_write(Command command, std::uint32_t address) n
 // Writes the ring copy of `main` (a whole frame, as sent on the main NIC) into `out`; its length.
 Result<std::size_t> make_ring_copy(ConstByteSpan main, ByteSpan out) noexcept;
 
+// A cable repaired while a frame is in flight (docs/redundancy.md, "A cable changing while a frame is
+// in flight"): the main copy turned at the break, the slaves before it processed; the ring copy, sent
+// after the repair, went round the closed ring unprocessed. The slaves after the break are in neither
+// copy, so the exchange is sent again at once, the datagrams that may be repeated only:
+// the process data (LRD/LWR/LRW: the SyncManagers' buffers, written again with the same outputs, read
+// again) and broadcast reads (BRD, the ring watch's count). Every other datagram goes as NOP in the
+// repeat (a mailbox read or write, a register write, a position-addressed one, the reference clock's
+// FRMW), its answer taken from the first frame.
+constexpr bool repeatable(Command command) noexcept {
+  return command == Command::LRD || command == Command::LWR || command == Command::LRW || command == Command::BRD;
+}
+
+// Writes the repeat of `sent` (a whole frame as sent on the main NIC) into `out` under `index`: the
+// repeatable datagrams as sent, the others as NOP. Its length; 0 when it has no repeatable datagram.
+Result<std::size_t> make_repeat(ConstByteSpan sent, ByteSpan out, std::uint8_t index) noexcept;
+
 // Which port a returned copy left by: its source MAC's last byte.
 bool is_ring_copy(ConstByteSpan frame) noexcept;
 
@@ -86,5 +102,11 @@ struct CopyReturns {
 // main frame as sent. Returns the merged frame's view (into `out`).
 Result<FrameView> merge_copies(const FrameView& sent, const FrameView* main_copy, const FrameView* ring_copy,
                                ByteSpan out, CopyCounters& counters) noexcept;
+
+// Takes the repeat's answers into the first merge: each datagram the repeat carried (not a NOP in
+// `repeat`, the repeat's merge) gets the repeat's data, working counter and per-copy counters.
+// `first` is the first exchange's merged frame (as sent on the main NIC), in place.
+Status take_repeated(const FrameView& repeat, const CopyCounters& repeat_counters, ByteSpan first,
+                     CopyCounters& first_counters) noexcept;
 
 }  // namespace rescue::ecat

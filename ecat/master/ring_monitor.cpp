@@ -29,6 +29,7 @@ void RingMonitor::start(const std::array<std::uint8_t, kMaxSlaves>& planned_of_s
   status_ = RingStatus{};
   status_.state = RingState::closed;
   status_.reached_main = static_cast<std::uint16_t>(slaves_);
+  pending_lost_ = false;
   RingReport dropped;
   while (reports_.pop(dropped)) {
   }
@@ -45,8 +46,17 @@ void RingMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, const Copy
   // The ring copy went all the way round (a ring closed again) but the main copy, the one that
   // counts then, was not waited for: no evidence this cycle either.
   if (!returns.main_back && returns.ring_on == Port::main) return;
-  cycle_ = cycle;
-  time_ = time;
+  // Copies that no still ring returns: a cable changed while the frame was in flight (docs/redundancy.md,
+  // "A cable changing while a frame is in flight"). The ring copy went round a closed ring but the
+  // main copy turned at a break (a repair), or the main copy went round but the ring copy turned (a
+  // cut): no evidence, the next frame tells.
+  const bool main_round = returns.main_back && returns.main_on == Port::ring;
+  const bool ring_round = returns.ring_back && returns.ring_on == Port::main;
+  if ((ring_round && returns.main_back && !main_round) || (main_round && returns.ring_back && !ring_round)) {
+    ++status_.transients;
+    drop_pending_lost();
+    return;
+  }
   const std::size_t m = returns.main_back ? (main_brd_wkc < slaves_ ? main_brd_wkc : slaves_) : 0;
   const std::size_t r0 = returns.ring_back ? ring_brd_wkc : 0;
   const std::size_t r = r0 < slaves_ - m ? r0 : slaves_ - m;
@@ -69,7 +79,30 @@ void RingMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, const Copy
     }
   }
   const bool changed = state != status_.state || before != status_.before || after != status_.after;
-  if (!changed) return;
+  if (!changed) {
+    drop_pending_lost();
+    return;
+  }
+  // Slaves reachable from neither port are reported when two frames in a row show them: one copy lost
+  // or held back in flight (a cable cut while the frame crossed it, a host that held it past the
+  // deadline) shows fewer slaves than its port reaches, for that frame only.
+  if (state == RingState::lost) {
+    if (!pending_lost_ || pending_before_ != before || pending_after_ != after) {
+      drop_pending_lost();
+      pending_lost_ = true;
+      pending_before_ = before;
+      pending_after_ = after;
+      pending_cycle_ = cycle;
+      pending_time_ = time;
+      return;
+    }
+    cycle = pending_cycle_;  // confirmed: it began with the first frame that showed it
+    time = pending_time_;
+    pending_lost_ = false;
+  }
+  drop_pending_lost();
+  cycle_ = cycle;
+  time_ = time;
   if (state == RingState::closed) {
     ++status_.repairs;
     report(RingEventKind::closed, status_.before, status_.after, 0);
@@ -84,6 +117,11 @@ void RingMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, const Copy
   status_.since_cycle = cycle;
   status_.before_dl_read = false;
   status_.after_dl_read = false;
+}
+
+void RingMonitor::drop_pending_lost() noexcept {
+  if (pending_lost_) ++status_.transients;
+  pending_lost_ = false;
 }
 
 void RingMonitor::observe_dl_status(std::uint8_t position, std::uint16_t wkc, std::uint16_t dl_status) noexcept {

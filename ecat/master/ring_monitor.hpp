@@ -9,9 +9,12 @@
 //           m + r = n: the break lies between segment position m - 1 and m (slave "before" and
 //           "after"; the master's own port when m = 0 or r = 0);
 //   lost    m + r < n: positions m .. n - r - 1 are reachable from neither port (two breaks).
-// No copy back is no evidence (the state stays). Each change of state or place is reported once:
-// `opened` (the place), `split` (the unreachable slaves), `closed` (the place repaired). The
-// decision is the cycle's own: a cut shows in the first frame after it. The DL status of the two
+// No copy back is no evidence (the state stays), nor are copies that contradict each other (a cable
+// changed while the frame was in flight: one copy went round the closed ring, the other turned at a
+// break). Each change of state or place is reported once: `opened` (the place), `split` (the
+// unreachable slaves), `closed` (the place repaired). The decision is the cycle's own: a cut shows
+// in the first frame after it; slaves reachable from neither port only when a second frame in a row
+// shows the same (one copy lost in flight looks like that for one frame). The DL status of the two
 // slaves beside the break (read by the ring service while the ring is not closed) names the port
 // whose link is down; it confirms the place and is shown to the operator, it does not decide.
 // Losses of slaves stay the link monitor's (link_monitor.hpp): it counts the merged working
@@ -58,6 +61,10 @@ struct RingStatus {
   std::uint16_t after_dl_status{0};
   std::uint64_t breaks{0};   // transitions out of closed
   std::uint64_t repairs{0};  // transitions back to closed
+  // Frames whose returns were no evidence of a still ring: a cable changing while the frame was in
+  // flight (copies that contradict each other), or slaves reachable from neither port shown by one
+  // frame only.
+  std::uint64_t transients{0};
 };
 
 enum class RingEventKind : std::uint8_t { opened, split, closed };
@@ -95,10 +102,17 @@ class RingMonitor {
  private:
   std::uint8_t planned(std::size_t segment_position) const noexcept;
   void report(RingEventKind kind, std::uint8_t before, std::uint8_t after, SlaveMask unreachable) noexcept;
+  void drop_pending_lost() noexcept;  // an unconfirmed loss: counted as a transient
 
   std::array<std::uint8_t, kMaxSlaves> planned_of_segment_{};
   std::size_t slaves_{0};
   RingStatus status_{};
+  // A loss seen in one frame, waiting for the next to confirm it (same place).
+  bool pending_lost_{false};
+  std::uint8_t pending_before_{kMainPort};
+  std::uint8_t pending_after_{kRingPort};
+  std::uint64_t pending_cycle_{0};
+  hal::Nanoseconds pending_time_{0};
   std::uint64_t cycle_{0};
   hal::Nanoseconds time_{0};
   RingBuffer<RingReport, kReportCapacity> reports_{};

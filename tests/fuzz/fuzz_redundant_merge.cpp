@@ -40,6 +40,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check(is_ring_copy(ConstByteSpan(ring_copy.data(), copied.value())));
   }
 
+  static std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize + 4> repeat{};
+  constexpr std::uint8_t kRepeatIndex = 0x5A;
+  const Result<std::size_t> repeated = make_repeat(sent_bytes, ByteSpan(repeat), kRepeatIndex);
+  if (repeated.ok() && repeated.value() != 0) {
+    const Result<FrameView> again = FrameView::parse(ConstByteSpan(repeat.data(), repeated.value()));
+    check(again.ok() && again.value().datagram_count() == sent.value().datagram_count());
+    for (const DatagramView d : again.value()) {
+      check(d.index() == kRepeatIndex && (d.command() == Command::NOP || repeatable(d.command())));
+    }
+  }
+
   const Result<FrameView> main_copy = FrameView::parse(main_bytes);
   const Result<FrameView> ring = FrameView::parse(ring_bytes);
   static std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize + 4> out{};
@@ -53,6 +64,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint32_t sum = std::uint32_t{counters.main[i]} + counters.ring[i];
     check(d.wkc() == (sum > 0xFFFFU ? 0xFFFFU : sum));
     ++i;
+  }
+  if (ring.ok()) {  // the ring copy standing for a repeat's merge
+    CopyCounters repeat_counters = counters;
+    repeat_counters.datagrams = ring.value().datagram_count();
+    CopyCounters taken = counters;
+    const ByteSpan merged_bytes(out.data(), merged.value().bytes().size());
+    if (take_repeated(ring.value(), repeat_counters, merged_bytes, taken).ok()) {
+      check(FrameView::parse(ConstByteSpan(merged_bytes.data(), merged_bytes.size())).ok());
+    }
   }
   return 0;
 }

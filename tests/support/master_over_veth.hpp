@@ -3,7 +3,9 @@
 // priority when the machine allows (root), standing for slave hardware that a busy test machine does
 // not delay by milliseconds, and the test's thread (the master) one below it, as the EtherCAT handler
 // has on the motion PC: a busy CI machine then delays neither side's wake-ups. cycle() sleeps to the master's wake-up, runs one cycle and collects the
-// joint link reports in reports_. Tests only.
+// joint link reports in reports_. With ring() true the simulator serves the ring configuration on a
+// second veth pair too (`sim --ring-iface`), and the master runs the ring plan with both NICs
+// (docs/redundancy.md). Tests only.
 #pragma once
 
 #include <pthread.h>
@@ -17,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
 #include "hal/net/raw_socket_nic.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/netns_veth.hpp"
@@ -30,6 +33,10 @@ class MasterOverVethTest : public NetnsTest {
 
   // Extra arguments of `sim` (e.g. "--through-qdisc"); override before SetUp runs.
   virtual std::vector<std::string> sim_arguments() const { return {}; }
+  // The ring configuration on a second veth pair (its interfaces kRingMaster, kRingSlave).
+  virtual bool ring() const { return false; }
+  static constexpr const char* kRingMaster = "ecm1";
+  static constexpr const char* kRingSlave = "ecs1";
 
   void SetUp() override {
     NetnsTest::SetUp();
@@ -37,16 +44,32 @@ class MasterOverVethTest : public NetnsTest {
     std::vector<std::string> argv{std::string(RESCUE_BINARY_DIR) + "/rescue-motion", "sim", "--iface",
                                   VethPair::kSlaveInterface};
     for (const std::string& a : sim_arguments()) argv.push_back(a);
+    if (ring()) {
+      std::string out;
+      ASSERT_TRUE(VethPair::ip(veth_->master_ns(), std::string("link add name ") + kRingMaster + " type veth peer name " +
+                                                       kRingSlave + " netns " + veth_->slave_ns(), out))
+          << out;
+      ASSERT_TRUE(VethPair::ip(veth_->master_ns(), std::string("link set ") + kRingMaster + " up", out)) << out;
+      ASSERT_TRUE(VethPair::ip(veth_->slave_ns(), std::string("link set ") + kRingSlave + " up", out)) << out;
+      argv.insert(argv.end(), {"--ring-iface", kRingSlave});
+    }
     if (::geteuid() == 0 && ::access("/usr/bin/chrt", X_OK) == 0) argv.insert(argv.begin(), {"/usr/bin/chrt", "-f", "70"});
     ASSERT_TRUE(sim_.start(argv, veth_->slave_ns()));
-    ASSERT_TRUE(sim_.wait_for_output("serving 23 slaves on", kStartTimeoutMs)) << sim_.output();
+    ASSERT_TRUE(sim_.wait_for_output(ring() ? "serving 23 slaves in a ring on" : "serving 23 slaves on", kStartTimeoutMs))
+        << sim_.output();
     sched_param master_priority{};
     master_priority.sched_priority = kMasterPriority;
     master_is_real_time_ = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &master_priority) == 0;
     InNamespace inside(veth_->master_ns());
     ASSERT_TRUE(inside.entered());
     ASSERT_TRUE(nic_.open(VethPair::kMasterInterface).ok());
-    bus_ = std::make_unique<drivers::JointBus>(nic_);
+    if (ring()) {
+      ASSERT_TRUE(ring_nic_.open(kRingMaster).ok());
+      bus_ = std::make_unique<drivers::JointBus>(nic_, drivers::kRobotRingNetworkPlan);
+      bus_->master().use_ring(ring_nic_);
+    } else {
+      bus_ = std::make_unique<drivers::JointBus>(nic_);
+    }
   }
 
   void TearDown() override {
@@ -83,6 +106,7 @@ class MasterOverVethTest : public NetnsTest {
   bool master_is_real_time_{false};
   ChildProcess sim_;
   hal::RawSocketNic nic_;
+  hal::RawSocketNic ring_nic_;
   std::unique_ptr<drivers::JointBus> bus_;
   drivers::JointReferences refs_{};
   drivers::JointFeedback feedback_{};

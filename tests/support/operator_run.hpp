@@ -82,10 +82,9 @@ inline CommandResult run_program(const std::vector<std::string>& args, bool with
 
 // `rescue-motion run` on the simulator with the operator ports on 127.0.0.1, a fresh key made by
 // `ctl keygen` (its output kept in `keygen`), stopped by SIGTERM in stop() (or by its --duration);
-// `scenario` (optional) is passed as --scenario NAME.
+// `scenario` (optional) is passed as --scenario NAME, `extra` after it (e.g. --ring-nic sim).
 class OperatorRun {
  public:
-  // `extra`: further options of `run` (e.g. --threads).
   explicit OperatorRun(const char* duration = "60", const char* scenario = nullptr, const std::vector<std::string>& extra = {}) {
     control_port = free_udp_port();
     sensor_port = free_udp_port();

@@ -46,6 +46,65 @@ JointMask joints_behind(const protocol::GraphPayload& g, std::size_t position) n
   return joints;
 }
 
+const char* ring_state_name(std::uint8_t state) noexcept {
+  switch (state) {
+    case protocol::kRingStateClosed: return "closed";
+    case protocol::kRingStateOpen: return "open";
+    case protocol::kRingStateLost: return "lost";
+    default: return "none";
+  }
+}
+
+bool ring_broken(const protocol::GraphPayload& g) noexcept {
+  return g.ring.state == protocol::kRingStateOpen || g.ring.state == protocol::kRingStateLost;
+}
+
+// Whether the master places a break on the cable into `position` (the ring watch's place: right after
+// the last slave the main port reaches, right before the first the ring port reaches).
+bool cable_broken(const protocol::GraphPayload& g, std::size_t position) noexcept {
+  if (!ring_broken(g)) return false;
+  const std::uint8_t before = g.ring.before;
+  const bool after_main_side = before == protocol::kRingMainPort ? position == 0 : before + 1U == position;
+  return after_main_side || g.ring.after == position;
+}
+bool ring_cable_broken(const protocol::GraphPayload& g) noexcept {
+  return ring_broken(g) && g.ring.after == protocol::kRingRingPort;
+}
+
+// "r_elbow (position 5)", "the master's main port".
+void ring_place(std::uint8_t where, char* out, std::size_t size) noexcept {
+  if (where == protocol::kRingMainPort) {
+    (void)std::snprintf(out, size, "the master's main port");
+  } else if (where == protocol::kRingRingPort) {
+    (void)std::snprintf(out, size, "the master's ring port");
+  } else {
+    (void)std::snprintf(out, size, "%s (position %u)", slave_name(where), static_cast<unsigned>(where));
+  }
+}
+
+// The ring's state in one line: "ring: open between X and Y; breaks 1, repairs 0, transients 0".
+void print_ring_text(const protocol::GraphPayload& g) noexcept {
+  const protocol::GraphRing& r = g.ring;
+  (void)std::printf("ring return: %s port %u %s master ring port\n", slave_name(r.return_slave),
+                    static_cast<unsigned>(r.return_port), ring_cable_broken(g) ? "-X-" : "->");
+  char before[48];
+  char after[48];
+  ring_place(r.before, before, sizeof before);
+  ring_place(r.after, after, sizeof after);
+  if (r.state == protocol::kRingStateOpen) {
+    (void)std::printf("ring: open between %s and %s", before, after);
+  } else if (r.state == protocol::kRingStateLost) {
+    const unsigned from = r.before == protocol::kRingMainPort ? 0U : r.before + 1U;
+    const unsigned to = r.after == protocol::kRingRingPort ? static_cast<unsigned>(g.count) : r.after;
+    (void)std::printf("ring: lost: %u slaves reachable from neither port, after %s and before %s", to > from ? to - from : 0U,
+                      before, after);
+  } else {
+    (void)std::printf("ring: %s", ring_state_name(r.state));
+  }
+  (void)std::printf("; breaks %u, repairs %u, transients %u\n", static_cast<unsigned>(r.breaks),
+                    static_cast<unsigned>(r.repairs), static_cast<unsigned>(r.transients));
+}
+
 // The slave cabled to `parent`'s `port` (kGraphNone: master's own port 0 when parent is kGraphNone).
 std::uint8_t child_on(const protocol::GraphPayload& g, std::uint8_t parent, std::uint8_t port) noexcept {
   for (std::size_t p = 0; p < g.count; ++p) {
@@ -61,7 +120,7 @@ void print_chain(const protocol::GraphPayload& g, std::uint8_t first) noexcept {
   char state[64];
   for (std::uint8_t p = first; p != protocol::kGraphNone;) {
     graph_state(g.slaves[p], state, sizeof state);
-    (void)std::printf("%s%s [%s]", p == first ? "" : " -> ", slave_name(p), state);
+    (void)std::printf("%s%s [%s]", p == first ? "" : (cable_broken(g, p) ? " -X- " : " -> "), slave_name(p), state);
     if (g.slaves[p].kind == 0) break;  // a junction has a line of its own
     p = child_on(g, p, 1);
   }
@@ -72,7 +131,7 @@ void print_graph_text(const protocol::GraphPayload& g) noexcept {
   (void)std::printf("chains (port of the junction -> slaves along the cable, [state]):\n");
   const std::uint8_t root = child_on(g, protocol::kGraphNone, 0);
   if (root != protocol::kGraphNone) {
-    (void)std::printf("master port 0 -> ");
+    (void)std::printf("master port 0 %s ", cable_broken(g, root) ? "-X-" : "->");
     print_chain(g, root);
   }
   for (std::size_t p = 0; p < g.count; ++p) {
@@ -89,9 +148,10 @@ void print_graph_text(const protocol::GraphPayload& g) noexcept {
   for (std::size_t p = 0; p < g.count; ++p) {
     const protocol::GraphRecord& r = g.slaves[p];
     format_joint_names(joints_behind(g, p), names, sizeof names);
-    (void)std::printf("  %s:%u -> %s: %s\n", r.upstream == protocol::kGraphNone ? "master" : slave_name(r.upstream),
-                      static_cast<unsigned>(r.upstream_port), slave_name(p), names);
+    (void)std::printf("  %s:%u -> %s: %s%s\n", r.upstream == protocol::kGraphNone ? "master" : slave_name(r.upstream),
+                      static_cast<unsigned>(r.upstream_port), slave_name(p), names, cable_broken(g, p) ? " (broken)" : "");
   }
+  if (g.ring.state != protocol::kRingStateNone) print_ring_text(g);
 }
 
 void print_graph_dot(const protocol::GraphPayload& g) noexcept {
@@ -110,9 +170,48 @@ void print_graph_dot(const protocol::GraphPayload& g) noexcept {
     const protocol::GraphRecord& r = g.slaves[p];
     char from[8] = "master";
     if (r.upstream != protocol::kGraphNone) (void)std::snprintf(from, sizeof from, "s%u", static_cast<unsigned>(r.upstream));
-    (void)std::printf("  %s -> s%zu [taillabel=\"%u\", headlabel=\"0\"];\n", from, p, static_cast<unsigned>(r.upstream_port));
+    (void)std::printf("  %s -> s%zu [taillabel=\"%u\", headlabel=\"0\"%s];\n", from, p, static_cast<unsigned>(r.upstream_port),
+                      cable_broken(g, p) ? ", color=red, style=dashed, label=\"break\"" : "");
+  }
+  if (g.ring.state != protocol::kRingStateNone) {  // the ring-return cable, back to the master's second port
+    (void)std::printf("  s%u -> master [taillabel=\"%u\", headlabel=\"ring\", style=bold%s];\n",
+                      static_cast<unsigned>(g.ring.return_slave), static_cast<unsigned>(g.ring.return_port),
+                      ring_cable_broken(g) ? ", color=red, label=\"break\"" : "");
   }
   (void)std::printf("}\n");
+}
+
+// "ring": null on a tree; else the state, the place of the break, the ring-return cable, the cables
+// broken (named by the slave they lead into, "ring" for the ring-return cable) and the counts.
+void print_ring_json(const protocol::GraphPayload& g) noexcept {
+  const protocol::GraphRing& r = g.ring;
+  if (r.state == protocol::kRingStateNone) {
+    (void)std::printf(",\"ring\":null");
+    return;
+  }
+  const auto place = [](std::uint8_t where) {
+    if (where == protocol::kRingMainPort) return "master main port";
+    if (where == protocol::kRingRingPort) return "master ring port";
+    return slave_name(where);
+  };
+  const bool broken = ring_broken(g);
+  (void)std::printf(R"(,"ring":{"state":"%s","before":)", ring_state_name(r.state));
+  if (broken) {
+    (void)std::printf(R"("%s","after":"%s")", place(r.before), place(r.after));
+  } else {
+    (void)std::printf(R"(null,"after":null)");
+  }
+  (void)std::printf(R"(,"return_from":"%s","return_port":%u,"broken_cables":[)", slave_name(r.return_slave),
+                    static_cast<unsigned>(r.return_port));
+  bool first = true;
+  for (std::size_t p = 0; p < g.count; ++p) {
+    if (!cable_broken(g, p)) continue;
+    (void)std::printf("%s\"%s\"", first ? "" : ",", slave_name(p));
+    first = false;
+  }
+  if (ring_cable_broken(g)) (void)std::printf("%s\"ring\"", first ? "" : ",");
+  (void)std::printf(R"(],"breaks":%u,"repairs":%u,"transients":%u})", static_cast<unsigned>(r.breaks),
+                    static_cast<unsigned>(r.repairs), static_cast<unsigned>(r.transients));
 }
 
 void print_graph_json(const protocol::GraphPayload& g) noexcept {
@@ -152,6 +251,7 @@ void print_graph_json(const protocol::GraphPayload& g) noexcept {
     (void)std::printf("]}");
   }
   (void)std::printf("]");
+  print_ring_json(g);
   end_json();
 }
 

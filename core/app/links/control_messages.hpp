@@ -83,6 +83,18 @@ struct SocketCounters {
 static_assert(std::is_trivial_v<SocketCounters>, "published through a seqlock");
 
 // The EtherCAT handler's counters (for ctl master).
+// The ring's state as the master judges it (cable redundancy, docs/redundancy.md "The ring state"),
+// in the 8 bytes MasterStatus had spare: `ctl graph` draws it.
+struct RingSummary {
+  std::uint8_t state;       // ecat::RingState (0 none: no ring NIC)
+  std::uint8_t before;      // open / lost: the last slave the main port reaches (ecat::kMainPort: none)
+  std::uint8_t after;       // ... the first the ring port reaches (ecat::kRingPort: none)
+  std::uint8_t transients;  // frames no evidence of a still ring (saturates at 255)
+  std::uint16_t breaks;     // transitions out of closed (saturates)
+  std::uint16_t repairs;    // transitions back to closed (saturates)
+};
+static_assert(sizeof(RingSummary) == 8, "in the place of MasterStatus' spare word");
+
 struct MasterStatus {
   std::uint8_t state;  // ecat::MasterState
   std::uint64_t cycles;
@@ -97,7 +109,8 @@ struct MasterStatus {
   // it last changed (protocol::kRecoveryAgeNever: not since bring-up), as of this publication.
   std::array<std::uint8_t, protocol::kMaxSlaves> recovery;
   std::array<std::uint32_t, protocol::kMaxSlaves> recovery_age_ms;
-  std::uint64_t spare;  // 0: Seqlock<MasterStatus> grew by 128 bytes (2 cache lines), so TaskLinks keeps its members on their lines
+  // 8 bytes: Seqlock<MasterStatus> grew by 128 bytes (2 cache lines), so TaskLinks keeps its members on their lines
+  RingSummary ring;
 };
 static_assert(std::is_trivial_v<MasterStatus>, "published through a seqlock");
 

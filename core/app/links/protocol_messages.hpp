@@ -429,10 +429,30 @@ struct GraphRecord {
   std::uint8_t flags{0};               // kSlave*
   std::uint8_t recovery{0};            // ecat::RecoveryState
 };
+// The ring (cable redundancy, docs/redundancy.md): with a ring NIC the records' upstream cables are
+// the ring configuration's line, and this says where the ring-return cable leaves the line and what
+// the master judges of the ring now.
+constexpr std::uint8_t kRingStateNone = 0;    // no ring NIC: a tree
+constexpr std::uint8_t kRingStateClosed = 1;
+constexpr std::uint8_t kRingStateOpen = 2;
+constexpr std::uint8_t kRingStateLost = 3;    // slaves reachable from neither port
+constexpr std::uint8_t kRingMainPort = 0xFE;  // a place at the master's main port (as ecat::kMainPort)
+constexpr std::uint8_t kRingRingPort = 0xFD;  // ... at its ring port (as ecat::kRingPort)
+struct GraphRing {
+  std::uint8_t state{kRingStateNone};
+  std::uint8_t before{kRingMainPort};  // open / lost: the last slave the main port reaches, or kRingMainPort
+  std::uint8_t after{kRingRingPort};   // ... the first the ring port reaches, or kRingRingPort
+  std::uint8_t return_slave{kGraphNone};  // the slave whose port the ring-return cable leaves
+  std::uint8_t return_port{0};
+  std::uint8_t transients{0};  // frames that were no evidence (a cable changing in flight), saturating
+  std::uint16_t breaks{0};
+  std::uint16_t repairs{0};
+};
 struct GraphPayload {
   std::uint8_t count{0};
   FiguresAge age{};
   std::array<GraphRecord, kMaxSlaves> slaves{};
+  GraphRing ring{};
 };
 
 // diag_reset: the slaves whose link-quality counters are zeroed (bit = position; never 0).

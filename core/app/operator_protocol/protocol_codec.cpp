@@ -40,6 +40,7 @@ constexpr std::size_t kSdoDownloadSize = 8 + kSdoDataSize;
 constexpr std::size_t kSdoResultSize = 32 + kSdoTextSize + kSdoDataSize;
 constexpr std::size_t kSlaveInfoRecordSize = 28;
 constexpr std::size_t kGraphRecordSize = 12;
+constexpr std::size_t kGraphRingSize = 12;
 constexpr std::size_t kDiagResetSize = 4;
 constexpr std::size_t kSiiRequestSize = 4;
 constexpr std::size_t kSiiSize = 8 + kSiiChunkBytes;
@@ -49,7 +50,7 @@ static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveR
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
-                  kListHeadSize + kMaxSlaves * kGraphRecordSize <= kMaxPayload && kSiiSize <= kMaxPayload &&
+                  kListHeadSize + kMaxSlaves * kGraphRecordSize + kGraphRingSize <= kMaxPayload && kSiiSize <= kMaxPayload &&
                   kRegResultSize <= kMaxPayload,
               "every payload fits");
 
@@ -437,12 +438,12 @@ std::size_t list_head(F& f, C& count, std::size_t max, std::size_t head, const c
 }
 
 // A list of slaves with the handler's FiguresAge in its head (slaves, slave_info, graph): `each`
-// reads or writes one record of `record_size` bytes.
+// reads or writes one record of `record_size` bytes; `tail` bytes follow the records (graph's ring).
 template <typename F, typename P, typename Each>
-void slave_list_fields(F& f, P& payload, std::size_t record_size, Each each) noexcept {
+void slave_list_fields(F& f, P& payload, std::size_t record_size, Each each, std::size_t tail = 0) noexcept {
   const std::size_t count = list_head(f, payload.count, kMaxSlaves, kListHeadSize, "payload shorter than its list header",
                                       "slave count", [&f, &payload] { age_fields(f, payload.age); });
-  f.length(kListHeadSize + count * record_size);
+  f.length(kListHeadSize + count * record_size + tail);
   for (std::size_t i = 0; i < count; ++i) each(payload.slaves[i]);
 }
 
@@ -697,7 +698,22 @@ void graph_fields(F& f, M& m) noexcept {
     f.check(g.joint == kGraphNone || g.joint < kJointCount, "joint index");
     f.check((g.flags & ~kSlaveFlagsMask) == 0, "slave flags");
     f.check(g.recovery < kRecoveryStates, "slave recovery state");
-  });
+  }, kGraphRingSize);
+  auto& ring = m.graph.ring;
+  f.u8(ring.state);
+  f.u8(ring.before);
+  f.u8(ring.after);
+  f.u8(ring.return_slave);
+  f.u8(ring.return_port);
+  f.u8(ring.transients);
+  f.u16(ring.breaks);
+  f.u16(ring.repairs);
+  f.reserved(2);
+  f.check(ring.state <= kRingStateLost, "ring state");
+  const auto place = [](std::uint8_t p) { return p < kMaxSlaves || p == kRingMainPort || p == kRingRingPort; };
+  f.check(place(ring.before) && place(ring.after), "ring break place (a slave position or a master port)");
+  f.check((ring.return_slave == kGraphNone || ring.return_slave < kMaxSlaves) && ring.return_port < kDiagPorts,
+          "ring-return slave or port");
 }
 
 template <typename F, typename M>

@@ -338,6 +338,14 @@ void EthercatHandler::publish_master_status(const drivers::JointCycleResult& res
     s.recovery_age_ms[p] = age_ms < 0 || age_ms >= protocol::kRecoveryAgeNever ? protocol::kRecoveryAgeNever
                                                                                 : static_cast<std::uint32_t>(age_ms);
   }
+  const ecat::RingStatus& ring = m.ring_status();
+  const auto saturated = [](std::uint64_t n, std::uint64_t max) { return n < max ? n : max; };
+  s.ring.state = static_cast<std::uint8_t>(ring.state);
+  s.ring.before = ring.before;
+  s.ring.after = ring.after;
+  s.ring.transients = static_cast<std::uint8_t>(saturated(ring.transients, 0xFF));
+  s.ring.breaks = static_cast<std::uint16_t>(saturated(ring.breaks, 0xFFFF));
+  s.ring.repairs = static_cast<std::uint16_t>(saturated(ring.repairs, 0xFFFF));
   ports_.master_status->write(s);
 }
 

@@ -7,7 +7,9 @@
 
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/socket_handler.hpp"
+#include "core/robot/robot_ring.hpp"
 #include "drivers/joint/robot_network_plan.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
 #include "ecat/codec/registers.hpp"
 #include "ecat/master/master.hpp"
 
@@ -21,6 +23,11 @@ constexpr auto kAlOp = static_cast<std::uint8_t>(ecat::reg::AlState::op);
 constexpr auto kAlSafeOp = static_cast<std::uint8_t>(ecat::reg::AlState::safe_op);
 constexpr std::size_t kPlanned = drivers::kRobotNetworkPlan.size();
 static_assert(kPlanned <= protocol::kMaxSlaves, "every slave fits one answer");
+static_assert(protocol::kRingStateClosed == static_cast<std::uint8_t>(ecat::RingState::closed) &&
+                  protocol::kRingStateOpen == static_cast<std::uint8_t>(ecat::RingState::open) &&
+                  protocol::kRingStateLost == static_cast<std::uint8_t>(ecat::RingState::lost) &&
+                  protocol::kRingMainPort == ecat::kMainPort && protocol::kRingRingPort == ecat::kRingPort,
+              "the graph's ring codes are the master's");
 
 }  // namespace
 
@@ -54,8 +61,22 @@ void SocketHandler::answer_graph(const hal::UdpDatagram& from) noexcept {
   m.header.type = MessageType::graph;
   m.graph.count = static_cast<std::uint8_t>(kPlanned);
   m.graph.age = handler_figures_age();
+  // With a ring NIC the master runs the ring configuration: its cables are the line's.
+  const bool ring = have_master && master.ring.state != static_cast<std::uint8_t>(ecat::RingState::none);
+  const ecat::NetworkPlan& cabling = ring ? drivers::kRobotRingNetworkPlan : drivers::kRobotNetworkPlan;
+  if (ring) {
+    protocol::GraphRing& r = m.graph.ring;
+    r.state = master.ring.state;
+    r.before = master.ring.before;
+    r.after = master.ring.after;
+    r.return_slave = kRingReturnSlave;
+    r.return_port = kRingReturnPort;
+    r.transients = master.ring.transients;
+    r.breaks = master.ring.breaks;
+    r.repairs = master.ring.repairs;
+  }
   for (std::size_t p = 0; p < kPlanned; ++p) {
-    const ecat::SlavePlan& plan = drivers::kRobotNetworkPlan[p];
+    const ecat::SlavePlan& plan = cabling[p];
     const protocol::SlaveRecord s = slave_record_of(p, have_master ? &master : nullptr, have_status ? &status : nullptr);
     protocol::GraphRecord& g = m.graph.slaves[p];
     g.position = static_cast<std::uint8_t>(p);

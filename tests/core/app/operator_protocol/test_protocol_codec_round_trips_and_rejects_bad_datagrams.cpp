@@ -343,8 +343,9 @@ TEST(ProtocolCodec, GraphSlaveInfoAndDiagResetRoundTripAndBadOnesAreRejected) {
   }
   GraphRecord& g = m.graph.slaves[19];
   g = GraphRecord{19, 18, 1, 1, 0x1013, 6, 1, 0, kSlaveLost, 3};
+  m.graph.ring = GraphRing{kRingStateOpen, 18, 19, 22, 1, 7, 3, 2};  // the ring, open at the cable into 19
   good = seal_ok(m, k);
-  EXPECT_EQ(good.size, kHeaderSize + 8 + kMaxSlaves * 12 + kTagSize);
+  EXPECT_EQ(good.size, kHeaderSize + 8 + kMaxSlaves * 12 + 12 + kTagSize);
   ASSERT_EQ(judge(good, k, &back), -1);
   const GraphRecord& b = back.graph.slaves[19];
   EXPECT_EQ(b.upstream, 18U);
@@ -356,6 +357,24 @@ TEST(ProtocolCodec, GraphSlaveInfoAndDiagResetRoundTripAndBadOnesAreRejected) {
   EXPECT_EQ(b.flags, kSlaveLost);
   EXPECT_EQ(b.recovery, 3U);
   EXPECT_EQ(back.graph.slaves[0].upstream, kGraphNone);
+  const GraphRing& ring = back.graph.ring;
+  EXPECT_EQ(ring.state, kRingStateOpen);
+  EXPECT_EQ(ring.before, 18U);
+  EXPECT_EQ(ring.after, 19U);
+  EXPECT_EQ(ring.return_slave, 22U);
+  EXPECT_EQ(ring.return_port, 1U);
+  EXPECT_EQ(ring.transients, 7U);
+  EXPECT_EQ(ring.breaks, 3U);
+  EXPECT_EQ(ring.repairs, 2U);
+  m.graph.ring.state = kRingStateLost + 1;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.graph.ring.state = kRingStateOpen;
+  m.graph.ring.after = static_cast<std::uint8_t>(kMaxSlaves);  // neither a slave nor a master port
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.graph.ring.after = kRingRingPort;
+  m.graph.ring.return_port = 4;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.graph.ring.return_port = 1;
   g.upstream = 19;  // a slave downstream of itself: not a tree
   EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
   g.upstream = 18;
@@ -382,6 +401,9 @@ TEST(ProtocolCodec, GraphSlaveInfoAndDiagResetRoundTripAndBadOnesAreRejected) {
     EXPECT_EQ(rejection_of(decode(length).error()), Rejection::malformed) << length;
   }
   payload[8 + 19 * 12 + 11] = 1;  // the record's reserved byte
+  EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::malformed);
+  payload[8 + 19 * 12 + 11] = 0;
+  payload[8 + kMaxSlaves * 12 + 10] = 1;  // the ring's reserved bytes
   EXPECT_EQ(rejection_of(decode(n.value()).error()), Rejection::malformed);
   h.type = MessageType::get_graph;  // no payload
   EXPECT_EQ(rejection_of(decode(1).error()), Rejection::malformed);

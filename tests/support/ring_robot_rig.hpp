@@ -1,0 +1,100 @@
+// Test support: the simulated robot's ring configuration on virtual time (RobotSegmentOptions::ring,
+// both master ports as a SimulatedNicPair) and the master's JointBus on it with the ring plan; the
+// places a single cut opens. Heap allocated by the test (the objects are large); nothing here is
+// firmware.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
+#include "drivers/sim/segment/simulated_nic.hpp"
+#include "drivers/sim/segment/simulated_robot.hpp"
+#include "hal/time/clock.hpp"
+#include "tests/support/simulated_robot_rig.hpp"
+
+namespace rescue::testing {
+
+// Cable k < kSlaveCount: the cable into position k's port 0; kRingCable: the ring-return cable.
+constexpr std::size_t kRingCable = kSlaveCount;
+
+inline drivers::RobotSegmentOptions ring_robot_options() {
+  drivers::RobotSegmentOptions options;
+  options.ring = true;
+  return options;
+}
+
+struct RingRobotRig {
+  hal::VirtualClock clock{hal::kNsPerSec};
+  drivers::SimulatedRobot robot{ring_robot_options(), clock.now()};
+  drivers::SimulatedNicPair nics{robot.segment(), clock};
+  drivers::JointBus bus{nics.main(), drivers::kRobotRingNetworkPlan};
+  drivers::JointReferences references{};
+
+  drivers::JointCycleResult cycle(drivers::JointFeedback& feedback) {
+    clock.sleep_until(bus.next_wakeup());
+    return bus.cycle(references, feedback);
+  }
+
+  // Cuts (`cut` true) or restores `cable`.
+  Status change(std::size_t cable, bool cut) {
+    drivers::SimulatedSegment& segment = robot.segment();
+    if (cable == kRingCable) return cut ? segment.cut_ring_cable() : segment.restore_ring_cable();
+    return cut ? segment.cut_link(cable) : segment.restore_link(cable);
+  }
+  Status cut(std::size_t cable) { return change(cable, true); }
+  Status restore(std::size_t cable) { return change(cable, false); }
+};
+
+// The master brought up with `ring` as its ring NIC (the pair's ring port, or a NIC standing in
+// front of it) and cycled to OP.
+inline void bring_ring_to_op(RingRobotRig& rig, hal::Nic& ring) {
+  rig.bus.master().use_ring(ring);
+  EXPECT_TRUE(rig.robot.status().ok()) << rig.robot.status().error().what;
+  EXPECT_TRUE(rig.nics.status().ok()) << rig.nics.status().error().what;
+  const Status up = rig.bus.bring_up(fast_options());
+  EXPECT_TRUE(up.ok()) << describe_master_failure(rig.bus.master());
+  if (!up.ok()) return;
+  drivers::JointFeedback fb{};
+  for (int i = 0; i < 200 && rig.bus.master().state() != ecat::MasterState::op; ++i) (void)rig.cycle(fb);
+  EXPECT_EQ(rig.bus.master().state(), ecat::MasterState::op) << describe_master_failure(rig.bus.master());
+}
+
+// The place a cut of `cable` opens: the last slave the main port reaches and the first the ring port does.
+inline std::uint8_t place_before(std::size_t cable) {
+  return cable == 0 ? ecat::kMainPort : static_cast<std::uint8_t>(cable - 1);
+}
+inline std::uint8_t place_after(std::size_t cable) {
+  return cable == kRingCable ? ecat::kRingPort : static_cast<std::uint8_t>(cable);
+}
+
+// Cycles `cycles` periods, then drops the ring's and the links' reports so far.
+inline void cycle_and_drop_reports(RingRobotRig& rig, int cycles) {
+  drivers::JointFeedback fb{};
+  for (int i = 0; i < cycles; ++i) (void)rig.cycle(fb);
+  ecat::RingReport ring_report;
+  while (rig.bus.master().pop_ring_report(ring_report)) {
+  }
+  drivers::JointLinkReport link_report;
+  while (rig.bus.pop_report(link_report)) {
+  }
+}
+
+// The ring's report of `kind`, once, at the place of `cable`, and no other.
+inline void expect_one_ring_report(ecat::Master& master, ecat::RingEventKind kind, std::size_t cable) {
+  ecat::RingReport report;
+  ASSERT_TRUE(master.pop_ring_report(report)) << "cable " << cable << ": no " << to_string(kind) << " report";
+  EXPECT_EQ(report.kind, kind) << "cable " << cable;
+  EXPECT_EQ(report.before, place_before(cable)) << "cable " << cable;
+  EXPECT_EQ(report.after, place_after(cable)) << "cable " << cable;
+  while (master.pop_ring_report(report)) {
+    ADD_FAILURE() << "cable " << cable << ": a second report " << to_string(report.kind) << " between "
+                  << static_cast<unsigned>(report.before) << " and " << static_cast<unsigned>(report.after);
+  }
+}
+
+}  // namespace rescue::testing
