@@ -62,6 +62,7 @@ RcTaskSettings default_rc_task_settings(RcTaskId id) noexcept {
   RcTaskSettings s;
   s.id = id;
   s.period_ns = config::kRcTaskPeriodNs;
+  s.motion.damaged_palm_stop_budget_m = config::kDamagedPalmStopBudgetM;
   return s;
 }
 
