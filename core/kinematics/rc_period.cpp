@@ -15,10 +15,11 @@ namespace {
 constexpr double kStopBudgetShare = 0.8;
 }  // namespace
 
-RcPeriod::RcPeriod(const JointVector& q_start, const IkSettings& ik, const RescueMotionConfig& motion) noexcept
+RcPeriod::RcPeriod(const JointVector& q_start, const IkSettings& ik, const RescueMotionConfig& motion,
+                   double damaged_palm_stop_budget_m) noexcept
     : ik_(ik), motion_(q_start, motion), teleop_(q_start, ik.dt_s), next_(q_start), wanted_(q_start),
       limiter_(q_start, ik.dt_s), lost_(analyse_lost_capability(q_start, 0)),
-      stop_budget_m_(motion.damaged_palm_stop_budget_m) {
+      stop_budget_m_(damaged_palm_stop_budget_m) {
   for (std::size_t arm = 0; arm < 2; ++arm) {
     const JointMask cut = joints_lost_by_link_failure_at(joint_index(arm == 0 ? "l_elbow" : "r_elbow"));
     held_if_cut_[arm] = task_shape_for(cut).held;

@@ -19,7 +19,7 @@
 // elbow in any period, its held joints brake to rest at their acceleration limits and the palm, which
 // may carry the person, travels on. The same factor is capped so that each palm in the main task
 // could be stopped by the joints its arm would keep within the budget
-// (RescueMotionConfig::damaged_palm_stop_budget_m; the bound of kin::least_palm_stopping_travel): the
+// (`damaged_palm_stop_budget_m`; the bound of kin::least_palm_stopping_travel): the
 // motion slows down where the palms move fast for their arms' braking, the palms stay on their paths
 // and only arrive later.
 #pragma once
@@ -35,10 +35,14 @@
 
 namespace rescue::kin {
 
+// The stopping budget of a palm whose arm is cut, m (the firmware passes config::kDamagedPalmStopBudgetM).
+inline constexpr double kDefaultDamagedPalmStopBudgetM = 0.005;
+
 class RcPeriod {
  public:
   explicit RcPeriod(const JointVector& q_start, const IkSettings& ik = IkSettings{},
-           const RescueMotionConfig& motion = RescueMotionConfig{}) noexcept;
+                    const RescueMotionConfig& motion = RescueMotionConfig{},
+                    double damaged_palm_stop_budget_m = kDefaultDamagedPalmStopBudgetM) noexcept;
 
   // Period at wall time t_s since the motion started (the motion's own time never runs ahead of it);
   // `teleop_velocity` is the operator's joint-space command.

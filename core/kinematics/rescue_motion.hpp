@@ -24,9 +24,6 @@ struct RescueMotionConfig {
   Vector3 lowered{0.0, 0.0, -0.12};
   Vector3 forwarded{0.08, 0.0, -0.12};
   Vector3 lifted{-0.08, 0.0, 0.05};
-  // The stopping budget of a palm whose arm is cut (kin::RcPeriod limits each palm's speed so that
-  // its held joints could stop it within this, m; the firmware sets config::kDamagedPalmStopBudgetM).
-  double damaged_palm_stop_budget_m{0.005};
 };
 
 struct RescueSample {

@@ -62,14 +62,13 @@ RcTaskSettings default_rc_task_settings(RcTaskId id) noexcept {
   RcTaskSettings s;
   s.id = id;
   s.period_ns = config::kRcTaskPeriodNs;
-  s.motion.damaged_palm_stop_budget_m = config::kDamagedPalmStopBudgetM;
   return s;
 }
 
 RcTask::RcTask(const RcTaskPorts& ports, const RcTaskSettings& settings) noexcept
     : ports_(ports),
       settings_(settings),
-      rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
+      rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion, config::kDamagedPalmStopBudgetM),
       ik_(ik_settings(settings.period_ns)),
       teleop_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
       limiter_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
@@ -284,7 +283,7 @@ void RcTask::compute(hal::Nanoseconds now) noexcept {
       }
       references_ = limiter_.step(wanted_, out_of_service_);
       if (tau >= 1.0) {
-        rescue_ = kin::RcPeriod(references_, ik_settings(settings_.period_ns), settings_.motion);
+        rescue_ = kin::RcPeriod(references_, ik_settings(settings_.period_ns), settings_.motion, config::kDamagedPalmStopBudgetM);
         mode_ = RcMode::rescue_motion;
         mode_since_ = now;
       }
