@@ -3,13 +3,66 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/kinematics/jacobian.hpp"
+#include "core/kinematics/palm_stopping.hpp"
+
 namespace rescue::kin {
 
-RcPeriod::RcPeriod(const JointVector& q_start, const IkSettings& ik, const RescueMotionConfig& motion) noexcept
-    : ik_(ik), motion_(q_start, motion), teleop_(q_start, ik.dt_s), next_(q_start), wanted_(q_start),
-      limiter_(q_start, ik.dt_s), lost_(analyse_lost_capability(q_start, 0)) {}
+namespace {
+// Share of the stopping budget the speed cap plans for: the held joints each brake at their own
+// limit along a Jacobian that changes as they move, and the cut may come a period after the cap was
+// computed, so the stop measured runs a little over the first-order bound (docs/kinematics.md).
+constexpr double kStopBudgetShare = 0.8;
+}  // namespace
 
-double RcPeriod::feasible_scale(const JointVector& q, JointMask locked) const noexcept {
+RcPeriod::RcPeriod(const JointVector& q_start, const IkSettings& ik, const RescueMotionConfig& motion,
+                   double damaged_palm_stop_budget_m) noexcept
+    : ik_(ik), motion_(q_start, motion), teleop_(q_start, ik.dt_s), next_(q_start), wanted_(q_start),
+      limiter_(q_start, ik.dt_s), lost_(analyse_lost_capability(q_start, 0)),
+      stop_budget_m_(damaged_palm_stop_budget_m) {
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    const JointMask cut = joints_lost_by_link_failure_at(joint_index(arm == 0 ? "l_elbow" : "r_elbow"));
+    held_if_cut_[arm] = task_shape_for(cut).held;
+    braking_if_cut_[arm] = held_if_cut_[arm] & ~joint_bit(kIkJoints[0]);
+  }
+}
+
+double RcPeriod::palm_stop_scale(const JointVector& q, JointMask locked, double scale) const noexcept {
+  const double dt = ik_.settings().dt_s;
+  const double budget = kStopBudgetShare * stop_budget_m_;
+  double allowed = scale;
+  for (std::size_t arm = 0; arm < 2; ++arm) {
+    if (!shape_.palm_active[arm]) continue;
+    IkJacobian6 jacobian;
+    frame_jacobian(ik_.input_poses(), arm == 0 ? kLeftEe : kRightEe, jacobian);
+    // The palm's speed from the joints the cut would leave held: the part that moves with the factor
+    // (the step's joints) and the part that does not (held joints already braking).
+    Vector3 fixed = Vector3::Zero();
+    Vector3 per_scale = Vector3::Zero();
+    for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
+      const std::size_t j = kIkJoints[c];
+      if ((held_if_cut_[arm] & joint_bit(j)) == 0) continue;
+      const auto row = static_cast<Eigen::Index>(j);
+      const Vector3 column = jacobian.block<3, 1>(0, static_cast<Eigen::Index>(c));
+      if ((locked & joint_bit(j)) != 0) {
+        fixed += column * limiter_.velocity()(row);
+      } else {
+        per_scale += column * ((next_(row) - q(row)) / dt);
+      }
+    }
+    // The travel grows with the square of the speed: one pass is exact when nothing is braking.
+    double s = allowed;
+    for (int pass = 0; pass < 3; ++pass) {
+      const double travel = least_palm_stopping_travel(jacobian, fixed + s * per_scale, braking_if_cut_[arm]);
+      if (travel <= budget) break;
+      s *= std::sqrt(budget / travel);
+    }
+    allowed = std::min(allowed, s);
+  }
+  return allowed;
+}
+
+RcPeriod::ScaleRange RcPeriod::feasible_range(const JointVector& q, JointMask locked) const noexcept {
   const double dt = ik_.settings().dt_s;
   double low = 0.0;
   double high = 1.0;
@@ -31,8 +84,7 @@ double RcPeriod::feasible_scale(const JointVector& q, JointMask locked) const no
     low = std::max(low, std::min(a, b));
     high = std::min(high, std::max(a, b));
   }
-  // No factor fits every joint: the largest that fits the slowing joints, the limiter clips the rest.
-  return low <= high ? high : std::clamp(high, 0.0, 1.0);
+  return ScaleRange{low, high};
 }
 
 Result<IkStepReport> RcPeriod::run(double t_s, JointMask out_of_service, const JointVector& teleop_velocity) noexcept {
@@ -66,7 +118,15 @@ Result<IkStepReport> RcPeriod::run(double t_s, JointMask out_of_service, const J
     // The last resort: a pair closer than the stop distance stops the motion for good (every joint
     // to rest within its limits; the operator sees the reason).
     if (collision.stop && !collision_stop_.stop) collision_stop_ = collision;
-    scale_ = collision_stop_.stop ? 0.0 : feasible_scale(q, locked);
+    stop_budget_scale_ = 1.0;
+    if (!collision_stop_.stop) {
+      const ScaleRange range = feasible_range(q, locked);
+      // No factor fits every joint: the largest that fits the slowing joints, the limiter clips the rest.
+      scale_ = range.low <= range.high ? range.high : std::clamp(range.high, 0.0, 1.0);
+      // The stopping budget slows the motion down, never faster than the joints can brake.
+      stop_budget_scale_ = palm_stop_scale(q, locked, scale_);
+      if (stop_budget_scale_ < scale_) scale_ = std::max(stop_budget_scale_, range.low <= range.high ? range.low : 0.0);
+    }
     for (const std::size_t j : kIkJoints) {
       if ((locked & joint_bit(j)) != 0) continue;
       const auto row = static_cast<Eigen::Index>(j);

@@ -14,6 +14,14 @@
 // whole motion slows down where the limits bind instead of joints being clipped one by one, so the
 // palms stay on their paths. Only when no factor fits (the limits of two joints contradict each
 // other) does the acceleration limiter clip joints; those periods are counted.
+//
+// A stopping budget for the palms (docs/kinematics.md "After damage"): should an arm be cut at its
+// elbow in any period, its held joints brake to rest at their acceleration limits and the palm, which
+// may carry the person, travels on. The same factor is capped so that each palm in the main task
+// could be stopped by the joints its arm would keep within the budget
+// (`damaged_palm_stop_budget_m`; the bound of kin::least_palm_stopping_travel): the
+// motion slows down where the palms move fast for their arms' braking, the palms stay on their paths
+// and only arrive later.
 #pragma once
 
 #include <cstdint>
@@ -27,10 +35,14 @@
 
 namespace rescue::kin {
 
+// The stopping budget of a palm whose arm is cut, m (the firmware passes config::kDamagedPalmStopBudgetM).
+inline constexpr double kDefaultDamagedPalmStopBudgetM = 0.005;
+
 class RcPeriod {
  public:
   explicit RcPeriod(const JointVector& q_start, const IkSettings& ik = IkSettings{},
-           const RescueMotionConfig& motion = RescueMotionConfig{}) noexcept;
+                    const RescueMotionConfig& motion = RescueMotionConfig{},
+                    double damaged_palm_stop_budget_m = kDefaultDamagedPalmStopBudgetM) noexcept;
 
   // Period at wall time t_s since the motion started (the motion's own time never runs ahead of it);
   // `teleop_velocity` is the operator's joint-space command.
@@ -57,6 +69,8 @@ class RcPeriod {
 
   double motion_time_s() const noexcept { return motion_time_s_; }
   double time_scale() const noexcept { return scale_; }              // this period's factor
+  // The largest factor the palms' stopping budget allowed this period (1: no cap).
+  double stop_budget_scale() const noexcept { return stop_budget_scale_; }
   std::uint64_t clipped_periods() const noexcept { return clipped_; }  // periods a joint was clipped alone
   // The palm's distance from its planned path, from the FK of the references sent last period (the
   // IK's input): what the robot was commanded, not what the IK planned.
@@ -64,7 +78,14 @@ class RcPeriod {
   const Vector3& commanded_palm(int arm) const noexcept { return palm_[static_cast<std::size_t>(arm)]; }
 
  private:
-  double feasible_scale(const JointVector& q, JointMask locked) const noexcept;
+  struct ScaleRange {
+    double low;   // the least factor every moving joint can brake to
+    double high;  // the largest every moving joint can reach
+  };
+  ScaleRange feasible_range(const JointVector& q, JointMask locked) const noexcept;
+  // The largest factor up to `scale` at which every palm in the main task keeps its stopping budget
+  // should its arm be cut at the elbow (from the Jacobians at q, the IK's last input).
+  double palm_stop_scale(const JointVector& q, JointMask locked, double scale) const noexcept;
 
   TaskPriorityIk ik_;
   RescueMotion motion_;
@@ -81,6 +102,12 @@ class RcPeriod {
   double min_clearance_m_{0.0};
   double motion_time_s_{0.0};
   double scale_{1.0};
+  double stop_budget_scale_{1.0};
+  double stop_budget_m_;
+  // Per arm (0 left, 1 right), after a cut at its elbow: the joints the task holds (kin::TaskShape)
+  // and those of them counted as braking its palm (the waist left out: the bound the damage test checks).
+  std::array<JointMask, 2> held_if_cut_{};
+  std::array<JointMask, 2> braking_if_cut_{};
   std::uint64_t clipped_{0};
   std::array<double, 2> path_deviation_m_{};
   std::array<Vector3, 2> palm_{Vector3::Zero(), Vector3::Zero()};

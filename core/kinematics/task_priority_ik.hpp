@@ -104,6 +104,8 @@ class TaskPriorityIk {
                              double position_tolerance_m, double rotation_tolerance_rad) noexcept;
 
   const IkSettings& settings() const noexcept { return settings_; }
+  // Every link's pose at the last step's input configuration (its forward kinematics).
+  const LinkPoses& input_poses() const noexcept { return poses_; }
 
  private:
   using Matrix12 = Eigen::Matrix<double, 12, 12>;

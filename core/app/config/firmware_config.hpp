@@ -93,6 +93,12 @@ constexpr std::int64_t kOwnerReferenceDeadlineNs = 2'000'000;
 // owner's last period), holding position from its first missed deadline on.
 constexpr std::int64_t kOwnerDeadAfterPeriods = 50;
 
+// --- The rescue motion after damage (docs/kinematics.md "After damage") ---------------------------
+// Should an arm be cut at its elbow, its palm (which may carry the person) travels on while the
+// joints the cut leaves held brake to rest at their declared accelerations: the rescue task caps each
+// palm's speed so that this travel stays within this budget (m). Smaller: a slower rescue motion.
+constexpr double kDamagedPalmStopBudgetM = 0.005;
+
 // --- Liveness (docs/tasks.md "Liveness") --------------------------------------------------------
 // The supervisor reports a real-time task that has completed no period for this long (its heartbeat,
 // TaskLinks::task_heartbeat_ns): far above a SCHED_FIFO task's wake-up jitter on a loaded host (a

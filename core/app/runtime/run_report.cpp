@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/app/config/command_line.hpp"
+#include "core/app/config/firmware_config.hpp"
 #include "core/app/runtime/run_context.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_cpu.hpp"
@@ -28,9 +29,8 @@ constexpr double kRescueResidualM = 0.005;
 constexpr double kRescueResidualRad = 0.02;
 // After damage the motion stays right (docs/kinematics.md "After damage"): a whole arm's palm is
 // commanded within these of its path (no arm damaged, and the healthy arm after a loss), the waist
-// moves at most this after the loss. A damaged arm's palm travel is reported, not bounded: its held
-// joints brake at their acceleration limits, and what the palm travels meanwhile depends on how fast
-// it moved when the loss was seen (up to 12.6 mm in the 1/1/1 s phases, docs/kinematics.md).
+// moves at most this after the loss, and a damaged arm's palm at most its stopping budget (the rescue
+// task keeps each palm slow enough for it, config::kDamagedPalmStopBudgetM).
 constexpr double kPathDeviationWholeM = 0.001;
 constexpr double kPathDeviationAfterLossM = 0.005;
 constexpr double kWaistTravelAfterLossRad = 0.01;
@@ -54,6 +54,11 @@ const char* rescue_motion_fault(const RcTaskState& rescue) noexcept {
   }
   if (rescue.loss_seen && rescue.waist_travel_after_loss_rad > kWaistTravelAfterLossRad) {
     return "the waist moved after an arm was damaged";
+  }
+  for (int arm = 0; arm < 2; ++arm) {
+    if ((rescue.damaged_arms & (1U << arm)) != 0 && rescue.palm_travel_after_loss_m[arm] > config::kDamagedPalmStopBudgetM) {
+      return "a damaged arm's palm travelled beyond its stopping budget";
+    }
   }
   if (!rescue.margin_measured) return "no support margin was measured";
   if (rescue.collision_stop) return "the motion stopped to avoid a self-collision";

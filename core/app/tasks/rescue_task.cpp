@@ -46,7 +46,7 @@ RescueTaskSettings default_rescue_task_settings() noexcept {
 }
 
 RescueTask::RescueTask(const RcTaskPorts& ports, const RescueTaskSettings& settings) noexcept
-    : rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion),
+    : rescue_(kin::ready_posture(), ik_settings(settings.period_ns), settings.motion, config::kDamagedPalmStopBudgetM),
       ik_(ik_settings(settings.period_ns)),
       limiter_(kin::JointVector::Zero(), hal::seconds(settings.period_ns)),
       frame_(ports, RcTaskId::rescue),
@@ -132,7 +132,7 @@ void RescueTask::approach(hal::Nanoseconds now) noexcept {
   }
   frame_.references() = limiter_.step(wanted_, out_of_service);
   if (tau >= 1.0) {
-    rescue_ = kin::RcPeriod(frame_.references(), ik_settings(settings_.period_ns), settings_.motion);
+    rescue_ = kin::RcPeriod(frame_.references(), ik_settings(settings_.period_ns), settings_.motion, config::kDamagedPalmStopBudgetM);
     mode_ = RcMode::rescue_motion;
     mode_since_ = now;
   }

@@ -1,13 +1,14 @@
 // After damage the motion stays right (docs/kinematics.md "After damage"): the rescue motion run at
 // 1 kHz through the RC period, a link cut at an elbow at several times of both phase sets. Measured
 // on what is sent (the FK of the references after every limit), never on the IK's plan:
-//   - after the cut the waist moves at most 0.01 rad; the damaged arm's healthy joints and the waist
-//     brake to rest at their acceleration limits and hold, moving exactly their braking distances
-//     (nothing drags the unpowered forearm); the damaged palm's travel that follows is within 10 %
-//     (and 0.01 mm) of the least travel any stop within the declared acceleration limits allows
-//     (the bound below: at those limits a palm moving fast needs more than 5 mm to stop, see
-//     docs/kinematics.md "After damage"); one common time scale for the held joints would stop it
-//     later, not sooner;
+//   - after the cut the waist moves at most 0.01 rad and the damaged arm's palm at most 5 mm (the
+//     stopping budget: the rescue task caps each palm's speed so that the joints a cut at its elbow
+//     leaves held could stop it within it); the damaged arm's healthy joints and the waist brake to
+//     rest at their acceleration limits and hold, moving exactly their braking distances (nothing
+//     drags the unpowered forearm); the damaged palm's travel is within 10 % (and 0.01 mm) of the
+//     least travel any stop within the declared acceleration limits allows
+//     (kin::least_palm_stopping_travel, the bound the speed cap uses); one common time scale for the
+//     held joints would stop it later, not sooner;
 //   - the healthy palm stays within 5 mm of its path and finishes the motion;
 //   - with no fault, both palms within 1 mm of their paths;
 //   - every reference within every joint's position, speed and acceleration limits.
@@ -19,6 +20,7 @@
 
 #include "core/kinematics/forward_kinematics.hpp"
 #include "core/kinematics/jacobian.hpp"
+#include "core/kinematics/palm_stopping.hpp"
 #include "core/kinematics/rc_period.hpp"
 #include "core/kinematics/task_shape.hpp"
 
@@ -37,23 +39,15 @@ double braking_distance(double speed, double a_max) {
 
 // The least a palm moving at `palm_velocity` (the held joints' part: the joints out of service stop
 // where they are) travels before it is at rest, its held joints within their acceleration limits:
-// along its direction u the palm decelerates at most A_u = sum_j a_j |J_j . u| (every held joint
-// braking it as hard as it may at once), so it covers at least |v|^2 / (2 A_u) along u (first order:
-// the Jacobian at the cut, the centripetal terms left out, about 1 % here). `with_waist`: the waist
+// kin::least_palm_stopping_travel, the bound the rescue task's speed cap uses (first order: the
+// Jacobian at the cut, the centripetal terms left out, about 1 % here). `with_waist`: the waist
 // braking it too (the policy holds the waist; the figure shows what it would give).
 double least_stopping_travel(const LinkPoses& poses, std::size_t palm, const Vector3& palm_velocity, JointMask held,
                              bool with_waist) {
-  if (palm_velocity.norm() < 1e-9) return 0.0;
   IkJacobian6 jacobian;
   frame_jacobian(poses, palm, jacobian);
-  const Vector3 u = palm_velocity.normalized();
-  double deceleration = 0.0;
-  for (std::size_t c = 0; c < kIkJoints.size(); ++c) {
-    const std::size_t j = kIkJoints[c];
-    if ((held & joint_bit(j)) == 0 || (c == 0 && !with_waist)) continue;  // column 0: the waist
-    deceleration += kJointAcceleration[j] * std::fabs(jacobian.block<3, 1>(0, static_cast<Eigen::Index>(c)).dot(u));
-  }
-  return palm_velocity.squaredNorm() / (2.0 * deceleration);
+  const JointMask braking = with_waist ? held : held & ~joint_bit(kIkJoints[0]);  // kIkJoints[0]: the waist
+  return least_palm_stopping_travel(jacobian, palm_velocity, braking);
 }
 
 struct DamageFigures {
@@ -73,6 +67,7 @@ struct DamageFigures {
   double min_time_scale{1.0};
   std::uint64_t clipped{0};
   bool finished{false};
+  double finished_at_s{0.0};  // when the motion reached its end
 };
 
 // cut_arm: 0 left, 1 right, -1 none.
@@ -159,6 +154,7 @@ DamageFigures run_with_cut(const std::array<double, 3>& phases, int cut_arm, dou
     previous = q;
     if (rc.last_sample().phase == RescuePhase::done) {
       f.finished = true;
+      f.finished_at_s = t;
       break;
     }
   }
@@ -191,9 +187,9 @@ constexpr std::array<double, 3> kDefaultPhases{3.0, 2.5, 3.0};
 TEST(MotionAfterDamage, WithNoFaultBothPalmsAreCommandedWithinAMillimetreOfTheirPaths) {
   for (const auto& phases : {kScenarioPhases, kDefaultPhases}) {
     const DamageFigures f = run_with_cut(phases, -1, 0.0);
-    std::printf("no fault, phases %.1f/%.1f/%.1f s: path left %.4f mm right %.4f mm, slowest %.3f, clipped %llu\n",
+    std::printf("no fault, phases %.1f/%.1f/%.1f s: path left %.4f mm right %.4f mm, slowest %.3f, clipped %llu, done at %.3f s\n",
                 phases[0], phases[1], phases[2], 1e3 * f.path_deviation_m[0], 1e3 * f.path_deviation_m[1],
-                f.min_time_scale, static_cast<unsigned long long>(f.clipped));
+                f.min_time_scale, static_cast<unsigned long long>(f.clipped), f.finished_at_s);
     expect_within_limits(f, "no fault");
     EXPECT_LE(f.path_deviation_m[0], 0.001);
     EXPECT_LE(f.path_deviation_m[1], 0.001);
@@ -209,25 +205,26 @@ TEST(MotionAfterDamage, AnElbowCutHoldsTheDamagedArmAndTheWaistAndTheHealthyPalm
   const CutCase cases[] = {{&kScenarioPhases, 1.01}, {&kScenarioPhases, 1.35}, {&kScenarioPhases, 1.5},
                            {&kScenarioPhases, 2.0},  {&kDefaultPhases, 1.0},   {&kDefaultPhases, 4.0},
                            {&kDefaultPhases, 7.0}};
-  std::printf("| phases (s) | cut at (s) | cut arm | waist after (rad) | damaged palm speed at cut (m/s) | held joints' part (m/s) | damaged palm after (mm) | least any stop allows (mm) | with the waist (mm) | one common scale (mm) | healthy palm off path (mm) | slowest | clipped |\n");
+  std::printf("| phases (s) | cut at (s) | cut arm | waist after (rad) | damaged palm speed at cut (m/s) | held joints' part (m/s) | damaged palm after (mm) | least any stop allows (mm) | with the waist (mm) | one common scale (mm) | healthy palm off path (mm) | slowest | clipped | done at (s) |\n");
   for (const CutCase& c : cases) {
     for (int arm = 0; arm < 2; ++arm) {
       const DamageFigures f = run_with_cut(*c.phases, arm, c.cut_at_s);
       const int healthy = 1 - arm;
-      std::printf("| %.1f/%.1f/%.1f | %.2f | %s | %.6f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.4f | %.3f | %llu |\n",
+      std::printf("| %.1f/%.1f/%.1f | %.2f | %s | %.6f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.4f | %.3f | %llu | %.3f |\n",
                   (*c.phases)[0], (*c.phases)[1], (*c.phases)[2], c.cut_at_s, arm == 0 ? "left" : "right",
                   f.waist_travel_rad, f.palm_speed_at_cut_m_s, f.held_palm_speed_m_s, 1e3 * f.damaged_palm_travel_m,
                   1e3 * f.least_travel_m, 1e3 * f.least_travel_waist_m, 1e3 * f.common_scale_travel_m,
-                  1e3 * f.path_deviation_m[healthy], f.min_time_scale, static_cast<unsigned long long>(f.clipped));
+                  1e3 * f.path_deviation_m[healthy], f.min_time_scale, static_cast<unsigned long long>(f.clipped), f.finished_at_s);
       SCOPED_TRACE(testing::Message() << "cut " << (arm == 0 ? "left" : "right") << " at " << c.cut_at_s);
       expect_within_limits(f, "cut");
       EXPECT_LE(f.waist_travel_rad, 0.01);
+      EXPECT_LE(f.damaged_palm_travel_m, 0.005) << "the stopping budget";
       EXPECT_LT(f.held_error_rad, 1e-9) << "the held joints only brake to rest";
       EXPECT_EQ(f.lost_moved_rad, 0.0) << "the joints out of service never move";
       EXPECT_LE(f.path_deviation_m[healthy], 0.005);
       // The held joints each braking at their limit stop the palm within 10 % (and 0.01 mm) of the
-      // least travel any stop within those limits allows (so a coordinated stop could not bring it
-      // under 5 mm where that bound is above it), and never later than one common time scale would.
+      // least travel any stop within those limits allows (the speed cap keeps that bound within the
+      // budget), and never later than one common time scale would.
       EXPECT_LE(f.damaged_palm_travel_m, 1.1 * f.least_travel_m + 1e-5);
       EXPECT_LE(f.damaged_palm_travel_m, f.common_scale_travel_m + 1e-6);
       // A palm at rest when the cut is seen stays where it is.
