@@ -159,10 +159,10 @@ void publish_handler_drops(RunControl& run, EthercatHandler& handler) noexcept {
   publish_drops(run, DropCounter::power_cycle_reports_dropped, handler.power_cycle_reports_dropped());
 }
 
-// The rescue RC task (task 0) published that its rescue motion reached its end.
-bool rescue_motion_done(const Seqlock<RcTaskState>& rescue_state) noexcept {
+// The rescue RC task (task 0) published that its rescue motion is in `phase`.
+bool rescue_motion_in(const Seqlock<RcTaskState>& rescue_state, kin::RescuePhase phase) noexcept {
   RcTaskState rescue{};
-  return rescue_state.try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(kin::RescuePhase::done);
+  return rescue_state.try_read(rescue) && rescue.phase == static_cast<std::uint8_t>(phase);
 }
 
 void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const FirmwareOptions& options, hal::Clock& clock,
@@ -212,7 +212,8 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
       state.op_at.store(now, std::memory_order_relaxed);
       state.op.store(true, std::memory_order_release);
     }
-    if (scenario.on_cycle(now, op)) {
+    const bool forwarding = options.scenario.rescue_motion && rescue_motion_in(*ports.rescue_state, kin::RescuePhase::forwarding);
+    if (scenario.on_cycle(now, op, forwarding)) {
       state.scenario_ok.store(scenario.action_status().ok(), std::memory_order_relaxed);
       state.scenario_at.store(scenario.acted_at(), std::memory_order_relaxed);
       state.scenario_acted.store(true, std::memory_order_release);
@@ -221,7 +222,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     // The rescue scenario ends once the rescue motion reached its end (run_on only bounds it): a
     // slow host stretches the motion in wall time, and that must not fail the run.
     if (options.duration == 0 && options.scenario.rescue_motion && stopping_since < 0 &&
-        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_done(*ports.rescue_state)) {
+        state.scenario_acted.load(std::memory_order_relaxed) && rescue_motion_in(*ports.rescue_state, kin::RescuePhase::done)) {
       const hal::Nanoseconds settled = now + kRescueSettle;
       if (settled < stop_at) stop_at = settled;
     }

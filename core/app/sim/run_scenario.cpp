@@ -8,6 +8,9 @@ namespace rescue::app {
 namespace {
 
 constexpr std::uint32_t kDamagedFrames = 5;  // cable-damage: frames damaged on the cable
+// rescue: the cut 0.3 s into the forwarding phase (forwarding lasts 1.25 s there with the palms'
+// stopping budget, docs/kinematics.md), wherever a loaded host puts that phase in wall time.
+constexpr hal::Nanoseconds kRescueCutIntoForwarding = 300 * hal::kNsPerMs;
 
 // Every scenario acts on l_elbow (the joint whose incoming cable is cut, damaged or power-cycled).
 enum class Lost : std::uint8_t { nothing, the_joint, its_branch_from_it };
@@ -36,7 +39,8 @@ constexpr ScenarioRow kScenarios[] = {
     {"flaky-cable", hal::kNsPerSec, config::kScenarioRunOnNs, ScenarioKind::cable_damage, Lost::nothing, false,
      drivers::PdoMappingFault::half_written, 2 * hal::kNsPerSec},
     // rescue: run_on only bounds the run; it stops 0.2 s after the rescue motion ended (task_loops.cpp).
-    {"rescue", 3 * hal::kNsPerSec, 10 * hal::kNsPerSec, ScenarioKind::rescue, Lost::its_branch_from_it},
+    // rescue: cut_after_op is only the earliest; the cut waits for the forwarding phase (parse_scenario).
+    {"rescue", 0, 10 * hal::kNsPerSec, ScenarioKind::rescue, Lost::its_branch_from_it},
 };
 
 }  // namespace
@@ -63,6 +67,7 @@ Result<Scenario> parse_scenario(const char* name) noexcept {
     if (row.kind == ScenarioKind::rescue) {
       scenario.rescue_motion = true;
       scenario.motion_phase_s = {1.0, 1.0, 1.0};  // lowering, forwarding, backwarding
+      scenario.cut_into_forwarding = kRescueCutIntoForwarding;
     }
     return scenario;
   }
@@ -76,7 +81,7 @@ Status ScenarioRunner::before_bring_up() noexcept {
   return segment_->corrupt_pdo_mapping(slave_position_of_joint(scenario_.cut_joint), scenario_.fault);
 }
 
-bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
+bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op, bool rescue_forwarding) noexcept {
   if (acted_ && scenario_.repeat_every > 0 && segment_ != nullptr && now - last_repeat_ >= scenario_.repeat_every) {
     last_repeat_ = now;  // flaky-cable: damaged again, silently (the first action is the one reported)
     (void)segment_->corrupt_port(slave_position_of_joint(scenario_.cut_joint), 0, kDamagedFrames);
@@ -87,6 +92,10 @@ bool ScenarioRunner::on_cycle(hal::Nanoseconds now, bool network_op) noexcept {
     op_at_ = now;
   }
   if (now - op_at_ < scenario_.cut_after_op) return false;
+  if (scenario_.cut_into_forwarding >= 0) {
+    if (forwarding_since_ < 0 && rescue_forwarding) forwarding_since_ = now;
+    if (forwarding_since_ < 0 || now - forwarding_since_ < scenario_.cut_into_forwarding) return false;
+  }
   acted_ = true;
   acted_at_ = now;
   last_repeat_ = now;

@@ -40,6 +40,10 @@ struct Scenario {
   const char* name{"none"};
   std::size_t cut_joint{kJointCount};   // link_cut: the joint whose incoming cable is cut; power_cycle: the joint
   hal::Nanoseconds cut_after_op{0};     // link_cut: how long after OP
+  // rescue: the cut comes this long after the rescue motion entered its forwarding phase, whenever
+  // that is (a loaded host stretches the motion in wall time: a cut at a fixed time after OP then
+  // fell in the lowering); -1: by cut_after_op alone.
+  hal::Nanoseconds cut_into_forwarding{-1};
   JointMask expected_lost{0};           // link_cut: what the firmware must report
   // power_cycle: the joints behind the power-cycled drive on its branch may miss the one frame that
   // first showed the shortfall: a working counter short by one slave cannot tell a slave out
@@ -64,8 +68,9 @@ class ScenarioRunner {
   ScenarioRunner(const Scenario& scenario, drivers::SimulatedSegment* segment) noexcept
       : scenario_(scenario), segment_(segment) {}
 
-  // Returns true in the cycle the scenario acted (the caller logs it).
-  bool on_cycle(hal::Nanoseconds now, bool network_op) noexcept;
+  // Returns true in the cycle the scenario acted (the caller logs it). `rescue_forwarding`: the
+  // rescue RC task published that its motion is in the forwarding phase.
+  bool on_cycle(hal::Nanoseconds now, bool network_op, bool rescue_forwarding = false) noexcept;
   // Before bring-up: what the scenario does to the segment first (the drive's mapping left wrong).
   Status before_bring_up() noexcept;
 
@@ -78,6 +83,7 @@ class ScenarioRunner {
   Scenario scenario_;
   drivers::SimulatedSegment* segment_;
   hal::Nanoseconds op_at_{-1};
+  hal::Nanoseconds forwarding_since_{-1};
   bool acted_{false};
   hal::Nanoseconds acted_at_{0};
   hal::Nanoseconds last_repeat_{0};

@@ -37,7 +37,7 @@ TEST(ParseScenario, EveryKnownScenarioActsOnTheLeftElbow) {
       {"power-cycle", ScenarioKind::power_cycle, hal::kNsPerSec, joint_bit(elbow), config::kScenarioRunOnNs, false},
       {"cable-damage", ScenarioKind::cable_damage, hal::kNsPerSec, 0, config::kScenarioRunOnNs, false},
       {"flaky-cable", ScenarioKind::cable_damage, hal::kNsPerSec, 0, config::kScenarioRunOnNs, false},
-      {"rescue", ScenarioKind::rescue, 3 * hal::kNsPerSec, joints_lost_by_link_failure_at(elbow), 10 * hal::kNsPerSec, true},
+      {"rescue", ScenarioKind::rescue, 0, joints_lost_by_link_failure_at(elbow), 10 * hal::kNsPerSec, true},
   };
   for (const Expected& e : expected) {
     const Result<Scenario> s = parse_scenario(e.name);
@@ -52,6 +52,8 @@ TEST(ParseScenario, EveryKnownScenarioActsOnTheLeftElbow) {
     EXPECT_EQ(s.value().repeat_every, std::strcmp(e.name, "flaky-cable") == 0 ? 2 * hal::kNsPerSec : 0) << e.name;
     const std::array<double, 3> phases = e.rescue_motion ? std::array<double, 3>{1.0, 1.0, 1.0} : std::array<double, 3>{};
     EXPECT_EQ(s.value().motion_phase_s, phases) << e.name;
+    // The rescue cut waits for the forwarding phase, wherever a loaded host puts it in wall time.
+    EXPECT_EQ(s.value().cut_into_forwarding, e.rescue_motion ? 300 * hal::kNsPerMs : -1) << e.name;
   }
   EXPECT_NE(joints_lost_by_link_failure_at(elbow), joint_bit(elbow));  // the branch, not only the joint
 }
