@@ -20,11 +20,11 @@ std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::u
 EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPorts& ports, JointMask restored_lost,
                                  const MotionIntakeSettings& intake) noexcept
     : bus_(bus),
-      ports_(ports),
-      intake_(ports.motion, intake),
       tracker_(*ports.reports, *ports.notices, restored_lost),
+      register_relay_(bus.master(), ports.reg_requests, ports.reg_results),
+      ports_(ports),
       sdo_relay_(bus, ports.sdo_requests, ports.sdo_results),
-      register_relay_(bus.master(), ports.reg_requests, ports.reg_results) {
+      intake_(ports.motion, intake) {
   for (std::size_t j = 0; j < kJointCount; ++j) {
     outputs_[j].mode_of_operation = static_cast<std::int8_t>(kJoints[j].default_mode);
   }

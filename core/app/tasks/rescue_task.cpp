@@ -121,16 +121,16 @@ void RescueTask::compute(hal::Nanoseconds now) noexcept {
 }
 
 void RescueTask::approach(hal::Nanoseconds now) noexcept {
-  const JointMask out_of_service = frame_.out_of_service();
+  const JointMask locked = frame_.out_of_service();
   const double tau = hal::seconds(now - mode_since_) / approach_s_;
   const double s = kin::minimum_jerk(tau).s;
   const kin::JointVector ready = kin::ready_posture();
   for (const std::size_t j : kin::kIkJoints) {
     const auto row = static_cast<Eigen::Index>(j);
-    wanted_(row) = (out_of_service & joint_bit(j)) != 0 ? frame_.sent()(row)
-                                                        : approach_from_(row) + s * (ready(row) - approach_from_(row));
+    wanted_(row) = (locked & joint_bit(j)) != 0 ? frame_.sent()(row)
+                                                : approach_from_(row) + s * (ready(row) - approach_from_(row));
   }
-  frame_.references() = limiter_.step(wanted_, out_of_service);
+  frame_.references() = limiter_.step(wanted_, locked);
   if (tau >= 1.0) {
     rescue_ = kin::RcPeriod(frame_.references(), ik_settings(settings_.period_ns), settings_.motion, config::kDamagedPalmStopBudgetM);
     mode_ = RcMode::rescue_motion;
@@ -161,17 +161,17 @@ void RescueTask::move_to_target() noexcept {
   // The IK steps from its own plan; the limiter turns the plan into references. A damaged arm's
   // palm leaves the task and its healthy joints brake and hold (kin::TaskShape), as in the
   // rescue motion.
-  const JointMask out_of_service = frame_.out_of_service();
-  const kin::TaskShape shape = kin::task_shape_for(out_of_service);
+  const JointMask locked = frame_.out_of_service();
+  const kin::TaskShape shape = kin::task_shape_for(locked);
   targets_.palm_active = shape.palm_active;
-  const Result<kin::IkStepReport> report = ik_.step(wanted_, targets_, out_of_service | shape.held, next_);
+  const Result<kin::IkStepReport> report = ik_.step(wanted_, targets_, locked | shape.held, next_);
   if (report.ok()) {
     ik_report_ = report.value();
     wanted_ = next_;
   } else {
     frame_.count_kinematics_error();
   }
-  frame_.references() = limiter_.step(wanted_, out_of_service, shape.held);
+  frame_.references() = limiter_.step(wanted_, locked, shape.held);
 }
 
 JointMask RescueTask::commanded() const noexcept {
@@ -197,13 +197,13 @@ void RescueTask::show(RcTaskState& state) const noexcept {
 // Per joint it commands: the largest reference speed and acceleration while it drives.
 void RescueTask::measure_speeds(bool driving) noexcept {
   const double dt = hal::seconds(settings_.period_ns);
-  const kin::JointVector& references = frame_.references();
+  const kin::JointVector& sent = frame_.references();
   JointMask measured = 0;
   // Only the joints it commands: the others' references are whatever the handler sends them.
   const JointMask own = commanded();
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const auto row = static_cast<Eigen::Index>(j);
-    const double speed = (references(row) - previous_(row)) / dt;
+    const double speed = (sent(row) - previous_(row)) / dt;
     if (driving && (own & joint_bit(j)) != 0) {
       measured |= joint_bit(j);
       figures_.max_speed_rad_s[j] = std::max(figures_.max_speed_rad_s[j], std::fabs(speed));
@@ -221,9 +221,9 @@ void RescueTask::measure() noexcept {
   const bool driving = frame_.owns() && mode_ != RcMode::idle && mode_ != RcMode::teleop;
   measure_speeds(driving);
   if (!driving) return;
-  const kin::JointVector& references = frame_.references();
+  const kin::JointVector& sent = frame_.references();
   const auto waist_row = static_cast<Eigen::Index>(kin::joint_index("waist_yaw"));
-  const double waist = references(waist_row);
+  const double waist = sent(waist_row);
   figures_.max_abs_waist_rad = std::max(figures_.max_abs_waist_rad, std::fabs(waist));
   const kin::TaskShape shape = kin::task_shape_for(frame_.out_of_service());
   const auto damaged = static_cast<std::uint8_t>((shape.palm_active[0] ? 0U : 1U) | (shape.palm_active[1] ? 0U : 2U));
@@ -238,8 +238,8 @@ void RescueTask::measure() noexcept {
         {kin::joint_index("l_wrist_pitch"), kin::joint_index("r_wrist_pitch")}};
     constexpr double kSign[6] = {1.0, -1.0, -1.0, 1.0, -1.0, 1.0};
     for (std::size_t m = 0; m < 6; ++m) {
-      const double left = references(static_cast<Eigen::Index>(kMirrored[m][0]));
-      const double right = references(static_cast<Eigen::Index>(kMirrored[m][1]));
+      const double left = sent(static_cast<Eigen::Index>(kMirrored[m][0]));
+      const double right = sent(static_cast<Eigen::Index>(kMirrored[m][1]));
       figures_.symmetry_error_rad = std::max(figures_.symmetry_error_rad, std::fabs(left - kSign[m] * right));
     }
     figures_.symmetry_measured = true;
