@@ -284,4 +284,6 @@ void RescueTask::measure_after_loss(double waist, std::uint8_t damaged) noexcept
   figures_.waist_travel_after_loss_rad = std::max(figures_.waist_travel_after_loss_rad, std::fabs(waist - waist_at_loss_));
 }
 
+void RescueTask::period(hal::Nanoseconds now) noexcept { frame_.period(*this, now); }
+
 }  // namespace rescue::app

@@ -64,4 +64,6 @@ void TeleopTask::show(RcTaskState& state) noexcept {
   state.phase = static_cast<std::uint8_t>(kin::RescuePhase::lowering);
 }
 
+void TeleopTask::period(hal::Nanoseconds now) noexcept { frame_.period(*this, now); }
+
 }  // namespace rescue::app
