@@ -17,6 +17,7 @@
 #include "core/app/bench/wcet_conditions.hpp"
 #include "core/app/bench/wcet_operator_load.hpp"
 #include "core/app/bench/wcet_period_mark.hpp"
+#include "core/app/bench/rt_duty_rest.hpp"
 #include "core/app/bench/wcet_scenarios.hpp"
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/config/task_table.hpp"
@@ -583,6 +584,7 @@ struct WcetRunFigures {
   std::int64_t longest_recovery{-1};  // periods from a power cycle to every joint Enabled again
   std::uint64_t recoveries{0};
   HeapGuardCounters heap{};
+  std::uint64_t rt_rests{0};  // RtDutyRest's rests between periods
 };
 
 // The measured periods, the scenario's stress before each: nothing may allocate.
@@ -592,6 +594,7 @@ void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTim
   std::uint64_t cycles_seen = 0;
   std::int64_t down_since = -1;  // the period of the power cycle not yet recovered from
   bool went_down = false;
+  RtDutyRest duty;  // no real-time throttling inside a measured period
   for (std::int64_t k = 0; k < options.periods; ++k) {
     const WcetStress stress = wcet_stress(options.scenario->id, k, options.periods);
     if (stress.services && !capture_on) {
@@ -621,7 +624,9 @@ void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTim
     if (capture_on) (void)g_capture.drain(g_capture_file, ecat::CaptureQueue::kCapacity);  // the logger's side, untimed
     figures.periods_all_enabled += enabled == kAllJoints ? 1U : 0U;
     figures.periods_with_lost += rig.manager->lost_joints() != 0 ? 1U : 0U;
+    duty.between_periods();
   }
+  figures.rt_rests = duty.rests();
   figures.heap = heap_guard_counters();
 }
 
@@ -648,6 +653,8 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", figures.periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", figures.periods_with_lost);
   print_end_state(*rig.manager, *rig.bus, rig.robot->segment(), figures.last_out);
+  (void)std::printf("rt_rests_between_periods: %" PRIu64 " (10 ms after every 100 ms: no real-time throttling inside a period)\n",
+                    figures.rt_rests);
   (void)std::printf("heap_allocations_after_init: %" PRIu64 " allocations\n", figures.heap.allocations);
 }
 

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/app/bench/bench_header.hpp"
+#include "core/app/bench/rt_duty_rest.hpp"
 
 namespace rescue::app {
 
@@ -32,11 +33,13 @@ void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_s
   const bool have_uname = ::uname(&system) == 0;
   char load_at_end[64];
   read_load_average(load_at_end, sizeof load_at_end);
+  char throttle[64];
+  RtDutyRest::describe_throttle(throttle, sizeof throttle);
   (void)std::snprintf(out, size,
                       "kernel %s, PREEMPT_RT %s, %ld CPUs online, load average (1 5 15 min) %s at start, %s at end, "
-                      "real-time set-up %s",
+                      "real-time set-up %s, real-time throttling %s (rested 10 ms every 100 ms)",
                       have_uname ? system.release : "n/a", kernel_is_preempt_rt() ? "yes" : "no", ::sysconf(_SC_NPROCESSORS_ONLN),
-                      load_at_start, load_at_end, rt_applied ? "applied (SCHED_FIFO, CPU pinned, memory locked)" : "not all applied (see rt: lines)");
+                      load_at_start, load_at_end, rt_applied ? "applied (SCHED_FIFO, CPU pinned, memory locked)" : "not all applied (see rt: lines)", throttle);
 }
 
 }  // namespace rescue::app
