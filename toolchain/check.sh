@@ -4,19 +4,23 @@
 #   1b. README command 1 as a new user runs it: toolchain/run.sh --duration 3 (release build of the
 #      program, 3 s on the simulated robot), so the first command of the README can never break silently
 #   1c. load: the end-to-end real-time tests (label `serial`: a real `rescue-motion run` on the wall
-#      clock) on the release build (the optimised program: the debug build proves logic, not timing),
-#      while stress-ng loads every CPU at normal priority; stress-ng is started and always stopped here
-#   2. debug build + the GoogleTest suite through CTest (every test but the `serial` ones: stage load)
+#      clock) and the tests labelled `plain` (what a sanitizer build cannot prove: the heap guard's cover
+#      of malloc, SCHED_FIFO, ulimit -v) on the release build (the optimised program), while stress-ng
+#      loads every CPU at normal priority; stress-ng is started and always stopped here
+#   2. test: AddressSanitizer + UndefinedBehaviorSanitizer build (a Debug build: assertions on) + the
+#      GoogleTest suite through CTest, the `serial` ones too (their timing is proven in stage load). One build proves
+#      the logic and the memory: a separate plain debug build and run of the same suite cost CI about
+#      9 minutes and proved nothing more than this one and the `plain` tests above (docs/build.md)
 #   3. static analysis: clang-tidy + cppcheck over the firmware (fails on any finding)
 #   3b. verify: release-flag build with GCC's stack usage and call graph + toolchain/rt_verify.py
 #      (deepest stack of each real-time period function, no allocation/lock/blocking call on it)
 #   4. ThreadSanitizer build + the tests labelled 'concurrency'
-#   5. AddressSanitizer + UndefinedBehaviorSanitizer build + the whole suite
 #   6. fuzz build (clang, every library instrumented) + a short bounded run of each fuzzer
 #   7. aarch64 cross compile of the firmware libraries
 #   8. package: the Debian package (motion-pc preset), its contents, lintian, the installed binary as the
 #      service user on the simulated robot, the systemd unit (toolchain/package-check.sh, docs/deploy.md)
-# Stages can be chosen: toolchain/check.sh [setup] [run] [load] [test] [analysis] [verify] [tsan] [asan] [fuzz] [cross] [package]
+# Stages can be chosen: toolchain/check.sh [setup] [run] [load] [test] [analysis] [verify] [tsan] [fuzz] [cross] [package]
+# (`asan` is another name for `test`). A developer's plain debug build: cmake --preset debug (docs/build.md).
 # Disk: every build with -g compresses its debug info (-gz, CMakePresets.json). After each stage the
 # script prints the free space and the size of every build directory ("disk: ..." lines). With
 # RESCUE_PRUNE_BUILDS=1 (.ci/run sets it) each build directory but release's is removed after the last
@@ -25,11 +29,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 stages=("$@")
-[ "${#stages[@]}" -gt 0 ] || stages=(setup run load test analysis verify tsan asan fuzz cross package)
+[ "${#stages[@]}" -gt 0 ] || stages=(setup run load test analysis verify tsan fuzz cross package)
 jobs=$(nproc)
 fuzz_seconds=${RESCUE_FUZZ_SECONDS:-10}  # the short CI form; a full run: RESCUE_FUZZ_SECONDS=600 bash toolchain/check.sh fuzz
 
-want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
+want() { local s; for s in "${stages[@]}"; do [ "$s" = "$1" ] && return 0; [ "$s" = asan ] && [ "$1" = test ] && return 0; done; return 1; }
 # Each banner also says how long the stage before it took, so a slow stage is seen in CI's log.
 stage_start=$(date +%s)
 banner() {
@@ -75,11 +79,11 @@ if want run; then
 fi
 
 if want load; then
-  banner "load: end-to-end real-time tests (serial) on the release build, every CPU loaded by stress-ng"
+  banner "load: end-to-end real-time tests (serial) and the plain ones on the release build, every CPU loaded by stress-ng"
   cmake --preset release >/dev/null
-  # The program and the serial tests only (the `serial_tests` target): the rest of the suite proves
-  # logic and runs in the debug stage.
-  cmake --build --preset release -j "$jobs" --target rescue-motion serial_tests
+  # The program, the serial tests and the plain ones only (targets `serial_tests`, `plain_tests`): the
+  # rest of the suite proves logic and runs in the test stage.
+  cmake --build --preset release -j "$jobs" --target rescue-motion serial_tests plain_tests
   # Every CPU busy at normal priority (SCHED_OTHER, nice 0) plus a memory hog, in its own process
   # group so that it is always stopped, whatever the tests do; --timeout bounds it should this
   # script be killed before it can stop it.
@@ -90,24 +94,28 @@ if want load; then
   load_start=$(date +%s)
   load_status=0
   ctest --preset release -L serial || load_status=$?
+  ctest --preset release -j "$jobs" -L plain -LE serial || load_status=$?
   stop_stress
   trap - EXIT
-  echo "load: serial tests under stress-ng finished in $(( $(date +%s) - load_start )) s (status $load_status)"
+  echo "load: serial and plain tests under stress-ng finished in $(( $(date +%s) - load_start )) s (status $load_status)"
   [ "$load_status" -eq 0 ]
   disk_report "after load"
 fi
 
 if want test; then
-  banner "debug build + tests (the serial ones run in stage load)"
-  cmake --preset debug >/dev/null
-  cmake --build --preset debug -j "$jobs"
-  ctest --preset debug -j "$jobs" -LE serial
-  if want analysis; then disk_report "after test"; else finished_with test debug; fi
+  banner "AddressSanitizer + UndefinedBehaviorSanitizer build + every test (the serial ones also ran in stage load, on the release build)"
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan -j "$jobs"
+  ctest --preset asan -j "$jobs"
+  finished_with test asan
 fi
 
 if want analysis; then
   banner "static analysis"
-  [ -f build/debug/compile_commands.json ] || cmake --preset debug >/dev/null
+  # The debug preset's compile commands, and the one header the build generates (the robot's
+  # description): nothing else of the debug build is needed to analyse the sources.
+  cmake --preset debug >/dev/null
+  cmake --build --preset debug --target rescue_robot_description
   bash toolchain/static-analysis.sh . build/debug
   finished_with analysis debug
 fi
@@ -127,14 +135,6 @@ if want tsan; then
   cmake --build --preset tsan -j "$jobs" --target concurrency_tests
   ctest --preset tsan -j "$jobs"
   finished_with tsan tsan
-fi
-
-if want asan; then
-  banner "AddressSanitizer + UndefinedBehaviorSanitizer: every test"
-  cmake --preset asan >/dev/null
-  cmake --build --preset asan -j "$jobs"
-  ctest --preset asan -j "$jobs"
-  finished_with asan asan
 fi
 
 if want fuzz; then
