@@ -155,4 +155,20 @@ constexpr int popcount(std::uint32_t v) noexcept {
   return n;
 }
 
+// The position of the lowest set bit of a mask that is not empty.
+constexpr std::size_t lowest_slave(SlaveMask mask) noexcept { return static_cast<std::size_t>(__builtin_ctz(mask)); }
+
+// Calls visit(p) for each set bit p of `mask` in the order start, start + 1, ..., then from 0: one
+// turn, as p = (start + i) % kMaxSlaves walks the positions; stops when visit returns false.
+template <typename Visit>
+constexpr void for_each_slave_from(SlaveMask mask, std::size_t start, Visit&& visit) noexcept {
+  const SlaveMask from_start = start >= 32 ? 0 : mask & ~((SlaveMask{1} << start) - 1);
+  for (SlaveMask m = from_start; m != 0; m &= m - 1) {
+    if (!visit(lowest_slave(m))) return;
+  }
+  for (SlaveMask m = mask & ~from_start; m != 0; m &= m - 1) {
+    if (!visit(lowest_slave(m))) return;
+  }
+}
+
 }  // namespace rescue::ecat

@@ -63,36 +63,39 @@ std::uint16_t LinkMonitor::expected_wkc(std::size_t branch) const noexcept {
 }
 
 std::size_t LinkMonitor::plan_probes(ProbeRequest* out, std::size_t capacity) noexcept {
+  // Walks set bits only (most cycles every mask is empty): a scan of all kMaxSlaves positions in each
+  // of the four loops cost the cycle about 1300 instructions (callgrind, bench master).
   std::size_t n = 0;
-  for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
-    if ((suspect_ & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
+  for (SlaveMask m = suspect_; m != 0 && n < capacity; m &= m - 1) {
+    out[n++] = ProbeRequest{static_cast<std::uint8_t>(lowest_slave(m)), false};
   }
   const SlaveMask to_check = watchdog_check_ & present_ & ~suspect_;
-  for (std::size_t p = 0; p < kMaxSlaves && n < capacity; ++p) {
-    if ((to_check & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false};
+  for (SlaveMask m = to_check; m != 0 && n < capacity; m &= m - 1) {
+    out[n++] = ProbeRequest{static_cast<std::uint8_t>(lowest_slave(m)), false};
   }
   // The AL state watch (item 6): the next few slaves in the exchange not probed otherwise.
   const SlaveMask to_watch = present_ & ~suspect_ & ~watchdog_check_ & ~rearming_;
   const auto watched = static_cast<std::size_t>(popcount(present_));
   std::size_t watch_budget = (watched + kAlWatchPeriods - 1) / kAlWatchPeriods;
-  const std::size_t watch_start = watch_rotate_;
-  for (std::size_t i = 0; i < kMaxSlaves && n < capacity && watch_budget > 0 && to_watch != 0; ++i) {
-    const std::size_t p = (watch_start + i) % kMaxSlaves;
-    if ((present_ & slave_bit(p)) == 0) continue;
-    --watch_budget;  // a slave the others already probe this frame uses its turn
-    watch_rotate_ = p + 1;
-    if ((to_watch & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false, true};
+  if (to_watch != 0) {
+    for_each_slave_from(present_, watch_rotate_, [&](std::size_t p) {
+      if (n >= capacity || watch_budget == 0) return false;
+      --watch_budget;  // a slave the others already probe this frame uses its turn
+      watch_rotate_ = p + 1;
+      if ((to_watch & slave_bit(p)) != 0) out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), false, true};
+      return true;
+    });
   }
   const SlaveMask to_clear = out_ & ~fmmus_cleared_ & ~recovering_;
   std::size_t budget = kMaxOutProbesPerCycle;
-  const std::size_t clear_start = rotate_;  // (rotate_ moves inside the loop: a fixed start, so no slave is probed twice)
-  for (std::size_t i = 0; i < kMaxSlaves && n < capacity && budget > 0; ++i) {
-    const std::size_t p = (clear_start + i) % kMaxSlaves;
-    if ((to_clear & slave_bit(p)) == 0) continue;
+  // (rotate_ moves inside the walk: it starts from its value before, so no slave is probed twice)
+  for_each_slave_from(to_clear, rotate_, [&](std::size_t p) {
+    if (n >= capacity || budget == 0) return false;
     out[n++] = ProbeRequest{static_cast<std::uint8_t>(p), true};
     --budget;
     rotate_ = p + 1;
-  }
+    return true;
+  });
   return n;
 }
 
