@@ -23,7 +23,7 @@ void RingDcService::reset() noexcept {
   behind_ = 0;
   to_read_ = 0;
   last_reference_ = 0;
-  previous_reference_ = 0;
+  anchor_reference_ = 0;
   reference_.set_reference_behind_break(false);
 }
 
@@ -44,11 +44,10 @@ void RingDcService::begin(std::uint8_t after) noexcept {
   // The reads of the path change with it: the reference's time from before the change is not its
   // time on the new path (it is read by another copy when it lies behind the break).
   last_reference_ = 0;
-  previous_reference_ = 0;
 }
 
 void RingDcService::add_datagrams(CycleFrame& frame) noexcept {
-  frame_cycle_ = ctx_.cycle;
+  frame_time_ = ctx_.now();
   if (status_.phase == RingDcPhase::idle) return;
   switch (status_.phase) {
     case RingDcPhase::latch: {
@@ -136,10 +135,18 @@ void RingDcService::finish_calibration() noexcept {
 }
 
 std::uint64_t RingDcService::predicted_reference() const noexcept {
-  if (last_reference_ == 0 || previous_reference_ == 0 || last_reference_cycle_ <= previous_reference_cycle_) return 0;
-  const auto step = static_cast<std::int64_t>(last_reference_ - previous_reference_) /
-                    static_cast<std::int64_t>(last_reference_cycle_ - previous_reference_cycle_);
-  return last_reference_ + static_cast<std::uint64_t>(step * static_cast<std::int64_t>(frame_cycle_ - last_reference_cycle_));
+  if (last_reference_ == 0) return 0;
+  // The reference's rate against the master's clock, from the first read on (the longer the
+  // baseline, the less a frame's send jitter weighs in it).
+  const hal::Nanoseconds baseline = last_reference_at_ - anchor_at_;
+  double rate_excess = 0.0;
+  if (baseline >= kMinRateBaseline) {
+    const auto advanced = static_cast<std::int64_t>(last_reference_ - anchor_reference_);
+    rate_excess = static_cast<double>(advanced - baseline) / static_cast<double>(baseline);
+  }
+  const hal::Nanoseconds elapsed = frame_time_ - last_reference_at_;
+  const auto excess = static_cast<std::int64_t>(static_cast<double>(elapsed) * rate_excess);
+  return last_reference_ + static_cast<std::uint64_t>(elapsed + excess);
 }
 
 void RingDcService::settle(CycleResult& /*result*/) noexcept {
@@ -157,10 +164,12 @@ void RingDcService::settle(CycleResult& /*result*/) noexcept {
   }
   const std::uint64_t read = reference_.frame_reference_time();
   if (read != 0) {
-    previous_reference_ = last_reference_;
-    previous_reference_cycle_ = last_reference_cycle_;
     last_reference_ = read;
-    last_reference_cycle_ = frame_cycle_;
+    last_reference_at_ = frame_time_;
+    if (anchor_reference_ == 0) {
+      anchor_reference_ = read;
+      anchor_at_ = frame_time_;
+    }
   }
   if (status_.phase == RingDcPhase::read && to_read_ == 0) finish_calibration();
 }

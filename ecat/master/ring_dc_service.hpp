@@ -12,7 +12,10 @@
 //              time (the clocks agree when the ring opens: no half round trip is assumed);
 //   3. write   every cycle, per slave behind the break, a ring-side time write (NOP in the main
 //              copy, FPWR 0x0910 in the ring copy) of R + lead_j, R the reference time predicted
-//              for this frame (the last read plus the step between the last two reads). The ESC
+//              for this frame: the last read plus the master's clock time since that read's frame
+//              was built, scaled by the reference's rate against that clock (measured from the
+//              first read on). So a late wake-up or a skipped period does not enter R; only the
+//              jitter between building a frame and its passage does. The ESC
 //              compares R + lead_j + delay_j with its own time as the copy passed: the same figure
 //              an FRMW gives on the main path, so the drift loop goes on as before the break.
 // The delay register (0x0928) is not rewritten: it stays true for the main path, so when the ring
@@ -83,12 +86,15 @@ class RingDcService final : public CyclicService {
   std::array<std::uint32_t, kMaxSlaves> delay_{};
   std::array<std::int64_t, kMaxSlaves> lead_{};
   std::size_t next_write_{0};  // round robin when the writes do not all fit
-  // The reference reads: the last two, with the cycles they were read in.
-  std::uint64_t frame_cycle_{0};
+  // Below this baseline the reference's rate is taken as the master clock's.
+  static constexpr hal::Nanoseconds kMinRateBaseline = 100 * hal::kNsPerMs;
+  // The master's clock when this frame was built; the last reference read since the path changed
+  // and when its frame was built; the first read since reset() (the rate's anchor).
+  hal::Nanoseconds frame_time_{0};
   std::uint64_t last_reference_{0};
-  std::uint64_t last_reference_cycle_{0};
-  std::uint64_t previous_reference_{0};
-  std::uint64_t previous_reference_cycle_{0};
+  hal::Nanoseconds last_reference_at_{0};
+  std::uint64_t anchor_reference_{0};
+  hal::Nanoseconds anchor_at_{0};
 };
 
 }  // namespace rescue::ecat

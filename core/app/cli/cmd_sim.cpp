@@ -5,6 +5,7 @@
 // Fault commands (drivers/sim/segment/fault_command.hpp: "cut l_elbow", "restore l_elbow", "freeze ...", "drop 3")
 // can be typed on standard input while it serves; docs/simulator.md lists them. One more, of the host
 // rather than the segment: "stall MS" holds every reply back for MS ms and sends them together.
+// And a question, not a fault: "clocks TAG" prints every slave's true clock offset (test over veth).
 // With --ring-iface B it serves the robot's ring configuration (core/robot/robot_ring.hpp,
 // docs/redundancy.md): IFACE is the master's main port, B its ring port; a frame from either is
 // sent back out of the interface of the port it comes back to.
@@ -85,6 +86,10 @@ class FaultConsole {
  private:
   static void apply(const char* text, std::size_t length, drivers::SimulatedSegment& segment, FrameServer& server,
                     FrameServer* ring_server, hal::Nanoseconds now) noexcept {
+    if (length > 7 && std::strncmp(text, "clocks ", 7) == 0) {
+      print_clocks(text + 7, length - 7, segment, now);
+      return;
+    }
     // "stall MS" (1..1000): the host's part, not the segment's: replies held back MS ms, then bunched.
     if (length > 6 && std::strncmp(text, "stall ", 6) == 0) {
       unsigned ms = 0;
@@ -107,6 +112,21 @@ class FaultConsole {
     } else {
       (void)std::printf("fault: refused %.*s: %s\n", static_cast<int>(length), text, applied.error().what);
     }
+    (void)std::fflush(stdout);
+  }
+
+  // "clocks TAG": each slave's system time against position 0's (the DC reference of the robot's
+  // configurations) at this instant, in ns, in position order: the true offsets a drive's SYNC0 edge
+  // follows, which no register shows (0x092C is what a clock's own loop measures). One line,
+  // "clocks TAG: o0 o1 ...", TAG echoed so that a caller can find its answer; a question, not a fault.
+  static void print_clocks(const char* tag, std::size_t length, const drivers::SimulatedSegment& segment,
+                           hal::Nanoseconds now) noexcept {
+    const std::uint64_t reference = segment.esc(0).system_time_at(now);
+    (void)std::printf("clocks %.*s:", static_cast<int>(length), tag);
+    for (std::size_t p = 0; p < segment.slave_count(); ++p) {
+      (void)std::printf(" %lld", static_cast<long long>(static_cast<std::int64_t>(segment.esc(p).system_time_at(now) - reference)));
+    }
+    (void)std::printf("\n");
     (void)std::fflush(stdout);
   }
 
@@ -247,6 +267,8 @@ const CommandSpec kSimCommand{
     "Needs CAP_NET_RAW (root, or `setcap cap_net_raw+ep rescue-motion`). It serves at SCHED_FIFO\n"
     "priority 90 with its memory locked when allowed, on the EtherCAT task's CPU (where a real NIC's\n"
     "interrupt goes; each item is reported), so that it answers as fast as hardware on a busy host.\n"
+    "Standard input takes fault commands (docs/simulator.md) and `clocks TAG`, which prints every\n"
+    "slave's true clock offset from position 0's in ns (`clocks TAG: o0 o1 ...`).\n"
     "SIGINT or SIGTERM stop it and it prints its frame counters.\n"
     "docs/hal.md shows how to run it on a veth pair.",
     Span<const OptionSpec>(kOptions), 0, 0, sim_main};

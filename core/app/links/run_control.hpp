@@ -73,6 +73,14 @@ struct RunControl {
   std::atomic<std::uint64_t> late_periods;     // as `ctl master` shows them (skipped ones included)
   std::atomic<std::uint64_t> skipped_periods;  // periods that had no cycle at all
   std::array<std::atomic<std::uint64_t>, kJointCount> missed_cycles;  // per joint
+  // The ring (docs/redundancy.md), final once handler_done: its state (ecat::RingState, none without
+  // a ring NIC), breaks and repairs, and the exchanges sent again after a repair in flight
+  // (LinkStats::ring_repeats). Here, not read from the master, so that the run's summary has them
+  // when the handler ran as a process of its own.
+  std::atomic<std::uint8_t> ring_state;
+  std::atomic<std::uint64_t> ring_breaks;
+  std::atomic<std::uint64_t> ring_repairs;
+  std::atomic<std::uint64_t> ring_repeats;
   // The handler's motion intake (motion/motion_intake.hpp), final once handler_done.
   std::atomic<std::uint64_t> intake_owned_periods;
   std::atomic<std::uint64_t> intake_used_periods;

@@ -421,19 +421,21 @@ void print_scenario_passed(const StartUp& up, JointMask lost, JointMask lost_sin
                     cleared != 0 ? cleared_names : "");
 }
 
-// With a ring NIC: the ring's state at the end. Only when the tasks ran as threads of this process:
-// as processes, the master that cycled was the handler process's, and this process's copy stopped
-// at bring-up (its figures would say "closed, 0 breaks" whatever happened: the ring lines above
-// are the record then).
-void print_ring_state(const StartUp& up) noexcept {
+// With a ring NIC: the ring's state at the end, its breaks and repairs, and the exchanges sent
+// again after a repair in flight (docs/redundancy.md). The handler leaves them in the run control
+// when it ends, as a thread or as a process of its own; "n/a" when it did not end by itself.
+void print_ring_state(const StartUp& up, const RunControl& state) noexcept {
   if (up.ring_nic == nullptr) return;
-  if (g_run.task_processes) {
-    (void)std::printf("ring_state: n/a (the EtherCAT handler's process held the master; its ring lines are above)\n");
+  if (!state.handler_done.load(std::memory_order_acquire)) {
+    (void)std::printf("ring_state: n/a (the EtherCAT handler did not report its final figures; its ring lines are above)\n");
+    (void)std::printf("ring_repeats: n/a\n");
     return;
   }
-  const ecat::RingStatus& rs = up.bus->master().ring_status();
-  (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ")\n", ecat::to_string(rs.state), rs.breaks,
-                    rs.repairs);
+  const auto ring_state = static_cast<ecat::RingState>(state.ring_state.load(std::memory_order_relaxed));
+  (void)std::printf("ring_state: %s (breaks %" PRIu64 ", repairs %" PRIu64 ")\n", ecat::to_string(ring_state),
+                    state.ring_breaks.load(std::memory_order_relaxed), state.ring_repairs.load(std::memory_order_relaxed));
+  (void)std::printf("ring_repeats: %" PRIu64 " (exchanges sent again: the ring closed while a frame was in flight)\n",
+                    state.ring_repeats.load(std::memory_order_relaxed));
 }
 
 // Step 7: what happened, and the exit status (docs/firmware.md "Exit status").
@@ -473,7 +475,7 @@ int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator
   summary.start = up.start;
   summary.bring_up = &up.bus->master().report();
   print_run_summary(summary);
-  print_ring_state(up);
+  print_ring_state(up, state);
   const int limits = sent_joint_limits_exit(state);
   if (verdict != 0) return verdict;
   if (limits != 0) return limits;

@@ -238,6 +238,11 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     state.missed_cycles[j].store(handler.missed_cycles(joint_bit(j)), std::memory_order_relaxed);
   }
   state.frames_missing.store(handler.frames_missing(), std::memory_order_relaxed);
+  const ecat::RingStatus& ring = bus.master().ring_status();
+  state.ring_state.store(static_cast<std::uint8_t>(ring.state), std::memory_order_relaxed);
+  state.ring_breaks.store(ring.breaks, std::memory_order_relaxed);
+  state.ring_repairs.store(ring.repairs, std::memory_order_relaxed);
+  state.ring_repeats.store(bus.master().link().stats().ring_repeats, std::memory_order_relaxed);
   state.skipped_periods.store(bus.master().skipped_periods() - skipped_at_start, std::memory_order_relaxed);
   state.drives_disabled.store(handler.drives_disabled(), std::memory_order_relaxed);
   const MotionIntakeCounters intake = handler.motion_intake().counters();

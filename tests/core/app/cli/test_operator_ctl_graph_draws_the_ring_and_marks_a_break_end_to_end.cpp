@@ -77,6 +77,10 @@ TEST(OperatorCtlGraphOnTheRing, DrawsTheRingAndMarksTheBreakWhereTheMasterPlaces
   ASSERT_EQ(std::system("command -v dot >/dev/null 2>&1"), 0) << "dot missing: bash toolchain/setup.sh installs graphviz";
   EXPECT_EQ(std::system(("dot -Tsvg '" + file + "' -o '" + file + ".svg'").c_str()), 0) << "Graphviz parses it";
   (void)run.stop();  // link-cut's verdict (joints lost) is the tree's; on the ring none is lost
+  // The run's summary carries the ring's figures from the handler's process (the tasks run as processes).
+  const std::string summary = run.output();
+  EXPECT_NE(summary.find("ring_state: open (breaks 1, repairs 0)"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("ring_repeats: 0 (exchanges sent again"), std::string::npos) << summary;
 }
 
 }  // namespace

@@ -1,7 +1,12 @@
 // A broadcast write of 0x0900 latches, on every ESC, the local time at which that frame reached each
 // of its ports. The delays a master derives from those times (through the junction tree, as
 // ETG.1020 describes) are the model's propagation delays: exactly when every ESC forwards
-// symmetrically, and within the model's known asymmetry when processing and forwarding delays differ.
+// symmetrically, and within the model's known asymmetry when processing and forwarding delays differ,
+// on the tree and on the ring's line (where that asymmetry adds up over 22 hops).
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/robot/robot_ring.hpp"
 #include "tests/support/dc_master_steps.hpp"
 
 namespace rescue::drivers::testing {
@@ -98,6 +103,56 @@ TEST(DcLatch, MasterDelaysDifferFromTheModelOnlyByTheForwardingAsymmetry) {
     // The error a master makes stays in the tens of nanoseconds even at the end of an arm.
     EXPECT_LT(std::abs(delays[p] - model), 60) << kSlaves[p].name;
   }
+}
+
+// The ring's delay bias (docs/redundancy.md "DC on the ring"): on the ring's line, its end closed
+// for the latch as Master::close_ring_end closes it, every hop but the last is a parent's processing
+// unit out and a child's forwarding back, so the symmetric split errs by (forwarding - processing)
+// / 2, about -5 ns, on each of them and the error adds up along the line: about -105 ns at l_hand,
+// against -40 to -50 ns at the end of the tree's deepest branch (8 or 9 hops). The same arithmetic
+// as the tree's, on 22 hops in a row.
+TEST(DcLatch, OnTheRingLineTheMasterDelaysErrByTheForwardingAsymmetryOfEveryHop) {
+  std::int64_t deepest_tree_error = 0;
+  {
+    auto tree = Rig::robot();
+    tree->assign_station_addresses();
+    const LatchedTimes t = latch_receive_times(*tree);
+    (void)tree->write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
+    const auto delays = master_delays(*tree, t);
+    for (std::size_t p = 1; p < kSlaveCount; ++p) {
+      const hal::Nanoseconds model = tree->segment.last_arrival(p) - tree->segment.last_arrival(0);
+      if (std::abs(delays[p] - model) > std::abs(deepest_tree_error)) deepest_tree_error = delays[p] - model;
+    }
+  }
+  RobotSegmentOptions options;
+  options.ring = true;
+  auto rig = Rig::robot(options);
+  rig->assign_station_addresses();
+  const auto end = static_cast<std::uint16_t>(kStationAddressBase + kRingReturnSlave);
+  const std::uint16_t control = rig->read16(end, reg::kDlControl);
+  ASSERT_EQ(rig->write16(end, reg::kDlControl,
+                         static_cast<std::uint16_t>(control | (0x03U << reg::dl_control_loop_shift(kRingReturnPort)))),
+            1);
+  const LatchedTimes t = latch_receive_times(*rig);
+  (void)rig->write(Command::BWR, 0, reg::kDcReceiveTimePort0, le32(0));
+  ASSERT_FALSE(rig->last_outcome.port == MasterPort::ring) << "the ring's end closed: the latch comes back on main";
+  const auto delays = master_delays(*rig, t);
+  std::array<std::int64_t, kSlaveCount> expected_error{};
+  for (std::size_t p = 1; p < kSlaveCount; ++p) {
+    const std::size_t parent = rig->segment.slave(p).upstream;
+    expected_error[p] = expected_error[parent] + hop_asymmetry(rig->segment, p);
+    const hal::Nanoseconds model = rig->segment.last_arrival(p) - rig->segment.last_arrival(0);
+    EXPECT_NEAR(static_cast<double>(delays[p] - model), static_cast<double>(expected_error[p]), 2.0 + static_cast<double>(p) * 0.5)
+        << kSlaves[p].name;
+  }
+  const std::size_t last = kSlaveCount - 1;
+  const hal::Nanoseconds last_model = rig->segment.last_arrival(last) - rig->segment.last_arrival(0);
+  std::printf("delay error at the end of the ring's line (l_hand, 22 hops): %lld ns (the hops' asymmetries: %lld ns); "
+              "the tree's largest: %lld ns\n",
+              static_cast<long long>(delays[last] - last_model), static_cast<long long>(expected_error[last]),
+              static_cast<long long>(deepest_tree_error));
+  EXPECT_LT(delays[last] - last_model, -80) << "the line's hops add up";
+  EXPECT_GT(std::abs(delays[last] - last_model), 2 * std::abs(deepest_tree_error)) << "more than twice the tree's";
 }
 
 TEST(DcLatch, PropagationDelaysGrowAlongEachBranchAndDifferPerPosition) {
