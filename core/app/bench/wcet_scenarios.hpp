@@ -15,7 +15,8 @@
 //             recovery reads, rewrites and reads it back); the re-initialise of every joint held until
 //             every joint is back, then sent at once (the joint manager's heaviest period: a burst
 //             of the parser's commands while every joint is monitored); every service busy together
-//   mixed     typical for the first half of the periods, worst for the second: not identically
+//   mixed     typical for the first half of the periods, recovery and services for the second (the
+//             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)
 #pragma once
 

@@ -4,7 +4,7 @@
 // status says which (0 all given and within, 2 refused, 3 over budget); the worst path was driven
 // (every slave power-cycled and recovered, the cable into the first slave cut and repaired, SDO transfers, the socket handler's budget of operator
 // datagrams every period) with no heap after init, and the samples written; the conditions (kernel,
-// PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half worst (`--scenario mixed`) is refused by
+// PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half recovery and services (`--scenario mixed`) is refused by
 // the identical-distribution test. It checks the method and the refusal, not the bound.
 #include <gtest/gtest.h>
 #include <unistd.h>
