@@ -12,9 +12,10 @@
 //   worst     recovery and services at once, and more: every other loss a cut of the cable into the
 //             first slave, repaired after a while (every slave re-armed or recovered behind it);
 //             before each power cycle every drive's PDO mapping left as another drive's default (the
-//             recovery reads, rewrites and reads it back); the re-initialise of every joint held until
-//             every joint is back, then sent at once (the joint manager's heaviest period: a burst
-//             of the parser's commands while every joint is monitored); every service busy together
+//             recovery reads, rewrites and reads it back); after every other power cycle the
+//             re-initialise of every joint held until every joint is back, then sent at once (the
+//             joint manager's heaviest period: a burst of the parser's commands while every joint
+//             is monitored), after the others sent at random as in recovery; every service busy
 //   mixed     typical for the first half of the periods, recovery and services for the second (the
 //             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)
@@ -44,7 +45,7 @@ struct WcetStress {
   bool services{false};      // SDO transfers, diagnostics reset every period, capture on
   bool cuts{false};          // every other loss a cut of the cable into the first slave, repaired
   bool pdo_rewrites{false};  // every drive's PDO mapping left wrong before each power cycle
-  bool burst{false};         // the re-initialise of every joint held until every joint is back
+  bool burst{false};         // after every other power cycle, the re-initialise of every joint held until every joint is back
 };
 WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept;
 
