@@ -58,6 +58,12 @@ constexpr std::int64_t kMinGap = 50;
 // While joints are down the operator's side sends a request in a period with probability 1 in
 // kRequestOdds (at random: no period the blocks' phase could lock onto).
 constexpr std::uint64_t kRequestOdds = 20;
+// worst: a cut cable is repaired after this many periods (the drives' process-data watchdog, 100 ms,
+// has taken them to SAFE-OP by then: the master re-arms them or recovers them).
+constexpr std::int64_t kCutPeriods = 120;
+// worst: the re-initialise of every joint sent again when the joints are not all Enabled this many
+// periods after it (one that changed nothing would stall the scenario).
+constexpr std::int64_t kBurstRetryPeriods = 50;
 
 enum Task : std::uint8_t { kHandler, kManager, kParser, kRc, kSocket, kTasks };
 constexpr const char* kTaskFiles[kTasks] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks", "socket_handler"};
@@ -140,6 +146,12 @@ void reset_diagnostics() noexcept {
   reset.requested.store((generation << 32U) | DiagResetLink::kMaskBits, std::memory_order_release);
 }
 
+// The joint manager's joints by state (bit = kJoints index).
+struct JointStates {
+  JointMask enabled{0};
+  JointMask error{0};
+};
+
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
@@ -148,21 +160,40 @@ class ScenarioDriver {
       : segment_(segment), local_(local), local_replies_(local_replies), random_(seed * 0x9E3779B97F4A7C15ULL + 1) {}
 
   // Before period k's work.
-  // `out`: the joints out of the exchange last period; `enabled`, `lost`: the joint manager's.
-  void before(const WcetStress& stress, std::int64_t k, JointMask out, JointMask enabled, JointMask lost) noexcept {
-    if (stress.power_cycles) power_cycles_when_due(k, enabled);
+  // `out`: the joints out of the exchange last period; `joints`, `lost`: the joint manager's.
+  void before(const WcetStress& stress, std::int64_t k, JointMask out, const JointStates& joints, JointMask lost) noexcept {
+    if (stress.power_cycles) losses_when_due(stress, k, joints.enabled);
     if (stress.services) reset_diagnostics();
-    if (enabled == kAllJoints || next_random(random_) % kRequestOdds != 0) return;
-    // The operator's side while joints are down: once the master has a lost joint's drive back in
-    // the exchange, its clear (the positions confirmed: the joints may have moved), then the
-    // re-initialise of every joint not lost (the parser's heaviest request: each joint's three steps),
-    // joint by joint, as run's runtime sends its own requests.
-    ControlRequest request;
-    request.sequence = ++sequence_;
+    if (joints.enabled == kAllJoints) {
+      next_burst_ = -1;
+      return;
+    }
+    // The joint manager's heaviest period: the re-initialise of every joint, sent once every joint
+    // is back in the exchange and none is lost or in Error, so each of the 21 takes all its steps in
+    // one period while every joint is monitored.
+    // Every other power cycle only (the first, the third, ...): after the others the re-initialise
+    // goes at random periods as in `recovery` (the parser's heaviest: an initialize that leaves
+    // unreachable joints out, named in its reply).
+    const bool burst = stress.burst && power_cycles_ % 2 == 1;
     const JointMask back = lost & ~out;
-    request.type = back != 0 ? protocol::MessageType::clear_moved : protocol::MessageType::initialize;
-    request.joints = back != 0 ? back : kAllJoints & ~lost;
-    (void)local_.try_send(request);
+    const JointMask errored = joints.error & ~lost & ~out;
+    if (burst && k >= next_burst_ && lost == 0 && out == 0 && errored == 0) {
+      next_burst_ = k + kBurstRetryPeriods;
+      send(protocol::MessageType::initialize, kAllJoints);
+      return;
+    }
+    if (next_random(random_) % kRequestOdds != 0) return;
+    // The operator's side while joints are down: once the master has a lost joint's drive back in
+    // the exchange, its clear (the positions confirmed: the joints may have moved); a joint in Error
+    // without a loss (its drive faulted while its cable was cut) the same (its reset step); then the
+    // re-initialise of every joint not lost (the parser's heaviest request: each joint's three steps),
+    // joint by joint, as run's runtime sends its own requests. With the burst the re-initialise waits
+    // for every joint (above).
+    if (back != 0 || errored != 0) {
+      send(protocol::MessageType::clear_moved, back != 0 ? back : errored);
+    } else if (!burst) {
+      send(protocol::MessageType::initialize, kAllJoints & ~lost);
+    }
   }
 
   // After the period: take the answers (the runtime's side, untimed).
@@ -173,28 +204,59 @@ class ScenarioDriver {
   }
 
   std::uint64_t power_cycles() const noexcept { return power_cycles_; }
+  std::uint64_t cuts() const noexcept { return cuts_; }
+  // Losses of joints the scenario caused (power cycles and cuts).
+  std::uint64_t losses() const noexcept { return power_cycles_ + cuts_; }
 
  private:
-  void power_cycles_when_due(std::int64_t k, JointMask enabled) noexcept {
-    if (enabled != kAllJoints || (power_cycles_ != 0 && k - last_power_cycle_ < kMinGap)) return;
-    if (next_power_cycle_ < 0) next_power_cycle_ = k + static_cast<std::int64_t>(next_random(random_) % kHoldSpread);
-    if (k < next_power_cycle_) return;
+  void send(protocol::MessageType type, JointMask joints) noexcept {
+    ControlRequest request;
+    request.sequence = ++sequence_;
+    request.type = type;
+    request.joints = joints;
+    (void)local_.try_send(request);
+  }
+
+  void losses_when_due(const WcetStress& stress, std::int64_t k, JointMask enabled) noexcept {
+    if (cut_until_ >= 0) {
+      if (k < cut_until_) return;
+      (void)segment_.restore_link(0);
+      cut_until_ = -1;
+      last_loss_ = k;
+      return;
+    }
+    if (enabled != kAllJoints || (losses() != 0 && k - last_loss_ < kMinGap)) return;
+    if (next_loss_ < 0) next_loss_ = k + static_cast<std::int64_t>(next_random(random_) % kHoldSpread);
+    if (k < next_loss_) return;
+    next_loss_ = -1;
+    last_loss_ = k;
+    if (stress.cuts && losses() % 2 == 1) {
+      // The cable into the first slave: every slave silent, the frames lost, until the repair.
+      (void)segment_.cut_link(0);
+      cut_until_ = k + kCutPeriods;
+      ++cuts_;
+      return;
+    }
     for (std::size_t position = 0; position < segment_.slave_count(); ++position) {
+      // A drive's mapping left as another drive's default: its recovery reads, rewrites and reads
+      // it back (junctions have none: refused, nothing to do).
+      if (stress.pdo_rewrites) (void)segment_.corrupt_pdo_mapping(position, drivers::PdoMappingFault::foreign_default);
       (void)segment_.power_cycle(position, g_clock.now());
     }
     ++power_cycles_;
-    last_power_cycle_ = k;
-    next_power_cycle_ = -1;
   }
 
   drivers::SimulatedSegment& segment_;
   MessageSink<ControlRequest>& local_;
   MessageSource<ControlReply>& local_replies_;
   std::uint64_t random_;
-  std::int64_t next_power_cycle_{-1};
-  std::int64_t last_power_cycle_{0};
+  std::int64_t next_loss_{-1};
+  std::int64_t last_loss_{0};
+  std::int64_t cut_until_{-1};  // the period the cut cable is repaired (-1: none cut)
   std::uint64_t power_cycles_{0};
+  std::uint64_t cuts_{0};
   std::uint64_t sequence_{0};
+  std::int64_t next_burst_{-1};  // the first period the re-initialise of every joint may go (again)
 };
 
 // Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
@@ -601,20 +663,23 @@ void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTim
       rig.bus->master().set_tap(ecat::capture_queue_tap, &g_capture);  // capture on: every frame queued for the logger
       capture_on = true;
     }
-    JointMask enabled = 0;
+    JointStates joints;
     for (std::size_t j = 0; j < kJointCount; ++j) {
-      if (rig.manager->statuses()[j].state == fsm::JointState::enabled) enabled |= JointMask{1} << j;
+      const fsm::JointState state = rig.manager->statuses()[j].state;
+      if (state == fsm::JointState::enabled) joints.enabled |= JointMask{1} << j;
+      if (state == fsm::JointState::error) joints.error |= JointMask{1} << j;
     }
+    const JointMask enabled = joints.enabled;
     if (down_since >= 0 && enabled != kAllJoints) went_down = true;
     if (down_since >= 0 && went_down && enabled == kAllJoints) {
       figures.longest_recovery = std::max(figures.longest_recovery, k - down_since);
       ++figures.recoveries;
       down_since = -1;
     }
-    rig.driver->before(stress, k, figures.last_out, enabled, rig.manager->lost_joints());
+    rig.driver->before(stress, k, figures.last_out, joints, rig.manager->lost_joints());
     rig.operator_load->before(stress.services);
-    if (rig.driver->power_cycles() != cycles_seen) {
-      cycles_seen = rig.driver->power_cycles();
+    if (rig.driver->losses() != cycles_seen) {
+      cycles_seen = rig.driver->losses();
       down_since = k;
       went_down = false;
     }
@@ -638,9 +703,11 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   (void)std::printf("measured_periods: %" PRId64 " periods per task\n", options.periods);
   (void)std::printf("cycles_to_op: %d cycles\n", figures.to_op);
   (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", rig.driver->power_cycles());
+  (void)std::printf("cable_cuts_repaired: %" PRIu64 " (the cable into the first slave, repaired after %" PRId64 " periods)\n",
+                    rig.driver->cuts(), kCutPeriods);
   (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", figures.recoveries);
   if (figures.longest_recovery >= 0) {
-    (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle of every slave to every joint Enabled)\n", figures.longest_recovery);
+    (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle or cut to every joint Enabled)\n", figures.longest_recovery);
   } else {
     (void)std::printf("longest_recovery: n/a\n");
   }
@@ -650,6 +717,9 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
                     load.answers(), load.send_failures());
   (void)std::printf("socket_handler_max_datagrams_per_wakeup: %zu (its budget %zu)\n", load.handler().max_per_wakeup(),
                     SocketHandler::kBudget);
+  const ecat::RecoveryStats& recovery = rig.bus->master().recovery_stats();
+  (void)std::printf("master_recoveries: %u slaves recovered, %u attempts failed, %u refused\n", static_cast<unsigned>(recovery.recovered),
+                    static_cast<unsigned>(recovery.failed), static_cast<unsigned>(recovery.refused));
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", figures.periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", figures.periods_with_lost);
   print_end_state(*rig.manager, *rig.bus, rig.robot->segment(), figures.last_out);

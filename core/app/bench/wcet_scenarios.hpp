@@ -9,8 +9,15 @@
 //             message parser re-initialises every joint; the RC tasks reshape after each change
 //   services  the operator's segmented SDO transfers back to back in the mailbox, a diagnostics
 //             reset every period, the capture on
-//   worst     recovery and services at once: every service busy together (the handler's heaviest)
-//   mixed     typical for the first half of the periods, worst for the second: not identically
+//   worst     recovery and services at once, and more: every other loss a cut of the cable into the
+//             first slave, repaired after a while (every slave re-armed or recovered behind it);
+//             before each power cycle every drive's PDO mapping left as another drive's default (the
+//             recovery reads, rewrites and reads it back); after every other power cycle the
+//             re-initialise of every joint held until every joint is back, then sent at once (the
+//             joint manager's heaviest period: a burst of the parser's commands while every joint
+//             is monitored), after the others sent at random as in recovery; every service busy
+//   mixed     typical for the first half of the periods, recovery and services for the second (the
+//             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)
 #pragma once
 
@@ -36,6 +43,9 @@ const WcetScenarioSpec* find_wcet_scenario(const char* name) noexcept;
 struct WcetStress {
   bool power_cycles{false};  // every slave power-cycled at a random gap
   bool services{false};      // SDO transfers, diagnostics reset every period, capture on
+  bool cuts{false};          // every other loss a cut of the cable into the first slave, repaired
+  bool pdo_rewrites{false};  // every drive's PDO mapping left wrong before each power cycle
+  bool burst{false};         // after every other power cycle, the re-initialise of every joint held until every joint is back
 };
 WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept;
 

@@ -2,9 +2,9 @@
 // toolchain/check.sh on the release build): on the worst-path scenario every task gets either a pWCET
 // (a number, its budget judged) or a refusal naming the failed test (every pWCET n/a), and the exit
 // status says which (0 all given and within, 2 refused, 3 over budget); the worst path was driven
-// (every slave power-cycled and recovered, SDO transfers, the socket handler's budget of operator
+// (every slave power-cycled and recovered, the cable into the first slave cut and repaired, SDO transfers, the socket handler's budget of operator
 // datagrams every period) with no heap after init, and the samples written; the conditions (kernel,
-// PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half worst (`--scenario mixed`) is refused by
+// PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half recovery and services (`--scenario mixed`) is refused by
 // the identical-distribution test. It checks the method and the refusal, not the bound.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -49,6 +49,7 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
   EXPECT_EQ(value_of(out, "heap_allocations_after_init"), "0 allocations") << out;
   EXPECT_EQ(value_of(out, "measured_periods"), "2500 periods per task") << out;
   EXPECT_GE(std::atoi(value_of(out, "power_cycles_of_every_slave").c_str()), 1) << out;
+  EXPECT_GE(std::atoi(value_of(out, "cable_cuts_repaired").c_str()), 1) << out;
   EXPECT_GE(std::atoi(value_of(out, "recoveries_to_every_joint_enabled").c_str()), 1) << "the worst path ran to its end: " << out;
   EXPECT_GT(std::atoi(value_of(out, "sdo_transfers").c_str()), 100) << out;
   EXPECT_EQ(value_of(out, "socket_handler_max_datagrams_per_wakeup"), "64 (its budget 64)") << out;
