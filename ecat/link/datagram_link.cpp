@@ -135,7 +135,8 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal:
   expected_wkc_[index_] = expected_wkc;
   if (ring_ == nullptr || !send_sent().ok()) return first_again();  // ring_: only a redundant link repeats
   // Each copy is expected as it was in the first frame (a copy back round the ring waits for the other
-  // anyway): a master port cut in flight loses the repeat's copy there too.
+  // anyway): a master port cut in flight loses the repeat's copy there too. No repeat follows this
+  // one, so a copy back round the ring has the other waited for until the deadline.
   const Result<FrameView> again = await_copies(deadline);
   if (!again.ok()) return first_again();
   const CopyCounters repeat_counters = returns_.counters;
@@ -156,13 +157,15 @@ hal::Nanoseconds DatagramLink::round_copy_due(hal::Nanoseconds now, hal::Nanosec
 
 Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {
   returns_ = CopyReturns{};
+  const bool may_repeat = sent_.data() != repeat_tx_.data();  // the frame awaited is not the repeat itself
   hal::Clock& time = nic_.clock();
   // Both NICs are looked at without waiting; when neither had a copy, the NIC where a missing copy
   // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a
   // frame or moves the clock on. Ends when the copies expected (those that came back last time) are
   // in, after one more look at both NICs. A copy back round the ring (on the other NIC) says the ring
   // was closed when it went: the other copy, sent with it, is then waited for whether expected or
-  // not, but only until it is due (round_copy_due): not back by then, it was lost in flight.
+  // not, but only until it is due (round_copy_due) when a repeat may follow: not back by then, it was
+  // lost in flight.
   hal::Nanoseconds wait_until = deadline;
   for (;;) {
     bool took = false;
@@ -180,7 +183,7 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
     const bool main_round = returns_.main_back && returns_.main_on == Port::ring;
     const bool ring_round = returns_.ring_back && returns_.ring_on == Port::main;
     if (main_round || ring_round) {
-      if (wait_until == deadline) wait_until = round_copy_due(time.now(), deadline);
+      if (may_repeat && wait_until == deadline) wait_until = round_copy_due(time.now(), deadline);
     } else if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) {
       break;
     }
