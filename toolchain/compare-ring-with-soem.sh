@@ -67,6 +67,8 @@ break_and_repair() {
   sleep "$(awk -v a="$repair_s" -v b="$break_s" 'BEGIN {print a - b}')"; echo "restore $cable" >&7
 }
 field() { awk -v k="$2:" '$1 == k {print $2; found = 1; exit} END {if (!found) print "n/a"}' "$1"; }
+# rest: the whole value after the key (a DC figure is `N ns`, `saturated (...)` or `n/a (no read)`).
+rest() { awk -v k="$2:" '$1 == k {sub(/^[^:]*: */, ""); print; found = 1; exit} END {if (!found) print "n/a"}' "$1"; }
 
 for ((r = 1; r <= runs; r++)); do
   start_sim
@@ -76,9 +78,9 @@ for ((r = 1; r <= runs; r++)); do
   echo "run${r}_soem_op: $(field "$tmp/soem.out" op)"
   echo "run${r}_soem_cycles_full_wkc: $(field "$tmp/soem.out" cycles_full_wkc) of $((seconds * 1000))"
   echo "run${r}_soem_cycles_without_full_wkc: $(field "$tmp/soem.out" cycles_without_full_wkc)"
-  echo "run${r}_soem_dc_max_abs_before_break_ns: $(field "$tmp/soem.out" dc_max_abs_before_break)"
-  echo "run${r}_soem_dc_max_abs_after_break_100ms_ns: $(field "$tmp/soem.out" dc_max_abs_after_break_100ms)"
-  echo "run${r}_soem_dc_max_abs_after_repair_100ms_ns: $(field "$tmp/soem.out" dc_max_abs_after_repair_100ms)"
+  echo "run${r}_soem_dc_max_abs_before_break: $(rest "$tmp/soem.out" dc_max_abs_before_break)"
+  echo "run${r}_soem_dc_max_abs_after_break_100ms: $(rest "$tmp/soem.out" dc_max_abs_after_break_100ms)"
+  echo "run${r}_soem_dc_max_abs_after_repair_100ms: $(rest "$tmp/soem.out" dc_max_abs_after_repair_100ms)"
   echo "run${r}_soem_slaves_not_op_at_end: $(field "$tmp/soem.out" slaves_not_op_at_end)"
 
   start_sim

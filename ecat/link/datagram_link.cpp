@@ -134,8 +134,9 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal:
   sent_view_ = repeat_view.value();
   expected_wkc_[index_] = expected_wkc;
   if (ring_ == nullptr || !send_sent().ok()) return first_again();  // ring_: only a redundant link repeats
-  expect_main_ = true;
-  expect_ring_ = true;
+  // Each copy is expected as it was in the first frame (a copy back round the ring waits for the other
+  // anyway): a master port cut in flight loses the repeat's copy there too. No repeat follows this
+  // one, so a copy back round the ring has the other waited for until the deadline.
   const Result<FrameView> again = await_copies(deadline);
   if (!again.ok()) return first_again();
   const CopyCounters repeat_counters = returns_.counters;
@@ -146,13 +147,26 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal:
   return first_again();
 }
 
+hal::Nanoseconds DatagramLink::round_copy_due(hal::Nanoseconds now, hal::Nanoseconds deadline) const noexcept {
+  // Both copies left together and a closed ring is the same length both ways: the other copy is due
+  // within the round trip the first one took (at least kRingPollSlice), counted from its return.
+  const hal::Nanoseconds round_trip = now - sent_at_[index_];
+  const hal::Nanoseconds due = now + (round_trip > kRingPollSlice ? round_trip : kRingPollSlice);
+  return due < deadline ? due : deadline;
+}
+
 Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept {
   returns_ = CopyReturns{};
+  const bool may_repeat = sent_.data() != repeat_tx_.data();  // the frame awaited is not the repeat itself
   hal::Clock& time = nic_.clock();
   // Both NICs are looked at without waiting; when neither had a copy, the NIC where a missing copy
   // came back last time is waited on for at most kRingPollSlice. Bounded: each turn either takes a
   // frame or moves the clock on. Ends when the copies expected (those that came back last time) are
-  // in, after one more look at both NICs.
+  // in, after one more look at both NICs. A copy back round the ring (on the other NIC) says the ring
+  // was closed when it went: the other copy, sent with it, is then waited for whether expected or
+  // not, but only until it is due (round_copy_due) when a repeat may follow: not back by then, it was
+  // lost in flight.
+  hal::Nanoseconds wait_until = deadline;
   for (;;) {
     bool took = false;
     for (const Port port : {Port::main, Port::ring}) {
@@ -165,13 +179,20 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
         return got.error();
       }
     }
-    if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) break;
+    if (returns_.main_back && returns_.ring_back) break;
+    const bool main_round = returns_.main_back && returns_.main_on == Port::ring;
+    const bool ring_round = returns_.ring_back && returns_.ring_on == Port::main;
+    if (main_round || ring_round) {
+      if (may_repeat && wait_until == deadline) wait_until = round_copy_due(time.now(), deadline);
+    } else if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) {
+      break;
+    }
     if (took) continue;
     const hal::Nanoseconds now = time.now();
-    if (now >= deadline) break;
-    const hal::Nanoseconds slice_end = now + kRingPollSlice < deadline ? now + kRingPollSlice : deadline;
+    if (now >= wait_until) break;
+    const hal::Nanoseconds slice_end = now + kRingPollSlice < wait_until ? now + kRingPollSlice : wait_until;
     // Wait where the copy still missing came back last time (the main copy's first).
-    const Port wait_on = expect_main_ && !returns_.main_back ? main_came_on_ : ring_came_on_;
+    const Port wait_on = !returns_.main_back && (expect_main_ || returns_.ring_back) ? main_came_on_ : ring_came_on_;
     const Result<std::size_t> got = (wait_on == Port::main ? nic_ : *ring_).receive(ByteSpan(scratch_), slice_end);
     if (got.ok()) {
       (void)take_copy(wait_on, got.value());

@@ -12,11 +12,14 @@
 // the deadline passes, and the exchange returns their merge. A copy that did not come back last
 // time (a break at a master port) is not waited for: the exchange ends once the others are in,
 // after one more look at both NICs, so a cut at a port does not hold every cycle to its deadline;
-// such a copy turning up late (stale) makes the next exchanges wait for it again. A ring closed
-// while the frame was in flight (the ring copy came back round the ring, the main copy did not)
-// leaves the slaves after the break in neither copy: the exchange's repeatable datagrams are sent
-// again at once under a new index, within the same deadline, and their answers taken
-// (redundant_merge.hpp, make_repeat). Without a ring NIC nothing changes.
+// such a copy turning up late (stale) makes the next exchanges wait for it again. A copy back round
+// the ring (on the other NIC: the ring was closed when it went) has the other copy waited for,
+// expected or not, but only until it is due (round_copy_due); not back by then, it was lost in
+// flight. A ring closed while the frame was in flight (the ring copy came back round the ring, the
+// main copy did not: it turned at the break or was lost at a master port cut in flight) leaves
+// slaves in neither copy: the exchange's repeatable datagrams are sent again at once under a new
+// index, within the same deadline, and their answers taken (redundant_merge.hpp, make_repeat).
+// Without a ring NIC nothing changes.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
 // optional tap, e.g. the capture writer recording a pcapng file (ecat/capture/capture_tap.hpp).
@@ -131,6 +134,8 @@ class DatagramLink {
   Result<FrameView> await_frame(hal::Nanoseconds deadline) noexcept;  // its return, until `deadline`
   Result<FrameView> exchange_within(hal::Nanoseconds timeout) noexcept;
   Result<FrameView> await_copies(hal::Nanoseconds deadline) noexcept;  // redundant: both NICs, merged
+  // When the copy still missing is due, once the other came back round the ring at `now` (at most `deadline`).
+  hal::Nanoseconds round_copy_due(hal::Nanoseconds now, hal::Nanoseconds deadline) const noexcept;
   // await_copies, and the repeat when the ring closed while the frame was in flight.
   Result<FrameView> await_merged(hal::Nanoseconds deadline) noexcept;
   Result<FrameView> repeat_after_repair(const FrameView& first, hal::Nanoseconds deadline) noexcept;

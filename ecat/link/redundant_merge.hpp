@@ -63,7 +63,9 @@ Result<std::size_t> make_ring_copy(ConstByteSpan main, ByteSpan out) noexcept;
 // A cable repaired while a frame is in flight (docs/redundancy.md, "A cable changing while a frame is
 // in flight"): the main copy turned at the break, the slaves before it processed; the ring copy, sent
 // after the repair, went round the closed ring unprocessed. The slaves after the break are in neither
-// copy, so the exchange is sent again at once, the datagrams that may be repeated only:
+// copy (so too with the copies walked the other way round a cut: the ring copy round the still closed
+// ring, the main copy turned at the cut or lost in the master's own cable), so the exchange is sent
+// again at once, the datagrams that may be repeated only:
 // the process data (LRD/LWR/LRW: the SyncManagers' buffers, written again with the same outputs, read
 // again) and broadcast reads (BRD, the ring watch's count). Every other datagram goes as NOP in the
 // repeat (a mailbox read or write, a register write, a position-addressed one, the reference clock's

@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 
 #include "drivers/joint/joint_bus.hpp"
@@ -28,11 +30,48 @@ inline drivers::RobotSegmentOptions ring_robot_options() {
   return options;
 }
 
+// Stands in front of the pair's main port: passes every frame through, except the next one after
+// hold_next(), which it keeps until release() (so that the ring copy of the same exchange is walked
+// first, as the simulator over veth may serve the two ports in either order).
+class MainPortFront final : public hal::Nic {
+ public:
+  explicit MainPortFront(drivers::SimulatedNic& main) noexcept : main_(main) {}
+
+  void hold_next() noexcept { hold_ = true; }
+  // Sends the frame held, if any.
+  void release() noexcept {
+    if (held_ == 0) return;
+    EXPECT_TRUE(main_.send(ConstByteSpan(frame_.data(), held_)).ok());
+    held_ = 0;
+  }
+
+  Status send(ConstByteSpan frame) noexcept override {
+    if (!hold_ || frame.size() > frame_.size()) return main_.send(frame);
+    hold_ = false;
+    std::memcpy(frame_.data(), frame.data(), frame.size());
+    held_ = frame.size();
+    return Status::success();
+  }
+  Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
+    return main_.receive(buffer, deadline);
+  }
+  hal::Clock& clock() noexcept override { return main_.clock(); }
+  const char* name() const noexcept override { return main_.name(); }
+  hal::NicStats stats() const noexcept override { return main_.stats(); }
+
+ private:
+  drivers::SimulatedNic& main_;
+  std::array<std::uint8_t, drivers::SimulatedNic::kMaxFrame> frame_{};
+  std::size_t held_{0};
+  bool hold_{false};
+};
+
 struct RingRobotRig {
   hal::VirtualClock clock{hal::kNsPerSec};
   drivers::SimulatedRobot robot{ring_robot_options(), clock.now()};
   drivers::SimulatedNicPair nics{robot.segment(), clock};
-  drivers::JointBus bus{nics.main(), drivers::kRobotRingNetworkPlan};
+  MainPortFront main_front{nics.main()};
+  drivers::JointBus bus{main_front, drivers::kRobotRingNetworkPlan};
   drivers::JointReferences references{};
 
   drivers::JointCycleResult cycle(drivers::JointFeedback& feedback) {

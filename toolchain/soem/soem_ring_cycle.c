@@ -25,8 +25,14 @@ static double seconds_since(const struct timespec *start) {
 /* 0x092C: bit 31 the sign (1: local copy of system time smaller), bits 0-30 the magnitude in ns. */
 static long dc_difference_magnitude(uint32 raw) { return (long)(raw & 0x7FFFFFFFu); }
 
-static void print_dc(const char *key, long value, int samples) {
-  if (samples == 0) printf("%s: n/a\n", key); else printf("%s: %ld ns\n", key, value);
+/* The largest magnitude 0x092C can show (the simulated ESC, as a real one, saturates there): a clock
+ * that far off is not a figure in ns, so it is printed as `saturated`, with how many reads were. */
+static const long kDcDifferenceLimit = 0x7FFFFFFFL;
+
+static void print_dc(const char *key, long value, int samples, int saturated) {
+  if (samples == 0) printf("%s: n/a (no read)\n", key);
+  else if (value >= kDcDifferenceLimit) printf("%s: saturated (%d of %d reads at 0x092C's limit, 2^31-1 ns)\n", key, saturated, samples);
+  else printf("%s: %ld ns\n", key, value);
 }
 
 int main(int argc, char **argv) {
@@ -60,6 +66,7 @@ int main(int argc, char **argv) {
   int full = 0, short_cycles = 0, run = 0, longest_run = 0;
   long dc_before = 0, dc_broken = 0, dc_repaired = 0;
   int n_before = 0, n_broken = 0, n_repaired = 0;
+  int sat_before = 0, sat_broken = 0, sat_repaired = 0;
   struct timespec start, next;
   clock_gettime(CLOCK_MONOTONIC, &start);
   next = start;
@@ -76,9 +83,10 @@ int main(int argc, char **argv) {
         ec_slave[slave].hasdc) {
       const long magnitude = dc_difference_magnitude(etohl(raw));
       const double t = seconds_since(&start);
-      if (t < break_s) { if (magnitude > dc_before) dc_before = magnitude; ++n_before; }
-      else if (t >= break_s + 0.1 && t < repair_s) { if (magnitude > dc_broken) dc_broken = magnitude; ++n_broken; }
-      else if (t >= repair_s + 0.1) { if (magnitude > dc_repaired) dc_repaired = magnitude; ++n_repaired; }
+      const int at_limit = magnitude >= kDcDifferenceLimit;
+      if (t < break_s) { if (magnitude > dc_before) dc_before = magnitude; ++n_before; sat_before += at_limit; }
+      else if (t >= break_s + 0.1 && t < repair_s) { if (magnitude > dc_broken) dc_broken = magnitude; ++n_broken; sat_broken += at_limit; }
+      else if (t >= repair_s + 0.1) { if (magnitude > dc_repaired) dc_repaired = magnitude; ++n_repaired; sat_repaired += at_limit; }
     }
   }
   ec_readstate();
@@ -86,9 +94,9 @@ int main(int argc, char **argv) {
   for (int s = 1; s <= ec_slavecount; ++s) not_op += (ec_slave[s].state & 0x0F) != EC_STATE_OPERATIONAL;
   printf("cycles: %d\ncycles_full_wkc: %d\ncycles_without_full_wkc: %d\nlongest_run_without_full_wkc: %d cycles\n",
          cycles, full, short_cycles, longest_run);
-  print_dc("dc_max_abs_before_break", dc_before, n_before);
-  print_dc("dc_max_abs_after_break_100ms", dc_broken, n_broken);
-  print_dc("dc_max_abs_after_repair_100ms", dc_repaired, n_repaired);
+  print_dc("dc_max_abs_before_break", dc_before, n_before, sat_before);
+  print_dc("dc_max_abs_after_break_100ms", dc_broken, n_broken, sat_broken);
+  print_dc("dc_max_abs_after_repair_100ms", dc_repaired, n_repaired, sat_repaired);
   printf("slaves_not_op_at_end: %d\n", not_op);
   ec_slave[0].state = EC_STATE_INIT;
   ec_writestate(0);
