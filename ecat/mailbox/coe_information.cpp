@@ -135,7 +135,7 @@ const char* data_type_name(std::uint16_t type) noexcept {
 }
 
 void access_text(std::uint16_t access, char (&out)[7]) noexcept {
-  for (unsigned state = 0; state < 3; ++state) {
+  for (std::size_t state = 0; state < 3; ++state) {
     out[2 * state] = (access & (1U << state)) != 0 ? 'r' : '-';
     out[2 * state + 1] = (access & (1U << (state + 3))) != 0 ? 'w' : '-';
   }
