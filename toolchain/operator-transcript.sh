@@ -189,6 +189,10 @@ ctl graph
 ctl --rows 'digraph|s1[89]|^}' graph --format dot
 ctl pdos l_elbow
 ctl --cut 300 --json pdos l_elbow
+ctl pdos 0
+ctl --rows 'objects|^SDO 0x10(08|18)|0x1008:00|0x1018:0|0x6041:00' sdos l_elbow --values
+ctl --cut 300 --json sdos l_elbow
+ctl --refused sdos junction_a
 
 begin joints
 ctl disable l_hand

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/base/endian.hpp"
 #include "ecat/mailbox/coe.hpp"
+#include "ecat/mailbox/coe_information.hpp"
 #include "ecat/mailbox/mailbox.hpp"
 #include "ecat/codec/registers.hpp"
 
@@ -60,6 +62,19 @@ SdoRequest sdo_upload(std::uint8_t position, std::uint16_t index, std::uint8_t s
   r.direction = SdoDirection::upload;
   r.index = index;
   r.subindex = subindex;
+  r.tag = tag;
+  return r;
+}
+
+SdoRequest sdo_information(std::uint8_t position, std::uint8_t opcode, std::uint16_t index, std::uint8_t subindex,
+                           std::uint16_t skip, std::uint32_t tag) noexcept {
+  SdoRequest r;
+  r.position = position;
+  r.direction = SdoDirection::information;
+  r.info_opcode = opcode;
+  r.index = index;
+  r.subindex = subindex;
+  r.info_skip = skip;
   r.tag = tag;
   return r;
 }
@@ -162,7 +177,7 @@ bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noe
   const std::size_t size = r.size < kMaxSdoData ? r.size : kMaxSdoData;
   switch (step) {
     case Step::initiate:
-      if (r.direction == SdoDirection::upload) {
+      if (r.direction != SdoDirection::download) {  // information: encoded below, on its own
         sdo = coe::upload_request(r.index, r.subindex, r.complete_access);
       } else if (size <= coe::kMaxExpeditedSize) {
         sdo = coe::download_request(r.index, r.subindex, ConstByteSpan(r.data.data(), size));
@@ -192,7 +207,11 @@ bool MailboxClient::encode_step(Channel& c, Step step, hal::Nanoseconds now) noe
     case Step::abort: sdo = coe::abort(r.index, r.subindex, c.abort_code_out); break;
   }
   std::memset(c.message.data(), 0, box.out_size);
-  const Result<std::size_t> encoded = coe::encode(ByteSpan(c.message.data(), box.out_size), header, sdo);
+  const ByteSpan out(c.message.data(), box.out_size);
+  const Result<std::size_t> encoded =
+      r.direction == SdoDirection::information && step == Step::initiate
+          ? coe::info::encode_request(out, header, r.info_opcode, r.index, r.subindex)
+          : coe::encode(out, header, sdo);
   if (!encoded.ok()) return false;
   c.step = step;
   c.phase = Phase::send;
@@ -293,6 +312,10 @@ void MailboxClient::take_reply(Channel& c, ConstByteSpan bytes) noexcept {
     ++emergencies_;
     return;
   }
+  if (c.current.request.direction == SdoDirection::information) {
+    if (m.service == coe::Service::sdo_information) take_information(c, m.payload);
+    return;
+  }
   if (m.service != coe::Service::sdo_response && m.service != coe::Service::sdo_request) return;
   const coe::Sdo& sdo = m.sdo;
   const SdoRequest& r = c.current.request;
@@ -390,6 +413,52 @@ void MailboxClient::take_segment(Channel& c, const coe::Sdo& sdo) noexcept {
   }
   c.toggle = !c.toggle;
   if (!encode_step(c, Step::download_segment, now_)) complete(c, SdoOutcome::bad_response);
+}
+
+void MailboxClient::take_information(Channel& c, ConstByteSpan coe_payload) noexcept {
+  const Result<coe::info::Fragment> decoded = coe::info::decode_fragment(coe_payload);
+  if (!decoded.ok()) {
+    complete(c, SdoOutcome::bad_response);
+    return;
+  }
+  const coe::info::Fragment& f = decoded.value();
+  const SdoRequest& r = c.current.request;
+  if (f.opcode == coe::info::kErrorRequest) {
+    if (f.data.size() < 4) {
+      complete(c, SdoOutcome::bad_response);
+      return;
+    }
+    c.current.abort_code = load_le32(f.data.data());
+    complete(c, SdoOutcome::aborted);
+    return;
+  }
+  if (f.opcode != r.info_opcode + 1U) return;  // not the answer to this request
+  // A fragment after the first counts down by one; one that does not is a lost or foreign fragment.
+  if (c.current.segmented && std::uint32_t{f.fragments_left} + 1U != c.expected) {
+    complete(c, SdoOutcome::bad_response);
+    return;
+  }
+  // Keep the bytes of [info_skip, info_skip + kMaxSdoData) of the whole response's data.
+  const std::size_t begin = c.offset;
+  const std::size_t end = begin + f.data.size();
+  const std::size_t skip = r.info_skip;
+  const std::size_t keep_from = std::max(begin, skip);
+  const std::size_t keep_to = std::min(end, skip + kMaxSdoData);
+  if (keep_to > keep_from) {
+    std::memcpy(c.current.data.data() + (keep_from - skip), f.data.data() + (keep_from - begin), keep_to - keep_from);
+  }
+  c.offset = end;
+  c.current.info_total = static_cast<std::uint32_t>(std::min<std::size_t>(end, 0xFFFFFFFFU));
+  c.current.size = static_cast<std::uint16_t>(end > skip ? std::min(end - skip, kMaxSdoData) : 0);
+  if (f.fragments_left == 0) {
+    complete(c, SdoOutcome::ok);
+    return;
+  }
+  // More to come: wait for the next fragment (the slave posts it when SM1 was read), with a fresh timeout.
+  c.expected = f.fragments_left;
+  c.current.segmented = true;
+  c.deadline = now_ + response_timeout_;
+  c.late_polls = 0;
 }
 
 void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {

@@ -17,6 +17,10 @@
 // slaves side by side: an exchange carries a step of every busy slave that fits the frame (of at
 // most `max_slaves` of them: the cyclic frame takes a few, bring-up's own frames all). Requests wait
 // in one queue; each slave's are started in the order they were submitted.
+// An SDO Information request (direction `information`, ctl sdos; ecat/mailbox/coe_information.hpp)
+// is one send and then waits: a response of several fragments is collected fragment by fragment,
+// each fragment one wait step (the slave posts the next when SM1 was read), the response timeout
+// again per fragment; of the response's data the kMaxSdoData bytes from `info_skip` are kept.
 #pragma once
 
 #include <array>
@@ -32,7 +36,7 @@
 
 namespace rescue::ecat {
 
-enum class SdoDirection : std::uint8_t { download, upload };
+enum class SdoDirection : std::uint8_t { download, upload, information };
 
 // The longest value one transfer carries (a visible string such as 0x100A firmware version).
 constexpr std::size_t kMaxSdoData = 256;
@@ -58,6 +62,11 @@ struct SdoRequest {
   // Upload of the whole object from `subindex` (0 or 1) in one transfer (SDO complete access,
   // ETG.1000.6 5.6.2): only to slaves whose SII announces it (sii::kCoeDetailSdoCompleteAccess).
   bool complete_access{false};
+  // direction information: the SDO Information request (coe::info::kGet*Request), its `index` (Get
+  // OD List: the list type) and `subindex`; the response's data bytes before `info_skip` are not
+  // kept (a long OD list read in windows of kMaxSdoData bytes).
+  std::uint8_t info_opcode{0};
+  std::uint16_t info_skip{0};
 };
 
 struct SdoCompletion {
@@ -69,6 +78,7 @@ struct SdoCompletion {
   std::array<std::uint8_t, kMaxSdoData> data{};   // upload: the value, little-endian
   bool segmented{false};                          // the value travelled in segments
   std::uint32_t exchanges{0};           // frames the transfer took
+  std::uint32_t info_total{0};          // information: bytes of the whole response's data (size: those kept)
 };
 
 // Helpers building requests.
@@ -78,6 +88,8 @@ SdoRequest sdo_download(std::uint8_t position, std::uint16_t index, std::uint8_t
 SdoRequest sdo_download_bytes(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, ConstByteSpan bytes,
                               std::uint32_t tag = 0) noexcept;
 SdoRequest sdo_upload(std::uint8_t position, std::uint16_t index, std::uint8_t subindex, std::uint32_t tag = 0) noexcept;
+SdoRequest sdo_information(std::uint8_t position, std::uint8_t opcode, std::uint16_t index, std::uint8_t subindex,
+                           std::uint16_t skip, std::uint32_t tag = 0) noexcept;
 std::uint32_t sdo_value(const SdoCompletion& completion) noexcept;  // upload data as a number
 
 class MailboxClient {
@@ -142,7 +154,7 @@ class MailboxClient {
     SdoCompletion current{};
     hal::Nanoseconds deadline{0};
     std::size_t offset{0};      // bytes of the value moved so far (segmented transfers)
-    std::uint32_t expected{0};  // upload: the complete size the slave announced
+    std::uint32_t expected{0};  // upload: the complete size the slave announced; information: fragments left
     std::size_t chunk{0};       // download: bytes of the step in flight
     bool toggle{false};         // the next segment's toggle bit
     SdoOutcome abort_outcome{SdoOutcome::bad_response};  // what an abort step completes with
@@ -163,6 +175,7 @@ class MailboxClient {
   void deliver(const SdoCompletion& done) noexcept;  // to the owner's, the master's or the operator's queue
   void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
   void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
+  void take_information(Channel& c, ConstByteSpan coe_payload) noexcept;
   void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;
   // Encodes the next message of c's transfer into its buffer and arms its send.
   bool encode_step(Channel& c, Step step, hal::Nanoseconds now) noexcept;

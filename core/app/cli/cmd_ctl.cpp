@@ -40,6 +40,7 @@ const OptionSpec kOptions[] = {
     {"format", "FORMAT", "graph: text (default) or dot (Graphviz)"},
     {"reset", nullptr, "diag: zero the link error counters (all slaves, or SLAVE)"},
     {"raw", nullptr, "sii_read: the image's bytes themselves on stdout (not a hex dump)"},
+    {"values", nullptr, "sdos: each entry's value too (SDO upload)"},
 };
 
 char g_error_text[1024];  // the text naming what went wrong (one client process)
@@ -141,9 +142,12 @@ const CommandSpec kCtlCommand{
     "  upload SLAVE INDEX:SUB               read a CoE object (SDO; e.g. 0x100A:00), --type; SLAVE: a joint,\n"
     "                                       a slave's name or position (junctions too; e.g. upload 1 0x1018:01)\n"
     "  download SLAVE INDEX:SUB VALUE       write one; objects of the cyclic image are refused with the reason\n"
-    "  pdos [JOINT]                         the sync managers, PDO assignment and mapping the master\n"
-    "                                       configures; with JOINT also read back from its drive (SDO),\n"
-    "                                       each same or not\n"
+    "  pdos [SLAVE]                         the sync managers, PDO assignment and mapping the master\n"
+    "                                       configures; with SLAVE (joint, name or position) also read\n"
+    "                                       back from its drive (SDO), each same or not\n"
+    "  sdos SLAVE [--values]                the slave's object dictionary as it describes it (CoE SDO\n"
+    "                                       Information): objects, entries, types, access; --values\n"
+    "                                       each entry's value too (SDO upload)\n"
     "  sii_read SLAVE [--raw]               the slave's SII as the master read it at bring-up: hex dump,\n"
     "                                       or the bytes themselves (--raw)\n"
     "  xml SLAVE                            an ESI-style XML description built from that SII (vendor,\n"

@@ -3,9 +3,10 @@
 #include <array>
 #include <cinttypes>
 #include <cstdio>
-#include <string_view>
 
+#include "core/app/cli/ctl_network.hpp"
 #include "core/app/cli/ctl_output.hpp"
+#include "core/app/cli/ctl_sdo.hpp"
 #include "core/app/cli/ctl_target.hpp"
 #include "core/base/le_stream.hpp"
 #include "core/robot/robot.hpp"
@@ -165,6 +166,18 @@ void print_json(const char* joint, const std::array<ReadBack, 2>* back) noexcept
   end_json();
 }
 
+// A junction: an ESC without an application, so no sync manager of process data and no PDO.
+int print_junction(const char* name, std::size_t position) noexcept {
+  if (!ctl_output().json) {
+    (void)std::printf("%s (position %zu): a junction: it maps no PDO (no process data, no mailbox)\n", name, position);
+    return 0;
+  }
+  begin_json(true);
+  (void)std::printf(R"(,"joint":null,"slave":"%s","position":%zu,"sync_managers":[],"read_back_same":null)", name, position);
+  end_json();
+  return 0;
+}
+
 }  // namespace
 
 int ctl_pdos(const ParsedArgs& args, CtlPeer& peer) noexcept {
@@ -177,13 +190,16 @@ int ctl_pdos(const ParsedArgs& args, CtlPeer& peer) noexcept {
     }
     return 0;
   }
-  const char* name = args.positional(1);
-  std::size_t joint = kJointCount;
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    if (std::string_view(kJoints[j].name) == name) joint = j;
+  protocol::SdoPayload slave;
+  const Status parsed = parse_sdo_slave(args.positional(1), slave);
+  if (!parsed.ok()) {
+    char text[192];
+    (void)std::snprintf(text, sizeof text, "pdos %s", parsed.error().what);
+    return ctl_error(CtlExit::usage, text);
   }
-  if (joint == kJointCount)
-    return ctl_error(CtlExit::usage, "pdos JOINT: a joint's name (ctl status); the junctions map no PDO");
+  const std::size_t position = sdo_slave_position(slave.target, slave.joint, slave.slave);
+  const std::size_t joint = position < kSlaveCount ? kSlaves[position].joint : kJointCount;
+  if (joint >= kJointCount) return print_junction(planned_slave_name(position), position);
   std::array<ReadBack, 2> back{};
   for (std::size_t s = 0; s < kPlan.size(); ++s) {
     const Status read = read_back(peer, static_cast<std::uint8_t>(joint), kPlan[s], back[s]);

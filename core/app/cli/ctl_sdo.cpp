@@ -72,8 +72,9 @@ bool parse_hex(const char* begin, const char* end, std::uint32_t max, std::uint3
   return true;
 }
 
-// SLAVE: a joint's name (its drive), a slave's name (the junctions too) or a slave's position.
-Status target_of(const char* name, protocol::SdoPayload& sdo) noexcept {
+}  // namespace
+
+Status parse_sdo_slave(const char* name, protocol::SdoPayload& sdo) noexcept {
   const std::size_t joint = joint_index_by_name(name);
   if (joint < kJointCount) {
     sdo.target = protocol::SdoTarget::joint;
@@ -93,11 +94,15 @@ Status target_of(const char* name, protocol::SdoPayload& sdo) noexcept {
   return Status::success();
 }
 
-// The slave a result names (its position) and its name.
-std::size_t position_of(const protocol::SdoResultPayload& r) noexcept {
-  if (r.target == protocol::SdoTarget::slave) return r.slave < kSlaveCount ? r.slave : kSlaveCount;
-  return r.joint < kJointCount ? slave_position_of_joint(r.joint) : kSlaveCount;
+std::size_t sdo_slave_position(protocol::SdoTarget target, std::uint8_t joint, std::uint8_t slave) noexcept {
+  if (target == protocol::SdoTarget::slave) return slave < kSlaveCount ? slave : kSlaveCount;
+  return joint < kJointCount ? slave_position_of_joint(joint) : kSlaveCount;
 }
+
+namespace {
+
+// The slave a result names (its position).
+std::size_t position_of(const protocol::SdoResultPayload& r) noexcept { return sdo_slave_position(r.target, r.joint, r.slave); }
 
 Status address_of(const char* text, protocol::SdoPayload& sdo) noexcept {
   const char* colon = std::strchr(text, ':');
@@ -262,7 +267,7 @@ Result<Message> build_sdo_request(const ParsedArgs& args, CtlPeer& peer) noexcep
   }
   Message m;
   m.header.type = download ? MessageType::sdo_download : MessageType::sdo_upload;
-  RESCUE_TRY(target_of(args.positional(1), m.sdo));
+  RESCUE_TRY(parse_sdo_slave(args.positional(1), m.sdo));
   RESCUE_TRY(address_of(args.positional(2), m.sdo));
   if (!download) return m;
   if (type == nullptr) {

@@ -14,12 +14,21 @@
 // (1, 2, 4 bytes: a number of that width, signed when VALUE is negative; else a string).
 #pragma once
 
+#include <cstddef>
+
 #include "core/app/config/command_line.hpp"
 #include "core/app/links/protocol_messages.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
 #include "core/base/result.hpp"
 
 namespace rescue::app {
+
+// SLAVE of an SDO verb (upload, download, sdos, pdos): a joint's name (its drive), a slave's name
+// (the junctions too) or a slave's position, into sdo's target, joint and slave. Errors:
+// invalid_argument with the text for the user.
+Status parse_sdo_slave(const char* name, protocol::SdoPayload& sdo) noexcept;
+// The position of the slave an SDO target names (kSlaveCount: none).
+std::size_t sdo_slave_position(protocol::SdoTarget target, std::uint8_t joint, std::uint8_t slave) noexcept;
 
 // The sdo_upload / sdo_download request of `verb` and its arguments. `peer`: for a download
 // without --type, the robot is asked for the object's current value first (its size).

@@ -11,6 +11,7 @@
 #include "core/app/cli/ctl_registers.hpp"
 #include "core/app/cli/ctl_robot_queries.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
+#include "core/app/cli/ctl_sdos.hpp"
 #include "core/app/cli/ctl_sii.hpp"
 #include "core/app/cli/ctl_target.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
@@ -66,7 +67,9 @@ constexpr CtlVerb kVerbs[] = {
      print_sdo_result, nullptr, 2, 2, CtlRun::exchange},
     {"download", "download SLAVE INDEX:SUB VALUE [--type T] (e.g. download l_elbow 0x6065:00 5000 --type u32)",
      build_sdo_request, print_sdo_result, nullptr, 3, 3, CtlRun::exchange},
-    {"pdos", "pdos [JOINT]", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
+    {"pdos", "pdos [SLAVE] (SLAVE: a joint, a slave's name or position)", nullptr, nullptr, ctl_pdos, 0, 1, CtlRun::own},
+    {"sdos", "sdos SLAVE [--values] (SLAVE: a joint, a slave's name or position)", nullptr, nullptr, ctl_sdos, 1, 1,
+     CtlRun::own},
     {"sii_read", "sii_read SLAVE [--raw] (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_sii_read, 1, 1,
      CtlRun::own},
     {"xml", "xml SLAVE (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_xml, 1, 1, CtlRun::own},

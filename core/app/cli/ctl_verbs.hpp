@@ -82,6 +82,7 @@ inline constexpr CtlVerbOption kCtlVerbOptions[] = {
     {"interval", {"watch", nullptr}, "--interval goes with watch"},
     {"task", {"move", "hand"}, "--task goes with move and hand"},
     {"raw", {"sii_read", nullptr}, "--raw goes with sii_read"},
+    {"values", {"sdos", nullptr}, "--values goes with sdos"},
 };
 
 }  // namespace rescue::app

@@ -63,6 +63,7 @@ enum class MessageType : std::uint8_t {
   sdo_upload = 0x18,    // ctl upload: a CoE SDO upload from a joint's drive (answered by sdo_result)
   sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
   reg_read = 0x1A,      // ctl reg_read: a read of a slave's ESC registers (answered by reg_result)
+  sdo_info = 0x1B,      // ctl sdos: one CoE SDO Information request to a slave (answered by sdo_info_result)
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
@@ -84,6 +85,7 @@ enum class MessageType : std::uint8_t {
   sdo_result = 0x8B,  // the end of an sdo_upload / sdo_download: value, abort code, or refusal
   sii = 0x8C,         // the answer to get_sii
   reg_result = 0x8D,  // the end of a reg_read: the bytes, or why not
+  sdo_info_result = 0x8E,  // the end of an sdo_info: a window of the response's data, or why not
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -486,6 +488,8 @@ struct Message {
   DiagResetPayload diag_reset{};
   RegReadPayload reg_read{};      // reg_read
   RegResultPayload reg_result{};  // reg_result
+  SdoInfoPayload sdo_info{};                 // sdo_info
+  SdoInfoResultPayload sdo_info_result{};    // sdo_info_result
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

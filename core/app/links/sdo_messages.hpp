@@ -73,7 +73,7 @@ constexpr std::uint8_t kSdoSegmented = 0x01;  // flags: the value travelled in s
 
 struct SdoResultPayload {
   std::uint64_t request_sequence{0};
-  MessageType request_type{};          // sdo_upload or sdo_download
+  MessageType request_type{};          // sdo_upload or sdo_download (sdo_info only between the tasks)
   std::uint8_t joint{0};               // the request's target, echoed (SdoPayload)
   std::uint8_t subindex{0};
   SdoStatus status{SdoStatus::ok};
@@ -81,6 +81,7 @@ struct SdoResultPayload {
   SdoTarget target{SdoTarget::joint};
   std::uint8_t slave{0};
   std::uint16_t size{0};               // upload: bytes of the value in data
+  std::uint16_t info_total{0};         // sdo_info between the tasks: the response's data bytes (not on the wire)
   std::uint32_t abort_code{0};         // aborted: the drive's SDO abort code
   std::uint16_t mailbox_error{0};      // mailbox_error: the reply's detail
   std::uint8_t al_state{0};            // the slave's AL state when judged (4 SAFE-OP, 8 OP, 0 unknown)
@@ -90,15 +91,50 @@ struct SdoResultPayload {
   std::array<std::uint8_t, kSdoDataSize> data{};
 };
 
+// ctl sdos (docs/operator.md "Object dictionary"): one CoE SDO Information request (ETG.1000.6
+// 5.6.3, ecat/mailbox/coe_information.hpp) to a slave, addressed as an SDO transfer. `index`: Get OD
+// List's list type (1: all objects), or the object; `subindex`: Get Entry Description's entry;
+// `offset`: the first byte of the response's data to answer with (a long OD list is read in windows
+// of kSdoDataSize bytes).
+enum class SdoInfoOp : std::uint8_t { od_list = 1, object_description = 3, entry_description = 5 };
+struct SdoInfoPayload {
+  SdoTarget target{SdoTarget::joint};
+  std::uint8_t joint{0};
+  std::uint8_t slave{0};
+  SdoInfoOp op{SdoInfoOp::od_list};
+  std::uint16_t index{0};
+  std::uint8_t subindex{0};
+  std::uint16_t offset{0};
+};
+
+// sdo_info_result: the request echoed, how it ended (SdoStatus, as an SDO transfer: aborted carries
+// the SDO Info Error's abort code; too_long: a response of more than 65535 bytes), `total` bytes of
+// the whole response's data and `length` of them from the request's offset in data (the rest zero).
+struct SdoInfoResultPayload {
+  std::uint64_t request_sequence{0};
+  SdoInfoPayload request{};
+  SdoStatus status{SdoStatus::ok};
+  std::uint32_t abort_code{0};
+  std::uint16_t mailbox_error{0};
+  std::uint16_t length{0};
+  std::uint16_t total{0};
+  std::uint32_t exchanges{0};
+  std::array<char, kSdoTextSize> text{};
+  std::array<std::uint8_t, kSdoDataSize> data{};
+};
+
 }  // namespace rescue::app::protocol
 
 namespace rescue::app {
 
-// socket handler -> EtherCAT handler (TaskLinks::sdo_requests).
+// socket handler -> EtherCAT handler (TaskLinks::sdo_requests). An sdo_info travels as an upload
+// with `info_op` set (its target, index and subindex in `sdo`) and `info_offset`.
 struct SdoLinkRequest {
   std::uint32_t id{0};      // the socket handler's, echoed in the result
   bool download{false};
+  protocol::SdoInfoOp info_op{};  // 0: an upload or download
   protocol::SdoPayload sdo{};
+  std::uint16_t info_offset{0};
 };
 
 // EtherCAT handler -> socket handler (TaskLinks::sdo_results). result.request_sequence/type and

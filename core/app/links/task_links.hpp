@@ -73,7 +73,7 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)
 
 struct TaskLinks {
-  static constexpr std::uint32_t kLayoutVersion = 12;  // bump on any change of meaning (the hash covers offsets and sizes)
+  static constexpr std::uint32_t kLayoutVersion = 13;  // bump on any change of meaning (the hash covers offsets and sizes)
   static constexpr std::size_t kReportQueueDepth = config::kLostReportQueueDepth;
   static constexpr std::size_t kNoticeQueueDepth = config::kNoticeQueueDepth;
   static constexpr std::size_t kCommandQueueDepth = config::kJointCommandQueueDepth;

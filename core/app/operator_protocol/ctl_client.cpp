@@ -48,6 +48,9 @@ Result<protocol::Message> round_trip(hal::UdpSocket& socket, const CtlTarget& ta
     if (type == protocol::MessageType::reply && m.value().reply.request_sequence != asked.sequence) continue;
     // An sdo_result echoes its request too: a recorded one of an earlier transfer is not this one's.
     if (type == protocol::MessageType::sdo_result && m.value().sdo_result.request_sequence != asked.sequence) continue;
+    if (type == protocol::MessageType::sdo_info_result && m.value().sdo_info_result.request_sequence != asked.sequence) {
+      continue;
+    }
     return m.value();
   }
   return make_error(Errc::timeout, "no authentic answer from the robot (not running, wrong port, or another key)");

@@ -46,12 +46,14 @@ constexpr std::size_t kSiiRequestSize = 4;
 constexpr std::size_t kSiiSize = 8 + kSiiChunkBytes;
 constexpr std::size_t kRegReadSize = 8;
 constexpr std::size_t kRegResultSize = 24 + kRegDataSize;
+constexpr std::size_t kSdoInfoSize = 12;
+constexpr std::size_t kSdoInfoResultSize = 44 + kSdoTextSize + kSdoDataSize;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kGraphRecordSize + kGraphRingSize <= kMaxPayload && kSiiSize <= kMaxPayload &&
-                  kRegResultSize <= kMaxPayload,
+                  kRegResultSize <= kMaxPayload && kSdoInfoResultSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -796,6 +798,62 @@ void reg_result_fields(F& f, M& m) noexcept {
   f.require(padding_zero, Errc::malformed, "bytes past the read's length not zero");
 }
 
+// An SDO Information request (sdo_info, and echoed in its result): target kind, joint, slave
+// position, request (1 OD list, 3 object description, 5 entry description), index, subindex, 1
+// reserved byte, offset into the response's data, 2 reserved bytes.
+template <typename F, typename R>
+void sdo_info_request_fields(F& f, R& r) noexcept {
+  f.u8(r.target);
+  f.u8(r.joint);
+  f.u8(r.slave);
+  f.u8(r.op);
+  f.u16(r.index);
+  f.u8(r.subindex);
+  f.reserved(1);
+  f.u16(r.offset);
+  f.reserved(2);
+  sdo_target_checks(f, r.joint, r.target, r.slave);
+  f.check(r.op == SdoInfoOp::od_list || r.op == SdoInfoOp::object_description || r.op == SdoInfoOp::entry_description,
+          "sdo information request");
+  f.check(r.op != SdoInfoOp::od_list || (r.index >= 1 && r.index <= 5), "OD list type (1..5)");
+  f.check(r.op == SdoInfoOp::entry_description || r.subindex == 0, "subindex of an OD list or object request");
+  f.check(r.op == SdoInfoOp::od_list || r.offset == 0, "offset of an object or entry request");
+}
+
+template <typename F, typename M>
+void sdo_info_fields(F& f, M& m) noexcept {
+  f.length(kSdoInfoSize);
+  sdo_info_request_fields(f, m.sdo_info);
+}
+
+// sdo_info_result: request sequence, the request (12 bytes as sdo_info), status, 3 reserved bytes,
+// abort code, mailbox error, length, total, 2 reserved bytes, exchanges, 4 reserved bytes, the
+// text, then the data in a fixed kSdoDataSize field (bytes past the length zero).
+template <typename F, typename M>
+void sdo_info_result_fields(F& f, M& m) noexcept {
+  f.length(kSdoInfoResultSize);
+  auto& r = m.sdo_info_result;
+  f.u64(r.request_sequence);
+  sdo_info_request_fields(f, r.request);
+  f.u8(r.status);
+  f.reserved(3);
+  f.u32(r.abort_code);
+  f.u16(r.mailbox_error);
+  f.u16(r.length);
+  f.u16(r.total);
+  f.reserved(2);
+  f.u32(r.exchanges);
+  f.reserved(4);
+  f.text(r.text, "sdo information result text not NUL-terminated");
+  f.bytes(r.data);
+  f.check(static_cast<std::uint8_t>(r.status) <= kSdoStatusLast, "sdo status");
+  f.check(r.length <= kSdoDataSize, "sdo information data length");
+  f.check(std::size_t{r.request.offset} + r.length <= r.total || r.length == 0, "sdo information data past the response");
+  bool padding_zero = true;
+  for (std::size_t i = r.length; i < kSdoDataSize; ++i) padding_zero = padding_zero && r.data[i] == 0;
+  f.require(padding_zero, Errc::malformed, "bytes past the data's length not zero");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -830,6 +888,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::sdo_upload, "sdo_upload", sdo_upload_fields, sdo_upload_fields},
     {MessageType::sdo_download, "sdo_download", sdo_download_fields, sdo_download_fields},
     {MessageType::reg_read, "reg_read", reg_read_fields, reg_read_fields},
+    {MessageType::sdo_info, "sdo_info", sdo_info_fields, sdo_info_fields},
     {MessageType::imu, "imu", imu_fields, imu_fields},
     {MessageType::gps, "gps", gps_fields, gps_fields},
     {MessageType::reply, "reply", reply_fields, reply_fields},
@@ -846,6 +905,7 @@ constexpr Layout kLayouts[] = {
     {MessageType::slave_info, "slave_info", slave_info_fields, slave_info_fields},
     {MessageType::sii, "sii", sii_fields, sii_fields},
     {MessageType::reg_result, "reg_result", reg_result_fields, reg_result_fields},
+    {MessageType::sdo_info_result, "sdo_info_result", sdo_info_result_fields, sdo_info_result_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {

@@ -37,6 +37,18 @@ SdoStatus status_of(ecat::SdoOutcome outcome) noexcept {
   return SdoStatus::bad_response;
 }
 
+// An SDO Information response's whole length (the window of it is in r.data): longer than the
+// wire's 16 bits is too long, its window dropped.
+void take_information_total(const ecat::SdoCompletion& done, protocol::SdoResultPayload& r) noexcept {
+  if (done.info_total <= 0xFFFFU) {
+    r.info_total = static_cast<std::uint16_t>(done.info_total);
+    return;
+  }
+  r.status = SdoStatus::too_long;
+  r.size = 0;
+  r.data.fill(0);
+}
+
 }  // namespace
 
 SdoStatus judge_sdo_download(std::uint16_t index, std::uint8_t subindex, bool op_or_safe_op) noexcept {
@@ -74,10 +86,11 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
     r.mailbox_error = done.mailbox_error;
     r.exchanges = done.exchanges;
     r.flags = done.segmented ? protocol::kSdoSegmented : 0;
-    if (r.request_type == protocol::MessageType::sdo_upload && done.outcome == ecat::SdoOutcome::ok) {
+    if (r.request_type != protocol::MessageType::sdo_download && done.outcome == ecat::SdoOutcome::ok) {
       r.size = done.size <= protocol::kSdoDataSize ? done.size : static_cast<std::uint16_t>(protocol::kSdoDataSize);
       std::memcpy(r.data.data(), done.data.data(), r.size);
     }
+    if (r.request_type == protocol::MessageType::sdo_info) take_information_total(done, r);
     in_flight_ = false;
     answer(current_);
     if (has_waiting_) return;
@@ -88,7 +101,10 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
   SdoLinkResult result;
   result.id = request.id;
   protocol::SdoResultPayload& r = result.result;
-  r.request_type = request.download ? protocol::MessageType::sdo_download : protocol::MessageType::sdo_upload;
+  const bool information = request.info_op != protocol::SdoInfoOp{};
+  r.request_type = information        ? protocol::MessageType::sdo_info
+                   : request.download ? protocol::MessageType::sdo_download
+                                      : protocol::MessageType::sdo_upload;
   r.joint = request.sdo.joint;
   r.target = request.sdo.target;
   r.slave = request.sdo.slave;
@@ -110,7 +126,7 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
     r.al_state = 0;
     return answer(result);
   }
-  if (request.download && joint < kJointCount) {
+  if (request.download && !information && joint < kJointCount) {
     r.status = judge_sdo_download(request.sdo.index, request.sdo.subindex, true);
     if (r.status != SdoStatus::ok) return answer(result);
   }
@@ -119,11 +135,14 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
     return answer(result);
   }
   tag_ = ecat::MailboxClient::kOperatorTagBit | (++transfers_started_ & 0x3FFFFFFFU);
+  const auto slave = static_cast<std::uint8_t>(position);
   const ecat::SdoRequest sdo =
-      request.download
-          ? ecat::sdo_download_bytes(static_cast<std::uint8_t>(position), request.sdo.index, request.sdo.subindex,
+      information ? ecat::sdo_information(slave, static_cast<std::uint8_t>(request.info_op), request.sdo.index,
+                                          request.sdo.subindex, request.info_offset, tag_)
+      : request.download
+          ? ecat::sdo_download_bytes(slave, request.sdo.index, request.sdo.subindex,
                                      ConstByteSpan(request.sdo.data.data(), request.sdo.size), tag_)
-          : ecat::sdo_upload(static_cast<std::uint8_t>(position), request.sdo.index, request.sdo.subindex, tag_);
+          : ecat::sdo_upload(slave, request.sdo.index, request.sdo.subindex, tag_);
   if (!mailbox.submit(sdo)) {
     r.status = SdoStatus::busy;
     return answer(result);
@@ -154,7 +173,11 @@ void describe_sdo_result(protocol::SdoResultPayload& r) noexcept {
                                                      r.target == protocol::SdoTarget::slave ? "the slave" : "the joint"); break;
     case SdoStatus::mailbox_error: (void)std::snprintf(text, sizeof text, "mailbox error reply 0x%04X", r.mailbox_error); break;
     case SdoStatus::bad_response: (void)std::snprintf(text, sizeof text, "the drive's answer could not be used"); break;
-    case SdoStatus::too_long: (void)std::snprintf(text, sizeof text, "the value is longer than 256 bytes"); break;
+    case SdoStatus::too_long:
+      (void)std::snprintf(text, sizeof text, "%s", r.request_type == protocol::MessageType::sdo_info
+                                                       ? "the SDO Information response is longer than 65535 bytes"
+                                                       : "the value is longer than 256 bytes");
+      break;
     case SdoStatus::no_answer: (void)std::snprintf(text, sizeof text, "the EtherCAT handler did not answer"); break;
     case SdoStatus::no_mailbox: (void)std::snprintf(text, sizeof text, "the slave has no CoE mailbox"); break;
   }

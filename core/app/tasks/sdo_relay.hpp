@@ -1,5 +1,5 @@
-// ctl upload / ctl download on the EtherCAT handler's side (docs/operator.md "SDO"): the operator's
-// CoE SDO transfers run on the master's one cyclic mailbox channel (ecat/mailbox/mailbox_client.hpp,
+// ctl upload / ctl download / ctl sdos on the EtherCAT handler's side (docs/operator.md "SDO"): the
+// operator's CoE SDO transfers and SDO Information requests (SdoLinkRequest::info_op) run on the master's one cyclic mailbox channel (ecat/mailbox/mailbox_client.hpp,
 // the same queue the master's online recovery uses for its start-up SDOs), one mailbox step per
 // period inside the cyclic frame, so a transfer never waits inside a period and never costs one.
 //

@@ -2,6 +2,8 @@
 
 #include <poll.h>
 
+#include <algorithm>
+
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/sdo_relay.hpp"
@@ -30,6 +32,37 @@ protocol::SdoResultPayload sdo_refusal(MessageType type, const protocol::SdoPayl
   r.subindex = sdo.subindex;
   r.status = status;
   return r;
+}
+
+// sdo_info travels to the EtherCAT handler as an SDO transfer to the same target.
+protocol::SdoPayload sdo_of(const protocol::SdoInfoPayload& info) noexcept {
+  protocol::SdoPayload sdo;
+  sdo.target = info.target;
+  sdo.joint = info.joint;
+  sdo.slave = info.slave;
+  sdo.index = info.index;
+  sdo.subindex = info.subindex;
+  return sdo;
+}
+
+// The wire's sdo_info_result of the handler's result: the window only when it is done, never past
+// the response's end.
+protocol::SdoInfoResultPayload info_result_of(const protocol::SdoResultPayload& r,
+                                              const protocol::SdoInfoPayload& info) noexcept {
+  protocol::SdoInfoResultPayload out;
+  out.request = info;
+  out.status = r.status;
+  out.abort_code = r.abort_code;
+  out.mailbox_error = r.mailbox_error;
+  out.exchanges = r.exchanges;
+  out.text = r.text;
+  if (r.status != protocol::SdoStatus::ok) return out;
+  out.total = r.info_total;
+  const std::size_t total = r.info_total;
+  const std::size_t room = total > info.offset ? total - info.offset : 0;
+  out.length = static_cast<std::uint16_t>(std::min<std::size_t>({r.size, room, protocol::kSdoDataSize}));
+  std::copy_n(r.data.begin(), out.length, out.data.begin());
+  return out;
 }
 
 }  // namespace
@@ -226,6 +259,7 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
   if (protocol::is_query(h.type)) return answer_query(m, d);
   if (h.type == MessageType::sdo_upload || h.type == MessageType::sdo_download) return forward_sdo(m, d);
+  if (h.type == MessageType::sdo_info) return forward_sdo(m, d);
   if (h.type == MessageType::reg_read) return forward_register_read(m, d);
   if (h.type == MessageType::diag_reset) return post_diag_reset(m, d);  // for the EtherCAT handler, not the parser
 
@@ -236,39 +270,50 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   }
 }
 
-void SocketHandler::answer_sdo(protocol::SdoResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
-                               std::uint16_t port) noexcept {
+void SocketHandler::answer_sdo(protocol::SdoResultPayload result, const protocol::SdoInfoPayload& info,
+                               std::uint64_t request_sequence, std::uint32_t address, std::uint16_t port) noexcept {
   Message m;
-  m.header.type = MessageType::sdo_result;
-  result.request_sequence = request_sequence;
   describe_sdo_result(result);
-  m.sdo_result = result;
+  if (result.request_type == MessageType::sdo_info) {
+    m.header.type = MessageType::sdo_info_result;
+    m.sdo_info_result = info_result_of(result, info);
+    m.sdo_info_result.request_sequence = request_sequence;
+  } else {
+    m.header.type = MessageType::sdo_result;
+    result.request_sequence = request_sequence;
+    m.sdo_result = result;
+  }
   send(m, address, port);
 }
 
 void SocketHandler::forward_sdo(const Message& request, const hal::UdpDatagram& from) noexcept {
-  const bool download = request.header.type == MessageType::sdo_download;
+  const MessageType type = request.header.type;
+  const bool download = type == MessageType::sdo_download;
+  const bool information = type == MessageType::sdo_info;
+  const protocol::SdoPayload sdo = information ? sdo_of(request.sdo_info) : request.sdo;
   if (sdo_.active || ports_.sdo_requests == nullptr) {
     // One transfer at a time: this one is refused at once, never queued behind and never lost.
     const auto status = ports_.sdo_requests == nullptr ? protocol::SdoStatus::no_answer : protocol::SdoStatus::busy;
-    return answer_sdo(sdo_refusal(request.header.type, request.sdo, status), request.header.sequence, from.address,
-                      from.port);
+    return answer_sdo(sdo_refusal(type, sdo, status), request.sdo_info, request.header.sequence, from.address, from.port);
   }
   SdoLinkRequest r;
   r.id = ++sdo_ids_;
   r.download = download;
-  r.sdo = request.sdo;
+  r.info_op = information ? request.sdo_info.op : protocol::SdoInfoOp{};
+  r.info_offset = information ? request.sdo_info.offset : std::uint16_t{0};
+  r.sdo = sdo;
   if (!download) r.sdo.size = 0;
   if (!ports_.sdo_requests->try_send(r)) {
     ++counters_.forwarded_dropped;  // cannot happen with one in flight and two slots; counted if it does
-    return answer_sdo(sdo_refusal(request.header.type, request.sdo, protocol::SdoStatus::busy), request.header.sequence,
+    return answer_sdo(sdo_refusal(type, sdo, protocol::SdoStatus::busy), request.sdo_info, request.header.sequence,
                       from.address, from.port);
   }
   sdo_.active = true;
   sdo_.id = r.id;
   sdo_.request_sequence = request.header.sequence;
-  sdo_.type = request.header.type;
+  sdo_.type = type;
   sdo_.sdo = r.sdo;
+  sdo_.info = request.sdo_info;
   sdo_.address = from.address;
   sdo_.port = from.port;
   sdo_.deadline = now_ + kSdoAnswerLimit;
@@ -279,12 +324,12 @@ void SocketHandler::collect_sdo_result() noexcept {
   while (ports_.sdo_results != nullptr && ports_.sdo_results->try_receive(result)) {
     if (!sdo_.active || result.id != sdo_.id) continue;  // the answer to a transfer already answered no_answer
     sdo_.active = false;
-    answer_sdo(result.result, sdo_.request_sequence, sdo_.address, sdo_.port);
+    answer_sdo(result.result, sdo_.info, sdo_.request_sequence, sdo_.address, sdo_.port);
   }
   if (sdo_.active && now_ > sdo_.deadline) {
     sdo_.active = false;
-    answer_sdo(sdo_refusal(sdo_.type, sdo_.sdo, protocol::SdoStatus::no_answer), sdo_.request_sequence, sdo_.address,
-               sdo_.port);
+    answer_sdo(sdo_refusal(sdo_.type, sdo_.sdo, protocol::SdoStatus::no_answer), sdo_.info, sdo_.request_sequence,
+               sdo_.address, sdo_.port);
   }
 }
 

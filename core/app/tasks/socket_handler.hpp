@@ -13,7 +13,8 @@
 // control port, told so in a refusal reply: never a silent lockout. So is a sequence too far ahead
 // of the robot's clock (counted out_of_range; protocol::kMaxSequenceLeadNs).
 // Accepted queries (status, slaves, master, tasks) are answered here from what the tasks publish;
-// SDO transfers (sdo_upload, sdo_download) go to the EtherCAT handler's SDO queue, one in flight at
+// SDO transfers (sdo_upload, sdo_download, and sdo_info, answered sdo_info_result) go to the
+// EtherCAT handler's SDO queue, one in flight at
 // a time (a second one is answered `busy` at once), and its result is sent back as sdo_result
 // (no_answer when the handler says nothing within kSdoAnswerLimit);
 // accepted commands go to the message parser's bounded queue, and its replies are sent back,
@@ -142,8 +143,9 @@ class SocketHandler {
   void send(protocol::Message& message, std::uint32_t address, std::uint16_t port) noexcept;
   std::uint64_t next_sequence() noexcept;
   void forward_sdo(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
-  void answer_sdo(protocol::SdoResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
-                  std::uint16_t port) noexcept;
+  // An sdo_result, or for an sdo_info (result.request_type) its sdo_info_result echoing `info`.
+  void answer_sdo(protocol::SdoResultPayload result, const protocol::SdoInfoPayload& info, std::uint64_t request_sequence,
+                  std::uint32_t address, std::uint16_t port) noexcept;
   void collect_sdo_result() noexcept;
   // socket_register_reads.cpp: ctl reg_read, one in flight (a second is answered busy at once),
   // answered reg_result (no_answer when the EtherCAT handler says nothing within kRegAnswerLimit).
@@ -174,6 +176,7 @@ class SocketHandler {
     std::uint64_t request_sequence{0};
     protocol::MessageType type{protocol::MessageType::sdo_upload};
     protocol::SdoPayload sdo{};
+    protocol::SdoInfoPayload info{};  // sdo_info: the request, echoed in its answer
     std::uint32_t address{0};
     std::uint16_t port{0};
     hal::Nanoseconds deadline{0};

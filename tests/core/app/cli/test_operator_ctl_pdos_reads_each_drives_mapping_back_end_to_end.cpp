@@ -1,12 +1,13 @@
-// Issue 36 item 1, `ctl pdos [JOINT]` (docs/operator.md, like IgH's `ethercat pdos`): the sync
+// Issue 36 item 1, `ctl pdos [SLAVE]` (docs/operator.md, like IgH's `ethercat pdos`): the sync
 // managers, the PDO assignment and the mapping the master configures (this build's tables), and with
-// JOINT the same objects read back from that drive by SDO, against the simulated robot: every entry
-// of l_elbow's and r_hand's drives reads back the same as configured; a junction (no PDO) or an
-// unknown name is a usage error; no robot is unreachable.
+// SLAVE the same objects read back from that drive by SDO, against the simulated robot: every entry
+// of l_elbow's and r_hand's drives reads back the same as configured, l_elbow by its position too;
+// a junction maps none; an unknown name is a usage error; no robot is unreachable.
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "core/robot/robot.hpp"
 #include "drivers/joint/joint_drive_pdo.hpp"
 #include "tests/support/json_query.hpp"
 #include "tests/support/operator_run.hpp"
@@ -45,7 +46,20 @@ TEST(OperatorCtlPdos, ShowsTheConfiguredMappingAndReadsEachDrivesBack) {
             "\"0x603F0010\"")
       << json.out;
 
-  EXPECT_EQ(run.ctl({"pdos", "junction_a"}).status, 2);
+  // SLAVE as for upload: a drive by its position reads back as by its joint; a junction maps none.
+  const std::string elbow = std::to_string(slave_position_of_joint(joint_index_by_name("l_elbow")));
+  const CommandResult by_position = run.ctl({"pdos", elbow});
+  EXPECT_EQ(by_position.status, 0) << by_position.out;
+  EXPECT_EQ(by_position.out, text.out);
+  const CommandResult junction = run.ctl({"pdos", "junction_a"});
+  EXPECT_EQ(junction.status, 0) << junction.out;
+  EXPECT_TRUE(has(junction.out, "junction_a (position 0): a junction: it maps no PDO")) << junction.out;
+  const CommandResult junction_json = run.ctl({"--json", "pdos", "0"});
+  EXPECT_EQ(junction_json.status, 0) << junction_json.out;
+  EXPECT_EQ(testing::json_query(run.dir.path, junction_json.out, "[d['ok'], d['slave'], d['joint'], d['sync_managers']]"),
+            R"([true, "junction_a", null, []])")
+      << junction_json.out;
+  EXPECT_EQ(run.ctl({"pdos", "tail"}).status, 2);
   EXPECT_EQ(run.ctl({"pdos", "l_elbow", "extra"}).status, 2);
   EXPECT_EQ(testing::run_program({"ctl", "--key", run.key, "--port", std::to_string(testing::free_udp_port()), "--timeout",
                                   "0.2", "pdos", "l_elbow"})

@@ -729,6 +729,74 @@ TEST(ProtocolCodec, RegisterReadMessagesRoundTripAndTheirRangesAreChecked) {
   expect_seeds_decode({"reg_read_payload", "reg_result_payload", "reg_result_lost_payload"});
 }
 
+// ctl sdos (sdo_info 0x1B, sdo_info_result 0x8E): round trips, every range and length checked (a
+// window past the response, bytes past its length), and the fuzz target's seeds decode.
+TEST(ProtocolCodec, SdoInformationMessagesRoundTripAndTheirRangesAreChecked) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(2);
+  Message m = addressed();
+  m.header.sender = 9;
+  m.header.type = MessageType::sdo_info;
+  m.sdo_info.target = SdoTarget::slave;
+  m.sdo_info.slave = 13;
+  m.sdo_info.op = SdoInfoOp::od_list;
+  m.sdo_info.index = 1;
+  m.sdo_info.offset = 256;
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.sdo_info.slave, 13);
+  EXPECT_EQ(back.sdo_info.op, SdoInfoOp::od_list);
+  EXPECT_EQ(back.sdo_info.offset, 256);
+  EXPECT_TRUE(is_control_request(MessageType::sdo_info));
+  EXPECT_FALSE(is_query(MessageType::sdo_info));
+  m.sdo_info.index = 6;  // no such list type
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo_info.index = 1;
+  m.sdo_info.op = static_cast<SdoInfoOp>(2);  // a response's opcode
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo_info.op = SdoInfoOp::object_description;  // an offset belongs to the OD list only
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo_info.offset = 0;
+  m.sdo_info.subindex = 1;  // and a subindex to an entry
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.sdo_info.op = SdoInfoOp::entry_description;
+  m.sdo_info.slave = kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
+  Message r = addressed();
+  r.header.type = MessageType::sdo_info_result;
+  r.sdo_info_result.request_sequence = 77;
+  r.sdo_info_result.request.target = SdoTarget::joint;
+  r.sdo_info_result.request.joint = 5;
+  r.sdo_info_result.request.op = SdoInfoOp::od_list;
+  r.sdo_info_result.request.index = 1;
+  r.sdo_info_result.request.offset = 2;
+  r.sdo_info_result.total = 8;
+  r.sdo_info_result.length = 6;
+  r.sdo_info_result.exchanges = 4;
+  for (std::size_t i = 0; i < 6; ++i) r.sdo_info_result.data[i] = static_cast<std::uint8_t>(i + 1);
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.sdo_info_result.request_sequence, 77U);
+  EXPECT_EQ(back.sdo_info_result.request.joint, 5);
+  EXPECT_EQ(back.sdo_info_result.total, 8);
+  EXPECT_EQ(back.sdo_info_result.data, r.sdo_info_result.data);
+  r.sdo_info_result.length = 7;  // offset 2 + 7 past the 8 bytes of the response
+  r.sdo_info_result.data[6] = 7;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sdo_info_result.length = 6;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::malformed)) << "a byte past the length";
+  r.sdo_info_result.data[6] = 0;
+  r.sdo_info_result.length = kSdoDataSize + 1;
+  r.sdo_info_result.total = 0xFFFF;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.sdo_info_result.length = 6;
+  r.sdo_info_result.status = static_cast<SdoStatus>(kSdoStatusLast + 1);
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+
+  expect_seeds_decode({"sdo_info_od_list_by_slave_payload", "sdo_info_entry_payload", "sdo_info_result_od_list_payload",
+                       "sdo_info_result_no_mailbox_payload"});
+}
+
 // Text fields hold printable ASCII then NUL padding (docs/protocol.md "Text fields", issue 35 item 4):
 // the robot sends any other byte of its own texts as '?', and a receiver refuses a reply whose text
 // holds a terminal escape, a byte above 0x7E, or anything after its first NUL.

@@ -6,8 +6,9 @@
 // assignment are refused with their reason; a second request while one is in flight is refused
 // busy (the first still answered); a joint behind a cut cable is refused unreachable; a slave
 // addressed by its position is reached like its joint, a junction answers that it has no mailbox and
-// is refused unreachable once lost; answers the result queue cannot take wait and are delivered in
-// order, none lost.
+// is refused unreachable once lost; an SDO Information request (ctl sdos) runs the same way without
+// heap and carries the response's whole length; answers the result queue cannot take wait and are
+// delivered in order, none lost.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -180,6 +181,52 @@ TEST_F(SdoRelayOnTheRobot, AJointBehindACutCableIsRefusedUnreachable) {
   EXPECT_EQ(got[0].result.status, SdoStatus::unreachable);
   EXPECT_EQ(got[0].result.exchanges, 0U);
   EXPECT_EQ(got[1].result.status, SdoStatus::ok);
+}
+
+// ctl sdos: an SDO Information request rides the same queue and mailbox channel (info_op set),
+// without heap; its result carries the window of the response's data and the whole length; a
+// junction has no mailbox, as for an upload.
+TEST_F(SdoRelayOnTheRobot, SdoInformationRequestsRunInTheCycleWithoutHeapAndCarryTheWholeLength) {
+  SdoLinkRequest list = request(1, "l_elbow", 1, 0);  // Get OD List, list type 1: every object
+  list.info_op = protocol::SdoInfoOp::od_list;
+  SdoLinkRequest window = list;
+  window.id = 2;
+  window.info_offset = 10;
+  std::vector<SdoLinkResult> got;
+  got.reserve(4);
+  reopen_init_for_testing();
+  declare_init_complete(HeapGuardMode::count);
+  const bool pushed1 = fw->links->sdo_requests.try_push(list);
+  collect(got, 1);
+  const bool pushed2 = fw->links->sdo_requests.try_push(window);
+  collect(got, 1);
+  const HeapGuardCounters heap = heap_guard_counters();
+  reopen_init_for_testing();
+  EXPECT_EQ(heap.allocations, 0U);
+  ASSERT_TRUE(pushed1 && pushed2);
+  ASSERT_EQ(got.size(), 2U);
+  const protocol::SdoResultPayload& whole = got[0].result;
+  EXPECT_EQ(whole.request_type, protocol::MessageType::sdo_info);
+  ASSERT_EQ(whole.status, SdoStatus::ok);
+  EXPECT_EQ(whole.info_total, whole.size);
+  EXPECT_EQ(whole.size % 2U, 0U);
+  EXPECT_GT(whole.size, 2U);
+  EXPECT_EQ(whole.data[0], 1U) << "the list type first";
+  EXPECT_EQ(whole.data[2], 0x00U);
+  EXPECT_EQ(whole.data[3], 0x10U) << "then 0x1000";
+  const protocol::SdoResultPayload& part = got[1].result;
+  ASSERT_EQ(part.status, SdoStatus::ok);
+  EXPECT_EQ(part.info_total, whole.info_total);
+  ASSERT_EQ(part.size, whole.size - 10U);
+  EXPECT_EQ(std::memcmp(part.data.data(), whole.data.data() + 10, part.size), 0);
+
+  SdoLinkRequest junction = at(3, 0, 0x1000, 0);
+  junction.info_op = protocol::SdoInfoOp::object_description;
+  ASSERT_TRUE(fw->links->sdo_requests.try_push(junction));
+  const std::vector<SdoLinkResult> refused = results(1);
+  ASSERT_EQ(refused.size(), 1U);
+  EXPECT_EQ(refused[0].result.status, SdoStatus::no_mailbox);
+  EXPECT_EQ(refused[0].result.request_type, protocol::MessageType::sdo_info);
 }
 
 TEST_F(SdoRelayOnTheRobot, ASlaveByPositionIsReachedLikeItsJointAndAJunctionHasNoMailbox) {

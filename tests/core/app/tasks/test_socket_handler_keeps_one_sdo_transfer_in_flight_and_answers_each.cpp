@@ -3,7 +3,8 @@
 // sdo_result only when the handler's result comes back, to the address it came from, with the
 // request's sequence and the reason in words; a second transfer while one is in flight (another
 // sender's) is answered busy at once and never reaches the queue; a transfer the handler does not
-// answer within kSdoAnswerLimit is answered no_answer, and the handler's late result is dropped.
+// answer within kSdoAnswerLimit is answered no_answer, and the handler's late result is dropped; an
+// sdo_info (ctl sdos) is one such transfer, answered with its own sdo_info_result.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -33,6 +34,21 @@ struct Bench : test::LoopbackSocketHandler {
     request.header.sequence = sequence;
     request.sdo.joint = 4;
     request.sdo.index = index;
+    std::array<std::uint8_t, protocol::kMaxDatagram> out{};
+    const Result<std::size_t> size = protocol::seal(for_robot(request), key, ByteSpan(out));
+    ASSERT_TRUE(size.ok());
+    ASSERT_TRUE(client.send_to(loopback, handler.control_port(), ConstByteSpan(out.data(), size.value())).ok());
+  }
+  void send_info(std::uint32_t sender, std::uint64_t sequence, std::uint16_t offset) {
+    protocol::Message request;
+    request.header.type = MessageType::sdo_info;
+    request.header.sender = sender;
+    request.header.sequence = sequence;
+    request.sdo_info.target = protocol::SdoTarget::slave;
+    request.sdo_info.slave = 13;
+    request.sdo_info.op = protocol::SdoInfoOp::od_list;
+    request.sdo_info.index = 1;
+    request.sdo_info.offset = offset;
     std::array<std::uint8_t, protocol::kMaxDatagram> out{};
     const Result<std::size_t> size = protocol::seal(for_robot(request), key, ByteSpan(out));
     ASSERT_TRUE(size.ok());
@@ -147,6 +163,62 @@ TEST(SocketHandlerSdo, AHandlerThatDoesNotAnswerGetsNoAnswerAndItsLateResultIsDr
   ASSERT_TRUE(q.results.try_push(after));
   b.handler.step(SocketHandler::kSdoAnswerLimit + 2);
   EXPECT_EQ(b.answer().header.type, MessageType::reply) << "the late result is not sent a second time";
+}
+
+}  // namespace
+}  // namespace rescue::app
+
+namespace rescue::app {
+namespace {
+
+// ctl sdos: an sdo_info goes to the same queue as an upload with its request (info_op, offset, the
+// slave's position), and the handler's result comes back as sdo_info_result echoing the request
+// with the window of the data and the whole length; while it is in flight an upload is busy.
+TEST(SocketHandlerSdo, AnSdoInformationRequestIsOneTransferAnsweredWithItsOwnResult) {
+  ASSERT_TRUE(protocol::init_crypto().ok());
+  Queues q;
+  Bench b(q.ports());
+  b.send_info(3, kBase, 4);
+  b.handler.step(0);
+  SdoLinkRequest forwarded;
+  ASSERT_TRUE(q.requests.try_pop(forwarded));
+  EXPECT_EQ(forwarded.info_op, protocol::SdoInfoOp::od_list);
+  EXPECT_EQ(forwarded.info_offset, 4);
+  EXPECT_FALSE(forwarded.download);
+  EXPECT_EQ(forwarded.sdo.target, protocol::SdoTarget::slave);
+  EXPECT_EQ(forwarded.sdo.slave, 13);
+  EXPECT_EQ(forwarded.sdo.index, 1);
+
+  b.send_upload(5, kBase + 1, 0x1008);
+  b.handler.step(1'000'000);
+  const protocol::Message busy = b.answer();
+  ASSERT_EQ(busy.header.type, MessageType::sdo_result);
+  EXPECT_EQ(busy.sdo_result.status, SdoStatus::busy);
+
+  SdoLinkResult done;
+  done.id = forwarded.id;
+  done.result.request_type = MessageType::sdo_info;
+  done.result.target = protocol::SdoTarget::slave;
+  done.result.slave = 13;
+  done.result.index = 1;
+  done.result.status = SdoStatus::ok;
+  done.result.info_total = 10;
+  done.result.size = 6;
+  std::memcpy(done.result.data.data(), "\x00\x10\x01\x10\x08\x10", 6);
+  ASSERT_TRUE(q.results.try_push(done));
+  b.handler.step(2'000'000);
+  const protocol::Message ok = b.answer();
+  ASSERT_EQ(ok.header.type, MessageType::sdo_info_result);
+  const protocol::SdoInfoResultPayload& r = ok.sdo_info_result;
+  EXPECT_EQ(r.request_sequence, kBase);
+  EXPECT_EQ(r.status, SdoStatus::ok);
+  EXPECT_EQ(r.request.op, protocol::SdoInfoOp::od_list);
+  EXPECT_EQ(r.request.offset, 4);
+  EXPECT_EQ(r.request.slave, 13);
+  EXPECT_EQ(r.total, 10);
+  EXPECT_EQ(r.length, 6);
+  EXPECT_EQ(r.data[1], 0x10);
+  EXPECT_STREQ(r.text.data(), "done");
 }
 
 }  // namespace
