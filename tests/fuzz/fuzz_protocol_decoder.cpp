@@ -6,7 +6,9 @@
 // robot 3 in an epoch, a reply, an sdo_upload (their tags are not checked here); payloads of
 // sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal), and an upload and its
 // result addressed by slave position (a junction); a get_sii and an sii answer (a junction's image);
-// a reg_read and its reg_result (an AL status read, and a lost slave's refusal); a graph of the
+// a reg_read and its reg_result (an AL status read, and a lost slave's refusal); a states request
+// and its states_result (reached, refused in service, refused by the slave); a rescan and its
+// rescan_result (four slaves missing, an incomplete one); a graph of the
 // tree and one of the ring open between positions 18 and 19.
 #include <array>
 #include <cstddef>
