@@ -6,6 +6,8 @@ namespace {
 using protocol::StateOutcome;
 using protocol::StatesStatus;
 
+static_assert(protocol::kStatesSlaves == ecat::kMaxSlaves, "a states result has a record per planned slave");
+
 StateOutcome outcome_of(ecat::SlaveStateOutcome o) noexcept {
   switch (o) {
     case ecat::SlaveStateOutcome::reached: return StateOutcome::reached;
@@ -61,7 +63,7 @@ void SlaveStateRelay::step(JointMask out_of_service) noexcept {
     protocol::StatesResultPayload& r = answer_.result;
     r.status = StatesStatus::ok;
     r.frames = done.frames;
-    for (std::size_t p = 0; p < protocol::kStatesSlaves && p < ecat::kMaxSlaves; ++p) {
+    for (std::size_t p = 0; p < protocol::kStatesSlaves; ++p) {  // == ecat::kMaxSlaves
       if ((r.slaves & ecat::slave_bit(p)) == 0) continue;
       r.records[p].outcome = outcome_of(done.outcome[p]);
       r.records[p].al_status = done.al_status[p];
