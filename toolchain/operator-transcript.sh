@@ -5,7 +5,8 @@
 # by `ctl keygen`, free UDP ports of 127.0.0.1), runs every `ctl` verb against it in the order an
 # operator would (and a refused command of each reachable kind), then a second short run with
 # `--scenario link-cut` for the unreachable-joint refusals and the graph of a cut, and a third with
-# `--scenario cable-damage` for `ctl diag` with a damaged cable and its reset. Each section NAME of the
+# `--scenario cable-damage` for `ctl diag` with a damaged cable and its reset, and a fourth with
+# `--scenario power-cycle` for `ctl states` of a drive out of service. Each section NAME of the
 # transcript belongs to the block
 #   <!-- BEGIN TRANSCRIPT NAME -->
 #   ...
@@ -48,7 +49,7 @@ stop_run() {
   fi
 }
 trap 'stop_run; rm -rf "$dir"' EXIT
-mkdir -p "$dir/sections" "$dir/link-cut" "$dir/cable-damage"
+mkdir -p "$dir/sections" "$dir/link-cut" "$dir/cable-damage" "$dir/power-cycle"
 state="$dir"  # the state directory of the run being shown
 
 # Two UDP ports of 127.0.0.1 free a moment ago (both held open while chosen: they differ).
@@ -182,6 +183,9 @@ ctl --cut 300 --json xml neck_pan
 ctl reg_read l_elbow 0x0130 2
 ctl reg_read junction_a 0x0000 16
 ctl --json reg_read l_elbow 0x0130 6
+begin rescan
+ctl rescan
+ctl --cut 300 --json rescan
 begin network
 ctl slaves -v
 ctl --cut 300 --json slaves -v
@@ -266,6 +270,8 @@ ctl --refused clear l_elbow
 ctl --refused upload l_hand 0x603F:00
 begin graph-cut
 ctl graph
+begin rescan-cut
+ctl --rows 'differences|missing' rescan
 stop_run
 
 begin diag
@@ -282,6 +288,18 @@ ctl --rows 'l_shoulder_yaw|l_elbow|l_wrist_yaw|warning' diag
 ctl --json diag --reset l_elbow
 stop_run
 
+begin states
+state="$dir/power-cycle"
+start_run --scenario power-cycle --duration 30
+wait_log "link recovered: l_elbow"
+ctl --refused states l_wrist_yaw PREOP
+ctl states l_elbow PREOP
+ctl --rows 'l_elbow' slaves -v
+ctl --refused clear l_elbow
+ctl --json states l_elbow OP
+ctl reg_read l_elbow 0x0130 2
+stop_run
+
 # The examples of docs/firmware.md: each must exit 0.
 for example in "--scenario link-cut" "--scenario power-cycle --duration 4" \
                "--scenario power-cycle --duration 4 --auto-clear-power-cycled" "--scenario cable-damage --duration 3"; do
@@ -295,7 +313,7 @@ done
 logs="${TMPDIR:-/tmp}/rescue-operator-transcript-logs"
 keep_logs() {  # the runs' logs of a failed check, for its reader
   rm -rf "$logs" && mkdir -p "$logs" && cp "$dir/run.log" "$logs/session.log" && cp "$dir/link-cut/run.log" "$logs/link-cut.log" &&
-    cp "$dir/cable-damage/run.log" "$logs/cable-damage.log" && echo "operator-transcript: the runs' logs are in $logs" >&2
+    cp "$dir/cable-damage/run.log" "$logs/cable-damage.log" && cp "$dir/power-cycle/run.log" "$logs/power-cycle.log" && echo "operator-transcript: the runs' logs are in $logs" >&2
 }
 if [ "$failures" -ne 0 ]; then
   echo "operator-transcript: $failures command(s) did not end as the pages say; $doc not rewritten" >&2

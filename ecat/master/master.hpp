@@ -23,7 +23,7 @@
 // of cyclic services (cyclic_service.hpp), each adding its datagrams to the one frame and handling
 // its own answers; per slave, one record (slave_record.hpp):
 //   frame = DC reference FRMW 0x0910 | process data LRW per branch | ring watch and DC across a break (redundant only) | link probes and AL watch |
-//           re-integration | online recovery | ESC diagnostics | OP step | mailbox
+//           re-integration | online recovery | ESC diagnostics | OP step | register read | AL states | rescan | mailbox
 //   send, receive until the deadline, each answer to its service, then every service settles.
 #pragma once
 
@@ -51,9 +51,11 @@
 #include "ecat/master/recovery_service.hpp"
 #include "ecat/master/register_read_service.hpp"
 #include "ecat/master/reintegration_service.hpp"
+#include "ecat/master/rescan_service.hpp"
 #include "ecat/master/ring_dc_service.hpp"
 #include "ecat/master/ring_service.hpp"
 #include "ecat/master/slave_record.hpp"
+#include "ecat/master/slave_state_service.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
 namespace rescue::ecat {
@@ -168,6 +170,22 @@ class Master {
   }
   [[nodiscard]] bool take_register_read(RegisterReadResult& out) noexcept { return register_read_.take(out); }
 
+  // ctl states: an AL state for slaves the owner judged out of service, by AL control writes and
+  // status reads in the next cyclic frames (slave_state_service.hpp: below OP parks them, away from
+  // the online recovery; OP hands them back to it). Its result is taken a period or more later (once).
+  [[nodiscard]] SlaveStateService::Refusal request_slave_state(SlaveMask slaves, reg::AlState target) noexcept {
+    return slave_states_.request(slaves, target);
+  }
+  [[nodiscard]] bool take_slave_state(SlaveStateResult& out) noexcept { return slave_states_.take(out); }
+  SlaveMask parked() const noexcept { return slave_states_.parked(); }
+
+  // ctl rescan: the segment identified again (SII by auto-increment position) and compared with the
+  // plan, in the next cyclic frames (rescan_service.hpp). take_rescan() is true once when it is done;
+  // rescan() then describes it until the next request.
+  [[nodiscard]] RescanService::Refusal request_rescan() noexcept { return rescan_.request(); }
+  [[nodiscard]] bool take_rescan() noexcept { return rescan_.take(); }
+  const RescanService& rescan() const noexcept { return rescan_; }
+
   // Between cycles, in a frame of its own: every slave's DC time difference (0x092C).
   Result<DcSnapshot> read_dc_snapshot() noexcept;
 
@@ -245,6 +263,8 @@ class Master {
   EscDiagnosticsService diagnostics_;
   OpStepService op_step_;
   RegisterReadService register_read_;
+  SlaveStateService slave_states_;
+  RescanService rescan_;
   MailboxService mailbox_service_;
   CycleFrame frame_{};
 
@@ -263,6 +283,8 @@ class Master {
     visit(diagnostics_);
     visit(op_step_);
     visit(register_read_);
+    visit(slave_states_);
+    visit(rescan_);
     visit(mailbox_service_);
   }
 };

@@ -98,6 +98,8 @@ Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout&
       diagnostics_(context_),
       op_step_(context_),
       register_read_(context_),
+      slave_states_(context_),
+      rescan_(context_),
       mailbox_service_(context_, mailbox_) {}
 
 Status Master::fail(const char* step, const Error& error) noexcept {

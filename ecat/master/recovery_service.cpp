@@ -589,7 +589,8 @@ void RecoveryService::settle(CycleResult& /*result*/) noexcept {
     const RecoveryProgress& r = ctx_.slaves[p].recovery;
     const SlaveMask bit = slave_bit(p);
     if (r.state() == RecoveryState::idle) {
-      if ((out & bit) != 0) take_input(p, RecoveryInput::lost);
+      // A slave the operator parked below OP (ctl states) is not taken back behind their back.
+      if ((out & bit) != 0 && !ctx_.slaves[p].parked) take_input(p, RecoveryInput::lost);
       continue;
     }
     // States with nothing to write for this slave are done at once.

@@ -1,7 +1,7 @@
 // Everything the master keeps about one planned slave, in one record (one array of them, indexed
 // by position): its configuration and identity from bring-up, the AL state it last answered, and
 // where each cyclic service that works on it stands (OP step, re-integration, online recovery, PDO
-// set-up). A service reads and writes the parts it owns; nothing per slave lives elsewhere.
+// set-up), and whether the operator parked it below OP (ctl states). A service reads and writes the parts it owns; nothing per slave lives elsewhere.
 #pragma once
 
 #include <array>
@@ -75,6 +75,9 @@ struct SlaveRecord {
   ReStep re{ReStep::fmmus};
   RecoveryProgress recovery{};
   PdoSetup pdo{};  // bring-up and recovery: its PDO mapping
+  // ctl states took it below OP (slave_state_service.hpp): the online recovery leaves it alone
+  // until the operator asks for OP.
+  bool parked{false};
 
   // An answer of FPRD 0x0130 (AL status, reserved, AL status code).
   void note_al_status(const std::uint8_t* data) noexcept {

@@ -6,9 +6,11 @@
 // robot 3 in an epoch, a reply, an sdo_upload (their tags are not checked here); payloads of
 // sdo_upload, sdo_download and sdo_result (a segmented upload, a refusal), and an upload and its
 // result addressed by slave position (a junction); a get_sii and an sii answer (a junction's image);
-// a reg_read and its reg_result (an AL status read, and a lost slave's refusal); a graph of the
-// tree and one of the ring open between positions 18 and 19; an sdo_info (the OD list by position,
-// an entry description) and its sdo_info_result (a drive's OD list, a junction's refusal).
+// a reg_read and its reg_result (an AL status read, and a lost slave's refusal); a states request
+// and its states_result (reached, refused in service, refused by the slave); a rescan and its
+// rescan_result (four slaves missing, an incomplete one); a graph of the tree and one of the ring open
+// between positions 18 and 19; an sdo_info (the OD list by position, an entry description) and its
+// sdo_info_result (a drive's OD list, a junction's refusal).
 #include <array>
 #include <cstddef>
 #include <cstdint>

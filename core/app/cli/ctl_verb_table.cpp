@@ -9,10 +9,12 @@
 #include "core/app/cli/ctl_output.hpp"
 #include "core/app/cli/ctl_pdos.hpp"
 #include "core/app/cli/ctl_registers.hpp"
+#include "core/app/cli/ctl_rescan.hpp"
 #include "core/app/cli/ctl_robot_queries.hpp"
 #include "core/app/cli/ctl_sdo.hpp"
 #include "core/app/cli/ctl_sdos.hpp"
 #include "core/app/cli/ctl_sii.hpp"
+#include "core/app/cli/ctl_states.hpp"
 #include "core/app/cli/ctl_target.hpp"
 #include "core/app/cli/ctl_verbs.hpp"
 
@@ -75,6 +77,9 @@ constexpr CtlVerb kVerbs[] = {
     {"xml", "xml SLAVE (SLAVE: a slave's name or position)", nullptr, nullptr, ctl_xml, 1, 1, CtlRun::own},
     {"reg_read", "reg_read SLAVE ADDR [LEN] (e.g. reg_read l_elbow 0x0130 2; LEN 1..64, default 1)", build_reg_read,
      print_reg_result, nullptr, 2, 3, CtlRun::exchange},
+    {"states", "states [SLAVES] INIT|PREOP|SAFEOP|OP (SLAVES: names or positions, comma-separated, or all)",
+     build_states, print_states_result, nullptr, 1, 2, CtlRun::exchange},
+    {"rescan", "rescan", build_rescan, print_rescan_result, nullptr, 0, 0, CtlRun::exchange},
     {"keygen", "keygen [--key FILE]", nullptr, nullptr, ctl_keygen, 0, 0, CtlRun::own},
 };
 

@@ -10,8 +10,10 @@
 #include <type_traits>
 
 #include "core/app/links/register_messages.hpp"
+#include "core/app/links/rescan_messages.hpp"
 #include "core/app/links/sdo_messages.hpp"
 #include "core/app/links/sii_messages.hpp"
+#include "core/app/links/slave_state_messages.hpp"
 #include "core/robot/robot.hpp"
 #include "core/timing/period_recorder.hpp"
 
@@ -27,6 +29,7 @@ constexpr std::size_t kMaxDatagram = kHeaderSize + kMaxPayload + kTagSize;  // 1
 constexpr std::size_t kNameSize = 24;            // slave and task names, ASCII, NUL-padded
 constexpr std::size_t kReplyTextSize = 64;       // reason of a reply, ASCII, NUL-padded
 constexpr std::size_t kMaxSlaves = 23;
+static_assert(kStatesSlaves == kMaxSlaves, "a states result has a record per slave");
 constexpr std::uint8_t kRecoveryStates = 15;  // ecat::kRecoveryStateCount (checked where both are seen)
 constexpr std::uint32_t kRecoveryAgeNever = 0xFFFFFFFFU;  // SlaveRecord: not changed since bring-up
 constexpr std::size_t kMaxTasks = 7;          // tasks in one tasks answer (the run has 6; 7 records of 128 bytes and the drop counters fill a payload)
@@ -64,6 +67,8 @@ enum class MessageType : std::uint8_t {
   sdo_download = 0x19,  // ctl download: a CoE SDO download to a joint's drive (answered by sdo_result)
   reg_read = 0x1A,      // ctl reg_read: a read of a slave's ESC registers (answered by reg_result)
   sdo_info = 0x1B,      // ctl sdos: one CoE SDO Information request to a slave (answered by sdo_info_result)
+  states = 0x1C,        // ctl states: an AL state for slaves out of service (answered by states_result)
+  rescan = 0x1D,        // ctl rescan: identify the segment again, compare it with the plan (answered by rescan_result)
   move_effector = 0x20,
   hand = 0x21,
   take_owner = 0x22,
@@ -86,6 +91,8 @@ enum class MessageType : std::uint8_t {
   sii = 0x8C,         // the answer to get_sii
   reg_result = 0x8D,  // the end of a reg_read: the bytes, or why not
   sdo_info_result = 0x8E,  // the end of an sdo_info: a window of the response's data, or why not
+  states_result = 0x8F,  // the end of a states request: each slave's AL status, or why not
+  rescan_result = 0x90,  // the end of a rescan: the devices found, what differs from the plan
 };
 
 const char* to_string(MessageType type) noexcept;
@@ -490,6 +497,10 @@ struct Message {
   RegResultPayload reg_result{};  // reg_result
   SdoInfoPayload sdo_info{};                 // sdo_info
   SdoInfoResultPayload sdo_info_result{};    // sdo_info_result
+  StatesPayload states{};                // states
+  StatesResultPayload states_result{};  // states_result
+  RescanPayload rescan{};                // rescan
+  RescanResultPayload rescan_result{};  // rescan_result
 };
 static_assert(std::is_trivial_v<DiagPayload>, "published through a seqlock");
 

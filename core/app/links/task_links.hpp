@@ -15,8 +15,10 @@
 #include "core/app/links/joint_messages.hpp"
 #include "core/app/links/motion_links.hpp"
 #include "core/app/links/register_messages.hpp"
+#include "core/app/links/rescan_messages.hpp"
 #include "core/app/links/run_control.hpp"
 #include "core/app/links/sdo_messages.hpp"
+#include "core/app/links/slave_state_messages.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
 #include "core/robot/joint_demand.hpp"
@@ -68,6 +70,10 @@ static_assert(kHeartbeatSlots >= kTaskStatSlots, "one heartbeat per StatTask");
   X(sdo_results, "EtherCAT handler -> socket handler (the transfer's end)", SpscQueue<SdoLinkResult, config::kSdoQueueDepth>) \
   X(reg_requests, "socket handler -> EtherCAT handler (ctl reg_read, one in flight)", SpscQueue<RegReadLinkRequest, config::kRegQueueDepth>) \
   X(reg_results, "EtherCAT handler -> socket handler (the read's end)", SpscQueue<RegReadLinkResult, config::kRegQueueDepth>) \
+  X(states_requests, "socket handler -> EtherCAT handler (ctl states, one in flight)", SpscQueue<StatesLinkRequest, config::kStatesQueueDepth>) \
+  X(states_results, "EtherCAT handler -> socket handler (the states request's end)", SpscQueue<StatesLinkResult, config::kStatesQueueDepth>) \
+  X(rescan_requests, "socket handler -> EtherCAT handler (ctl rescan, one in flight)", SpscQueue<RescanLinkRequest, config::kRescanQueueDepth>) \
+  X(rescan_results, "EtherCAT handler -> socket handler (the rescan's end)", SpscQueue<RescanLinkResult, config::kRescanQueueDepth>) \
   X(sii_images, "EtherCAT handler (after bring-up, one slave per period) -> socket handler (ctl sii_read)", std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>) \
   X(motion, "RC task k -> its reference space; owner word (CAS); EtherCAT handler's intake (motion_links.hpp)", MotionLinks) \
   X(run, "supervisor <-> every task: start, stop, end-of-run figures (run_control.hpp)", RunControl)

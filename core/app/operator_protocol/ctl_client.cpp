@@ -17,8 +17,8 @@ std::uint64_t unix_ns() noexcept {
 }
 
 // Sends `request` and waits until `deadline` for the robot's authentic answer to it: sender 0, for
-// `robot` (any when kAnyRobot) in `epoch` (any when 0), a reply, an sdo_result or an epoch answer echoing
-// its sequence.
+// `robot` (any when kAnyRobot) in `epoch` (any when 0), a reply, an sdo_result, a states_result, a
+// rescan_result or an epoch answer echoing its sequence.
 Result<protocol::Message> round_trip(hal::UdpSocket& socket, const CtlTarget& target, protocol::Message& request,
                                      hal::Nanoseconds deadline) noexcept {
   std::array<std::uint8_t, protocol::kMaxDatagram> out{};
@@ -51,6 +51,8 @@ Result<protocol::Message> round_trip(hal::UdpSocket& socket, const CtlTarget& ta
     if (type == protocol::MessageType::sdo_info_result && m.value().sdo_info_result.request_sequence != asked.sequence) {
       continue;
     }
+    if (type == protocol::MessageType::states_result && m.value().states_result.request_sequence != asked.sequence) continue;
+    if (type == protocol::MessageType::rescan_result && m.value().rescan_result.request_sequence != asked.sequence) continue;
     return m.value();
   }
   return make_error(Errc::timeout, "no authentic answer from the robot (not running, wrong port, or another key)");

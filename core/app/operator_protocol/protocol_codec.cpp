@@ -48,12 +48,21 @@ constexpr std::size_t kRegReadSize = 8;
 constexpr std::size_t kRegResultSize = 24 + kRegDataSize;
 constexpr std::size_t kSdoInfoSize = 12;
 constexpr std::size_t kSdoInfoResultSize = 44 + kSdoTextSize + kSdoDataSize;
+constexpr std::size_t kStatesSize = 8;
+constexpr std::size_t kStatesRecordSize = 6;
+constexpr std::size_t kStatesResultSize = 24 + kMaxSlaves * kStatesRecordSize;
+constexpr std::size_t kRescanSize = 4;
+constexpr std::size_t kRescanDeviceSize = 20;
+constexpr std::size_t kRescanDifferenceSize = 4;
+constexpr std::size_t kRescanResultSize =
+    24 + kRescanDevices * kRescanDeviceSize + kRescanDifferences * kRescanDifferenceSize;
 static_assert(kStatusSize <= kMaxPayload && kListHeadSize + kMaxSlaves * kSlaveRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxTasks * kTaskRecordSize + kListHeadSize + kMaxDropCounters * 8 <= kMaxPayload &&
                   kDiagHeadSize + kMaxSlaves * kDiagRecordSize <= kMaxPayload && kSdoResultSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kSlaveInfoRecordSize <= kMaxPayload &&
                   kListHeadSize + kMaxSlaves * kGraphRecordSize + kGraphRingSize <= kMaxPayload && kSiiSize <= kMaxPayload &&
-                  kRegResultSize <= kMaxPayload && kSdoInfoResultSize <= kMaxPayload,
+                  kRegResultSize <= kMaxPayload && kSdoInfoResultSize <= kMaxPayload &&
+                  kStatesResultSize <= kMaxPayload && kRescanResultSize <= kMaxPayload,
               "every payload fits");
 
 constexpr double kPi = 3.14159265358979323846;
@@ -854,6 +863,113 @@ void sdo_info_result_fields(F& f, M& m) noexcept {
   f.require(padding_zero, Errc::malformed, "bytes past the data's length not zero");
 }
 
+// states: the slaves (a mask of planned positions, at least one), the AL state (1, 2, 4 or 8), 3
+// reserved bytes.
+template <typename F, typename M>
+void states_fields(F& f, M& m) noexcept {
+  f.length(kStatesSize);
+  auto& r = m.states;
+  f.u32(r.slaves);
+  f.u8(r.state);
+  f.reserved(3);
+  f.check(r.slaves != 0 && (r.slaves >> kMaxSlaves) == 0, "slaves of a states request");
+  f.check(is_requestable_al_state(r.state), "AL state of a states request");
+}
+
+// states_result: request sequence, slaves, state, status, 2 reserved, joints in service, frames, 2
+// reserved; then per slave position (kMaxSlaves) its outcome, 1 reserved, AL status, AL status
+// code: zero for a slave not in the request.
+template <typename F, typename M>
+void states_result_fields(F& f, M& m) noexcept {
+  f.length(kStatesResultSize);
+  auto& r = m.states_result;
+  f.u64(r.request_sequence);
+  f.u32(r.slaves);
+  f.u8(r.state);
+  f.u8(r.status);
+  f.reserved(2);
+  f.u32(r.in_service);
+  f.u16(r.frames);
+  f.reserved(2);
+  bool others_zero = true;
+  bool outcomes_known = true;
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    auto& rec = r.records[p];
+    f.u8(rec.outcome);
+    f.reserved(1);
+    f.u16(rec.al_status);
+    f.u16(rec.al_code);
+    outcomes_known = outcomes_known && static_cast<std::uint8_t>(rec.outcome) <= kStateOutcomeLast;
+    const bool in_request = ((r.slaves >> p) & 1U) != 0;
+    others_zero = others_zero && (in_request || (static_cast<std::uint8_t>(rec.outcome) == 0 && rec.al_status == 0 && rec.al_code == 0));
+  }
+  f.check(r.slaves != 0 && (r.slaves >> kMaxSlaves) == 0, "slaves of a states request");
+  f.check(is_requestable_al_state(r.state), "AL state of a states request");
+  f.check(static_cast<std::uint8_t>(r.status) <= kStatesStatusLast, "states status");
+  f.check((r.in_service & ~kAllJoints) == 0, "joints in service");
+  f.check(outcomes_known, "a slave's states outcome");
+  f.require(others_zero, Errc::malformed, "a record of a slave outside the request not zero");
+}
+
+// rescan: 4 reserved bytes.
+template <typename F, typename M>
+void rescan_fields(F& f, M& /*m*/) noexcept {
+  f.length(kRescanSize);
+  f.reserved(4);
+}
+
+// rescan_result: request sequence, status, devices counted (the BRD's working counter), devices read
+// (<= kRescanDevices), differences (<= kRescanDifferences), frames, 10 reserved; then kRescanDevices
+// device records of 20 (vendor, product, revision, serial, alias, planned slot (0..22 or 0xFF),
+// identified (0 or 1)) and kRescanDifferences difference records of 4 (kind, planned (0..22 or
+// 0xFF), found (a device read, or 0xFF), 1 reserved); records past their counts empty (numbers 0,
+// positions 0xFF).
+template <typename F, typename M>
+void rescan_result_fields(F& f, M& m) noexcept {
+  f.length(kRescanResultSize);
+  auto& r = m.rescan_result;
+  f.u64(r.request_sequence);
+  f.u8(r.status);
+  f.u8(r.counted);
+  f.u8(r.devices);
+  f.u8(r.differences);
+  f.u16(r.frames);
+  f.reserved(10);
+  bool in_range = true;
+  bool rest_zero = true;
+  for (std::size_t i = 0; i < kRescanDevices; ++i) {
+    auto& d = r.records[i];
+    f.u32(d.vendor_id);
+    f.u32(d.product_code);
+    f.u32(d.revision);
+    f.u32(d.serial_number);
+    f.u16(d.station_alias);
+    f.u8(d.slot);
+    f.u8(d.identified);
+    in_range = in_range && (d.slot < kMaxSlaves || d.slot == kNoPlace) && d.identified <= 1;
+    if (i >= r.devices) {
+      rest_zero = rest_zero && d.vendor_id == 0 && d.product_code == 0 && d.revision == 0 && d.serial_number == 0 &&
+                  d.station_alias == 0 && d.slot == kNoPlace && d.identified == 0;
+    }
+  }
+  for (std::size_t k = 0; k < kRescanDifferences; ++k) {
+    auto& d = r.found_differences[k];
+    f.u8(d.kind);
+    f.u8(d.planned);
+    f.u8(d.found);
+    f.reserved(1);
+    in_range = in_range && static_cast<std::uint8_t>(d.kind) <= kRescanDifferenceLast &&
+               (d.planned < kMaxSlaves || d.planned == kNoPlace) && (d.found < r.devices || d.found == kNoPlace);
+    if (k >= r.differences) {
+      rest_zero = rest_zero && static_cast<std::uint8_t>(d.kind) == 0 && d.planned == kNoPlace && d.found == kNoPlace;
+    }
+  }
+  f.check(static_cast<std::uint8_t>(r.status) <= kRescanStatusLast, "rescan status");
+  f.check(r.devices <= kRescanDevices && r.differences <= kRescanDifferences, "rescan record counts");
+  f.check(in_range, "a rescan record's field");
+  f.require(rest_zero, Errc::malformed, "a rescan record past its count not empty");
+}
+
 // The table of message layouts: every type the protocol defines, its name and its payload's layout
 // (each function above serves both directions). A new message is a row and a layout.
 struct Layout {
@@ -889,6 +1005,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::sdo_download, "sdo_download", sdo_download_fields, sdo_download_fields},
     {MessageType::reg_read, "reg_read", reg_read_fields, reg_read_fields},
     {MessageType::sdo_info, "sdo_info", sdo_info_fields, sdo_info_fields},
+    {MessageType::states, "states", states_fields, states_fields},
+    {MessageType::rescan, "rescan", rescan_fields, rescan_fields},
     {MessageType::imu, "imu", imu_fields, imu_fields},
     {MessageType::gps, "gps", gps_fields, gps_fields},
     {MessageType::reply, "reply", reply_fields, reply_fields},
@@ -906,6 +1024,8 @@ constexpr Layout kLayouts[] = {
     {MessageType::sii, "sii", sii_fields, sii_fields},
     {MessageType::reg_result, "reg_result", reg_result_fields, reg_result_fields},
     {MessageType::sdo_info_result, "sdo_info_result", sdo_info_result_fields, sdo_info_result_fields},
+    {MessageType::states_result, "states_result", states_result_fields, states_result_fields},
+    {MessageType::rescan_result, "rescan_result", rescan_result_fields, rescan_result_fields},
 };
 
 const Layout* layout_of(std::uint8_t type) noexcept {

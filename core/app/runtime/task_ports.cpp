@@ -45,6 +45,14 @@ TaskPorts::TaskPorts(TaskLinks& links) noexcept
       handler_reg_requests_(links.reg_requests),
       handler_reg_results_(links.reg_results),
       socket_reg_results_(links.reg_results),
+      socket_states_requests_(links.states_requests),
+      handler_states_requests_(links.states_requests),
+      handler_states_results_(links.states_results),
+      socket_states_results_(links.states_results),
+      socket_rescan_requests_(links.rescan_requests),
+      handler_rescan_requests_(links.rescan_requests),
+      handler_rescan_results_(links.rescan_results),
+      socket_rescan_results_(links.rescan_results),
       parser_rc_inputs_{{Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[0]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[1]),
                          Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>(links.rc_inputs[2]),
@@ -65,6 +73,10 @@ EthercatHandlerPorts TaskPorts::ethercat_handler() noexcept {
   p.sdo_results = &handler_sdo_results_;
   p.reg_requests = &handler_reg_requests_;
   p.reg_results = &handler_reg_results_;
+  p.states_requests = &handler_states_requests_;
+  p.states_results = &handler_states_results_;
+  p.rescan_requests = &handler_rescan_requests_;
+  p.rescan_results = &handler_rescan_results_;
   p.master_status = &links_.master_status;
   p.link_diag = &links_.link_diag;
   p.slave_info = &links_.slave_info;
@@ -142,6 +154,10 @@ SocketHandlerPorts TaskPorts::socket_handler() noexcept {
   p.sdo_results = &socket_sdo_results_;
   p.reg_requests = &socket_reg_requests_;
   p.reg_results = &socket_reg_results_;
+  p.states_requests = &socket_states_requests_;
+  p.states_results = &socket_states_results_;
+  p.rescan_requests = &socket_rescan_requests_;
+  p.rescan_results = &socket_rescan_results_;
   return p;
 }
 

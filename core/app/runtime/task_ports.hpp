@@ -116,6 +116,16 @@ class TaskPorts {
   Source<RegReadLinkRequest, config::kRegQueueDepth> handler_reg_requests_;
   Sink<RegReadLinkResult, config::kRegQueueDepth> handler_reg_results_;
   Source<RegReadLinkResult, config::kRegQueueDepth> socket_reg_results_;
+  // Socket handler <-> EtherCAT handler: ctl states and its answer.
+  Sink<StatesLinkRequest, config::kStatesQueueDepth> socket_states_requests_;
+  Source<StatesLinkRequest, config::kStatesQueueDepth> handler_states_requests_;
+  Sink<StatesLinkResult, config::kStatesQueueDepth> handler_states_results_;
+  Source<StatesLinkResult, config::kStatesQueueDepth> socket_states_results_;
+  // Socket handler <-> EtherCAT handler: ctl rescan and its answer.
+  Sink<RescanLinkRequest, config::kRescanQueueDepth> socket_rescan_requests_;
+  Source<RescanLinkRequest, config::kRescanQueueDepth> handler_rescan_requests_;
+  Sink<RescanLinkResult, config::kRescanQueueDepth> handler_rescan_results_;
+  Source<RescanLinkResult, config::kRescanQueueDepth> socket_rescan_results_;
   // Message parser -> RC task k.
   std::array<Sink<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> parser_rc_inputs_;
   std::array<Source<RcTaskInput, TaskLinks::kRcInputQueueDepth>, protocol::kMaxRcTasks> rc_inputs_;

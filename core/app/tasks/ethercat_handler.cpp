@@ -22,6 +22,8 @@ EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPo
     : bus_(bus),
       tracker_(*ports.reports, *ports.notices, restored_lost),
       register_relay_(bus.master(), ports.reg_requests, ports.reg_results),
+      state_relay_(bus.master(), ports.states_requests, ports.states_results),
+      rescan_relay_(bus.master(), ports.rescan_requests, ports.rescan_results),
       ports_(ports),
       sdo_relay_(bus, ports.sdo_requests, ports.sdo_results),
       intake_(ports.motion, intake) {
@@ -167,6 +169,10 @@ drivers::JointCycleResult EthercatHandler::cycle() noexcept {
   sdo_relay_.step(result.out | tracker_.excluded(), result.state == ecat::MasterState::op);
   // ctl reg_read: one request handed to the master, one finished read answered.
   register_relay_.step();
+  // ctl states: one request judged (a slave in service refused) and handed to the master, one answered.
+  state_relay_.step(result.out | tracker_.excluded());
+  // ctl rescan: one request handed to the master, one finished rescan answered.
+  rescan_relay_.step();
   return result;
 }
 

@@ -15,7 +15,10 @@
 //   6. queues what happened (HandlerEvent) for a lower-priority logger to print;
 //   7. relays the operator's SDO transfers (ctl upload/download) to the master's cyclic mailbox
 //      channel and answers them (SdoRelay, core/app/tasks/sdo_relay.hpp), and its ESC register
-//      reads (ctl reg_read) to the master's cyclic FPRD (RegisterRelay, register_relay.hpp).
+//      reads (ctl reg_read) to the master's cyclic FPRD (RegisterRelay, register_relay.hpp);
+//   8. relays the operator's AL states for slaves out of service (ctl states) to the master, and
+//      refuses a slave whose joints it commands (SlaveStateRelay, slave_state_relay.hpp), and its
+//      rescans (ctl rescan) to the master's cyclic identification (RescanRelay, rescan_relay.hpp).
 // After each cycle its loop calls publish_figures(): the master's figures for the operator (ctl
 // master, ctl diag and its reset, ctl slaves -v), each through its port.
 // No heap, no locks, no syscalls but the NIC's; bounded work.
@@ -29,7 +32,9 @@
 #include "core/app/tasks/lost_joint_tracker.hpp"
 #include "core/app/tasks/motion_intake.hpp"
 #include "core/app/tasks/register_relay.hpp"
+#include "core/app/tasks/rescan_relay.hpp"
 #include "core/app/tasks/sdo_relay.hpp"
+#include "core/app/tasks/slave_state_relay.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "core/concurrency/spsc_queue.hpp"
@@ -77,6 +82,12 @@ struct EthercatHandlerPorts {
   // ctl reg_read from the socket handler, and its answer (both null: no register reads).
   MessageSource<RegReadLinkRequest>* reg_requests{nullptr};
   MessageSink<RegReadLinkResult>* reg_results{nullptr};
+  // ctl states from the socket handler, and its answer (both null: no AL states on request).
+  MessageSource<StatesLinkRequest>* states_requests{nullptr};
+  MessageSink<StatesLinkResult>* states_results{nullptr};
+  // ctl rescan from the socket handler, and its answer (both null: no rescans).
+  MessageSource<RescanLinkRequest>* rescan_requests{nullptr};
+  MessageSink<RescanLinkResult>* rescan_results{nullptr};
   // The master's figures for the operator, written by publish_figures() (null: not published): its
   // counters every period (ctl master), the link-quality table once per diagnostics sweep (ctl
   // diag), each slave's identity and AL status when one changed (ctl slaves -v), and the socket
@@ -167,6 +178,8 @@ class EthercatHandler {
   hal::Nanoseconds next_waiting_word_{0};  // when the next waiting_for_op event is due
   LostJointTracker tracker_;
   RegisterRelay register_relay_;
+  SlaveStateRelay state_relay_;
+  RescanRelay rescan_relay_;
   EthercatHandlerPorts ports_;
   std::array<double, kJointCount> reference_rad_{};  // each joint's position reference as sent (radians)
   std::array<std::uint64_t, kJointCount> missed_{};  // per joint, cycles without valid inputs since OP

@@ -261,6 +261,8 @@ void SocketHandler::handle(const hal::UdpDatagram& d, bool control_port, hal::Na
   if (h.type == MessageType::sdo_upload || h.type == MessageType::sdo_download) return forward_sdo(m, d);
   if (h.type == MessageType::sdo_info) return forward_sdo(m, d);
   if (h.type == MessageType::reg_read) return forward_register_read(m, d);
+  if (h.type == MessageType::states) return forward_states(m, d);
+  if (h.type == MessageType::rescan) return forward_rescan(m, d);
   if (h.type == MessageType::diag_reset) return post_diag_reset(m, d);  // for the EtherCAT handler, not the parser
 
   const ControlRequest r = request_of(m, d.address, d.port);
@@ -381,6 +383,8 @@ void SocketHandler::step(hal::Nanoseconds now) noexcept {
   }
   collect_sdo_result();
   collect_register_read();
+  collect_states();
+  collect_rescan();
   if (ports_.counters != nullptr) ports_.counters->write(counters_);
 }
 

@@ -32,6 +32,7 @@
 #include "core/app/links/sdo_messages.hpp"
 #include "core/app/links/task_links.hpp"
 #include "core/app/operator_protocol/replay_window.hpp"
+#include "core/app/tasks/relayed_request.hpp"
 #include "core/concurrency/message_port.hpp"
 #include "core/concurrency/seqlock.hpp"
 #include "hal/net/udp_socket.hpp"
@@ -75,6 +76,10 @@ struct SocketHandlerPorts {
   MessageSource<SdoLinkResult>* sdo_results{nullptr};  // and their results
   MessageSink<RegReadLinkRequest>* reg_requests{nullptr};  // ctl reg_read, to the EtherCAT handler
   MessageSource<RegReadLinkResult>* reg_results{nullptr};  // and its result
+  MessageSink<StatesLinkRequest>* states_requests{nullptr};  // ctl states, to the EtherCAT handler
+  MessageSource<StatesLinkResult>* states_results{nullptr};  // and its result
+  MessageSink<RescanLinkRequest>* rescan_requests{nullptr};   // ctl rescan, to the EtherCAT handler
+  MessageSource<RescanLinkResult>* rescan_results{nullptr};   // and its result
   const Seqlock<protocol::SlaveInfoTable>* slave_info{nullptr};  // ctl slaves -v: SII identity, AL status code
   const std::array<Seqlock<SiiImageRecord>, protocol::kMaxSlaves>* sii_images{nullptr};  // ctl sii_read
   DiagResetLink* diag_reset{nullptr};                 // ctl diag --reset: posted here, taken by the EtherCAT handler
@@ -96,6 +101,10 @@ class SocketHandler {
   static constexpr hal::Nanoseconds kSdoAnswerLimit = 2 * hal::kNsPerSec;
   // How long a register read may take (the master tries its FPRD in at most 10 frames).
   static constexpr hal::Nanoseconds kRegAnswerLimit = 500 * hal::kNsPerMs;
+  // How long a states request may take (the master gives up at 1.5 s: SlaveStateService::kDeadline).
+  static constexpr hal::Nanoseconds kStatesAnswerLimit = 1800 * hal::kNsPerMs;
+  // How long a rescan may take (the master ends one within 1000 frames: RescanService).
+  static constexpr hal::Nanoseconds kRescanAnswerLimit = 1800 * hal::kNsPerMs;
 
   // `robot_id`: this robot's identity (run's robot_id): datagrams naming another are refused.
   SocketHandler(const SocketHandlerPorts& ports, const protocol::Key& key, protocol::ReplayWindow& window,
@@ -153,6 +162,17 @@ class SocketHandler {
   void answer_register_read(protocol::RegResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
                             std::uint16_t port) noexcept;
   void collect_register_read() noexcept;
+  // socket_slave_states.cpp: ctl states, one in flight (a second is answered busy at once),
+  // answered states_result (no_answer when the EtherCAT handler says nothing within kStatesAnswerLimit).
+  void forward_states(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void answer_states(protocol::StatesResultPayload result, std::uint64_t request_sequence, std::uint32_t address,
+                     std::uint16_t port) noexcept;
+  void collect_states() noexcept;
+  // socket_rescans.cpp: ctl rescan, the same way (no_answer past kRescanAnswerLimit).
+  void forward_rescan(const protocol::Message& request, const hal::UdpDatagram& from) noexcept;
+  void answer_rescan(const protocol::RescanResultPayload& result, protocol::RescanStatus status,
+                     std::uint64_t request_sequence, std::uint32_t address, std::uint16_t port) noexcept;
+  void collect_rescan() noexcept;
   protocol::FiguresAge handler_figures_age() const noexcept;
 
   SocketHandlerPorts ports_;
@@ -195,6 +215,13 @@ class SocketHandler {
   };
   RegInFlight reg_{};
   std::uint32_t reg_ids_{0};
+  // The states request and the rescan in flight (one of each at a time), and the results' buffers
+  // (a rescan's is 0.9 KiB: a member, not on the stack of every step).
+  RelayedRequest<StatesLinkRequest, StatesLinkResult> states_{};
+  protocol::StatesPayload states_request_{};
+  StatesLinkResult states_result_{};
+  RelayedRequest<RescanLinkRequest, RescanLinkResult> rescan_{};
+  RescanLinkResult rescan_result_{};
   // diag_reset requests waiting for the EtherCAT handler (a few operators at once; more: busy).
   struct PendingReset {
     bool active{false};

@@ -77,6 +77,8 @@ TEST(CtlJsonSchema, EveryVerbsAnswersValidate) {
       {"xml", {{{"xml", "l_elbow"}, 0}, {{"xml", "junction_a"}, 0}, {{"xml", "23"}, 2}}},
       {"reg_read", {{{"reg_read", "l_elbow", "0x0130", "2"}, 0}, {{"reg_read", "0", "0x0000", "64"}, 0},
                     {{"reg_read", "l_elbow", "0x0130", "65"}, 2}}},
+      {"states", {{{"states", "l_elbow", "PREOP"}, 1}, {{"states", "OP"}, 1}, {{"states", "l_elbow", "BOOT"}, 2}}},
+      {"rescan", {{{"rescan"}, 0}, {{"rescan", "now"}, 2}}},
       {"download", {{{"download", "l_elbow", "0x6066:00", "100", "--type", "u16"}, 0},
                     {{"download", "l_elbow", "0x607A:00", "1000", "--type", "i32"}, 1}}},
   };

@@ -797,6 +797,128 @@ TEST(ProtocolCodec, SdoInformationMessagesRoundTripAndTheirRangesAreChecked) {
                        "sdo_info_result_no_mailbox_payload"});
 }
 
+// ctl states (0x1C) and its answer (0x8F): round trips, every range, a record of a slave outside
+// the request, a payload one byte short, and the fuzz target's seeds decode.
+TEST(ProtocolCodec, StatesMessagesRoundTripAndTheirRangesAreChecked) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(2);
+  Message m = addressed();
+  m.header.sender = 9;
+  m.header.type = MessageType::states;
+  m.states.slaves = 1U << 19;
+  m.states.state = 2;
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.states.slaves, 1U << 19);
+  EXPECT_EQ(back.states.state, 2);
+  EXPECT_TRUE(is_control_request(MessageType::states));
+  EXPECT_FALSE(is_query(MessageType::states));
+  m.states.state = 3;  // BOOT: not asked for
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.states.state = 8;
+  m.states.slaves = 0;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+  m.states.slaves = 1U << kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(m, k), k), static_cast<int>(Rejection::out_of_range));
+
+  Message r = addressed();
+  r.header.type = MessageType::states_result;
+  r.states_result.request_sequence = 77;
+  r.states_result.slaves = (1U << 19) | (1U << 20);
+  r.states_result.state = 4;
+  r.states_result.status = StatesStatus::not_reached;
+  r.states_result.frames = 9;
+  r.states_result.records[19] = {StateOutcome::reached, 0x0004, 0};
+  r.states_result.records[20] = {StateOutcome::refused, 0x0012, 0x0011};
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.states_result.request_sequence, 77U);
+  EXPECT_EQ(back.states_result.records[20].outcome, StateOutcome::refused);
+  EXPECT_EQ(back.states_result.records[20].al_status, 0x0012);
+  EXPECT_EQ(back.states_result.records[20].al_code, 0x0011);
+  EXPECT_EQ(back.states_result.frames, 9);
+  r.states_result.records[3].al_status = 8;  // a slave outside the request
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::malformed));
+  r.states_result.records[3].al_status = 0;
+  r.states_result.records[19].outcome = static_cast<StateOutcome>(kStateOutcomeLast + 1);
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.states_result.records[19].outcome = StateOutcome::reached;
+  r.states_result.status = static_cast<StatesStatus>(kStatesStatusLast + 1);
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.states_result.status = StatesStatus::in_service;
+  r.states_result.in_service = 1U << kJointCount;  // no such joint
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+
+  // A payload one byte short of its type's length is malformed (every length checked).
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  r.states_result.in_service = 0;
+  const Result<std::size_t> n = encode_payload(r, ByteSpan(payload));
+  ASSERT_TRUE(n.ok());
+  Header h;
+  h.type = MessageType::states_result;
+  EXPECT_FALSE(decode_payload(h, ConstByteSpan(payload.data(), n.value() - 1)).ok());
+  EXPECT_TRUE(decode_payload(h, ConstByteSpan(payload.data(), n.value())).ok());
+
+  expect_seeds_decode({"states_payload", "states_result_payload", "states_result_in_service_payload",
+                       "states_result_refused_payload"});
+}
+
+// ctl rescan (0x1D) and its answer (0x90): round trips, the counts and positions checked, a record
+// past its count refused, a payload one byte short, and the fuzz target's seeds decode.
+TEST(ProtocolCodec, RescanMessagesRoundTripAndTheirRangesAreChecked) {
+  ASSERT_TRUE(init_crypto().ok());
+  const Key k = key_of(2);
+  Message m = addressed();
+  m.header.sender = 9;
+  m.header.type = MessageType::rescan;
+  Message back;
+  ASSERT_EQ(judge(seal_ok(m, k), k, &back), -1);
+  EXPECT_EQ(back.header.type, MessageType::rescan);
+  EXPECT_TRUE(is_control_request(MessageType::rescan));
+  EXPECT_FALSE(is_query(MessageType::rescan));
+
+  Message r = addressed();
+  r.header.type = MessageType::rescan_result;
+  r.rescan_result.request_sequence = 78;
+  r.rescan_result.counted = 22;
+  r.rescan_result.devices = 2;
+  r.rescan_result.frames = 40;
+  r.rescan_result.records[0] = {0xA5C, 0x4A423430, 1, 17, 0, 0, 1};
+  r.rescan_result.records[1] = {0xA5C, 0x4A443432, 2, 18, 0x0007, 1, 1};
+  r.rescan_result.differences = 1;
+  r.rescan_result.found_differences[0] = {RescanDifference::missing, 15, kNoPlace};
+  ASSERT_EQ(judge(seal_ok(r, k), k, &back), -1);
+  EXPECT_EQ(back.rescan_result.request_sequence, 78U);
+  EXPECT_EQ(back.rescan_result.records[1].serial_number, 18U);
+  EXPECT_EQ(back.rescan_result.records[1].station_alias, 0x0007);
+  EXPECT_EQ(back.rescan_result.found_differences[0].planned, 15);
+  EXPECT_EQ(back.rescan_result.frames, 40);
+  r.rescan_result.records[2].vendor_id = 1;  // past the device count
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::malformed));
+  r.rescan_result.records[2].vendor_id = 0;
+  r.rescan_result.found_differences[0].found = 2;  // a device not read
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.rescan_result.found_differences[0].found = kNoPlace;
+  r.rescan_result.records[1].slot = kMaxSlaves;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.rescan_result.records[1].slot = 1;
+  r.rescan_result.devices = kRescanDevices + 1;
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.rescan_result.devices = 2;
+  r.rescan_result.status = static_cast<RescanStatus>(kRescanStatusLast + 1);
+  EXPECT_EQ(judge(seal_ok(r, k), k), static_cast<int>(Rejection::out_of_range));
+  r.rescan_result.status = RescanStatus::ok;
+
+  std::array<std::uint8_t, kMaxPayload> payload{};
+  const Result<std::size_t> n = encode_payload(r, ByteSpan(payload));
+  ASSERT_TRUE(n.ok());
+  Header h;
+  h.type = MessageType::rescan_result;
+  EXPECT_FALSE(decode_payload(h, ConstByteSpan(payload.data(), n.value() - 1)).ok());
+  EXPECT_TRUE(decode_payload(h, ConstByteSpan(payload.data(), n.value())).ok());
+
+  expect_seeds_decode({"rescan_payload", "rescan_result_payload", "rescan_result_incomplete_payload"});
+}
+
 // Text fields hold printable ASCII then NUL padding (docs/protocol.md "Text fields", issue 35 item 4):
 // the robot sends any other byte of its own texts as '?', and a receiver refuses a reply whose text
 // holds a terminal escape, a byte above 0x7E, or anything after its first NUL.

@@ -139,6 +139,23 @@ TEST(TaskPorts, TheSocketHandlerAndTheEthercatHandlerMeetOnTheSdoQueues) {
   RegReadLinkResult read_result{};
   read_result.id = 9;
   EXPECT_EQ(through(handler.reg_results, socket.reg_results, read_result).id, 9U);
+  // ctl states: its own queue pair too.
+  StatesLinkRequest states{};
+  states.id = 11;
+  states.states.state = 2;
+  const StatesLinkRequest states_got = through(socket.states_requests, handler.states_requests, states);
+  EXPECT_EQ(states_got.id, 11U);
+  EXPECT_EQ(states_got.states.state, 2);
+  StatesLinkResult states_result{};
+  states_result.id = 11;
+  EXPECT_EQ(through(handler.states_results, socket.states_results, states_result).id, 11U);
+  // ctl rescan: its own queue pair too.
+  RescanLinkRequest rescan{};
+  rescan.id = 12;
+  EXPECT_EQ(through(socket.rescan_requests, handler.rescan_requests, rescan).id, 12U);
+  RescanLinkResult rescan_result{};
+  rescan_result.id = 12;
+  EXPECT_EQ(through(handler.rescan_results, socket.rescan_results, rescan_result).id, 12U);
 }
 
 TEST(TaskPorts, TheHandlersFiguresAreTheOnesTheSocketHandlerAnswersFrom) {
