@@ -263,7 +263,7 @@ def main(argv):
             status = EXIT_REFUSED
     if args.plot:
         import pwcet_plot  # matplotlib only when asked
-        pwcet_plot.draw(plots, args.plot, EXCEEDANCES, args.confidence)
+        pwcet_plot.draw(plots, args.plot, EXCEEDANCES, args.confidence, period_quantile)
         print(f"plot: {args.plot}")
     return status
 

@@ -1,6 +1,7 @@
 """The exceedance plot of toolchain/wcet/pwcet.py: one panel per task, per-period exceedance probability
 (log) against execution time; the measured periods as points, the GEV fit turned into a per-period curve,
-its bootstrap interval as a band, the 1e-9 and 1e-12 levels, and the verdict in the title."""
+its bootstrap interval as a band, the 1e-9 and 1e-12 levels, and the verdict in the title. The per-period
+quantile comes from pwcet.py as an argument (`period_quantile`), so this file imports nothing of it."""
 import math
 
 import matplotlib
@@ -8,19 +9,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pwcet import period_quantile  # noqa: E402
 
-
-def draw(plots, path, exceedances, confidence):
+def draw(plots, path, exceedances, confidence, period_quantile):
     fig, axes = plt.subplots(len(plots), 1, figsize=(8, 4.5 * len(plots)), squeeze=False)
     for ax, task in zip(axes[:, 0], plots):
-        panel(ax, task, exceedances, confidence)
+        panel(ax, task, exceedances, confidence, period_quantile)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def panel(ax, task, exceedances, confidence):
+def panel(ax, task, exceedances, confidence, period_quantile):
     samples = np.sort(task["samples"])
     n = len(samples)
     measured = 1.0 - np.arange(1, n + 1) / (n + 1.0)  # empirical exceedance of each measured period
