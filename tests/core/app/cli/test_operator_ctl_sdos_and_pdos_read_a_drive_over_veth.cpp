@@ -6,58 +6,16 @@
 // (CI must make them: tests/support/netns_veth.hpp).
 #include <gtest/gtest.h>
 
-#include <csignal>
-#include <string>
-#include <vector>
-
-#include "tests/support/child_process.hpp"
-#include "tests/support/joint_manager_fakes.hpp"
-#include "tests/support/netns_veth.hpp"
+#include "tests/support/ctl_over_veth.hpp"
 
 namespace rescue::app {
 namespace {
 
-using rescue::testing::ChildProcess;
-using rescue::testing::VethPair;
-
-const std::string kBinary = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
-constexpr int kTimeoutMs = 30000;
-const std::string kControlPort = "47010";  // the master's namespace is fresh: any port is free
-
-bool has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
-
-class CtlOverVeth : public rescue::testing::NetnsTest {
- protected:
-  struct Answer {
-    int status;
-    std::string out;
-  };
-  Answer ctl(std::vector<std::string> args) {
-    args.insert(args.begin(), {kBinary, "ctl", "--key", key_, "--port", kControlPort});
-    ChildProcess c;
-    if (!c.start(args, veth_->master_ns())) return {-1, "not started"};
-    const int status = c.wait_exit();
-    return {status, c.output()};
-  }
-  testing::TempStateDir dir_;
-  std::string key_ = dir_.path + "/operator.key";
-};
+using CtlOverVeth = rescue::testing::CtlOverVeth;
 
 TEST_F(CtlOverVeth, SdosAndPdosReadADriveThroughTheRawSocket) {
-  std::string out;
-  ASSERT_TRUE(VethPair::ip(veth_->master_ns(), "link set lo up", out)) << out;  // ctl and run meet on 127.0.0.1
-  ChildProcess keygen;
-  ASSERT_TRUE(keygen.start({kBinary, "ctl", "keygen", "--key", key_}));
-  ASSERT_EQ(keygen.wait_exit(), 0) << keygen.output();
-  ChildProcess sim;
-  ASSERT_TRUE(sim.start({kBinary, "sim", "--iface", VethPair::kSlaveInterface}, veth_->slave_ns()));
-  ASSERT_TRUE(sim.wait_for_output("serving 23 slaves", kTimeoutMs)) << sim.output();
-  ChildProcess run;
-  ASSERT_TRUE(run.start({kBinary, "run", "--nic", std::string("raw:") + VethPair::kMasterInterface, "--duration", "60",
-                         "--state-dir", dir_.path, "--key", key_, "--listen", "127.0.0.1", "--control-port", kControlPort,
-                         "--sensor-port", "47011"},
-                        veth_->master_ns()));
-  ASSERT_TRUE(run.wait_for_output("network in OP", kTimeoutMs)) << run.output();
+  start();
+  if (HasFatalFailure()) return;
 
   const Answer sdos = ctl({"sdos", "r_hand"});
   EXPECT_EQ(sdos.status, 0) << sdos.out;
@@ -75,8 +33,7 @@ TEST_F(CtlOverVeth, SdosAndPdosReadADriveThroughTheRawSocket) {
   EXPECT_EQ(none.status, 0) << none.out;
   EXPECT_TRUE(has(none.out, "it maps no PDO")) << none.out;
 
-  EXPECT_EQ(run.stop(SIGTERM), 0) << run.output();
-  (void)sim.stop(SIGTERM);
+  stop();
 }
 
 }  // namespace

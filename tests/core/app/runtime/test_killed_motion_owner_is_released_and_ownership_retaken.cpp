@@ -323,7 +323,9 @@ class KilledOwner : public ::testing::Test {
     const Figures after = figures();
     EXPECT_EQ(after.owner_misses, released.owner_misses) << "the handler still counts misses of a released owner";
     EXPECT_GT(after.cycles, released.cycles) << "the handler's cycles stopped";
-    EXPECT_EQ(after.frames_lost, before.frames_lost);
+    if (sched_fifo_ && preempt_rt_) {  // else host jitter: printed at the end
+      EXPECT_EQ(after.frames_lost, before.frames_lost);
+    }
     EXPECT_EQ(after.lost_slaves, 0U);
     late_in_kill_window_ = after.late_periods - before.late_periods;
     EXPECT_TRUE(run_.wait_for("motion: no owner")) << run_.output();
@@ -354,10 +356,12 @@ class KilledOwner : public ::testing::Test {
                 static_cast<unsigned long long>(late_in_kill_window_), static_cast<unsigned long long>(late),
                 sched_fifo_ ? "applied" : "refused", preempt_rt_ ? "yes" : "no",
                 sched_fifo_ && preempt_rt_ ? "asserted 0" : "host jitter, not asserted", tasks.out.c_str());
+    std::printf("frames lost: %llu (%s)\n", static_cast<unsigned long long>(last.frames_lost),
+                sched_fifo_ && preempt_rt_ ? "asserted 0" : "a frame back after its deadline is host jitter here, not asserted");
     if (sched_fifo_ && preempt_rt_) {
       EXPECT_EQ(late, 0U) << "a SCHED_FIFO handler on a PREEMPT_RT kernel was late";
+      EXPECT_EQ(last.frames_lost, 0U) << "a SCHED_FIFO handler on a PREEMPT_RT kernel lost a frame";
     }
-    EXPECT_EQ(last.frames_lost, 0U);
     EXPECT_EQ(run_.stop(), 0) << run_.output();
     const std::string out = run_.output();
     EXPECT_TRUE(has(out, "healthy joints missed 0 cycles")) << out;
