@@ -158,11 +158,11 @@ void RescanService::finish() noexcept {
     f.product_code = pair_at(w, sii::kProductCode);
     f.revision = pair_at(w, sii::kRevision);
     f.serial_number = pair_at(w, sii::kSerial);
-    const char* name = "unknown device";
-    for (const SlavePlan& s : ctx_.plan) {
-      if (s.vendor_id == f.vendor_id && s.product_code == f.product_code) name = s.device_name;
-    }
-    copy_name(f.name, name);
+    // A planned slave of the same type names it (SlavePlan::device_name is the device type's name).
+    const auto* type = std::find_if(ctx_.plan.begin(), ctx_.plan.end(), [&f](const SlavePlan& s) {
+      return s.vendor_id == f.vendor_id && s.product_code == f.product_code;
+    });
+    copy_name(f.name, type != ctx_.plan.end() ? type->device_name : "unknown device");
   }
   const std::uint32_t all = devices_ >= 32 ? 0xFFFFFFFFU : (std::uint32_t{1} << devices_) - 1U;
   if (status_ == RescanStatus::ok && identified_ != all) status_ = RescanStatus::incomplete;

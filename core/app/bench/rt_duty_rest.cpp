@@ -1,6 +1,8 @@
 #include "core/app/bench/rt_duty_rest.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 
 namespace rescue::app {
@@ -16,10 +18,14 @@ std::int64_t monotonic_ns() noexcept {
 long read_proc_long(const char* path) noexcept {
   std::FILE* file = std::fopen(path, "r");
   if (file == nullptr) return -2;
-  long value = -2;
-  if (std::fscanf(file, "%ld", &value) != 1) value = -2;
+  char line[32] = "";
+  const bool read = std::fgets(line, sizeof line, file) != nullptr;
   (void)std::fclose(file);
-  return value;
+  if (!read) return -2;
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(line, &end, 10);
+  return errno != 0 || end == line ? -2 : value;
 }
 
 }  // namespace

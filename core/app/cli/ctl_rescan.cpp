@@ -1,5 +1,6 @@
 #include "core/app/cli/ctl_rescan.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cinttypes>
 #include <cstdio>
@@ -43,9 +44,11 @@ void fill_found(const protocol::RescanResultPayload& r) noexcept {
     f.serial_number = d.serial_number;
     f.station_alias = d.station_alias;
     const char* name = d.identified != 0 ? "unknown device" : "not identified";
-    for (const ecat::SlavePlan& s : drivers::kRobotNetworkPlan) {
-      if (d.identified != 0 && s.vendor_id == d.vendor_id && s.product_code == d.product_code) name = s.device_name;
-    }
+    // A planned slave of the same type names it (SlavePlan::device_name is the device type's name).
+    const auto* type = std::find_if(drivers::kRobotNetworkPlan.begin(), drivers::kRobotNetworkPlan.end(), [&d](const ecat::SlavePlan& s) {
+      return s.vendor_id == d.vendor_id && s.product_code == d.product_code;
+    });
+    if (d.identified != 0 && type != drivers::kRobotNetworkPlan.end()) name = type->device_name;
     (void)std::snprintf(f.name.data(), f.name.size(), "%s", name);
   }
 }

@@ -1,7 +1,9 @@
 #include "core/app/cli/ctl_states.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <strings.h>
 
 #include "core/app/cli/ctl_network.hpp"
@@ -22,10 +24,9 @@ char g_text[200];  // a usage error's text (ctl is one verb per process)
 // INIT, PREOP, SAFEOP or OP (any case) as its AL control value; 0 for anything else.
 std::uint8_t state_named(const char* text) noexcept {
   constexpr std::uint8_t kValues[] = {1, 2, 4, 8};
-  for (const std::uint8_t v : kValues) {
-    if (strcasecmp(text, protocol::al_state_name(v)) == 0) return v;
-  }
-  return 0;
+  const auto* found = std::find_if(std::begin(kValues), std::end(kValues),
+                                   [text](std::uint8_t v) { return strcasecmp(text, protocol::al_state_name(v)) == 0; });
+  return found != std::end(kValues) ? *found : 0;
 }
 
 // SLAVES: "all" or names / positions separated by commas; 0 when an item is no slave (g_text says which).
@@ -35,13 +36,13 @@ std::uint32_t slaves_named(const char* list) noexcept {
   const char* begin = list;
   for (;;) {
     char item[40] = "";
-    std::size_t n = 0;
-    while (begin[n] != '\0' && begin[n] != ',' && n + 1 < sizeof item) {
-      item[n] = begin[n];
-      ++n;
-    }
+    const std::size_t n = std::strcspn(begin, ",");  // this item's length, up to the comma or the end
+    const bool too_long = n >= sizeof item;            // no slave's name is that long
+    const std::size_t kept = too_long ? sizeof item - 1 : n;
+    std::memcpy(item, begin, kept);
+    item[kept] = '\0';
     const std::size_t position = planned_slave_named(item);
-    if (position >= kSlaveCount || (begin[n] != '\0' && begin[n] != ',')) {
+    if (position >= kSlaveCount || too_long) {
       (void)std::snprintf(g_text, sizeof g_text,
                           "states SLAVES: '%.40s' is not a slave; slaves' names (ctl slaves) or positions 0..%zu, "
                           "separated by commas, or all",
