@@ -183,7 +183,10 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline) noexcept
     const bool main_round = returns_.main_back && returns_.main_on == Port::ring;
     const bool ring_round = returns_.ring_back && returns_.ring_on == Port::main;
     if (main_round || ring_round) {
-      if (may_repeat && wait_until == deadline) wait_until = round_copy_due(time.now(), deadline);
+      if (may_repeat && wait_until == deadline) {
+        const hal::Nanoseconds back_at = time.now();  // its own statement: rt_verify reads the virtual call's name here
+        wait_until = round_copy_due(back_at, deadline);
+      }
     } else if ((returns_.main_back || !expect_main_) && (returns_.ring_back || !expect_ring_)) {
       break;
     }
