@@ -28,9 +28,13 @@ FrameBuilder& DatagramLink::begin() noexcept {
 }
 
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds deadline) noexcept {
+  return exchange(ExchangeDeadlines{deadline, deadline});
+}
+
+Result<FrameView> DatagramLink::exchange(const ExchangeDeadlines& deadlines) noexcept {
   const Status sent = send_frame();
   if (!sent.ok()) return sent.error();
-  return ring_ != nullptr ? await_merged(deadline) : await_frame(deadline);
+  return ring_ != nullptr ? await_merged(deadlines) : await_frame(deadlines.receive);
 }
 
 Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexcept {
@@ -39,7 +43,7 @@ Result<FrameView> DatagramLink::exchange_within(hal::Nanoseconds timeout) noexce
   // The wait is measured from the moment the frame left: a process preempted between preparing the
   // exchange and sending it (a slow host, not a slow network) must not use up the frame's timeout.
   const hal::Nanoseconds deadline = nic_.clock().now() + timeout;
-  return ring_ != nullptr ? await_merged(deadline) : await_frame(deadline);
+  return ring_ != nullptr ? await_merged(ExchangeDeadlines{deadline, deadline}) : await_frame(deadline);
 }
 
 Status DatagramLink::send_frame() noexcept {
@@ -102,17 +106,18 @@ bool DatagramLink::take_copy(Port on, std::size_t length) noexcept {
   return true;
 }
 
-Result<FrameView> DatagramLink::await_merged(hal::Nanoseconds deadline) noexcept {
-  Result<FrameView> first = await_copies(deadline);
+Result<FrameView> DatagramLink::await_merged(const ExchangeDeadlines& deadlines) noexcept {
+  Result<FrameView> first = await_copies(deadlines.receive);
   if (!first.ok()) return first;
   // Closed while in flight: the ring copy went round the ring, the main copy did not.
   const bool closed_in_flight =
       returns_.ring_back && returns_.ring_on == Port::main && !(returns_.main_back && returns_.main_on == Port::ring);
-  if (!closed_in_flight || nic_.clock().now() >= deadline) return first;
-  return repeat_after_repair(first.value(), deadline);
+  const hal::Nanoseconds limit = deadlines.repeat_limit > deadlines.receive ? deadlines.repeat_limit : deadlines.receive;
+  if (!closed_in_flight || nic_.clock().now() >= limit) return first;
+  return repeat_after_repair(first.value(), ExchangeDeadlines{deadlines.receive, limit});
 }
 
-Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal::Nanoseconds deadline) noexcept {
+Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, const ExchangeDeadlines& deadlines) noexcept {
   const ConstByteSpan first_bytes = first.bytes();  // in rx_, which the repeat's merge overwrites
   std::memcpy(first_merged_.data(), first_bytes.data(), first_bytes.size());
   const ByteSpan first_merged(first_merged_.data(), first_bytes.size());
@@ -136,8 +141,9 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, hal:
   if (ring_ == nullptr || !send_sent().ok()) return first_again();  // ring_: only a redundant link repeats
   // Each copy is expected as it was in the first frame (a copy back round the ring waits for the other
   // anyway): a master port cut in flight loses the repeat's copy there too. No repeat follows this
-  // one, so a copy back round the ring has the other waited for until the deadline.
-  const Result<FrameView> again = await_copies(deadline);
+  // one, so a copy back round the ring has the other waited for until the repeat limit (past the
+  // receive deadline: a host that held the first copies must not leave the repeat too little time).
+  const Result<FrameView> again = await_copies(deadlines.repeat_limit);
   if (!again.ok()) return first_again();
   const CopyCounters repeat_counters = returns_.counters;
   CopyCounters merged_counters = first_returns_.counters;

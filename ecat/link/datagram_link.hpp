@@ -18,7 +18,10 @@
 // flight. A ring closed while the frame was in flight (the ring copy came back round the ring, the
 // main copy did not: it turned at the break or was lost at a master port cut in flight) leaves
 // slaves in neither copy: the exchange's repeatable datagrams are sent again at once under a new
-// index, within the same deadline, and their answers taken (redundant_merge.hpp, make_repeat).
+// index, and their answers taken (redundant_merge.hpp, make_repeat). The repeat has its own time
+// (ExchangeDeadlines): a host that held the first copies until near the receive deadline must not
+// cost the cycle, so the repeat is sent and waited for until the caller's repeat limit, which may
+// lie past the receive deadline.
 // Without a ring NIC nothing changes.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
@@ -47,6 +50,14 @@ struct StreamOutcome {
   unsigned lost{0};           // frames that did not (within the timeout of their sending)
   std::uint16_t last_wkc{0};  // of the last frame that came back
   hal::Nanoseconds last_back_at{0};  // when it was received (NIC clock)
+};
+
+// A cyclic exchange's deadlines (NIC clock). Its copies are waited for until `receive`. A repeat
+// after a ring change in flight (redundant links only) is sent when the first copies show it before
+// `repeat_limit` (taken as at least `receive`), and its copies are waited for until `repeat_limit`.
+struct ExchangeDeadlines {
+  hal::Nanoseconds receive{0};
+  hal::Nanoseconds repeat_limit{0};
 };
 
 // SOEM's EC_TIMEOUTRET: how long its ec_receive_processdata waits for a frame (for comparisons).
@@ -104,6 +115,8 @@ class DatagramLink {
   // Sends the frame built since begin() and waits for it until `deadline` (NIC clock). The view
   // points into the link's receive buffer and stays valid until the next begin().
   Result<FrameView> exchange(hal::Nanoseconds deadline) noexcept;
+  // The same, with a repeat after a ring change in flight allowed until deadlines.repeat_limit.
+  Result<FrameView> exchange(const ExchangeDeadlines& deadlines) noexcept;
 
   // The same, sending the frame again (same index) when nothing came back within `timeout` of its
   // sending, up to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
@@ -137,8 +150,8 @@ class DatagramLink {
   // When the copy still missing is due, once the other came back round the ring at `now` (at most `deadline`).
   hal::Nanoseconds round_copy_due(hal::Nanoseconds now, hal::Nanoseconds deadline) const noexcept;
   // await_copies, and the repeat when the ring closed while the frame was in flight.
-  Result<FrameView> await_merged(hal::Nanoseconds deadline) noexcept;
-  Result<FrameView> repeat_after_repair(const FrameView& first, hal::Nanoseconds deadline) noexcept;
+  Result<FrameView> await_merged(const ExchangeDeadlines& deadlines) noexcept;
+  Result<FrameView> repeat_after_repair(const FrameView& first, const ExchangeDeadlines& deadlines) noexcept;
   // A received frame: true when it is a copy of the current exchange (kept), false when stale or malformed (counted).
   bool take_copy(Port on, std::size_t length) noexcept;
   void note_stale(const FrameView& view) noexcept;

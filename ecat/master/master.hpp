@@ -220,7 +220,8 @@ class Master {
   Status compensate_static_drift() noexcept;
   Status start_sync0() noexcept;
   // Cycle (master_cycle.cpp).
-  hal::Nanoseconds cycle_receive_deadline(hal::Nanoseconds sent_at) const noexcept;  // MasterOptions::cycle_receive_guard
+  // The cyclic frame's receive deadline and repeat limit (MasterOptions::cycle_receive_guard, cycle_repeat_guard).
+  ExchangeDeadlines cycle_deadlines(hal::Nanoseconds sent_at) const noexcept;
   // The bring-up's match, into the slave records: each planned slave's identity as it answered.
   void record_identities() noexcept;
 

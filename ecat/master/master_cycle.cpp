@@ -33,11 +33,13 @@ void Master::realign_schedule() noexcept {
   next_wakeup_ += ((now - next_wakeup_) / options_.cycle_time + 1) * options_.cycle_time;
 }
 
-hal::Nanoseconds Master::cycle_receive_deadline(hal::Nanoseconds sent_at) const noexcept {
+ExchangeDeadlines Master::cycle_deadlines(hal::Nanoseconds sent_at) const noexcept {
   // next_wakeup_ is still this period's start: the next period's send is one cycle_time later.
-  hal::Nanoseconds deadline = next_wakeup_ + options_.cycle_time - options_.cycle_receive_guard;
+  const hal::Nanoseconds next_send = next_wakeup_ + options_.cycle_time;
+  hal::Nanoseconds deadline = next_send - options_.cycle_receive_guard;
   deadline = std::min(deadline, sent_at + options_.cycle_time);
-  return std::max(deadline, sent_at + options_.cycle_receive_timeout);
+  deadline = std::max(deadline, sent_at + options_.cycle_receive_timeout);
+  return ExchangeDeadlines{deadline, std::max(deadline, next_send - options_.cycle_repeat_guard)};
 }
 
 CycleResult Master::cycle() noexcept {
@@ -55,7 +57,7 @@ CycleResult Master::cycle() noexcept {
     link_.expect_process_data_wkc(static_cast<std::uint16_t>(std::min<std::uint32_t>(expected, 0xFFFF)));
   }
   result.sent_at = link_.clock().now();
-  const Result<FrameView> back = link_.exchange(cycle_receive_deadline(result.sent_at));
+  const Result<FrameView> back = link_.exchange(cycle_deadlines(result.sent_at));
   result.frame_received = back.ok();
   if (back.ok()) {
     result.received_at = link_.clock().now();

@@ -46,6 +46,11 @@ struct MasterOptions {
   // when it turns up in a later period (LinkStats::stale_frames): the next frame's inputs are newer.
   hal::Nanoseconds cycle_receive_timeout{700 * hal::kNsPerUs};
   hal::Nanoseconds cycle_receive_guard{100 * hal::kNsPerUs};
+  // With a ring NIC, an exchange repeated because the ring changed while its frame was in flight
+  // (DatagramLink, ExchangeDeadlines) may run into the guard, up to this before the next period
+  // starts: a host that held the first copies until the receive deadline still gets the repeat.
+  // The handler's own work after the frame is 3-8 us (docs/master.md, "The cyclic frame's deadline").
+  hal::Nanoseconds cycle_repeat_guard{20 * hal::kNsPerUs};
   AlOptions al{};
   SiiReadOptions sii{};
   // Whole SII images of devices seen before (ecat/sii/sii_cache.hpp): a slave whose first 32 EEPROM

@@ -32,12 +32,24 @@ inline drivers::RobotSegmentOptions ring_robot_options() {
 
 // Stands in front of the pair's main port: passes every frame through, except the next one after
 // hold_next(), which it keeps until release() (so that the ring copy of the same exchange is walked
-// first, as the simulator over veth may serve the two ports in either order).
+// first, as the simulator over veth may serve the two ports in either order). It also plays a host
+// that holds the returning frames (a preempted master process): after hold_receives_until(t) no
+// frame is received on the main port before t, nor on a ring NIC that asks sit_out_hold() first.
 class MainPortFront final : public hal::Nic {
  public:
   explicit MainPortFront(drivers::SimulatedNic& main) noexcept : main_(main) {}
 
   void hold_next() noexcept { hold_ = true; }
+  void hold_receives_until(hal::Nanoseconds until) noexcept { receives_held_until_ = until; }
+  // Waits out the host's hold when it ends by `deadline` (true: receive now), else waits until the
+  // deadline (false: nothing is received by then).
+  bool sit_out_hold(hal::Nanoseconds deadline) noexcept {
+    hal::Clock& clock = main_.clock();
+    if (clock.now() >= receives_held_until_) return true;
+    const bool ends = receives_held_until_ <= deadline;
+    clock.sleep_until(ends ? receives_held_until_ : deadline);
+    return ends;
+  }
   // Sends the frame held, if any.
   void release() noexcept {
     if (held_ == 0) return;
@@ -53,6 +65,7 @@ class MainPortFront final : public hal::Nic {
     return Status::success();
   }
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
+    if (!sit_out_hold(deadline)) return make_error(Errc::timeout, "held by the host");
     return main_.receive(buffer, deadline);
   }
   hal::Clock& clock() noexcept override { return main_.clock(); }
@@ -64,6 +77,7 @@ class MainPortFront final : public hal::Nic {
   std::array<std::uint8_t, drivers::SimulatedNic::kMaxFrame> frame_{};
   std::size_t held_{0};
   bool hold_{false};
+  hal::Nanoseconds receives_held_until_{0};
 };
 
 struct RingRobotRig {
