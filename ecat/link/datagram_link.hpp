@@ -21,7 +21,9 @@
 // index, and their answers taken (redundant_merge.hpp, make_repeat). The repeat has its own time
 // (ExchangeDeadlines): a host that held the first copies until near the receive deadline must not
 // cost the cycle, so the repeat is sent and waited for until the caller's repeat limit, which may
-// lie past the receive deadline.
+// lie past the receive deadline. And the wait for the other copy once one came back round the ring
+// ends early enough for the repeat to fit before that limit (repeat_reserve: twice the quickest
+// round trip seen of a frame that long), even when the host held the first copy for most of it.
 // Without a ring NIC nothing changes.
 //
 // Frame tap: every frame sent and every frame received (even a late one) is also handed to an
@@ -146,9 +148,14 @@ class DatagramLink {
   Status send_sent() noexcept;  // sent_ (parsed into sent_view_) on the main NIC, its ring copy on the ring NIC
   Result<FrameView> await_frame(hal::Nanoseconds deadline) noexcept;  // its return, until `deadline`
   Result<FrameView> exchange_within(hal::Nanoseconds timeout) noexcept;
-  Result<FrameView> await_copies(hal::Nanoseconds deadline) noexcept;  // redundant: both NICs, merged
+  // Redundant: both NICs, merged. A copy back round the ring has the other waited for until it is
+  // due, and (when a repeat may follow) not past `decide_by`.
+  Result<FrameView> await_copies(hal::Nanoseconds deadline, hal::Nanoseconds decide_by) noexcept;
   // When the copy still missing is due, once the other came back round the ring at `now` (at most `deadline`).
   hal::Nanoseconds round_copy_due(hal::Nanoseconds now, hal::Nanoseconds deadline) const noexcept;
+  // The time to keep for a repeat of the frame sent (0: none seen of its length yet), and the record of round trips.
+  hal::Nanoseconds repeat_reserve() const noexcept;
+  void note_round_trip(hal::Nanoseconds round_trip) noexcept;
   // await_copies, and the repeat when the ring closed while the frame was in flight.
   Result<FrameView> await_merged(const ExchangeDeadlines& deadlines) noexcept;
   Result<FrameView> repeat_after_repair(const FrameView& first, const ExchangeDeadlines& deadlines) noexcept;
@@ -180,6 +187,11 @@ class DatagramLink {
   FrameBuffer repeat_tx_{};     // the repeat after a repair in flight
   FrameBuffer first_merged_{};  // the first exchange's merge, while the repeat is out
   CopyReturns first_returns_{};
+  // The quickest round trip seen (first copy back) of a frame of each length band (kRoundTripBand
+  // bytes wide), 0 when none: what a repeat of that frame needs at least.
+  static constexpr std::size_t kRoundTripBand = 64;
+  std::array<hal::Nanoseconds, (kMaxFrameSize + kVlanTagSize + 4) / kRoundTripBand + 1> quickest_round_trip_{};
+  hal::Nanoseconds first_back_at_{0};  // when the first copy of the exchange awaited came back
   bool expect_main_{true};  // the main copy came back last time: wait for it
   bool expect_ring_{true};
   Port main_came_on_{Port::ring};  // where each copy came back last time (a closed ring to begin with)
