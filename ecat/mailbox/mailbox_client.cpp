@@ -13,6 +13,9 @@ namespace rescue::ecat {
 namespace {
 
 constexpr std::uint16_t kSm1Status = reg::sync_manager(1) + reg::kSmStatus;
+constexpr std::uint16_t kSm1Activate = reg::sync_manager(1) + reg::kSmActivate;
+constexpr std::uint16_t kSm1PdiControl = reg::sync_manager(1) + reg::kSmPdiControl;
+constexpr std::uint8_t kRepeatAck = 0x02;  // PDI control [1]: the slave's answer to the repeat bit
 
 }  // namespace
 
@@ -93,6 +96,10 @@ void MailboxClient::configure(std::size_t position, std::uint16_t out_start, std
   box.out_size = out_size;
   box.in_start = in_start;
   box.in_size = in_size;
+  // The SyncManager was written anew (activate = enable, repeat 0) after the slave went through
+  // INIT: the messages it sends count anew.
+  box.in_counter = 0;
+  box.repeat = 0;
   box.present = out_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && out_size <= kMaxMailboxSize &&
                 in_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && in_size <= kMaxMailboxSize;
 }
@@ -238,6 +245,14 @@ std::size_t MailboxClient::add_channel_datagrams(Channel& c, FrameBuilder& frame
                   ConstByteSpan(c.message.data(), box.out_size)).ok()) {
       n = 1;
     }
+  } else if (c.phase == Phase::repeat) {
+    // The repeat bit written again (a level: writing it twice asks once), and the slave's ack read.
+    if (frame.remaining_data_capacity() < 2 + kDatagramOverhead) return 0;
+    const std::uint8_t activate = static_cast<std::uint8_t>(reg::kSmEnable | box.repeat);
+    if (frame.add(Command::FPWR, index, make_address(station, kSm1Activate), 1, ConstByteSpan(&activate, 1)).ok() &&
+        frame.add(Command::FPRD, index, make_address(station, kSm1PdiControl), 1).ok()) {
+      n = 2;
+    }
   } else {
     if (frame.remaining_data_capacity() < box.in_size + 1 + kDatagramOverhead) return 0;
     if (frame.add(Command::FPRD, index, make_address(station, kSm1Status), 1).ok() &&
@@ -259,6 +274,8 @@ std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index
     c.added = 0;
     c.sent_this_exchange = false;
     c.in_full = false;
+    c.answered = false;
+    c.repeat_acked = false;
   }
   start_transfers(now);
   if (busy_ == 0) return 0;
@@ -282,6 +299,13 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   Channel& c = channels_[p];
   // The slave's first datagram of this exchange is k, or k - 1 (its buffer read after its status).
   const bool first = k == 0 || exchange_slave_[k - 1] != p;
+  c.answered = true;
+  if (c.phase == Phase::repeat) {
+    if (!first && d.wkc() == 1 && d.length() == 1) {
+      c.repeat_acked = (d.data()[0] & kRepeatAck) == boxes_[p].repeat;
+    }
+    return;
+  }
   if (c.phase == Phase::send) {
     c.sent_this_exchange = d.wkc() == 1;
     moved_ = moved_ || c.sent_this_exchange;
@@ -299,6 +323,16 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
 void MailboxClient::take_reply(Channel& c, ConstByteSpan bytes) noexcept {
   const Result<mbx::Message> message = mbx::decode(bytes);
   if (!message.ok()) return;
+  // A message with the counter of the one taken before is that one again (ETG.1000.4: the slave
+  // counts its messages 1..7): the answer to a request written twice, or put back on a repeat
+  // request when nothing had been lost.
+  Box& box = boxes_[c.current.request.position];
+  const std::uint8_t counter = message.value().header.counter;
+  if (counter != 0 && counter == box.in_counter) {
+    ++stats_.duplicates_dropped;
+    return;
+  }
+  box.in_counter = counter;
   if (message.value().header.type == mbx::Type::error) {
     const Result<std::uint16_t> detail = mbx::decode_error_reply(message.value());
     c.current.mailbox_error = detail.value_or(0);
@@ -461,10 +495,31 @@ void MailboxClient::take_information(Channel& c, ConstByteSpan coe_payload) noex
   c.late_polls = 0;
 }
 
+void MailboxClient::on_lost_exchange(Channel& c) noexcept {
+  // The ESCs carried out the lost frame's datagrams all the same.
+  if (c.phase == Phase::wait) {
+    // Its SM1 read may have emptied the mailbox, the answer lost with the frame: ask the slave to
+    // put its last message back (toggle SM1's repeat bit, wait for its ack, poll again). If
+    // nothing was lost, the message put back is the one taken before: dropped by its counter.
+    Box& box = boxes_[c.current.request.position];
+    box.repeat = static_cast<std::uint8_t>(box.repeat ^ reg::kSmRepeat);
+    c.phase = Phase::repeat;
+    c.deadline = now_ + response_timeout_;
+    c.late_polls = 0;
+    ++stats_.repeat_requests;
+  } else if (c.phase == Phase::send) {
+    // The slave may have taken the write: it goes again unchanged, its mailbox counter the same,
+    // so that the slave knows it for a repeat (and answers it at most once more: dropped).
+    ++stats_.rewrites;
+  }
+}
+
 void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     if ((busy_ & slave_bit(p)) == 0) continue;
     Channel& c = channels_[p];
+    if (c.added > 0 && !c.answered) on_lost_exchange(c);
+    if (c.phase == Phase::repeat && c.repeat_acked) c.phase = Phase::wait;
     if (c.phase == Phase::send && c.sent_this_exchange) {
       if (c.step == Step::abort) {
         complete(c, c.abort_outcome);  // an abort has no answer
@@ -474,7 +529,10 @@ void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
     }
     if (c.phase == Phase::none || now <= c.deadline) continue;
     if (c.added > 0 && now_ > c.deadline && c.late_polls < kLatePolls) ++c.late_polls;
-    if (c.late_polls >= kLatePolls) complete(c, SdoOutcome::timeout);
+    if (c.late_polls >= kLatePolls) {
+      ++stats_.timeouts;
+      complete(c, SdoOutcome::timeout);
+    }
   }
   added_ = 0;
 }
@@ -497,7 +555,10 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
     // when this exchange moved nothing: a message taken or an answer found means the next exchange
     // has work at once (the other slaves' steps, the next message).
     bool waiting = false;
-    for (std::size_t p = 0; p < kMaxSlaves; ++p) waiting = waiting || ((busy_ & slave_bit(p)) != 0 && channels_[p].phase == Phase::wait);
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      const Phase phase = channels_[p].phase;
+      waiting = waiting || ((busy_ & slave_bit(p)) != 0 && (phase == Phase::wait || phase == Phase::repeat));
+    }
     if (waiting && !moved_) link.clock().sleep_until(link.clock().now() + kEmptyPollPause);
   }
   return Status::success();
