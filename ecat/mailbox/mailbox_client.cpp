@@ -14,7 +14,6 @@ namespace {
 
 constexpr std::uint16_t kSm1Status = reg::sync_manager(1) + reg::kSmStatus;
 constexpr std::uint16_t kSm1Activate = reg::sync_manager(1) + reg::kSmActivate;
-constexpr std::uint16_t kSm1PdiControl = reg::sync_manager(1) + reg::kSmPdiControl;
 constexpr std::uint8_t kRepeatAck = 0x02;  // PDI control [1]: the slave's answer to the repeat bit
 
 }  // namespace
@@ -246,12 +245,14 @@ std::size_t MailboxClient::add_channel_datagrams(Channel& c, FrameBuilder& frame
       n = 1;
     }
   } else if (c.phase == Phase::repeat) {
-    // The repeat bit written again (a level: writing it twice asks once), and the slave's ack read.
-    if (frame.remaining_data_capacity() < 2 + kDatagramOverhead) return 0;
-    const std::uint8_t activate = static_cast<std::uint8_t>(reg::kSmEnable | box.repeat);
-    if (frame.add(Command::FPWR, index, make_address(station, kSm1Activate), 1, ConstByteSpan(&activate, 1)).ok() &&
-        frame.add(Command::FPRD, index, make_address(station, kSm1PdiControl), 1).ok()) {
-      n = 2;
+    // SM1's registers read, and the repeat bit written only after a read found SM1 enabled where
+    // this mailbox has it: the activate byte holds the enable bit too, and a slave that restarted
+    // meanwhile (its mailbox not yet configured again) must not get an SM1 enabled by this write.
+    if (c.repeat_write) {
+      const auto activate = static_cast<std::uint8_t>(reg::kSmEnable | box.repeat);
+      if (frame.add(Command::FPWR, index, make_address(station, kSm1Activate), 1, ConstByteSpan(&activate, 1)).ok()) n = 1;
+    } else if (frame.add(Command::FPRD, index, make_address(station, reg::sync_manager(1)), reg::kSyncManagerSize).ok()) {
+      n = 1;
     }
   } else {
     if (frame.remaining_data_capacity() < box.in_size + 1 + kDatagramOverhead) return 0;
@@ -301,9 +302,7 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   const bool first = k == 0 || exchange_slave_[k - 1] != p;
   c.answered = true;
   if (c.phase == Phase::repeat) {
-    if (!first && d.wkc() == 1 && d.length() == 1) {
-      c.repeat_acked = (d.data()[0] & kRepeatAck) == boxes_[p].repeat;
-    }
+    on_repeat_answer(c, d);
     return;
   }
   if (c.phase == Phase::send) {
@@ -318,6 +317,22 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   } else if (c.in_full && d.wkc() == 1) {
     take_reply(c, ConstByteSpan(d.data()));
   }
+}
+
+void MailboxClient::on_repeat_answer(Channel& c, const DatagramView& d) noexcept {
+  if (c.repeat_write) {  // written (or not: read again, and written again if still unacknowledged)
+    c.repeat_write = false;
+    return;
+  }
+  if (d.wkc() != 1 || d.length() != reg::kSyncManagerSize) return;
+  const Box& box = boxes_[c.current.request.position];
+  const std::uint8_t* r = d.data().data();
+  if ((r[reg::kSmPdiControl] & kRepeatAck) == box.repeat) {
+    c.repeat_acked = true;
+    return;
+  }
+  c.repeat_write = (r[reg::kSmActivate] & reg::kSmEnable) != 0 && load_le16(r + reg::kSmPhysicalStart) == box.in_start &&
+                   load_le16(r + reg::kSmLength) == box.in_size;
 }
 
 void MailboxClient::take_reply(Channel& c, ConstByteSpan bytes) noexcept {
@@ -504,6 +519,7 @@ void MailboxClient::on_lost_exchange(Channel& c) noexcept {
     Box& box = boxes_[c.current.request.position];
     box.repeat = static_cast<std::uint8_t>(box.repeat ^ reg::kSmRepeat);
     c.phase = Phase::repeat;
+    c.repeat_write = false;
     c.deadline = now_ + response_timeout_;
     c.late_polls = 0;
     ++stats_.repeat_requests;

@@ -188,6 +188,7 @@ class MailboxClient {
     bool in_full{false};
     bool answered{false};        // this exchange's datagrams came back (the frame was not lost)
     bool repeat_acked{false};    // this exchange read the slave's acknowledgement of the repeat
+    bool repeat_write{false};    // the next repeat step writes the repeat bit (else it reads SM1's registers)
     std::array<std::uint8_t, kMaxMailboxSize> message{};  // encoded request, SM0-sized
   };
 
@@ -198,6 +199,7 @@ class MailboxClient {
   void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
   // What a frame lost with this slave's datagrams means for its step (end_exchange).
   void on_lost_exchange(Channel& c) noexcept;
+  void on_repeat_answer(Channel& c, const DatagramView& datagram) noexcept;
   void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
   void take_information(Channel& c, ConstByteSpan coe_payload) noexcept;
   void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;

@@ -110,6 +110,22 @@ TEST(MasterRecoversThroughDamagedMailboxFrames, ARequestTakenFromALostFrameIsAns
   EXPECT_EQ(rig->segment.esc(p).al_state(), reg::AlState::op);
 }
 
+// A transfer in flight when its drive restarts, its poll lost: the repeat request must not write
+// SM1's activate register (enable bit included) of the drive addressed again by its recovery
+// before its mailbox is configured (seen in bench wcet: the recovery's SyncManager set-up then
+// refused, the drive Failed for good).
+TEST(MasterRecoversThroughDamagedMailboxFrames, ARepeatRequestNeverEnablesTheMailboxOfADriveThatRestarted) {
+  auto rig = testing::simulated_robot_in_op(recovery_options());
+  const std::size_t p = kJunctionCount + 3;
+  ASSERT_TRUE(rig->bus.master().mailbox().submit(sdo_upload(static_cast<std::uint8_t>(p), 0x100A, 0)));
+  rig->idle_cycles(1);  // the request written: the client polls SM1 now
+  const int back = recover_with_damage(*rig, p, [](int k) { return k == 1; });  // the first poll after the restart lost
+  ASSERT_GT(back, 0) << "still recovering: " << to_string(rig->bus.master().recovery_state(p)) << figures(rig->bus.master());
+  EXPECT_EQ(rig->bus.master().recovery_stats().failed, 0u);
+  EXPECT_EQ(rig->bus.master().mailbox().stats().repeat_requests, 1u);
+  EXPECT_EQ(rig->segment.esc(p).al_state(), reg::AlState::op);
+}
+
 class DamagedFramesWhileRecovering : public ::testing::TestWithParam<std::uint64_t> {};
 
 // As bench wcet's experiment: a random drive power-cycled, a frame damaged on its cable in 1 of 8
