@@ -6,6 +6,10 @@
 //          working counter 0 = the slave has not read the previous message yet: again next time
 //   wait   FPRD SM1 status (0x080D) + FPRD SM1 buffer; the buffer counts only when the status
 //          said "full" and the read's working counter is 1 (reading empties the mailbox)
+//   lost   a frame that did not come back was carried out by the ESCs all the same: after a lost
+//          SM1 read the repeat request (SM1's repeat bit toggled once SM1 reads back enabled, the
+//          slave's ack awaited: it puts its last message back), after a lost SM0 write the same
+//          message again (same mailbox counter); an answer repeating the last one's counter is dropped
 //   done   SDO response for the same index/subindex, an SDO abort (code), a mailbox error
 //          reply, or the response timeout. Emergencies that arrive meanwhile are counted.
 // Values of 1..4 bytes travel expedited; longer ones (up to kMaxSdoData) as a normal transfer,
