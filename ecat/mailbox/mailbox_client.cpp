@@ -13,6 +13,8 @@ namespace rescue::ecat {
 namespace {
 
 constexpr std::uint16_t kSm1Status = reg::sync_manager(1) + reg::kSmStatus;
+constexpr std::uint16_t kSm1Activate = reg::sync_manager(1) + reg::kSmActivate;
+constexpr std::uint8_t kRepeatAck = 0x02;  // PDI control [1]: the slave's answer to the repeat bit
 
 }  // namespace
 
@@ -93,6 +95,10 @@ void MailboxClient::configure(std::size_t position, std::uint16_t out_start, std
   box.out_size = out_size;
   box.in_start = in_start;
   box.in_size = in_size;
+  // The SyncManager was written anew (activate = enable, repeat 0) after the slave went through
+  // INIT: the messages it sends count anew.
+  box.in_counter = 0;
+  box.repeat = 0;
   box.present = out_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && out_size <= kMaxMailboxSize &&
                 in_size >= mbx::kHeaderSize + coe::kSdoInitiateSize && in_size <= kMaxMailboxSize;
 }
@@ -238,6 +244,16 @@ std::size_t MailboxClient::add_channel_datagrams(Channel& c, FrameBuilder& frame
                   ConstByteSpan(c.message.data(), box.out_size)).ok()) {
       n = 1;
     }
+  } else if (c.phase == Phase::repeat) {
+    // SM1's registers read, and the repeat bit written only after a read found SM1 enabled where
+    // this mailbox has it: the activate byte holds the enable bit too, and a slave that restarted
+    // meanwhile (its mailbox not yet configured again) must not get an SM1 enabled by this write.
+    if (c.repeat_write) {
+      const auto activate = static_cast<std::uint8_t>(reg::kSmEnable | box.repeat);
+      if (frame.add(Command::FPWR, index, make_address(station, kSm1Activate), 1, ConstByteSpan(&activate, 1)).ok()) n = 1;
+    } else if (frame.add(Command::FPRD, index, make_address(station, reg::sync_manager(1)), reg::kSyncManagerSize).ok()) {
+      n = 1;
+    }
   } else {
     if (frame.remaining_data_capacity() < box.in_size + 1 + kDatagramOverhead) return 0;
     if (frame.add(Command::FPRD, index, make_address(station, kSm1Status), 1).ok() &&
@@ -259,6 +275,8 @@ std::size_t MailboxClient::add_datagrams(FrameBuilder& frame, std::uint8_t index
     c.added = 0;
     c.sent_this_exchange = false;
     c.in_full = false;
+    c.answered = false;
+    c.repeat_acked = false;
   }
   start_transfers(now);
   if (busy_ == 0) return 0;
@@ -282,6 +300,11 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   Channel& c = channels_[p];
   // The slave's first datagram of this exchange is k, or k - 1 (its buffer read after its status).
   const bool first = k == 0 || exchange_slave_[k - 1] != p;
+  c.answered = true;
+  if (c.phase == Phase::repeat) {
+    on_repeat_answer(c, d);
+    return;
+  }
   if (c.phase == Phase::send) {
     c.sent_this_exchange = d.wkc() == 1;
     moved_ = moved_ || c.sent_this_exchange;
@@ -296,9 +319,35 @@ void MailboxClient::on_datagram(std::size_t k, const DatagramView& d) noexcept {
   }
 }
 
+void MailboxClient::on_repeat_answer(Channel& c, const DatagramView& d) noexcept {
+  if (c.repeat_write) {  // written (or not: read again, and written again if still unacknowledged)
+    c.repeat_write = false;
+    return;
+  }
+  if (d.wkc() != 1 || d.length() != reg::kSyncManagerSize) return;
+  const Box& box = boxes_[c.current.request.position];
+  const std::uint8_t* r = d.data().data();
+  if ((r[reg::kSmPdiControl] & kRepeatAck) == box.repeat) {
+    c.repeat_acked = true;
+    return;
+  }
+  c.repeat_write = (r[reg::kSmActivate] & reg::kSmEnable) != 0 && load_le16(r + reg::kSmPhysicalStart) == box.in_start &&
+                   load_le16(r + reg::kSmLength) == box.in_size;
+}
+
 void MailboxClient::take_reply(Channel& c, ConstByteSpan bytes) noexcept {
   const Result<mbx::Message> message = mbx::decode(bytes);
   if (!message.ok()) return;
+  // A message with the counter of the one taken before is that one again (ETG.1000.4: the slave
+  // counts its messages 1..7): the answer to a request written twice, or put back on a repeat
+  // request when nothing had been lost.
+  Box& box = boxes_[c.current.request.position];
+  const std::uint8_t counter = message.value().header.counter;
+  if (counter != 0 && counter == box.in_counter) {
+    ++stats_.duplicates_dropped;
+    return;
+  }
+  box.in_counter = counter;
   if (message.value().header.type == mbx::Type::error) {
     const Result<std::uint16_t> detail = mbx::decode_error_reply(message.value());
     c.current.mailbox_error = detail.value_or(0);
@@ -461,10 +510,32 @@ void MailboxClient::take_information(Channel& c, ConstByteSpan coe_payload) noex
   c.late_polls = 0;
 }
 
+void MailboxClient::on_lost_exchange(Channel& c) noexcept {
+  // The ESCs carried out the lost frame's datagrams all the same.
+  if (c.phase == Phase::wait) {
+    // Its SM1 read may have emptied the mailbox, the answer lost with the frame: ask the slave to
+    // put its last message back (toggle SM1's repeat bit, wait for its ack, poll again). If
+    // nothing was lost, the message put back is the one taken before: dropped by its counter.
+    Box& box = boxes_[c.current.request.position];
+    box.repeat = static_cast<std::uint8_t>(box.repeat ^ reg::kSmRepeat);
+    c.phase = Phase::repeat;
+    c.repeat_write = false;
+    c.deadline = now_ + response_timeout_;
+    c.late_polls = 0;
+    ++stats_.repeat_requests;
+  } else if (c.phase == Phase::send) {
+    // The slave may have taken the write: it goes again unchanged, its mailbox counter the same,
+    // so that the slave knows it for a repeat (and answers it at most once more: dropped).
+    ++stats_.rewrites;
+  }
+}
+
 void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     if ((busy_ & slave_bit(p)) == 0) continue;
     Channel& c = channels_[p];
+    if (c.added > 0 && !c.answered) on_lost_exchange(c);
+    if (c.phase == Phase::repeat && c.repeat_acked) c.phase = Phase::wait;
     if (c.phase == Phase::send && c.sent_this_exchange) {
       if (c.step == Step::abort) {
         complete(c, c.abort_outcome);  // an abort has no answer
@@ -474,7 +545,10 @@ void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
     }
     if (c.phase == Phase::none || now <= c.deadline) continue;
     if (c.added > 0 && now_ > c.deadline && c.late_polls < kLatePolls) ++c.late_polls;
-    if (c.late_polls >= kLatePolls) complete(c, SdoOutcome::timeout);
+    if (c.late_polls >= kLatePolls) {
+      ++stats_.timeouts;
+      complete(c, SdoOutcome::timeout);
+    }
   }
   added_ = 0;
 }
@@ -497,7 +571,10 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
     // when this exchange moved nothing: a message taken or an answer found means the next exchange
     // has work at once (the other slaves' steps, the next message).
     bool waiting = false;
-    for (std::size_t p = 0; p < kMaxSlaves; ++p) waiting = waiting || ((busy_ & slave_bit(p)) != 0 && channels_[p].phase == Phase::wait);
+    for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+      const Phase phase = channels_[p].phase;
+      waiting = waiting || ((busy_ & slave_bit(p)) != 0 && (phase == Phase::wait || phase == Phase::repeat));
+    }
     if (waiting && !moved_) link.clock().sleep_until(link.clock().now() + kEmptyPollPause);
   }
   return Status::success();

@@ -6,6 +6,10 @@
 //          working counter 0 = the slave has not read the previous message yet: again next time
 //   wait   FPRD SM1 status (0x080D) + FPRD SM1 buffer; the buffer counts only when the status
 //          said "full" and the read's working counter is 1 (reading empties the mailbox)
+//   lost   a frame that did not come back was carried out by the ESCs all the same: after a lost
+//          SM1 read the repeat request (SM1's repeat bit toggled once SM1 reads back enabled, the
+//          slave's ack awaited: it puts its last message back), after a lost SM0 write the same
+//          message again (same mailbox counter); an answer repeating the last one's counter is dropped
 //   done   SDO response for the same index/subindex, an SDO abort (code), a mailbox error
 //          reply, or the response timeout. Emergencies that arrive meanwhile are counted.
 // Values of 1..4 bytes travel expedited; longer ones (up to kMaxSdoData) as a normal transfer,
@@ -92,6 +96,21 @@ SdoRequest sdo_information(std::uint8_t position, std::uint8_t opcode, std::uint
                            std::uint16_t skip, std::uint32_t tag = 0) noexcept;
 std::uint32_t sdo_value(const SdoCompletion& completion) noexcept;  // upload data as a number
 
+// What the client met on the wire (master figures; bench wcet, ctl).
+struct MailboxStats {
+  std::uint64_t timeouts{0};            // transfer steps that got no answer in time
+  // A frame with this slave's SM1 read came not back (the read may have emptied the mailbox): the
+  // master toggled SM1's repeat bit and the slave put its last message back (ETG.1000.4 mailbox
+  // repeat request).
+  std::uint64_t repeat_requests{0};
+  // A frame with this slave's SM0 write came not back (the slave may have taken it): written again
+  // with the same mailbox counter, which tells the slave it is a repeat.
+  std::uint64_t rewrites{0};
+  // Answers carrying the mailbox counter of the answer taken before: a repeat (of a rewritten
+  // request, or put back on a repeat request that found nothing lost), dropped.
+  std::uint64_t duplicates_dropped{0};
+};
+
 class MailboxClient {
  public:
   static constexpr std::size_t kQueueCapacity = 32;
@@ -134,16 +153,21 @@ class MailboxClient {
 
   void set_response_timeout(hal::Nanoseconds timeout) noexcept { response_timeout_ = timeout; }
   std::uint64_t emergencies() const noexcept { return emergencies_; }
+  const MailboxStats& stats() const noexcept { return stats_; }
 
  private:
-  enum class Phase : std::uint8_t { none, send, wait };
+  // repeat: the frame with the SM1 read came not back; the master toggled SM1's repeat bit and
+  // waits for the slave's acknowledgement before it polls SM1 again.
+  enum class Phase : std::uint8_t { none, send, wait, repeat };
   enum class Step : std::uint8_t { initiate, upload_segment, download_segment, abort };
   struct Box {
     std::uint16_t out_start{0};
     std::uint16_t out_size{0};
     std::uint16_t in_start{0};
     std::uint16_t in_size{0};
-    std::uint8_t counter{0};
+    std::uint8_t counter{0};     // of the last message written to SM0
+    std::uint8_t in_counter{0};  // of the last message taken from SM1 (0: none since configure)
+    std::uint8_t repeat{0};      // the repeat bit the master last wrote to SM1's activate register
     bool present{false};
   };
 
@@ -166,6 +190,9 @@ class MailboxClient {
     std::uint8_t late_polls{0};
     bool sent_this_exchange{false};
     bool in_full{false};
+    bool answered{false};        // this exchange's datagrams came back (the frame was not lost)
+    bool repeat_acked{false};    // this exchange read the slave's acknowledgement of the repeat
+    bool repeat_write{false};    // the next repeat step writes the repeat bit (else it reads SM1's registers)
     std::array<std::uint8_t, kMaxMailboxSize> message{};  // encoded request, SM0-sized
   };
 
@@ -174,6 +201,9 @@ class MailboxClient {
   void complete(Channel& c, SdoOutcome outcome) noexcept;
   void deliver(const SdoCompletion& done) noexcept;  // to the owner's, the master's or the operator's queue
   void take_reply(Channel& c, ConstByteSpan bytes) noexcept;
+  // What a frame lost with this slave's datagrams means for its step (end_exchange).
+  void on_lost_exchange(Channel& c) noexcept;
+  void on_repeat_answer(Channel& c, const DatagramView& datagram) noexcept;
   void take_segment(Channel& c, const coe::Sdo& sdo) noexcept;
   void take_information(Channel& c, ConstByteSpan coe_payload) noexcept;
   void abort_transfer(Channel& c, SdoOutcome outcome, std::uint32_t code) noexcept;
@@ -207,6 +237,7 @@ class MailboxClient {
   hal::Nanoseconds now_{0};    // of the current exchange
   hal::Nanoseconds response_timeout_{100 * hal::kNsPerMs};
   std::uint64_t emergencies_{0};
+  MailboxStats stats_{};
 };
 
 }  // namespace rescue::ecat

@@ -161,6 +161,7 @@ class Master {
 
   // Aperiodic CoE SDO transfers, one mailbox datagram pair per cycle (never blocking the cycle).
   MailboxClient& mailbox() noexcept { return mailbox_; }
+  const MailboxClient& mailbox() const noexcept { return mailbox_; }
 
   // ctl reg_read: one ESC register read of a planned slave, by FPRD in the next cyclic frames
   // (register_read_service.hpp); false when one is under way or the arguments are out of range.

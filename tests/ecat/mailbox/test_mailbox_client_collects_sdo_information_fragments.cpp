@@ -16,6 +16,7 @@
 #include "ecat/codec/registers.hpp"
 #include "ecat/mailbox/coe.hpp"
 #include "ecat/mailbox/coe_information.hpp"
+#include "ecat/mailbox/mailbox.hpp"
 #include "ecat/mailbox/mailbox_client.hpp"
 
 namespace rescue::ecat {
@@ -73,12 +74,16 @@ class FakeDictionaryNic final : public hal::Nic {
   }
   void answer(ConstByteSpan request) {
     std::vector<std::uint8_t> out(kInSize, 0);
-    const std::size_t n = drivers::serve_sdo(request, objects_.od(), reg::AlState::op, ByteSpan(out.data(), out.size()), 1);
+    // Every message with the next mailbox counter, as a slave sends them (the master drops one
+    // with the counter of the message before as a repeat).
+    counter_ = mbx::next_counter(counter_);
+    const std::size_t n = drivers::serve_sdo(request, objects_.od(), reg::AlState::op, ByteSpan(out.data(), out.size()), counter_);
     if (n == 0) return;
     pending_.push_back(out);
     for (std::uint16_t fragment = 1;; ++fragment) {
       std::vector<std::uint8_t> next(kInSize, 0);
-      if (drivers::serve_sdo_fragment(request, objects_.od(), ByteSpan(next.data(), next.size()), 2, fragment) == 0) return;
+      counter_ = mbx::next_counter(counter_);
+      if (drivers::serve_sdo_fragment(request, objects_.od(), ByteSpan(next.data(), next.size()), counter_, fragment) == 0) return;
       if (!(drop_second_fragment && fragment == 1)) pending_.push_back(next);
     }
   }
@@ -87,6 +92,7 @@ class FakeDictionaryNic final : public hal::Nic {
   hal::VirtualClock clock_;
   std::deque<std::vector<std::uint8_t>> frames_;
   std::deque<std::vector<std::uint8_t>> pending_;
+  std::uint8_t counter_{0};
 };
 
 class SdoInformationClient : public ::testing::Test {
