@@ -183,8 +183,8 @@ class ScenarioDriver {
     // is back in the exchange and none is lost or in Error, so each of the 21 takes all its steps in
     // one period while every joint is monitored.
     // Every other power cycle only (the first, the third, ...): after the others the re-initialise
-    // goes at random periods as in `recovery` (the parser's heaviest: an initialize that leaves
-    // unreachable joints out, named in its reply).
+    // goes at random periods as in `recovery` (an initialize that leaves unreachable joints out,
+    // named in its reply; the parser's heaviest period is the repeated requests above).
     const bool burst = stress.burst && power_cycles_ % 2 == 1;
     const JointMask back = lost & ~out;
     const JointMask errored = joints.error & ~lost & ~out;
