@@ -16,8 +16,9 @@
 #   SCENARIO  default: typical worst
 # Prints per scenario and task `SCENARIO.TASK_instructions_per_period: N instructions` (the mean),
 # `SCENARIO.TASK_instructions_max_period: N instructions (period K)` and
-# `SCENARIO.TASK_instructions_median_period: N instructions`; exit 1 when valgrind is missing
-# or a run fails.
+# `SCENARIO.TASK_instructions_median_period: N instructions`; with worst and another scenario, per
+# task `worst_heaviest.TASK: yes|no (...)` (worst's heaviest period against the others'); exit 1
+# when valgrind is missing or a run fails (a `no` is reported, not an exit status).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 binary=${1:-build/release/rescue-motion}
@@ -50,30 +51,28 @@ for scenario in "${scenarios[@]}"; do
   # Each dump: its trigger (`Client Request: TASK`) and its total, in dump order; per task the
   # largest (and at which of its periods) and the median.
   ls "$work" | grep -E "^$scenario\.out\.[0-9]+$" | sort -t. -k3 -n | sed "s|^|$work/|" |
-    /usr/bin/python3 -c '
-import sys
-scenario, tasks = sys.argv[1], sys.argv[2].split()
-counts = {t: [] for t in tasks}
-for path in sys.stdin.read().split():
-    trigger, total = "", None
-    with open(path) as f:
-        for line in f:
-            if line.startswith("desc: Trigger:"):
-                trigger = line
-            elif line.startswith(("totals:", "summary:")):
-                total = int(line.split()[1])
-    task = trigger.rsplit(":", 1)[-1].strip()
-    if task in counts and total is not None:
-        counts[task].append(total)
-for t in tasks:
-    c = counts[t][1:]  # period 0 left out: the first dump also holds the bring-up NIC toggles
-    if not c:
-        print(f"{scenario}.{t}_instructions_per_period: n/a (not driven)")
-        continue
-    k = max(range(len(c)), key=c.__getitem__)
-    print(f"{scenario}.{t}_instructions_per_period: {sum(c) // len(c)} instructions")
-    print(f"{scenario}.{t}_instructions_max_period: {c[k]} instructions (period {k + 1})")
-    print(f"{scenario}.{t}_instructions_median_period: {sorted(c)[len(c) // 2]} instructions")
- ' "$scenario" "${tasks[*]}"
-  rm -f "$work/$scenario.out".*
+    { /usr/bin/python3 toolchain/wcet/callgrind_periods.py "$scenario" "${tasks[@]}" || true; } | tee -a "$work/maxima.txt"
+  find "$work" -maxdepth 1 -name "$scenario.out.*" -delete  # 5 dumps a period: too many for rm's arguments
 done
+# With worst and another scenario: per task, whether worst's heaviest period is at least every other
+# scenario's (its heaviest path driven by construction, not luck).
+if [ "${#scenarios[@]}" -gt 1 ] && printf '%s\n' "${scenarios[@]}" | grep -qx worst; then
+  /usr/bin/python3 -c '
+import re, sys
+maxima = {}
+for line in open(sys.argv[1]):
+    m = re.match(r"(\w+)\.(\w+)_instructions_max_period: (\d+) ", line)
+    if m:
+        maxima.setdefault(m.group(2), {})[m.group(1)] = int(m.group(3))
+for task, by in maxima.items():
+    if "worst" not in by:
+        continue
+    others = {s: n for s, n in by.items() if s != "worst"}
+    worst = by["worst"]
+    above = {s: n for s, n in others.items() if n > worst}
+    if above:
+        print(f"worst_heaviest.{task}: no (worst {worst}; above it: " + ", ".join(f"{s} {n}" for s, n in above.items()) + ")")
+    else:
+        print(f"worst_heaviest.{task}: yes (worst {worst} >= " + ", ".join(f"{s} {n}" for s, n in others.items()) + ")")
+' "$work/maxima.txt"
+fi

@@ -177,7 +177,9 @@ def analyse(name, samples, args):
             # bounded code paths are not like that, so the maxima measured are interference (a
             # preempted or delayed period), and extrapolating them gives no time bound (a single
             # run gave pWCET(1e-9) = 7e12 ns with xi 1.44).
-            refusals.append(f"heavy tail: GEV shape xi = {fit[2]:.2f} >= {MAX_SHAPE} (no finite variance: interference, not the program's paths)")
+            # xi >= 1 is refused the same way, named for what it lacks: a mean (not a usable bound either).
+            lacks = "no finite mean" if fit[2] >= 1.0 else "no finite variance"
+            refusals.append(f"heavy tail: GEV shape xi = {fit[2]:.2f} >= {MAX_SHAPE} ({lacks}: interference, not the program's paths)")
         plot.update(fit=fit, boot=boot)
 
     out.append(("interval", f"{args.confidence:g} two-sided, parametric bootstrap percentile ({args.bootstrap} resamples of the maxima, refitted)"))

@@ -16,7 +16,7 @@
 #include "core/app/bench/wcet_budget.hpp"
 #include "core/app/bench/wcet_conditions.hpp"
 #include "core/app/bench/wcet_operator_load.hpp"
-#include "core/app/bench/wcet_period_mark.hpp"
+#include "core/app/tasks/period_mark.hpp"
 #include "core/app/bench/rt_duty_rest.hpp"
 #include "core/app/bench/wcet_scenarios.hpp"
 #include "core/app/config/firmware_config.hpp"
@@ -166,14 +166,25 @@ class ScenarioDriver {
     if (stress.services) reset_diagnostics();
     if (joints.enabled == kAllJoints) {
       next_burst_ = -1;
+      // The message parser's heaviest period: as many requests as it takes in one period, each an
+      // `initialize` of every joint while every joint is already initialised, so each is answered at
+      // once naming the 21 unchanged joints (callgrind: the reply's text, format_joint_names, is most
+      // of an answered request; a request left pending costs less). Sent in the first measured
+      // period past the one instructions.sh leaves out, and in the first period every joint is
+      // Enabled again after each loss.
+      if (stress.repeated_requests && (k == 1 || !all_enabled_before_)) {
+        for (std::size_t n = 0; n < MessageParser::kMaxRequestsPerStep; ++n) send(protocol::MessageType::initialize, kAllJoints);
+      }
+      all_enabled_before_ = true;
       return;
     }
+    all_enabled_before_ = false;
     // The joint manager's heaviest period: the re-initialise of every joint, sent once every joint
     // is back in the exchange and none is lost or in Error, so each of the 21 takes all its steps in
     // one period while every joint is monitored.
     // Every other power cycle only (the first, the third, ...): after the others the re-initialise
-    // goes at random periods as in `recovery` (the parser's heaviest: an initialize that leaves
-    // unreachable joints out, named in its reply).
+    // goes at random periods as in `recovery` (an initialize that leaves unreachable joints out,
+    // named in its reply; the parser's heaviest period is the repeated requests above).
     const bool burst = stress.burst && power_cycles_ % 2 == 1;
     const JointMask back = lost & ~out;
     const JointMask errored = joints.error & ~lost & ~out;
@@ -257,6 +268,7 @@ class ScenarioDriver {
   std::uint64_t cuts_{0};
   std::uint64_t sequence_{0};
   std::int64_t next_burst_{-1};  // the first period the re-initialise of every joint may go (again)
+  bool all_enabled_before_{true};  // every joint Enabled at the last call
 };
 
 // Where the last power cycle's recovery stood when the run ended (joint masks, bit = kJoints index).
@@ -446,23 +458,23 @@ void apply_and_print_conditions() noexcept {
 }  // namespace
 
 // The measured periods: out of line, with stable names, for callgrind's --toggle-collect; each
-// marks its end for toolchain/wcet/instructions.sh (wcet_period_mark.hpp).
+// marks its end for toolchain/wcet/instructions.sh (core/app/tasks/period_mark.hpp).
 __attribute__((noinline)) void wcet_handler_period(EthercatHandler& handler, drivers::JointCycleResult& result) noexcept {
   result = handler.cycle();
   handler.publish_figures(result, g_clock.now(), 0);
-  mark_wcet_period_end("ethercat_handler");
+  mark_period_end("ethercat_handler");
 }
 __attribute__((noinline)) void wcet_joint_manager_period(JointManager& manager) noexcept {
   manager.step(g_clock.now());
-  mark_wcet_period_end("joint_manager");
+  mark_period_end("joint_manager");
 }
 __attribute__((noinline)) void wcet_message_parser_period(MessageParser& parser) noexcept {
   parser.step(g_clock.now());
-  mark_wcet_period_end("message_parser");
+  mark_period_end("message_parser");
 }
 __attribute__((noinline)) void wcet_rc_period(kin::RcPeriod& rc, double t_s, JointMask out_of_service) noexcept {
   (void)rc.run(t_s, out_of_service, kin::JointVector::Zero());
-  mark_wcet_period_end("rc_tasks");
+  mark_period_end("rc_tasks");
 }
 
 namespace {

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "core/app/bench/wcet_period_mark.hpp"
+#include "core/app/tasks/period_mark.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
 
 namespace rescue::app {
@@ -116,7 +116,7 @@ void WcetOperatorLoad::after() noexcept {
 
 __attribute__((noinline)) void wcet_socket_handler_period(SocketHandler& handler, hal::Nanoseconds now) noexcept {
   handler.step(now);
-  mark_wcet_period_end("socket_handler");
+  mark_period_end("socket_handler");
 }
 
 }  // namespace rescue::app

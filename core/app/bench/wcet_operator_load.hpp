@@ -60,7 +60,7 @@ class WcetOperatorLoad {
 };
 
 // The measured period: out of line, with a stable name, for callgrind's --toggle-collect; marks its end
-// for toolchain/wcet/instructions.sh (wcet_period_mark.hpp).
+// for toolchain/wcet/instructions.sh (core/app/tasks/period_mark.hpp).
 void wcet_socket_handler_period(SocketHandler& handler, hal::Nanoseconds now) noexcept;
 
 }  // namespace rescue::app

@@ -31,12 +31,12 @@ const WcetScenarioSpec* find_wcet_scenario(const char* name) noexcept {
 WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept {
   switch (scenario) {
     case WcetScenario::typical: return {};
-    case WcetScenario::recovery: return {true, false, false, false, false};
-    case WcetScenario::services: return {false, true, false, false, false};
-    case WcetScenario::worst: return {true, true, true, true, true};
+    case WcetScenario::recovery: return {true, false, false, false, false, false};
+    case WcetScenario::services: return {false, true, false, false, false, false};
+    case WcetScenario::worst: return {true, true, true, true, true, true};
     // The second half as `worst` was before the cuts and the held re-initialise: the parser busy at
     // random periods (its requests while joints are down), unlike the first half.
-    case WcetScenario::mixed: return k < periods / 2 ? WcetStress{} : WcetStress{true, true, false, false, false};
+    case WcetScenario::mixed: return k < periods / 2 ? WcetStress{} : WcetStress{true, true, false, false, false, false};
   }
   return {};
 }
