@@ -89,6 +89,11 @@ class Master {
   [[nodiscard]] bool pop_ring_report(RingReport& out) noexcept { return ring_.pop_report(out); }
   // DC across a break: what the ring copy gives the clocks behind it (ring_dc_service.hpp).
   const RingDcStatus& ring_dc_status() const noexcept { return ring_dc_.status(); }
+  // How long the sends of each port took (StampedPort): the part of a frame's departure the master
+  // cannot see, which bounds the DC error across a break over a real link.
+  const StampedPort::SendDurations& send_durations(bool ring_port) const noexcept {
+    return ring_port ? ring_port_.send_durations() : main_port_.send_durations();
+  }
 
   // Frames sent and received are also handed to `tap` (capture writer).
   void set_tap(FrameTapFn tap, void* context) noexcept { link_.set_tap(tap, context); }

@@ -40,11 +40,22 @@ class StampedPort final : public hal::Nic {
 
   // The clock just before the last frame was handed to the NIC; 0 before the first.
   hal::Nanoseconds last_sent_at() const noexcept { return last_sent_at_; }
+  // How long the NIC's send took (clock after minus clock before): over a raw socket the kernel
+  // stamps the frame somewhere in between, so this bounds what the stamp above cannot know.
+  struct SendDurations {
+    std::uint64_t sends{0};
+    std::uint64_t over_5us{0};
+    std::uint64_t over_20us{0};
+    hal::Nanoseconds max{0};
+  };
+  const SendDurations& send_durations() const noexcept { return durations_; }
 
  private:
   hal::Nic* inner_{nullptr};
   RingDcService* ring_dc_{nullptr};
   hal::Nanoseconds last_sent_at_{0};
+  SendDurations durations_{};
+  void count_send(hal::Nanoseconds began) noexcept;
   std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize> buffer_{};  // the frame as patched
 };
 
