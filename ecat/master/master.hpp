@@ -79,12 +79,21 @@ class Master {
   // Cable redundancy (docs/redundancy.md): every frame also goes out on `ring`, the second master port
   // cabled to the segment's far end; the copies are merged (ecat/link/redundant_merge.hpp). Call
   // before bring_up(), which then refuses a ring that does not close. `ring` shares the NIC's clock.
-  void use_ring(hal::Nic& ring) noexcept { link_.set_ring(&ring); }
+  void use_ring(hal::Nic& ring) noexcept {
+    ring_port_.attach(ring);
+    ring_port_.stamp_for(&ring_dc_);
+    link_.set_ring(&ring_port_);
+  }
   // The ring's state (RingState::none without a ring NIC) and its changes, each reported once.
   const RingStatus& ring_status() const noexcept { return ring_.monitor().status(); }
   [[nodiscard]] bool pop_ring_report(RingReport& out) noexcept { return ring_.pop_report(out); }
   // DC across a break: what the ring copy gives the clocks behind it (ring_dc_service.hpp).
   const RingDcStatus& ring_dc_status() const noexcept { return ring_dc_.status(); }
+  // How long the sends of each port took (StampedPort): the part of a frame's departure the master
+  // cannot see, which bounds the DC error across a break over a real link.
+  const StampedPort::SendDurations& send_durations(bool ring_port) const noexcept {
+    return ring_port ? ring_port_.send_durations() : main_port_.send_durations();
+  }
 
   // Frames sent and received are also handed to `tap` (capture writer).
   void set_tap(FrameTapFn tap, void* context) noexcept { link_.set_tap(tap, context); }
@@ -227,6 +236,9 @@ class Master {
   void record_identities() noexcept;
 
   hal::Nic& nic_;
+  // The two ports as the link sends through them: each notes when it sent (RingDcService).
+  StampedPort main_port_;
+  StampedPort ring_port_;
   DatagramLink link_;
   const NetworkPlan& plan_;
   const ProcessImageLayout& layout_;

@@ -80,7 +80,8 @@ const char* to_string(MasterState state) noexcept {
 
 Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout& layout, ByteSpan image) noexcept
     : nic_(nic),
-      link_(nic),
+      main_port_(nic),
+      link_(main_port_),
       plan_(plan),
       layout_(layout),
       image_(image),
@@ -90,7 +91,7 @@ Master::Master(hal::Nic& nic, const NetworkPlan& plan, const ProcessImageLayout&
       dc_reference_(context_),
       process_data_(context_),
       ring_(context_),
-      ring_dc_(context_, ring_, dc_reference_),
+      ring_dc_(context_, ring_, dc_reference_, main_port_, ring_port_),
       probes_(context_),
       reintegration_(context_),
       pdo_setup_(context_, mailbox_),

@@ -2,6 +2,7 @@
 #include "ecat/master/ring_dc_service.hpp"
 
 #include "core/base/endian.hpp"
+#include "ecat/codec/frame.hpp"
 #include "ecat/codec/registers.hpp"
 #include "ecat/link/redundant_merge.hpp"
 
@@ -99,6 +100,8 @@ void RingDcService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept 
   if (tag == kLatchTag) {
     if (status_.phase == RingDcPhase::latch && d.wkc() != 0) {
       status_.phase = RingDcPhase::read;
+      // The copies of the latch frame as they were sent (this frame's: its answer is being read).
+      latch_spacing_ = ring_port_.last_sent_at() > 0 ? ring_port_.last_sent_at() - reference_copy_sent_at() : 0;
       const std::size_t reference = ctx_.reference_position();
       to_read_ = behind_ | (reference < kMaxSlaves ? slave_bit(reference) : 0);
     }
@@ -126,7 +129,8 @@ void RingDcService::finish_calibration() noexcept {
   const std::uint64_t reference_passage = passage_[reference];
   for (std::size_t p = 0; p < kMaxSlaves; ++p) {
     if ((behind_ & slave_bit(p)) == 0) continue;
-    lead_[p] = static_cast<std::int64_t>(passage_[p] - reference_passage) - static_cast<std::int64_t>(delay_[p]);
+    lead_[p] = static_cast<std::int64_t>(passage_[p] - reference_passage) - static_cast<std::int64_t>(delay_[p]) -
+               latch_spacing_;
   }
   status_.written = behind_;
   status_.phase = RingDcPhase::write;
@@ -134,19 +138,38 @@ void RingDcService::finish_calibration() noexcept {
   next_write_ = 0;
 }
 
+double RingDcService::rate_excess() const noexcept {
+  // From the first read on: the longer the baseline, the less a frame's send jitter weighs in it.
+  const hal::Nanoseconds baseline = last_reference_at_ - anchor_at_;
+  if (baseline < kMinRateBaseline) return 0.0;
+  const auto advanced = static_cast<std::int64_t>(last_reference_ - anchor_reference_);
+  return static_cast<double>(advanced - baseline) / static_cast<double>(baseline);
+}
+
 std::uint64_t RingDcService::predicted_reference() const noexcept {
   if (last_reference_ == 0) return 0;
-  // The reference's rate against the master's clock, from the first read on (the longer the
-  // baseline, the less a frame's send jitter weighs in it).
-  const hal::Nanoseconds baseline = last_reference_at_ - anchor_at_;
-  double rate_excess = 0.0;
-  if (baseline >= kMinRateBaseline) {
-    const auto advanced = static_cast<std::int64_t>(last_reference_ - anchor_reference_);
-    rate_excess = static_cast<double>(advanced - baseline) / static_cast<double>(baseline);
-  }
   const hal::Nanoseconds elapsed = frame_time_ - last_reference_at_;
-  const auto excess = static_cast<std::int64_t>(static_cast<double>(elapsed) * rate_excess);
+  const auto excess = static_cast<std::int64_t>(static_cast<double>(elapsed) * rate_excess());
   return last_reference_ + static_cast<std::uint64_t>(elapsed + excess);
+}
+
+hal::Nanoseconds RingDcService::reference_copy_sent_at() const noexcept {
+  const hal::Nanoseconds sent = status_.reference_behind_break ? ring_port_.last_sent_at() : main_port_.last_sent_at();
+  return sent > 0 ? sent : frame_time_;
+}
+
+void RingDcService::before_ring_send(ByteSpan frame, hal::Nanoseconds now) noexcept {
+  if (!patches_ring_copies() || last_reference_ == 0) return;
+  const hal::Nanoseconds waited = now - frame_time_;
+  if (waited == 0) return;
+  const auto shift = waited + static_cast<std::int64_t>(static_cast<double>(waited) * rate_excess());
+  const Result<MutableFrameView> view = MutableFrameView::parse(frame);
+  if (!view.ok()) return;
+  for (const MutableDatagramView d : view.value()) {
+    if (d.command() != Command::FPWR || d.ado() != reg::kDcSystemTime || d.length() != kTimeLength) continue;
+    const ByteSpan time = d.data();
+    store_le64(time.data(), load_le64(time.data()) + static_cast<std::uint64_t>(shift));
+  }
 }
 
 void RingDcService::settle(CycleResult& /*result*/) noexcept {
@@ -165,10 +188,10 @@ void RingDcService::settle(CycleResult& /*result*/) noexcept {
   const std::uint64_t read = reference_.frame_reference_time();
   if (read != 0) {
     last_reference_ = read;
-    last_reference_at_ = frame_time_;
+    last_reference_at_ = reference_copy_sent_at();
     if (anchor_reference_ == 0) {
       anchor_reference_ = read;
-      anchor_at_ = frame_time_;
+      anchor_at_ = last_reference_at_;
     }
   }
   if (status_.phase == RingDcPhase::read && to_read_ == 0) finish_calibration();

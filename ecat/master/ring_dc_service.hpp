@@ -14,8 +14,13 @@
 //              copy, FPWR 0x0910 in the ring copy) of R + lead_j, R the reference time predicted
 //              for this frame: the last read plus the master's clock time since that read's frame
 //              was built, scaled by the reference's rate against that clock (measured from the
-//              first read on). So a late wake-up or a skipped period does not enter R; only the
-//              jitter between building a frame and its passage does. The ESC
+//              first read on). So a late wake-up or a skipped period does not enter R. Over a
+//              real link the frame leaves later than it was built, by a time that varies: so R
+//              counts from when the read's frame was SENT (StampedPort, the clock just before the
+//              send), and the ring port moves every write of the frame by the time between building
+//              and sending it, read just before the ring copy is sent (before_ring_send), and the
+//              leads leave out how far the latch frame's ring copy was sent after its main copy.
+//              What is left is the jitter between the clock read and the frame's passage. The ESC
 //              compares R + lead_j + delay_j with its own time as the copy passed: the same figure
 //              an FRMW gives on the main path, so the drift loop goes on as before the break.
 // The delay register (0x0928) is not rewritten: it stays true for the main path, so when the ring
@@ -35,6 +40,7 @@
 #include "ecat/master/cyclic_service.hpp"
 #include "ecat/master/dc_reference_service.hpp"
 #include "ecat/master/ring_service.hpp"
+#include "ecat/master/stamped_port.hpp"
 
 namespace rescue::ecat {
 
@@ -52,8 +58,10 @@ struct RingDcStatus {
 
 class RingDcService final : public CyclicService {
  public:
-  RingDcService(ServiceContext& context, const RingService& ring, DcReferenceService& reference) noexcept
-      : ctx_(context), ring_(ring), reference_(reference) {}
+  // `main_port` and `ring_port`: the master's two ports as the link sends through them.
+  RingDcService(ServiceContext& context, const RingService& ring, DcReferenceService& reference,
+                const StampedPort& main_port, const StampedPort& ring_port) noexcept
+      : ctx_(context), ring_(ring), reference_(reference), main_port_(main_port), ring_port_(ring_port) {}
 
   void reset() noexcept;
 
@@ -62,6 +70,11 @@ class RingDcService final : public CyclicService {
   void settle(CycleResult& result) noexcept override;
 
   const RingDcStatus& status() const noexcept { return status_; }
+
+  // The ring port's frame about to leave at `now`: each ring-side time write in it (FPWR 0x0910,
+  // 8 bytes) moved on by the reference time that passes between the frame's building and `now`.
+  bool patches_ring_copies() const noexcept { return status_.phase == RingDcPhase::write; }
+  void before_ring_send(ByteSpan frame, hal::Nanoseconds now) noexcept;
 
  private:
   static constexpr std::uint8_t kLatchTag = 0xFE;
@@ -75,10 +88,17 @@ class RingDcService final : public CyclicService {
   void finish_calibration() noexcept;
   // The reference time this frame will read (0: none known yet).
   std::uint64_t predicted_reference() const noexcept;
+  // The reference's rate against the master's clock, minus 1 (0 below kMinRateBaseline).
+  double rate_excess() const noexcept;
+  // When the copy that reads the reference was sent (the main copy, the ring copy with the
+  // reference behind the break), the build time when the port noted none.
+  hal::Nanoseconds reference_copy_sent_at() const noexcept;
 
   ServiceContext& ctx_;
   const RingService& ring_;
   DcReferenceService& reference_;
+  const StampedPort& main_port_;
+  const StampedPort& ring_port_;
   RingDcStatus status_{};
   SlaveMask behind_{0};    // DC slaves behind the break to be written (the reference excluded)
   SlaveMask to_read_{0};   // calibration reads outstanding (the reference's among them)
@@ -95,6 +115,8 @@ class RingDcService final : public CyclicService {
   hal::Nanoseconds last_reference_at_{0};
   std::uint64_t anchor_reference_{0};
   hal::Nanoseconds anchor_at_{0};
+  // How long after the reference's copy the latch frame's ring copy was sent.
+  hal::Nanoseconds latch_spacing_{0};
 };
 
 }  // namespace rescue::ecat

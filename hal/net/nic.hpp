@@ -40,6 +40,14 @@ class Nic {
   // The clock that receive deadlines refer to (virtual time for the simulator).
   virtual Clock& clock() noexcept = 0;
 
+  // When the frame the last successful receive() returned reached this NIC, on clock(): the
+  // kernel's receive timestamp where the NIC takes them (RawSocketSettings::receive_timestamps),
+  // which a busy host does not delay as it delays the reader. Errc::unsupported when the NIC takes
+  // none, Errc::not_found when that frame came without one: the caller then reads clock() itself.
+  virtual Result<Nanoseconds> last_receive_time() const noexcept {
+    return make_error(Errc::unsupported, "this NIC takes no receive timestamps");
+  }
+
   virtual const char* name() const noexcept = 0;
   virtual NicStats stats() const noexcept = 0;
 };

@@ -92,6 +92,27 @@ Status attach_ethercat_filter(int fd) noexcept {
   return Status::success();
 }
 
+// The kernel's receive timestamp (SO_TIMESTAMPNS, CLOCK_REALTIME) in the control messages; false
+// when the frame has none.
+bool find_receive_timestamp(msghdr& message, Nanoseconds& realtime) noexcept {
+  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+    if (c->cmsg_level != SOL_SOCKET || c->cmsg_type != SCM_TIMESTAMPNS) continue;
+    if (c->cmsg_len < CMSG_LEN(sizeof(timespec))) continue;
+    timespec stamp{};
+    std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
+    if (stamp.tv_sec == 0 && stamp.tv_nsec == 0) return false;  // stamping not on yet
+    realtime = static_cast<Nanoseconds>(stamp.tv_sec) * kNsPerSec + stamp.tv_nsec;
+    return true;
+  }
+  return false;
+}
+
+Nanoseconds realtime_now() noexcept {
+  timespec ts{};
+  (void)::clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<Nanoseconds>(ts.tv_sec) * kNsPerSec + ts.tv_nsec;
+}
+
 timespec to_timespec(Nanoseconds ns) noexcept {
   timespec ts{};
   ts.tv_sec = static_cast<time_t>(ns / kNsPerSec);
@@ -180,6 +201,10 @@ Status RawSocketNic::configure(const char* interface_name, const RawSocketSettin
   int granted = 0;
   socklen_t granted_size = sizeof granted;
   if (::getsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &granted, &granted_size) == 0) features_.receive_buffer_bytes = granted;
+  if (settings.receive_timestamps) {
+    RESCUE_TRY(set_int_option(fd_, SOL_SOCKET, SO_TIMESTAMPNS, 1, "setsockopt(SO_TIMESTAMPNS) failed"));
+    features_.receive_timestamps = true;
+  }
 
   // Every EtherType is bound (ETH_P_ALL) because only such taps get a received frame's VLAN tag:
   // the kernel clears it before protocol-specific sockets see the frame. EtherCAT-only is then the
@@ -235,8 +260,9 @@ Status RawSocketNic::send(ConstByteSpan frame) noexcept {
 Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
   sockaddr_ll from{};
   iovec data{buffer.data(), buffer.size()};
-  // Room for the one control message asked for: PACKET_AUXDATA (the VLAN tag the kernel took out).
-  alignas(cmsghdr) std::array<std::uint8_t, CMSG_SPACE(sizeof(tpacket_auxdata))> control{};
+  // Room for the control messages asked for: PACKET_AUXDATA (the VLAN tag the kernel took out) and
+  // SCM_TIMESTAMPNS (the receive timestamp, with receive_timestamps).
+  alignas(cmsghdr) std::array<std::uint8_t, CMSG_SPACE(sizeof(tpacket_auxdata)) + CMSG_SPACE(sizeof(timespec))> control{};
   msghdr message{};
   message.msg_name = &from;
   message.msg_namelen = sizeof from;
@@ -261,7 +287,26 @@ Result<std::size_t> RawSocketNic::read_one(ByteSpan buffer) noexcept {
     return std::size_t{0};
   }
   ++stats_.frames_received;
+  last_receive_time_ = -1;
+  Nanoseconds stamp = 0;
+  if (features_.receive_timestamps && find_receive_timestamp(message, stamp)) {
+    // The realtime-monotonic difference read now, between two monotonic reads (a step of the
+    // realtime clock, e.g. by NTP, is then taken into account frame by frame).
+    const Nanoseconds before = clock_.now();
+    const Nanoseconds realtime = realtime_now();
+    const Nanoseconds after = clock_.now();
+    const Nanoseconds monotonic = stamp - (realtime - before / 2 - after / 2);
+    last_receive_time_ = monotonic < after ? monotonic : after;
+  } else if (features_.receive_timestamps) {
+    ++frames_without_timestamp_;
+  }
   return length;
+}
+
+Result<Nanoseconds> RawSocketNic::last_receive_time() const noexcept {
+  if (!features_.receive_timestamps) return make_error(Errc::unsupported, "receive timestamps not asked for");
+  if (last_receive_time_ < 0) return make_error(Errc::not_found, "the last frame came without a receive timestamp");
+  return last_receive_time_;
 }
 
 const char* to_string(RawSocketSettings::ReceiveWait wait) noexcept {

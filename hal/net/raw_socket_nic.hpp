@@ -11,7 +11,9 @@
 //     only from a little before the expected return; `sleep` waits in ppoll() at once;
 //   - our own outgoing frames ignored (PACKET_IGNORE_OUTGOING where the kernel has it, and the
 //     packet type checked on every frame), other EtherTypes dropped and counted;
-//   - SO_RCVBUF sized for a burst of returning frames.
+//   - SO_RCVBUF sized for a burst of returning frames;
+//   - optionally (receive_timestamps) the kernel's software receive timestamp of each frame
+//     (SO_TIMESTAMPNS), given back on the NIC's monotonic clock by last_receive_time().
 // Frames are read into and sent from the caller's buffers: no heap per frame. Not thread-safe: one
 // task owns the NIC (the EtherCAT handler, or the simulator's serve loop).
 #pragma once
@@ -60,6 +62,11 @@ struct RawSocketSettings {
   ReceiveWait receive_wait{ReceiveWait::spin};
   // adaptive: how long before the expected return the thread is woken to spin (covers its wake-up).
   Nanoseconds adaptive_lead{20'000};
+  // Ask the kernel to timestamp each received frame (SO_TIMESTAMPNS: the instant the frame entered
+  // the network stack, on veth the sender's send()). `sim --ring-iface` gives each copy of a frame
+  // that time as its segment time, not the time the simulator got the CPU to read it
+  // (docs/redundancy.md "DC across a break over veth"). Off for the master: it needs no stamp.
+  bool receive_timestamps{false};
 };
 
 // Round trips seen before the adaptive wait trusts its estimate (spin until then).
@@ -85,6 +92,7 @@ struct RawSocketFeatures {
   bool qdisc_bypass{false};
   bool ignore_outgoing{false};  // PACKET_IGNORE_OUTGOING (Linux 4.20+); else the packet type check
   int receive_buffer_bytes{0};  // as reported back by the kernel
+  bool receive_timestamps{false};  // SO_TIMESTAMPNS accepted (asked for by the settings)
 };
 
 class RawSocketNic final : public Nic {
@@ -117,6 +125,14 @@ class RawSocketNic final : public Nic {
   // "raw:IFACE", the same text as the --nic option that selects it.
   const char* name() const noexcept override { return name_.data(); }
   NicStats stats() const noexcept override { return stats_; }
+  // The kernel's receive timestamp of the last frame receive() returned, converted from
+  // CLOCK_REALTIME (the only clock the kernel stamps packets with) to clock() by the two clocks'
+  // difference read at that receive, and never later than that read.
+  Result<Nanoseconds> last_receive_time() const noexcept override;
+  // Frames returned without a timestamp although one was asked for. Rare: the kernel turns stamping
+  // at entry on a little after the option is set (deferred work), and stamps a frame that entered
+  // before that when it is read, i.e. at the read, as without the option.
+  std::uint64_t frames_without_timestamp() const noexcept { return frames_without_timestamp_; }
   const ReceiveWaitStats& wait_stats() const noexcept { return wait_stats_; }
 
   const RawSocketFeatures& features() const noexcept { return features_; }
@@ -150,6 +166,9 @@ class RawSocketNic final : public Nic {
 
   NicStats stats_{};
   ReceiveWaitStats wait_stats_{};
+  // The last returned frame's receive timestamp on clock_, -1 when it had none.
+  Nanoseconds last_receive_time_{-1};
+  std::uint64_t frames_without_timestamp_{0};
 
   Nanoseconds receive_spin_{0};
   RawSocketSettings::ReceiveWait receive_wait_{RawSocketSettings::ReceiveWait::spin};

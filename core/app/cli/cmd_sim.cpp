@@ -12,6 +12,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -51,12 +52,59 @@ int default_cpu() noexcept { return table_cpu_on_this_machine(task_spec(TaskId::
 
 void print_counters(const FrameServerCounters& served, const hal::NicStats& nic) noexcept {
   (void)std::printf("frames received: %llu\n", static_cast<unsigned long long>(served.frames_received));
+  (void)std::printf("frames served at their receive timestamp: %llu\n", static_cast<unsigned long long>(served.frames_timestamped));
   (void)std::printf("frames returned: %llu\n", static_cast<unsigned long long>(served.frames_returned));
   (void)std::printf("frames not returned: %llu\n", static_cast<unsigned long long>(served.frames_not_returned));
   (void)std::printf("frames dropped by the nic: %llu\n", static_cast<unsigned long long>(nic.frames_dropped));
   (void)std::printf("send errors: %llu\n", static_cast<unsigned long long>(served.send_errors));
   (void)std::fflush(stdout);
 }
+
+// How far apart the two copies of a ring frame reached the simulator (ring copy's receive time minus
+// the main copy's: the master's two sends), and how long after its arrival each copy was read: the
+// master's part and the host's part of the DC error over veth (docs/redundancy.md).
+class CopySpacing {
+ public:
+  // A ring copy within this of the last main copy is taken as its twin (a cycle is 1 ms or more).
+  static constexpr hal::Nanoseconds kPairWindow = 500 * hal::kNsPerUs;
+
+  void ring_copy_served(const FrameServer& main, const FrameServer& ring) noexcept {
+    const hal::Nanoseconds spacing = ring.last_arrival() - main.last_arrival();
+    if (spacing < 0 || spacing >= kPairWindow) return;
+    min_ = pairs_ == 0 ? spacing : std::min(min_, spacing);
+    max_ = std::max(max_, spacing);
+    sum_ += spacing;
+    std::size_t bucket = 0;
+    while (bucket + 1 < kBucketTops.size() && spacing > kBucketTops[bucket]) ++bucket;
+    ++buckets_[bucket];
+    read_delay_max_ = std::max({read_delay_max_, main.last_read_delay(), ring.last_read_delay()});
+    ++pairs_;
+  }
+
+  void print() const noexcept {
+    if (pairs_ == 0) {
+      (void)std::printf("copy spacing: n/a (no pair of copies)\n");
+      return;
+    }
+    (void)std::printf("copy spacing: %llu pairs, ring copy after the main copy min %.1f us, mean %.1f us, max %.1f us; "
+                      "read at most %.1f us after the arrival\n",
+                      static_cast<unsigned long long>(pairs_), us(min_), us(sum_) / static_cast<double>(pairs_), us(max_),
+                      us(read_delay_max_));
+    (void)std::printf("copy spacing spread: <=5 us %llu, <=20 us %llu, <=100 us %llu, more %llu\n",
+                      static_cast<unsigned long long>(buckets_[0]), static_cast<unsigned long long>(buckets_[1]),
+                      static_cast<unsigned long long>(buckets_[2]), static_cast<unsigned long long>(buckets_[3]));
+  }
+
+ private:
+  static double us(hal::Nanoseconds ns) noexcept { return static_cast<double>(ns) / static_cast<double>(hal::kNsPerUs); }
+  static constexpr std::array<hal::Nanoseconds, 4> kBucketTops{5'000, 20'000, 100'000, kPairWindow};
+  std::array<std::uint64_t, 4> buckets_{};
+  std::uint64_t pairs_{0};
+  hal::Nanoseconds min_{0};
+  hal::Nanoseconds max_{0};
+  hal::Nanoseconds sum_{0};
+  hal::Nanoseconds read_delay_max_{0};
+};
 
 // Fault commands from standard input, one per line, applied between frames.
 class FaultConsole {
@@ -160,6 +208,7 @@ int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, 
   static FrameServer main_server(main_nic, main_port);
   static FrameServer ring_server(ring_nic, ring_port);
   FaultConsole faults;
+  CopySpacing spacing;
   int exit_status = 0;
   while (stop_signal() == 0 && exit_status == 0) {
     faults.poll_once(segment, main_server, main_nic.clock().now(), &ring_server);
@@ -173,11 +222,13 @@ int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, 
     const std::array<FrameServer*, 2> servers{&main_server, &ring_server};
     for (std::size_t i = 0; i < servers.size(); ++i) {
       if ((sockets[i].revents & (POLLIN | POLLERR)) == 0) continue;
+      const std::uint64_t before = servers[i]->counters().frames_received;
       const Status served = servers[i]->serve_one(now);  // the frame is queued: no wait
       if (!served.ok() && served.error().code != Errc::timeout) {
         exit_status = fail("sim", "serving stopped", served.error());
         break;
       }
+      if (i == 1 && servers[i]->counters().frames_received != before) spacing.ring_copy_served(main_server, ring_server);
     }
   }
   if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
@@ -190,6 +241,7 @@ int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, 
                     static_cast<unsigned long long>(ring_port.sent_on_other_port()));
   const std::uint64_t other_port_errors = main_port.other_port_send_errors() + ring_port.other_port_send_errors();
   (void)std::printf("send errors on the other port: %llu\n", static_cast<unsigned long long>(other_port_errors));
+  spacing.print();
   (void)std::fflush(stdout);
   return exit_status;
 }
@@ -221,6 +273,8 @@ int sim_main(const ParsedArgs& args) {
 
   hal::RawSocketSettings settings;
   settings.qdisc_bypass = !args.has("through-qdisc");
+  // Each frame passes the segment at the instant it was sent (FrameServer::serve_one).
+  settings.receive_timestamps = true;
   const char* ring_iface = args.value("ring-iface");
   if (ring_iface != nullptr && std::strcmp(ring_iface, iface) == 0) {
     return fail("sim", "--ring-iface must name another interface than --iface (the master's two ports)");

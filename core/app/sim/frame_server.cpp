@@ -26,6 +26,18 @@ void FrameServer::release_held() noexcept {
   held_count_ = 0;
 }
 
+hal::Nanoseconds FrameServer::arrival_of_last_frame() noexcept {
+  const hal::Nanoseconds now = nic_.clock().now();
+  const Result<hal::Nanoseconds> stamped = nic_.last_receive_time();
+  last_arrival_ = now;
+  if (stamped.ok()) {
+    ++counters_.frames_timestamped;
+    if (stamped.value() < now) last_arrival_ = stamped.value();
+  }
+  last_read_delay_ = now - last_arrival_;
+  return last_arrival_;
+}
+
 Status FrameServer::serve_one(hal::Nanoseconds deadline) noexcept {
   const hal::Nanoseconds start = nic_.clock().now();
   if (held_count_ > 0 && start >= stall_until_) release_held();
@@ -39,7 +51,7 @@ Status FrameServer::serve_one(hal::Nanoseconds deadline) noexcept {
     return got.error();
   }
   ++counters_.frames_received;
-  const hal::Nanoseconds arrival = nic_.clock().now();
+  const hal::Nanoseconds arrival = arrival_of_last_frame();
 
   const Result<std::size_t> processed = processor_.process(ByteSpan(buffer_.data(), got.value()), arrival);
   if (!processed.ok() || processed.value() > buffer_.size()) {

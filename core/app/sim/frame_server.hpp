@@ -42,6 +42,7 @@ class FrameProcessor {
 
 struct FrameServerCounters {
   std::uint64_t frames_received{0};
+  std::uint64_t frames_timestamped{0};  // served at the NIC's receive timestamp, not at the read
   std::uint64_t frames_returned{0};
   std::uint64_t frames_not_returned{0};  // the processor kept them (malformed or lost on purpose)
   std::uint64_t send_errors{0};
@@ -63,13 +64,20 @@ class FrameServer {
 
   FrameServer(hal::Nic& nic, FrameProcessor& processor) noexcept : nic_(nic), processor_(processor) {}
 
-  // Waits until `deadline` (on the NIC's clock) for one frame and serves it. Errc::timeout when no
+  // Waits until `deadline` (on the NIC's clock) for one frame and serves it, as arrived at the NIC's
+  // receive timestamp when the NIC has one (hal::Nic::last_receive_time), else at the clock read
+  // after the receive: on a wire the frame reaches the slaves when it is sent, however late the
+  // host lets the simulator read it (two copies of a ring frame, read one after the other, then
+  // pass the segment at the instants they were sent). Errc::timeout when no
   // frame came (the processor's idle() has then caught up with the deadline); other NIC errors
   // are returned as they are. A frame the processor keeps, or one the
   // NIC cannot send, is counted, not an error: the master sees a lost frame, as on a real wire.
   Status serve_one(hal::Nanoseconds deadline) noexcept;
 
   const FrameServerCounters& counters() const noexcept { return counters_; }
+  // The segment time the last frame was served at, and how long after it the server read it.
+  hal::Nanoseconds last_arrival() const noexcept { return last_arrival_; }
+  hal::Nanoseconds last_read_delay() const noexcept { return last_read_delay_; }
 
   // A stall of the host or of an interrupt-coalescing NIC, injected: until `until` (NIC clock)
   // replies are processed at once but held back, then sent together, in order, bunched (what a
@@ -79,12 +87,16 @@ class FrameServer {
 
  private:
   void release_held() noexcept;
+  // The segment time of the frame just received: its receive timestamp, never later than now.
+  hal::Nanoseconds arrival_of_last_frame() noexcept;
 
   hal::Nic& nic_;
   FrameProcessor& processor_;
   FrameServerCounters counters_{};
   std::array<std::uint8_t, kBufferSize> buffer_{};
   hal::Nanoseconds stall_until_{0};
+  hal::Nanoseconds last_arrival_{0};
+  hal::Nanoseconds last_read_delay_{0};
   std::array<std::array<std::uint8_t, kBufferSize>, kHeldCapacity> held_{};
   std::array<std::size_t, kHeldCapacity> held_length_{};
   std::size_t held_count_{0};

@@ -268,7 +268,21 @@ TEST_F(RingCuts, CuttingEveryCableOneAtATimeLosesNoJointKeepsTheClocksAndReports
               "after the repairs max |0x092C| %u ns, SYNC0 moved at most %lld ns\n",
               worst.max_difference_behind, worst.max_difference, static_cast<long long>(worst.sync0_moved),
               worst_repair.max_difference, static_cast<long long>(worst_repair.sync0_moved));
+  for (const bool ring_port : {false, true}) {
+    const ecat::StampedPort::SendDurations& d = master.send_durations(ring_port);
+    std::printf("ring over veth, master's %s port: %llu sends, %llu took over 5 us, %llu over 20 us, the longest %lld ns\n",
+                ring_port ? "ring" : "main", static_cast<unsigned long long>(d.sends),
+                static_cast<unsigned long long>(d.over_5us), static_cast<unsigned long long>(d.over_20us),
+                static_cast<long long>(d.max));
+  }
   EXPECT_EQ(sim_.stop(SIGTERM), 0) << sim_.output();
+  // The simulator's figures of the two copies: how far apart they were sent, how late it read them.
+  const std::string& served = sim_.output();
+  const std::size_t spacing = served.find("copy spacing:");
+  EXPECT_NE(spacing, std::string::npos) << served;
+  if (spacing != std::string::npos) {
+    std::printf("ring over veth, simulator: %s\n", served.substr(spacing, served.find('\n', spacing) - spacing).c_str());
+  }
 }
 
 // Two cuts (the cables into l_leg and neck_pan) lose exactly the slaves between them, 9 .. 13: the ring

@@ -1,0 +1,62 @@
+// A master port (hal::Nic) that notes when it last sent a frame, the clock read just before the
+// send: the closest the master comes to the instant the frame left, after the frame was built and
+// whatever delayed the cycle between building and sending. On the ring port it also hands each
+// outgoing frame to RingDcService, which moves the ring-side time writes (DC across a break) to that
+// instant (docs/redundancy.md "DC across a break over veth": the error of a time written into a
+// frame is the jitter between the instant it was predicted for and the frame's passage).
+// Everything else is passed through to the NIC underneath.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/base/result.hpp"
+#include "core/base/span.hpp"
+#include "ecat/codec/frame.hpp"
+#include "hal/net/nic.hpp"
+
+namespace rescue::ecat {
+
+class RingDcService;
+
+class StampedPort final : public hal::Nic {
+ public:
+  StampedPort() noexcept = default;
+  explicit StampedPort(hal::Nic& inner) noexcept : inner_(&inner) {}
+
+  void attach(hal::Nic& inner) noexcept { inner_ = &inner; }
+  // The ring port: frames go through `ring_dc` (RingDcService::before_ring_send) before they leave.
+  void stamp_for(RingDcService* ring_dc) noexcept { ring_dc_ = ring_dc; }
+
+  Status send(ConstByteSpan frame) noexcept override;
+  Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
+    return inner_->receive(buffer, deadline);
+  }
+  hal::Clock& clock() noexcept override { return inner_->clock(); }
+  const char* name() const noexcept override { return inner_->name(); }
+  hal::NicStats stats() const noexcept override { return inner_->stats(); }
+  Result<hal::Nanoseconds> last_receive_time() const noexcept override { return inner_->last_receive_time(); }
+
+  // The clock just before the last frame was handed to the NIC; 0 before the first.
+  hal::Nanoseconds last_sent_at() const noexcept { return last_sent_at_; }
+  // How long the NIC's send took (clock after minus clock before): over a raw socket the kernel
+  // stamps the frame somewhere in between, so this bounds what the stamp above cannot know.
+  struct SendDurations {
+    std::uint64_t sends{0};
+    std::uint64_t over_5us{0};
+    std::uint64_t over_20us{0};
+    hal::Nanoseconds max{0};
+  };
+  const SendDurations& send_durations() const noexcept { return durations_; }
+
+ private:
+  hal::Nic* inner_{nullptr};
+  RingDcService* ring_dc_{nullptr};
+  hal::Nanoseconds last_sent_at_{0};
+  SendDurations durations_{};
+  void count_send(hal::Nanoseconds began) noexcept;
+  std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize> buffer_{};  // the frame as patched
+};
+
+}  // namespace rescue::ecat
