@@ -90,6 +90,7 @@ std::int64_t g_periods = 0;
 char g_conditions[1024];
 char g_load_at_start[64] = "n/a";
 bool g_rt_applied = false;
+bool g_real_time = true;  // --scheduling rt
 
 // xorshift64: the power cycles' gaps from --seed, no heap, the same run for the same seed.
 std::uint64_t next_random(std::uint64_t& state) noexcept {
@@ -363,7 +364,7 @@ int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool sh
   static const int indices[kTasks] = {0, 1, 2, 3, 4};
   char names[kTasks][64];
   char conditions[400];
-  describe_wcet_conditions(conditions, sizeof conditions, g_load_at_start, g_rt_applied);
+  describe_wcet_conditions(conditions, sizeof conditions, g_load_at_start, g_real_time, g_rt_applied);
   const std::size_t used = std::strlen(g_conditions);
   (void)std::snprintf(g_conditions + used, sizeof g_conditions - used, "# conditions: %s\n", conditions);
   for (int t = 0; t < kTasks; ++t) {
@@ -438,17 +439,21 @@ int check_wcet_prerequisites(bool plot, const char* out_dir, char* script, std::
 }
 
 // The measuring thread's real-time set-up, and the conditions a figure is read with.
-void apply_and_print_conditions() noexcept {
+void apply_and_print_conditions(bool real_time) noexcept {
   // One thread steps every task: at the EtherCAT handler's SCHED_FIFO priority on its CPU (the last
   // one on a smaller machine), memory locked, so what is measured is the tasks' code and not the
   // other processes of a busy machine. Refused (no privilege): measured at normal scheduling, said so.
+  // --scheduling normal (counting instructions under callgrind, ~50x slower): neither, so that the
+  // run does not hold a CPU at FIFO for minutes; the rt: lines say both skipped.
   hal::RtConfig rt;
-  rt.fifo_priority = config::kEthercatHandlerPriority;
-  rt.cpu = table_cpu_on_this_machine(config::kEthercatHandlerCpu);
+  rt.fifo_priority = real_time ? config::kEthercatHandlerPriority : 0;
+  rt.cpu = real_time ? table_cpu_on_this_machine(config::kEthercatHandlerCpu) : -1;
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
+  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO, pinned to a CPU)" : "normal (default scheduler, any CPU; --scheduling normal)");
   const hal::RtReport rt_report = hal::apply_rt_config(rt);
   rt_report.print(stdout);
   g_rt_applied = rt_report.fully_applied();
+  g_real_time = real_time;
   // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
   read_load_average(g_load_at_start, sizeof g_load_at_start);
   (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
@@ -488,6 +493,7 @@ struct WcetOptions {
   const WcetScenarioSpec* scenario{nullptr};
   const char* out_dir{nullptr};
   bool plot{false};
+  bool real_time{true};  // --scheduling rt (SCHED_FIFO, pinned) or normal
 };
 
 // bench wcet's options, checked. 0, or the exit status of the refusal.
@@ -514,6 +520,9 @@ int parse_wcet_options(const ParsedArgs& args, WcetOptions& options) noexcept {
   options.scenario = scenario;
   options.out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-wcet";
   options.plot = !args.has("no-plot");
+  const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
+  options.real_time = std::strcmp(scheduling, "rt") == 0;
+  if (!options.real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "wcet: --scheduling must be rt or normal");
   return 0;
 }
 
@@ -752,7 +761,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   const int ready = check_wcet_prerequisites(options.plot, options.out_dir, script, sizeof script, out);
   if (ready != 0) return ready;
   print_bench_header(stdout, "wcet");
-  apply_and_print_conditions();
+  apply_and_print_conditions(options.real_time);
 
   static WcetRig rig;
   const int wired = wire_wcet_tasks(options, rig);

@@ -5,7 +5,8 @@
 // (every slave power-cycled and recovered, the cable into the first slave cut and repaired, SDO transfers, the socket handler's budget of operator
 // datagrams every period) with no heap after init, and the samples written; the conditions (kernel,
 // PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half recovery and services (`--scenario mixed`) is refused by
-// the identical-distribution test. It checks the method and the refusal, not the bound.
+// the identical-distribution test. It checks the method and the refusal, not the bound. An unknown
+// scenario or --scheduling value (rt or normal) is refused with a clear message.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -100,6 +101,12 @@ TEST(BenchWcet, AnUnknownScenarioIsRefusedWithTheKnownOnes) {
   const test::CommandOutput run = test::run_command("'" + kProgram + "' bench wcet --scenario calm --out /tmp 2>&1");
   EXPECT_EQ(run.exit_status, 1) << run.out;
   EXPECT_NE(run.out.find("unknown scenario 'calm' (known: typical recovery services worst mixed)"), std::string::npos) << run.out;
+}
+
+TEST(BenchWcet, AnUnknownSchedulingIsRefused) {
+  const test::CommandOutput run = test::run_command("'" + kProgram + "' bench wcet --scheduling fifo --out /tmp 2>&1");
+  EXPECT_EQ(run.exit_status, 1) << run.out;
+  EXPECT_NE(run.out.find("wcet: --scheduling must be rt or normal"), std::string::npos) << run.out;
 }
 
 }  // namespace
