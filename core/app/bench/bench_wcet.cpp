@@ -37,6 +37,7 @@
 #include "drivers/sim/segment/simulated_robot.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 #include "hal/time/tsc_timer.hpp"
@@ -58,6 +59,9 @@ constexpr std::int64_t kMinGap = 50;
 // While joints are down the operator's side sends a request in a period with probability 1 in
 // kRequestOdds (at random: no period the blocks' phase could lock onto).
 constexpr std::uint64_t kRequestOdds = 20;
+// worst: while joints are down, a frame is damaged on a random drive's cable in a period with
+// probability 1 in kDamageOdds (docs/timing.md "Damaged frames").
+constexpr std::uint64_t kDamageOdds = 40;
 // worst: a cut cable is repaired after this many periods (the drives' process-data watchdog, 100 ms,
 // has taken them to SAFE-OP by then: the master re-arms them or recovers them).
 constexpr std::int64_t kCutPeriods = 120;
@@ -164,6 +168,7 @@ class ScenarioDriver {
   // `out`: the joints out of the exchange last period; `joints`, `lost`: the joint manager's.
   void before(const WcetStress& stress, std::int64_t k, JointMask out, const JointStates& joints, JointMask lost) noexcept {
     if (stress.power_cycles) losses_when_due(stress, k, joints.enabled);
+    if (stress.damaged_frames && joints.enabled != kAllJoints) damage_a_frame_at_random();
     if (stress.services) reset_diagnostics();
     if (joints.enabled == kAllJoints) {
       next_burst_ = -1;
@@ -216,6 +221,7 @@ class ScenarioDriver {
   }
 
   std::uint64_t power_cycles() const noexcept { return power_cycles_; }
+  std::uint64_t damaged_frames() const noexcept { return segment_.counters().lost_port_corruption; }
   std::uint64_t cuts() const noexcept { return cuts_; }
   // Losses of joints the scenario caused (power cycles and cuts).
   std::uint64_t losses() const noexcept { return power_cycles_ + cuts_; }
@@ -227,6 +233,15 @@ class ScenarioDriver {
     request.type = type;
     request.joints = joints;
     (void)local_.try_send(request);
+  }
+
+  // A frame damaged on a random drive's input cable: the ESCs it passed carry out its reads and
+  // writes, the master gets a broken FCS and loses it, so a recovery's mailbox step loses its frame
+  // (the master asks again: docs/master.md "Frames lost with a mailbox step").
+  void damage_a_frame_at_random() noexcept {
+    if (next_random(random_) % kDamageOdds != 0) return;
+    const std::size_t drive = kJunctionCount + static_cast<std::size_t>(next_random(random_) % (kSlaveCount - kJunctionCount));
+    (void)segment_.corrupt_port(drive, 0, 1);
   }
 
   void losses_when_due(const WcetStress& stress, std::int64_t k, JointMask enabled) noexcept {
@@ -741,6 +756,12 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   const ecat::RecoveryStats& recovery = rig.bus->master().recovery_stats();
   (void)std::printf("master_recoveries: %u slaves recovered, %u attempts failed, %u refused\n", static_cast<unsigned>(recovery.recovered),
                     static_cast<unsigned>(recovery.failed), static_cast<unsigned>(recovery.refused));
+  (void)std::printf("damaged_frames: %" PRIu64 " (lost at the master, broken FCS)\n", rig.driver->damaged_frames());
+  const ecat::MailboxStats& mailbox = rig.bus->master().mailbox().stats();
+  (void)std::printf("mailbox_timeouts: %" PRIu64 "\n", mailbox.timeouts);
+  (void)std::printf("mailbox_repeat_requests: %" PRIu64 "\n", mailbox.repeat_requests);
+  (void)std::printf("mailbox_rewrites: %" PRIu64 "\n", mailbox.rewrites);
+  (void)std::printf("mailbox_repeats_dropped: %" PRIu64 "\n", mailbox.duplicates_dropped);
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", figures.periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", figures.periods_with_lost);
   print_end_state(*rig.manager, *rig.bus, rig.robot->segment(), figures.last_out);
