@@ -37,6 +37,7 @@
 #include "drivers/sim/segment/simulated_robot.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
+#include "ecat/mailbox/mailbox_client.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 #include "hal/time/tsc_timer.hpp"
@@ -58,6 +59,9 @@ constexpr std::int64_t kMinGap = 50;
 // While joints are down the operator's side sends a request in a period with probability 1 in
 // kRequestOdds (at random: no period the blocks' phase could lock onto).
 constexpr std::uint64_t kRequestOdds = 20;
+// worst: while joints are down, a frame is damaged on a random drive's cable in a period with
+// probability 1 in kDamageOdds (docs/timing.md "Damaged frames").
+constexpr std::uint64_t kDamageOdds = 40;
 // worst: a cut cable is repaired after this many periods (the drives' process-data watchdog, 100 ms,
 // has taken them to SAFE-OP by then: the master re-arms them or recovers them).
 constexpr std::int64_t kCutPeriods = 120;
@@ -90,6 +94,7 @@ std::int64_t g_periods = 0;
 char g_conditions[1024];
 char g_load_at_start[64] = "n/a";
 bool g_rt_applied = false;
+bool g_real_time = true;  // --scheduling rt
 
 // xorshift64: the power cycles' gaps from --seed, no heap, the same run for the same seed.
 std::uint64_t next_random(std::uint64_t& state) noexcept {
@@ -163,6 +168,7 @@ class ScenarioDriver {
   // `out`: the joints out of the exchange last period; `joints`, `lost`: the joint manager's.
   void before(const WcetStress& stress, std::int64_t k, JointMask out, const JointStates& joints, JointMask lost) noexcept {
     if (stress.power_cycles) losses_when_due(stress, k, joints.enabled);
+    if (stress.damaged_frames && joints.enabled != kAllJoints) damage_a_frame_at_random();
     if (stress.services) reset_diagnostics();
     if (joints.enabled == kAllJoints) {
       next_burst_ = -1;
@@ -215,6 +221,7 @@ class ScenarioDriver {
   }
 
   std::uint64_t power_cycles() const noexcept { return power_cycles_; }
+  std::uint64_t damaged_frames() const noexcept { return segment_.counters().lost_port_corruption; }
   std::uint64_t cuts() const noexcept { return cuts_; }
   // Losses of joints the scenario caused (power cycles and cuts).
   std::uint64_t losses() const noexcept { return power_cycles_ + cuts_; }
@@ -226,6 +233,15 @@ class ScenarioDriver {
     request.type = type;
     request.joints = joints;
     (void)local_.try_send(request);
+  }
+
+  // A frame damaged on a random drive's input cable: the ESCs it passed carry out its reads and
+  // writes, the master gets a broken FCS and loses it, so a recovery's mailbox step loses its frame
+  // (the master asks again: docs/master.md "Frames lost with a mailbox step").
+  void damage_a_frame_at_random() noexcept {
+    if (next_random(random_) % kDamageOdds != 0) return;
+    const std::size_t drive = kJunctionCount + static_cast<std::size_t>(next_random(random_) % (kSlaveCount - kJunctionCount));
+    (void)segment_.corrupt_port(drive, 0, 1);
   }
 
   void losses_when_due(const WcetStress& stress, std::int64_t k, JointMask enabled) noexcept {
@@ -363,7 +379,7 @@ int analyse(const hal::OpenFile& dir, const char* out_dir, char* script, bool sh
   static const int indices[kTasks] = {0, 1, 2, 3, 4};
   char names[kTasks][64];
   char conditions[400];
-  describe_wcet_conditions(conditions, sizeof conditions, g_load_at_start, g_rt_applied);
+  describe_wcet_conditions(conditions, sizeof conditions, g_load_at_start, g_real_time, g_rt_applied);
   const std::size_t used = std::strlen(g_conditions);
   (void)std::snprintf(g_conditions + used, sizeof g_conditions - used, "# conditions: %s\n", conditions);
   for (int t = 0; t < kTasks; ++t) {
@@ -438,17 +454,21 @@ int check_wcet_prerequisites(bool plot, const char* out_dir, char* script, std::
 }
 
 // The measuring thread's real-time set-up, and the conditions a figure is read with.
-void apply_and_print_conditions() noexcept {
+void apply_and_print_conditions(bool real_time) noexcept {
   // One thread steps every task: at the EtherCAT handler's SCHED_FIFO priority on its CPU (the last
   // one on a smaller machine), memory locked, so what is measured is the tasks' code and not the
   // other processes of a busy machine. Refused (no privilege): measured at normal scheduling, said so.
+  // --scheduling normal (counting instructions under callgrind, ~50x slower): neither, so that the
+  // run does not hold a CPU at FIFO for minutes; the rt: lines say both skipped.
   hal::RtConfig rt;
-  rt.fifo_priority = config::kEthercatHandlerPriority;
-  rt.cpu = table_cpu_on_this_machine(config::kEthercatHandlerCpu);
+  rt.fifo_priority = real_time ? config::kEthercatHandlerPriority : 0;
+  rt.cpu = real_time ? table_cpu_on_this_machine(config::kEthercatHandlerCpu) : -1;
   rt.prefault_stack_bytes = hal::kTaskStackPrefaultBytes;
+  (void)std::printf("scheduling: %s\n", real_time ? "rt (SCHED_FIFO, pinned to a CPU)" : "normal (default scheduler, any CPU; --scheduling normal)");
   const hal::RtReport rt_report = hal::apply_rt_config(rt);
   rt_report.print(stdout);
   g_rt_applied = rt_report.fully_applied();
+  g_real_time = real_time;
   // The conditions a figure is read with (docs/timing.md): PREEMPT_RT or not, the machine's load.
   read_load_average(g_load_at_start, sizeof g_load_at_start);
   (void)std::printf("preempt_rt: %s\n", kernel_is_preempt_rt() ? "yes" : "no");
@@ -488,6 +508,7 @@ struct WcetOptions {
   const WcetScenarioSpec* scenario{nullptr};
   const char* out_dir{nullptr};
   bool plot{false};
+  bool real_time{true};  // --scheduling rt (SCHED_FIFO, pinned) or normal
 };
 
 // bench wcet's options, checked. 0, or the exit status of the refusal.
@@ -514,6 +535,9 @@ int parse_wcet_options(const ParsedArgs& args, WcetOptions& options) noexcept {
   options.scenario = scenario;
   options.out_dir = args.value("out") != nullptr ? args.value("out") : "/tmp/rescue-wcet";
   options.plot = !args.has("no-plot");
+  const char* scheduling = args.value("scheduling") != nullptr ? args.value("scheduling") : "rt";
+  options.real_time = std::strcmp(scheduling, "rt") == 0;
+  if (!options.real_time && std::strcmp(scheduling, "normal") != 0) return fail("bench", "wcet: --scheduling must be rt or normal");
   return 0;
 }
 
@@ -732,6 +756,12 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   const ecat::RecoveryStats& recovery = rig.bus->master().recovery_stats();
   (void)std::printf("master_recoveries: %u slaves recovered, %u attempts failed, %u refused\n", static_cast<unsigned>(recovery.recovered),
                     static_cast<unsigned>(recovery.failed), static_cast<unsigned>(recovery.refused));
+  (void)std::printf("damaged_frames: %" PRIu64 " (lost at the master, broken FCS)\n", rig.driver->damaged_frames());
+  const ecat::MailboxStats& mailbox = rig.bus->master().mailbox().stats();
+  (void)std::printf("mailbox_timeouts: %" PRIu64 "\n", mailbox.timeouts);
+  (void)std::printf("mailbox_repeat_requests: %" PRIu64 "\n", mailbox.repeat_requests);
+  (void)std::printf("mailbox_rewrites: %" PRIu64 "\n", mailbox.rewrites);
+  (void)std::printf("mailbox_repeats_dropped: %" PRIu64 "\n", mailbox.duplicates_dropped);
   (void)std::printf("periods_every_joint_enabled: %" PRIu64 "\n", figures.periods_all_enabled);
   (void)std::printf("periods_with_lost_joints: %" PRIu64 "\n", figures.periods_with_lost);
   print_end_state(*rig.manager, *rig.bus, rig.robot->segment(), figures.last_out);
@@ -752,7 +782,7 @@ int bench_wcet(const ParsedArgs& args) noexcept {
   const int ready = check_wcet_prerequisites(options.plot, options.out_dir, script, sizeof script, out);
   if (ready != 0) return ready;
   print_bench_header(stdout, "wcet");
-  apply_and_print_conditions();
+  apply_and_print_conditions(options.real_time);
 
   static WcetRig rig;
   const int wired = wire_wcet_tasks(options, rig);

@@ -28,7 +28,7 @@ void read_load_average(char* out, std::size_t size) noexcept {
   (void)std::fclose(loadavg);
 }
 
-void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_start, bool rt_applied) noexcept {
+void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_start, bool real_time, bool rt_applied) noexcept {
   utsname system{};
   const bool have_uname = ::uname(&system) == 0;
   char load_at_end[64];
@@ -39,7 +39,8 @@ void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_s
                       "kernel %s, PREEMPT_RT %s, %ld CPUs online, load average (1 5 15 min) %s at start, %s at end, "
                       "real-time set-up %s, real-time throttling %s (rested 10 ms every 100 ms)",
                       have_uname ? system.release : "n/a", kernel_is_preempt_rt() ? "yes" : "no", ::sysconf(_SC_NPROCESSORS_ONLN),
-                      load_at_start, load_at_end, rt_applied ? "applied (SCHED_FIFO, CPU pinned, memory locked)" : "not all applied (see rt: lines)", throttle);
+                      load_at_start, load_at_end, !real_time ? "normal scheduling (--scheduling normal: no SCHED_FIFO, no CPU pinning)"
+                      : rt_applied ? "applied (SCHED_FIFO, CPU pinned, memory locked)" : "not all applied (see rt: lines)", throttle);
 }
 
 }  // namespace rescue::app

@@ -13,7 +13,8 @@ namespace rescue::app {
 void read_load_average(char* out, std::size_t size) noexcept;
 
 // "kernel R, PREEMPT_RT yes|no, N CPUs online, load average A at start, B at end, real-time set-up S"
-// into `out`; `load_at_start` as read_load_average gave it, `rt_applied` from the rt: lines.
-void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_start, bool rt_applied) noexcept;
+// into `out`; `load_at_start` as read_load_average gave it, `real_time` false for --scheduling normal,
+// `rt_applied` from the rt: lines.
+void describe_wcet_conditions(char* out, std::size_t size, const char* load_at_start, bool real_time, bool rt_applied) noexcept;
 
 }  // namespace rescue::app

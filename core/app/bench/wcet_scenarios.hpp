@@ -17,8 +17,9 @@
 //             joint manager's heaviest period: a burst of the parser's commands while every joint
 //             is monitored), after the others sent at random as in recovery; the message parser's
 //             whole budget of requests in one period (an initialize of every joint while every
-//             joint is initialised, each answered at once), early and after each loss; every
-//             service busy
+//             joint is initialised, each answered at once), early and after each loss; while
+//             joints are down, a frame damaged on a random drive's cable in 1 of 40 periods (the
+//             recovery's mailbox steps lose frames and are asked again); every service busy
 //   mixed     typical for the first half of the periods, recovery and services for the second (the
 //             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)
@@ -50,6 +51,7 @@ struct WcetStress {
   bool pdo_rewrites{false};  // every drive's PDO mapping left wrong before each power cycle
   bool burst{false};         // after every other power cycle, the re-initialise of every joint held until every joint is back
   bool repeated_requests{false};  // the parser's budget of requests in one period, each answered at once (all joints unchanged)
+  bool damaged_frames{false};     // while joints are down, a frame damaged on a random drive's cable in 1 of 40 periods
 };
 WcetStress wcet_stress(WcetScenario scenario, std::int64_t k, std::int64_t periods) noexcept;
 

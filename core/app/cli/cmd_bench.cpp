@@ -33,7 +33,7 @@ const OptionSpec kOptions[] = {
     {"cold-start", "yes|no", "master: also measure a bring-up without static drift compensation and, on sim, a bring-up with the SII cache warm (default yes); no: bring-up and the cycles only, as SOEM's test program"},
     {"seed", "S", "master, sim, periods, wcet: seed of the simulated robot's clocks and delays, and of wcet's random gaps (default 1)"},
     {"motion", "hold|move|both", "sim: the joints held, moving, or both runs (default both)"},
-    {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the master's receive wait (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only)"},
+    {"scheduling", "rt|normal", "master: rt = the EtherCAT task's SCHED_FIFO 80 on CPU 1 with the master's receive wait (default); normal = default scheduler, any CPU, no spin (as SOEM's test program runs; for comparisons only); wcet: rt = the measuring thread's SCHED_FIFO 80 pinned to a CPU (default); normal = neither (for toolchain/wcet/instructions.sh under callgrind, which is ~50x slower and would hold a CPU at FIFO for minutes)"},
     {"receive-wait", "spin|adaptive|sleep", "master (raw NIC, rt): how the socket waits for the frame: spin up to --receive-spin-us then sleep; adaptive = sleep through the learnt round trip, spin from 20 us before it; sleep = at once (default)"},
     {"receive-spin-us", "US", "master (raw NIC, rt): the receive spin's limit in us (default 150)"},
     {"periods", "N", "rc: timed samples per kernel and RC periods (default 20000); fig4: periods per case (default 5000); wcet: measured periods per task (default 20000, 2500 with --short)"},
@@ -68,7 +68,7 @@ const Bench kBenches[] = {
     {"fig4", bench_fig4, "the paper's Fig. 4: EtherCAT handler and RC task at 1 kHz under load, without and with Table I affinity; CSV, PNG, summary",
      "periods load out plot-script no-plot"},
     {"wcet", bench_wcet, "pWCET per real-time task on its worst path (--scenario): per-period times on the simulated robot in virtual time, i.i.d. tests, GEV fit, pWCET at 1e-9 and 1e-12 with their interval or a refusal, plot, the budget against Table I; exit 2 refused, 3 over budget",
-     "periods scenario block short seed out no-plot"},
+     "periods scenario block short seed out no-plot scheduling"},
 };
 
 const Bench* find_bench(const char* name) noexcept {

@@ -2,10 +2,12 @@
 // toolchain/check.sh on the release build): on the worst-path scenario every task gets either a pWCET
 // (a number, its budget judged) or a refusal naming the failed test (every pWCET n/a), and the exit
 // status says which (0 all given and within, 2 refused, 3 over budget); the worst path was driven
-// (every slave power-cycled and recovered, the cable into the first slave cut and repaired, SDO transfers, the socket handler's budget of operator
+// (every slave power-cycled and recovered, the cable into the first slave cut and repaired, frames damaged
+// while joints are down with no recovery attempt failed, SDO transfers, the socket handler's budget of operator
 // datagrams every period) with no heap after init, and the samples written; the conditions (kernel,
 // PREEMPT_RT, CPUs, load) are printed with the figures and a refused task's summary says n/a and why. A run whose first half is typical and second half recovery and services (`--scenario mixed`) is refused by
-// the identical-distribution test. It checks the method and the refusal, not the bound.
+// the identical-distribution test. It checks the method and the refusal, not the bound. An unknown
+// scenario or --scheduling value (rt or normal) is refused with a clear message.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -52,6 +54,10 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
   EXPECT_GE(std::atoi(value_of(out, "cable_cuts_repaired").c_str()), 1) << out;
   EXPECT_GE(std::atoi(value_of(out, "recoveries_to_every_joint_enabled").c_str()), 1) << "the worst path ran to its end: " << out;
   EXPECT_GT(std::atoi(value_of(out, "sdo_transfers").c_str()), 100) << out;
+  EXPECT_GE(std::atoi(value_of(out, "damaged_frames").c_str()), 1) << out;
+  EXPECT_NE(value_of(out, "master_recoveries").find(", 0 attempts failed,"), std::string::npos)
+      << "the lost mailbox frames asked again: " << out;
+  EXPECT_FALSE(value_of(out, "mailbox_repeat_requests").empty()) << out;
   EXPECT_EQ(value_of(out, "socket_handler_max_datagrams_per_wakeup"), "64 (its budget 64)") << out;
   const std::string conditions = value_of(out, "conditions");
   for (const char* part : {"kernel ", "PREEMPT_RT ", " CPUs online", "load average (1 5 15 min) "}) {
@@ -100,6 +106,12 @@ TEST(BenchWcet, AnUnknownScenarioIsRefusedWithTheKnownOnes) {
   const test::CommandOutput run = test::run_command("'" + kProgram + "' bench wcet --scenario calm --out /tmp 2>&1");
   EXPECT_EQ(run.exit_status, 1) << run.out;
   EXPECT_NE(run.out.find("unknown scenario 'calm' (known: typical recovery services worst mixed)"), std::string::npos) << run.out;
+}
+
+TEST(BenchWcet, AnUnknownSchedulingIsRefused) {
+  const test::CommandOutput run = test::run_command("'" + kProgram + "' bench wcet --scheduling fifo --out /tmp 2>&1");
+  EXPECT_EQ(run.exit_status, 1) << run.out;
+  EXPECT_NE(run.out.find("wcet: --scheduling must be rt or normal"), std::string::npos) << run.out;
 }
 
 }  // namespace
