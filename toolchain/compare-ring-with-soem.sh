@@ -96,4 +96,13 @@ for ((r = 1; r <= runs; r++)); do
   echo "run${r}_rescue_ring_reports: $(grep -c "ethercat: ring" "$tmp/ours.out" || true)"
   grep "ethercat: ring" "$tmp/ours.out" | sed "s/^/run${r}_rescue_ring_report: /" || true
   grep -E "bring-up failed" "$tmp/ours.out" | sed "s/^/run${r}_rescue_/" || true
+  late=$(grep -oE "frames late or lost: [0-9]+" "$tmp/ours.out" | awk '{print $5}' || true)
+  echo "run${r}_rescue_frames_late_or_lost: ${late:-n/a}"
+  repeats=$(grep -oE "^ring_repeats: [0-9]+" "$tmp/ours.out" | awk '{print $2}' || true)
+  echo "run${r}_rescue_ring_repeats: ${repeats:-n/a}"
+  # Every run's output is kept (the last run's also under the names without the run's number).
+  if [[ -n ${KEEP_OUTPUT:-} ]]; then
+    cp "$tmp/ours.out" "$KEEP_OUTPUT/run${r}-ours.out" 2>/dev/null || true
+    cp "$tmp/soem.out" "$KEEP_OUTPUT/run${r}-soem.out" 2>/dev/null || true
+  fi
 done
