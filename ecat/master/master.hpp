@@ -82,6 +82,7 @@ class Master {
   void use_ring(hal::Nic& ring) noexcept {
     ring_port_.attach(ring);
     ring_port_.stamp_for(&ring_dc_);
+    main_port_.stamp_sends();
     link_.set_ring(&ring_port_);
   }
   // The ring's state (RingState::none without a ring NIC) and its changes, each reported once.
@@ -90,7 +91,7 @@ class Master {
   // DC across a break: what the ring copy gives the clocks behind it (ring_dc_service.hpp).
   const RingDcStatus& ring_dc_status() const noexcept { return ring_dc_.status(); }
   // How long the sends of each port took (StampedPort): the part of a frame's departure the master
-  // cannot see, which bounds the DC error across a break over a real link.
+  // cannot see, which bounds the DC error across a break over a real link. Counted with a ring only.
   const StampedPort::SendDurations& send_durations(bool ring_port) const noexcept {
     return ring_port ? ring_port_.send_durations() : main_port_.send_durations();
   }

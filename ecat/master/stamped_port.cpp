@@ -7,6 +7,7 @@
 namespace rescue::ecat {
 
 Status StampedPort::send(ConstByteSpan frame) noexcept {
+  if (!stamping_) return inner_->send(frame);
   if (ring_dc_ == nullptr || !ring_dc_->patches_ring_copies() || frame.size() > buffer_.size()) {
     last_sent_at_ = inner_->clock().now();
     const Status sent = inner_->send(frame);

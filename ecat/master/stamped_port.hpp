@@ -26,8 +26,14 @@ class StampedPort final : public hal::Nic {
   explicit StampedPort(hal::Nic& inner) noexcept : inner_(&inner) {}
 
   void attach(hal::Nic& inner) noexcept { inner_ = &inner; }
-  // The ring port: frames go through `ring_dc` (RingDcService::before_ring_send) before they leave.
-  void stamp_for(RingDcService* ring_dc) noexcept { ring_dc_ = ring_dc; }
+  // Only a ring needs the stamps (DC across a break): without one the port is a plain pass-through,
+  // so a tree master's cycle reads no extra clock. The main port of a ring master stamps its sends.
+  void stamp_sends() noexcept { stamping_ = true; }
+  // The ring port: stamps, and frames go through `ring_dc` (RingDcService::before_ring_send) before they leave.
+  void stamp_for(RingDcService* ring_dc) noexcept {
+    ring_dc_ = ring_dc;
+    stamping_ = true;
+  }
 
   Status send(ConstByteSpan frame) noexcept override;
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
@@ -38,7 +44,8 @@ class StampedPort final : public hal::Nic {
   hal::NicStats stats() const noexcept override { return inner_->stats(); }
   Result<hal::Nanoseconds> last_receive_time() const noexcept override { return inner_->last_receive_time(); }
 
-  // The clock just before the last frame was handed to the NIC; 0 before the first.
+  // The clock just before the last frame was handed to the NIC; 0 before the first (or never, on a
+  // port that does not stamp).
   hal::Nanoseconds last_sent_at() const noexcept { return last_sent_at_; }
   // How long the NIC's send took (clock after minus clock before): over a raw socket the kernel
   // stamps the frame somewhere in between, so this bounds what the stamp above cannot know.
@@ -53,6 +60,7 @@ class StampedPort final : public hal::Nic {
  private:
   hal::Nic* inner_{nullptr};
   RingDcService* ring_dc_{nullptr};
+  bool stamping_{false};
   hal::Nanoseconds last_sent_at_{0};
   SendDurations durations_{};
   void count_send(hal::Nanoseconds began) noexcept;
