@@ -141,27 +141,30 @@ class RingCuts : public RingOverVeth {
 
   // kCyclesPerStep moving cycles: the 0x092C figures of that half, and its clock samples asked.
   // `behind_from`: the first position behind the break (kSlaveCount: none).
+  // One register read is in flight at a time, and it can outlive the half that asked it (a late
+  // copy sends it again next frame): it is then taken in the next half and its figure dropped, as
+  // it belongs to the other half. Left untaken, the master would refuse every later read.
   ClockFigures run_step(std::size_t behind_from) {
     ClockFigures f;
     ecat::Master& master = bus_->master();
-    std::size_t next_read = 0;
-    bool reading = false;
+    ++step_;
     for (int i = 0; i < kCyclesPerStep; ++i) {
       if (i % kClockSampleEvery == kClockSampleEvery - 1) f.clock_tags.push_back(ask_clocks());
-      if (i >= kSettleCycles && !reading) {
-        reading = master.request_register_read(next_read, ecat::reg::kDcSystemTimeDifference, 4);
+      if (i >= kSettleCycles && !reading_) {
+        reading_ = master.request_register_read(next_read_, ecat::reg::kDcSystemTimeDifference, 4);
+        read_step_ = step_;
       }
       (void)moving_cycle();
       ecat::RegisterReadResult read;
-      if (reading && master.take_register_read(read)) {
-        reading = false;
-        if (read.status == ecat::RegisterReadStatus::ok) {
+      if (reading_ && master.take_register_read(read)) {
+        reading_ = false;
+        if (read.status == ecat::RegisterReadStatus::ok && read_step_ == step_) {
           const std::uint32_t difference = load_le32(read.data.data()) & 0x7FFFFFFFU;
           ++f.difference_reads;
           f.max_difference = std::max(f.max_difference, difference);
           if (read.position >= behind_from) f.max_difference_behind = std::max(f.max_difference_behind, difference);
         }
-        next_read = (next_read + 1) % kSlaveCount;
+        next_read_ = (next_read_ + 1) % kSlaveCount;
       }
     }
     return f;
@@ -179,6 +182,10 @@ class RingCuts : public RingOverVeth {
   }
 
   int clock_tag_{0};
+  int step_{0};                 // halves run so far
+  bool reading_{false};         // a register read asked and not yet taken
+  int read_step_{0};            // ... asked in this half
+  std::size_t next_read_{0};    // the slave whose 0x092C is read next
   std::uint64_t move_cycle_{0};
   std::array<std::int32_t, kJointCount> hold_{};
   std::array<std::int32_t, kJointCount> lowest_{};
