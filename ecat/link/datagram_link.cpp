@@ -39,7 +39,7 @@ Result<FrameView> DatagramLink::exchange(const ExchangeDeadlines& deadlines) noe
 
 ExchangeDeadlines DatagramLink::after_held_sends(const ExchangeDeadlines& deadlines, hal::Nanoseconds now) noexcept {
   if (deadlines.period <= 0 || now < deadlines.receive) return deadlines;
-  // The host held the master in its sends (over veth: the main copy's send returned 0.2-1.3 ms late
+  // The host held the master in its sends (over veth: the main copy's send returned 74-829 us late
   // in the cycle a fault command fell in) until past the receive deadline: the copies left late, and
   // a repeat would not fit before the next period's send. Their time moves on by whole periods: the
   // next send is missed only if they are not back before it (the caller skips the periods passed).

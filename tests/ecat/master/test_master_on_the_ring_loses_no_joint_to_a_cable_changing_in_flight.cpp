@@ -34,8 +34,8 @@ enum class FirstCopy { main, ring };
 // Mbit/s and 21 slaves), early enough for it to come back before the next period's send.
 // Or the host holds the master between its two sends (the main copy out, the ring copy not yet) for
 // kHoldBetweenSends, the change falling in that hold: as over veth, where the main copy's send
-// returned 0.2-1.3 ms late in the cycle a fault command fell in (`compare-ring-with-soem.sh`), so
-// that both first copies were back only past the repeat limit, the next period's send already due.
+// returned 74-829 us late in the cycle a fault command fell in (`compare-ring-with-soem.sh`; such an
+// exchange took up to 1.37 ms), so that both first copies were back only past the repeat limit.
 enum class HostHold { none, until_near_the_deadline, between_the_sends };
 constexpr hal::Nanoseconds kHostHoldEnd = 80 * hal::kNsPerUs;
 constexpr hal::Nanoseconds kHoldBetweenSends = 1300 * hal::kNsPerUs;
