@@ -57,9 +57,13 @@ struct StreamOutcome {
 // A cyclic exchange's deadlines (NIC clock). Its copies are waited for until `receive`. A repeat
 // after a ring change in flight (redundant links only) is sent when the first copies show it before
 // `repeat_limit` (taken as at least `receive`), and its copies are waited for until `repeat_limit`.
+// `period` (0: none) is the cycle's, for a host that held the master in its sends (redundant links
+// only): sent past `receive`, both deadlines move on by whole periods (the caller skips the periods
+// the exchange runs past), so that a ring change that fell between the two sends is still repeated.
 struct ExchangeDeadlines {
   hal::Nanoseconds receive{0};
   hal::Nanoseconds repeat_limit{0};
+  hal::Nanoseconds period{0};
 };
 
 // SOEM's EC_TIMEOUTRET: how long its ec_receive_processdata waits for a frame (for comparisons).
@@ -156,6 +160,8 @@ class DatagramLink {
   // The time to keep for a repeat of the frame sent (0: none seen of its length yet), and the record of round trips.
   hal::Nanoseconds repeat_reserve() const noexcept;
   void note_round_trip(hal::Nanoseconds round_trip) noexcept;
+  // `deadlines` as they stand once the frame is sent at `now` (ExchangeDeadlines::period).
+  static ExchangeDeadlines after_held_sends(const ExchangeDeadlines& deadlines, hal::Nanoseconds now) noexcept;
   // await_copies, and the repeat when the ring closed while the frame was in flight.
   Result<FrameView> await_merged(const ExchangeDeadlines& deadlines) noexcept;
   Result<FrameView> repeat_after_repair(const FrameView& first, const ExchangeDeadlines& deadlines) noexcept;

@@ -39,7 +39,7 @@ ExchangeDeadlines Master::cycle_deadlines(hal::Nanoseconds sent_at) const noexce
   hal::Nanoseconds deadline = next_send - options_.cycle_receive_guard;
   deadline = std::min(deadline, sent_at + options_.cycle_time);
   deadline = std::max(deadline, sent_at + options_.cycle_receive_timeout);
-  return ExchangeDeadlines{deadline, std::max(deadline, next_send - options_.cycle_repeat_guard)};
+  return ExchangeDeadlines{deadline, std::max(deadline, next_send - options_.cycle_repeat_guard), options_.cycle_time};
 }
 
 CycleResult Master::cycle() noexcept {
