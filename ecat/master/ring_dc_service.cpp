@@ -180,13 +180,12 @@ void RingDcService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept 
     return;
   }
   if (tag == kOffsetTag) return;  // the island reference's time tells
-  const std::size_t position = tag & 0x3FU;
-  if ((tag & kWayTag) != 0 && position < kMaxSlaves) {
-    if (d.wkc() != 0) ways_to_write_ &= ~slave_bit(position);
+  if (tag >= kWayTag && tag < kWayTag + kMaxSlaves) {
+    if (d.wkc() != 0) ways_to_write_ &= ~slave_bit(tag - kWayTag);
     return;
   }
-  if ((tag & kRestoreTag) != 0 && position < kMaxSlaves) {
-    if (d.wkc() != 0) status_.ways_set &= ~slave_bit(position);  // the main copy reached it: restored
+  if (tag >= kRestoreTag && tag < kRestoreTag + kMaxSlaves) {
+    if (d.wkc() != 0) status_.ways_set &= ~slave_bit(tag - kRestoreTag);  // the main copy reached it: restored
     return;
   }
   if (tag == kLatchTag) {

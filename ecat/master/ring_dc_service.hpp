@@ -6,7 +6,8 @@
 // clock (the island reference: the first DC slave behind the break) within the ring copy:
 //   1. latch   the first frame after the ring opens (or the break moves) carries a BWR of 0x0900:
 //              each slave latches the time the copy that processed it passed its processing unit;
-//   2. read    FPRD 0x0918..0x092B of every DC slave behind the break (as many a cycle as fit):
+//   2. read    FPRD 0x0918..0x092B of the reference and of every DC slave behind the break (as
+//              many a cycle as fit):
 //              receive time (local), system time offset, delay. Local + offset is the system time
 //              of the passage, so passage_j - passage_island is the ring copy's way from the island
 //              reference to slave j in the clocks' own time (they agree when the ring opens), both
@@ -28,10 +29,10 @@
 // times the break's duration. It is steered slowly, by its system time offset (0x0920: a phase move
 // of exactly the step written, no host delay in it), from the difference between its time in the
 // ring copy and the reference's in the main copy, less the stamped spacing of the two sends. That
-// difference carries the two copies' host transit times (over veth 1.5-232 us apart from frame to
-// frame), so it is filtered, held against its mean over the first cycles of the break (its bias,
-// the transit difference on average, cannot be told from a phase), and acted on only when its
-// drift from that mean stands out of the noise seen over those cycles (steer()). With quiet copies
+// difference carries the two copies' host transit times (over veth 1.4-468 us apart from frame to
+// frame, its mean wandering), so it is held against its mean over the first cycles of the break
+// (its bias, the transit difference on average, cannot be told from a phase), filtered, and only
+// what lies beyond a dead band of a few of its deviations is steered (steer()). With quiet copies
 // (virtual time) the loop follows a crystal's step; over veth it seldom acts and the island
 // reference runs free.
 // The reference behind the break (the master cable cut) is the island reference: the island then
@@ -57,8 +58,8 @@ enum class RingDcPhase : std::uint8_t { idle, latch, read, island };
 // What the service did (tests and docs read it).
 struct RingDcStatus {
   RingDcPhase phase{RingDcPhase::idle};
-  std::uint8_t after{kRingPort};  // the break the leads are for: the first slave the ring port reaches
-  SlaveMask written{0};            // slaves given the island reference's time by the ring copy
+  std::uint8_t after{kRingPort};  // the break the island is for: the first slave the ring port reaches
+  SlaveMask written{0};            // the island: DC slaves behind the break, its reference among them
   std::uint8_t island_reference{kMaxSlaves};  // its position (kMaxSlaves: none)
   bool reference_behind_break{false};
   std::uint64_t calibrations{0};   // latch-and-read rounds completed
@@ -95,6 +96,7 @@ class RingDcService final : public CyclicService {
   static constexpr std::uint8_t kOffsetTag = 0xFB;
   static constexpr std::uint8_t kWayTag = 0x40;      // | position
   static constexpr std::uint8_t kRestoreTag = 0x80;  // | position
+  static_assert(kMaxSlaves < 0x40, "a position fits beside the way and restore tags");
   // FPRD 0x0918..0x092B: receive time of the processing unit (u64), offset (u64), delay (u32).
   static constexpr std::uint16_t kReadLength = 20;
 
