@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/base/endian.hpp"
+
 namespace rescue::ecat {
 namespace {
 
@@ -17,7 +19,8 @@ bool carries(const FrameView& sent, const FrameView& copy) noexcept {
     const DatagramView dc = *c;
     if (ds.length() != dc.length() || ds.index() != dc.index()) return false;
     if (dc.command() == ds.command() || dc.command() == Command::NOP) continue;
-    if (!is_ring_side_time_write(ds.command(), ds.address()) || dc.command() != Command::FPWR) return false;
+    if (is_ring_side_time_write(ds.command(), ds.address()) && dc.command() == Command::FPWR) continue;
+    if (!is_island_time_read(ds.command(), ds.address()) || dc.command() != Command::FRMW) return false;
   }
   return true;
 }
@@ -36,6 +39,10 @@ Result<std::size_t> make_ring_copy(ConstByteSpan main, ByteSpan out) noexcept {
     const Command command = d.command();
     if (main_port_only(command)) d.raw()[0] = static_cast<std::uint8_t>(Command::NOP);
     if (is_ring_side_time_write(command, d.address())) d.raw()[0] = static_cast<std::uint8_t>(Command::FPWR);
+    if (is_island_time_read(command, d.address())) {
+      d.raw()[0] = static_cast<std::uint8_t>(Command::FRMW);
+      store_le16(d.raw() + 4, reg::kDcSystemTime);  // the ADO: command, index, ADP before it
+    }
   }
   return main.size();
 }

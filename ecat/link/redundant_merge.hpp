@@ -12,7 +12,10 @@
 //     the main frame (no slave acts on a NOP) is, in the ring copy, an FPWR of that register with
 //     the NOP's data. It feeds the clock of a slave behind a break, which only the ring copy
 //     processes (DC across a break: ecat/master/ring_dc_service.hpp); with the ring closed the ring
-//     copy processes no slave, so the write is void, whatever the state was when it was built.
+//     copy processes no slave, so the write is void, whatever the state was when it was built;
+//   - its island time reads go as FRMW: a NOP addressed to a station's 0x0918 in the main frame is,
+//     in the ring copy, an FRMW of that station's 0x0910: the first clock behind a break gives its
+//     time to the clocks after it within the ring copy, as the reference's FRMW does on the main path.
 //
 // The merge, per datagram:
 //   working counter = main copy's + ring copy's (saturating at 0xFFFF);
@@ -55,6 +58,17 @@ constexpr std::uint32_t ring_side_time_write_address(std::uint16_t station) noex
 }
 constexpr bool is_ring_side_time_write(Command command, std::uint32_t address) noexcept {
   return command == Command::NOP && address_ado(address) == reg::kDcSystemTime;
+}
+
+// The island time read of `station` (the first clock behind a break): a NOP at the station's
+// kIslandTimeMark in the main frame, an FRMW of its 0x0910 (8 bytes) in the ring copy. The mark is a
+// register no FRMW goes to, so the NOP is told apart from a ring-side time write.
+constexpr std::uint16_t kIslandTimeMark = reg::kDcReceiveTimeEpu;
+constexpr std::uint32_t island_time_read_address(std::uint16_t station) noexcept {
+  return make_address(station, kIslandTimeMark);
+}
+constexpr bool is_island_time_read(Command command, std::uint32_t address) noexcept {
+  return command == Command::NOP && address_ado(address) == kIslandTimeMark;
 }
 
 // Writes the ring copy of `main` (a whole frame, as sent on the main NIC) into `out`; its length.

@@ -56,6 +56,7 @@
 #include "ecat/master/ring_service.hpp"
 #include "ecat/master/slave_record.hpp"
 #include "ecat/master/slave_state_service.hpp"
+#include "ecat/master/stamped_port.hpp"
 #include "ecat/sii/sii_reader.hpp"
 
 namespace rescue::ecat {
@@ -81,7 +82,7 @@ class Master {
   // before bring_up(), which then refuses a ring that does not close. `ring` shares the NIC's clock.
   void use_ring(hal::Nic& ring) noexcept {
     ring_port_.attach(ring);
-    ring_port_.stamp_for(&ring_dc_);
+    ring_port_.stamp_sends();
     main_port_.stamp_sends();
     link_.set_ring(&ring_port_);
   }

@@ -50,6 +50,7 @@ CycleResult Master::cycle() noexcept {
 
   FrameBuilder& builder = link_.begin();  // before index(): begin() takes the frame's index
   frame_.begin(builder, link_.index());
+  ring_dc_.add_before_reference(frame_);  // before the reference's FRMW (ring_dc_service.hpp)
   for_each_service([this](auto& service) { service.add_datagrams(frame_); });
   if (state_ == MasterState::op) {  // so that a frame back late can be told whole (LinkStats)
     std::uint32_t expected = 0;

@@ -1,5 +1,8 @@
-// DC across a break of the ring: latch, read, then the ring-side time writes every cycle.
+// DC across a break of the ring: latch, read, then the island's time from its first clock every cycle.
 #include "ecat/master/ring_dc_service.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 #include "core/base/endian.hpp"
 #include "ecat/codec/frame.hpp"
@@ -11,10 +14,30 @@ namespace {
 
 constexpr std::uint16_t kLatchLength = 4;
 constexpr std::uint16_t kTimeLength = 8;
+constexpr std::uint16_t kDelayLength = 4;  // 0x0928
+// Ways beyond this are not a ring's (its length is tens of microseconds): a bad read, dropped.
+constexpr std::uint64_t kMaxWayNs = 1'000'000;
+// The island reference's steering (RingDcService::steer): the cycles whose differences give the
+// baseline and the noise, the filter's weight, the loop's gain per cycle, the largest step, and how
+// far the filtered difference must stand from the baseline, in standard errors, before it is acted on.
+constexpr std::uint32_t kBaselineCycles = 32;
+constexpr double kFilterWeight = 1.0 / 16.0;
+constexpr double kGain = 1.0 / 16.0;
+constexpr double kMaxStepNs = 8.0;  // 8 ppm of slew at the 1 ms period
+constexpr double kClip = 3.0;       // a sample further than this many deviations from the filtered value is cut to it
+constexpr double kSignificance = 4.0;
+constexpr double kFloorNs = 5.0;  // below this nothing is steered (the simulator's ESC rounds to 1 ns)
 
 // The ring reaches slaves behind a break when it is open (or split) and the ring port reaches one.
 bool has_ring_side(const RingStatus& s) noexcept {
   return (s.state == RingState::open || s.state == RingState::lost) && s.after < kMaxSlaves;
+}
+
+std::size_t first_of(SlaveMask mask) noexcept {
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((mask & slave_bit(p)) != 0) return p;
+  }
+  return kMaxSlaves;
 }
 
 }  // namespace
@@ -22,9 +45,12 @@ bool has_ring_side(const RingStatus& s) noexcept {
 void RingDcService::reset() noexcept {
   status_ = RingDcStatus{};
   behind_ = 0;
+  island_ = 0;
   to_read_ = 0;
-  last_reference_ = 0;
-  anchor_reference_ = 0;
+  ways_to_write_ = 0;
+  island_reference_ = kMaxSlaves;
+  samples_ = 0;
+  pending_step_ = 0;
   reference_.set_reference_behind_break(false);
 }
 
@@ -32,24 +58,27 @@ void RingDcService::begin(std::uint8_t after) noexcept {
   status_.phase = RingDcPhase::latch;
   status_.after = after;
   status_.written = 0;
+  status_.island_reference = kMaxSlaves;
+  island_ = 0;
+  ways_to_write_ = 0;
+  island_reference_ = kMaxSlaves;
+  samples_ = 0;
+  pending_step_ = 0;
   const std::size_t reference = ctx_.reference_position();
   status_.reference_behind_break = reference < kMaxSlaves && reference >= after;
   reference_.set_reference_behind_break(status_.reference_behind_break);
   // The ring plan's positions are in processing order (drivers/joint/robot_ring_network_plan.hpp):
-  // the ring port reaches `after` and every position after it.
+  // the ring port reaches `after` and every position after it, in that order.
   behind_ = 0;
   const SlaveMask reachable = ctx_.dc_slaves & ctx_.present() & ~ctx_.monitor.out_of_exchange();
   for (std::size_t p = after; p < kMaxSlaves; ++p) {
-    if ((reachable & slave_bit(p)) != 0 && p != reference) behind_ |= slave_bit(p);
+    if ((reachable & slave_bit(p)) != 0) behind_ |= slave_bit(p);
   }
-  // The reads of the path change with it: the reference's time from before the change is not its
-  // time on the new path (it is read by another copy when it lies behind the break).
-  last_reference_ = 0;
 }
 
 void RingDcService::add_datagrams(CycleFrame& frame) noexcept {
-  frame_time_ = ctx_.now();
-  if (status_.phase == RingDcPhase::idle) return;
+  island_time_ = 0;
+  room_ = frame.remaining();
   switch (status_.phase) {
     case RingDcPhase::latch: {
       static constexpr std::array<std::uint8_t, kLatchLength> kZero{};
@@ -60,7 +89,7 @@ void RingDcService::add_datagrams(CycleFrame& frame) noexcept {
       break;
     }
     case RingDcPhase::read: add_reads(frame); break;
-    case RingDcPhase::write: add_writes(frame); break;
+    case RingDcPhase::island: add_island(frame); break;
     case RingDcPhase::idle: break;
   }
 }
@@ -74,34 +103,95 @@ void RingDcService::add_reads(CycleFrame& frame) noexcept {
   }
 }
 
-void RingDcService::add_writes(CycleFrame& frame) noexcept {
-  const std::uint64_t reference = predicted_reference();
-  if (reference == 0 || behind_ == 0) return;
-  // Round robin from where the last frame stopped, so that every slave is written when not all fit.
-  for (std::size_t n = 0; n < kMaxSlaves; ++n) {
-    const std::size_t p = (next_write_ + n) % kMaxSlaves;
-    if ((behind_ & slave_bit(p)) == 0) continue;
-    if (!frame.fits(kDatagramOverhead + kTimeLength)) {
-      next_write_ = p;
-      return;
+void RingDcService::add_before_reference(CycleFrame& frame) noexcept {
+  // What this service had last frame, restores included, less the island read and a margin.
+  const std::size_t budget = room_ + restore_bytes_;
+  restore_bytes_ = 0;
+  if (status_.ways_set == 0) return;
+  const SlaveMask present = ctx_.present();
+  const std::size_t each = kDatagramOverhead + kDelayLength;
+  const std::size_t needed = static_cast<std::size_t>(popcount(status_.ways_set)) * each;
+  if (budget < needed + kDatagramOverhead + kTimeLength + CycleFrame::kMailboxReserve + 2 * each ||
+      !frame.fits(needed)) {
+    ++status_.restores_skipped;
+    return;
+  }
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((status_.ways_set & slave_bit(p)) == 0) continue;
+    const SlaveMask up_to = slave_bit(p) | (slave_bit(p) - 1);
+    if ((present & up_to) != up_to) {  // a position would name another slave
+      ++status_.restores_skipped;
+      continue;
     }
-    std::array<std::uint8_t, kTimeLength> time{};
-    store_le64(time.data(), reference + static_cast<std::uint64_t>(lead_[p]));
-    if (frame.add(*this, kWriteTag, Command::NOP, ring_side_time_write_address(ctx_.plan[p].station_address), kTimeLength,
-                  ConstByteSpan(time.data(), time.size()))) {
-      ++status_.writes;
+    std::array<std::uint8_t, kDelayLength> delay{};
+    store_le32(delay.data(), delay_[p]);
+    if (frame.add(*this, static_cast<std::uint8_t>(kRestoreTag | p), Command::APWR,
+                  make_address(position_adp(static_cast<std::uint16_t>(p)), reg::kDcSystemTimeDelay), kDelayLength,
+                  ConstByteSpan(delay.data(), delay.size()))) {
+      restore_bytes_ += each;
     }
   }
-  next_write_ = 0;
+}
+
+void RingDcService::add_ways(CycleFrame& frame) noexcept {
+  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
+    if ((ways_to_write_ & slave_bit(p)) == 0) continue;
+    if (!frame.fits(kDatagramOverhead + kDelayLength)) return;
+    std::array<std::uint8_t, kDelayLength> way{};
+    store_le32(way.data(), way_[p]);
+    status_.ways_set |= slave_bit(p);  // from the send on: it may land even if its answer is lost
+    (void)frame.add(*this, static_cast<std::uint8_t>(kWayTag | p), Command::FPWR,
+                    make_address(ctx_.plan[p].station_address, reg::kDcSystemTimeDelay), kDelayLength,
+                    ConstByteSpan(way.data(), way.size()));
+  }
+}
+
+void RingDcService::add_island(CycleFrame& frame) noexcept {
+  if (island_reference_ >= kMaxSlaves) return;
+  if (ways_to_write_ != 0) {
+    add_ways(frame);
+    return;  // no island read before every way is set: a clock would compare with its main delay
+  }
+  if (pending_step_ != 0 && frame.fits(kDatagramOverhead + kTimeLength)) {
+    std::array<std::uint8_t, kTimeLength> offset{};
+    offset_now_ -= static_cast<std::uint64_t>(pending_step_);
+    store_le64(offset.data(), offset_now_);
+    if (frame.add(*this, kOffsetTag, Command::FPWR,
+                  make_address(ctx_.plan[island_reference_].station_address, reg::kDcSystemTimeOffset), kTimeLength,
+                  ConstByteSpan(offset.data(), offset.size()))) {
+      ++status_.steps;
+      status_.steered_ns -= pending_step_;
+    }
+    pending_step_ = 0;
+  }
+  if (!frame.fits(kDatagramOverhead + kTimeLength)) {
+    ++status_.island_skipped;
+    return;
+  }
+  if (frame.add(*this, kIslandTag, Command::NOP, island_time_read_address(ctx_.plan[island_reference_].station_address),
+                kTimeLength)) {
+    ++status_.island_reads;
+  }
 }
 
 void RingDcService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept {
-  if (tag == kWriteTag) return;  // no answer to act on: the written clock's 0x092C tells
+  if (tag == kIslandTag) {
+    if (d.wkc() != 0 && d.length() >= kTimeLength) island_time_ = load_le64(d.data().data());
+    return;
+  }
+  if (tag == kOffsetTag) return;  // the island reference's time tells
+  if (tag >= kWayTag && tag < kWayTag + kMaxSlaves) {
+    if (d.wkc() != 0) ways_to_write_ &= ~slave_bit(tag - kWayTag);
+    return;
+  }
+  if (tag >= kRestoreTag && tag < kRestoreTag + kMaxSlaves) {
+    if (d.wkc() != 0) status_.ways_set &= ~slave_bit(tag - kRestoreTag);  // the main copy reached it: restored
+    return;
+  }
   if (tag == kLatchTag) {
     if (status_.phase == RingDcPhase::latch && d.wkc() != 0) {
       status_.phase = RingDcPhase::read;
-      // The copies of the latch frame as they were sent (this frame's: its answer is being read).
-      latch_spacing_ = ring_port_.last_sent_at() > 0 ? ring_port_.last_sent_at() - reference_copy_sent_at() : 0;
+      latch_spacing_ = copy_spacing();
       const std::size_t reference = ctx_.reference_position();
       to_read_ = behind_ | (reference < kMaxSlaves ? slave_bit(reference) : 0);
     }
@@ -112,64 +202,88 @@ void RingDcService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept 
   if ((to_read_ & bit) == 0) return;
   to_read_ &= ~bit;
   if (d.wkc() == 0) {
-    behind_ &= ~bit;  // not reachable on the new path (a second break): nothing to write to
+    behind_ &= ~bit;  // not reachable on the new path (a second break): not in the island
     return;
   }
   const std::uint8_t* data = d.data().data();
   passage_[tag] = load_le64(data) + load_le64(data + 8);
+  offset_[tag] = load_le64(data + 8);
   delay_[tag] = load_le32(data + 16);
 }
 
 void RingDcService::finish_calibration() noexcept {
   const std::size_t reference = ctx_.reference_position();
-  if (reference >= kMaxSlaves) {
+  island_reference_ = status_.reference_behind_break ? reference : first_of(behind_);
+  if (reference >= kMaxSlaves || island_reference_ >= kMaxSlaves) {
     status_.phase = RingDcPhase::idle;
     return;
   }
-  const std::uint64_t reference_passage = passage_[reference];
-  for (std::size_t p = 0; p < kMaxSlaves; ++p) {
-    if ((behind_ & slave_bit(p)) == 0) continue;
-    lead_[p] = static_cast<std::int64_t>(passage_[p] - reference_passage) - static_cast<std::int64_t>(delay_[p]) -
-               latch_spacing_;
+  // With the reference as island reference the ways are the main path's delays: nothing rewritten.
+  rewrites_delays_ = island_reference_ != reference;
+  island_ = behind_ & ~slave_bit(island_reference_);
+  const std::uint64_t start = passage_[island_reference_];
+  for (std::size_t p = 0; p < kMaxSlaves && rewrites_delays_; ++p) {
+    if ((island_ & slave_bit(p)) == 0) continue;
+    const std::uint64_t way = passage_[p] - start;
+    if (passage_[p] < start || way > kMaxWayNs) {
+      island_ &= ~slave_bit(p);  // latched before the island reference: not the ring copy's order
+      ++status_.bad_ways;
+      continue;
+    }
+    way_[p] = static_cast<std::uint32_t>(way);
   }
+  ways_to_write_ = rewrites_delays_ ? island_ : 0;
+  expected_ = static_cast<std::int64_t>(passage_[island_reference_] - passage_[reference]) - latch_spacing_;
+  offset_now_ = offset_[island_reference_];
+  samples_ = 0;
+  baseline_sum_ = 0.0;
+  baseline_square_sum_ = 0.0;
+  status_.steps = 0;
+  status_.steered_ns = 0;
+  status_.noise_ns = 0;
+  status_.island_reference = static_cast<std::uint8_t>(island_reference_);
   status_.written = behind_;
-  status_.phase = RingDcPhase::write;
+  status_.phase = RingDcPhase::island;
   ++status_.calibrations;
-  next_write_ = 0;
 }
 
-double RingDcService::rate_excess() const noexcept {
-  // From the first read on: the longer the baseline, the less a frame's send jitter weighs in it.
-  const hal::Nanoseconds baseline = last_reference_at_ - anchor_at_;
-  if (baseline < kMinRateBaseline) return 0.0;
-  const auto advanced = static_cast<std::int64_t>(last_reference_ - anchor_reference_);
-  return static_cast<double>(advanced - baseline) / static_cast<double>(baseline);
+hal::Nanoseconds RingDcService::copy_spacing() const noexcept {
+  const hal::Nanoseconds main = main_port_.last_sent_at();
+  const hal::Nanoseconds ring = ring_port_.last_sent_at();
+  return main > 0 && ring > 0 ? ring - main : 0;
 }
 
-std::uint64_t RingDcService::predicted_reference() const noexcept {
-  if (last_reference_ == 0) return 0;
-  const hal::Nanoseconds elapsed = frame_time_ - last_reference_at_;
-  const auto excess = static_cast<std::int64_t>(static_cast<double>(elapsed) * rate_excess());
-  return last_reference_ + static_cast<std::uint64_t>(elapsed + excess);
-}
-
-hal::Nanoseconds RingDcService::reference_copy_sent_at() const noexcept {
-  const hal::Nanoseconds sent = status_.reference_behind_break ? ring_port_.last_sent_at() : main_port_.last_sent_at();
-  return sent > 0 ? sent : frame_time_;
-}
-
-void RingDcService::before_ring_send(ByteSpan frame, hal::Nanoseconds now) noexcept {
-  if (!patches_ring_copies() || last_reference_ == 0) return;
-  const hal::Nanoseconds waited = now - frame_time_;
-  if (waited == 0) return;
-  const auto shift = waited + static_cast<std::int64_t>(static_cast<double>(waited) * rate_excess());
-  const Result<MutableFrameView> view = MutableFrameView::parse(frame);
-  if (!view.ok()) return;
-  for (const MutableDatagramView d : view.value()) {
-    if (d.command() != Command::FPWR || d.ado() != reg::kDcSystemTime || d.length() != kTimeLength) continue;
-    const ByteSpan time = d.data();
-    store_le64(time.data(), load_le64(time.data()) + static_cast<std::uint64_t>(shift));
+// The difference is held against its mean over the first kBaselineCycles cycles (the copies' mean
+// transit difference, which no phase can be told from), filtered, and steered toward that mean only
+// by what lies beyond a dead band of kSignificance deviations: the loop does not chase the copies' jitter.
+void RingDcService::steer(std::int64_t difference) noexcept {
+  const auto x = static_cast<double>(difference);
+  if (samples_ < kBaselineCycles) {
+    baseline_sum_ += x;
+    baseline_square_sum_ += x * x;
+    ++samples_;
+    if (samples_ == kBaselineCycles) {
+      const auto n = static_cast<double>(kBaselineCycles);
+      baseline_ = baseline_sum_ / n;
+      noise_ = std::max(kFloorNs, std::sqrt(std::max(0.0, baseline_square_sum_ / n - baseline_ * baseline_)));
+      filtered_ = baseline_;
+      status_.noise_ns = static_cast<std::int64_t>(std::llround(noise_));
+    }
+    return;
   }
+  // The copies' outliers (a host stall of hundreds of microseconds) are cut, so that one of them
+  // does not carry the filter past the threshold for many cycles.
+  const double clipped = std::clamp(x, filtered_ - kClip * noise_, filtered_ + kClip * noise_);
+  filtered_ += (clipped - filtered_) * kFilterWeight;
+  const double deviation = filtered_ - baseline_;
+  // Over veth the copies' difference does not only jitter: its mean wanders by about its deviation
+  // over a break (measured, docs/redundancy.md), so the dead band is kSignificance deviations of
+  // the samples themselves, and only what lies beyond it is steered.
+  const double band = kSignificance * noise_;
+  const double beyond = std::fabs(deviation) - band;
+  if (beyond <= 0.0) return;
+  const double signed_beyond = deviation > 0.0 ? beyond : -beyond;
+  pending_step_ = static_cast<std::int64_t>(std::llround(std::clamp(signed_beyond * kGain, -kMaxStepNs, kMaxStepNs)));
 }
 
 void RingDcService::settle(CycleResult& /*result*/) noexcept {
@@ -178,23 +292,27 @@ void RingDcService::settle(CycleResult& /*result*/) noexcept {
     if (status_.phase != RingDcPhase::idle) {
       status_.phase = RingDcPhase::idle;
       status_.written = 0;
+      status_.island_reference = kMaxSlaves;
+      status_.steps = 0;
+      status_.steered_ns = 0;
+      status_.noise_ns = 0;
       behind_ = 0;
+      island_ = 0;
+      ways_to_write_ = 0;
       status_.reference_behind_break = false;
       reference_.set_reference_behind_break(false);
     }
   } else if (status_.phase == RingDcPhase::idle || ring.after != status_.after) {
     begin(ring.after);
   }
-  const std::uint64_t read = reference_.frame_reference_time();
-  if (read != 0) {
-    last_reference_ = read;
-    last_reference_at_ = reference_copy_sent_at();
-    if (anchor_reference_ == 0) {
-      anchor_reference_ = read;
-      anchor_at_ = last_reference_at_;
+  if (status_.phase == RingDcPhase::read && to_read_ == 0) {
+    finish_calibration();
+  } else if (status_.phase == RingDcPhase::island && rewrites_delays_ && island_time_ != 0) {
+    const std::uint64_t reference_time = reference_.frame_reference_time();
+    if (reference_time != 0) {
+      steer(static_cast<std::int64_t>(island_time_ - reference_time) - expected_ - copy_spacing());
     }
   }
-  if (status_.phase == RingDcPhase::read && to_read_ == 0) finish_calibration();
 }
 
 }  // namespace rescue::ecat

@@ -1,24 +1,18 @@
 // A master port (hal::Nic) that notes when it last sent a frame, the clock read just before the
 // send: the closest the master comes to the instant the frame left, after the frame was built and
-// whatever delayed the cycle between building and sending. On the ring port it also hands each
-// outgoing frame to RingDcService, which moves the ring-side time writes (DC across a break) to that
-// instant (docs/redundancy.md "DC across a break over veth": the error of a time written into a
-// frame is the jitter between the instant it was predicted for and the frame's passage).
+// whatever delayed the cycle between building and sending, and how long each send took: the host's
+// part of the two copies' departures (docs/redundancy.md "DC across a break over veth").
 // Everything else is passed through to the NIC underneath.
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
 
 #include "core/base/result.hpp"
 #include "core/base/span.hpp"
-#include "ecat/codec/frame.hpp"
 #include "hal/net/nic.hpp"
 
 namespace rescue::ecat {
-
-class RingDcService;
 
 class StampedPort final : public hal::Nic {
  public:
@@ -26,14 +20,9 @@ class StampedPort final : public hal::Nic {
   explicit StampedPort(hal::Nic& inner) noexcept : inner_(&inner) {}
 
   void attach(hal::Nic& inner) noexcept { inner_ = &inner; }
-  // Only a ring needs the stamps (DC across a break): without one the port is a plain pass-through,
-  // so a tree master's cycle reads no extra clock. The main port of a ring master stamps its sends.
+  // Only a ring needs the stamps (the host's part of the copies' departures): without one the port
+  // is a plain pass-through, so a tree master's cycle reads no extra clock.
   void stamp_sends() noexcept { stamping_ = true; }
-  // The ring port: stamps, and frames go through `ring_dc` (RingDcService::before_ring_send) before they leave.
-  void stamp_for(RingDcService* ring_dc) noexcept {
-    ring_dc_ = ring_dc;
-    stamping_ = true;
-  }
 
   Status send(ConstByteSpan frame) noexcept override;
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
@@ -59,12 +48,10 @@ class StampedPort final : public hal::Nic {
 
  private:
   hal::Nic* inner_{nullptr};
-  RingDcService* ring_dc_{nullptr};
   bool stamping_{false};
   hal::Nanoseconds last_sent_at_{0};
   SendDurations durations_{};
   void count_send(hal::Nanoseconds began) noexcept;
-  std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize> buffer_{};  // the frame as patched
 };
 
 }  // namespace rescue::ecat

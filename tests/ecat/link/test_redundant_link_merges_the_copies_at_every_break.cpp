@@ -3,10 +3,12 @@
 // closed and for a cut at every cable, every slave's working counter is counted exactly once and
 // every slave's data is in the merged frame; the copies come back on the NIC the ring's shape says;
 // position-addressed datagrams and FRMW never reach a slave through the ring port; a ring-side time
-// write (a NOP at a station's 0x0910) reaches its slave through the ring port only. Two cuts leave
+// write (a NOP at a station's 0x0910) reaches its slave through the ring port only, and an island
+// time read (a NOP at a station's 0x0918) is an FRMW in the ring copy only. Two cuts leave
 // exactly the slaves between them unanswered. Virtual time.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -143,6 +145,36 @@ TEST_F(RedundantLink, RingSideTimeWritesReachOnlyTheSlavesBehindTheBreak) {
       EXPECT_EQ(d.command(), Command::NOP) << "the merged frame carries the commands sent";
       EXPECT_EQ(link.copy_returns().counters.main[i], 0U) << "slave " << i << ": a NOP in the main copy";
       ++i;
+    }
+  }
+  EXPECT_EQ(link.stats().malformed, 0U);
+}
+
+// DC across a break, the island (ecat/master/ring_dc_service.hpp): the island time read is a NOP in
+// the main copy and an FRMW of 0x0910 in the ring copy, so the slaves the ring copy processes take
+// it (all of them: an FRMW is written by every slave it passes) and nobody with the ring closed.
+TEST_F(RedundantLink, IslandTimeReadsAreAnFrmwInTheRingCopyOnly) {
+  for (std::size_t cut = 0; cut <= kSlaves + 1; ++cut) {
+    const std::size_t cable = cut == kSlaves + 1 ? kClosed : cut;
+    SCOPED_TRACE(cable == kClosed ? std::string("closed") : "cable " + std::to_string(cable));
+    segment.restore_all();
+    if (cable != kClosed) segment.cut(cable);
+    std::array<unsigned, kSlaves> hits_before{};
+    for (std::size_t i = 0; i < kSlaves; ++i) hits_before[i] = segment.frmw_hits(i);
+    FrameBuilder& frame = link.begin();
+    const std::size_t first = cable == kClosed || cable >= kSlaves ? 0 : cable;
+    const auto station = static_cast<std::uint16_t>(TwoPortSegment::kStation0 + first);
+    ASSERT_TRUE(frame.add(Command::NOP, link.index(), island_time_read_address(station), 8).ok());
+    const Result<FrameView> back = link.exchange(segment.clock().now() + 100 * hal::kNsPerUs);
+    ASSERT_TRUE(back.ok());
+    const std::size_t behind = cable == kClosed ? 0 : kSlaves - cable;
+    const DatagramView d = *back.value().begin();
+    EXPECT_EQ(d.wkc(), behind);
+    EXPECT_EQ(d.command(), Command::NOP) << "the merged frame carries the commands sent";
+    EXPECT_EQ(link.copy_returns().counters.main[0], 0U) << "a NOP in the main copy";
+    for (std::size_t i = 0; i < kSlaves; ++i) {
+      const bool is_behind = cable != kClosed && i >= cable;
+      EXPECT_EQ(segment.frmw_hits(i) - hits_before[i], is_behind ? 1U : 0U) << "slave " << i;
     }
   }
   EXPECT_EQ(link.stats().malformed, 0U);
