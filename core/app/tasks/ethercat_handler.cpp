@@ -15,6 +15,21 @@ constexpr std::uint16_t kSwSwitchedOn = 0x0002;
 
 std::uint16_t saturate16(std::uint32_t v) noexcept { return v > 0xFFFFu ? std::uint16_t{0xFFFF} : static_cast<std::uint16_t>(v); }
 
+// The joint manager's demand is a record of the shared segment: a mode it never writes (it goes to
+// the drive's mode of operation as it is: profile velocity, homing...) or an enable byte other than
+// 0 and 1 is damage (a stray write, a bit flip). Positions are judged by the limit check (safe stop).
+bool demand_whole(const RobotDemand& demand) noexcept {
+  for (const JointDemand& d : demand) {
+    unsigned char enable = 0;
+    std::memcpy(&enable, &d.enable, 1);
+    const bool mode = d.mode == 0 || d.mode == static_cast<std::int8_t>(ControlMode::cyclic_position) ||
+                      d.mode == static_cast<std::int8_t>(ControlMode::cyclic_velocity) ||
+                      d.mode == static_cast<std::int8_t>(ControlMode::cyclic_torque);
+    if (enable > 1 || !mode) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 EthercatHandler::EthercatHandler(drivers::JointBus& bus, const EthercatHandlerPorts& ports, JointMask restored_lost,
@@ -38,7 +53,13 @@ void EthercatHandler::post(const HandlerEvent& event) noexcept {
 
 void EthercatHandler::build_outputs() noexcept {
   RobotDemand demand{};
-  if (ports_.demand->try_read(demand)) demand_ = demand;  // else keep the last one
+  if (ports_.demand->try_read(demand)) {  // else keep the last one
+    if (demand_whole(demand)) {
+      demand_ = demand;
+    } else {
+      ++damaged_demands_;  // kept the last whole one: the joint manager writes a new one every period
+    }
+  }
   const JointMask excluded = tracker_.excluded();
   // A joint without fresh inputs that was driven last period and that the master still holds in the
   // exchange (the frame came back late or not at all, or a short working counter is being probed)

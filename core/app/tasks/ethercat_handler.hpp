@@ -131,10 +131,15 @@ class EthercatHandler {
   std::uint64_t owners_released_after_watchdog() const noexcept { return owners_released_after_watchdog_; }
   // "Back after a power cycle" reports a full report queue could not take (no automatic clear then).
   std::uint64_t power_cycle_reports_dropped() const noexcept { return power_cycle_reports_dropped_; }
+  // Demands of the joint manager refused as damaged (a mode or enable byte it never writes): the
+  // last whole demand was kept.
+  std::uint64_t damaged_demands() const noexcept { return damaged_demands_; }
 
   const LostJointTracker& tracker() const noexcept { return tracker_; }
   drivers::JointBus& bus() noexcept { return bus_; }
   const RobotSample& sample() const noexcept { return sample_; }
+  // The outputs built last cycle, as sent to the drives (what a demand turned into).
+  const drivers::JointReferences& outputs() const noexcept { return outputs_; }
   // Cycles since OP whose frame came back but without valid inputs of joints of `joints`, summed
   // over the joints. With `joints` = the joints never lost, this is the "healthy branches miss no
   // cycle" figure.
@@ -172,6 +177,7 @@ class EthercatHandler {
   std::uint64_t events_dropped_{0};
   std::uint64_t owners_released_after_watchdog_{0};
   std::uint64_t power_cycle_reports_dropped_{0};
+  std::uint64_t damaged_demands_{0};
   std::uint64_t last_answer_cycle_{0};
   std::uint64_t frames_missing_{0};
   hal::Nanoseconds not_in_op_since_{-1};   // first cycle without OP (-1: none yet)

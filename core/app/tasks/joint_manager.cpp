@@ -16,6 +16,23 @@ bool valid_mode(ControlMode mode) noexcept {
          mode == ControlMode::cyclic_torque;
 }
 
+// A command is a record of the shared segment (the parser's queue): every field that names a
+// joint, a kind, an input, a mode or a step must be one the parser writes. Anything else is damage
+// (a stray write, a bit flip): the record is refused whole, never used.
+bool command_whole(const JointCommand& c) noexcept {
+  const bool kind = c.kind == JointCommandKind::dfa_input || c.kind == JointCommandKind::clear_lost ||
+                    c.kind == JointCommandKind::clear_lost_moved;
+  const bool input = static_cast<std::size_t>(c.input) < fsm::kJointInputCount;
+  const bool mode = c.mode == ControlMode::none || valid_mode(c.mode);
+  const bool steps = c.steps >= 1 && c.steps <= kMaxRequestSteps && c.step < c.steps;
+  return kind && input && mode && steps && (c.joints & ~kAllJoints) == 0;
+}
+
+// A report is a record of the segment too (the handler's queue): a joint beyond the robot is damage.
+bool report_whole(const LostJointsReport& r) noexcept {
+  return ((r.lost | r.back_after_power_cycle) & ~kAllJoints) == 0;
+}
+
 JointEvent event(JointEventKind kind, hal::Nanoseconds now) noexcept {
   JointEvent e;
   e.kind = kind;
@@ -258,6 +275,10 @@ void JointManager::note_returned_joints(hal::Nanoseconds now) noexcept {
 
 // Paper section IV-C, steps 1-5; the handler does step 6 when it reads the answer.
 void JointManager::handle_report(const LostJointsReport& report, hal::Nanoseconds now) noexcept {
+  if (!report_whole(report)) {
+    ++damaged_records_;
+    return;
+  }
   if (report.lost == 0) {
     // A drive back after a power cycle: cleared and reset (once it is seen reachable) only when
     // the configuration says so.
@@ -414,6 +435,10 @@ void JointManager::apply_command(const JointCommand& command, hal::Nanoseconds n
 }
 
 void JointManager::receive_command(const JointCommand& command, hal::Nanoseconds now) noexcept {
+  if (!command_whole(command)) {  // no outcome: its request id is not to be trusted either
+    ++damaged_records_;
+    return;
+  }
   if (!command.all_or_nothing || command.request == 0 || command.steps <= 1 || command.steps > kMaxRequestSteps) {
     batch_.clear();
     if (command.all_or_nothing && command.request != 0 && command.steps <= 1) {

@@ -135,6 +135,9 @@ class JointManager {
   const ErrorJointsContents& recorded() const noexcept { return recorded_; }
 
   std::uint32_t refused_commands() const noexcept { return refused_commands_; }
+  // Commands and lost-joint reports refused as damaged records of the segment (a kind, input, mode
+  // or step no writer writes, a joint beyond the robot): nothing applied, nothing recorded.
+  std::uint32_t damaged_records() const noexcept { return damaged_records_; }
   std::uint32_t file_writes() const noexcept { return file_writes_; }
   std::uint32_t file_write_failures() const noexcept { return file_write_failures_; }
   // The file does not hold yet what memory holds (a write in flight, failed, or not yet sent).
@@ -240,6 +243,7 @@ class JointManager {
   JointCommandOutcome deferred_outcome_{};
   bool outcome_deferred_{false};
   std::uint32_t refused_commands_{0};
+  std::uint32_t damaged_records_{0};
   std::uint32_t outcomes_deferred_{0};
   std::uint32_t file_writes_{0};
   std::uint32_t file_write_failures_{0};

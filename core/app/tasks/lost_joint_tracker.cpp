@@ -28,7 +28,14 @@ void LostJointTracker::on_cycle(std::uint64_t cycle, hal::Nanoseconds now, Joint
   // Step 6 (and operator clears): read the joint manager's notices.
   JointManagerNotice notice;
   for (std::size_t n = 0; n < kMaxNoticesPerCycle && notices_.try_receive(notice); ++n) {
-    const JointMask joints = notice.joints & kAllJoints;
+    // A record of the shared segment: an unknown kind or a joint beyond the robot is damage (a
+    // stray write, a bit flip), refused and counted; read as a clear it would command lost joints.
+    const bool known_kind = notice.kind == NoticeKind::lost_joints_recorded || notice.kind == NoticeKind::joints_cleared;
+    if (!known_kind || (notice.joints & ~kAllJoints) != 0) {
+      ++damaged_notices_;
+      continue;
+    }
+    const JointMask joints = notice.joints;
     if (notice.kind == NoticeKind::lost_joints_recorded) {
       confirmed_ |= joints & pending_;
       pending_ &= ~joints;

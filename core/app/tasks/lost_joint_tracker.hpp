@@ -45,6 +45,8 @@ class LostJointTracker {
 
   std::uint32_t reports_sent() const noexcept { return reports_sent_; }
   std::uint32_t reports_deferred() const noexcept { return reports_deferred_; }
+  // Notices refused as damaged (unknown kind, a joint beyond the robot): nothing changed by them.
+  std::uint32_t damaged_notices() const noexcept { return damaged_notices_; }
   // Whether the joint manager's last answer said the error-joints file holds the loss.
   Errc last_file_status() const noexcept { return last_file_status_; }
   std::uint64_t last_answer_cycle() const noexcept { return last_answer_cycle_; }
@@ -57,6 +59,7 @@ class LostJointTracker {
   JointMask confirmed_{0};
   std::uint32_t reports_sent_{0};
   std::uint32_t reports_deferred_{0};
+  std::uint32_t damaged_notices_{0};
   Errc last_file_status_{Errc::ok};
   std::uint64_t last_answer_cycle_{0};
 };

@@ -1,5 +1,7 @@
 #include "core/app/tasks/rc_task_frame.hpp"
 
+#include <cmath>
+
 namespace rescue::app {
 
 const char* to_string(RcMode mode) noexcept {
@@ -11,6 +13,20 @@ const char* to_string(RcMode mode) noexcept {
     case RcMode::teleop: return "teleop";
   }
   return "unknown";
+}
+
+bool rc_input_whole(const RcTaskInput& input) noexcept {
+  constexpr double kPi = 3.14159265358979323846;  // the operator's protocol's bound (protocol_codec.cpp)
+  const bool kind = input.kind == RcInputKind::end_effector_target || input.kind == RcInputKind::hand ||
+                    input.kind == RcInputKind::take_ownership;
+  const bool effector = input.effector <= static_cast<std::uint8_t>(protocol::Effector::right_hand);
+  const bool action = input.action <= static_cast<std::uint8_t>(protocol::HandAction::close);
+  bool pose = true;
+  for (std::size_t i = 0; i < input.pose.size(); ++i) {
+    const double bound = i < 3 ? protocol::kMaxReachM : kPi;
+    pose = pose && std::isfinite(input.pose[i]) && input.pose[i] >= -bound && input.pose[i] <= bound;
+  }
+  return kind && effector && action && pose;
 }
 
 RcTaskFrame::RcTaskFrame(const RcTaskPorts& ports, RcTaskId id) noexcept

@@ -39,11 +39,17 @@ namespace rescue::app {
 enum class RcMode : std::uint8_t { idle, approach, rescue_motion, target, teleop };
 const char* to_string(RcMode mode) noexcept;
 
+// An input is a record of the shared segment (the parser's queue to this task): a kind, effector or
+// hand action the parser never writes, or a pose the operator's protocol refuses (not finite,
+// beyond the robot's reach, an angle outside [-pi, pi]), is damage (a stray write, a bit flip).
+bool rc_input_whole(const RcTaskInput& input) noexcept;
+
 struct RcTaskCounters {
   std::uint64_t periods{0};
   std::uint64_t owned_periods{0};
   std::uint64_t inputs{0};
   std::uint64_t ignored_inputs{0};    // inputs this task does not handle (e.g. a target to teleop)
+  std::uint64_t damaged_inputs{0};    // inputs refused as damaged records of the segment (rc_input_whole)
   std::uint64_t takes{0};             // the operator gave it the motion
   std::uint64_t ownership_lost{0};    // another task took it, or the handler released it
   std::uint64_t retakes{0};           // took the motion back after a release while it was silent
@@ -127,6 +133,10 @@ class RcTaskFrame {
     // Bounded: at most the queue's depth per period.
     for (std::size_t n = 0; n < config::kRcInputQueueDepth && ports_.inputs->try_receive(input); ++n) {
       ++counters_.inputs;
+      if (!rc_input_whole(input)) {  // refused: read as it was, an unknown effector moved the right hand
+        ++counters_.damaged_inputs;
+        continue;
+      }
       if (input.kind == RcInputKind::take_ownership) {
         take();
       } else {
