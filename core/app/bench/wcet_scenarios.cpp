@@ -6,22 +6,19 @@ namespace rescue::app {
 namespace {
 
 const WcetScenarioSpec kScenarios[] = {
-    {WcetScenario::typical, "typical", "every joint Enabled following its reference, the RC tasks doing the rescue motion", false},
-    {WcetScenario::recovery, "recovery",
+    {WcetScenario::typical, false, "typical", "every joint Enabled following its reference, the RC tasks doing the rescue motion"},
+    {WcetScenario::recovery, false, "recovery",
      "every slave power-cycled at once, again and again: recovery and re-integration of all 23, loss of every joint, "
-     "re-initialise, RC reshaping",
-     false},
-    {WcetScenario::services, "services", "segmented SDO transfers back to back, a diagnostics reset every period, capture on", false},
-    {WcetScenario::worst, "worst",
+     "re-initialise, RC reshaping"},
+    {WcetScenario::services, false, "services", "segmented SDO transfers back to back, a diagnostics reset every period, capture on"},
+    {WcetScenario::worst, false, "worst",
      "recovery and services at once, every other loss a repaired cable cut, PDO mappings rewritten, frames damaged "
-     "while joints are down, the re-initialise of every joint at once: every service busy together",
-     false},
-    {WcetScenario::worst_ring, "worst-ring",
+     "while joints are down, the re-initialise of every joint at once: every service busy together"},
+    {WcetScenario::worst_ring, true, "worst-ring",
      "worst on the ring configuration: both copies sent and merged every period, every other loss a cut of the "
      "master's cable opening the ring (the ring DC service across the break), repaired; frames damaged while every "
-     "joint is Enabled (the exchange sent again)",
-     true},
-    {WcetScenario::mixed, "mixed", "typical for the first half, recovery and services for the second: not i.i.d. by construction (must be refused)", false},
+     "joint is Enabled (the exchange sent again)"},
+    {WcetScenario::mixed, false, "mixed", "typical for the first half, recovery and services for the second: not i.i.d. by construction (must be refused)"},
 };
 
 }  // namespace

@@ -45,9 +45,9 @@ enum class WcetScenario : std::uint8_t { typical, recovery, services, worst, wor
 
 struct WcetScenarioSpec {
   WcetScenario id;
+  bool ring;  // on the robot's ring configuration (both master ports), else the tree
   const char* name;
   const char* what;  // one line for --help and the output
-  bool ring{false};  // on the robot's ring configuration (both master ports), else the tree
 };
 
 Span<const WcetScenarioSpec> wcet_scenarios() noexcept;
