@@ -71,12 +71,12 @@ constexpr std::int64_t kCutPeriods = 120;
 // worst: the repair waits (at most this many periods more) for the period whose next one ends a
 // sweep of the master's link diagnostics (docs/timing.md "Worst-path scenarios").
 constexpr std::int64_t kMaxRepairWait = 200;
-// worst-ring: the cable cut, the cable into position kRingCutCable's port 0. The master's cable into
-// the first slave (0) opens the ring with every slave behind the break, the DC reference (the first
-// slave) among them; the cable after the reference (1) leaves the reference on the main side and
-// every other slave behind the break. Measured by instructions (docs/timing.md "Worst-path
-// scenarios"): the heavier of the two is kept.
-constexpr std::size_t kRingCutCable = 0;
+// worst and worst-ring: the cable cut, the cable into position kCutCable's port 0: the master's
+// cable into the first slave. On the tree every slave falls silent; on the ring it opens the ring
+// with every slave behind the break, the DC reference (the first slave) among them. The cable after
+// the reference (1), which leaves the reference on the main side, gave a lighter period by
+// instructions (docs/timing.md "Worst-path scenarios").
+constexpr std::size_t kCutCable = 0;
 // worst: the re-initialise of every joint sent again when the joints are not all Enabled this many
 // periods after it (one that changed nothing would stall the scenario).
 constexpr std::int64_t kBurstRetryPeriods = 50;
@@ -174,17 +174,16 @@ struct JointStates {
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
-  // `cut_cable`: the cable the cuts cut (the cable into that position's port 0); `ring`: the ring
-  // configuration (the frames damaged while the ring is open, not while joints are down).
+  // `ring`: the ring configuration (the frames damaged while every joint is Enabled, not while
+  // joints are down).
   // `diagnostics`: the master's link diagnostics, whose sweeps the repair is timed by.
   ScenarioDriver(drivers::SimulatedSegment& segment, const ecat::LinkDiagnostics& diagnostics, MessageSink<ControlRequest>& local,
-                 MessageSource<ControlReply>& local_replies, std::uint64_t seed, std::size_t cut_cable, bool ring) noexcept
+                 MessageSource<ControlReply>& local_replies, std::uint64_t seed, bool ring) noexcept
       : segment_(segment),
         diagnostics_(diagnostics),
         local_(local),
         local_replies_(local_replies),
         random_(seed * 0x9E3779B97F4A7C15ULL + 1),
-        cut_cable_(cut_cable),
         ring_(ring) {}
 
   // Before period k's work.
@@ -283,7 +282,7 @@ class ScenarioDriver {
   void losses_when_due(const WcetStress& stress, std::int64_t k, JointMask enabled) noexcept {
     if (cut_until_ >= 0) {
       if (k < cut_until_ || (!sweep_ends_at(k + 1) && k < cut_until_ + kMaxRepairWait)) return;
-      (void)segment_.restore_link(cut_cable_);
+      (void)segment_.restore_link(kCutCable);
       cut_until_ = -1;
       last_loss_ = k;
       return;
@@ -296,7 +295,7 @@ class ScenarioDriver {
     if (stress.cuts && losses() % 2 == 1) {
       // On the tree the cable into the first slave: every slave silent, the frames lost, until the
       // repair. On the ring (worst-ring) the ring opens there: every joint kept through the ring port.
-      (void)segment_.cut_link(cut_cable_);
+      (void)segment_.cut_link(kCutCable);
       cut_until_ = k + kCutPeriods;
       ++cuts_;
       return;
@@ -333,7 +332,6 @@ class ScenarioDriver {
   MessageSink<ControlRequest>& local_;
   MessageSource<ControlReply>& local_replies_;
   std::uint64_t random_;
-  std::size_t cut_cable_;
   bool ring_;
   std::int64_t next_loss_{-1};
   std::int64_t last_loss_{0};
@@ -665,7 +663,7 @@ int wire_wcet_tasks(const WcetOptions& options, WcetRig& rig) noexcept {
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> local(g_links.local_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> local_replies(g_links.local_replies);
   static ScenarioDriver driver(robot.segment(), bus.master().diagnostics(), local, local_replies, static_cast<std::uint64_t>(options.seed),
-                               options.scenario->ring ? kRingCutCable : 0, options.scenario->ring);
+                               options.scenario->ring);
   static WcetOperatorLoad operator_load(ports.socket_handler());
   if (const Status opened = operator_load.open(); !opened.ok()) return fail("bench", "wcet: cannot open the socket handler on 127.0.0.1", opened.error());
   rig.ports = &ports;
@@ -831,7 +829,7 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", rig.driver->power_cycles());
   (void)std::printf("cable_cuts_repaired: %" PRIu64 " (the cable into position %zu, repaired after %" PRId64
                     " periods or more: in the period before one that ends a sweep of the link diagnostics)\n",
-                    rig.driver->cuts(), options.scenario->ring ? kRingCutCable : std::size_t{0}, kCutPeriods);
+                    rig.driver->cuts(), kCutCable, kCutPeriods);
   print_ring_figures(rig.bus->master());
   (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", figures.recoveries);
   if (figures.longest_recovery >= 0) {
