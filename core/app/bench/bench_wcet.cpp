@@ -33,11 +33,14 @@
 #include "core/memory/heap_guard.hpp"
 #include "core/memory/start_up_slot.hpp"
 #include "drivers/joint/joint_bus.hpp"
+#include "drivers/joint/robot_network_plan.hpp"
+#include "drivers/joint/robot_ring_network_plan.hpp"
 #include "drivers/sim/segment/simulated_nic.hpp"
 #include "drivers/sim/segment/simulated_robot.hpp"
 #include "ecat/capture/capture_queue.hpp"
 #include "ecat/capture/capture_writer.hpp"
 #include "ecat/mailbox/mailbox_client.hpp"
+#include "ecat/master/link_diagnostics.hpp"
 #include "hal/rt/rt_setup.hpp"
 #include "hal/time/clock.hpp"
 #include "hal/time/tsc_timer.hpp"
@@ -65,6 +68,15 @@ constexpr std::uint64_t kDamageOdds = 40;
 // worst: a cut cable is repaired after this many periods (the drives' process-data watchdog, 100 ms,
 // has taken them to SAFE-OP by then: the master re-arms them or recovers them).
 constexpr std::int64_t kCutPeriods = 120;
+// worst: the repair waits (at most this many periods more) for the period whose next one ends a
+// sweep of the master's link diagnostics (docs/timing.md "Worst-path scenarios").
+constexpr std::int64_t kMaxRepairWait = 200;
+// worst and worst-ring: the cable cut, the cable into position kCutCable's port 0: the master's
+// cable into the first slave. On the tree every slave falls silent; on the ring it opens the ring
+// with every slave behind the break, the DC reference (the first slave) among them. The cable after
+// the reference (1), which leaves the reference on the main side, gave a lighter period by
+// instructions (docs/timing.md "Worst-path scenarios").
+constexpr std::size_t kCutCable = 0;
 // worst: the re-initialise of every joint sent again when the joints are not all Enabled this many
 // periods after it (one that changed nothing would stall the scenario).
 constexpr std::int64_t kBurstRetryPeriods = 50;
@@ -88,6 +100,8 @@ TaskLinks g_links;
 StartUpSlot<Samples> g_samples_slot;
 StartUpSlot<drivers::SimulatedRobot> g_robot_slot;
 StartUpSlot<drivers::JointBus> g_bus_slot;
+StartUpSlot<drivers::SimulatedNic> g_nic_slot;           // the tree's one port
+StartUpSlot<drivers::SimulatedNicPair> g_nic_pair_slot;  // the ring's two ports (worst-ring)
 ecat::CaptureQueue g_capture;
 ecat::CaptureWriter g_capture_file;
 std::int64_t g_periods = 0;
@@ -160,15 +174,34 @@ struct JointStates {
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
-  ScenarioDriver(drivers::SimulatedSegment& segment, MessageSink<ControlRequest>& local, MessageSource<ControlReply>& local_replies,
-                 std::uint64_t seed) noexcept
-      : segment_(segment), local_(local), local_replies_(local_replies), random_(seed * 0x9E3779B97F4A7C15ULL + 1) {}
+  // `ring`: the ring configuration (the frames damaged while every joint is Enabled, not while
+  // joints are down).
+  // `diagnostics`: the master's link diagnostics, whose sweeps the repair is timed by.
+  ScenarioDriver(drivers::SimulatedSegment& segment, const ecat::LinkDiagnostics& diagnostics, MessageSink<ControlRequest>& local,
+                 MessageSource<ControlReply>& local_replies, std::uint64_t seed, bool ring) noexcept
+      : segment_(segment),
+        diagnostics_(diagnostics),
+        local_(local),
+        local_replies_(local_replies),
+        random_(seed * 0x9E3779B97F4A7C15ULL + 1),
+        ring_(ring) {}
 
   // Before period k's work.
   // `out`: the joints out of the exchange last period; `joints`, `lost`: the joint manager's.
   void before(const WcetStress& stress, std::int64_t k, JointMask out, const JointStates& joints, JointMask lost) noexcept {
+    note_sweeps(k);
     if (stress.power_cycles) losses_when_due(stress, k, joints.enabled);
-    if (stress.damaged_frames && joints.enabled != kAllJoints) damage_a_frame_at_random();
+    // On the ring, while every joint is Enabled: with the ring closed the copies of the damaged
+    // exchange contradict each other and it is sent again in the same period (LinkStats::ring_repeats),
+    // the ring's heaviest handler period; so also in every period that ends a diagnostics sweep
+    // (note_sweeps). With the ring open (a cut) the frame is lost while the ring DC service writes
+    // across the break. Not while joints are down: there the ring's recoveries failed attempts
+    // (docs/timing.md).
+    if (stress.damaged_frames && ring_ && joints.enabled == kAllJoints && sweep_ends_at(k)) {
+      (void)segment_.corrupt_port(random_drive(), 0, 1);
+    } else if (stress.damaged_frames && (ring_ ? joints.enabled == kAllJoints : joints.enabled != kAllJoints)) {
+      damage_a_frame_at_random();
+    }
     if (stress.services) reset_diagnostics();
     if (joints.enabled == kAllJoints) {
       next_burst_ = -1;
@@ -240,14 +273,16 @@ class ScenarioDriver {
   // (the master asks again: docs/master.md "Frames lost with a mailbox step").
   void damage_a_frame_at_random() noexcept {
     if (next_random(random_) % kDamageOdds != 0) return;
-    const std::size_t drive = kJunctionCount + static_cast<std::size_t>(next_random(random_) % (kSlaveCount - kJunctionCount));
-    (void)segment_.corrupt_port(drive, 0, 1);
+    (void)segment_.corrupt_port(random_drive(), 0, 1);
+  }
+  std::size_t random_drive() noexcept {
+    return kJunctionCount + static_cast<std::size_t>(next_random(random_) % (kSlaveCount - kJunctionCount));
   }
 
   void losses_when_due(const WcetStress& stress, std::int64_t k, JointMask enabled) noexcept {
     if (cut_until_ >= 0) {
-      if (k < cut_until_) return;
-      (void)segment_.restore_link(0);
+      if (k < cut_until_ || (!sweep_ends_at(k + 1) && k < cut_until_ + kMaxRepairWait)) return;
+      (void)segment_.restore_link(kCutCable);
       cut_until_ = -1;
       last_loss_ = k;
       return;
@@ -258,8 +293,9 @@ class ScenarioDriver {
     next_loss_ = -1;
     last_loss_ = k;
     if (stress.cuts && losses() % 2 == 1) {
-      // The cable into the first slave: every slave silent, the frames lost, until the repair.
-      (void)segment_.cut_link(0);
+      // On the tree the cable into the first slave: every slave silent, the frames lost, until the
+      // repair. On the ring (worst-ring) the ring opens there: every joint kept through the ring port.
+      (void)segment_.cut_link(kCutCable);
       cut_until_ = k + kCutPeriods;
       ++cuts_;
       return;
@@ -273,13 +309,36 @@ class ScenarioDriver {
     ++power_cycles_;
   }
 
+  // The link diagnostics' sweeps: one ends when the round robin of the ESC error-counter reads
+  // wraps; the handler then publishes the table, and a second time in the same period after the
+  // diagnostics reset of the services. The period after a repair (every drive re-armed, the
+  // heaviest of the tree) is made one that ends a sweep: with the damaged frames' random draws
+  // moving the cut, the two had stopped meeting (46916 -> 41455 instructions, docs/timing.md).
+  void note_sweeps(std::int64_t k) noexcept {
+    const std::uint64_t sweeps = diagnostics_.sweeps();
+    if (sweeps == sweeps_seen_) return;
+    // Seen before period k: the sweep ended in period k - 1.
+    if (sweeps == sweeps_seen_ + 1 && last_sweep_end_ >= 0) sweep_gap_ = k - 1 - last_sweep_end_;
+    sweeps_seen_ = sweeps;
+    last_sweep_end_ = k - 1;
+  }
+  // Whether a sweep is due to end in period k (at the gap between the last two).
+  bool sweep_ends_at(std::int64_t k) const noexcept {
+    return sweep_gap_ > 0 && last_sweep_end_ >= 0 && (k - last_sweep_end_) % sweep_gap_ == 0;
+  }
+
   drivers::SimulatedSegment& segment_;
+  const ecat::LinkDiagnostics& diagnostics_;
   MessageSink<ControlRequest>& local_;
   MessageSource<ControlReply>& local_replies_;
   std::uint64_t random_;
+  bool ring_;
   std::int64_t next_loss_{-1};
   std::int64_t last_loss_{0};
-  std::int64_t cut_until_{-1};  // the period the cut cable is repaired (-1: none cut)
+  std::int64_t cut_until_{-1};  // the first period the cut cable may be repaired (-1: none cut)
+  std::uint64_t sweeps_seen_{0};
+  std::int64_t last_sweep_end_{-1};
+  std::int64_t sweep_gap_{0};
   std::uint64_t power_cycles_{0};
   std::uint64_t cuts_{0};
   std::uint64_t sequence_{0};
@@ -562,17 +621,28 @@ struct WcetRig {
 // Init: everything that may allocate, the network brought up, the capture file opened. 0, or the
 // exit status.
 int wire_wcet_tasks(const WcetOptions& options, WcetRig& rig) noexcept {
-  if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve()) {
+  if (!g_samples_slot.reserve() || !g_robot_slot.reserve() || !g_bus_slot.reserve() ||
+      !(options.scenario->ring ? g_nic_pair_slot.reserve() : g_nic_slot.reserve())) {
     return fail("bench", "wcet: not enough memory for the samples and the simulated robot");
   }
   rig.samples = &g_samples_slot.emplace();
   drivers::RobotSegmentOptions robot_options;
   robot_options.seed = static_cast<std::uint64_t>(options.seed);
+  robot_options.ring = options.scenario->ring;
   drivers::SimulatedRobot& robot = g_robot_slot.emplace(robot_options, g_clock.now());
   rig.robot = &robot;
   if (!robot.status().ok()) return fail("bench", "wcet: cannot build the simulated robot", robot.status().error());
-  static drivers::SimulatedNic nic(robot.segment(), g_clock);
-  drivers::JointBus& bus = g_bus_slot.emplace(nic);
+  drivers::JointBus* bus_at = nullptr;
+  if (options.scenario->ring) {
+    // Both master ports (docs/redundancy.md), as run --nic sim --ring-nic sim wires them.
+    drivers::SimulatedNicPair& pair = g_nic_pair_slot.emplace(robot.segment(), g_clock);
+    if (!pair.status().ok()) return fail("bench", "wcet: cannot build the ring's two ports", pair.status().error());
+    bus_at = &g_bus_slot.emplace(pair.main(), drivers::kRobotRingNetworkPlan);
+    bus_at->master().use_ring(pair.ring());
+  } else {
+    bus_at = &g_bus_slot.emplace(g_nic_slot.emplace(robot.segment(), g_clock), drivers::kRobotNetworkPlan);
+  }
+  drivers::JointBus& bus = *bus_at;
   rig.bus = &bus;
   if (mkdtemp(rig.state_dir) == nullptr) return fail("bench", "wcet: cannot create a temporary state directory");
   static ErrorJointsFileStorage storage(rig.state_dir);
@@ -592,7 +662,8 @@ int wire_wcet_tasks(const WcetOptions& options, WcetRig& rig) noexcept {
   static kin::RcPeriod rc(kin::ready_posture());
   static SpscMessageSink<ControlRequest, TaskLinks::kRequestQueueDepth> local(g_links.local_requests);
   static SpscMessageSource<ControlReply, TaskLinks::kReplyQueueDepth> local_replies(g_links.local_replies);
-  static ScenarioDriver driver(robot.segment(), local, local_replies, static_cast<std::uint64_t>(options.seed));
+  static ScenarioDriver driver(robot.segment(), bus.master().diagnostics(), local, local_replies, static_cast<std::uint64_t>(options.seed),
+                               options.scenario->ring);
   static WcetOperatorLoad operator_load(ports.socket_handler());
   if (const Status opened = operator_load.open(); !opened.ok()) return fail("bench", "wcet: cannot open the socket handler on 127.0.0.1", opened.error());
   rig.ports = &ports;
@@ -731,6 +802,23 @@ void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTim
   figures.heap = heap_guard_counters();
 }
 
+// What the ring did (worst-ring; n/a on the tree): its breaks and repairs, the ring DC service's
+// calibrations across a break and ring-side time writes, the exchanges repeated after a change in flight.
+void print_ring_figures(ecat::Master& master) noexcept {
+  const ecat::RingStatus& ring = master.ring_status();
+  if (ring.state == ecat::RingState::none) {
+    (void)std::printf("ring_breaks: n/a (the tree)\nring_repairs: n/a\nring_dc_calibrations: n/a\nring_dc_time_writes: n/a\nring_repeats: n/a\n");
+    return;
+  }
+  const ecat::RingDcStatus& dc = master.ring_dc_status();
+  (void)std::printf("ring_breaks: %" PRIu64 "\n", ring.breaks);
+  (void)std::printf("ring_repairs: %" PRIu64 "\n", ring.repairs);
+  (void)std::printf("ring_dc_calibrations: %" PRIu64 " (latch and reads of every DC slave behind the break)\n", dc.calibrations);
+  (void)std::printf("ring_dc_time_writes: %" PRIu64 " (ring-side time writes to the slaves behind the break)\n", dc.writes);
+  (void)std::printf("ring_repeats: %" PRIu64 " (exchanges sent again: the ring closed while a frame was in flight)\n",
+                    master.link().stats().ring_repeats);
+}
+
 void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal::TscTimer& timer,
                        const WcetRunFigures& figures) noexcept {
   (void)std::printf("scenario: %s (%s)\n", options.scenario->name, options.scenario->what);
@@ -739,8 +827,10 @@ void print_run_figures(const WcetOptions& options, const WcetRig& rig, const hal
   (void)std::printf("measured_periods: %" PRId64 " periods per task\n", options.periods);
   (void)std::printf("cycles_to_op: %d cycles\n", figures.to_op);
   (void)std::printf("power_cycles_of_every_slave: %" PRIu64 "\n", rig.driver->power_cycles());
-  (void)std::printf("cable_cuts_repaired: %" PRIu64 " (the cable into the first slave, repaired after %" PRId64 " periods)\n",
-                    rig.driver->cuts(), kCutPeriods);
+  (void)std::printf("cable_cuts_repaired: %" PRIu64 " (the cable into position %zu, repaired after %" PRId64
+                    " periods or more: in the period before one that ends a sweep of the link diagnostics)\n",
+                    rig.driver->cuts(), kCutCable, kCutPeriods);
+  print_ring_figures(rig.bus->master());
   (void)std::printf("recoveries_to_every_joint_enabled: %" PRIu64 "\n", figures.recoveries);
   if (figures.longest_recovery >= 0) {
     (void)std::printf("longest_recovery: %" PRId64 " periods (power cycle or cut to every joint Enabled)\n", figures.longest_recovery);

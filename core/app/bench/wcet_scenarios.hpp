@@ -20,6 +20,16 @@
 //             joint is initialised, each answered at once), early and after each loss; while
 //             joints are down, a frame damaged on a random drive's cable in 1 of 40 periods (the
 //             recovery's mailbox steps lose frames and are asked again); every service busy
+//   worst-ring  worst on the robot's ring configuration (both master ports, docs/redundancy.md): every
+//             period sends both copies and merges them, the ring monitor watches; every other loss
+//             is a cut of the cable into the first slave (the DC reference), which opens the ring
+//             with every slave behind the break: no joint lost, the ring DC service latches, reads
+//             0x0918..0x092B of every DC slave behind the break and writes each its ring-side time
+//             every period until the repair closes the ring; frames damaged (as in worst, 1 in 40
+//             periods) while every joint is Enabled, not while joints are down: with the ring closed
+//             the damaged exchange is sent again in its period (the in-flight repeat), with it open
+//             the frame is lost while the DC service writes across the break (damaged while the
+//             ring robot's slaves were being recovered, attempts failed: docs/timing.md)
 //   mixed     typical for the first half of the periods, recovery and services for the second (the
 //             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)
@@ -31,10 +41,11 @@
 
 namespace rescue::app {
 
-enum class WcetScenario : std::uint8_t { typical, recovery, services, worst, mixed };
+enum class WcetScenario : std::uint8_t { typical, recovery, services, worst, worst_ring, mixed };
 
 struct WcetScenarioSpec {
   WcetScenario id;
+  bool ring;  // on the robot's ring configuration (both master ports), else the tree
   const char* name;
   const char* what;  // one line for --help and the output
 };

@@ -41,7 +41,7 @@ const OptionSpec kOptions[] = {
     {"out", "DIR", "fig4: directory for fig4.csv, fig4-summary.csv and fig4.png (default /tmp/rescue-fig4); wcet: directory for one samples file per task, pwcet.txt, pwcet.png, capture.pcapng (default /tmp/rescue-wcet)"},
     {"plot-script", "PATH", "fig4: the matplotlib script (default plot_fig4.py beside the program: <prefix>/share/rescue-motion/ when installed, toolchain/ of the source tree for a build)"},
     {"no-plot", nullptr, "fig4: write the CSV files only; wcet: no exceedance plot"},
-    {"scenario", "NAME", "wcet: typical, recovery, services, worst (default) or mixed (docs/timing.md \"Worst-path scenarios\")"},
+    {"scenario", "NAME", "wcet: typical, recovery, services, worst (default), worst-ring (worst on the ring configuration) or mixed (docs/timing.md \"Worst-path scenarios\")"},
     {"block", "N", "wcet: periods per block of the block maxima (default 50; make it longer than the scenario's cycle of heavy periods so that each block holds one)"},
     {"short", nullptr, "wcet: the CI form: 2500 periods, 100 bootstrap resamples (checks the method and the refusal, not the bound)"},
 };

@@ -15,22 +15,15 @@
 #include <fstream>
 #include <string>
 
+#include "tests/support/key_value_output.hpp"
 #include "tests/support/run_command.hpp"
 
 namespace rescue {
 namespace {
 
+using test::value_of;
 const std::string kProgram = std::string(RESCUE_BINARY_DIR) + "/rescue-motion";
 const char* const kTasks[] = {"ethercat_handler", "joint_manager", "message_parser", "rc_tasks", "socket_handler"};
-
-// The value of `key: value` in `text` ("" when absent).
-std::string value_of(const std::string& text, const std::string& key) {
-  const std::string want = "\n" + key + ": ";
-  const std::size_t at = text.find(want);
-  if (at == std::string::npos) return "";
-  const std::size_t from = at + want.size();
-  return text.substr(from, text.find('\n', from) - from);
-}
 
 bool python_has_scipy() { return test::run_command("/usr/bin/python3 -c 'import scipy, matplotlib' 2>/dev/null").exit_status == 0; }
 
@@ -55,6 +48,7 @@ TEST_F(BenchWcetShort, EveryTaskGetsAPwcetOrARefusalAndTheExitStatusSaysWhich) {
   EXPECT_GE(std::atoi(value_of(out, "recoveries_to_every_joint_enabled").c_str()), 1) << "the worst path ran to its end: " << out;
   EXPECT_GT(std::atoi(value_of(out, "sdo_transfers").c_str()), 100) << out;
   EXPECT_GE(std::atoi(value_of(out, "damaged_frames").c_str()), 1) << out;
+  EXPECT_EQ(value_of(out, "ring_breaks"), "n/a (the tree)") << out;
   EXPECT_NE(value_of(out, "master_recoveries").find(", 0 attempts failed,"), std::string::npos)
       << "the lost mailbox frames asked again: " << out;
   EXPECT_FALSE(value_of(out, "mailbox_repeat_requests").empty()) << out;
