@@ -803,18 +803,20 @@ void measure_periods(const WcetOptions& options, WcetRig& rig, const hal::TscTim
 }
 
 // What the ring did (worst-ring; n/a on the tree): its breaks and repairs, the ring DC service's
-// calibrations across a break and ring-side time writes, the exchanges repeated after a change in flight.
+// calibrations across a break and the island's time reads (one FRMW in the ring copy a period), the
+// exchanges repeated after a change in flight.
 void print_ring_figures(ecat::Master& master) noexcept {
   const ecat::RingStatus& ring = master.ring_status();
   if (ring.state == ecat::RingState::none) {
-    (void)std::printf("ring_breaks: n/a (the tree)\nring_repairs: n/a\nring_dc_calibrations: n/a\nring_dc_time_writes: n/a\nring_repeats: n/a\n");
+    (void)std::printf("ring_breaks: n/a (the tree)\nring_repairs: n/a\nring_dc_calibrations: n/a\nring_dc_island_reads: n/a\nring_repeats: n/a\n");
     return;
   }
   const ecat::RingDcStatus& dc = master.ring_dc_status();
   (void)std::printf("ring_breaks: %" PRIu64 "\n", ring.breaks);
   (void)std::printf("ring_repairs: %" PRIu64 "\n", ring.repairs);
   (void)std::printf("ring_dc_calibrations: %" PRIu64 " (latch and reads of every DC slave behind the break)\n", dc.calibrations);
-  (void)std::printf("ring_dc_time_writes: %" PRIu64 " (ring-side time writes to the slaves behind the break)\n", dc.writes);
+  (void)std::printf("ring_dc_island_reads: %" PRIu64 " (the island's time FRMW in the ring copy, behind the break)\n",
+                    dc.island_reads);
   (void)std::printf("ring_repeats: %" PRIu64 " (exchanges sent again: the ring closed while a frame was in flight)\n",
                     master.link().stats().ring_repeats);
 }
