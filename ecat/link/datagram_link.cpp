@@ -166,6 +166,8 @@ Result<FrameView> DatagramLink::repeat_after_repair(const FrameView& first, cons
   CopyCounters merged_counters = first_returns_.counters;
   if (!take_repeated(again.value(), repeat_counters, first_merged, merged_counters).ok()) return first_again();
   returns_.counters = merged_counters;
+  // The datagrams not repeated keep the first frame's answers, and what its lost copy took with it.
+  returns_.copy_lost = returns_.copy_lost || first_returns_.copy_lost;
   first_returns_ = returns_;
   return first_again();
 }
@@ -239,6 +241,14 @@ Result<FrameView> DatagramLink::await_copies(hal::Nanoseconds deadline, hal::Nan
       return got.error();
     }
   }
+  // A copy lost in flight: the main copy while the ring copy went round the closed ring (the main
+  // copy passed every slave), or a copy expected back (not a master port's cut) while the other
+  // turned at a break (it passed the slaves on its side). The ring copy of a closed ring passes no
+  // processing unit: lost, it loses no answer.
+  const bool main_round = returns_.main_back && returns_.main_on == Port::ring;
+  const bool ring_round = returns_.ring_back && returns_.ring_on == Port::main;
+  returns_.copy_lost = (!returns_.main_back && (ring_round || expect_main_)) ||
+                       (!returns_.ring_back && !main_round && expect_ring_);
   // What to wait for next time: the copies that came back (both again when none did).
   if (returns_.main_back) main_came_on_ = returns_.main_on;
   if (returns_.ring_back) ring_came_on_ = returns_.ring_on;

@@ -18,7 +18,10 @@
 // flight. A ring closed while the frame was in flight (the ring copy came back round the ring, the
 // main copy did not: it turned at the break or was lost at a master port cut in flight) leaves
 // slaves in neither copy: the exchange's repeatable datagrams are sent again at once under a new
-// index, and their answers taken (redundant_merge.hpp, make_repeat). The repeat has its own time
+// index, and their answers taken (redundant_merge.hpp, make_repeat). A copy that may have passed
+// slaves and did not come back (a damaged main copy of the closed ring: the ring copy comes back
+// round it unprocessed) is marked in copy_returns().copy_lost: the answers no returned copy counted
+// were carried out unseen (answer_lost_with_a_copy). The repeat has its own time
 // (ExchangeDeadlines): a host that held the first copies until near the receive deadline must not
 // cost the cycle, so the repeat is sent and waited for until the caller's repeat limit, which may
 // lie past the receive deadline. And the wait for the other copy once one came back round the ring

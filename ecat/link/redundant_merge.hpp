@@ -110,8 +110,22 @@ struct CopyReturns {
   Port main_on{Port::main};     // ... on this NIC
   bool ring_back{false};        // the copy sent on the ring NIC came back ...
   Port ring_on{Port::ring};     // ... on this NIC
+  // A copy that may have been processed by slaves did not come back (lost in flight, e.g. damaged
+  // on a cable: its FCS broken): the main copy while the other went round the closed ring, or a
+  // copy expected back (it came back last time) while the ring was open. The slaves that processed
+  // it carried out its datagrams, unseen: see answer_lost_with_a_copy.
+  bool copy_lost{false};
   CopyCounters counters{};
 };
+
+// A datagram of the exchange `returns` describes whose answer may have been lost with a copy: a
+// copy was lost in flight and no copy that came back counted the datagram, so the slave may have
+// carried it out in the lost one (a read of SM1 emptying its mailbox, a write of SM0 handing it a
+// request). A service whose datagrams are not idempotent (the mailbox client) takes it as lost with
+// its frame, as on a single port; on the ring the merged frame itself comes back (the other copy).
+inline bool answer_lost_with_a_copy(const CopyReturns& returns, const DatagramView& datagram) noexcept {
+  return returns.copy_lost && datagram.wkc() == 0;
+}
 
 // Merges the copies that came back (either may be null: it did not) into `out`, which receives the
 // frame as sent on the main NIC with each datagram's merged data and working counter. `sent` is the

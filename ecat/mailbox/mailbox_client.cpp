@@ -563,7 +563,11 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
       const Result<FrameView> back = link.exchange(frame_timeout, 3);
       if (back.ok()) {
         std::size_t k = 0;
-        for (const DatagramView d : back.value()) on_datagram(k++, d);
+        for (const DatagramView d : back.value()) {
+          // On the ring, an answer lost with a copy counts as lost with the frame (MailboxService).
+          if (!answer_lost_with_a_copy(link.copy_returns(), d)) on_datagram(k, d);
+          ++k;
+        }
       }
     }
     end_exchange(link.clock().now());

@@ -156,6 +156,9 @@ void LinkMonitor::observe(std::uint64_t cycle, hal::Nanoseconds time, bool frame
 bool LinkMonitor::observe_probe(const ProbeResult& probe) noexcept {
   if (probe.position >= kMaxSlaves) return false;
   const SlaveMask bit = slave_bit(probe.position);
+  // Its answer lost with a ring copy: a suspect stays one, probed again next frame (its shortfall
+  // is explained: the copy was lost); nothing else changes.
+  if (probe.no_evidence) return (present_ & suspect_ & bit) != 0;
   if ((present_ & bit) != 0) {
     if ((suspect_ & bit) == 0 && (watchdog_check_ & bit) == 0) {
       if (probe.watch) observe_watch(probe, bit);

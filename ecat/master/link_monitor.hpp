@@ -108,6 +108,9 @@ struct ProbeResult {
   std::uint16_t al_status{0};
   std::uint16_t al_status_code{0};
   std::uint16_t clear_wkc{0};   // FPWR 0x060C (when had_clear)
+  // On the ring, the status read's answer was lost with a copy (answer_lost_with_a_copy): no
+  // evidence either way, as for a frame that did not come back.
+  bool no_evidence{false};
 };
 
 class LinkMonitor {

@@ -22,7 +22,7 @@ void LinkProbeService::add_datagrams(CycleFrame& frame) noexcept {
     const ProbeRequest& probe = probes_[i];
     const std::uint16_t station = ctx_.plan[probe.position].station_address;
     const auto tag = static_cast<std::uint8_t>(i);
-    results_[i] = ProbeResult{probe.position, probe.clear_fmmus, probe.watch, 0, 0, 0, 0};
+    results_[i] = ProbeResult{probe.position, probe.clear_fmmus, probe.watch, 0, 0, 0, 0, false};
     (void)frame.add(*this, tag, Command::FPRD, make_address(station, reg::kAlStatus), kAlStatusReadLength);
     if (probe.clear_fmmus) {
       (void)frame.add(*this, static_cast<std::uint8_t>(tag | kClearTag), Command::FPWR,
@@ -36,6 +36,10 @@ void LinkProbeService::on_answer(std::uint8_t tag, const DatagramView& d) noexce
   ProbeResult& r = results_[tag & static_cast<std::uint8_t>(~kClearTag)];
   if ((tag & kClearTag) != 0) {
     r.clear_wkc = d.wkc();
+    return;
+  }
+  if (answer_lost_with_a_copy(ctx_.link.copy_returns(), d)) {
+    r.no_evidence = true;  // the slave may have answered in the copy lost
     return;
   }
   const std::uint8_t* data = d.data().data();

@@ -15,7 +15,11 @@ class MailboxService final : public CyclicService {
   MailboxService(ServiceContext& context, MailboxClient& client) noexcept : ctx_(context), client_(client) {}
 
   void add_datagrams(CycleFrame& frame) noexcept override;
-  void on_answer(std::uint8_t k, const DatagramView& datagram) noexcept override { client_.on_datagram(k, datagram); }
+  // On the ring, a datagram whose answer may have been lost with a copy goes unanswered: the client
+  // then asks for the lost answer again or rewrites the request, as for a lost frame.
+  void on_answer(std::uint8_t k, const DatagramView& datagram) noexcept override {
+    if (!answer_lost_with_a_copy(ctx_.link.copy_returns(), datagram)) client_.on_datagram(k, datagram);
+  }
   void end_exchange(hal::Nanoseconds now) noexcept override { client_.end_exchange(now); }
 
  private:

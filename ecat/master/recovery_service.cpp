@@ -573,6 +573,9 @@ void RecoveryService::on_step_answer(std::size_t p, const DatagramView& d) noexc
 }
 
 void RecoveryService::on_answer(std::uint8_t tag, const DatagramView& d) noexcept {
+  // On the ring, an answer lost with a copy is no answer, as when the frame is lost: not a silent
+  // period of the slave (three in a row would take it for gone and start the attempt again).
+  if (answer_lost_with_a_copy(ctx_.link.copy_returns(), d)) return;
   const std::size_t p = tag & static_cast<std::uint8_t>(~kSearchTag);
   if ((tag & kSearchTag) != 0) {
     on_search_answer(p, d);

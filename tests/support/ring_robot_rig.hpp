@@ -104,12 +104,12 @@ struct RingRobotRig {
 };
 
 // The master brought up with `ring` as its ring NIC (the pair's ring port, or a NIC standing in
-// front of it) and cycled to OP.
-inline void bring_ring_to_op(RingRobotRig& rig, hal::Nic& ring) {
+// front of it) and `options`, and cycled to OP.
+inline void bring_ring_to_op(RingRobotRig& rig, hal::Nic& ring, const ecat::MasterOptions& options = fast_options()) {
   rig.bus.master().use_ring(ring);
   EXPECT_TRUE(rig.robot.status().ok()) << rig.robot.status().error().what;
   EXPECT_TRUE(rig.nics.status().ok()) << rig.nics.status().error().what;
-  const Status up = rig.bus.bring_up(fast_options());
+  const Status up = rig.bus.bring_up(options);
   EXPECT_TRUE(up.ok()) << describe_master_failure(rig.bus.master());
   if (!up.ok()) return;
   drivers::JointFeedback fb{};

@@ -6,7 +6,8 @@
 //   sent on main: processed by slaves [0, first cut), back on main; no cut: by all, back on ring;
 //   sent on ring: passes unprocessed down to the slave behind the last cut, which loops it: processed
 //                 by [last cut, n), back on ring; no cut: by none, back on main;
-//   a cut at the port it was sent on: lost.
+//   a cut at the port it was sent on: lost;
+//   damaged (damage_next): processed as above, then lost (its FCS broken on the way back).
 // Each slave (station address kStation0 + i) answers: BRD/BWR with working counter +1; FPRD/FPWR of
 // its station with +1 (an FPRD reads fprd_byte(i) into every byte, of the AL status 0x0130: OP); LRW
 // over one branch's image (outputs first) with +3, its input byte (logical n + i) set to
@@ -98,6 +99,8 @@ class TwoPortSegment {
   void cut(std::size_t cable) noexcept { cut_[cable] = true; }
   void restore(std::size_t cable) noexcept { cut_[cable] = false; }
   void restore_all() noexcept { cut_ = {}; }
+  // The next frame sent on the ring port (`ring`) or the main port is processed, then lost.
+  void damage_next(bool ring) noexcept { (ring ? damage_ring_ : damage_main_) = true; }
   std::uint8_t output_of(std::size_t slave) const noexcept { return outputs_[slave]; }
   unsigned position_hits(std::size_t slave) const noexcept { return position_hits_[slave]; }
   unsigned frmw_hits(std::size_t slave) const noexcept { return frmw_hits_[slave]; }
@@ -128,6 +131,11 @@ class TwoPortSegment {
       back_on_ring = looped;
     }
     for (std::size_t i = first; i < end; ++i) process(parsed.value(), i);
+    bool& damaged = sent_on_ring ? damage_ring_ : damage_main_;
+    if (damaged) {
+      damaged = false;
+      return;
+    }
     Port& out = back_on_ring ? ring_ : main_;
     out.deliver(bytes.data(), frame.size(), clock_.now() + kRoundTrip);
   }
@@ -187,6 +195,8 @@ class TwoPortSegment {
   Port main_{*this, false};
   Port ring_{*this, true};
   std::array<bool, kMaxSlaves + 1> cut_{};
+  bool damage_main_{false};
+  bool damage_ring_{false};
   std::array<std::uint8_t, kMaxSlaves> outputs_{};
   std::array<unsigned, kMaxSlaves> position_hits_{};
   std::array<unsigned, kMaxSlaves> frmw_hits_{};

@@ -174,8 +174,8 @@ struct JointStates {
 // The operator's side of the scenario: what a busy operator and a damaged robot put on the tasks.
 class ScenarioDriver {
  public:
-  // `ring`: the ring configuration (the frames damaged while every joint is Enabled, not while
-  // joints are down).
+  // `ring`: the ring configuration (the frames damaged while joints are down and while every joint
+  // is Enabled).
   // `diagnostics`: the master's link diagnostics, whose sweeps the repair is timed by.
   ScenarioDriver(drivers::SimulatedSegment& segment, const ecat::LinkDiagnostics& diagnostics, MessageSink<ControlRequest>& local,
                  MessageSource<ControlReply>& local_replies, std::uint64_t seed, bool ring) noexcept
@@ -191,15 +191,15 @@ class ScenarioDriver {
   void before(const WcetStress& stress, std::int64_t k, JointMask out, const JointStates& joints, JointMask lost) noexcept {
     note_sweeps(k);
     if (stress.power_cycles) losses_when_due(stress, k, joints.enabled);
-    // On the ring, while every joint is Enabled: with the ring closed the copies of the damaged
+    // On the ring, also while every joint is Enabled: with the ring closed the copies of the damaged
     // exchange contradict each other and it is sent again in the same period (LinkStats::ring_repeats),
     // the ring's heaviest handler period; so also in every period that ends a diagnostics sweep
     // (note_sweeps). With the ring open (a cut) the frame is lost while the ring DC service writes
-    // across the break. Not while joints are down: there the ring's recoveries failed attempts
-    // (docs/timing.md).
+    // across the break. While joints are down, as on the tree: the recoveries' answers lost with the
+    // main copy are asked for again (docs/redundancy.md "A copy lost in flight").
     if (stress.damaged_frames && ring_ && joints.enabled == kAllJoints && sweep_ends_at(k)) {
       (void)segment_.corrupt_port(random_drive(), 0, 1);
-    } else if (stress.damaged_frames && (ring_ ? joints.enabled == kAllJoints : joints.enabled != kAllJoints)) {
+    } else if (stress.damaged_frames && (ring_ || joints.enabled != kAllJoints)) {
       damage_a_frame_at_random();
     }
     if (stress.services) reset_diagnostics();

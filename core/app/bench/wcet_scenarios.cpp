@@ -16,8 +16,8 @@ const WcetScenarioSpec kScenarios[] = {
      "while joints are down, the re-initialise of every joint at once: every service busy together"},
     {WcetScenario::worst_ring, true, "worst-ring",
      "worst on the ring configuration: both copies sent and merged every period, every other loss a cut of the "
-     "master's cable opening the ring (the ring DC service across the break), repaired; frames damaged while every "
-     "joint is Enabled (the exchange sent again)"},
+     "master's cable opening the ring (the ring DC service across the break), repaired; frames damaged while joints "
+     "are down and while every joint is Enabled (the exchange sent again)"},
     {WcetScenario::mixed, false, "mixed", "typical for the first half, recovery and services for the second: not i.i.d. by construction (must be refused)"},
 };
 

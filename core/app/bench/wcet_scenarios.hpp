@@ -25,11 +25,10 @@
 //             is a cut of the cable into the first slave (the DC reference), which opens the ring
 //             with every slave behind the break: no joint lost, the ring DC service latches, reads
 //             0x0918..0x092B of every DC slave behind the break and writes each its ring-side time
-//             every period until the repair closes the ring; frames damaged (as in worst, 1 in 40
-//             periods) while every joint is Enabled, not while joints are down: with the ring closed
+//             every period until the repair closes the ring; frames damaged (1 in 40 periods) while
+//             joints are down, as in worst, and while every joint is Enabled: with the ring closed
 //             the damaged exchange is sent again in its period (the in-flight repeat), with it open
-//             the frame is lost while the DC service writes across the break (damaged while the
-//             ring robot's slaves were being recovered, attempts failed: docs/timing.md)
+//             the frame is lost while the DC service writes across the break
 //   mixed     typical for the first half of the periods, recovery and services for the second (the
 //             parser's requests at random periods while joints are down): not identically
 //             distributed by construction, so the statistics must refuse it (CI checks the refusal)

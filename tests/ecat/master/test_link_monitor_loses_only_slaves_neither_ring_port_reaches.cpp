@@ -46,7 +46,7 @@ class RedundantLosses : public ::testing::Test {
       ++d;
       for (std::size_t i = 0; i < count; ++i, ++d) {
         results[i] = ProbeResult{probes[i].position, false, probes[i].watch, (*d).wkc(), load_le16((*d).data().data()),
-                                 load_le16((*d).data().data() + 4), 0};
+                                 load_le16((*d).data().data() + 4), 0, false};
       }
     }
     monitor.observe(n, rig.segment.clock().now(), back.ok(), wkc, Span<const ProbeResult>(results.data(), count));

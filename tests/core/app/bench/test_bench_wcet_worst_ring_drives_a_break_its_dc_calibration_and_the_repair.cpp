@@ -4,7 +4,8 @@
 // the ring and the repair closes it, each counted by the ring monitor; across the break the ring DC
 // service completes a calibration (latch, reads of every DC slave behind the break) and writes the
 // ring-side times; a damaged frame with the ring closed has its exchange sent again; every slave is
-// power-cycled and recovered with no failed attempt, and nothing is allocated after init. The figures
+// power-cycled and recovered with no failed attempt, frames damaged while they recover too (issue 34),
+// and nothing is allocated after init. The figures
 // are the master's counters as the bench prints them; no timing is asserted (--scheduling normal).
 #include <gtest/gtest.h>
 #include <unistd.h>
