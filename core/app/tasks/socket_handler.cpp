@@ -3,7 +3,9 @@
 #include <poll.h>
 
 #include <algorithm>
+#include <limits>
 
+#include "core/app/links/heartbeat.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/sdo_relay.hpp"
@@ -103,8 +105,12 @@ protocol::FiguresAge SocketHandler::handler_figures_age() const noexcept {
   protocol::FiguresAge age;
   if (ports_.handler_heartbeat == nullptr) return age;
   const std::int64_t beat = ports_.handler_heartbeat->load(std::memory_order_acquire);
-  if (beat == 0) return age;  // before the handler's first period: no figures to age
-  const hal::Nanoseconds old = now_ > beat ? now_ - beat : 0;
+  const HeartbeatAge judged = heartbeat_age(now_, beat);
+  if (judged.kind == HeartbeatAge::Kind::never) return age;  // before the handler's first period: no figures to age
+  // A damaged beat (links/heartbeat.hpp): the figures' age cannot be told, so it is the largest
+  // (saturated, as a very old one) and they are stale.
+  const hal::Nanoseconds old =
+      judged.kind == HeartbeatAge::Kind::whole ? judged.age : std::numeric_limits<hal::Nanoseconds>::max();
   const hal::Nanoseconds ms = old / hal::kNsPerMs;
   age.age_ms = ms > 0xFFFFFFFF ? 0xFFFFFFFFU : static_cast<std::uint32_t>(ms);
   age.stale = old > ports_.stale_after;
@@ -194,8 +200,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         protocol::RcTaskRecord& t = m.owner_state.tasks[k];
         t.present = 1;
         const std::int64_t beat = ports_.rc_heartbeat_ns != nullptr ? (*ports_.rc_heartbeat_ns)[k].load(std::memory_order_acquire) : 0;
-        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never".
-        const std::int64_t age = beat > 0 ? (mono > beat ? mono - beat : 0) : -1;
+        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never"; a damaged
+        // one (links/heartbeat.hpp) is shown as never, not alive.
+        const HeartbeatAge judged = heartbeat_age(mono, beat);
+        const std::int64_t age = judged.kind == HeartbeatAge::Kind::whole ? judged.age : -1;
         t.heartbeat_age_ms = age < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::min<std::int64_t>(age / hal::kNsPerMs, 0xFFFFFFFE));
         t.alive = age >= 0 && age <= 100 * hal::kNsPerMs ? 1 : 0;  // the message parser's kRcTaskSilence
         RcTaskState state{};
