@@ -474,6 +474,7 @@ int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator
   summary.processes = g_run.task_processes;
   summary.start = up.start;
   summary.bring_up = &up.bus->master().report();
+  summary.supervisor_damaged_beats = liveness_damaged_beats();
   print_run_summary(summary);
   print_ring_state(up, state);
   const int limits = sent_joint_limits_exit(state);
