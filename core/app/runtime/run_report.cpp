@@ -284,7 +284,7 @@ void print_run_summary(const RunSummary& s) noexcept {
     (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], shared_links().run.dropped[i].load(std::memory_order_relaxed));
   }
   // Records of the segment each task refused as damaged (docs/shared-memory.md).
-  print_segment_records_refused(stdout, shared_links().run, s.supervisor_damaged_beats);
+  print_segment_records_refused(stdout, shared_links().run, s.supervisor_damaged_beats, s.socket != nullptr);
   char names[kJointNamesCapacity];
   format_joint_names(s.lost, names, sizeof names);
   std::size_t lost_count = 0;

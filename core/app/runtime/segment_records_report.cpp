@@ -21,6 +21,7 @@ std::uint64_t damaged_records_of(const EthercatHandler& handler) noexcept {
 std::uint64_t damaged_records_of(const JointManager& manager) noexcept { return manager.damaged_records(); }
 std::uint64_t damaged_records_of(const MessageParser& parser) noexcept { return parser.damaged_beats(); }
 std::uint64_t damaged_records_of(const RcTaskCounters& rc) noexcept { return rc.damaged_inputs; }
+std::uint64_t damaged_records_of(const SocketHandler& socket) noexcept { return socket.damaged_records(); }
 
 void publish_damaged_records(TaskHealth& slot, std::uint64_t total, std::uint64_t& published) noexcept {
   if (total == published) return;
@@ -32,10 +33,11 @@ void publish_damaged_records(TaskHealth& slot, std::uint64_t total, std::uint64_
   slot.damaged_records.store(static_cast<std::uint32_t>(sum < most ? sum : most), std::memory_order_relaxed);
 }
 
-void print_segment_records_refused(std::FILE* out, const RunControl& run, std::uint64_t supervisor_damaged_beats) noexcept {
+void print_segment_records_refused(std::FILE* out, const RunControl& run, std::uint64_t supervisor_damaged_beats,
+                                   bool operator_port) noexcept {
   std::uint64_t total = supervisor_damaged_beats;
   for (std::size_t k = 0; k < kRunHealthSlots; ++k) {
-    if (static_cast<StatTask>(k) == StatTask::socket_handler) {
+    if (!operator_port && static_cast<StatTask>(k) == StatTask::socket_handler) {
       (void)std::fprintf(out, "segment_records_refused_%s: n/a\n", kTaskKeys[k]);
       continue;
     }

@@ -357,6 +357,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, const TaskLoopPorts& 
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
     ports.heartbeat_ns->store(clock.now(), std::memory_order_release);
     publish_drops(state, DropCounter::requests_dropped, socket.counters().forwarded_dropped);
+    publish_damaged(ports, StatTask::socket_handler, damaged_records_of(socket));
   }
   // A restarted socket handler keeps its predecessors' maximum.
   std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);

@@ -67,6 +67,16 @@ protocol::SdoInfoResultPayload info_result_of(const protocol::SdoResultPayload& 
   return out;
 }
 
+
+// The EtherCAT handler's SDO result is a record of the shared segment: a status, target or request
+// type it never writes, or a size beyond the record's data, is damage (a stray write, a bit flip).
+bool sdo_result_whole(const protocol::SdoResultPayload& r) noexcept {
+  const bool type = r.request_type == MessageType::sdo_upload || r.request_type == MessageType::sdo_download ||
+                    r.request_type == MessageType::sdo_info;
+  return type && static_cast<std::uint8_t>(r.status) <= protocol::kSdoStatusLast &&
+         static_cast<std::uint8_t>(r.target) <= protocol::kSdoTargetLast && r.size <= protocol::kSdoDataSize;
+}
+
 }  // namespace
 
 Status SocketHandler::open(const SocketHandlerOptions& options) noexcept {
@@ -333,6 +343,10 @@ void SocketHandler::collect_sdo_result() noexcept {
   SdoLinkResult result;
   while (ports_.sdo_results != nullptr && ports_.sdo_results->try_receive(result)) {
     if (!sdo_.active || result.id != sdo_.id) continue;  // the answer to a transfer already answered no_answer
+    if (!sdo_result_whole(result.result)) {
+      ++damaged_records_;  // not sent: the transfer is answered no_answer at its deadline
+      continue;
+    }
     sdo_.active = false;
     answer_sdo(result.result, sdo_.info, sdo_.request_sequence, sdo_.address, sdo_.port);
   }

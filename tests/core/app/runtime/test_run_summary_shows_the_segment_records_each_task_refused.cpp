@@ -3,7 +3,8 @@
 // simulated robot a damaged demand and a damaged SDO request are the EtherCAT handler's count, which
 // its loop publishes into its health slot (a restarted task process adds its own count to its
 // predecessors'), and the summary prints one `segment_records_refused_TASK` line per task (n/a for
-// the socket handler, which counts none), the supervisor's damaged heartbeats and the total.
+// the socket handler of a run without the operator port), the supervisor's damaged heartbeats and
+// the total.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,10 +20,10 @@
 namespace rescue::app {
 namespace {
 
-std::string printed(const RunControl& run, std::uint64_t supervisor_beats) {
+std::string printed(const RunControl& run, std::uint64_t supervisor_beats, bool operator_port) {
   std::FILE* f = std::tmpfile();
   if (f == nullptr) return {};
-  print_segment_records_refused(f, run, supervisor_beats);
+  print_segment_records_refused(f, run, supervisor_beats, operator_port);
   std::rewind(f);
   std::string text;
   char buffer[256];
@@ -61,13 +62,18 @@ TEST(SegmentRecordsReport, TheHandlersRefusalsAreCountedPublishedAndPrinted) {
   EXPECT_EQ(slot.damaged_records.load(), 5U);
   run->health[static_cast<std::size_t>(StatTask::rc_teleop)].damaged_records.store(1);
 
-  const std::string text = printed(*run, 4);
+  run->health[static_cast<std::size_t>(StatTask::socket_handler)].damaged_records.store(2);
+  const std::string text = printed(*run, 4, true);
   EXPECT_NE(text.find("segment_records_refused_ethercat_handler: 5\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_records_refused_joint_manager: 0\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("segment_records_refused_socket_handler: n/a\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("segment_records_refused_socket_handler: 2\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_records_refused_rc_teleop: 1\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_heartbeats_damaged_supervisor: 4\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("segment_records_refused: 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("segment_records_refused: 12\n"), std::string::npos) << text;
+  // A run without the operator port has no socket handler: its line does not apply.
+  const std::string without = printed(*run, 4, false);
+  EXPECT_NE(without.find("segment_records_refused_socket_handler: n/a\n"), std::string::npos) << without;
+  EXPECT_NE(without.find("segment_records_refused: 10\n"), std::string::npos) << without;
 }
 
 TEST(SegmentRecordsReport, EachTaskCountsWhatItsReadersRefused) {
