@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include "ecat/master/ring_monitor.hpp"
 #include "fsm/machines/joint_status_dfa.hpp"
@@ -43,11 +44,11 @@ const char* run_control_damage(const RunControl& run) noexcept {
                         {run.drives_disabled, "RunControl::drives_disabled"},
                         {run.manager_done, "RunControl::manager_done"},
                         {run.file_dirty, "RunControl::file_dirty"}};
-  for (const Flag& f : flags) {
-    if (!flag_whole(f.flag)) return f.name;
-  }
-  for (const TaskHealth& h : run.health) {
-    if (!flag_whole(h.reported)) return "RunControl::health[].reported";
+  const Flag* const damaged =
+      std::find_if(std::begin(flags), std::end(flags), [](const Flag& f) { return !flag_whole(f.flag); });
+  if (damaged != std::end(flags)) return damaged->name;
+  if (std::any_of(run.health.begin(), run.health.end(), [](const TaskHealth& h) { return !flag_whole(h.reported); })) {
+    return "RunControl::health[].reported";
   }
   const std::int32_t started = run.tasks_started.load(std::memory_order_relaxed);
   // Each task's start adds 1, a restarted task process's too: more than the run's tasks is whole.
