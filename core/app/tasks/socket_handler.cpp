@@ -108,6 +108,15 @@ void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t 
   std::array<std::uint8_t, protocol::kMaxDatagram> out{};
   const Result<std::size_t> size = protocol::seal(message, key_, ByteSpan(out));
   if (!size.ok()) return;
+  // Every answer is built from records of the segment (replies, results, published figures): one
+  // that ctl's decoder would refuse carries a value no writer writes (a damaged record) and is not
+  // sent; the operator's ctl times out and says so.
+  const ConstByteSpan sealed(out.data(), size.value());
+  const Result<protocol::FrameView> frame = protocol::parse_frame(sealed);
+  if (!frame.ok() || !protocol::decode_payload(frame.value().header, frame.value().payload).ok()) {
+    ++damaged_records_;
+    return;
+  }
   if (control_.send_to(address, port, ConstByteSpan(out.data(), size.value())).ok()) ++counters_.replies_sent;
 }
 

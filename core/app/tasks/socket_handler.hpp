@@ -131,7 +131,8 @@ class SocketHandler {
   // The most datagrams handled in one wake-up so far (never above kBudget).
   std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
   // Records of the segment refused as damaged: SDO results with a status, target, request type or
-  // size the EtherCAT handler never writes (the transfer is answered no_answer at its deadline).
+  // size the EtherCAT handler never writes (the transfer is answered no_answer at its deadline), and
+  // any answer built from the segment that ctl's decoder would refuse (not sent).
   std::uint64_t damaged_records() const noexcept { return damaged_records_; }
 
  private:
