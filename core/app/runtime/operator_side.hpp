@@ -25,7 +25,7 @@ struct OperatorSide {
 void operator_side_pass(OperatorSide& side) noexcept;
 
 // Damaged heartbeats the supervisor's liveness watch saw (LivenessWatch::damaged_beats): the run
-// summary's segment_heartbeats_damaged_supervisor.
+// summary's segment_records_refused_supervisor.
 std::uint64_t liveness_damaged_beats() noexcept;
 
 // After the handler ended: the drives are off; the joint manager's Enabled DFAs follow (Enabled ->

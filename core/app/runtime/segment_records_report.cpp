@@ -45,7 +45,7 @@ void print_segment_records_refused(std::FILE* out, const RunControl& run, std::u
     total += n;
     (void)std::fprintf(out, "segment_records_refused_%s: %" PRIu32 "\n", kTaskKeys[k], n);
   }
-  (void)std::fprintf(out, "segment_heartbeats_damaged_supervisor: %" PRIu64 "\n", supervisor_damaged_beats);
+  (void)std::fprintf(out, "segment_records_refused_supervisor: %" PRIu64 "\n", supervisor_damaged_beats);
   (void)std::fprintf(out, "segment_records_refused: %" PRIu64 "\n", total);
 }
 

@@ -30,7 +30,7 @@ std::uint64_t damaged_records_of(const SocketHandler& socket) noexcept;
 void publish_damaged_records(TaskHealth& slot, std::uint64_t total, std::uint64_t& published) noexcept;
 
 // `key: value` lines of the run's summary: `segment_records_refused_TASK` per task (the socket
-// handler n/a when the run has no operator port), `segment_heartbeats_damaged_supervisor` (its
+// handler n/a when the run has no operator port), `segment_records_refused_supervisor` (its
 // liveness watch), and
 // `segment_records_refused` (all of them).
 void print_segment_records_refused(std::FILE* out, const RunControl& run, std::uint64_t supervisor_damaged_beats,

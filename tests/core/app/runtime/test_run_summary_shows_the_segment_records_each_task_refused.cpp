@@ -68,7 +68,7 @@ TEST(SegmentRecordsReport, TheHandlersRefusalsAreCountedPublishedAndPrinted) {
   EXPECT_NE(text.find("segment_records_refused_joint_manager: 0\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_records_refused_socket_handler: 2\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_records_refused_rc_teleop: 1\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("segment_heartbeats_damaged_supervisor: 4\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("segment_records_refused_supervisor: 4\n"), std::string::npos) << text;
   EXPECT_NE(text.find("segment_records_refused: 12\n"), std::string::npos) << text;
   // A run without the operator port has no socket handler: its line does not apply.
   const std::string without = printed(*run, 4, false);
