@@ -2,6 +2,8 @@
 // table, an event recorder and a storage whose writes can be made to fail.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <cstdio>
@@ -241,6 +243,29 @@ struct Rig {
   InlineStorageWorker worker;
   hal::ManualWallClock wall{1'700'000'000'000'000'000LL};
   EventLog log;
+};
+
+// A joint manager wired to a Rig and a real error-joints file in a fresh state directory, stepped a
+// millisecond at a time: the fixture of the joint manager's command tests.
+class JointManagerFixture : public ::testing::Test {
+ protected:
+  JointManagerFixture() : storage(dir.path.c_str()), rig(storage), manager(rig.ports()) {}
+
+  void step() {
+    now += hal::kNsPerMs;
+    manager.step(now);
+  }
+  // The first two commands of "initialize robot": CSP selected, the reference where each joint stands.
+  void select_csp_at_current_position() {
+    rig.command(kAllJoints, fsm::JointInput::select_mode, ControlMode::cyclic_position);
+    rig.command(kAllJoints, fsm::JointInput::set_reference);
+  }
+
+  TempStateDir dir;
+  ErrorJointsFileStorage storage;
+  Rig rig;
+  JointManager manager;
+  hal::Nanoseconds now{0};
 };
 
 }  // namespace rescue::app::testing

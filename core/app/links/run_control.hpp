@@ -21,7 +21,10 @@ struct TaskHealth {
   // ctl tasks: the task's own thread (gettid, what `chrt -p` and `ps -L` show) and when its current
   // incarnation started (monotonic ns, 0: not started), both written by the task at its start.
   std::atomic<std::int32_t> tid;
-  std::atomic<std::int32_t> reserved;
+  // Records of the segment the task refused as damaged (a field its writer never writes, a damaged
+  // heartbeat: docs/shared-memory.md "Records: what each reader checks"), live, written by the task;
+  // a restarted task process adds its own (runtime/segment_records_report.hpp).
+  std::atomic<std::uint32_t> damaged_records;
   std::atomic<std::int64_t> started_ns;
   std::atomic<std::uint64_t> heap_allocations;      // after the task's init (its process's heap guard)
   std::atomic<std::uint64_t> page_faults;           // minor + major of the task's thread after its init

@@ -18,6 +18,7 @@
 #include "core/app/runtime/nic_factory.hpp"
 #include "core/app/runtime/operator_side.hpp"
 #include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/run_control_check.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/run_report.hpp"
 #include "core/app/runtime/sii_cache_file.hpp"
@@ -442,6 +443,16 @@ void print_ring_state(const StartUp& up, const RunControl& state) noexcept {
 int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator_side) noexcept {
   const FirmwareOptions& options = up.options;
   RunControl& state = run_control();
+  // The figures come from the segment: damaged ones are neither printed nor judged.
+  const char* damaged = run_control_damage(state);
+  if (damaged != nullptr) {
+    (void)std::printf("rescue-motion run: the tasks' shared state is damaged (%s): the run's figures are not printed "
+                      "or judged\n",
+                      damaged);
+    (void)std::fprintf(stderr, "rescue-motion run: shared segment damaged (%s); exit status %d\n", damaged,
+                       kExitSegmentDamaged);
+    return kExitSegmentDamaged;
+  }
   const JointMask lost = state.lost_joints.load();
   const auto condition = static_cast<fsm::RobotCondition>(state.condition.load());
   (void)print_run_figures(options, *up.socket);
@@ -474,6 +485,7 @@ int report_run(const StartUp& up, int tasks_status, const OperatorSide& operator
   summary.processes = g_run.task_processes;
   summary.start = up.start;
   summary.bring_up = &up.bus->master().report();
+  summary.supervisor_damaged_beats = liveness_damaged_beats();
   print_run_summary(summary);
   print_ring_state(up, state);
   const int limits = sent_joint_limits_exit(state);

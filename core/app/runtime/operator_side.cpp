@@ -75,8 +75,13 @@ const char* consequence_of_silence(std::size_t task) noexcept {
 }
 
 // The supervisor's liveness watch (the logging thread under --threads): one check per pass.
-void liveness_pass(hal::Nanoseconds now) noexcept {
+LivenessWatch& liveness_watch() noexcept {
   static LivenessWatch watch(g_run.tasks.options->task_silent_after, kWatchedTasks);
+  return watch;
+}
+
+void liveness_pass(hal::Nanoseconds now) noexcept {
+  LivenessWatch& watch = liveness_watch();
   static RepeatLimiter<kTaskStatSlots> limiter(config::kSilenceReportIntervalNs);
   static std::array<bool, kTaskStatSlots> shown{};  // whether each task's latest silence was printed
   std::array<LivenessChange, kTaskStatSlots> changes{};
@@ -121,6 +126,10 @@ void liveness_pass(hal::Nanoseconds now) noexcept {
 }
 
 }  // namespace
+
+std::uint64_t liveness_damaged_beats() noexcept {
+  return g_run.tasks.options != nullptr ? liveness_watch().damaged_beats() : 0;
+}
 
 void operator_side_pass(OperatorSide& side) noexcept {
   hal::Clock& clock = *g_run.tasks.clock;

@@ -4,6 +4,8 @@
 // the Enabled joints disabled through the message parser.
 #pragma once
 
+#include <cstdint>
+
 #include "core/app/runtime/run_log.hpp"
 #include "core/robot/robot.hpp"
 
@@ -21,6 +23,10 @@ struct OperatorSide {
 };
 
 void operator_side_pass(OperatorSide& side) noexcept;
+
+// Damaged heartbeats the supervisor's liveness watch saw (LivenessWatch::damaged_beats): the run
+// summary's segment_records_refused_supervisor.
+std::uint64_t liveness_damaged_beats() noexcept;
 
 // After the handler ended: the drives are off; the joint manager's Enabled DFAs follow (Enabled ->
 // Ready) through the parser, the joint handle queue's only producer (its answer within its timeout).

@@ -7,6 +7,7 @@
 #include "core/app/config/command_line.hpp"
 #include "core/app/config/firmware_config.hpp"
 #include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/segment_records_report.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_cpu.hpp"
 #include "core/kinematics/self_collision.hpp"
@@ -282,6 +283,8 @@ void print_run_summary(const RunSummary& s) noexcept {
   for (std::size_t i = 0; i < kDropCounters; ++i) {
     (void)std::printf("%s: %" PRIu64 "\n", kDropCounterNames[i], shared_links().run.dropped[i].load(std::memory_order_relaxed));
   }
+  // Records of the segment each task refused as damaged (docs/shared-memory.md).
+  print_segment_records_refused(stdout, shared_links().run, s.supervisor_damaged_beats, s.socket != nullptr);
   char names[kJointNamesCapacity];
   format_joint_names(s.lost, names, sizeof names);
   std::size_t lost_count = 0;

@@ -40,6 +40,7 @@ struct RunSummary {
   bool processes{false};
   hal::Nanoseconds start{0};                      // the run's clock origin (NIC open)
   const ecat::BringUpReport* bring_up{nullptr};   // the bring-up's report (time to SAFE-OP, SII cache hits)
+  std::uint64_t supervisor_damaged_beats{0};      // the liveness watch's damaged heartbeats (segment_records_report.hpp)
 };
 
 void print_run_summary(const RunSummary& s) noexcept;

@@ -11,6 +11,7 @@
 #include "core/app/config/task_table.hpp"
 #include "core/app/runtime/period_schedule.hpp"
 #include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/segment_records_report.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/task_timing.hpp"
 #include "core/app/tasks/period_mark.hpp"
@@ -171,6 +172,14 @@ void publish_handler_drops(RunControl& run, EthercatHandler& handler) noexcept {
   publish_drops(run, DropCounter::power_cycle_reports_dropped, handler.power_cycle_reports_dropped());
 }
 
+// Records of the segment each task refused as damaged, as this process last published them into its
+// health slot (segment_records_report.hpp).
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): one writer per entry, the task of the slot
+std::array<std::uint64_t, kRunHealthSlots> g_damaged_published{};
+void publish_damaged(const TaskLoopPorts& ports, StatTask slot, std::uint64_t total) noexcept {
+  publish_damaged_records(*ports.health, total, g_damaged_published[static_cast<std::size_t>(slot)]);
+}
+
 // The rescue RC task (task 0) published that its rescue motion is in `phase`.
 bool rescue_motion_in(const Seqlock<RcTaskState>& rescue_state, kin::RescuePhase phase) noexcept {
   RcTaskState rescue{};
@@ -217,6 +226,7 @@ void handler_task(EthercatHandler& handler, ScenarioRunner& scenario, const Firm
     // ctl master, ctl diag (and its reset), ctl slaves -v: through the handler's ports.
     run_handler_publish(handler, r, now, late_periods);
     publish_handler_drops(state, handler);
+    publish_damaged(ports, StatTask::ethercat_handler, damaged_records_of(handler));
     state.cycles.store(r.cycle, std::memory_order_relaxed);
     state.late_periods.store(late_periods, std::memory_order_relaxed);
     const bool op = r.state == ecat::MasterState::op;
@@ -277,8 +287,9 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, const TaskLoop
   TaskHealthProbe health(*ports.health);
   // Each step publishes the joints' status through the joint manager's port (JointManagerPorts::joint_status).
   run_periods(state.manager_stop, clock, kJointManagerPeriod, kJointManagerPeriod / 2, ports, stats,
-              [&manager, &state](hal::Nanoseconds start) noexcept {
+              [&manager, &state, &ports](hal::Nanoseconds start) noexcept {
                 manager.step(start);
+                publish_damaged(ports, StatTask::joint_manager, damaged_records_of(manager));
                 publish_drops(state, DropCounter::joint_events_dropped, g_run.tasks.joint_events->dropped());
                 publish_drops(state, DropCounter::outcomes_deferred, manager.outcomes_deferred());
               });
@@ -291,6 +302,7 @@ void joint_manager_task(JointManager& manager, hal::Clock& clock, const TaskLoop
     clock.sleep_until(clock.now() + kJointManagerPeriod);
   }
   g_run.storage_stop.store(true, std::memory_order_release);
+  publish_damaged(ports, StatTask::joint_manager, damaged_records_of(manager));
   stats.publish();
   health.report();
   state.lost_joints.store(manager.lost_joints(), std::memory_order_relaxed);
@@ -308,7 +320,10 @@ void rc_task(Task& task, const char* name, StatTask slot, hal::Clock& clock, con
   TaskStats stats = start_task(name, TaskId::rc_tasks, slot, ports);
   TaskHealthProbe health(*ports.health);
   run_periods(state.rc_stop, clock, kRcTaskPeriod, kRcTaskPeriod / 2, ports, stats,
-              [&task](hal::Nanoseconds start) noexcept { task.period(start); });
+              [&task, &ports, slot](hal::Nanoseconds start) noexcept {
+                task.period(start);
+                publish_damaged(ports, slot, damaged_records_of(task.counters()));
+              });
   stats.publish();
   health.report();
 }
@@ -319,8 +334,9 @@ void parser_task(MessageParser& parser, hal::Clock& clock, const TaskLoopPorts& 
   TaskStats stats = start_task("message-parser", TaskId::message_parser, StatTask::message_parser, ports);
   TaskHealthProbe health(*ports.health);
   run_periods(state.operator_stop, clock, kParserPeriod, 10 * kParserPeriod, ports, stats,
-              [&parser, &state](hal::Nanoseconds start) noexcept {
+              [&parser, &state, &ports](hal::Nanoseconds start) noexcept {
                 parser.step(start);
+                publish_damaged(ports, StatTask::message_parser, damaged_records_of(parser));
                 publish_drops(state, DropCounter::replies_dropped, parser.replies_dropped());
               });
   stats.publish();
@@ -341,6 +357,7 @@ void socket_task(SocketHandler& socket, hal::Clock& clock, const TaskLoopPorts& 
     stats.period(start, start, work_start, timer.stop(), hal::kNsPerSec);
     ports.heartbeat_ns->store(clock.now(), std::memory_order_release);
     publish_drops(state, DropCounter::requests_dropped, socket.counters().forwarded_dropped);
+    publish_damaged(ports, StatTask::socket_handler, damaged_records_of(socket));
   }
   // A restarted socket handler keeps its predecessors' maximum.
   std::uint64_t seen = state.socket_max_per_wakeup.load(std::memory_order_relaxed);

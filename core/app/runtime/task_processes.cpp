@@ -17,6 +17,7 @@
 #include "core/app/config/task_table.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/runtime/run_context.hpp"
+#include "core/app/runtime/run_control_check.hpp"
 #include "core/app/runtime/run_log.hpp"
 #include "core/app/runtime/stop_signal.hpp"
 #include "core/app/runtime/supervisor.hpp"
@@ -218,6 +219,9 @@ Status segment_damage() noexcept {
                       static_cast<std::uint32_t>(segment.header.creator_pid));
   }
   if (segment.links.local_replies.corrupt()) return make_error(Errc::malformed, "the operator replies' queue counters");
+  // The run's own words and figures (stop words, masks, states): a value no writer writes.
+  const char* run_field = run_control_damage(segment.links.run);
+  if (run_field != nullptr) return make_error(Errc::malformed, run_field);
   return Status::success();
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/app/links/heartbeat.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/predefined_messages.hpp"
 
@@ -113,8 +114,11 @@ void MessageParser::start_rc_input(const ControlRequest& request) noexcept {
   char text[protocol::kReplyTextSize];
   const std::int64_t beat =
       ports_.rc_heartbeat_ns != nullptr && task < protocol::kMaxRcTasks ? (*ports_.rc_heartbeat_ns)[task].load(std::memory_order_acquire) : 0;
-  // Heartbeats are monotonic-clock times; the parser's `now` is too (one clock per machine).
-  if (beat == 0 || now_ - beat > kRcTaskSilence || ports_.rc_inputs[task] == nullptr) {
+  // Heartbeats are monotonic-clock times; the parser's `now` is too (one clock per machine). A
+  // damaged beat (links/heartbeat.hpp) tells nothing of the task: not running, counted.
+  const HeartbeatAge judged = heartbeat_age(now_, beat);
+  if (judged.kind == HeartbeatAge::Kind::damaged) ++damaged_beats_;
+  if (judged.kind != HeartbeatAge::Kind::whole || judged.age > kRcTaskSilence || ports_.rc_inputs[task] == nullptr) {
     (void)std::snprintf(text, sizeof text, "no RC task running (RC task %u)", static_cast<unsigned>(task));
     reply(request, Outcome::refused, RefusalReason::no_rc_task, 0, text);
     return;

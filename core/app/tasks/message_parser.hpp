@@ -67,6 +67,8 @@ class MessageParser {
   bool idle() const noexcept { return !pending_.active; }
   std::uint64_t requests() const noexcept { return requests_; }
   std::uint64_t replies_dropped() const noexcept { return replies_dropped_; }
+  // RC task heartbeats read damaged (links/heartbeat.hpp): the input was refused "no RC task running".
+  std::uint64_t damaged_beats() const noexcept { return damaged_beats_; }
 
  private:
   struct Pending {
@@ -96,6 +98,7 @@ class MessageParser {
   std::uint32_t next_id_{1};
   std::uint64_t requests_{0};
   std::uint64_t replies_dropped_{0};
+  std::uint64_t damaged_beats_{0};
   hal::Nanoseconds now_{0};
   // The last `owner TASK` queued: the RC task takes the word in its next period, so a move or hand
   // right behind it (within kRcTaskSilence) is its owner's.

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/app/config/firmware_config.hpp"
+#include "core/app/links/heartbeat.hpp"
 
 namespace rescue::app {
 
@@ -13,9 +14,11 @@ namespace {
 // every task, the handler too, passes the first test but not the second: the owner had no CPU
 // either, so its silence is jitter, not death (issue 35: 218 ms with every task held released a
 // live rescue task under stress-ng). A dead owner still goes within kOwnerDeadAfterPeriods + 1
-// handler periods.
+// handler periods. A damaged beat (links/heartbeat.hpp: negative, or from the future) has no age:
+// the owner is judged by the handler's periods alone, in which the beat did not move.
 bool silent_for(hal::Nanoseconds now, std::int64_t beat, std::int64_t handler_periods, const MotionIntakeSettings& s) noexcept {
-  if (now - beat <= s.owner_dead_after_ns) return false;
+  const HeartbeatAge judged = heartbeat_age(now, beat);
+  if (judged.kind == HeartbeatAge::Kind::whole && judged.age <= s.owner_dead_after_ns) return false;
   if (s.handler_period_ns <= 0) return true;  // no period known: the wall clock alone
   return (handler_periods + 1) * s.handler_period_ns > s.owner_dead_after_ns;
 }
@@ -196,6 +199,7 @@ void MotionIntake::decide(hal::Nanoseconds now, const RobotDemand& demand, Joint
   if (beat != beat_seen_[task]) {
     beat_seen_[task] = beat;
     periods_beat_unchanged_[task] = 0;
+    if (heartbeat_age(now, beat).kind == HeartbeatAge::Kind::damaged) ++counters_.damaged_beats;
   } else {
     ++periods_beat_unchanged_[task];
   }

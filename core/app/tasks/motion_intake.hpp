@@ -69,6 +69,7 @@ struct MotionIntakeCounters {
   std::uint64_t foreign{0};         // of the misses: written under another owner word
   std::uint64_t releases{0};        // dead owners released
   std::uint64_t clamped{0};         // joint references limited (position, velocity, acceleration or jerk limit)
+  std::uint64_t damaged_beats{0};   // the owner's heartbeat read damaged (links/heartbeat.hpp), each distinct value once
 };
 
 // What the intake sent, per joint, over the periods the joint was driven and kept its reference's

@@ -49,6 +49,23 @@ void take_information_total(const ecat::SdoCompletion& done, protocol::SdoResult
   r.data.fill(0);
 }
 
+// The socket handler's request is a record of the shared segment: a field it never writes is damage
+// (a stray write, a bit flip), refused whole. It writes a download flag of 0 or 1, a target of its two
+// kinds, an information opcode of the three (0 for a transfer) never with a download, and a size of
+// 1..256 bytes for a download and 0 otherwise (ctl's decoder refuses every other value).
+bool sdo_request_whole(const SdoLinkRequest& request) noexcept {
+  unsigned char download = 0;
+  std::memcpy(&download, &request.download, 1);
+  const auto op = static_cast<std::uint8_t>(request.info_op);
+  const bool op_known = op == 0 || op == static_cast<std::uint8_t>(protocol::SdoInfoOp::od_list) ||
+                        op == static_cast<std::uint8_t>(protocol::SdoInfoOp::object_description) ||
+                        op == static_cast<std::uint8_t>(protocol::SdoInfoOp::entry_description);
+  const bool size_known = download == 1 ? request.sdo.size >= 1 && request.sdo.size <= protocol::kSdoDataSize
+                                        : request.sdo.size == 0;
+  return download <= 1 && static_cast<std::uint8_t>(request.sdo.target) <= protocol::kSdoTargetLast && op_known &&
+         (op == 0 || download == 0) && size_known;
+}
+
 }  // namespace
 
 SdoStatus judge_sdo_download(std::uint16_t index, std::uint8_t subindex, bool op_or_safe_op) noexcept {
@@ -98,6 +115,10 @@ void SdoRelay::step(JointMask unreachable, bool op) noexcept {
 
   SdoLinkRequest request;
   if (!requests_->try_receive(request)) return;
+  if (!sdo_request_whole(request)) {
+    ++damaged_requests_;  // nothing sent, no answer (its id is not trusted): the socket handler's limit answers
+    return;
+  }
   SdoLinkResult result;
   result.id = request.id;
   protocol::SdoResultPayload& r = result.result;

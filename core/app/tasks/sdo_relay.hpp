@@ -4,8 +4,9 @@
 // period inside the cyclic frame, so a transfer never waits inside a period and never costs one.
 //
 // Per period, step() (called by EthercatHandler::cycle after the exchange):
-//   - takes at most one request from the socket handler's queue (TaskLinks::sdo_requests) and
-//     judges it: a joint out of the exchange or recorded lost -> unreachable; a download of an
+//   - takes at most one request from the socket handler's queue (TaskLinks::sdo_requests); a
+//     damaged record (a field the socket handler never writes) is refused whole, counted and not
+//     answered; otherwise it judges it: a joint out of the exchange or recorded lost -> unreachable; a download of an
 //     object mapped into the drive's RxPDO/TxPDO -> mapped_object; a download of the PDO mapping
 //     (0x1600-0x17FF, 0x1A00-0x1BFF) or assignment (0x1C12, 0x1C13) while the slave is in
 //     SAFE-OP/OP -> pdo_configuration; a transfer already in flight, or no room in the mailbox
@@ -41,6 +42,9 @@ class SdoRelay {
 
   bool in_flight() const noexcept { return in_flight_; }
   std::uint32_t transfers() const noexcept { return transfers_started_; }  // submitted to the mailbox
+  // Requests refused as damaged records of the segment (a field the socket handler never writes: a
+  // download flag, target, information opcode or size): nothing sent and nothing answered.
+  std::uint32_t damaged_requests() const noexcept { return damaged_requests_; }
 
  private:
   void answer(const SdoLinkResult& result) noexcept;
@@ -54,6 +58,7 @@ class SdoRelay {
   bool has_waiting_{false};
   std::uint32_t tag_{0};
   std::uint32_t transfers_started_{0};
+  std::uint32_t damaged_requests_{0};
 };
 
 // The reason of a result in words, for its text field (socket handler; not on a real-time path).

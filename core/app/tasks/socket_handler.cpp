@@ -3,7 +3,9 @@
 #include <poll.h>
 
 #include <algorithm>
+#include <limits>
 
+#include "core/app/links/heartbeat.hpp"
 #include "core/app/operator_protocol/protocol_auth.hpp"
 #include "core/app/operator_protocol/protocol_codec.hpp"
 #include "core/app/tasks/sdo_relay.hpp"
@@ -65,6 +67,16 @@ protocol::SdoInfoResultPayload info_result_of(const protocol::SdoResultPayload& 
   return out;
 }
 
+
+// The EtherCAT handler's SDO result is a record of the shared segment: a status, target or request
+// type it never writes, or a size beyond the record's data, is damage (a stray write, a bit flip).
+bool sdo_result_whole(const protocol::SdoResultPayload& r) noexcept {
+  const bool type = r.request_type == MessageType::sdo_upload || r.request_type == MessageType::sdo_download ||
+                    r.request_type == MessageType::sdo_info;
+  return type && static_cast<std::uint8_t>(r.status) <= protocol::kSdoStatusLast &&
+         static_cast<std::uint8_t>(r.target) <= protocol::kSdoTargetLast && r.size <= protocol::kSdoDataSize;
+}
+
 }  // namespace
 
 Status SocketHandler::open(const SocketHandlerOptions& options) noexcept {
@@ -96,6 +108,15 @@ void SocketHandler::send(Message& message, std::uint32_t address, std::uint16_t 
   std::array<std::uint8_t, protocol::kMaxDatagram> out{};
   const Result<std::size_t> size = protocol::seal(message, key_, ByteSpan(out));
   if (!size.ok()) return;
+  // Every answer is built from records of the segment (replies, results, published figures): one
+  // that ctl's decoder would refuse carries a value no writer writes (a damaged record) and is not
+  // sent; the operator's ctl times out and says so.
+  const ConstByteSpan sealed(out.data(), size.value());
+  const Result<protocol::FrameView> frame = protocol::parse_frame(sealed);
+  if (!frame.ok() || !protocol::decode_payload(frame.value().header, frame.value().payload).ok()) {
+    ++damaged_records_;
+    return;
+  }
   if (control_.send_to(address, port, ConstByteSpan(out.data(), size.value())).ok()) ++counters_.replies_sent;
 }
 
@@ -103,8 +124,12 @@ protocol::FiguresAge SocketHandler::handler_figures_age() const noexcept {
   protocol::FiguresAge age;
   if (ports_.handler_heartbeat == nullptr) return age;
   const std::int64_t beat = ports_.handler_heartbeat->load(std::memory_order_acquire);
-  if (beat == 0) return age;  // before the handler's first period: no figures to age
-  const hal::Nanoseconds old = now_ > beat ? now_ - beat : 0;
+  const HeartbeatAge judged = heartbeat_age(now_, beat);
+  if (judged.kind == HeartbeatAge::Kind::never) return age;  // before the handler's first period: no figures to age
+  // A damaged beat (links/heartbeat.hpp): the figures' age cannot be told, so it is the largest
+  // (saturated, as a very old one) and they are stale.
+  const hal::Nanoseconds old =
+      judged.kind == HeartbeatAge::Kind::whole ? judged.age : std::numeric_limits<hal::Nanoseconds>::max();
   const hal::Nanoseconds ms = old / hal::kNsPerMs;
   age.age_ms = ms > 0xFFFFFFFF ? 0xFFFFFFFFU : static_cast<std::uint32_t>(ms);
   age.stale = old > ports_.stale_after;
@@ -194,8 +219,10 @@ void SocketHandler::answer_query(const Message& request, const hal::UdpDatagram&
         protocol::RcTaskRecord& t = m.owner_state.tasks[k];
         t.present = 1;
         const std::int64_t beat = ports_.rc_heartbeat_ns != nullptr ? (*ports_.rc_heartbeat_ns)[k].load(std::memory_order_acquire) : 0;
-        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never".
-        const std::int64_t age = beat > 0 ? (mono > beat ? mono - beat : 0) : -1;
+        // A beat after `mono` was read (the task ran meanwhile) is 0 ms old, not "never"; a damaged
+        // one (links/heartbeat.hpp) is shown as never, not alive.
+        const HeartbeatAge judged = heartbeat_age(mono, beat);
+        const std::int64_t age = judged.kind == HeartbeatAge::Kind::whole ? judged.age : -1;
         t.heartbeat_age_ms = age < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(std::min<std::int64_t>(age / hal::kNsPerMs, 0xFFFFFFFE));
         t.alive = age >= 0 && age <= 100 * hal::kNsPerMs ? 1 : 0;  // the message parser's kRcTaskSilence
         RcTaskState state{};
@@ -325,6 +352,10 @@ void SocketHandler::collect_sdo_result() noexcept {
   SdoLinkResult result;
   while (ports_.sdo_results != nullptr && ports_.sdo_results->try_receive(result)) {
     if (!sdo_.active || result.id != sdo_.id) continue;  // the answer to a transfer already answered no_answer
+    if (!sdo_result_whole(result.result)) {
+      ++damaged_records_;  // not sent: the transfer is answered no_answer at its deadline
+      continue;
+    }
     sdo_.active = false;
     answer_sdo(result.result, sdo_.info, sdo_.request_sequence, sdo_.address, sdo_.port);
   }

@@ -130,6 +130,10 @@ class SocketHandler {
   }
   // The most datagrams handled in one wake-up so far (never above kBudget).
   std::size_t max_per_wakeup() const noexcept { return max_per_wakeup_; }
+  // Records of the segment refused as damaged: SDO results with a status, target, request type or
+  // size the EtherCAT handler never writes (the transfer is answered no_answer at its deadline), and
+  // any answer built from the segment that ctl's decoder would refuse (not sent).
+  std::uint64_t damaged_records() const noexcept { return damaged_records_; }
 
  private:
   void handle(const hal::UdpDatagram& d, bool control_port, hal::Nanoseconds now) noexcept;
@@ -187,6 +191,7 @@ class SocketHandler {
   SiiImageRecord sii_scratch_{};  // ctl sii_read: the slave's published image (1 KiB: not on the stack)
   SensorData sensor_data_{};
   std::uint64_t last_sequence_{0};
+  std::uint64_t damaged_records_{0};
   std::size_t max_per_wakeup_{0};
   hal::Nanoseconds now_{0};  // the current wake-up's
   // The SDO transfer in flight (one at a time).

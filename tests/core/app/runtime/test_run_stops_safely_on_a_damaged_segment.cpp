@@ -1,17 +1,21 @@
 // Issue 35 item 8: random bytes written over a live run's shared-memory segment (a stray write or
 // a bit flip; docs/shared-memory.md "A damaged segment"). The supervisor says so once, kills every
 // task (safe hold: no frame any more), exits with status 6 within seconds instead of draining a
-// "queue" of 2^63 entries, and records no joint as lost.
+// "queue" of 2^63 entries, and records no joint as lost. The same for one byte of the run's own
+// record (RunControl's robot condition, a value no writer writes), which the supervisor checks on
+// every pass (core/app/runtime/run_control_check.hpp).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <random>
 #include <string>
 
+#include "core/app/shm/segment_layout.hpp"
 #include "hal/shm/shared_memory.hpp"
 #include "tests/support/background_run.hpp"
 #include "tests/support/joint_manager_fakes.hpp"
@@ -60,6 +64,29 @@ TEST(DamagedSegment, RandomBytesOverALiveSegmentStopTheRunOnceAndRecordNoLoss) {
   if (had_file) {
     EXPECT_EQ(test::read_text_file(errors_file), before);
   }
+}
+
+TEST(DamagedSegment, ADamagedByteOfTheRunsOwnRecordStopsTheRunOnceAndNamesIt) {
+  testing::TempStateDir dir;
+  const std::string segment = "/rescue-test-damaged-run-" + std::to_string(::getpid());
+  test::BackgroundRun run({"run", "--duration", "60", "--initialize", "--state-dir", dir.path, "--segment", segment},
+                          dir.path + "/run.log");
+  ASSERT_TRUE(run.wait_for("operator: initialize: accepted", milliseconds(30000))) << run.output();
+  {
+    Result<hal::SharedMemory> shared = hal::SharedMemory::open_existing(segment.c_str());
+    ASSERT_TRUE(shared.ok());
+    auto* bytes = static_cast<unsigned char*>(shared.value().data());
+    const std::size_t at = shm::kLinksOffset + offsetof(TaskLinks, run) + offsetof(RunControl, condition);
+    ASSERT_LT(at, shared.value().size());
+    bytes[at] = 0x7F;  // no RobotCondition
+  }
+  const auto started = std::chrono::steady_clock::now();
+  const int status = run.wait_exit();
+  const auto took = std::chrono::duration_cast<milliseconds>(std::chrono::steady_clock::now() - started);
+  const std::string out = run.output();
+  EXPECT_EQ(status, 6) << out;
+  EXPECT_LT(took.count(), 20000) << "stopped at the supervisor's next pass, not at --duration";
+  EXPECT_EQ(count_of(out, "shared segment " + segment + " damaged (RunControl::condition)"), 1U) << out;
 }
 
 }  // namespace

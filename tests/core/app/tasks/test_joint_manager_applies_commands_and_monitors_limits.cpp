@@ -10,33 +10,19 @@ namespace {
 
 using fsm::JointInput;
 using fsm::JointState;
-using testing::Rig;
 
 const std::size_t kElbow = joint_index_by_name("l_elbow");
 const std::size_t kNeck = joint_index_by_name("neck_pan");
 
-class JointManagerCommands : public ::testing::Test {
+class JointManagerCommands : public testing::JointManagerFixture {
  protected:
-  JointManagerCommands() : storage(dir.path.c_str()), rig(storage), manager(rig.ports()) {}
-
-  void step() {
-    now += hal::kNsPerMs;
-    manager.step(now);
-  }
   // The message parser's "initialize robot": select mode, set reference to the current position, enable.
   void initialize_robot() {
-    rig.command(kAllJoints, JointInput::select_mode, ControlMode::cyclic_position);
-    rig.command(kAllJoints, JointInput::set_reference);
+    select_csp_at_current_position();
     rig.command(kAllJoints, JointInput::enable);
     step();
   }
   JointState state(std::size_t j) const { return manager.statuses()[j].state; }
-
-  testing::TempStateDir dir;
-  ErrorJointsFileStorage storage;
-  Rig rig;
-  JointManager manager;
-  hal::Nanoseconds now{0};
 };
 
 TEST_F(JointManagerCommands, InitializeRobotEnablesEveryJointWithReferenceAtCurrentPosition) {

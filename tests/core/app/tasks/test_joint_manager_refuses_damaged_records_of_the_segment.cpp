@@ -14,22 +14,14 @@ namespace {
 
 using fsm::JointInput;
 using fsm::JointState;
-using testing::Rig;
 
 const std::size_t kElbow = joint_index_by_name("l_elbow");
 
-class JointManagerDamagedRecords : public ::testing::Test {
+class JointManagerDamagedRecords : public testing::JointManagerFixture {
  protected:
-  JointManagerDamagedRecords() : storage(dir.path.c_str()), rig(storage), manager(rig.ports()) {}
-
-  void step() {
-    now += hal::kNsPerMs;
-    manager.step(now);
-  }
   // Every joint in Ready: CSP selected, the reference where it stands; enable would be taken.
   void ready_robot() {
-    rig.command(kAllJoints, JointInput::select_mode, ControlMode::cyclic_position);
-    rig.command(kAllJoints, JointInput::set_reference);
+    select_csp_at_current_position();
     step();
     ASSERT_EQ(manager.statuses()[kElbow].state, JointState::ready);
   }
@@ -49,12 +41,6 @@ class JointManagerDamagedRecords : public ::testing::Test {
     }
     EXPECT_EQ(manager.lost_joints(), 0u);
   }
-
-  testing::TempStateDir dir;
-  ErrorJointsFileStorage storage;
-  Rig rig;
-  JointManager manager;
-  hal::Nanoseconds now{0};
 };
 
 template <typename Field>

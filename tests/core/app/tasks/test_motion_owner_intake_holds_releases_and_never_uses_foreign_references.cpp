@@ -4,13 +4,16 @@
 //   (a jump becomes a ramp within the joint's limits, so these tests let a reference settle);
 //   a missed deadline holds the last references and is counted; a joint the owner had in motion is
 //   brought to rest within its deceleration limit first (no abrupt reference stop);
-//   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken; a stall
-//   of the whole host (the handler held off its CPU as long as the owner) releases nobody;
+//   a dead owner is released within kOwnerDeadAfterPeriods + 1 periods and can be re-taken, also
+//   when a damaged heartbeat (from the future, negative) lies over its last one; a stall of the whole
+//   host (the handler held off its CPU as long as the owner) releases nobody;
 //   a non-owner's references, references of an older owner word, and incomplete (torn) periods
 //   never reach a joint; joints the handler does not drive are never commanded.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "core/app/config/firmware_config.hpp"
@@ -139,6 +142,27 @@ TEST(MotionIntake, ADeadOwnerIsReleasedWithinTheDocumentedPeriodsAndCanBeRetaken
   EXPECT_FALSE(rig.links->motion.owner.take_if_free(0, word)) << "only a free motion is taken that way";
   EXPECT_DOUBLE_EQ(rig.settle(1, 0.0015, kAllJoints)[kElbow], 0.0015);
   EXPECT_EQ(rig.intake.driving_task(), 1);
+}
+
+// Issue 35 item 8: the owner's heartbeat is a record of the shared segment. A damaged one over a
+// dead owner's last beat (a time far in the future read as "beat just now" for good; a negative one,
+// whose age overflowed) is counted, and the owner released by the handler's own periods as before.
+TEST(MotionIntake, ADeadOwnerBehindADamagedHeartbeatIsReleasedAndTheDamageCounted) {
+  for (const std::int64_t damage : {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()}) {
+    Rig rig;
+    (void)rig.links->motion.owner.take(0);
+    (void)rig.settle(0, 0.001, kAllJoints);
+    rig.links->rc_heartbeat_ns[0].store(damage);  // task 0 dies; a stray write lands on its beat
+    int periods = 0;
+    while (rig.links->motion.owner.task() == 0 && periods < 1000) {
+      EXPECT_DOUBLE_EQ(rig.handler_period()[kElbow], 0.001) << "held while dead";
+      ++periods;
+    }
+    EXPECT_EQ(rig.links->motion.owner.task(), kNoOwnerTask) << damage;
+    EXPECT_LE(periods, config::kOwnerDeadAfterPeriods + 1) << damage;
+    EXPECT_EQ(rig.intake.counters().releases, 1U);
+    EXPECT_EQ(rig.intake.counters().damaged_beats, 1U);
+  }
 }
 
 // Issue 35 (load stage): every task, the handler too, held off its CPUs for 218 ms by a loaded host.

@@ -4,7 +4,9 @@
 // request's sequence and the reason in words; a second transfer while one is in flight (another
 // sender's) is answered busy at once and never reaches the queue; a transfer the handler does not
 // answer within kSdoAnswerLimit is answered no_answer, and the handler's late result is dropped; an
-// sdo_info (ctl sdos) is one such transfer, answered with its own sdo_info_result.
+// sdo_info (ctl sdos) is one such transfer, answered with its own sdo_info_result. A result that is
+// a damaged record of the segment (a status, target, type or size the handler never writes) is
+// refused and counted, never sent: the transfer is answered no_answer at its deadline.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -163,6 +165,32 @@ TEST(SocketHandlerSdo, AHandlerThatDoesNotAnswerGetsNoAnswerAndItsLateResultIsDr
   ASSERT_TRUE(q.results.try_push(after));
   b.handler.step(SocketHandler::kSdoAnswerLimit + 2);
   EXPECT_EQ(b.answer().header.type, MessageType::reply) << "the late result is not sent a second time";
+}
+
+TEST(SocketHandlerSdo, ADamagedResultIsRefusedCountedAndTheTransferAnsweredNoAnswer) {
+  ASSERT_TRUE(protocol::init_crypto().ok());
+  Queues q;
+  Bench b(q.ports());
+  const SdoLinkRequest forwarded = first_transfer(b, q, 0x100A);
+  SdoLinkResult damaged;
+  damaged.id = forwarded.id;
+  damaged.result.request_type = MessageType::sdo_upload;
+  damaged.result.index = 0x100A;
+  const unsigned char status = 0x7E;  // no SdoStatus
+  std::memcpy(&damaged.result.status, &status, 1);
+  ASSERT_TRUE(q.results.try_push(damaged));
+  SdoLinkResult long_value = damaged;
+  long_value.result.status = SdoStatus::ok;
+  long_value.result.size = 300;  // beyond the record's 256 bytes of data
+  ASSERT_TRUE(q.results.try_push(long_value));
+  b.handler.step(1'000'000);
+  EXPECT_EQ(b.answer().header.type, MessageType::reply) << "nothing sent from a damaged record";
+  EXPECT_EQ(b.handler.damaged_records(), 2U);
+  b.handler.step(SocketHandler::kSdoAnswerLimit + 1);
+  const protocol::Message late = b.answer();
+  ASSERT_EQ(late.header.type, MessageType::sdo_result);
+  EXPECT_EQ(late.sdo_result.status, SdoStatus::no_answer);
+  EXPECT_EQ(late.sdo_result.request_sequence, kBase);
 }
 
 }  // namespace
