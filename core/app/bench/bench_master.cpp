@@ -116,12 +116,10 @@ void print_steps(const char* prefix, const ecat::BringUpReport& report) noexcept
 
 // Largest |true system time - reference's system time| over all slaves, now (simulator only).
 std::int64_t true_max_offset_ns() noexcept {
-  const hal::Nanoseconds now = g_virtual_clock.now();
-  const std::uint64_t reference = g_segment->esc(0).system_time_at(now);
+  std::array<std::int64_t, kSlaveCount> offsets{};
+  (void)g_segment->true_clock_offsets(g_virtual_clock.now(), Span<std::int64_t>(offsets));
   std::int64_t worst = 0;
-  for (std::size_t p = 1; p < kSlaveCount; ++p) {
-    worst = std::max(worst, std::abs(static_cast<std::int64_t>(g_segment->esc(p).system_time_at(now) - reference)));
-  }
+  for (const std::int64_t offset : offsets) worst = std::max(worst, std::abs(offset));
   return worst;
 }
 

@@ -24,8 +24,7 @@ std::uint32_t max_difference(const drivers::SimulatedSegment& segment) noexcept 
 
 // Each slave's system time against the reference's (position 0) at `now`.
 void offsets(const drivers::SimulatedSegment& segment, hal::Nanoseconds now, std::array<std::int64_t, kSlaveCount>& out) noexcept {
-  const std::uint64_t reference = segment.esc(0).system_time_at(now);
-  for (std::size_t p = 0; p < kSlaveCount; ++p) out[p] = static_cast<std::int64_t>(segment.esc(p).system_time_at(now) - reference);
+  (void)segment.true_clock_offsets(now, Span<std::int64_t>(out));
 }
 
 }  // namespace

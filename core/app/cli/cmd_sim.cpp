@@ -169,11 +169,10 @@ class FaultConsole {
   // "clocks TAG: o0 o1 ...", TAG echoed so that a caller can find its answer; a question, not a fault.
   static void print_clocks(const char* tag, std::size_t length, const drivers::SimulatedSegment& segment,
                            hal::Nanoseconds now) noexcept {
-    const std::uint64_t reference = segment.esc(0).system_time_at(now);
+    std::array<std::int64_t, drivers::kMaxSegmentSlaves> offsets{};
+    (void)segment.true_clock_offsets(now, Span<std::int64_t>(offsets.data(), offsets.size()));
     (void)std::printf("clocks %.*s:", static_cast<int>(length), tag);
-    for (std::size_t p = 0; p < segment.slave_count(); ++p) {
-      (void)std::printf(" %lld", static_cast<long long>(static_cast<std::int64_t>(segment.esc(p).system_time_at(now) - reference)));
-    }
+    for (std::size_t p = 0; p < segment.slave_count(); ++p) (void)std::printf(" %lld", static_cast<long long>(offsets[p]));
     (void)std::printf("\n");
     (void)std::fflush(stdout);
   }

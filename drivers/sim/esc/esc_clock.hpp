@@ -33,6 +33,8 @@ class EscLocalClock {
   // already has; kNever if it never can).
   hal::Nanoseconds time_of_local(std::uint64_t local) const noexcept;
 
+  // The segment time the clock was last advanced to: local_at(t) answers only for t from here on.
+  hal::Nanoseconds advanced_to() const noexcept { return base_t_; }
   // Moves the clock's reference point to `t` (consuming phase budget on the way).
   void advance(hal::Nanoseconds t) noexcept;
   // The crystal's deviation changes at `t` (a temperature step): the clock runs at the new rate from `t` on.

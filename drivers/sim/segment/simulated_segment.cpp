@@ -562,4 +562,14 @@ Status SimulatedSegment::corrupt_pdo_mapping(std::size_t position, PdoMappingFau
   return slaves_[position].device->corrupt_pdo_mapping(fault);
 }
 
+hal::Nanoseconds SimulatedSegment::true_clock_offsets(hal::Nanoseconds now, Span<std::int64_t> out) const noexcept {
+  hal::Nanoseconds at = now;
+  for (std::size_t p = 0; p < count_; ++p) at = std::max(at, escs_[p].dc().clock().advanced_to());
+  const std::uint64_t reference = count_ > 0 ? escs_[0].system_time_at(at) : 0;
+  for (std::size_t p = 0; p < count_ && p < out.size(); ++p) {
+    out[p] = static_cast<std::int64_t>(escs_[p].system_time_at(at) - reference);
+  }
+  return at;
+}
+
 }  // namespace rescue::drivers

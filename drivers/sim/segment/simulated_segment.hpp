@@ -133,6 +133,11 @@ class SimulatedSegment {
   const SegmentSlave& slave(std::size_t position) const noexcept { return slaves_[position]; }
   Esc& esc(std::size_t position) noexcept { return escs_[position]; }
   const Esc& esc(std::size_t position) const noexcept { return escs_[position]; }
+  // The true clock offsets, each slave's system time against position 0's, into out[0 ..
+  // slave_count()), all read at one instant: `now`, or the latest instant any ESC's clock was
+  // advanced to if that is later (a frame's walk advances a far slave's clock past the host's `now`
+  // by its propagation delay, and a clock cannot be read before its last advance). Returns that instant.
+  hal::Nanoseconds true_clock_offsets(hal::Nanoseconds now, Span<std::int64_t> out) const noexcept;
 
   // Processes one Ethernet frame in place as the slaves do. `sent_at` is when its first bit left
   // the master. A frame that does not come back is reported as such (returned = false), not as an
