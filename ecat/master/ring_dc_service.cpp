@@ -23,10 +23,17 @@ constexpr std::uint64_t kMaxWayNs = 1'000'000;
 constexpr std::uint32_t kBaselineCycles = 32;
 constexpr double kFilterWeight = 1.0 / 16.0;
 constexpr double kGain = 1.0 / 16.0;
-constexpr double kMaxStepNs = 8.0;  // 8 ppm of slew at the 1 ms period
+// 4 ppm of slew at the 1 ms period: the island's followers lag a ramp of 4 ns a cycle by about
+// 57 ns of 0x092C; at 8 ns they lagged 113-115 ns over veth (issue 34's bound is 100 ns).
+constexpr double kMaxStepNs = 4.0;
 constexpr double kClip = 3.0;       // a sample further than this many deviations from the filtered value is cut to it
 constexpr double kSignificance = 4.0;
 constexpr double kFloorNs = 5.0;  // below this nothing is steered (the simulator's ESC rounds to 1 ns)
+// A dead band wider than this cannot keep a drive's SYNC0 within issue 34's 1 us (the loop acts only
+// beyond it, and lags): with copies that noisy the steering would only chase the wander of their
+// transit times (over veth: 94-876 ns steered in 5 of 240 breaks, none of it drift), so the island
+// reference runs free on its learned rate instead.
+constexpr double kUsefulBandNs = 250.0;
 
 // The ring reaches slaves behind a break when it is open (or split) and the ring port reaches one.
 bool has_ring_side(const RingStatus& s) noexcept {
@@ -280,6 +287,7 @@ void RingDcService::steer(std::int64_t difference) noexcept {
   // over a break (measured, docs/redundancy.md), so the dead band is kSignificance deviations of
   // the samples themselves, and only what lies beyond it is steered.
   const double band = kSignificance * noise_;
+  if (band > kUsefulBandNs) return;
   const double beyond = std::fabs(deviation) - band;
   if (beyond <= 0.0) return;
   const double signed_beyond = deviation > 0.0 ? beyond : -beyond;

@@ -32,9 +32,10 @@
 // difference carries the two copies' host transit times (over veth 1.4-468 us apart from frame to
 // frame, its mean wandering), so it is held against its mean over the first cycles of the break
 // (its bias, the transit difference on average, cannot be told from a phase), filtered, and only
-// what lies beyond a dead band of a few of its deviations is steered (steer()). With quiet copies
-// (virtual time) the loop follows a crystal's step; over veth it seldom acts and the island
-// reference runs free.
+// what lies beyond a dead band of a few of its deviations is steered (steer()), and only when that
+// band is narrow enough to hold a SYNC0 edge within 1 us at all. With quiet copies (virtual time)
+// the loop follows a crystal's step; over veth the band is microseconds wide, so it does not act and
+// the island reference runs free (where it acted, it chased the transit's wander).
 // The reference behind the break (the master cable cut) is the island reference: the island then
 // takes the true reference time, each slave with its main path delay (the way from the reference
 // is the main path's), and DcReferenceService reads the reference by FPRD
