@@ -31,7 +31,7 @@ constexpr double kSignificance = 4.0;
 constexpr double kFloorNs = 5.0;  // below this nothing is steered (the simulator's ESC rounds to 1 ns)
 // A dead band wider than this cannot keep a drive's SYNC0 within issue 34's 1 us (the loop acts only
 // beyond it, and lags): with copies that noisy the steering would only chase the wander of their
-// transit times (over veth: 94-876 ns steered in 5 of 240 breaks, none of it drift), so the island
+// transit times (over veth: 2-876 ns steered on at least 10 of 240 breaks, none of it drift), so the island
 // reference runs free on its learned rate instead.
 constexpr double kUsefulBandNs = 250.0;
 
