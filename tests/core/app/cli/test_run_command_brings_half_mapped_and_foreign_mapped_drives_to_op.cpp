@@ -5,9 +5,13 @@
 // after the drive, its mapping left wrong once more, is power-cycled one second after OP. Judged on
 // state: the run exits 0 (the scenario's verdict: l_elbow was lost, every other joint kept every
 // cycle) and, with --auto-clear-power-cycled, the error-joints file ends empty after two writes
-// (l_elbow recorded lost, then cleared once its drive was back in OP).
+// (l_elbow recorded lost, then cleared once its drive was back in OP). The operator is told both
+// rewrites the same way (issue 35 item 15): bring-up's line and the recovery's line name l_elbow and
+// how many SDO writes the rewrite took; the run's own output is what the operator reads, so those two
+// lines are the behaviour proven here.
 #include <gtest/gtest.h>
 
+#include <regex>
 #include <string>
 
 #include "core/app/tasks/error_joints_storage.hpp"
@@ -31,12 +35,32 @@ void expect_repaired_at_bring_up_and_in_recovery(const std::string& scenario) {
   EXPECT_TRUE(file.decoded.contents.records.empty()) << out.out;
 }
 
+// Both rewrites are printed: at bring-up ("PDO mapping rewritten ...: l_elbow (N SDO writes)") and in
+// online recovery ("link recovered: l_elbow (...); PDO mapping rewritten ...: N SDO writes"), each
+// with a count above 0.
+void expect_both_rewrites_printed(const std::string& scenario) {
+  testing::TempStateDir dir;
+  const test::CommandOutput out = test::run_command(kBinary + " run --scenario " + scenario +
+                                                    " --duration 3 --auto-clear-power-cycled --state-dir " + dir.path + " 2>&1");
+  ASSERT_EQ(out.exit_status, 0) << out.out;
+  const std::regex bring_up(R"(rescue-motion run: PDO mapping rewritten \(it differed from the plan\): l_elbow \(([1-9][0-9]*) SDO writes\))");
+  const std::regex recovery(
+      R"(ethercat: cycle [0-9]+: link recovered: l_elbow \(first seen in cycle [0-9]+\); PDO mapping rewritten \(it differed from the plan\): ([1-9][0-9]*) SDO writes)");
+  EXPECT_TRUE(std::regex_search(out.out, bring_up)) << out.out;
+  EXPECT_TRUE(std::regex_search(out.out, recovery)) << out.out;
+}
+
 TEST(PdoMappingScenarios, AHalfWrittenMappingIsRepairedAtBringUpAndInRecovery) {
   expect_repaired_at_bring_up_and_in_recovery("half-mapped");
 }
 
 TEST(PdoMappingScenarios, AForeignDefaultMappingIsRepairedAtBringUpAndInRecovery) {
   expect_repaired_at_bring_up_and_in_recovery("foreign-mapping");
+}
+
+TEST(PdoMappingScenarios, TheRecoveryPrintsItsRewriteAsBringUpDoes) {
+  expect_both_rewrites_printed("half-mapped");
+  expect_both_rewrites_printed("foreign-mapping");
 }
 
 }  // namespace
