@@ -335,6 +335,8 @@ struct RobotSample {
   std::uint64_t cycles{0};
   std::uint64_t late_periods{0};
   double hand{0.0};        // l_hand's position, rad
+  double hand_speed{0.0};  // l_hand's velocity, rad/s
+  std::string hand_reachable;  // "true" when the answer carried l_hand's values from the handler
   std::string hand_owner;  // the RC task whose references drove l_hand ("null": none)
 };
 
@@ -344,9 +346,12 @@ RobotSample sample(const OperatorRun& run) {
   const CommandResult status = run.ctl({"--json", "status"});
   const CommandResult master = run.ctl({"--json", "master"});
   const std::string hand = testing::json_field(testing::joint_object(status.out, "l_hand"), "position_rad");
-  s.ok = status.status == 0 && master.status == 0 && !hand.empty();
+  const std::string speed = testing::json_field(testing::joint_object(status.out, "l_hand"), "velocity_rad_s");
+  s.ok = status.status == 0 && master.status == 0 && !hand.empty() && !speed.empty();
   if (!s.ok) return s;
   s.hand = std::stod(hand);
+  s.hand_speed = std::stod(speed);
+  s.hand_reachable = testing::json_field(testing::joint_object(status.out, "l_hand"), "reachable");
   s.hand_owner = testing::json_field(testing::joint_object(status.out, "l_hand"), "owner");
   s.cycles = number_after(master.out, "\"cycles\":");
   s.late_periods = number_after(master.out, "\"late_periods\":");
@@ -355,11 +360,11 @@ RobotSample sample(const OperatorRun& run) {
 
 // The same bad datagrams as above, sent for kFloodSeconds while RC task 1 (teleop) owns the motion
 // and moves l_hand back and forth between 0.2 and 0.4 rad (`ctl hand left close|open --task 1`, the
-// direction chosen from where the hand is, so it never rests at a limit). Proven: none of the bad
+// direction turned at those ends, so it never rests at a limit). Proven: none of the bad
 // datagrams is accepted and each is counted under its reason (when the kernel dropped none); no frame
 // lost, no joint lost; the hand is never driven by another RC task and moves again after the flood.
 // While no other program's real-time thread shares the host (CI: the test runs alone), also: the
-// hand's position changes between every two samples during the flood, the hand is driven by RC task
+// hand's position or speed changes between every two samples during the flood, the hand is driven by RC task
 // 1 in every sample (the owner stayed the RC task), the handler's cycle counter advances between
 // every two samples, the owner was never released (its heartbeat never went silent) and the motion
 // intake missed at most 1 in 10 of its periods; otherwise a weaker form, the figures printed.
@@ -410,12 +415,17 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
   RobotSample last = before;
   int samples = 0;
   int moved = 0;
+  int turned = 0;      // of those, samples at the position of the last one, at another speed
+  std::string still;   // the first two samples that found the hand standing still, for the failure
   int driven = 0;      // samples with l_hand driven by RC task 1
   int advanced = 0;    // samples after which the handler's cycle counter had advanced
   int refused = 0;     // hand commands refused ("no RC task running": its heartbeat older than 100 ms)
   int other_owner = 0; // samples with l_hand driven by another RC task
+  // Close up to 0.4 rad, open down to 0.2 rad: the hand turns round only at those ends.
+  const char* direction = before.hand < 0.3 ? "close" : "open";
   while (std::chrono::steady_clock::now() < flood_end) {
-    const char* direction = last.hand < 0.3 ? "close" : "open";
+    if (last.hand >= 0.4) direction = "open";
+    if (last.hand <= 0.2) direction = "close";
     if (run.ctl({"hand", "left", direction, "--task", "1"}).status != 0) ++refused;
     const RobotSample now = sample(run);
     valid += 3;
@@ -423,7 +433,18 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
     if (now.hand_owner == "1") ++driven;
     if (now.hand_owner != "1" && now.hand_owner != "null") ++other_owner;
     if (now.cycles > last.cycles) ++advanced;
-    if (now.hand != last.hand) ++moved;
+    // Turning round at its acceleration limit, the hand passes one position twice, once either way
+    // (its references are symmetric about the cycle it stops in): moving is a new position or a new
+    // speed; a hand standing still shows neither.
+    if (now.hand != last.hand || now.hand_speed != last.hand_speed) ++moved;
+    if (now.hand == last.hand && now.hand_speed != last.hand_speed) ++turned;
+    if (now.hand == last.hand && now.hand_speed == last.hand_speed && still.empty()) {
+      char pair[256];
+      (void)std::snprintf(pair, sizeof pair, "l_hand %.6f rad at %.6f rad/s (reachable %s) at cycle %" PRIu64
+                          " and again at cycle %" PRIu64 " (reachable %s)", now.hand, now.hand_speed,
+                          last.hand_reachable.c_str(), last.cycles, now.cycles, now.hand_reachable.c_str());
+      still = pair;
+    }
     ++samples;
     last = now;
   }
@@ -455,7 +476,7 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
   EXPECT_NE(after.hand, flood_over.hand) << "l_hand stood still after the flood";
   EXPECT_GT(after.cycles, flood_over.cycles);
   if (alone) {
-    EXPECT_EQ(moved, samples) << "l_hand stood still between two samples during the flood";
+    EXPECT_EQ(moved, samples) << "l_hand stood still between two samples during the flood: " << still;
     EXPECT_EQ(driven, samples) << "l_hand not driven by the RC task in every sample during the flood";
     EXPECT_EQ(advanced, samples) << "the handler's cycle counter stood still between two samples";
     EXPECT_EQ(refused, 0) << "an RC task's heartbeat went silent for 100 ms";
@@ -507,10 +528,10 @@ TEST(RunCommandFlood, TheRobotKeepsMovingThroughTheFloodAndNoBadDatagramIsAccept
               sent.malformed, sent.oversized, sent.unauthenticated, sent.replayed,
               static_cast<long long>(kFloodTime.count()), valid, drops);
   std::printf("flood while moving: %s (other programs' real-time threads %d before, %d after); %d samples: l_hand moved "
-              "in %d, driven by rc1 in %d, handler cycled in %d; %d hand commands refused; handler cycles %" PRIu64
+              "in %d (%d of them turning round at one position), driven by rc1 in %d, handler cycled in %d; %d hand commands refused; handler cycles %" PRIu64
               " -> %" PRIu64 " during the flood\n",
               alone ? "alone, every sample asserted" : "host shared with other real-time programs, weaker form", other_rt_before,
-              other_rt_after, samples, moved, driven, advanced, refused, before.cycles, flood_over.cycles);
+              other_rt_after, samples, moved, turned, driven, advanced, refused, before.cycles, flood_over.cycles);
   std::printf("flood while moving: handler late or skipped periods during the flood %" PRIu64 " (%s), in the quiet "
               "window before it %" PRIu64 ", whole run %" PRIu64 "; owner periods %" PRIu64 ", misses %" PRIu64
               ", releases %" PRIu64 "\n",
