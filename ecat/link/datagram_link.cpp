@@ -310,9 +310,25 @@ Result<FrameView> DatagramLink::await_frame(hal::Nanoseconds deadline) noexcept 
   }
 }
 
+unsigned DatagramLink::most_sends(hal::Nanoseconds timeout, unsigned attempts) const noexcept {
+  if (attempts <= 1 || repeat_silence_ <= 0) return attempts;
+  const hal::Nanoseconds step = timeout > 0 ? timeout : 1;
+  const hal::Nanoseconds more = repeat_silence_ / step + 1;
+  constexpr hal::Nanoseconds kMostMore = 100000;  // a silence of seconds over a timeout of microseconds
+  return attempts + static_cast<unsigned>(more < kMostMore ? more : kMostMore);
+}
+
+bool DatagramLink::may_give_up(hal::Nanoseconds first_sent, unsigned sends, unsigned attempts) const noexcept {
+  if (sends < attempts) return false;
+  if (attempts <= 1) return true;
+  return nic_.clock().now() - first_sent >= repeat_silence_;
+}
+
 Result<FrameView> DatagramLink::exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept {
   Result<FrameView> back = make_error(Errc::timeout, "no frame came back", attempts);
-  for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+  const hal::Nanoseconds first_sent = nic_.clock().now();
+  const unsigned most = most_sends(timeout, attempts);
+  for (unsigned sends = 0; sends < most && !may_give_up(first_sent, sends, attempts); ++sends) {
     back = exchange_within(timeout);
     if (back.ok() || back.error().code != Errc::timeout) break;
   }
@@ -324,7 +340,9 @@ Result<std::uint16_t> DatagramLink::transfer(Command command, std::uint32_t addr
   if (data.size() > kMaxDatagramDataLength) return make_error(Errc::invalid_argument, "transfer too long");
   const auto length = static_cast<std::uint16_t>(data.size());
   Error last = make_error(Errc::timeout, "no frame came back", attempts);
-  for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+  const hal::Nanoseconds first_sent = nic_.clock().now();
+  const unsigned most = most_sends(timeout, attempts);
+  for (unsigned sends = 0; sends < most && !may_give_up(first_sent, sends, attempts); ++sends) {
     FrameBuilder& frame = begin();
     const Result<DatagramSlot> slot =
         frame.add(command, index_, address, length, writes_slave(command) ? ConstByteSpan(data) : ConstByteSpan{});

@@ -128,8 +128,20 @@ class DatagramLink {
   Result<FrameView> exchange(const ExchangeDeadlines& deadlines) noexcept;
 
   // The same, sending the frame again (same index) when nothing came back within `timeout` of its
-  // sending, up to `attempts` times: for bring-up exchanges whose datagrams may be repeated.
+  // sending, up to `attempts` times: for bring-up exchanges whose datagrams may be repeated. With
+  // more than one attempt it gives up only once the link has also been silent for repeat_silence()
+  // since the first send (sending again every `timeout`, at most repeat_silence / timeout + 1 more).
   Result<FrameView> exchange(hal::Nanoseconds timeout, unsigned attempts) noexcept;
+
+  // How long a repeated blocking exchange (above, and transfer() with more than one attempt) waits
+  // for any answer before it gives up, on top of its attempts. Over veth the segment is a process:
+  // a simulator the host does not run for a few ms is slowness, not silence, and a bring-up must not
+  // fail on it (issue 35: `run --check` failed at identify after 3 x 2 ms under load, 8 late frames
+  // came back). A real segment answers in microseconds, so only a dead one waits this out.
+  // 0 (the default): give up after the attempts alone. A single attempt is a probe whose caller
+  // decides (the count step's first contact): never extended.
+  void set_repeat_silence(hal::Nanoseconds silence) noexcept { repeat_silence_ = silence > 0 ? silence : 0; }
+  hal::Nanoseconds repeat_silence() const noexcept { return repeat_silence_; }
 
   // One datagram in a frame of its own, sent up to `attempts` times while no frame comes back
   // (each attempt waits `timeout` from its sending). For reading commands the returned data is copied into `data`;
@@ -180,6 +192,12 @@ class DatagramLink {
   ConstByteSpan sent_{};
   FrameView sent_view_{};  // sent_, parsed by send_frame()
   std::uint8_t index_{0};
+  hal::Nanoseconds repeat_silence_{0};  // set_repeat_silence()
+  // Sends a repeated blocking exchange may make: its attempts, and with more than one, enough more
+  // to cover repeat_silence_ (bounded even on a clock that does not move).
+  unsigned most_sends(hal::Nanoseconds timeout, unsigned attempts) const noexcept;
+  // Whether a repeated exchange first sent at `first_sent` may give up after `sends` timed out.
+  bool may_give_up(hal::Nanoseconds first_sent, unsigned sends, unsigned attempts) const noexcept;
   std::array<hal::Nanoseconds, 256> sent_at_{};  // when the frame of each index was last sent (stale ages)
   std::array<std::uint16_t, 256> expected_wkc_{};  // expect_process_data_wkc of each index's last frame
   std::uint16_t expected_wkc_next_{0};

@@ -146,6 +146,9 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
     return fail("plan", make_error(Errc::capacity_exceeded, "process image does not fit one frame", u32(cyclic_bytes)));
   }
 
+  // Bring-up's repeated exchanges wait out a host that did not run the segment's end for a while
+  // (DatagramLink::set_repeat_silence); after bring-up nothing repeats by blocking.
+  link_.set_repeat_silence(options_.repeat_silence);
   Status st = check_stop("count");
   if (st.ok()) st = count_and_reset();
   if (st.ok()) st = check_stop("identify");
@@ -179,6 +182,7 @@ Status Master::bring_up(const MasterOptions& options) noexcept {
     const Status safe_op = request_al_state(link_, plan_, operated(), reg::AlState::safe_op, options_.al, report_.al_failure);
     if (!safe_op.ok()) st = fail("SAFE-OP", safe_op.error());
   }
+  link_.set_repeat_silence(0);
   report_.frames = link_.stats().exchanges - frames_before;
   if (!st.ok()) return st;
   report_.safe_op_at = link_.clock().now();

@@ -29,6 +29,11 @@ struct BringUpWait {
 struct MasterOptions {
   hal::Nanoseconds cycle_time{hal::kNsPerMs};
   hal::Nanoseconds frame_timeout{2 * hal::kNsPerMs};           // bring-up round trips
+  // A bring-up exchange sent again after frame_timeout gives up only after its attempts and this much
+  // silence since its first send (DatagramLink::set_repeat_silence): over veth a simulator the loaded
+  // host did not run for more than 3 x 2 ms failed `run --check` at identify (issue 35). A real
+  // segment answers in microseconds; a dead one costs a failing bring-up this much more.
+  hal::Nanoseconds repeat_silence{250 * hal::kNsPerMs};
   // First contact: the count BRD is sent again every frame_timeout until a frame comes back or this
   // much time has passed (a segment just powered, a simulator just started or long idle, a link
   // still negotiating). Only then does bring-up fail, saying that nothing answered.
