@@ -28,12 +28,18 @@ constexpr hal::Nanoseconds kRoundTrip = 40 * hal::kNsPerUs;
 // The segment's end as a process the host may not run: each frame is echoed (working counter 1)
 // kRoundTrip after it was sent, but not before `awake_at`; a dead segment echoes nothing. With
 // `clock_moves` false a timeout returns without moving the clock (a clock that stands still).
+struct HeldFrame {  // an echo the segment holds until its time
+  hal::Nanoseconds ready_at{0};
+  std::size_t length{0};
+  std::array<std::uint8_t, kMaxFrameSize> bytes{};
+};
+
 class SleepyNic final : public hal::Nic {
  public:
   Status send(ConstByteSpan frame) noexcept override {
     ++sent_;
     if (dead_ || count_ == queue_.size()) return Status::success();
-    Pending& p = queue_[(head_ + count_) % queue_.size()];
+    HeldFrame& p = queue_[(head_ + count_) % queue_.size()];
     std::memcpy(p.bytes.data(), frame.data(), frame.size());
     p.length = frame.size();
     const hal::Nanoseconds back = clock_.now() + kRoundTrip;
@@ -45,7 +51,7 @@ class SleepyNic final : public hal::Nic {
   }
   Result<std::size_t> receive(ByteSpan buffer, hal::Nanoseconds deadline) noexcept override {
     if (count_ > 0 && queue_[head_].ready_at <= deadline) {
-      Pending& p = queue_[head_];
+      HeldFrame& p = queue_[head_];
       head_ = (head_ + 1) % queue_.size();
       --count_;
       if (p.ready_at > clock_.now()) clock_.sleep_until(p.ready_at);
@@ -55,23 +61,17 @@ class SleepyNic final : public hal::Nic {
     if (clock_moves_) clock_.sleep_until(deadline);
     return make_error(Errc::timeout, "nothing before the deadline");
   }
-  hal::Clock& clock() noexcept override { return clock_; }
-  const char* name() const noexcept override { return "sleepy"; }
-  hal::NicStats stats() const noexcept override { return {}; }
-
   void sleep_for(hal::Nanoseconds span) noexcept { awake_at_ = clock_.now() + span; }
   void die() noexcept { dead_ = true; }
   void stop_the_clock() noexcept { clock_moves_ = false; }
   unsigned sent() const noexcept { return sent_; }
+  hal::NicStats stats() const noexcept override { return {}; }
+  const char* name() const noexcept override { return "sleepy"; }
+  hal::Clock& clock() noexcept override { return clock_; }
 
  private:
-  struct Pending {
-    std::array<std::uint8_t, kMaxFrameSize> bytes{};
-    std::size_t length{0};
-    hal::Nanoseconds ready_at{0};
-  };
   hal::VirtualClock clock_{hal::kNsPerSec};
-  std::array<Pending, 256> queue_{};
+  std::array<HeldFrame, 256> queue_{};
   std::size_t head_{0};
   std::size_t count_{0};
   hal::Nanoseconds awake_at_{0};
