@@ -142,6 +142,10 @@ class DatagramLink {
   // decides (the count step's first contact): never extended.
   void set_repeat_silence(hal::Nanoseconds silence) noexcept { repeat_silence_ = silence > 0 ? silence : 0; }
   hal::Nanoseconds repeat_silence() const noexcept { return repeat_silence_; }
+  // The same rule for a caller's own repeat loop (station_io.hpp): the sends it may make, and whether
+  // it may give up after `sends` timed out, its first sent at `first_sent`.
+  unsigned most_sends(hal::Nanoseconds timeout, unsigned attempts) const noexcept;
+  bool may_give_up(hal::Nanoseconds first_sent, unsigned sends, unsigned attempts) const noexcept;
 
   // One datagram in a frame of its own, sent up to `attempts` times while no frame comes back
   // (each attempt waits `timeout` from its sending). For reading commands the returned data is copied into `data`;
@@ -193,11 +197,6 @@ class DatagramLink {
   FrameView sent_view_{};  // sent_, parsed by send_frame()
   std::uint8_t index_{0};
   hal::Nanoseconds repeat_silence_{0};  // set_repeat_silence()
-  // Sends a repeated blocking exchange may make: its attempts, and with more than one, enough more
-  // to cover repeat_silence_ (bounded even on a clock that does not move).
-  unsigned most_sends(hal::Nanoseconds timeout, unsigned attempts) const noexcept;
-  // Whether a repeated exchange first sent at `first_sent` may give up after `sends` timed out.
-  bool may_give_up(hal::Nanoseconds first_sent, unsigned sends, unsigned attempts) const noexcept;
   std::array<hal::Nanoseconds, 256> sent_at_{};  // when the frame of each index was last sent (stale ages)
   std::array<std::uint16_t, 256> expected_wkc_{};  // expect_process_data_wkc of each index's last frame
   std::uint16_t expected_wkc_next_{0};

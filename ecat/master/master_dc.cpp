@@ -156,6 +156,9 @@ Status Master::compensate_static_drift() noexcept {
   const unsigned check_every = options_.drift_compensation_check_every == 0 ? 1 : options_.drift_compensation_check_every;
   constexpr unsigned kStopCheckEvery = 256;  // frames between two looks at stop_requested
   unsigned i = 0;
+  // Too many frames lost is a dead segment only once nothing came back for the bring-up's
+  // repeat_silence: a simulator the host did not run loses frames without being silent.
+  hal::Nanoseconds last_answer_at = link_.clock().now();
   while (i < options_.drift_compensation_frames) {
     if (options_.stop_requested != nullptr && options_.stop_requested()) {
       return fail("DC drift", make_error(Errc::refused, "stopped on request"));
@@ -174,12 +177,13 @@ Status Master::compensate_static_drift() noexcept {
     if (!streamed.ok()) return fail("DC drift", streamed.error());
     i += n;
     lost += streamed.value().lost;
-    if (lost > options_.drift_compensation_frames / 100 + 3) {
-      return fail("DC drift", make_error(Errc::timeout, "no frame came back", lost));
-    }
     if (streamed.value().returned > 0) {
       last_reference_time_ = load_le64(time.data());
       last_reference_read_at_ = streamed.value().last_back_at;
+      last_answer_at = streamed.value().last_back_at;
+    }
+    if (lost > options_.drift_compensation_frames / 100 + 3 && link_.clock().now() - last_answer_at >= link_.repeat_silence()) {
+      return fail("DC drift", make_error(Errc::timeout, "no frame came back", lost));
     }
   }
   report_.dc_static_frames = i;

@@ -1,7 +1,8 @@
 // Bring-up helper: the same register access on many slaves at once, one datagram per slave
 // (configured-address commands), as few frames as fit. `fill(position, ByteSpan)` writes the data
 // of a slave's datagram before sending (for writing commands); `read(position, wkc, ConstByteSpan)`
-// gets each returned datagram. A frame that does not come back is sent again, `attempts` times.
+// gets each returned datagram. A frame that does not come back is sent again, `attempts` times and,
+// during a bring-up, until the link's repeat_silence() has passed (DatagramLink::set_repeat_silence).
 #pragma once
 
 #include <array>
@@ -22,7 +23,9 @@ Status for_each_slave(DatagramLink& link, const NetworkPlan& plan, SlaveMask sla
     std::size_t end = next;
     Result<FrameView> back = make_error(Errc::timeout, "no frame came back");
     std::array<std::uint8_t, kMaxSlaves> position_of{};
-    for (unsigned attempt = 0; attempt < attempts; ++attempt) {
+    const hal::Nanoseconds first_sent = link.clock().now();
+    const unsigned most = link.most_sends(timeout, attempts);
+    for (unsigned sends = 0; sends < most && !link.may_give_up(first_sent, sends, attempts); ++sends) {
       FrameBuilder& frame = link.begin();
       std::size_t count = 0;
       end = next;
