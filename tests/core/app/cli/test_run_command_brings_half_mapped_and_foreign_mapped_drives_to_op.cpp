@@ -33,19 +33,11 @@ void expect_repaired_at_bring_up_and_in_recovery(const std::string& scenario) {
   ASSERT_TRUE(file.file_present) << out.out;
   EXPECT_EQ(file.decoded.contents.sequence, 2u) << out.out;  // recorded lost, then cleared
   EXPECT_TRUE(file.decoded.contents.records.empty()) << out.out;
-}
-
-// Both rewrites are printed: at bring-up ("PDO mapping rewritten ...: l_elbow (N SDO writes)") and in
-// online recovery ("link recovered: l_elbow (...); PDO mapping rewritten ...: N SDO writes"), each
-// with a count above 0.
-void expect_both_rewrites_printed(const std::string& scenario) {
-  testing::TempStateDir dir;
-  const test::CommandOutput out = test::run_command(kBinary + " run --scenario " + scenario +
-                                                    " --duration 3 --auto-clear-power-cycled --state-dir " + dir.path + " 2>&1");
-  ASSERT_EQ(out.exit_status, 0) << out.out;
-  const std::regex bring_up(R"(rescue-motion run: PDO mapping rewritten \(it differed from the plan\): l_elbow \(([1-9][0-9]*) SDO writes\))");
+  // Both rewrites printed, the recovery's as bring-up's, each with a count above 0 (the same run:
+  // a second run of the scenario would prove nothing more).
+  const std::regex bring_up(R"(rescue-motion run: PDO mapping rewritten \(it differed from the plan\): l_elbow \([1-9][0-9]* SDO writes\))");
   const std::regex recovery(
-      R"(ethercat: cycle [0-9]+: link recovered: l_elbow \(first seen in cycle [0-9]+\); PDO mapping rewritten \(it differed from the plan\): ([1-9][0-9]*) SDO writes)");
+      R"(ethercat: cycle [0-9]+: link recovered: l_elbow \(first seen in cycle [0-9]+\); PDO mapping rewritten \(it differed from the plan\): [1-9][0-9]* SDO writes)");
   EXPECT_TRUE(std::regex_search(out.out, bring_up)) << out.out;
   EXPECT_TRUE(std::regex_search(out.out, recovery)) << out.out;
 }
@@ -56,11 +48,6 @@ TEST(PdoMappingScenarios, AHalfWrittenMappingIsRepairedAtBringUpAndInRecovery) {
 
 TEST(PdoMappingScenarios, AForeignDefaultMappingIsRepairedAtBringUpAndInRecovery) {
   expect_repaired_at_bring_up_and_in_recovery("foreign-mapping");
-}
-
-TEST(PdoMappingScenarios, TheRecoveryPrintsItsRewriteAsBringUpDoes) {
-  expect_both_rewrites_printed("half-mapped");
-  expect_both_rewrites_printed("foreign-mapping");
 }
 
 }  // namespace
