@@ -544,7 +544,11 @@ void MailboxClient::end_exchange(hal::Nanoseconds now) noexcept {
       c.phase = Phase::wait;
     }
     if (c.phase == Phase::none || now <= c.deadline) continue;
-    if (c.added > 0 && now_ > c.deadline && c.late_polls < kLatePolls) ++c.late_polls;
+    // A poll counts against the slave only when it reached the slave (its datagrams came back). A
+    // frame lost or late is the host's or the cable's: it counts only once nothing came back for a
+    // further response timeout, so a segment gone silent still ends the transfer.
+    const bool counts = c.answered || now_ > c.deadline + response_timeout_;
+    if (c.added > 0 && counts && now_ > c.deadline && c.late_polls < kLatePolls) ++c.late_polls;
     if (c.late_polls >= kLatePolls) {
       ++stats_.timeouts;
       complete(c, SdoOutcome::timeout);
@@ -560,7 +564,10 @@ Status MailboxClient::run(DatagramLink& link, hal::Nanoseconds frame_timeout, ha
     FrameBuilder& frame = link.begin();
     const std::size_t n = add_datagrams(frame, link.index(), link.clock().now());
     if (n > 0) {
-      const Result<FrameView> back = link.exchange(frame_timeout, 3);
+      // One send: a frame that is not back in time is lost for the mailbox too (end_exchange asks the
+      // slave to repeat). Sent again blind, it could find SM1 emptied by the first copy, whose
+      // answer came back late and was dropped: the slave's answer gone, the transfer timed out.
+      const Result<FrameView> back = link.exchange(frame_timeout, 1);
       if (back.ok()) {
         std::size_t k = 0;
         for (const DatagramView d : back.value()) {

@@ -184,9 +184,10 @@ class MailboxClient {
     SdoOutcome abort_outcome{SdoOutcome::bad_response};  // what an abort step completes with
     std::uint32_t abort_code_out{0};                     // the code it sends
     std::uint8_t added{0};      // datagrams of this exchange
-    // Exchanges with this slave's datagrams sent after the deadline that found no answer: a
-    // transfer times out only after kLatePolls of them, so time the master itself was not running
-    // (a loaded machine) never passes for a slave's silence.
+    // Exchanges with this slave's datagrams sent after the deadline that reached the slave and found
+    // no answer: a transfer times out only after kLatePolls of them, so time the master itself was
+    // not running (a loaded machine) never passes for a slave's silence. Polls whose frame was lost
+    // or late count only a further response timeout after the deadline.
     std::uint8_t late_polls{0};
     bool sent_this_exchange{false};
     bool in_full{false};
