@@ -60,6 +60,13 @@ void print_counters(const FrameServerCounters& served, const hal::NicStats& nic)
   (void)std::fflush(stdout);
 }
 
+// Frames the host read after an idle step had already moved the segment past their arrival: each
+// entered at the segment's time (SimulatedSegment::process), one late frame rather than one in its past.
+void print_segment_counters(const drivers::SimulatedSegment& segment) noexcept {
+  (void)std::printf("frames taken late: %llu\n", static_cast<unsigned long long>(segment.counters().taken_late));
+  (void)std::fflush(stdout);
+}
+
 // How far apart the two copies of a ring frame reached the simulator (ring copy's receive time minus
 // the main copy's: the master's two sends), and how long after its arrival each copy was read: the
 // master's part and the host's part of the DC error over veth (docs/redundancy.md).
@@ -197,6 +204,7 @@ int serve_tree(drivers::SimulatedSegment& segment, hal::RawSocketNic& nic) noexc
   }
   if (stop_signal() != 0) (void)std::printf("stopped by signal %d\n", stop_signal());
   print_counters(server.counters(), nic.stats());
+  print_segment_counters(segment);
   return exit_status;
 }
 
@@ -241,7 +249,7 @@ int serve_ring(drivers::SimulatedSegment& segment, hal::RawSocketNic& main_nic, 
   const std::uint64_t other_port_errors = main_port.other_port_send_errors() + ring_port.other_port_send_errors();
   (void)std::printf("send errors on the other port: %llu\n", static_cast<unsigned long long>(other_port_errors));
   spacing.print();
-  (void)std::fflush(stdout);
+  print_segment_counters(segment);
   return exit_status;
 }
 

@@ -106,6 +106,7 @@ struct SegmentCounters {
   std::uint64_t corrupted_by_fault{0};
   std::uint64_t delayed_by_fault{0};    // returned late by delay_frames
   std::uint64_t lost_port_corruption{0};  // damaged on a cable (corrupt_port): broken FCS at the master
+  std::uint64_t taken_late{0};  // sent before the instant the segment had already reached: taken then
 };
 
 class SimulatedSegment {
@@ -140,7 +141,9 @@ class SimulatedSegment {
   hal::Nanoseconds true_clock_offsets(hal::Nanoseconds now, Span<std::int64_t> out) const noexcept;
 
   // Processes one Ethernet frame in place as the slaves do. `sent_at` is when its first bit left
-  // the master. A frame that does not come back is reported as such (returned = false), not as an
+  // the master; a frame sent before the instant the segment has already been advanced to (a host
+  // that read it late, after an idle step moved the clocks on) enters at that instant instead, as
+  // one late frame, never in the segment's past (counted: taken_late). A frame that does not come back is reported as such (returned = false), not as an
   // error; errors are only for arguments (an empty span, the ring port of a segment without a ring
   // cable). `from`: the master port it is sent from.
   Result<FrameOutcome> process(ByteSpan frame, hal::Nanoseconds sent_at, MasterPort from = MasterPort::main) noexcept;
@@ -249,6 +252,7 @@ class SimulatedSegment {
   std::array<std::array<std::uint8_t, kMaxEscPorts>, kMaxSegmentSlaves> children_{};
   std::array<bool, kMaxSegmentSlaves> cut_{};
   std::array<hal::Nanoseconds, kMaxSegmentSlaves> arrival_{};
+  hal::Nanoseconds now_{0};  // the latest instant every ESC has been advanced to
   std::size_t count_{0};
   std::uint32_t drop_pending_{0};
   std::uint32_t delay_pending_{0};
