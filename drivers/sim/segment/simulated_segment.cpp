@@ -84,6 +84,7 @@ Status SimulatedSegment::build(Span<const SegmentSlave> slaves, hal::Nanoseconds
     escs_[p].power_up(slaves_[p].esc, *slaves_[p].device, now);
   }
   counters_ = SegmentCounters{};
+  now_ = now;  // a segment built again starts at its new time, not at the instant the old build reached
   has_ring_ = false;
   ring_cut_ = false;
   drop_pending_ = 0;

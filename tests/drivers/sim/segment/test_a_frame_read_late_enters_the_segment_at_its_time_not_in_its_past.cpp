@@ -51,5 +51,30 @@ TEST(FrameReadLate, EntersAtTheSegmentsTimeSoEverySlaveComparesTheReferenceAtOne
   EXPECT_EQ(rig->segment.counters().taken_late, 1U);
 }
 
+// A segment built again (a simulator session restarted on a fresh clock, a test's second robot on
+// one segment) starts at the time it is built at: its first frames are not late against the
+// instant the old build had reached, and its clocks run from the new start, not from the old one.
+TEST(FrameReadLate, ASegmentBuiltAgainAtAnEarlierTimeTakesItsFirstFramesAtTheirOwnTime) {
+  auto rig = Rig::single();
+  constexpr hal::Nanoseconds kOldSession = 5 * hal::kNsPerMs * 1000;  // 5 s
+  rig->wait(kOldSession);
+  SegmentSlave s;
+  s.name = "single";
+  s.esc = joint_esc_config();
+  s.link_delay_ns = kPhyPairDelayNs;
+  s.device = &rig->device();
+  ASSERT_TRUE(rig->segment.build(Span<const SegmentSlave>(&s, 1), 0).ok());
+  rig->now = 0;
+
+  const DatagramResult time = rig->read(Command::APRD, 0, reg::kDcSystemTime, 8);
+  ASSERT_TRUE(time.returned);
+  ASSERT_EQ(time.data.size(), 8U);
+  std::uint64_t local = 0;
+  for (std::size_t i = 0; i < 8; ++i) local |= static_cast<std::uint64_t>(time.data[i]) << (8 * i);
+  std::printf("first frame of the new build: 0x0910 reads %llu ns\n", static_cast<unsigned long long>(local));
+  EXPECT_EQ(rig->segment.counters().taken_late, 0U) << "a frame of the new build was taken at the old build's time";
+  EXPECT_LT(local, static_cast<std::uint64_t>(hal::kNsPerMs)) << "the clock ran on from the old build's instant";
+}
+
 }  // namespace
 }  // namespace rescue::drivers::testing
