@@ -27,6 +27,11 @@ constexpr double kGain = 1.0 / 16.0;
 // 57 ns of 0x092C; at 8 ns they lagged 113-115 ns over veth (issue 34's bound is 100 ns).
 constexpr double kMaxStepNs = 4.0;
 constexpr double kClip = 3.0;       // a sample further than this many deviations from the filtered value is cut to it
+// A drifting clock's difference is a ramp, and the filter lags a ramp by 16 cycles of it, about 0.6 of
+// the clip whatever the rate (the baseline's deviation of a ramp is 9.2 cycles of it): a ramp is never
+// cut. This many samples in a row cut on one side are a level the copies' transit moved to (over
+// veth), not drift: the baseline is taken again there instead of steering the island reference to it.
+constexpr std::uint32_t kLevelShiftSamples = 8;
 constexpr double kSignificance = 4.0;
 constexpr double kFloorNs = 5.0;  // below this nothing is steered (the simulator's ESC rounds to 1 ns)
 // A dead band wider than this cannot keep a drive's SYNC0 within issue 34's 1 us (the loop acts only
@@ -56,8 +61,7 @@ void RingDcService::reset() noexcept {
   to_read_ = 0;
   ways_to_write_ = 0;
   island_reference_ = kMaxSlaves;
-  samples_ = 0;
-  pending_step_ = 0;
+  restart_baseline();
   reference_.set_reference_behind_break(false);
 }
 
@@ -69,8 +73,7 @@ void RingDcService::begin(std::uint8_t after) noexcept {
   island_ = 0;
   ways_to_write_ = 0;
   island_reference_ = kMaxSlaves;
-  samples_ = 0;
-  pending_step_ = 0;
+  restart_baseline();
   const std::size_t reference = ctx_.reference_position();
   status_.reference_behind_break = reference < kMaxSlaves && reference >= after;
   reference_.set_reference_behind_break(status_.reference_behind_break);
@@ -242,12 +245,11 @@ void RingDcService::finish_calibration() noexcept {
   ways_to_write_ = rewrites_delays_ ? island_ : 0;
   expected_ = static_cast<std::int64_t>(passage_[island_reference_] - passage_[reference]) - latch_spacing_;
   offset_now_ = offset_[island_reference_];
-  samples_ = 0;
-  baseline_sum_ = 0.0;
-  baseline_square_sum_ = 0.0;
+  restart_baseline();
   status_.steps = 0;
   status_.steered_ns = 0;
   status_.noise_ns = 0;
+  status_.rebaselines = 0;
   status_.island_reference = static_cast<std::uint8_t>(island_reference_);
   status_.written = behind_;
   status_.phase = RingDcPhase::island;
@@ -280,7 +282,16 @@ void RingDcService::steer(std::int64_t difference) noexcept {
   }
   // The copies' outliers (a host stall of hundreds of microseconds) are cut, so that one of them
   // does not carry the filter past the threshold for many cycles.
-  const double clipped = std::clamp(x, filtered_ - kClip * noise_, filtered_ + kClip * noise_);
+  const double low = filtered_ - kClip * noise_;
+  const double high = filtered_ + kClip * noise_;
+  clipped_above_ = x > high ? clipped_above_ + 1 : 0;
+  clipped_below_ = x < low ? clipped_below_ + 1 : 0;
+  if (clipped_above_ >= kLevelShiftSamples || clipped_below_ >= kLevelShiftSamples) {
+    restart_baseline();
+    ++status_.rebaselines;
+    return;
+  }
+  const double clipped = std::clamp(x, low, high);
   filtered_ += (clipped - filtered_) * kFilterWeight;
   const double deviation = filtered_ - baseline_;
   // Over veth the copies' difference does not only jitter: its mean wanders by about its deviation
@@ -294,6 +305,15 @@ void RingDcService::steer(std::int64_t difference) noexcept {
   pending_step_ = static_cast<std::int64_t>(std::llround(std::clamp(signed_beyond * kGain, -kMaxStepNs, kMaxStepNs)));
 }
 
+void RingDcService::restart_baseline() noexcept {
+  samples_ = 0;
+  baseline_sum_ = 0.0;
+  baseline_square_sum_ = 0.0;
+  clipped_above_ = 0;
+  clipped_below_ = 0;
+  pending_step_ = 0;
+}
+
 void RingDcService::settle(CycleResult& /*result*/) noexcept {
   const RingStatus& ring = ring_.monitor().status();
   if (!ctx_.link.redundant() || !has_ring_side(ring)) {
@@ -304,6 +324,7 @@ void RingDcService::settle(CycleResult& /*result*/) noexcept {
       status_.steps = 0;
       status_.steered_ns = 0;
       status_.noise_ns = 0;
+      status_.rebaselines = 0;
       behind_ = 0;
       island_ = 0;
       ways_to_write_ = 0;

@@ -72,6 +72,7 @@ struct RingDcStatus {
   std::uint64_t steps{0};          // offset steps written to the island reference
   std::int64_t steered_ns{0};      // their sum since the island began
   std::int64_t noise_ns{0};        // the difference's standard deviation over the baseline's cycles (0: n/a yet)
+  std::uint64_t rebaselines{0};    // baselines taken again since the island began: the difference moved to another level
 };
 
 class RingDcService final : public CyclicService {
@@ -108,6 +109,7 @@ class RingDcService final : public CyclicService {
   void finish_calibration() noexcept;
   // One cycle's difference of the island reference against the reference, into the loop.
   void steer(std::int64_t difference) noexcept;
+  void restart_baseline() noexcept;
   hal::Nanoseconds copy_spacing() const noexcept;
 
   ServiceContext& ctx_;
@@ -140,6 +142,8 @@ class RingDcService final : public CyclicService {
   double baseline_{0.0};
   double noise_{0.0};                  // standard deviation over the baseline's cycles
   double filtered_{0.0};
+  std::uint32_t clipped_above_{0};     // samples in a row cut to the clip above the filtered value
+  std::uint32_t clipped_below_{0};     // and below it
   std::uint64_t offset_now_{0};        // the island reference's 0x0920 as last written
   std::int64_t pending_step_{0};       // to be written in the next frame
 };

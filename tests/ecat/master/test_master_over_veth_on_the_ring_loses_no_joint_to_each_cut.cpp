@@ -264,12 +264,13 @@ TEST_F(RingCuts, CuttingEveryCableOneAtATimeLosesNoJointKeepsTheClocksAndReports
     measure_sync0(broken, before);
     measure_sync0(repaired, before);
     std::printf("cable %2zu %-16s: after break max |0x092C| %u ns behind it (%u ns any; %d reads), SYNC0 moved %lld ns (%d "
-                "samples), %llu slaves in the island (steered %lld ns in %llu steps, noise %lld ns); after repair max "
+                "samples), %llu slaves in the island (steered %lld ns in %llu steps, noise %lld ns, %llu baselines again); after repair max "
                 "|0x092C| %u ns, SYNC0 moved %lld ns; %d cycles missed a joint without a late copy\n",
                 c.cable, c.name.c_str(), broken.max_difference_behind, broken.max_difference, broken.difference_reads,
                 static_cast<long long>(broken.sync0_moved), broken.clock_samples,
                 static_cast<unsigned long long>(ecat::popcount(dc.written)), static_cast<long long>(dc.steered_ns),
-                static_cast<unsigned long long>(dc.steps), static_cast<long long>(dc.noise_ns), repaired.max_difference,
+                static_cast<unsigned long long>(dc.steps), static_cast<long long>(dc.noise_ns),
+                static_cast<unsigned long long>(dc.rebaselines), repaired.max_difference,
                 static_cast<long long>(repaired.sync0_moved), missed_without_a_late_copy_ - unexplained_before);
     if (!broken.beyond.empty() || !repaired.beyond.empty()) {
       std::printf("  over %u ns: break%s; repair (from %d late-copy cycles)%s\n", kBreakDifferenceBoundNs,

@@ -107,16 +107,23 @@ struct BreakFigures {
 // How the held port holds: 0..200 us each send, or (`wander`) 0..2 us, and 30 us more from 50
 // cycles into the break on (after the island reference's baseline): the copies' transit mean
 // stepping, as over veth, where the steering took such a step for the island reference's drift.
-enum class Holding : std::uint8_t { jitter, wander };
+// Or (`quiet_then_step`) 0..100 ns, and 1 us more from 50 cycles into the break on: quiet copies give
+// a narrow dead band (as a break's first 32 cycles over veth sometimes do), and a step of the transit
+// then lies beyond it.
+enum class Holding : std::uint8_t { jitter, wander, quiet_then_step };
 
 // Cuts `cable` with the port `held` (the main port: held after its frame; the ring port: before).
 BreakFigures cut_with_a_held_port(std::size_t cable, Held held, Holding holding = Holding::jitter) {
   auto rig = std::make_unique<HeldRing>();
+  HeldPort& port = held == Held::after_the_frame ? rig->main : rig->ring;
   if (holding == Holding::wander) {
-    HeldPort& port = held == Held::after_the_frame ? rig->main : rig->ring;
     port.jitter = 2 * hal::kNsPerUs;
     port.shift = 30 * hal::kNsPerUs;
     port.shift_after = 150;  // the 100 cycles before the cut, then 50 into the break
+  } else if (holding == Holding::quiet_then_step) {
+    port.jitter = 100;
+    port.shift = hal::kNsPerUs;
+    port.shift_after = 150;
   }
   rig->bus.master().use_ring(rig->ring);
   EXPECT_TRUE(rig->bus.bring_up(testing::fast_options()).ok()) << testing::describe_master_failure(rig->bus.master());
@@ -139,13 +146,15 @@ BreakFigures cut_with_a_held_port(std::size_t cable, Held held, Holding holding 
   }
   f.status = rig->bus.master().ring_dc_status();
   std::printf("cable %zu, %s: after break max |0x092C| %u ns behind it, "
-              "SYNC0 moved %lld ns, island reference %u, steered %lld ns in %llu steps\n",
+              "SYNC0 moved %lld ns, island reference %u, steered %lld ns in %llu steps (noise %lld ns, %llu baselines again)\n",
               cable,
-              holding == Holding::wander ? "transit 0..2 us, 30 us more from 50 ms into the break"
-              : held == Held::after_the_frame ? "master held 0..200 us between its sends"
-                                              : "ring copy 0..200 us late on the wire",
+              holding == Holding::wander            ? "transit 0..2 us, 30 us more from 50 ms into the break"
+              : holding == Holding::quiet_then_step ? "transit 0..100 ns, 1 us more from 50 ms into the break"
+              : held == Held::after_the_frame       ? "master held 0..200 us between its sends"
+                                                    : "ring copy 0..200 us late on the wire",
               f.difference, static_cast<long long>(f.sync0_moved), static_cast<unsigned>(f.status.island_reference),
-              static_cast<long long>(f.status.steered_ns), static_cast<unsigned long long>(f.status.steps));
+              static_cast<long long>(f.status.steered_ns), static_cast<unsigned long long>(f.status.steps),
+              static_cast<long long>(f.status.noise_ns), static_cast<unsigned long long>(f.status.rebaselines));
   return f;
 }
 
@@ -176,6 +185,18 @@ TEST(RingDcIsland, ATransitMeanThatStepsIsNotTakenForTheIslandReferencesDrift) {
   expect_bounds(f, 12);
   EXPECT_GT(f.status.noise_ns, 250 / 4) << "the copies were as noisy as meant";
   EXPECT_EQ(f.status.steps, 0U) << "a step of the copies' transit is no drift of the island reference";
+}
+
+// Quiet copies give a dead band of about 120 ns, so the loop acts; the transit then steps 1 us. A clock
+// drifts, it does not jump: samples cut to the clip on one side cycle after cycle are a new level of
+// the transit, and the baseline is taken again there. Before: the island reference was steered
+// toward the old level at 4 ns a cycle for the rest of the break.
+TEST(RingDcIsland, AQuietBaselineThenATransitStepIsTakenAsANewBaselineNotSteered) {
+  const BreakFigures f = cut_with_a_held_port(12, Held::before_the_frame, Holding::quiet_then_step);
+  expect_bounds(f, 12);
+  EXPECT_GT(f.status.noise_ns, 0) << "a baseline was taken";
+  EXPECT_LE(f.status.noise_ns, 250 / 4) << "the copies were quiet enough for the loop to act";
+  EXPECT_GE(f.status.rebaselines, 1U) << "the step was taken for a new level";
 }
 
 TEST(RingDcIsland, WithTheReferenceBehindTheBreakTheRingCopyCarriesItsTime) {
