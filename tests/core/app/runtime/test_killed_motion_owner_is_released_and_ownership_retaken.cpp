@@ -251,6 +251,7 @@ class KilledOwner : public ::testing::Test {
   // SIGKILL the rescue task while it owns the motion and its joints move; then the handler's
   // intake releases the owner word, the robot holds and the supervisor restarts the task.
   void kill_the_owner_and_see_the_robot_hold(const std::vector<std::size_t>& driven) {
+    ASSERT_TRUE(run_.wait_for("supervisor: started rc-rescue")) << run_.output();  // printed after the fork: may trail the task
     const pid_t victim = test::pid_on_line(run_.output(), "supervisor: started rc-rescue");
     ASSERT_GT(victim, 0) << run_.output();
     // The baseline: the rescue task owns the motion and its references drove the joints in the
